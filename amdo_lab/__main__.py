@@ -1,0 +1,73 @@
+"""Command line of the workbook: ``python -m amdo_lab build | figures | execute | check-env``."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from amdo_lab.chapters import CHAPTERS, find_chapter
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="python -m amdo_lab", description=__doc__)
+    commands = parser.add_subparsers(dest="command", required=True)
+    build = commands.add_parser("build", help="execute the chapters and write build/book/index.html")
+    build.add_argument("--chapter", type=int, action="append", help="only this chapter (repeatable)")
+    build.add_argument("--write-back", action="store_true",
+                       help="also store the fresh outputs in notebooks/ (for developers)")
+    build.add_argument("--no-progress", action="store_true", help="no progress bars")
+    figures = commands.add_parser("figures", help="execute chapters and save their figures as PNG")
+    figures.add_argument("--chapter", type=int, action="append", help="only this chapter (repeatable)")
+    execute = commands.add_parser("execute", help="re-run notebooks in place (refresh committed outputs)")
+    execute.add_argument("--chapter", type=int, action="append", help="only this chapter (repeatable)")
+    commands.add_parser("check-env", help="check packages, EGL and off-screen 3-D rendering")
+    return parser
+
+
+def _select(numbers: list[int] | None):
+    if not numbers:
+        return [find_chapter(chapter.number) for chapter in CHAPTERS]
+    return [find_chapter(number) for number in numbers]
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
+    if args.command == "check-env":
+        from amdo_lab.environment import check_environment
+
+        report = check_environment()
+        print("\n".join(report.lines))
+        print("environment ready" if report.ok else "environment NOT ready: see the FAIL lines")
+        return 0 if report.ok else 1
+    try:
+        chapters = _select(args.chapter)
+    except ValueError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 2
+    from amdo_lab.book import BookError, build_book, execute_chapter, render_figures
+
+    try:
+        if args.command == "build":
+            index = build_book(chapters, progress=not args.no_progress, write_back=args.write_back)
+            print(f"\nThe book is ready: open {Path(index).resolve()}")
+        elif args.command == "figures":
+            for chapter in chapters:
+                paths = render_figures(chapter)
+                folder = Path("build") / "figures" / chapter.slug
+                print(f"chapter {chapter.number}: {len(paths)} figure(s) in {folder}/")
+        else:
+            import nbformat
+
+            for chapter in chapters:
+                nbformat.write(execute_chapter(chapter), chapter.path)
+                print(f"chapter {chapter.number}: {chapter.notebook} re-executed in place")
+    except BookError as error:
+        print(f"\nerror: {error}", file=sys.stderr)
+        print("chapters built before this one are still in build/book/", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,104 @@
+"""The chapters of the workbook: one entry per notebook in ``notebooks/``.
+
+To add a chapter, add its notebook and one :class:`Chapter` entry here (see the README).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+__all__ = ["CHAPTERS", "Chapter", "NOTEBOOK_DIR", "find_chapter"]
+
+NOTEBOOK_DIR = Path(__file__).resolve().parent.parent / "notebooks"
+
+
+@dataclass(frozen=True)
+class Chapter:
+    """One chapter: its number, notebook file, title, one-line summary and the paper it follows."""
+
+    number: int
+    notebook: str
+    title: str
+    summary: str
+    paper: str
+
+    @property
+    def slug(self) -> str:
+        """File stem of the notebook, used for HTML pages and figure folders."""
+        return Path(self.notebook).stem
+
+    @property
+    def path(self) -> Path:
+        return NOTEBOOK_DIR / self.notebook
+
+
+CHAPTERS: tuple[Chapter, ...] = (
+    Chapter(
+        0,
+        "00_introduction.ipynb",
+        "Introduction: how to use the workbook",
+        "The chapter template, shared notation, the environment check and the plotting helpers in 2-D and 3-D.",
+        "—",
+    ),
+    Chapter(
+        1,
+        "01_em_articulated_registration.ipynb",
+        "Robust EM registration of 3-D points to an articulated hand",
+        "Registers noisy, cluttered 3-D points to a 27-DOF hand of ellipsoids with bending surfaces by annealed robust EM, and compares with SoftAssign.",
+        "G. Dewaele, F. Devernay, R. Horaud, F. Forbes. The Alignment Between 3-D Data and "
+        "Articulated Shapes with Bending Surfaces. ECCV 2006, LNCS 3953, pp. 578-591.",
+    ),
+    Chapter(
+        2,
+        "02_pdm_mixtures.ipynb",
+        "Mixtures of point distribution models for articulated shape recognition",
+        "Learns mixtures of point distribution models of limbs and of limb arrangements by EM and recognises human poses hierarchically.",
+        "A. A. Al-Shaher, E. R. Hancock. A Probabilistic Framework for Articulated Shape "
+        "Recognition. AMDO 2004, LNCS 3179, pp. 62-75.",
+    ),
+    Chapter(
+        3,
+        "03_cat_viscous_fluid.ipynb",
+        "Viscous-fluid image registration with computational algebraic topology",
+        "Discretises the viscous-fluid registration PDE on a cubical complex and compares it with Christensen's SOR solver and an exact FFT solve on brain images.",
+        "L. Bentabet, D. Ziou. Neuroanatomy Registration: An Algebraic-Topology Based Approach. "
+        "AMDO 2004, LNCS 3179, pp. 76-85.",
+    ),
+    Chapter(
+        4,
+        "04_ear_geometric_features.ipynb",
+        "Geometric ear-biometric features and matching",
+        "Detects ear contours, extracts concentric-circle and contour-topology features, and identifies people from synthetic ear images.",
+        "M. Choraś. Ear Biometrics Based on Geometrical Method of Feature Extraction. "
+        "AMDO 2004, LNCS 3179, pp. 51-61.",
+    ),
+    Chapter(
+        5,
+        "05_glmm_face_recognition.ipynb",
+        "A generalized linear mixed model of a face recogniser's configuration space",
+        "Runs a factorial experiment over a PCA+LDA face recogniser's settings and analyses it with a binomial GLMM fitted by our own Laplace code.",
+        "G. H. Givens, J. R. Beveridge, B. A. Draper, D. Bolme. Using a Generalized Linear Mixed "
+        "Model to Study the Configuration Space of a PCA+LDA Human Face Recognition Algorithm. "
+        "AMDO 2004, LNCS 3179, pp. 1-11.",
+    ),
+)
+
+
+def find_chapter(number: int) -> Chapter:
+    """Return chapter ``number`` or raise a one-line ``ValueError`` listing what exists."""
+    for chapter in CHAPTERS:
+        if chapter.number == number:
+            if not chapter.path.exists():
+                raise ValueError(
+                    f"chapter {number}'s notebook {chapter.notebook} is missing from {NOTEBOOK_DIR}; "
+                    f"available: {_available()}"
+                )
+            return chapter
+    raise ValueError(f"no chapter {number}; available chapters: {_available()}")
+
+
+def _available() -> str:
+    return ", ".join(
+        f"{chapter.number} ({chapter.notebook})" for chapter in CHAPTERS if chapter.path.exists()
+    ) or "none"

@@ -1,0 +1,45 @@
+"""The shared floor of AMDO Lab: plotting, random generators, geometry and input validation.
+
+Every chapter subpackage imports from here; nothing here imports a chapter.
+"""
+
+from amdo_lab.common.geometry import (
+    apply_rigid,
+    apply_similarity_2d,
+    procrustes_align,
+    rigid_transform,
+    rotation_2d,
+    rotation_matrix,
+    rotation_x,
+    rotation_y,
+    rotation_z,
+)
+from amdo_lab.common.plotting import PALETTE, savefig, use_style
+from amdo_lab.common.rng import make_rng, spawn_rngs
+from amdo_lab.common.validation import (
+    as_finite_array,
+    check_choice,
+    check_positive,
+    check_positive_int,
+)
+
+__all__ = [
+    "PALETTE",
+    "apply_rigid",
+    "apply_similarity_2d",
+    "as_finite_array",
+    "check_choice",
+    "check_positive",
+    "check_positive_int",
+    "make_rng",
+    "procrustes_align",
+    "rigid_transform",
+    "rotation_2d",
+    "rotation_matrix",
+    "rotation_x",
+    "rotation_y",
+    "rotation_z",
+    "savefig",
+    "spawn_rngs",
+    "use_style",
+]

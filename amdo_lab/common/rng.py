@@ -1,0 +1,52 @@
+"""One way to make seeded random generators, used by every notebook and data generator."""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+__all__ = ["make_rng", "spawn_rngs"]
+
+
+def make_rng(seed: int | np.random.Generator) -> np.random.Generator:
+    """Return a ``numpy.random.Generator`` for an explicit integer seed.
+
+    Parameters
+    ----------
+    seed : int or numpy.random.Generator
+        A non-negative integer seed, or a generator, which is returned as it is (so functions can
+        accept either). ``None`` is refused: every random draw in the workbook is reproducible.
+
+    Returns
+    -------
+    numpy.random.Generator
+        A PCG64 generator.
+    """
+    if isinstance(seed, np.random.Generator):
+        return seed
+    if isinstance(seed, bool) or not isinstance(seed, numbers.Integral):
+        raise TypeError(
+            f"seed must be a non-negative int or a numpy.random.Generator, got {type(seed).__name__}"
+        )
+    if seed < 0:
+        raise ValueError(f"seed must be non-negative, got {seed}")
+    return np.random.default_rng(int(seed))
+
+
+def spawn_rngs(seed: int | np.random.Generator, n: int) -> list[np.random.Generator]:
+    """Return ``n`` statistically independent generators derived from one seed.
+
+    Use this for trials of a benchmark or frames of a sequence: trial ``k`` gets the same stream
+    whatever the number of trials run before it.
+
+    Parameters
+    ----------
+    seed : int or numpy.random.Generator
+        As for :func:`make_rng`.
+    n : int
+        Number of generators, at least 1.
+    """
+    if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1:
+        raise ValueError(f"n must be a positive int, got {n!r}")
+    return list(make_rng(seed).spawn(int(n)))

@@ -1,0 +1,108 @@
+"""Input validation at the public boundary: clear errors that name the argument.
+
+Nothing is silently dropped, clipped or coerced: a NaN in gives a ``ValueError`` out.
+"""
+
+from __future__ import annotations
+
+import numbers
+from collections.abc import Iterable, Sequence
+
+import numpy as np
+
+__all__ = ["as_finite_array", "check_choice", "check_positive", "check_positive_int"]
+
+
+def as_finite_array(
+    value: object,
+    name: str,
+    *,
+    ndim: int | None = None,
+    shape: Sequence[int | None] | None = None,
+    allow_empty: bool = False,
+    dtype: type = float,
+) -> np.ndarray:
+    """Convert ``value`` to a finite numeric array, or raise an error naming ``name``.
+
+    Parameters
+    ----------
+    value : array_like
+        The user's input.
+    name : str
+        The argument's name, used in error messages.
+    ndim : int, optional
+        Required number of dimensions.
+    shape : sequence of int or None, optional
+        Required shape; ``None`` entries accept any length (e.g. ``(None, 3)`` for 3-D points).
+    allow_empty : bool
+        Whether a zero-size array is accepted.
+    dtype : type
+        Target dtype (float by default). Booleans and non-numeric inputs raise ``TypeError``.
+
+    Returns
+    -------
+    numpy.ndarray
+        A new array of ``dtype`` (the input is never modified).
+    """
+    array = np.asarray(value)
+    if array.dtype == object or not (
+        np.issubdtype(array.dtype, np.number) or np.issubdtype(array.dtype, np.bool_)
+    ):
+        raise TypeError(f"{name} must be a numeric array, got dtype {array.dtype}")
+    if np.issubdtype(array.dtype, np.complexfloating):
+        raise TypeError(f"{name} must be real-valued, got dtype {array.dtype}")
+    if shape is not None:
+        ndim = len(shape)
+    if ndim is not None and array.ndim != ndim:
+        expected = f"shape {_format_shape(shape)}" if shape is not None else f"{ndim} dimensions"
+        raise ValueError(f"{name} must have {expected}, got shape {array.shape}")
+    if shape is not None:
+        for axis, (got, want) in enumerate(zip(array.shape, shape)):
+            if want is not None and got != want:
+                raise ValueError(
+                    f"{name} must have shape {_format_shape(shape)}, got {array.shape} "
+                    f"(axis {axis} is {got}, expected {want})"
+                )
+    if array.size == 0 and not allow_empty:
+        raise ValueError(f"{name} must not be empty, got shape {array.shape}")
+    array = array.astype(dtype, copy=True)
+    if np.issubdtype(array.dtype, np.floating) and not np.all(np.isfinite(array)):
+        n_bad = int(np.size(array) - np.count_nonzero(np.isfinite(array)))
+        raise ValueError(f"{name} must be finite, got {n_bad} NaN or infinite value(s)")
+    return array
+
+
+def _format_shape(shape: Sequence[int | None]) -> str:
+    parts = ["n" if s is None else str(s) for s in shape]
+    return "(" + ", ".join(parts) + ("," if len(parts) == 1 else "") + ")"
+
+
+def check_positive(value: object, name: str, *, allow_zero: bool = False) -> float:
+    """Return ``value`` as a float after checking it is a finite positive real number."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
+    number = float(value)
+    if not np.isfinite(number):
+        raise ValueError(f"{name} must be finite, got {number}")
+    if number < 0 or (number == 0 and not allow_zero):
+        bound = "non-negative" if allow_zero else "positive"
+        raise ValueError(f"{name} must be {bound}, got {number}")
+    return number
+
+
+def check_positive_int(value: object, name: str, *, minimum: int = 1) -> int:
+    """Return ``value`` as an int after checking it is an integer of at least ``minimum``."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name} must be an int, got {type(value).__name__}")
+    if value < minimum:
+        raise ValueError(f"{name} must be at least {minimum}, got {value}")
+    return int(value)
+
+
+def check_choice(value: object, name: str, choices: Iterable[object]) -> object:
+    """Return ``value`` after checking it is one of ``choices``."""
+    options = list(choices)
+    if value not in options:
+        listed = ", ".join(repr(option) for option in options)
+        raise ValueError(f"{name} must be one of {listed}; got {value!r}")
+    return value

@@ -1,0 +1,215 @@
+"""Tests of the shared floor: random generators, validation, geometry, plotting, 3-D helper."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from amdo_lab.common import (  # noqa: E402
+    apply_rigid,
+    apply_similarity_2d,
+    as_finite_array,
+    check_choice,
+    check_positive,
+    check_positive_int,
+    make_rng,
+    procrustes_align,
+    rigid_transform,
+    rotation_2d,
+    rotation_matrix,
+    rotation_x,
+    rotation_z,
+    savefig,
+    spawn_rngs,
+    use_style,
+)
+from amdo_lab.common import render3d  # noqa: E402
+from amdo_lab.common.geometry import skew  # noqa: E402
+
+
+# --- random generators -------------------------------------------------------------------------
+def test_make_rng_is_reproducible_and_passes_generators_through():
+    assert np.array_equal(make_rng(5).normal(size=4), make_rng(5).normal(size=4))
+    generator = np.random.default_rng(1)
+    assert make_rng(generator) is generator
+
+
+@pytest.mark.parametrize("seed, error", [(None, TypeError), (1.5, TypeError), (True, TypeError), (-1, ValueError)])
+def test_make_rng_refuses_non_reproducible_seeds(seed, error):
+    with pytest.raises(error, match="seed"):
+        make_rng(seed)
+
+
+def test_spawn_rngs_gives_independent_repeatable_streams():
+    first, second = spawn_rngs(3, 2)
+    again = spawn_rngs(3, 5)
+    assert np.array_equal(first.random(3), again[0].random(3))
+    assert not np.array_equal(spawn_rngs(3, 2)[0].random(3), second.random(3))
+    with pytest.raises(ValueError, match="n must be"):
+        spawn_rngs(3, 0)
+
+
+# --- validation --------------------------------------------------------------------------------
+def test_as_finite_array_names_the_argument():
+    with pytest.raises(ValueError, match=r"points must be finite, got 1 NaN"):
+        as_finite_array([[0, 0, np.nan]], "points", shape=(None, 3))
+    with pytest.raises(ValueError, match=r"points must have shape \(n, 3\)"):
+        as_finite_array(np.zeros((4, 2)), "points", shape=(None, 3))
+    with pytest.raises(ValueError, match="must not be empty"):
+        as_finite_array(np.zeros((0, 3)), "points", shape=(None, 3))
+    with pytest.raises(TypeError, match="numeric"):
+        as_finite_array(["a", "b"], "labels")
+    out = as_finite_array([[1, 2, 3]], "points", shape=(None, 3))
+    assert out.dtype == float and out.shape == (1, 3)
+
+
+def test_scalar_checks():
+    assert check_positive(2, "sigma") == 2.0
+    assert check_positive(0, "sigma", allow_zero=True) == 0.0
+    with pytest.raises(ValueError, match="sigma must be positive"):
+        check_positive(0.0, "sigma")
+    with pytest.raises(ValueError, match="finite"):
+        check_positive(float("nan"), "sigma")
+    with pytest.raises(TypeError, match="n_iter must be an int"):
+        check_positive_int(2.0, "n_iter")
+    with pytest.raises(ValueError, match="at least 1"):
+        check_positive_int(0, "n_iter")
+    with pytest.raises(ValueError, match="metric must be one of"):
+        check_choice("l3", "metric", ["l2", "soft_l2"])
+
+
+# --- geometry ----------------------------------------------------------------------------------
+def test_rotation_matrix_matches_scipy_and_is_a_rotation():
+    rng = make_rng(0)
+    for _ in range(10):
+        axis = rng.normal(size=3)
+        angle = rng.uniform(-np.pi, np.pi)
+        ours = rotation_matrix(axis, angle)
+        reference = Rotation.from_rotvec(axis / np.linalg.norm(axis) * angle).as_matrix()
+        np.testing.assert_allclose(ours, reference, atol=1e-12)
+        np.testing.assert_allclose(ours @ ours.T, np.eye(3), atol=1e-12)
+        assert np.isclose(np.linalg.det(ours), 1.0)
+
+
+def test_rotation_matrix_is_vectorised_over_angles():
+    angles = np.linspace(0, 1, 5)
+    stacked = rotation_z(angles)
+    assert stacked.shape == (5, 3, 3)
+    np.testing.assert_allclose(stacked[3], rotation_z(angles[3]))
+    np.testing.assert_allclose(rotation_2d(angles)[3], rotation_z(angles[3])[:2, :2], atol=1e-15)
+    with pytest.raises(ValueError, match="non-zero"):
+        rotation_matrix(np.zeros(3), 0.3)
+
+
+def test_skew_gives_the_cross_product():
+    a, b = make_rng(1).normal(size=(2, 3))
+    np.testing.assert_allclose(skew(a) @ b, np.cross(a, b))
+
+
+def test_rigid_transform_round_trip():
+    rotation = rotation_x(0.4) @ rotation_z(-1.1)
+    transform = rigid_transform(rotation, [1.0, -2.0, 0.5])
+    points = make_rng(2).normal(size=(7, 3))
+    moved = apply_rigid(transform, points)
+    np.testing.assert_allclose(moved, points @ rotation.T + [1.0, -2.0, 0.5])
+    np.testing.assert_allclose(apply_rigid(np.linalg.inv(transform), moved), points, atol=1e-12)
+
+
+@pytest.mark.parametrize("dimension", [2, 3])
+def test_procrustes_recovers_a_similarity(dimension):
+    rng = make_rng(dimension)
+    source = rng.normal(size=(30, dimension))
+    rotation = rotation_2d(0.7) if dimension == 2 else rotation_matrix([1, 2, 3], 0.9)
+    target = 2.5 * source @ rotation.T + np.arange(dimension)
+    fit = procrustes_align(source, target)
+    np.testing.assert_allclose(fit.rotation, rotation, atol=1e-10)
+    assert fit.scale == pytest.approx(2.5)
+    np.testing.assert_allclose(fit.translation, np.arange(dimension), atol=1e-10)
+    assert fit.rms_error < 1e-10
+
+
+def test_procrustes_never_reflects_unless_asked():
+    source = make_rng(4).normal(size=(20, 2))
+    mirrored = source * [-1.0, 1.0]
+    assert np.linalg.det(procrustes_align(source, mirrored).rotation) == pytest.approx(1.0)
+    assert np.linalg.det(procrustes_align(source, mirrored, allow_reflection=True).rotation) == pytest.approx(-1.0)
+    with pytest.raises(ValueError, match="same shape"):
+        procrustes_align(source, source[:5])
+
+
+def test_apply_similarity_2d():
+    points = np.array([[1.0, 0.0]])
+    np.testing.assert_allclose(apply_similarity_2d(points, 2.0, np.pi / 2, [1.0, 1.0]), [[1.0, 3.0]], atol=1e-12)
+
+
+# --- plotting ----------------------------------------------------------------------------------
+def test_savefig_writes_only_when_the_variable_is_set(tmp_path, monkeypatch):
+    use_style()
+    fig, ax = plt.subplots()
+    ax.plot([0, 1], [0, 1])
+    monkeypatch.delenv("AMDO_FIG_DIR", raising=False)
+    assert savefig(fig, "nothing") is None
+    monkeypatch.setenv("AMDO_FIG_DIR", str(tmp_path / "figs"))
+    path = savefig(fig, "fig1_line")
+    assert path == tmp_path / "figs" / "fig1_line.png" and path.stat().st_size > 0
+    with pytest.raises(ValueError, match="name must be"):
+        savefig(fig, "../escape")
+    with pytest.raises(TypeError, match="fig must be"):
+        savefig("not a figure", "x")
+    plt.close(fig)
+
+
+# --- 3-D helper --------------------------------------------------------------------------------
+def _sphere_field():
+    grid = np.linspace(-1, 1, 21)
+    x, y, z = np.meshgrid(grid, grid, grid, indexing="ij")
+    return x**2 + y**2 + z**2, grid
+
+
+def test_isosurface_lies_on_the_level_set():
+    field, grid = _sphere_field()
+    mesh = render3d.isosurface(field, 0.5, origin=(-1, -1, -1), spacing=(0.1, 0.1, 0.1))
+    radii = np.linalg.norm(mesh.vertices, axis=1)
+    assert np.allclose(radii, np.sqrt(0.5), atol=0.02)
+    with pytest.raises(ValueError, match="level must lie"):
+        render3d.isosurface(field, 5.0)
+
+
+def test_render_scene_falls_back_to_matplotlib_with_one_warning(monkeypatch):
+    field, _ = _sphere_field()
+    mesh = render3d.isosurface(field, 0.5)
+    monkeypatch.setattr(render3d, "probe_3d_rendering", lambda: render3d._ProbeResult(False, "test"))
+    render3d._warn_fallback_once.cache_clear()
+    with pytest.warns(RuntimeWarning, match="unavailable"):
+        fig = render3d.render_scene([mesh, render3d.PointCloud(np.zeros((3, 3)))])
+    assert fig.axes[0].name == "3d"
+    plt.close(fig)
+    with pytest.raises(TypeError, match=r"items\[0\]"):
+        render3d.render_scene(["sphere"])
+    with pytest.raises(ValueError, match="at least one"):
+        render3d.render_scene([])
+
+
+def test_render_scene_draws_an_image_when_3d_works():
+    if not render3d.probe_3d_rendering().ok:
+        pytest.skip("off-screen VTK is unavailable here (the fallback is tested above)")
+    field, _ = _sphere_field()
+    fig = render3d.render_scene([render3d.isosurface(field, 0.5)], window_size=(120, 90))
+    image = fig.axes[0].images[0].get_array()
+    assert image.shape[:2] == (90, 120) and np.ptp(image) > 0
+    plt.close(fig)
+
+
+def test_probe_can_be_disabled(monkeypatch):
+    monkeypatch.setenv(render3d.DISABLE_3D_VARIABLE, "1")
+    render3d.probe_3d_rendering.cache_clear()
+    try:
+        assert not render3d.probe_3d_rendering().ok
+    finally:
+        render3d.probe_3d_rendering.cache_clear()
