@@ -1,0 +1,162 @@
+"""Seeded generator of 2-D articulated human-pose shapes (stand-in for the paper's marker photos).
+
+A skeleton has 13 limbs, each drawn as a straight stroke of ``landmarks_per_limb`` points from its
+proximal to its distal joint. A pose is a vector of 13 absolute limb directions (degrees; 0 points
+down the image, +90 points along +x, 180 points up). Each example perturbs the pose's directions
+(joint jitter), the limb lengths, adds isotropic landmark noise and applies a random similarity.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from amdo_lab.common import apply_similarity_2d, check_positive, check_positive_int, make_rng
+
+__all__ = [
+    "LIMB_NAMES",
+    "LIMB_PARENTS",
+    "POSES",
+    "TABLE1_CLASSES",
+    "PoseDataset",
+    "generate_pose_dataset",
+]
+
+LIMB_NAMES: tuple[str, ...] = (
+    "head", "neck", "torso",
+    "left upper arm", "left forearm", "right upper arm", "right forearm",
+    "left thigh", "left shin", "left foot", "right thigh", "right shin", "right foot",
+)
+# Parent limb whose distal joint is this limb's proximal joint (-1: starts at the pelvis).
+# The torso runs pelvis -> neck base; arms start at the neck base offset to the shoulders.
+LIMB_PARENTS: tuple[int, ...] = (1, 2, -1, 2, 3, 2, 5, -1, 7, 8, -1, 10, 11)
+# The figure faces the viewer: its left side is on the image's +x side.
+_OFFSETS = {3: (0.12, 0.0), 5: (-0.12, 0.0), 7: (0.08, 0.0), 10: (-0.08, 0.0)}
+MEAN_LENGTHS = np.array([0.20, 0.10, 0.50, 0.30, 0.28, 0.30, 0.28, 0.45, 0.42, 0.12, 0.45, 0.42, 0.12])
+# Limbs are generated in this order so a parent exists before its children.
+_ORDER = (2, 1, 0, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12)
+
+#            head neck torso  LUA  LFA   RUA   RFA  LTH  LSH LFT  RTH  RSH  RFT
+POSES: dict[str, tuple[float, ...]] = {
+    "boxing":     (175, 175, 175, 60, 150, 80, 90, 15, 10, 90, -15, -10, 90),
+    "kicking":    (195, 190, 195, 45, 65, -50, -35, -5, 0, 90, 70, 80, 115),
+    "relaxing":   (180, 180, 180, 10, 5, -10, -5, 5, 0, 90, -5, 0, 90),
+    "picking":    (130, 140, 150, 25, 30, -50, -35, -5, 0, 90, 45, 25, 105),
+    "stretching": (180, 180, 180, 160, 175, -160, -175, 10, 5, 90, -10, -5, 90),
+    "shooting":   (190, 188, 190, 45, 65, -50, -35, -5, 0, 90, 50, 45, 110),
+    "walking":    (180, 180, 182, 25, 40, -25, -10, 25, 10, 90, -20, -30, 70),
+    "waving":     (180, 180, 180, 10, 5, 120, 170, 5, 0, 90, -5, 0, 90),
+    "pointing":   (180, 180, 180, 10, 5, 90, 90, 5, 0, 90, -5, 0, 90),
+    "jumping":    (180, 180, 180, 135, 160, -135, -160, 30, -10, 90, -30, 10, 90),
+    "crouching":  (160, 165, 160, 40, 90, -40, -90, 120, 10, 90, 110, 0, 90),
+    "sitting":    (180, 180, 180, 20, 70, -20, -70, 90, 0, 90, 90, 0, 90),
+    "bowing":     (100, 105, 110, 60, 50, 65, 55, 5, 0, 90, -5, 0, 90),
+    "star":       (180, 180, 180, 100, 100, -100, -100, 30, 30, 90, -30, -30, 90),
+}
+TABLE1_CLASSES: tuple[str, ...] = ("boxing", "kicking", "relaxing", "picking", "stretching", "shooting")
+
+
+@dataclass(frozen=True)
+class PoseDataset:
+    """Generated shapes ``(n, 13, landmarks_per_limb, 2)``, class-name labels and ground truth.
+
+    ``limb_lengths`` are in the output frame (after the similarity), so with ``noise=0`` the
+    distance between a stroke's first and last landmarks equals its entry there.
+    """
+
+    shapes: np.ndarray
+    labels: np.ndarray
+    classes: tuple[str, ...]
+    limb_lengths: np.ndarray
+    scales: np.ndarray
+    rotations: np.ndarray
+    translations: np.ndarray
+
+
+def _check_classes(classes: object) -> tuple[str, ...]:
+    if isinstance(classes, str) or not hasattr(classes, "__iter__"):
+        raise TypeError(f"classes must be a sequence of pose names, got {classes!r}")
+    names = tuple(classes)
+    if not names:
+        raise ValueError("classes must name at least one pose, got an empty sequence")
+    unknown = [c for c in names if c not in POSES]
+    if unknown:
+        raise ValueError(f"classes contains unknown pose name(s) {unknown}; known: {sorted(POSES)}")
+    if len(set(names)) != len(names):
+        raise ValueError(f"classes must not repeat a name, got {names}")
+    return names
+
+
+def skeleton_strokes(directions_deg: np.ndarray, lengths: np.ndarray, landmarks_per_limb: int) -> np.ndarray:
+    """Landmark strokes ``(n, 13, m, 2)`` of skeletons with limb directions and lengths ``(n, 13)``.
+
+    Limbs are chained proximal-to-distal (``LIMB_PARENTS``); the pelvis is at the origin.
+    """
+    angles = np.deg2rad(directions_deg)
+    vectors = lengths[..., None] * np.stack([np.sin(angles), -np.cos(angles)], axis=-1)  # (n,13,2)
+    starts = np.zeros_like(vectors)
+    for limb in _ORDER:  # 13 limbs: a loop over the kinematic tree, vectorised over examples
+        parent = LIMB_PARENTS[limb]
+        base = np.zeros_like(vectors[:, 0]) if parent < 0 else starts[:, parent] + vectors[:, parent]
+        starts[:, limb] = base + np.asarray(_OFFSETS.get(limb, (0.0, 0.0)))
+    fractions = np.linspace(0.0, 1.0, landmarks_per_limb)
+    return starts[:, :, None, :] + fractions[None, None, :, None] * vectors[:, :, None, :]
+
+
+def generate_pose_dataset(
+    classes: tuple[str, ...] | list[str],
+    n_per_class: int,
+    rng: int | np.random.Generator,
+    *,
+    noise: float = 0.01,
+    joint_jitter_deg: float = 9.0,
+    length_jitter: float = 0.06,
+    landmarks_per_limb: int = 6,
+    max_rotation_deg: float = 15.0,
+) -> PoseDataset:
+    """Draw ``n_per_class`` articulated shapes of each pose in ``classes``.
+
+    Parameters
+    ----------
+    classes : sequence of str
+        Pose names from ``POSES`` (``TABLE1_CLASSES`` are the six of the paper's Table 1).
+    n_per_class : int
+        Examples per class (>= 1).
+    rng : int or numpy.random.Generator
+        Seed or generator (via ``make_rng``).
+    noise : float
+        Std of isotropic landmark noise, in units of the skeleton (height about 1.7) before scaling.
+    joint_jitter_deg : float
+        Std (degrees) of the Gaussian perturbation of every limb direction; sets the class overlap.
+    length_jitter : float
+        Relative std of each limb length.
+    landmarks_per_limb : int
+        Landmarks per stroke (>= 2).
+    max_rotation_deg : float
+        Global rotation drawn uniformly in +-this; scale in [0.8, 1.25]; translation in [-1, 1]^2.
+    """
+    names = _check_classes(classes)
+    n_per_class = check_positive_int(n_per_class, "n_per_class")
+    landmarks_per_limb = check_positive_int(landmarks_per_limb, "landmarks_per_limb", minimum=2)
+    noise = check_positive(noise, "noise", allow_zero=True)
+    joint_jitter_deg = check_positive(joint_jitter_deg, "joint_jitter_deg", allow_zero=True)
+    length_jitter = check_positive(length_jitter, "length_jitter", allow_zero=True)
+    max_rotation_deg = check_positive(max_rotation_deg, "max_rotation_deg", allow_zero=True)
+    generator = make_rng(rng)
+    n = n_per_class * len(names)
+    labels = np.repeat(np.array(names), n_per_class)
+    base = np.array([POSES[c] for c in labels], dtype=float)
+    directions = base + joint_jitter_deg * generator.standard_normal((n, 13))
+    lengths = MEAN_LENGTHS * np.exp(length_jitter * generator.standard_normal((n, 13)))
+    strokes = skeleton_strokes(directions, lengths, landmarks_per_limb)
+    strokes = strokes + noise * generator.standard_normal(strokes.shape)
+    scales = generator.uniform(0.8, 1.25, n)
+    rotations = np.deg2rad(generator.uniform(-max_rotation_deg, max_rotation_deg, n))
+    translations = generator.uniform(-1.0, 1.0, (n, 2))
+    shapes = np.empty_like(strokes)
+    for i in range(n):  # one similarity per example
+        shapes[i] = apply_similarity_2d(strokes[i].reshape(-1, 2), scales[i], rotations[i], translations[i]).reshape(
+            strokes.shape[1:]
+        )
+    return PoseDataset(shapes, labels, names, lengths * scales[:, None], scales, rotations, translations)

@@ -1,0 +1,359 @@
+"""Hierarchical recognition with mixtures of limb PDMs and polar limb-arrangement PDMs (Secs. 4-6)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from amdo_lab.common import as_finite_array, check_positive, check_positive_int, procrustes_align
+from amdo_lab.pdm_mixtures.gmm import fit_gaussian_mixture
+from amdo_lab.pdm_mixtures.pdm import (
+    PointDistributionModel,
+    align_to_reference,
+    fit_modes,
+    fit_pdm,
+    generalized_procrustes,
+    pdm_from_moments,
+    reconstruct,
+)
+from amdo_lab.pdm_mixtures.representation import centred_limbs, polar_shape_vector, wrap_angle
+
+__all__ = ["ArticulatedShapeRecognizer", "RecognitionTrace", "ScoreComponents", "AlignmentTrace", "hamming_distance", "label_string_log_prob"]
+
+N_LIMBS = 13
+MIN_PER_CLASS = 3
+
+
+def hamming_distance(label_strings: np.ndarray, dictionary: np.ndarray) -> np.ndarray:
+    """Number of mismatching limb labels between strings ``(n, K)`` and dictionary items ``(C, K)``.
+
+    Eq. 17 as printed sums a Kronecker delta of *equal* labels, which counts matches; a Hamming
+    distance counts mismatches, ``sum_i (1 - delta(l_i, lambda_i))``, which is what we compute.
+    """
+    return np.sum(label_strings[:, None, :] != dictionary[None, :, :], axis=2)
+
+
+def label_string_log_prob(hamming: np.ndarray, n_limbs: int, error_probability: float) -> np.ndarray:
+    """ln P(L | Lambda) = ln K_p - k_p H with K_p = (1 - p)^K, k_p = ln((1 - p) / p) (eq. 18)."""
+    p = error_probability
+    return n_limbs * np.log1p(-p) - np.log((1 - p) / p) * hamming
+
+
+@dataclass(frozen=True)
+class RecognitionTrace:
+    """Per-iteration record of recognition: ``posteriors (n_iter, n, C)``, ``label_strings
+    (n_iter, n, K)``, ``reconstructions (n_iter, n, 3K)`` (posterior-weighted polar model fit),
+    and the number of iterations run."""
+
+    posteriors: np.ndarray
+    label_strings: np.ndarray
+    reconstructions: np.ndarray
+    n_iterations: int
+
+
+@dataclass(frozen=True)
+class ScoreComponents:
+    """The three terms of a class's log-score before label refinement, each ``(n, C)``:
+    limb gates ``sum_k ln P(lambda_k^w | z_k)``, ``ln P(L | Lambda_w)`` for the MAP labels (eq. 18)
+    and the polar-PDM log-likelihood ``ln p(S | Phi_w, Gamma_w*)``."""
+
+    limb_gate: np.ndarray
+    label_string: np.ndarray
+    shape: np.ndarray
+
+
+@dataclass(frozen=True)
+class AlignmentTrace:
+    """Model instances ``(n_iter, K, m, 2)`` drawn in the test shape's frame, one per iteration of
+    the alternating pose / modal fit, and the RMS limb-centre misfit per iteration."""
+
+    model_shapes: np.ndarray
+    centre_rms: np.ndarray
+
+
+def _circular_mean(angles: np.ndarray) -> np.ndarray:
+    return np.arctan2(np.sin(angles).mean(axis=0), np.cos(angles).mean(axis=0))
+
+
+class ArticulatedShapeRecognizer:
+    """Two-layer recogniser: limb PDM mixtures + label dictionary + per-class polar PDMs.
+
+    Parameters
+    ----------
+    n_limb_labels : int
+        Mixture components (limb labels) learnt by EM for each of the 13 limbs.
+    label_error_probability : float
+        p of eq. 18, in (0, 0.5).
+    variance_fraction : float
+        Variance kept by each PDM's eigenmodes.
+    max_iter : int
+        Maximum number of limb-layer / shape-layer iterations.
+    classes : sequence of str, optional
+        The expected class names; then every one must have training examples.
+    """
+
+    def __init__(
+        self,
+        *,
+        n_limb_labels: int = 4,
+        label_error_probability: float = 0.2,
+        variance_fraction: float = 0.95,
+        max_iter: int = 10,
+        em_iterations: int = 30,
+        classes: tuple[str, ...] | None = None,
+    ) -> None:
+        self.n_limb_labels = check_positive_int(n_limb_labels, "n_limb_labels")
+        p = check_positive(label_error_probability, "label_error_probability")
+        if not p < 0.5:
+            raise ValueError(f"label_error_probability must be in (0, 0.5), got {p}")
+        self.label_error_probability = p
+        self.variance_fraction = check_positive(variance_fraction, "variance_fraction")
+        if self.variance_fraction > 1:
+            raise ValueError(f"variance_fraction must be in (0, 1], got {variance_fraction}")
+        self.max_iter = check_positive_int(max_iter, "max_iter")
+        self.em_iterations = check_positive_int(em_iterations, "em_iterations")
+        self.classes = None if classes is None else tuple(classes)
+
+    # ------------------------------------------------------------------ validation
+    def _check_shapes(self, shapes: object, name: str = "shapes") -> np.ndarray:
+        array = as_finite_array(shapes, name, shape=(None, N_LIMBS, None, 2))
+        if array.shape[2] < 2:
+            raise ValueError(f"{name} must have at least 2 landmarks per limb, got {array.shape[2]}")
+        if hasattr(self, "landmarks_per_limb_") and array.shape[2] != self.landmarks_per_limb_:
+            raise ValueError(
+                f"{name} must have {self.landmarks_per_limb_} landmarks per limb (as in training), got {array.shape[2]}"
+            )
+        return array
+
+    # ------------------------------------------------------------------ training
+    def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "ArticulatedShapeRecognizer":
+        """Learn the limb mixtures, the label dictionary and the class polar PDMs."""
+        shapes = self._check_shapes(shapes)
+        labels = np.asarray(labels)
+        if labels.shape != (shapes.shape[0],):
+            raise ValueError(f"labels must have shape ({shapes.shape[0]},), got {labels.shape}")
+        present = tuple(dict.fromkeys(labels.tolist()))
+        if self.classes is not None:
+            unknown = sorted(set(present) - set(self.classes))
+            if unknown:
+                raise ValueError(f"labels contains class name(s) {unknown} not in classes={self.classes}")
+            empty = [c for c in self.classes if c not in present]
+            if empty:
+                raise ValueError(f"class(es) {empty} have no training examples")
+            present = self.classes
+        counts = {c: int(np.sum(labels == c)) for c in present}
+        few = {c: k for c, k in counts.items() if k < MIN_PER_CLASS}
+        if few:
+            raise ValueError(
+                f"every class needs at least {MIN_PER_CLASS} training examples for a covariance, got {few}"
+            )
+        self.classes_ = present
+        self.landmarks_per_limb_ = shapes.shape[2]
+        flat = shapes.reshape(shapes.shape[0], -1, 2)
+        aligned, self.reference_ = generalized_procrustes(flat)
+        aligned = aligned.reshape(shapes.shape)
+        self._fit_limb_layer(aligned)
+        train_labels = np.argmax(self._limb_log_posteriors(aligned), axis=2)  # (n, K) MAP labels
+        self.dictionary_ = np.stack([
+            np.array([np.bincount(train_labels[labels == c, k], minlength=self.n_limb_labels).argmax()
+                      for k in range(N_LIMBS)])
+            for c in self.classes_
+        ])
+        self._fit_shape_layer(aligned, labels)
+        self.class_log_prior_ = np.log(np.array([counts[c] for c in self.classes_], float) / len(labels))
+        return self
+
+    def _fit_limb_layer(self, aligned: np.ndarray) -> None:
+        limbs = centred_limbs(aligned)  # (n, K, 2m)
+        self.limb_models_: list[list[PointDistributionModel]] = []
+        self.limb_weights_ = np.empty((N_LIMBS, self.n_limb_labels))
+        self.limb_noise_ = np.empty(N_LIMBS)
+        for k in range(N_LIMBS):
+            data = limbs[:, k]
+            init = _farthest_point_init(data, self.n_limb_labels)
+            spread = np.cov(data.T, bias=True) + 1e-6 * np.eye(data.shape[1])
+            reg = 1e-3 * float(np.trace(spread)) / data.shape[1]
+            mixture = fit_gaussian_mixture(
+                data, self.n_limb_labels, means_init=data[init],
+                covariances_init=np.repeat(spread[None], self.n_limb_labels, axis=0),
+                n_iter=self.em_iterations, reg_covar=reg,
+            )
+            models = [pdm_from_moments(m, c, variance_fraction=self.variance_fraction)
+                      for m, c in zip(mixture.means, mixture.covariances)]
+            self.limb_models_.append(models)
+            self.limb_weights_[k] = mixture.weights
+            # Isotropic residual variance of eq. 16, from each example's best-fitting label.
+            errors = np.stack([_fit_error(mdl, data) for mdl in models], axis=1)
+            self.limb_noise_[k] = max(float(errors.min(axis=1).mean()) / data.shape[1], 1e-12)
+
+    def _limb_log_posteriors(self, aligned: np.ndarray) -> np.ndarray:
+        """log P(lambda | z_k) for every shape, limb and label (eqs. 9, 10, 16): ``(n, K, labels)``."""
+        limbs = centred_limbs(aligned)
+        log_lik = np.empty((aligned.shape[0], N_LIMBS, self.n_limb_labels))
+        for k in range(N_LIMBS):
+            errors = np.stack([_fit_error(mdl, limbs[:, k]) for mdl in self.limb_models_[k]], axis=1)
+            log_lik[:, k] = -errors / (2 * self.limb_noise_[k]) + np.log(self.limb_weights_[k])
+        return log_lik - np.logaddexp.reduce(log_lik, axis=2, keepdims=True)
+
+    def _fit_shape_layer(self, aligned: np.ndarray, labels: np.ndarray) -> None:
+        vectors = polar_shape_vector(aligned)
+        self.angle_means_ = []
+        self.shape_models_: list[PointDistributionModel] = []
+        for c in self.classes_:
+            class_vectors = vectors[labels == c]
+            angle_mean = _circular_mean(class_vectors[:, :N_LIMBS])
+            self.angle_means_.append(angle_mean)
+            self.shape_models_.append(
+                fit_pdm(self._deviation(class_vectors, angle_mean), variance_fraction=self.variance_fraction)
+            )
+
+    @staticmethod
+    def _deviation(vectors: np.ndarray, angle_mean: np.ndarray) -> np.ndarray:
+        """S relative to the class's circular mean angles (wrapped), so the PDM never sees a flip."""
+        out = vectors.copy()
+        out[:, :N_LIMBS] = wrap_angle(vectors[:, :N_LIMBS] - angle_mean)
+        return out
+
+    def _shape_log_likelihoods(self, aligned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """ln p(S | Phi_w, Gamma_w*) per class (clamped modal fit, PPCA density) and the fits."""
+        vectors = polar_shape_vector(aligned)
+        log_lik = np.empty((aligned.shape[0], len(self.classes_)))
+        fits = np.empty((len(self.classes_),) + vectors.shape)
+        for j, (model, angle_mean) in enumerate(zip(self.shape_models_, self.angle_means_)):
+            deviation = self._deviation(vectors, angle_mean)
+            gamma = fit_modes(model, deviation)
+            fitted = reconstruct(model, gamma)
+            residual = np.sum((deviation - fitted) ** 2, axis=1)
+            d, m = vectors.shape[1], model.n_modes
+            log_lik[:, j] = -0.5 * (
+                np.sum(gamma**2 / model.variances, axis=1) + residual / model.residual_variance
+                + np.sum(np.log(model.variances)) + (d - m) * np.log(model.residual_variance)
+                + d * np.log(2 * np.pi)
+            )
+            fitted[:, :N_LIMBS] = wrap_angle(fitted[:, :N_LIMBS] + angle_mean)
+            fits[j] = fitted
+        return log_lik, fits
+
+    # ------------------------------------------------------------------ recognition
+    def align(self, shapes: np.ndarray) -> np.ndarray:
+        """Procrustes-align shapes onto the training reference (removes the global similarity)."""
+        shapes = self._check_shapes(shapes)
+        flat = shapes.reshape(shapes.shape[0], -1, 2)
+        return align_to_reference(flat, self.reference_).reshape(shapes.shape)
+
+    def recognise(self, shapes: np.ndarray) -> RecognitionTrace:
+        """Run the hierarchical EM (eqs. 9-18) and return the full per-iteration trace."""
+        if not hasattr(self, "classes_"):
+            raise ValueError("the recogniser must be fitted before recognising shapes")
+        aligned = self.align(shapes)
+        limb_log_post = self._limb_log_posteriors(aligned)  # (n, K, labels)
+        shape_log_lik, fits = self._shape_log_likelihoods(aligned)  # (n, C), (C, n, 3K)
+        # Gate 1: product over limbs of P(lambda_k^w | z_k) for the labels class w expects.
+        gate = np.sum(np.take_along_axis(limb_log_post[:, None, :, :],
+                                         self.dictionary_[None, :, :, None], axis=3)[..., 0], axis=2)
+        k_p = np.log((1 - self.label_error_probability) / self.label_error_probability)
+        label_strings = np.argmax(limb_log_post, axis=2)  # eq. 10: MAP limb labels
+        history_post, history_labels, history_fit = [], [], []
+        for _ in range(self.max_iter):
+            hamming = hamming_distance(label_strings, self.dictionary_)
+            log_score = (self.class_log_prior_ + gate + shape_log_lik
+                         + label_string_log_prob(hamming, N_LIMBS, self.label_error_probability))
+            posterior = np.exp(log_score - np.logaddexp.reduce(log_score, axis=1, keepdims=True))
+            history_post.append(posterior)
+            history_labels.append(label_strings)
+            history_fit.append(np.einsum("nc,cnd->nd", posterior, fits))
+            best = np.argmax(posterior, axis=1)  # eq. 13
+            # Eq. 14: relabel limbs using the winning class's dictionary string as prior.
+            consistent = self.dictionary_[best][:, :, None] == np.arange(self.n_limb_labels)
+            refined = np.argmax(limb_log_post + np.where(consistent, 0.0, -k_p), axis=2)
+            if np.array_equal(refined, label_strings):
+                break
+            label_strings = refined
+        return RecognitionTrace(np.stack(history_post), np.stack(history_labels), np.stack(history_fit),
+                                len(history_post))
+
+    def score_components(self, shapes: np.ndarray) -> ScoreComponents:
+        """The separate terms of the first-iteration class score (for ablations)."""
+        if not hasattr(self, "classes_"):
+            raise ValueError("the recogniser must be fitted before recognising shapes")
+        aligned = self.align(shapes)
+        limb_log_post = self._limb_log_posteriors(aligned)
+        shape_log_lik, _ = self._shape_log_likelihoods(aligned)
+        gate = np.sum(np.take_along_axis(limb_log_post[:, None, :, :],
+                                         self.dictionary_[None, :, :, None], axis=3)[..., 0], axis=2)
+        hamming = hamming_distance(np.argmax(limb_log_post, axis=2), self.dictionary_)
+        return ScoreComponents(gate, label_string_log_prob(hamming, N_LIMBS, self.label_error_probability),
+                               shape_log_lik)
+
+    def iterative_alignment(self, shape: np.ndarray, class_name: str, n_iter: int = 4) -> AlignmentTrace:
+        """Fit class ``class_name``'s polar PDM to one shape ``(13, m, 2)`` by alternating a
+        similarity pose fit of the model's limb centres (Procrustes) with the clamped modal fit
+        (eq. 12) in the model frame; iteration 1 is the mean shape posed onto the data, later
+        iterations also fit each limb's dictionary-label PDM to the data limb (eq. 15)."""
+        if not hasattr(self, "classes_"):
+            raise ValueError("the recogniser must be fitted before aligning shapes")
+        if class_name not in self.classes_:
+            raise ValueError(f"class_name must be one of {self.classes_}, got {class_name!r}")
+        n_iter = check_positive_int(n_iter, "n_iter")
+        shape = self._check_shapes(np.asarray(shape)[None])[0]
+        j = self.classes_.index(class_name)
+        model, angle_mean = self.shape_models_[j], self.angle_means_[j]
+        labels = self.dictionary_[j]
+        data_centres = shape.mean(axis=1)
+        model_vector = model.mean.copy()
+        model_vector[:N_LIMBS] = wrap_angle(model_vector[:N_LIMBS] + angle_mean)
+        drawn, misfit = [], []
+        for _ in range(n_iter):
+            model_centres = model_vector[N_LIMBS:].reshape(N_LIMBS, 2)
+            pose = procrustes_align(model_centres, data_centres)
+            # The data mapped into the model frame (inverse of the pose), limbs included.
+            shape_in_model = ((shape - pose.translation) @ pose.rotation) / pose.scale
+            limbs_in_model = centred_limbs(shape_in_model[None])[0]
+            model_shape = self.model_limbs(model_vector, labels, None if not drawn else limbs_in_model)
+            drawn.append(pose.scale * model_shape @ pose.rotation.T + pose.translation)
+            misfit.append(pose.rms_error)
+            deviation = self._deviation(polar_shape_vector(shape_in_model[None]), angle_mean)
+            model_vector = reconstruct(model, fit_modes(model, deviation))[0]
+            model_vector[:N_LIMBS] = wrap_angle(model_vector[:N_LIMBS] + angle_mean)
+        return AlignmentTrace(np.stack(drawn), np.array(misfit))
+
+    def predict_proba(self, shapes: np.ndarray) -> np.ndarray:
+        """Class posteriors ``(n, C)`` at convergence, columns in ``classes_`` order."""
+        return self.recognise(shapes).posteriors[-1]
+
+    def predict(self, shapes: np.ndarray) -> np.ndarray:
+        """MAP class names (eq. 13)."""
+        proba = self.predict_proba(shapes)
+        return np.asarray(self.classes_)[np.argmax(proba, axis=1)]
+
+    def model_limbs(self, polar_vector: np.ndarray, label_string: np.ndarray,
+                    observed_limbs: np.ndarray | None = None) -> np.ndarray:
+        """Draw a model shape ``(K, m, 2)`` at the limb centres of a polar vector S.
+
+        Without ``observed_limbs`` each limb is its label's mean stroke; with centred observed limb
+        vectors ``(K, 2m)`` each limb is its label's clamped PDM fit to them (eq. 15)."""
+        centres = polar_vector[N_LIMBS:].reshape(N_LIMBS, 2)
+        strokes = []
+        for k in range(N_LIMBS):
+            model = self.limb_models_[k][label_string[k]]
+            if observed_limbs is None:
+                strokes.append(model.mean)
+            else:
+                strokes.append(reconstruct(model, fit_modes(model, observed_limbs[k][None]))[0])
+        return np.stack(strokes).reshape(N_LIMBS, -1, 2) + centres[:, None, :]
+
+
+def _fit_error(model: PointDistributionModel, data: np.ndarray) -> np.ndarray:
+    """Squared residual of the clamped least-squares modal fit, per row."""
+    return np.sum((data - reconstruct(model, fit_modes(model, data))) ** 2, axis=1)
+
+
+def _farthest_point_init(data: np.ndarray, n_components: int) -> np.ndarray:
+    """Deterministic EM start: the row farthest from the mean, then repeatedly the farthest row."""
+    chosen = [int(np.argmax(np.sum((data - data.mean(axis=0)) ** 2, axis=1)))]
+    distance = np.sum((data - data[chosen[0]]) ** 2, axis=1)
+    for _ in range(1, n_components):
+        chosen.append(int(np.argmax(distance)))
+        distance = np.minimum(distance, np.sum((data - data[chosen[-1]]) ** 2, axis=1))
+    return np.array(chosen)
