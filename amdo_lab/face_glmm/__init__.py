@@ -1,0 +1,66 @@
+"""Chapter 5: a binomial GLMM of a PCA+LDA face recogniser's configuration space.
+
+Givens, Beveridge, Draper & Bolme, AMDO 2004. Synthetic seeded faces stand in for FERET.
+"""
+
+from amdo_lab.face_glmm.crosscheck import (
+    fit_gee_exchangeable,
+    fit_naive_logistic,
+    fit_with_lme4,
+    lme4_available,
+)
+from amdo_lab.face_glmm.design import (
+    PAPER_FORMULA,
+    SIZE_FORMULA,
+    DesignMatrix,
+    build_design,
+    group_indices,
+    parse_formula,
+)
+from amdo_lab.face_glmm.experiment import (
+    SUPPLEMENTS,
+    FactorialDesign,
+    make_supplement,
+    paper_design,
+    reduced_design,
+    run_factorial_experiment,
+)
+from amdo_lab.face_glmm.glmm import GlmmResult, binomial_deviance, fit_binomial_glmm
+from amdo_lab.face_glmm.pcalda import PcaLda, e90_dimension, pca_basis, weighted_sq_distances
+from amdo_lab.face_glmm.population import (
+    SMALL_SHAPE,
+    STANDARD_SHAPE,
+    FacePopulation,
+    downsample_by_two,
+    elliptical_mask,
+    generate_face_population,
+    preprocess_images,
+)
+from amdo_lab.face_glmm.simulate import (
+    RecoverySummary,
+    recovery_study,
+    simulate_binomial_glmm,
+    summarise_recovery,
+)
+from amdo_lab.face_glmm.cache import load_or_run_experiment
+from amdo_lab.face_glmm.report import (
+    PAPER_NUMBERS,
+    PAPER_TABLE2,
+    cell_predictions,
+    findings,
+    plot_figure1,
+    plot_figure2,
+    table2_comparison,
+)
+
+__all__ = [
+    "PAPER_FORMULA", "SIZE_FORMULA", "SMALL_SHAPE", "STANDARD_SHAPE", "SUPPLEMENTS",
+    "DesignMatrix", "FacePopulation", "FactorialDesign", "GlmmResult", "PcaLda", "RecoverySummary",
+    "binomial_deviance", "build_design", "downsample_by_two", "e90_dimension", "elliptical_mask",
+    "fit_binomial_glmm", "fit_gee_exchangeable", "fit_naive_logistic", "fit_with_lme4",
+    "generate_face_population", "group_indices", "lme4_available", "load_or_run_experiment",
+    "make_supplement", "paper_design", "parse_formula", "pca_basis", "preprocess_images",
+    "reduced_design", "run_factorial_experiment", "simulate_binomial_glmm", "summarise_recovery",
+    "weighted_sq_distances", "PAPER_NUMBERS", "PAPER_TABLE2", "cell_predictions", "findings",
+    "plot_figure1", "plot_figure2", "table2_comparison", "recovery_study",
+]

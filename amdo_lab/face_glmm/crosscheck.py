@@ -1,0 +1,126 @@
+"""Peer fits of the same table: R's lme4 (through Rscript), statsmodels GEE and logistic GLM."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from amdo_lab.common import check_choice
+from amdo_lab.face_glmm.design import build_design, parse_formula
+
+__all__ = ["lme4_available", "fit_with_lme4", "fit_gee_exchangeable", "fit_naive_logistic"]
+
+_R_SCRIPT = r"""
+suppressMessages(library(lme4))
+args <- commandArgs(trailingOnly = TRUE)
+d <- read.csv(args[1], stringsAsFactors = FALSE)
+spec <- readLines(args[2])
+fixed <- spec[1]; random <- spec[2]; trials <- as.numeric(spec[3]); factors <- strsplit(spec[4], ",")[[1]]
+for (f in factors) { lev <- strsplit(spec[4 + match(f, factors)], "|", fixed = TRUE)[[1]]
+  d[[f]] <- factor(d[[f]], levels = lev); contrasts(d[[f]]) <- contr.sum(length(lev)) }
+for (g in c("t", "p")) if (!is.null(d[[g]])) d[[g]] <- factor(d[[g]])
+d$FAIL <- trials - d$Y
+form <- as.formula(paste("cbind(Y, FAIL) ~", fixed, "+", random))
+t0 <- proc.time()[["elapsed"]]
+m <- glmer(form, data = d, family = binomial, nAGQ = 0)
+el <- proc.time()[["elapsed"]] - t0
+vc <- as.data.frame(VarCorr(m))
+cat(sprintf("TIME %.6f\n", el))
+cat("FIXED", sprintf("%.10g", fixef(m)), "\n")
+cat("SE", sprintf("%.10g", sqrt(diag(as.matrix(vcov(m))))), "\n")
+cat("VCNAMES", vc$grp, "\n")
+cat("VC", sprintf("%.10g", vc$vcov), "\n")
+"""
+
+
+def lme4_available() -> bool:
+    """True when ``Rscript`` is on the PATH and can load lme4."""
+    if shutil.which("Rscript") is None:
+        return False
+    done = subprocess.run(["Rscript", "-e", "suppressMessages(library(lme4))"], capture_output=True)
+    return done.returncode == 0
+
+
+def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), trials: int = 30) -> dict:
+    """Fit ``glmer(cbind(Y, n-Y) ~ fixed + (1|...), nAGQ=0)`` with sum-to-zero contrasts.
+
+    Returns a dict with ``coefficients`` (same column order as our design for formulas
+    whose interactions have at most one multi-level factor first), ``standard_errors``,
+    ``variance_components`` (term -> variance) and ``seconds`` (R's elapsed fit time).
+    """
+    if not lme4_available():
+        raise RuntimeError("Rscript with lme4 is not available")
+    response, terms = parse_formula(fixed)
+    design = build_design(table, terms)
+    factors = [v for v, lev in design.levels.items() if lev is not None]
+    rhs = " + ".join(":".join(term) for term in terms)
+    random_part = " + ".join(f"(1|{g})" for g in random)
+    columns = sorted({v for term in terms for v in term} | {g for r in random for g in r.split(":")})
+    with tempfile.TemporaryDirectory() as tmp:
+        data_path, spec_path, script_path = (Path(tmp) / n for n in ("d.csv", "spec.txt", "fit.R"))
+        frame = table[columns].astype({v: str for v in factors}).copy()
+        frame["Y"] = table[response].to_numpy()
+        frame.to_csv(data_path, index=False)
+        lines = [rhs, random_part, str(trials), ",".join(factors)]
+        lines += ["|".join(map(str, design.levels[v])) for v in factors]
+        spec_path.write_text("\n".join(lines) + "\n")
+        script_path.write_text(_R_SCRIPT)
+        done = subprocess.run(["Rscript", str(script_path), str(data_path), str(spec_path)],
+                              capture_output=True, text=True)
+    if done.returncode != 0:
+        raise RuntimeError(f"lme4 fit failed: {done.stderr[-500:]}")
+    out = {}
+    for line in done.stdout.splitlines():
+        key, *values = line.split()
+        out[key] = values
+    names = list(design.column_names)
+    return {
+        "coefficients": pd.Series(np.array(out["FIXED"], dtype=float), index=names),
+        "standard_errors": pd.Series(np.array(out["SE"], dtype=float), index=names),
+        "variance_components": dict(zip(out["VCNAMES"], np.array(out["VC"], dtype=float))),
+        "seconds": float(out["TIME"][0]),
+    }
+
+
+def _design_and_response(table, fixed):
+    response, terms = parse_formula(fixed)
+    design = build_design(table, terms)
+    return design, table[response].to_numpy(dtype=float)
+
+
+def fit_gee_exchangeable(table: pd.DataFrame, fixed: str, group: str = "p", trials: int = 30,
+                         correlation: str = "exchangeable") -> pd.DataFrame:
+    """Population-averaged fit: statsmodels GEE, binomial proportions, working correlation within ``group``.
+
+    Returns a frame with ``estimate`` and robust (sandwich) ``se`` per design column;
+    ``frame.attrs["finite"]`` is False when statsmodels' iterations diverged (NaN).
+    """
+    import statsmodels.api as sm
+
+    check_choice(correlation, "correlation", ("exchangeable", "independence"))
+    structure = sm.cov_struct.Exchangeable() if correlation == "exchangeable" else sm.cov_struct.Independence()
+    design, y = _design_and_response(table, fixed)
+    order = np.argsort(table[group].to_numpy(), kind="stable")
+    model = sm.GEE(y[order] / trials, design.matrix[order], groups=table[group].to_numpy()[order],
+                   family=sm.families.Binomial(), cov_struct=structure)
+    # statsmodels' logit-link derivative overflows harmlessly for cells with p ~ 1
+    with np.errstate(over="ignore", invalid="ignore"):
+        fitted = model.fit()
+    frame = pd.DataFrame({"estimate": fitted.params, "se": fitted.bse}, index=list(design.column_names))
+    frame.attrs["finite"] = bool(np.all(np.isfinite(frame.to_numpy())))
+    return frame
+
+
+def fit_naive_logistic(table: pd.DataFrame, fixed: str, trials: int = 30) -> pd.DataFrame:
+    """Ordinary binomial GLM ignoring all grouping (the naive analysis)."""
+    import statsmodels.api as sm
+
+    design, y = _design_and_response(table, fixed)
+    endog = np.column_stack([y, trials - y])
+    fitted = sm.GLM(endog, design.matrix, family=sm.families.Binomial()).fit()
+    return pd.DataFrame({"estimate": fitted.params, "se": fitted.bse}, index=list(design.column_names))

@@ -1,0 +1,131 @@
+"""Formula parsing and sum-to-zero design matrices (the fixed part of eq. 2)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from itertools import combinations
+
+import numpy as np
+import pandas as pd
+
+__all__ = ["DesignMatrix", "parse_formula", "build_design", "group_indices", "PAPER_FORMULA",
+           "SIZE_FORMULA"]
+
+#: Eq. (2): main effects U, M, D, F; interactions UM, UF, UD, MF, MD, DF and MDF.
+PAPER_FORMULA = "Y ~ U + M + D + F + U:M + U:F + U:D + M:F + M:D + D:F + M:D:F"
+#: The starting model of Sec. 6: eq. (2) without MDF plus image size S and its two-way terms.
+SIZE_FORMULA = ("Y ~ U + M + D + F + S + U:M + U:F + U:D + M:F + M:D + D:F"
+                " + S:U + S:M + S:D + S:F")
+
+
+def parse_formula(formula: str) -> tuple[str, list[tuple[str, ...]]]:
+    """Split ``"Y ~ A * B + C"`` into the response and the ordered list of terms.
+
+    ``A * B`` expands to ``A + B + A:B``; ``A:B`` is the interaction alone. Terms are
+    ordered by interaction order, then by first appearance; duplicates are dropped.
+    """
+    if not isinstance(formula, str) or formula.count("~") != 1:
+        raise ValueError(f"fixed must be a formula 'response ~ terms', got {formula!r}")
+    lhs, rhs = (part.strip() for part in formula.split("~"))
+    if not lhs or not rhs:
+        raise ValueError(f"fixed must name a response and at least one term, got {formula!r}")
+    terms: list[tuple[str, ...]] = []
+    for chunk in rhs.split("+"):
+        chunk = chunk.strip()
+        if chunk in ("1", ""):
+            if chunk == "":
+                raise ValueError(f"fixed has an empty term: {formula!r}")
+            continue
+        if "*" in chunk:
+            names = [c.strip() for c in chunk.split("*")]
+            expanded = [combo for r in range(1, len(names) + 1) for combo in combinations(names, r)]
+        else:
+            expanded = [tuple(c.strip() for c in chunk.split(":"))]
+        for term in expanded:
+            if any(not name for name in term):
+                raise ValueError(f"fixed has an empty variable name in {chunk!r}")
+            if term not in terms:
+                terms.append(term)
+    terms.sort(key=len)  # stable: keeps first-appearance order within an order
+    return lhs, terms
+
+
+@dataclass(frozen=True)
+class DesignMatrix:
+    """A fixed-effects design matrix with its term structure."""
+
+    matrix: np.ndarray                 # (n, n_columns), first column the intercept
+    column_names: tuple[str, ...]
+    term_columns: dict                 # term name -> slice of columns
+    levels: dict                       # variable -> tuple of levels (None for numeric)
+
+
+def _variable_coding(column: pd.Series, name: str, levels=None) -> tuple[np.ndarray, list[str], tuple | None]:
+    """Sum-to-zero (effect) coding of a factor, or the numeric column itself."""
+    is_factor = isinstance(column.dtype, pd.CategoricalDtype) or not pd.api.types.is_numeric_dtype(column)
+    if not is_factor:
+        values = column.to_numpy(dtype=float)
+        if not np.all(np.isfinite(values)):
+            raise ValueError(f"column {name!r} has NaN or infinite values")
+        return values[:, None], [name], None
+    if column.isna().any():
+        raise ValueError(f"column {name!r} has missing values")
+    if levels is None:
+        if isinstance(column.dtype, pd.CategoricalDtype):
+            levels = tuple(column.cat.categories)
+            used = set(column.unique())
+            missing = [lev for lev in levels if lev not in used]
+            if missing:
+                raise ValueError(f"factor {name!r} has levels with no rows: {missing}")
+        else:
+            levels = tuple(sorted(column.unique(), key=str))
+    if len(levels) < 2:
+        raise ValueError(f"factor {name!r} needs at least 2 levels, got {list(levels)}")
+    codes = pd.Categorical(column, categories=list(levels)).codes
+    if np.any(codes < 0):
+        raise ValueError(f"factor {name!r} has values outside its levels {list(levels)}")
+    contrast = np.vstack([np.eye(len(levels) - 1), -np.ones(len(levels) - 1)])
+    return contrast[codes], [f"{name}[{lev}]" for lev in levels[:-1]], tuple(levels)
+
+
+def build_design(table: pd.DataFrame, terms: list[tuple[str, ...]], levels: dict | None = None) -> DesignMatrix:
+    """Intercept plus one block of columns per term (row-wise products of codings)."""
+    variables = sorted({v for term in terms for v in term})
+    missing = [v for v in variables if v not in table.columns]
+    if missing:
+        raise ValueError(f"fixed names columns not in table: {missing}")
+    levels = dict(levels or {})
+    codings = {}
+    for v in variables:
+        block, names, lev = _variable_coding(table[v], v, levels.get(v))
+        codings[v] = (block, names)
+        levels[v] = lev
+    n = len(table)
+    blocks, names, term_columns = [np.ones((n, 1))], ["(Intercept)"], {"(Intercept)": slice(0, 1)}
+    start = 1
+    for term in terms:
+        block, block_names = np.ones((n, 1)), [""]
+        for v in term:
+            coding, coding_names = codings[v]
+            block = (block[:, :, None] * coding[:, None, :]).reshape(n, -1)
+            block_names = [f"{a}:{b}" if a else b for a in block_names for b in coding_names]
+        blocks.append(block)
+        names += block_names
+        term_columns[":".join(term)] = slice(start, start + block.shape[1])
+        start += block.shape[1]
+    return DesignMatrix(np.hstack(blocks), tuple(names), term_columns, levels)
+
+
+def group_indices(table: pd.DataFrame, term: str) -> np.ndarray:
+    """Integer level index (0..q-1) of a grouping term such as ``"t"`` or ``"t:p"``."""
+    names = [s.strip() for s in term.split(":")]
+    missing = [v for v in names if v not in table.columns]
+    if missing:
+        raise ValueError(f"random term {term!r} names columns not in table: {missing}")
+    for v in names:
+        if table[v].isna().any():
+            raise ValueError(f"random term column {v!r} has missing values")
+    if len(names) == 1:
+        return pd.factorize(table[names[0]], sort=True)[0]
+    keys = pd.MultiIndex.from_frame(table[names].astype(str))
+    return pd.factorize(keys, sort=True)[0]

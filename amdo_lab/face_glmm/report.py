@@ -1,0 +1,128 @@
+"""The paper's published numbers, our side-by-side tables, and Figs. 1-2 in the paper's encoding."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from amdo_lab.common import PALETTE
+from amdo_lab.face_glmm.glmm import GlmmResult
+
+__all__ = ["PAPER_TABLE2", "PAPER_NUMBERS", "table2_comparison", "cell_predictions", "findings",
+           "plot_figure1", "plot_figure2", "SUPPLEMENT_COLOURS"]
+
+#: Table 2 of Givens et al. (2004): numerator d.f., F value, p-value as printed.
+PAPER_TABLE2 = pd.DataFrame(
+    {"df": [3, 1, 1, 1, 3, 3, 3, 1, 1, 1, 1],
+     "F": [139.1, 1087.8, 936.6, 333.8, 14.2, 67.0, 41.5, 717.6, 59.1, 703.7, 5.04],
+     "p_value": ["<.0001"] * 10 + [".0248"]},
+    index=pd.Index(["U", "M", "D", "F", "U:M", "U:F", "U:D", "M:F", "M:D", "D:F", "M:D:F"], name="term"))
+
+#: Other numbers quoted in Secs. 6-7.
+PAPER_NUMBERS = {"rho": 0.70, "best_included": 0.87, "best_not_included": 0.75,
+                 "baseline_included": 0.77, "baseline_not_included": 0.74,
+                 "all_30_share": 0.47, "rank1_rate": 0.76}
+
+#: Sec. 6 colours: orange none, green reflection, red noise, blue shift.
+SUPPLEMENT_COLOURS = {"none": PALETTE["orange"], "reflection": PALETTE["green"],
+                      "noise": PALETTE["vermillion"], "shift": PALETTE["blue"]}
+_MARKERS = {"l2": "s", "soft_l2": "o"}
+_LINES = {"fixed": "-", "e90": "--"}
+
+
+def table2_comparison(result: GlmmResult) -> pd.DataFrame:
+    """Paper's Table 2 next to our Wald F tests (denominator d.f. taken as infinite)."""
+    ours = result.tests.reindex(PAPER_TABLE2.index)
+    return pd.DataFrame({"df": PAPER_TABLE2["df"], "F paper": PAPER_TABLE2["F"], "p paper": PAPER_TABLE2["p_value"],
+                         "F ours": ours["F"].round(1), "p ours": ours["p_value"].map(lambda p: f"{p:.2g}")})
+
+
+def cell_predictions(result: GlmmResult, ci: float | None = None) -> pd.DataFrame:
+    """Predicted rank-1 probability of every U x M x D x F cell (typical probe)."""
+    levels = result.design.levels
+    grid = pd.MultiIndex.from_product([levels["U"], levels["M"], levels["D"], levels["F"]],
+                                      names=["U", "M", "D", "F"]).to_frame(index=False)
+    return pd.concat([grid, result.predict(grid, ci=ci)], axis=1)
+
+
+def _marg(result, **levels):
+    grid = pd.DataFrame({k: [v] for k, v in levels.items()})
+    return float(result.predict_marginal(grid).p.iloc[0])
+
+
+def findings(result: GlmmResult, size_result: GlmmResult | None = None) -> pd.DataFrame:
+    """The paper's qualitative findings (Sec. 6), each evaluated on our fit."""
+    m = lambda **kw: _marg(result, **kw)  # noqa: E731
+    u_levels = result.design.levels["U"]
+    u_marg = {u: m(U=u) for u in u_levels}
+    spread = {f: np.ptp([m(U=u, F=f) for u in u_levels]) for f in ("yes", "no")}
+    soft_gain = {f: m(M="soft_l2", F=f) - m(M="l2", F=f) for f in ("yes", "no")}
+    e90_loss = {f: m(D="fixed", F=f) - m(D="e90", F=f) for f in ("yes", "no")}
+    incl = {(mm, d): m(M=mm, D=d, F="yes") - m(M=mm, D=d, F="no") for mm in ("l2", "soft_l2")
+            for d in ("fixed", "e90")}
+    rows = [
+        ("shift is the best supplement", max(u_marg, key=u_marg.get) == "shift"),
+        ("reflection is worse than no supplement", u_marg["reflection"] < u_marg["none"]),
+        ("supplement effects mainly for included probes (range yes > 2 x range no)", spread["yes"] > 2 * spread["no"]),
+        ("soft L2 beats L2 overall", m(M="soft_l2") > m(M="l2")),
+        ("soft L2 gain mainly for included probes (gain yes > 2 x gain no)", soft_gain["yes"] > 2 * soft_gain["no"]),
+        ("inclusion in training helps overall (slightly)", m(F="yes") > m(F="no")),
+        ("inclusion helps at 114 dims for both metrics", incl[("l2", "fixed")] > 0 and incl[("soft_l2", "fixed")] > 0),
+        ("at E90: inclusion helps soft L2, hurts L2", incl[("soft_l2", "e90")] > 0 > incl[("l2", "e90")]),
+        ("E90 is worse than 114 dims overall", m(D="e90") < m(D="fixed")),
+        ("E90 loss mainly for included probes (loss yes > 2 x loss no)", e90_loss["yes"] > 2 * e90_loss["no"]),
+        ("training-set variance ~ 0 (< 5 % of probe variance)",
+         result.variance_components.get("t", 0.0) < 0.05 * result.variance_components.get("p", np.inf)),
+    ]
+    if size_result is not None:
+        size_terms = [t for t in size_result.tests.index if "S" in t.split(":")]
+        rows.append(("image size and its interactions not significant (all p > 0.05)",
+                     bool((size_result.tests.loc[size_terms, "p_value"] > 0.05).all())))
+    return pd.DataFrame(rows, columns=["paper's finding", "holds for ours"]).set_index("paper's finding")
+
+
+def _draw(ax, x, p, colours, marker, filled, linestyle):
+    ax.plot(x, p, color="0.55", linestyle=linestyle, linewidth=1.0, zorder=1)
+    for xi, pi, c in zip(x, p, colours):
+        ax.scatter([xi], [pi], marker=marker, s=45, zorder=2, edgecolors=c, linewidths=1.5,
+                   facecolors=c if filled else "white")
+
+
+def plot_figure1(result: GlmmResult, ax) -> None:
+    """Fig. 1: predicted rank-1 probability against the training supplement."""
+    cells = cell_predictions(result)
+    order = ["none", "reflection", "noise", "shift"]
+    order = [u for u in order if u in result.design.levels["U"]]
+    for (mm, d, f), grp in cells.groupby(["M", "D", "F"], observed=True):
+        p = grp.set_index("U").loc[order, "p"].to_numpy()
+        _draw(ax, np.arange(len(order)), p, [SUPPLEMENT_COLOURS[u] for u in order], _MARKERS[mm], f == "yes",
+              _LINES[d])
+    ax.set_xticks(np.arange(len(order)), order)
+    ax.set_xlabel("training supplement")
+    ax.set_ylabel("predicted P(rank 1)")
+
+
+def plot_figure2(result: GlmmResult, axes) -> None:
+    """Fig. 2: metric (left), inclusion (centre) and PCA dimension (right), averaged over supplements."""
+    black = PALETTE["black"]
+    panels = [("M", ["l2", "soft_l2"], ["F", "D"]), ("F", ["no", "yes"], ["M", "D"]),
+              ("D", ["fixed", "e90"], ["M", "F"])]
+    for ax, (xvar, xlev, series) in zip(axes, panels):
+        levels = {v: result.design.levels[v] for v in series}
+        for a in levels[series[0]]:
+            for b in levels[series[1]]:
+                grid = pd.DataFrame({xvar: xlev, series[0]: a, series[1]: b})
+                p = result.predict_marginal(grid).p.to_numpy()
+                style = {**{xvar: None}, series[0]: a, series[1]: b}
+                for i, xl in enumerate(xlev):
+                    cell = {**style, xvar: xl}
+                    marker = _MARKERS[cell["M"]]
+                    filled = cell["F"] == "yes"
+                    ax.scatter([i], [p[i]], marker=marker, s=45, edgecolors=black, linewidths=1.5,
+                               facecolors=black if filled else "white", zorder=2)
+                ls = _LINES[style["D"]] if style.get("D") else "-"
+                ax.plot(range(len(xlev)), p, color="0.55", linestyle=ls, linewidth=1.0, zorder=1)
+        ax.set_xticks(range(len(xlev)), xlev)
+        ax.set_xlim(-0.4, len(xlev) - 0.6)
+        ax.set_xlabel({"M": "distance metric", "F": "probe in training?", "D": "PCA dimension"}[xvar])
+    axes[0].set_ylabel("predicted P(rank 1)")

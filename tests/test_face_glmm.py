@@ -1,0 +1,300 @@
+"""Tests for Chapter 5 (amdo_lab.face_glmm): population, PCA+LDA, experiment, GLMM."""
+
+import numpy as np
+import pandas as pd
+import pytest
+import scipy.linalg
+
+from amdo_lab.common import make_rng
+from amdo_lab.face_glmm import (
+    PAPER_FORMULA,
+    PcaLda,
+    build_design,
+    downsample_by_two,
+    elliptical_mask,
+    fit_binomial_glmm,
+    fit_with_lme4,
+    generate_face_population,
+    lme4_available,
+    make_supplement,
+    parse_formula,
+    preprocess_images,
+    reduced_design,
+    run_factorial_experiment,
+    simulate_binomial_glmm,
+)
+
+
+@pytest.fixture(scope="module")
+def population():
+    return generate_face_population(40, 4, 3, shape=(24, 20))
+
+
+@pytest.fixture(scope="module")
+def reduced_table():
+    return run_factorial_experiment(reduced_design(), 11)
+
+
+def _crossed_table(n_t=6, n_p=120, seed=0):
+    """A balanced t x p x (M, D, U) table, 2 x 2 x 2 rows per cell."""
+    grid = pd.MultiIndex.from_product(
+        [range(n_t), range(n_p), ["l2", "soft_l2"], ["fixed", "e90"], ["none", "shift"]],
+        names=["t", "p", "M", "D", "U"]).to_frame(index=False)
+    return grid
+
+
+# --- population and preprocessing ------------------------------------------------------
+
+def test_population_is_seeded_and_shaped(population):
+    again = generate_face_population(40, 4, 3, shape=(24, 20))
+    np.testing.assert_array_equal(population.images, again.images)
+    assert population.images.shape == (160, 24, 20)
+    np.testing.assert_array_equal(population.labels, np.repeat(np.arange(40), 4))
+    other = generate_face_population(40, 4, 4, shape=(24, 20))
+    assert not np.allclose(population.images, other.images)
+
+
+def test_same_subject_images_are_closer_than_others(population):
+    flat = preprocess_images(population.images).reshape(160, -1)
+    d = ((flat[:, None] - flat[None]) ** 2).sum(-1)
+    same = population.labels[:, None] == population.labels[None]
+    np.fill_diagonal(same, False)
+    other = population.labels[:, None] != population.labels[None]
+    assert d[same].mean() < 0.8 * d[other].mean()
+
+
+def test_preprocessing_masks_equalises_and_standardises(population):
+    out = preprocess_images(population.images)
+    mask = elliptical_mask(out.shape[1:])
+    assert np.all(out[:, ~mask] == 0)
+    inside = out[:, mask]
+    np.testing.assert_allclose(inside.mean(1), 0, atol=1e-12)
+    np.testing.assert_allclose(inside.std(1), 1, atol=1e-12)
+    # Histogram equalisation: every image has the same (uniform) sorted value profile.
+    np.testing.assert_allclose(np.sort(inside[0]), np.sort(inside[7]), atol=1e-12)
+
+
+def test_downsample_has_quarter_pixels(population):
+    small = downsample_by_two(population.images)
+    assert small.shape[1] * small.shape[2] * 4 == population.images.shape[1] * population.images.shape[2]
+    assert np.isclose(small[0, 0, 0], population.images[0, :2, :2].mean())
+
+
+def test_supplements(population):
+    imgs = preprocess_images(population.images[:4])
+    mask = elliptical_mask(imgs.shape[1:])
+    shifted = make_supplement(imgs, "shift", make_rng(0))
+    np.testing.assert_allclose(shifted[:, 5, 3:10], (imgs[:, 5, 4:11] * mask[5, 3:10]))
+    reflected = make_supplement(imgs, "reflection", make_rng(0))
+    np.testing.assert_allclose(reflected[:, :, ::-1], imgs * mask[:, ::-1])
+    noisy = make_supplement(imgs, "noise", make_rng(0))
+    spread = (noisy - imgs)[:, mask].std(1) / (imgs.max((1, 2)) - imgs.min((1, 2)))
+    np.testing.assert_allclose(spread, 0.02, rtol=0.1)
+
+
+# --- PCA + LDA -------------------------------------------------------------------------
+
+def test_pcalda_matches_generalised_eigenproblem(population):
+    imgs = preprocess_images(population.images).reshape(160, -1)
+    model = PcaLda(40).fit(imgs, population.labels)
+    assert model.projection_.shape == (imgs.shape[1], 39)
+    np.testing.assert_allclose(np.linalg.norm(model.projection_, axis=0), 1.0)
+    assert np.all(np.diff(model.eigenvalues_) <= 1e-9)
+    # Fisher criterion: the first axis's between/within ratio equals the top eigenvalue.
+    feats = (imgs - model.basis_.mean) @ model.basis_.vectors[:, :40]
+    means = np.stack([feats[population.labels == c].mean(0) for c in range(40)])
+    sw = sum(((feats[population.labels == c] - means[c]).T @ (feats[population.labels == c] - means[c]))
+             for c in range(40))
+    sb = 4 * (means - feats.mean(0)).T @ (means - feats.mean(0))
+    top = scipy.linalg.eigh(sb, sw, eigvals_only=True)[-1]
+    assert np.isclose(model.eigenvalues_[0], top, rtol=1e-6)
+
+
+def test_distances_l2_and_soft_l2(population):
+    imgs = preprocess_images(population.images)
+    model = PcaLda("e90").fit(imgs, population.labels)
+    a, b = model.transform(imgs[:3]), model.transform(imgs[3:8])
+    brute = ((a[:, None] - b[None]) ** 2 * model.eigenvalues_ ** 0.2).sum(-1)
+    np.testing.assert_allclose(model.distances(imgs[:3], imgs[3:8], "soft_l2"), brute, rtol=1e-8, atol=1e-8)
+    brute_l2 = ((a[:, None] - b[None]) ** 2).sum(-1)
+    np.testing.assert_allclose(model.distances(imgs[:3], imgs[3:8], "l2"), brute_l2, rtol=1e-8, atol=1e-8)
+
+
+def test_pcalda_bad_inputs(population):
+    imgs = preprocess_images(population.images)
+    bad = imgs.copy()
+    bad[0, 0, 0] = np.nan
+    with pytest.raises(ValueError, match="images"):
+        PcaLda().fit(bad, population.labels)
+    with pytest.raises(ValueError, match="too few images"):
+        PcaLda().fit(imgs[::4], population.labels[::4])  # one image per subject
+    with pytest.raises(ValueError, match="metric"):
+        PcaLda().fit(imgs, population.labels).distances(imgs[:2], imgs[2:4], metric="l1")
+    with pytest.raises(ValueError, match="pca_dimension"):
+        PcaLda("e95")
+
+
+# --- the factorial experiment ----------------------------------------------------------
+
+def test_reduced_experiment_table(reduced_table):
+    design = reduced_design()
+    assert len(reduced_table) == design.n_training_sets * design.n_subjects * 4 * 2 * 2 * 2
+    assert reduced_table.Y.between(0, design.n_galleries).all()
+    # inclusion flag: exactly n_train_subjects probes per training set.
+    per_t = reduced_table[reduced_table.F == "yes"].groupby("t").p.nunique()
+    assert (per_t == design.n_train_subjects).all()
+    # better than chance by far, not perfect
+    assert 0.3 < reduced_table.Y.mean() / design.n_galleries < 0.99
+    again = run_factorial_experiment(design, 11)
+    pd.testing.assert_frame_equal(reduced_table, again)
+
+
+def test_rank1_counts_against_loop():
+    from amdo_lab.face_glmm.experiment import _rank1_counts
+    rng = make_rng(0)
+    dist = rng.random((6, 6, 3))
+    choice = rng.integers(0, 3, (5, 6))
+    loop = [sum(int(np.argmin([dist[i, j, choice[g, j]] for j in range(6)]) == i) for g in range(5))
+            for i in range(6)]
+    np.testing.assert_array_equal(_rank1_counts(dist, choice), loop)
+
+
+# --- formula / design ------------------------------------------------------------------
+
+def test_parse_formula_expands_star():
+    response, terms = parse_formula("Y ~ M * D + U")
+    assert response == "Y"
+    assert terms == [("M",), ("D",), ("U",), ("M", "D")]
+
+
+def test_sum_to_zero_columns_sum_to_zero():
+    table = _crossed_table(2, 4)
+    design = build_design(table, parse_formula("Y ~ U * M * D")[1])
+    assert design.matrix.shape[1] == 8
+    assert np.allclose(design.matrix[:, 1:].sum(0), 0)
+
+
+# --- the GLMM --------------------------------------------------------------------------
+
+TRUE_BETA = np.array([0.8, -0.4, 0.3, 0.5, 0.2])  # intercept, M, D, U, M:D
+
+
+@pytest.fixture(scope="module")
+def simulated():
+    table = _crossed_table()
+    variances = {"t": 0.05, "p": 1.2, "t:p": 0.4}
+    table["Y"] = simulate_binomial_glmm(table, "Y ~ M * D + U", TRUE_BETA, variances, 30, 7)
+    return table, variances
+
+
+def test_glmm_recovers_simulated_effects(simulated):
+    table, variances = simulated
+    fit = fit_binomial_glmm(table, "Y ~ M * D + U", ["t", "p", "t:p"], 30)
+    est = fit.coefficients.to_numpy()
+    se = fit.coefficients.copy()
+    se[:] = np.sqrt(np.diag(fit.covariance))
+    assert np.all(np.abs(est - TRUE_BETA) < 4 * se.to_numpy())
+    assert fit.variance_components["p"] == pytest.approx(1.2, rel=0.3)
+    assert fit.variance_components["t:p"] == pytest.approx(0.4, rel=0.3)
+    assert isinstance(fit.fixed_effects["M:D"], float)
+    assert set(fit.tests.index) == {"M", "D", "U", "M:D"}
+    assert 0 < fit.probe_correlation < 1
+
+
+def test_glmm_reduces_to_logistic_regression_without_random_variance():
+    """With all true variances 0 the fitted sigmas collapse and beta is the GLM's."""
+    import statsmodels.api as sm
+    table = _crossed_table(4, 60)
+    table["Y"] = simulate_binomial_glmm(table, "Y ~ M * D + U", TRUE_BETA, {}, 30, 3)
+    fit = fit_binomial_glmm(table, "Y ~ M * D + U", ["t", "p"], 30)
+    x = build_design(table, parse_formula("Y ~ M * D + U")[1]).matrix
+    glm = sm.GLM(np.column_stack([table.Y, 30 - table.Y]), x, family=sm.families.Binomial()).fit()
+    assert max(fit.variance_components.values()) < 0.01
+    np.testing.assert_allclose(fit.coefficients.to_numpy(), glm.params, atol=5e-3)
+
+
+def test_glmm_bad_inputs(simulated):
+    table, _ = simulated
+    bad = table.copy()
+    bad.loc[0, "Y"] = 31
+    with pytest.raises(ValueError, match="counts"):
+        fit_binomial_glmm(bad, "Y ~ M", ["p"], 30)
+    bad.loc[0, "Y"] = -1
+    with pytest.raises(ValueError, match="counts"):
+        fit_binomial_glmm(bad, "Y ~ M", ["p"], 30)
+    bad.loc[0, "Y"] = np.nan
+    with pytest.raises(ValueError, match="finite"):
+        fit_binomial_glmm(bad, "Y ~ M", ["p"], 30)
+    with pytest.raises(ValueError, match="singular"):
+        dup = table.assign(M2=table.M)
+        fit_binomial_glmm(dup, "Y ~ M + M2", ["p"], 30)
+    with pytest.raises(ValueError, match="levels with no rows"):
+        cat = table.assign(M=pd.Categorical(table.M, categories=["l2", "soft_l2", "l1"]))
+        fit_binomial_glmm(cat, "Y ~ M", ["p"], 30)
+    with pytest.raises(ValueError, match="not in table"):
+        fit_binomial_glmm(table, "Y ~ Q", ["p"], 30)
+    with pytest.raises(ValueError, match="trials"):
+        fit_binomial_glmm(table, "Y ~ M", ["p"], 0)
+    with pytest.raises(TypeError, match="table"):
+        fit_binomial_glmm(table.to_numpy(), "Y ~ M", ["p"], 30)
+
+
+@pytest.mark.skipif(not lme4_available(), reason="Rscript with lme4 not installed")
+def test_agrees_with_lme4(simulated):
+    table, _ = simulated
+    ours = fit_binomial_glmm(table, "Y ~ M * D + U", ["t", "p", "t:p"], 30)
+    theirs = fit_with_lme4(table, "Y ~ M * D + U", ["t", "p", "t:p"], 30)
+    np.testing.assert_allclose(ours.coefficients.to_numpy(), theirs["coefficients"].to_numpy(), atol=1e-3)
+    for term in ("p", "t:p"):
+        assert ours.variance_components[term] == pytest.approx(theirs["variance_components"][term], abs=1e-3)
+
+
+def test_marginal_prediction_averages_logits(simulated):
+    from scipy.special import logit
+    table, _ = simulated
+    fit = fit_binomial_glmm(table, "Y ~ M * D + U", ["p"], 30)
+    full = pd.MultiIndex.from_product([["l2", "soft_l2"], ["e90", "fixed"], ["none", "shift"]],
+                                      names=["M", "D", "U"]).to_frame(index=False)
+    cells = logit(fit.predict(full).p.to_numpy()).reshape(2, 2, 2)
+    marg = fit.predict_marginal(pd.DataFrame({"M": ["l2", "soft_l2"]}))
+    np.testing.assert_allclose(logit(marg.p.to_numpy()), cells.mean(axis=(1, 2)))
+
+
+def test_peer_fits_run_on_simulated_table(simulated):
+    from amdo_lab.face_glmm import fit_gee_exchangeable, fit_naive_logistic
+    table, _ = simulated
+    gee = fit_gee_exchangeable(table, "Y ~ M * D + U", group="p")
+    naive = fit_naive_logistic(table, "Y ~ M * D + U")
+    assert gee.attrs["finite"]
+    # population-averaged effects are attenuated relative to the subject-specific truth
+    assert np.all(np.abs(gee.estimate.to_numpy()[1:]) < np.abs(TRUE_BETA[1:]))
+    # naive standard errors are too small compared with the cluster-robust ones
+    assert np.median(naive.se / gee.se) < 0.8
+
+
+def test_population_and_design_bad_inputs():
+    from amdo_lab.face_glmm import FactorialDesign
+    with pytest.raises(ValueError, match="n_subjects"):
+        generate_face_population(1, 4, 0)
+    with pytest.raises(ValueError, match="shape"):
+        generate_face_population(4, 4, 0, shape=(4, 4))
+    images = np.zeros((2, 8, 8))
+    images[1, 3, 3] = np.nan
+    with pytest.raises(ValueError, match="images"):
+        preprocess_images(images)
+    with pytest.raises(ValueError, match="n_train_subjects"):
+        FactorialDesign(n_subjects=8, n_train_subjects=9)
+    with pytest.raises(ValueError, match="supplements"):
+        FactorialDesign(supplements=("none", "blur"))
+    with pytest.raises(TypeError, match="design"):
+        run_factorial_experiment({"n_subjects": 8}, 0)
+
+
+def test_experiment_cache_round_trip(tmp_path):
+    from amdo_lab.face_glmm import FactorialDesign, load_or_run_experiment
+    design = FactorialDesign(n_subjects=16, n_training_sets=1, n_train_subjects=8, n_galleries=3,
+                             supplements=("none",), shape=(16, 14))
+    first, hit_first = load_or_run_experiment(design, 1, tmp_path)
+    second, hit_second = load_or_run_experiment(design, 1, tmp_path)
+    assert (hit_first, hit_second) == (False, True)
+    pd.testing.assert_frame_equal(first, second)
