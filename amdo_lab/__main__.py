@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from amdo_lab.chapters import CHAPTERS, find_chapter
+from amdo_lab.chapters import available_chapters, find_chapter
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -27,7 +27,7 @@ def _parser() -> argparse.ArgumentParser:
 
 def _select(numbers: list[int] | None):
     if not numbers:
-        return [find_chapter(chapter.number) for chapter in CHAPTERS]
+        return available_chapters()
     return [find_chapter(number) for number in numbers]
 
 

@@ -115,7 +115,7 @@ def render_figures(chapter: Chapter, build_dir: Path = BUILD_DIR) -> list[Path]:
 
 
 def build_book(
-    chapters: Sequence[Chapter] = CHAPTERS,
+    chapters: Sequence[Chapter] | None = None,
     build_dir: Path = BUILD_DIR,
     *,
     progress: bool = True,
@@ -125,8 +125,9 @@ def build_book(
 
     Parameters
     ----------
-    chapters : sequence of Chapter
-        Chapters to (re)build, in order. Chapters built before and not named here stay listed.
+    chapters : sequence of Chapter, optional
+        Chapters to (re)build, in order; by default every chapter whose notebook exists.
+        Chapters built before and not named here stay listed.
     build_dir : pathlib.Path
         Output root: ``book/`` (HTML), ``figures/<slug>/`` (PNG) and ``executed/`` (notebooks).
     write_back : bool
@@ -135,6 +136,8 @@ def build_book(
     """
     import nbformat
 
+    if chapters is None:
+        chapters = [chapter for chapter in CHAPTERS if chapter.path.exists()]
     book_dir = build_dir / "book"
     executed_dir = build_dir / "executed"
     book_dir.mkdir(parents=True, exist_ok=True)
@@ -202,7 +205,12 @@ def _write_index(book_dir: Path, timings: dict) -> None:
     for chapter in CHAPTERS:
         built = chapter.slug in timings and (book_dir / f"{chapter.slug}.html").exists()
         title = html.escape(chapter.title)
-        link = f'<a href="{chapter.slug}.html">{title}</a>' if built else f"{title} (not built)"
+        if built:
+            link = f'<a href="{chapter.slug}.html">{title}</a>'
+        elif chapter.path.exists():
+            link = f"{title} (not built yet: run <code>make book</code>)"
+        else:
+            link = f"{title} (in preparation)"
         run = f"{timings[chapter.slug]['seconds']:.0f} s" if built else "—"
         figures = str(timings[chapter.slug]["figures"]) if built else "—"
         rows.append(

@@ -8,7 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["CHAPTERS", "Chapter", "NOTEBOOK_DIR", "find_chapter"]
+__all__ = ["CHAPTERS", "Chapter", "NOTEBOOK_DIR", "available_chapters", "find_chapter"]
 
 NOTEBOOK_DIR = Path(__file__).resolve().parent.parent / "notebooks"
 
@@ -85,6 +85,11 @@ CHAPTERS: tuple[Chapter, ...] = (
 )
 
 
+def available_chapters() -> list[Chapter]:
+    """The registered chapters whose notebook exists (a chapter may be registered before it is written)."""
+    return [chapter for chapter in CHAPTERS if chapter.path.exists()]
+
+
 def find_chapter(number: int) -> Chapter:
     """Return chapter ``number`` or raise a one-line ``ValueError`` listing what exists."""
     for chapter in CHAPTERS:
@@ -100,5 +105,5 @@ def find_chapter(number: int) -> Chapter:
 
 def _available() -> str:
     return ", ".join(
-        f"{chapter.number} ({chapter.notebook})" for chapter in CHAPTERS if chapter.path.exists()
+        f"{chapter.number} ({chapter.notebook})" for chapter in available_chapters()
     ) or "none"
