@@ -17,10 +17,13 @@ from amdo_lab.pdm_mixtures.pdm import (
 from amdo_lab.pdm_mixtures.poses import (
     LIMB_NAMES,
     LIMB_PARENTS,
+    JITTER_SCALE,
+    POSE_MODES,
     POSES,
     TABLE1_CLASSES,
     PoseDataset,
     generate_pose_dataset,
+    pose_modes,
     skeleton_strokes,
 )
 from amdo_lab.pdm_mixtures.recognizer import (

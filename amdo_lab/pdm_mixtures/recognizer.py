@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive, check_positive_int, procrustes_align
+from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng, procrustes_align
 from amdo_lab.pdm_mixtures.gmm import fit_gaussian_mixture
 from amdo_lab.pdm_mixtures.pdm import (
     PointDistributionModel,
@@ -77,7 +77,7 @@ def _circular_mean(angles: np.ndarray) -> np.ndarray:
 
 
 class ArticulatedShapeRecognizer:
-    """Two-layer recogniser: limb PDM mixtures + label dictionary + per-class polar PDMs.
+    """Two-layer recogniser: limb PDM mixtures + label dictionary + per-class mixtures of polar PDMs.
 
     Parameters
     ----------
@@ -87,6 +87,10 @@ class ArticulatedShapeRecognizer:
         p of eq. 18, in (0, 0.5).
     variance_fraction : float
         Variance kept by each PDM's eigenmodes.
+    n_shape_components : int
+        Polar-PDM mixture components learnt by EM for each class (1 gives one polar PDM per class).
+    shape_seed : int
+        Seed of the k-means++ initialisation of the shape-level EM.
     max_iter : int
         Maximum number of limb-layer / shape-layer iterations.
     classes : sequence of str, optional
@@ -97,6 +101,8 @@ class ArticulatedShapeRecognizer:
         self,
         *,
         n_limb_labels: int = 4,
+        n_shape_components: int = 2,
+        shape_seed: int = 0,
         label_error_probability: float = 0.2,
         variance_fraction: float = 0.95,
         max_iter: int = 10,
@@ -104,6 +110,10 @@ class ArticulatedShapeRecognizer:
         classes: tuple[str, ...] | None = None,
     ) -> None:
         self.n_limb_labels = check_positive_int(n_limb_labels, "n_limb_labels")
+        self.n_shape_components = check_positive_int(n_shape_components, "n_shape_components")
+        if isinstance(shape_seed, bool) or not isinstance(shape_seed, (int, np.integer)):
+            raise TypeError(f"shape_seed must be an int, got {shape_seed!r}")
+        self.shape_seed = int(shape_seed)
         p = check_positive(label_error_probability, "label_error_probability")
         if not p < 0.5:
             raise ValueError(f"label_error_probability must be in (0, 0.5), got {p}")
@@ -143,10 +153,12 @@ class ArticulatedShapeRecognizer:
                 raise ValueError(f"class(es) {empty} have no training examples")
             present = self.classes
         counts = {c: int(np.sum(labels == c)) for c in present}
-        few = {c: k for c, k in counts.items() if k < MIN_PER_CLASS}
+        needed = MIN_PER_CLASS * self.n_shape_components
+        few = {c: k for c, k in counts.items() if k < needed}
         if few:
             raise ValueError(
-                f"every class needs at least {MIN_PER_CLASS} training examples for a covariance, got {few}"
+                f"every class needs at least {needed} training examples for a covariance "
+                f"({MIN_PER_CLASS} per shape component), got {few}"
             )
         self.classes_ = present
         self.landmarks_per_limb_ = shapes.shape[2]
@@ -197,16 +209,31 @@ class ArticulatedShapeRecognizer:
         return log_lik - np.logaddexp.reduce(log_lik, axis=2, keepdims=True)
 
     def _fit_shape_layer(self, aligned: np.ndarray, labels: np.ndarray) -> None:
+        """Per class, a mixture of polar PDMs learnt by EM (Sec. 4, eqs. 2-8) on S relative to the
+        class's circular mean angles; EM starts from a seeded k-means++ partition."""
         vectors = polar_shape_vector(aligned)
+        rng = make_rng(self.shape_seed)
         self.angle_means_ = []
-        self.shape_models_: list[PointDistributionModel] = []
+        self.shape_models_: list[list[PointDistributionModel]] = []
+        self.shape_weights_: list[np.ndarray] = []
         for c in self.classes_:
             class_vectors = vectors[labels == c]
             angle_mean = _circular_mean(class_vectors[:, :N_LIMBS])
             self.angle_means_.append(angle_mean)
-            self.shape_models_.append(
-                fit_pdm(self._deviation(class_vectors, angle_mean), variance_fraction=self.variance_fraction)
-            )
+            deviation = self._deviation(class_vectors, angle_mean)
+            if self.n_shape_components == 1:
+                self.shape_models_.append([fit_pdm(deviation, variance_fraction=self.variance_fraction)])
+                self.shape_weights_.append(np.ones(1))
+                continue
+            models, weights = _fit_pdm_mixture(deviation, self.n_shape_components, rng,
+                                               self.em_iterations, self.variance_fraction)
+            self.shape_models_.append(models)
+            self.shape_weights_.append(weights)
+        # The most responsible component of every training shape, per class (for inspection).
+        self.training_components_ = [
+            np.argmax(self._component_log_likelihoods(self._deviation(vectors[labels == c], a), j)[0], axis=1)
+            for j, (c, a) in enumerate(zip(self.classes_, self.angle_means_))
+        ]
 
     @staticmethod
     def _deviation(vectors: np.ndarray, angle_mean: np.ndarray) -> np.ndarray:
@@ -215,22 +242,27 @@ class ArticulatedShapeRecognizer:
         out[:, :N_LIMBS] = wrap_angle(vectors[:, :N_LIMBS] - angle_mean)
         return out
 
+    def _component_log_likelihoods(self, deviation: np.ndarray, j: int) -> tuple[np.ndarray, np.ndarray]:
+        """``ln pi_k + ln p(S | Phi_k, Gamma_k*)`` for every component k of class j, ``(n, K)``, and
+        the clamped modal fits ``(K, n, 3K)`` (in deviation coordinates)."""
+        scores, fits = [], []
+        for model, weight in zip(self.shape_models_[j], self.shape_weights_[j]):
+            gamma = fit_modes(model, deviation)
+            fits.append(reconstruct(model, gamma))
+            scores.append(np.log(weight) + _ppca_log_density(model, deviation, gamma, fits[-1]))
+        return np.stack(scores, axis=1), np.stack(fits)
+
     def _shape_log_likelihoods(self, aligned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """ln p(S | Phi_w, Gamma_w*) per class (clamped modal fit, PPCA density) and the fits."""
+        """ln p(S | class) per class (mixture of clamped polar PDMs, PPCA densities) and the
+        responsibility-weighted model fits ``(C, n, 3K)``."""
         vectors = polar_shape_vector(aligned)
         log_lik = np.empty((aligned.shape[0], len(self.classes_)))
         fits = np.empty((len(self.classes_),) + vectors.shape)
-        for j, (model, angle_mean) in enumerate(zip(self.shape_models_, self.angle_means_)):
-            deviation = self._deviation(vectors, angle_mean)
-            gamma = fit_modes(model, deviation)
-            fitted = reconstruct(model, gamma)
-            residual = np.sum((deviation - fitted) ** 2, axis=1)
-            d, m = vectors.shape[1], model.n_modes
-            log_lik[:, j] = -0.5 * (
-                np.sum(gamma**2 / model.variances, axis=1) + residual / model.residual_variance
-                + np.sum(np.log(model.variances)) + (d - m) * np.log(model.residual_variance)
-                + d * np.log(2 * np.pi)
-            )
+        for j, angle_mean in enumerate(self.angle_means_):
+            scores, component_fits = self._component_log_likelihoods(self._deviation(vectors, angle_mean), j)
+            log_lik[:, j] = np.logaddexp.reduce(scores, axis=1)
+            responsibilities = np.exp(scores - log_lik[:, j:j + 1])  # eq. 4 for a test shape
+            fitted = np.einsum("nk,knd->nd", responsibilities, component_fits)
             fitted[:, :N_LIMBS] = wrap_angle(fitted[:, :N_LIMBS] + angle_mean)
             fits[j] = fitted
         return log_lik, fits
@@ -298,7 +330,10 @@ class ArticulatedShapeRecognizer:
         n_iter = check_positive_int(n_iter, "n_iter")
         shape = self._check_shapes(np.asarray(shape)[None])[0]
         j = self.classes_.index(class_name)
-        model, angle_mean = self.shape_models_[j], self.angle_means_[j]
+        angle_mean = self.angle_means_[j]
+        # Use the class's mixture component that best explains the shape as first posed.
+        start = self._deviation(polar_shape_vector(self.align(shape[None])), angle_mean)
+        model = self.shape_models_[j][int(np.argmax(self._component_log_likelihoods(start, j)[0][0]))]
         labels = self.dictionary_[j]
         data_centres = shape.mean(axis=1)
         model_vector = model.mean.copy()
@@ -342,6 +377,52 @@ class ArticulatedShapeRecognizer:
             else:
                 strokes.append(reconstruct(model, fit_modes(model, observed_limbs[k][None]))[0])
         return np.stack(strokes).reshape(N_LIMBS, -1, 2) + centres[:, None, :]
+
+
+def _ppca_log_density(model: PointDistributionModel, data: np.ndarray, gamma: np.ndarray,
+                      fitted: np.ndarray) -> np.ndarray:
+    """Gaussian (PPCA) log-density of rows of ``data`` under a PDM: in-model Mahalanobis term on
+    ``gamma`` plus an isotropic residual with the discarded-eigenvalue variance."""
+    d, m = data.shape[1], model.n_modes
+    residual = np.sum((data - fitted) ** 2, axis=1)
+    return -0.5 * (
+        np.sum(gamma**2 / model.variances, axis=1) + residual / model.residual_variance
+        + np.sum(np.log(model.variances)) + (d - m) * np.log(model.residual_variance) + d * np.log(2 * np.pi)
+    )
+
+
+def _kmeans_partition(data: np.ndarray, n_clusters: int, rng: np.random.Generator, n_iter: int = 10) -> np.ndarray:
+    """Seeded k-means++ start followed by Lloyd iterations; returns a cluster index per row."""
+    centres = [data[rng.integers(len(data))]]
+    for _ in range(1, n_clusters):
+        distance = np.min(np.sum((data[:, None] - np.array(centres)[None]) ** 2, axis=2), axis=1)
+        centres.append(data[rng.choice(len(data), p=distance / distance.sum())])
+    centres = np.array(centres)
+    for _ in range(n_iter):
+        assign = np.argmin(np.sum((data[:, None] - centres[None]) ** 2, axis=2), axis=1)
+        centres = np.array([data[assign == k].mean(axis=0) if np.any(assign == k) else centres[k]
+                            for k in range(n_clusters)])
+    return assign
+
+
+def _fit_pdm_mixture(data: np.ndarray, n_components: int, rng: np.random.Generator, n_iter: int,
+                     variance_fraction: float) -> tuple[list[PointDistributionModel], np.ndarray]:
+    """Mixture of PDMs on ``data (T, D)`` by EM (eqs. 2-8): k-means++ means, the pooled covariance
+    as every starting covariance, a small ridge (T < D), then one PDM per component (eq. 1's
+    eigen-decomposition of the component covariance, at most ``round(T pi_k) - 1`` modes)."""
+    assign = _kmeans_partition(data, n_components, rng)
+    means_init = np.stack([data[assign == k].mean(axis=0) if np.any(assign == k) else data[k]
+                           for k in range(n_components)])
+    spread = np.cov(data.T, bias=True)
+    reg = 1e-3 * float(np.trace(spread)) / data.shape[1]
+    mixture = fit_gaussian_mixture(data, n_components, means_init=means_init,
+                                   covariances_init=np.repeat(spread[None] + reg * np.eye(data.shape[1]),
+                                                              n_components, axis=0),
+                                   n_iter=n_iter, reg_covar=reg)
+    counts = mixture.weights * len(data)
+    models = [pdm_from_moments(mean, cov, variance_fraction=variance_fraction, max_modes=max(1, int(round(n)) - 1))
+              for mean, cov, n in zip(mixture.means, mixture.covariances, counts)]
+    return models, np.clip(mixture.weights, 1e-12, None)
 
 
 def _fit_error(model: PointDistributionModel, data: np.ndarray) -> np.ndarray:
