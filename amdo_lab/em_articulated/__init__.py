@@ -1,0 +1,35 @@
+"""Chapter 1: robust EM registration of 3-D points to an articulated hand with bending surfaces.
+
+Dewaele, Devernay, Horaud & Forbes, ECCV 2006.
+"""
+
+from amdo_lab.em_articulated.data import (
+    RegistrationProblem,
+    TrackingSequence,
+    joint_rmse_deg,
+    make_registration_problem,
+    make_tracking_sequence,
+    perturb_pose,
+    random_pose,
+    visible_points,
+)
+from amdo_lab.em_articulated.hand import PART_NAMES, HandModel, TextureBinding
+from amdo_lab.em_articulated.registration import (
+    PAPER_C,
+    EMResult,
+    SoftAssignResult,
+    SurfaceFitResult,
+    e_step_statistics,
+    fit_surface,
+    register_em,
+    softassign_register,
+)
+from amdo_lab.em_articulated.tracking import TrackingResult, track_sequence
+
+__all__ = [
+    "PAPER_C", "PART_NAMES", "EMResult", "HandModel", "RegistrationProblem", "SoftAssignResult",
+    "SurfaceFitResult", "TextureBinding", "TrackingResult", "TrackingSequence", "e_step_statistics",
+    "fit_surface", "joint_rmse_deg", "make_registration_problem", "make_tracking_sequence",
+    "perturb_pose", "random_pose", "register_em", "softassign_register", "track_sequence",
+    "visible_points",
+]

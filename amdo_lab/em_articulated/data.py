@@ -1,0 +1,139 @@
+"""Seeded synthetic data: single registration problems and a tracking sequence (Sec. 5 style)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from amdo_lab.common import check_positive, check_positive_int, make_rng
+
+from amdo_lab.em_articulated.hand import HandModel
+
+__all__ = ["RegistrationProblem", "make_registration_problem", "perturb_pose", "visible_points",
+           "make_tracking_sequence", "TrackingSequence", "joint_rmse_deg"]
+
+_ARTICULATION = slice(6, 27)
+
+
+def joint_rmse_deg(theta_est: np.ndarray, theta_true: np.ndarray) -> float:
+    """RMSE over the 21 finger/thumb joint angles, in degrees."""
+    return float(np.degrees(np.sqrt(np.mean((np.asarray(theta_est)[_ARTICULATION]
+                                             - np.asarray(theta_true)[_ARTICULATION]) ** 2))))
+
+
+def perturb_pose(hand: HandModel, theta: np.ndarray, joint_error_deg: float, rng: np.random.Generator,
+                 *, palm_rotation_deg: float = 5.0, palm_translation_mm: float = 5.0) -> np.ndarray:
+    """Offset each articulation DOF by ±``joint_error_deg`` (random sign), staying inside the limits."""
+    limits = hand.joint_limits()
+    out = np.array(theta, dtype=float)
+    signs = rng.choice([-1.0, 1.0], size=21)
+    proposal = out[_ARTICULATION] + signs * np.radians(joint_error_deg)
+    lo, hi = limits[_ARTICULATION, 0], limits[_ARTICULATION, 1]
+    # flip the sign where the offset would leave the range, then clip as a last resort
+    flipped = np.where((proposal < lo) | (proposal > hi), out[_ARTICULATION] - signs * np.radians(joint_error_deg), proposal)
+    out[_ARTICULATION] = np.clip(flipped, lo, hi)
+    out[:3] += rng.normal(scale=palm_translation_mm / np.sqrt(3), size=3)
+    out[3:6] += rng.normal(scale=np.radians(palm_rotation_deg) / np.sqrt(3), size=3)
+    return np.clip(out, limits[:, 0], limits[:, 1])
+
+
+def random_pose(hand: HandModel, rng: np.random.Generator) -> np.ndarray:
+    """A natural pose: rest pose plus moderate random flexions within the limits."""
+    limits = hand.joint_limits()
+    theta = hand.rest_pose()
+    theta[6:] = np.clip(theta[6:] + rng.uniform(-0.1, 0.6, size=21) * (np.arange(21) % 4 != 0),
+                        limits[6:, 0], limits[6:, 1])
+    return theta
+
+
+def visible_points(hand: HandModel, points: np.ndarray, theta: np.ndarray, camera: np.ndarray) -> np.ndarray:
+    """Boolean mask of points whose surface normal faces ``camera`` (back-face culling)."""
+    normals = hand.surface_normals(points, theta)
+    return np.sum(normals * (np.asarray(camera) - points), axis=1) > 0
+
+
+@dataclass(frozen=True)
+class RegistrationProblem:
+    """One synthetic problem: model texture at ``theta_init``, data at ``theta_true``."""
+
+    theta_true: np.ndarray
+    theta_init: np.ndarray
+    model_points: np.ndarray
+    data_points: np.ndarray
+    is_outlier: np.ndarray
+
+
+def make_registration_problem(hand: HandModel, rng: np.random.Generator | int, *, joint_error_deg: float = 20.0,
+                              noise_mm: float = 2.0, outlier_ratio: float = 1.0, n_model: int = 500,
+                              n_data: int = 500, occlusion: bool = False) -> RegistrationProblem:
+    """Texture sampled at the initial pose; data = surface at the true pose + noise + uniform outliers.
+
+    Outliers are uniform in the data's bounding box enlarged by 30 mm; ``outlier_ratio`` outliers
+    per inlier. ``occlusion`` keeps only the camera-facing half (camera on +z... at 500 mm).
+    """
+    rng = make_rng(rng)
+    check_positive(noise_mm, "noise_mm", allow_zero=True)
+    check_positive(outlier_ratio, "outlier_ratio", allow_zero=True)
+    theta_true = random_pose(hand, rng)
+    theta_init = perturb_pose(hand, theta_true, joint_error_deg, rng)
+    model_points = hand.sample_surface(theta_init, check_positive_int(n_model, "n_model"), rng)
+    surface = hand.sample_surface(theta_true, 2 * check_positive_int(n_data, "n_data") if occlusion else n_data, rng)
+    if occlusion:
+        surface = surface[visible_points(hand, surface, theta_true, np.array([0.0, 40.0, 500.0]))][:n_data]
+    inliers = surface + rng.normal(scale=noise_mm, size=surface.shape) if noise_mm > 0 else surface
+    n_out = int(round(outlier_ratio * len(inliers)))
+    lo, hi = inliers.min(axis=0) - 30, inliers.max(axis=0) + 30
+    outliers = rng.uniform(lo, hi, size=(n_out, 3))
+    data = np.concatenate([inliers, outliers])
+    is_outlier = np.r_[np.zeros(len(inliers), bool), np.ones(n_out, bool)]
+    order = rng.permutation(len(data))
+    return RegistrationProblem(theta_true, theta_init, model_points, data[order], is_outlier[order])
+
+
+@dataclass(frozen=True)
+class TrackingSequence:
+    """Poses (F, 27) and per-frame data clouds (list of (M_f, 3)) with outlier masks."""
+
+    poses: np.ndarray
+    frames: list
+    is_outlier: list
+    fps: float
+
+
+def make_tracking_sequence(hand: HandModel, rng: np.random.Generator | int, *, n_frames: int = 100,
+                           fps: float = 20.0, n_surface: int = 1200, noise_mm: float = 2.0,
+                           n_clutter: int = 150) -> TrackingSequence:
+    """A hand turning about an axis parallel to the image plane while bending its fingers.
+
+    The camera looks down -z from 500 mm; only camera-facing surface points are kept (about
+    500-700 per frame). Clutter: points on an unmodelled forearm cylinder behind the wrist plus
+    uniform background points.
+    """
+    rng = make_rng(rng)
+    n_frames = check_positive_int(n_frames, "n_frames", minimum=2)
+    time = np.arange(n_frames) / check_positive(fps, "fps")
+    base = hand.rest_pose()
+    poses = np.repeat(base[None], n_frames, axis=0)
+    phase = 2 * np.pi * time / (n_frames / fps)
+    poses[:, 4] = 0.6 * np.sin(phase)  # turn about the hand's long axis (parallel to the image)
+    bend = 0.5 * (1 - np.cos(phase))  # 0 -> 1 -> 0
+    for f in range(4):
+        poses[:, 12 + 4 * f] = 0.1 + 1.0 * bend
+        poses[:, 13 + 4 * f] = 0.1 + 0.9 * bend
+        poses[:, 14 + 4 * f] = 0.1 + 0.6 * bend
+    poses[:, 10] = 0.1 + 0.6 * bend
+    camera = np.array([0.0, 40.0, 500.0])
+    frames, masks = [], []
+    for pose in poses:
+        surface = hand.sample_surface(pose, n_surface, rng)
+        surface = surface[visible_points(hand, surface, pose, camera)]
+        surface = surface + rng.normal(scale=noise_mm, size=surface.shape)
+        # forearm: a cylinder of radius 30 mm along -y below the wrist, front half only
+        angle = rng.uniform(0, np.pi, size=n_clutter)
+        arm = np.column_stack([30 * np.cos(angle), rng.uniform(-160, -60, n_clutter), 30 * np.sin(angle) - 10])
+        background = rng.uniform([-120, -150, -150], [120, 200, -100], size=(n_clutter // 3, 3))
+        clutter = np.concatenate([arm, background])
+        frames.append(np.concatenate([surface, clutter]))
+        masks.append(np.r_[np.zeros(len(surface), bool), np.ones(len(clutter), bool)])
+    return TrackingSequence(poses, frames, masks, float(fps))

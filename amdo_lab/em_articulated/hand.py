@@ -1,0 +1,313 @@
+"""Articulated hand: kinematics (Sec. 2), ellipsoid field surface (eqs. 1-2), bending texture (eq. 3).
+
+Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+bending surfaces", ECCV 2006. Lengths in millimetres, angles in radians.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng
+from amdo_lab.common.geometry import rotation_matrix
+
+__all__ = ["HandModel", "PART_NAMES"]
+
+FINGERS = ("thumb", "index", "middle", "ring", "little")
+PART_NAMES = ("palm",) + tuple(f"{f}_{k}" for f in FINGERS for k in (1, 2, 3))
+
+# Phalanx lengths (mm), roughly an adult hand (proximal, middle, distal).
+_PHALANX_LENGTHS = {
+    "thumb": (45.0, 32.0, 27.0),
+    "index": (40.0, 25.0, 20.0),
+    "middle": (45.0, 28.0, 22.0),
+    "ring": (42.0, 27.0, 21.0),
+    "little": (33.0, 20.0, 18.0),
+}
+_FINGER_BASE_X = {"index": -27.0, "middle": -9.0, "ring": 9.0, "little": 27.0}
+_DEG = np.pi / 180.0
+# Joint ranges of the Shadow Dexterous Hand (Shadow Robot Company, "Shadow Dexterous Hand
+# technical specification", joint table: FFJ4 -20..20, FFJ3 -15..90, FFJ2 0..90, FFJ1 0..90;
+# THJ5 -60..60, THJ4 0..70, THJ3 -12..12, THJ2 -30..30, THJ1 -15..90 degrees).
+_FINGER_LIMITS = ((-20, 20), (-15, 90), (0, 90), (0, 90))
+_THUMB_LIMITS = ((-60, 60), (0, 70), (-12, 12), (-30, 30), (-15, 90))
+
+_X = np.array([1.0, 0.0, 0.0])
+_Y = np.array([0.0, 1.0, 0.0])
+_Z = np.array([0.0, 0.0, 1.0])
+_FLEX = -_X  # positive flexion curls the finger towards -z (the palm side)
+
+
+@dataclass(frozen=True)
+class _Part:
+    parent: int  # -1 for the palm
+    offset: np.ndarray  # 4x4 fixed transform from parent frame to this joint's frame
+    dofs: tuple[int, ...]
+    axes: tuple[np.ndarray, ...]  # rotation axes in the joint frame, applied in order
+    centre: np.ndarray  # ellipsoid centre in the part frame
+    radii: np.ndarray  # ellipsoid semi-axes in the part frame
+
+
+def _homogeneous(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray:
+    transform = np.eye(4)
+    transform[:3, :3] = rotation
+    transform[:3, 3] = translation
+    return transform
+
+
+class HandModel:
+    """A 16-part, 27-DOF hand of ellipsoids (Sec. 2 of Dewaele et al. 2006).
+
+    DOF layout: 0-2 palm translation (mm), 3-5 palm rotation about z, y, x (rad), 6-10 thumb
+    (two 2-DOF joints and a 1-DOF joint), then 4 DOF per finger (abduction + flexion at the
+    knuckle, flexion at the two distal joints) for index, middle, ring and little.
+
+    Parameters
+    ----------
+    nu : float
+        Field fall-off ν of eq. (1) in mm.
+    """
+
+    n_parts = 16
+    n_dof = 27
+
+    def __init__(self, nu: float = 4.0) -> None:
+        self.nu = check_positive(nu, "nu")
+        parts: list[_Part] = []
+        limits = [(-np.inf, np.inf)] * 3 + [(-np.pi, np.pi), (-np.pi / 2, np.pi / 2), (-np.pi, np.pi)]
+        parts.append(_Part(-1, np.eye(4), (3, 4, 5), (_Z, _Y, _X), np.array([0.0, 0.0, 0.0]),
+                           np.array([40.0, 48.0, 13.0])))
+        dof = 6
+        for finger in FINGERS:
+            lengths = _PHALANX_LENGTHS[finger]
+            radius = 10.0 if finger == "thumb" else 8.5
+            if finger == "thumb":
+                base = _homogeneous(rotation_matrix(_Z, -55 * _DEG), np.array([-32.0, -20.0, -4.0]))
+                joint_axes = ((_Z, _FLEX), (_Z, _FLEX), (_FLEX,))
+                limits += [(lo * _DEG, hi * _DEG) for lo, hi in _THUMB_LIMITS]
+            else:
+                base = _homogeneous(np.eye(3), np.array([_FINGER_BASE_X[finger], 46.0, 0.0]))
+                joint_axes = ((_Z, _FLEX), (_FLEX,), (_FLEX,))
+                limits += [(lo * _DEG, hi * _DEG) for lo, hi in _FINGER_LIMITS]
+            parent = 0
+            for k, (length, axes) in enumerate(zip(lengths, joint_axes)):
+                offset = base if k == 0 else _homogeneous(np.eye(3), np.array([0.0, lengths[k - 1], 0.0]))
+                dofs = tuple(range(dof, dof + len(axes)))
+                dof += len(axes)
+                shrink = 1.0 - 0.08 * k
+                parts.append(_Part(parent, offset, dofs, axes, np.array([0.0, length / 2, 0.0]),
+                                   np.array([radius * shrink, length / 2 + 3.0, radius * shrink * 0.9])))
+                parent = len(parts) - 1
+        assert dof == self.n_dof and len(parts) == self.n_parts
+        self._parts = tuple(parts)
+        self._limits = np.array(limits)
+        # ancestor[k, p]: DOF k moves part p.
+        ancestor = np.zeros((self.n_dof, self.n_parts), dtype=bool)
+        ancestor[:6, :] = True
+        for p, part in enumerate(parts):
+            q = p
+            while q > 0:
+                ancestor[list(parts[q].dofs), p] = True
+                q = parts[q].parent
+        self._dof_moves_part = ancestor
+        adjacency = np.eye(self.n_parts, dtype=bool)
+        for p, part in enumerate(parts):
+            if part.parent >= 0:
+                adjacency[p, part.parent] = adjacency[part.parent, p] = True
+        self.adjacency = adjacency
+
+    # ------------------------------------------------------------------ kinematics
+    def rest_pose(self) -> np.ndarray:
+        """Open flat hand at the origin, slightly flexed fingers (within limits)."""
+        theta = np.zeros(self.n_dof)
+        theta[6:11] = [0.2, 0.3, 0.0, 0.1, 0.1]
+        for f in range(4):
+            theta[11 + 4 * f: 15 + 4 * f] = [0.0, 0.1, 0.1, 0.1]
+        return theta
+
+    def joint_limits(self) -> np.ndarray:
+        """(27, 2) array of [lower, upper] bounds; palm translation is unbounded."""
+        return self._limits.copy()
+
+    def check_theta(self, theta: object, name: str = "theta", *, within_limits: bool = False) -> np.ndarray:
+        """Validate a pose vector (length 27, finite; optionally inside the joint limits)."""
+        theta = as_finite_array(theta, name, ndim=1, shape=(self.n_dof,))
+        if within_limits:
+            lo, hi = self._limits[:, 0], self._limits[:, 1]
+            bad = np.flatnonzero((theta < lo - 1e-9) | (theta > hi + 1e-9))
+            if bad.size:
+                raise ValueError(f"{name} must lie within joint_limits(); DOF {bad.tolist()} are outside")
+        return theta
+
+    def _forward(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        frames = np.empty((self.n_parts, 4, 4))
+        axes_world = np.zeros((self.n_dof, 3))
+        origins_world = np.zeros((self.n_dof, 3))
+        axes_world[:3] = np.eye(3)
+        for p, part in enumerate(self._parts):
+            if p == 0:
+                frame = _homogeneous(np.eye(3), theta[:3])
+            else:
+                frame = frames[part.parent] @ part.offset
+            for k, axis in zip(part.dofs, part.axes):
+                axes_world[k] = frame[:3, :3] @ axis
+                origins_world[k] = frame[:3, 3]
+                frame = frame @ _homogeneous(rotation_matrix(axis, theta[k]), np.zeros(3))
+            frames[p] = frame
+        return frames, axes_world, origins_world
+
+    def part_transforms(self, theta: object) -> np.ndarray:
+        """Rigid motion T_p(Θ) of every part, part frame -> world, as (16, 4, 4)."""
+        return self._forward(self.check_theta(theta))[0]
+
+    # ------------------------------------------------------------------ shape, eqs. (1)-(2)
+    def part_distances(self, points: np.ndarray, theta: object) -> np.ndarray:
+        """Pseudo-Euclidean distance from each point to each ellipsoid, (M, 16).
+
+        Radial reading: d = ||x - c|| (1 - 1/r) with r = ||(x - c)/radii|| in the part frame,
+        exact for spheres, negative inside.
+        """
+        points = as_finite_array(points, "points", ndim=2, shape=(None, 3))
+        frames = self._forward(self.check_theta(theta))[0]
+        out = np.empty((points.shape[0], self.n_parts))
+        for p, part in enumerate(self._parts):
+            local = (points - frames[p, :3, 3]) @ frames[p, :3, :3] - part.centre
+            radial = np.linalg.norm(local / part.radii, axis=1)
+            norm = np.linalg.norm(local, axis=1)
+            out[:, p] = norm * (1.0 - 1.0 / np.maximum(radial, 1e-12))
+        return out
+
+    def part_fields(self, points: np.ndarray, theta: object) -> np.ndarray:
+        """Field functions φ_p = exp(-d/ν), eq. (1), shape (M, 16)."""
+        return np.exp(-np.clip(self.part_distances(points, theta), -20 * self.nu, None) / self.nu)
+
+    def fused_field(self, points: np.ndarray, theta: object, *, neighbour_rule: bool = True) -> np.ndarray:
+        """φ = Σ φ_p over the strongest part and its kinematic neighbours (Sec. 2), shape (M,)."""
+        fields = self.part_fields(points, theta)
+        if not neighbour_rule:
+            return fields.sum(axis=1)
+        strongest = np.argmax(fields, axis=1)
+        return np.sum(fields * self.adjacency[strongest], axis=1)
+
+    def surface_distance(self, points: object, theta: object, *, neighbour_rule: bool = True) -> np.ndarray:
+        """Distance to the fused surface d = -ν log φ, eq. (2) (negative inside), shape (M,)."""
+        return -self.nu * np.log(self.fused_field(points, theta, neighbour_rule=neighbour_rule))
+
+    def sample_surface(self, theta: object, n: int, rng: np.random.Generator | int,
+                       *, newton_steps: int = 4) -> np.ndarray:
+        """Draw ``n`` points on the fused surface φ = 1 at pose ``theta``.
+
+        Points are drawn on the ellipsoids (by approximate area) and pushed onto φ = 1 by Newton
+        steps along a finite-difference gradient of eq. (2); points left far from it are redrawn.
+        """
+        theta = self.check_theta(theta)
+        n = check_positive_int(n, "n")
+        rng = make_rng(rng)
+        frames = self._forward(theta)[0]
+        radii = np.array([part.radii for part in self._parts])
+        area = (radii[:, 0] * radii[:, 1] + radii[:, 1] * radii[:, 2] + radii[:, 0] * radii[:, 2])
+        kept: list[np.ndarray] = []
+        total = 0
+        while total < n:
+            draw = 2 * (n - total) + 50
+            part_ids = rng.choice(self.n_parts, size=draw, p=area / area.sum())
+            direction = rng.normal(size=(draw, 3))
+            direction /= np.linalg.norm(direction, axis=1, keepdims=True)
+            centres = np.array([part.centre for part in self._parts])[part_ids]
+            local = centres + direction * radii[part_ids]
+            points = np.einsum("nij,nj->ni", frames[part_ids, :3, :3], local) + frames[part_ids, :3, 3]
+            for _ in range(newton_steps):
+                dist = self.surface_distance(points, theta)
+                grad = self._distance_gradient(points, theta)
+                points = points - (dist / np.maximum(np.sum(grad**2, axis=1), 1e-6))[:, None] * grad
+            ok = np.abs(self.surface_distance(points, theta)) < 0.2
+            kept.append(points[ok])
+            total += int(ok.sum())
+        return np.concatenate(kept)[:n]
+
+    def _distance_gradient(self, points: np.ndarray, theta: np.ndarray, step: float = 1e-3) -> np.ndarray:
+        grad = np.empty_like(points)
+        for axis in range(3):
+            shift = np.zeros(3)
+            shift[axis] = step
+            grad[:, axis] = (self.surface_distance(points + shift, theta)
+                             - self.surface_distance(points - shift, theta)) / (2 * step)
+        return grad
+
+    def surface_normals(self, points: object, theta: object) -> np.ndarray:
+        """Unit outward normals of the fused surface (finite-difference gradient of eq. 2)."""
+        points = as_finite_array(points, "points", ndim=2, shape=(None, 3))
+        grad = self._distance_gradient(points, self.check_theta(theta))
+        return grad / np.maximum(np.linalg.norm(grad, axis=1, keepdims=True), 1e-12)
+
+    # ------------------------------------------------------------------ bending texture, eq. (3)
+    def texture_binding(self, points: object, theta: object, a: float = 2.0) -> "TextureBinding":
+        """Attach texture points to their strongest part p and its strongest neighbour r.
+
+        The weights φ_p^a / (φ_p^a + φ_r^a) of eq. (3) are evaluated once, at the pose where the
+        texture was observed, and the points are stored in both parts' local frames.
+        """
+        points = as_finite_array(points, "points", ndim=2, shape=(None, 3))
+        theta = self.check_theta(theta)
+        a = check_positive(a, "a")
+        fields = self.part_fields(points, theta)
+        part_p = np.argmax(fields, axis=1)
+        neighbour_fields = np.where(self.adjacency[part_p] & (np.arange(self.n_parts) != part_p[:, None]),
+                                    fields, -1.0)
+        part_r = np.argmax(neighbour_fields, axis=1)
+        log_p = a * np.log(fields[np.arange(len(points)), part_p])
+        log_r = a * np.log(np.maximum(fields[np.arange(len(points)), part_r], 1e-300))
+        weight_p = 1.0 / (1.0 + np.exp(np.clip(log_r - log_p, -50, 50)))
+        frames = self._forward(theta)[0]
+        local_p = np.einsum("nji,nj->ni", frames[part_p, :3, :3], points - frames[part_p, :3, 3])
+        local_r = np.einsum("nji,nj->ni", frames[part_r, :3, :3], points - frames[part_r, :3, 3])
+        return TextureBinding(part_p, part_r, weight_p, local_p, local_r)
+
+    def transform_texture(self, binding: "TextureBinding", theta: np.ndarray) -> np.ndarray:
+        """Blended motion T(X, Θ) of eq. (3) for bound texture points, shape (N, 3)."""
+        frames = self._forward(theta)[0]
+        world_p, world_r = binding.world_points(frames)
+        w = binding.weight_p[:, None]
+        return w * world_p + (1 - w) * world_r
+
+    def texture_jacobian(self, binding: "TextureBinding", theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Blended positions (N, 3) and their analytic Jacobian d T(X, Θ)/dΘ, shape (N, 3, 27).
+
+        For a revolute DOF k with world axis ω_k through o_k, a point x rigidly attached to a part
+        it moves has dx/dθ_k = ω_k × (x - o_k); for the palm translation dx/dt = e_t. Eq. (3) mixes
+        the two parts' derivatives with the same (frozen) weights.
+        """
+        frames, axes, origins = self._forward(theta)
+        world_p, world_r = binding.world_points(frames)
+        w = binding.weight_p[:, None]
+        jac = np.zeros((len(w), 3, self.n_dof))
+        jac[:, :, :3] = np.eye(3)
+        for k in range(3, self.n_dof):
+            moves_p = self._dof_moves_part[k, binding.part_p][:, None]
+            moves_r = self._dof_moves_part[k, binding.part_r][:, None]
+            jac[:, :, k] = (w * moves_p * np.cross(axes[k], world_p - origins[k])
+                            + (1 - w) * moves_r * np.cross(axes[k], world_r - origins[k]))
+        return w * world_p + (1 - w) * world_r, jac
+
+    def move_texture(self, points: object, theta_from: object, theta_to: object, a: float = 2.0) -> np.ndarray:
+        """Move texture points observed at pose ``theta_from`` to pose ``theta_to`` (eq. 3)."""
+        binding = self.texture_binding(points, theta_from, a)
+        return self.transform_texture(binding, self.check_theta(theta_to, "theta_to"))
+
+
+@dataclass(frozen=True)
+class TextureBinding:
+    """Texture points attached to two adjacent parts with the eq. (3) weight of the first."""
+
+    part_p: np.ndarray
+    part_r: np.ndarray
+    weight_p: np.ndarray
+    local_p: np.ndarray
+    local_r: np.ndarray
+
+    def world_points(self, frames: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        world_p = np.einsum("nij,nj->ni", frames[self.part_p, :3, :3], self.local_p) + frames[self.part_p, :3, 3]
+        world_r = np.einsum("nij,nj->ni", frames[self.part_r, :3, :3], self.local_r) + frames[self.part_r, :3, 3]
+        return world_p, world_r

@@ -1,0 +1,47 @@
+"""Frame-to-frame tracking with texture refresh (Sec. 3, Sec. 5)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from amdo_lab.common import check_positive
+
+from amdo_lab.em_articulated.hand import HandModel
+from amdo_lab.em_articulated.registration import fit_surface, register_em
+
+__all__ = ["TrackingResult", "track_sequence"]
+
+
+@dataclass(frozen=True)
+class TrackingResult:
+    """Estimated poses (F, 27) and number of texture points kept per frame (F,)."""
+
+    poses: np.ndarray
+    n_texture: np.ndarray
+
+
+def track_sequence(frames: list, hand: HandModel, theta_start: np.ndarray, *, epsilon_mm: float = 5.0,
+                   sigma_max: float = 15.0, sigma_min: float = 2.0, max_texture: int = 500,
+                   surface_fit: bool = True) -> TrackingResult:
+    """Track a sequence: EM on the previous frame's texture, surface fit, then texture refresh.
+
+    The texture for frame t+1 is the data of frame t within ``epsilon_mm`` of the fitted surface
+    (|d| < ε, eq. 2), at most ``max_texture`` of them (evenly subsampled).
+    """
+    epsilon_mm = check_positive(epsilon_mm, "epsilon_mm")
+    theta = hand.check_theta(theta_start, "theta_start", within_limits=True)
+    texture = frames[0][np.abs(hand.surface_distance(frames[0], theta)) < epsilon_mm]
+    poses, counts = [theta], [len(texture)]
+    for data in frames[1:]:
+        texture = texture[:: max(1, int(np.ceil(len(texture) / max_texture)))]
+        result = register_em(texture, data, hand, theta, sigma_max, sigma_min, n_levels=4, iterations_per_level=2)
+        theta = result.theta
+        if surface_fit:
+            close = np.abs(hand.surface_distance(data, theta)) < epsilon_mm
+            theta = fit_surface(data[close], hand, theta, n_steps=1).theta
+        texture = data[np.abs(hand.surface_distance(data, theta)) < epsilon_mm]
+        poses.append(theta)
+        counts.append(len(texture))
+    return TrackingResult(np.array(poses), np.array(counts))

@@ -1,0 +1,212 @@
+"""Tests for Chapter 1 (amdo_lab.em_articulated): Dewaele et al., ECCV 2006."""
+
+import numpy as np
+import pytest
+
+from amdo_lab.common import make_rng
+from amdo_lab.em_articulated import (
+    PAPER_C,
+    HandModel,
+    e_step_statistics,
+    fit_surface,
+    joint_rmse_deg,
+    make_registration_problem,
+    make_tracking_sequence,
+    perturb_pose,
+    random_pose,
+    register_em,
+    softassign_register,
+)
+
+
+@pytest.fixture(scope="module")
+def hand():
+    return HandModel()
+
+
+def test_kinematics_counts_and_limits(hand):
+    assert hand.n_dof == 27 and hand.n_parts == 16
+    limits = hand.joint_limits()
+    assert limits.shape == (27, 2) and np.all(limits[:, 0] < limits[:, 1])
+    rest = hand.rest_pose()
+    assert np.all((rest >= limits[:, 0]) & (rest <= limits[:, 1]))
+    frames = hand.part_transforms(rest)
+    assert frames.shape == (16, 4, 4)
+    rotations = frames[:, :3, :3]
+    np.testing.assert_allclose(rotations @ np.swapaxes(rotations, 1, 2), np.broadcast_to(np.eye(3), (16, 3, 3)), atol=1e-12)
+
+
+def test_palm_translation_moves_every_part(hand):
+    theta = hand.rest_pose()
+    shifted = theta.copy()
+    shifted[:3] += [10.0, -5.0, 2.0]
+    delta = hand.part_transforms(shifted)[:, :3, 3] - hand.part_transforms(theta)[:, :3, 3]
+    np.testing.assert_allclose(delta, np.broadcast_to([10.0, -5.0, 2.0], (16, 3)), atol=1e-12)
+
+
+def test_finger_flexion_moves_only_its_chain(hand):
+    theta = hand.rest_pose()
+    bent = theta.copy()
+    bent[12] += 0.5  # index knuckle flexion
+    moved = np.any(np.abs(hand.part_transforms(bent) - hand.part_transforms(theta)) > 1e-9, axis=(1, 2))
+    assert moved.tolist() == [False, False, False, False, True, True, True] + [False] * 9
+
+
+def test_surface_distance_on_sampled_surface_and_sign(hand):
+    theta = hand.rest_pose()
+    points = hand.sample_surface(theta, 300, make_rng(1))
+    assert points.shape == (300, 3)
+    assert np.max(np.abs(hand.surface_distance(points, theta))) < 0.2
+    normals = hand.surface_normals(points, theta)
+    assert np.mean(hand.surface_distance(points + 3 * normals, theta) > 1.0) > 0.95
+    assert np.mean(hand.surface_distance(points - 2 * normals, theta) < 0.0) > 0.95
+
+
+def test_neighbour_rule_prevents_gluing(hand):
+    """Between two touching fingers the plain sum of fields glues them; the neighbour rule does not."""
+    theta = hand.rest_pose()
+    frames = hand.part_transforms(theta)
+    gap = 0.5 * (frames[4, :3, 3] + frames[7, :3, 3]) + np.array([0.0, 15.0, 0.0])  # index/middle gap
+    plain = hand.surface_distance(gap[None], theta, neighbour_rule=False)[0]
+    rule = hand.surface_distance(gap[None], theta)[0]
+    assert rule > plain
+
+
+def test_move_texture_identity_and_rigid_limit(hand):
+    theta = hand.rest_pose()
+    points = hand.sample_surface(theta, 200, make_rng(2))
+    np.testing.assert_allclose(hand.move_texture(points, theta, theta), points, atol=1e-10)
+    moved = theta.copy()
+    moved[:3] += 7.0
+    np.testing.assert_allclose(hand.move_texture(points, theta, moved), points + 7.0, atol=1e-10)
+
+
+def test_bending_texture_a_controls_stickiness(hand):
+    """Eq. (3): with a = 10 points near a joint follow one part more rigidly than with a = 2."""
+    theta = hand.rest_pose()
+    points = hand.sample_surface(theta, 400, make_rng(3))
+    binding_2 = hand.texture_binding(points, theta, a=2.0)
+    binding_10 = hand.texture_binding(points, theta, a=10.0)
+    assert np.all(binding_10.weight_p >= binding_2.weight_p - 1e-12)
+    assert np.mean(binding_10.weight_p > 0.99) > np.mean(binding_2.weight_p > 0.99)
+
+
+def test_analytic_jacobian_matches_finite_differences(hand):
+    rng = make_rng(4)
+    theta = random_pose(hand, rng)
+    points = hand.sample_surface(theta, 150, rng)
+    binding = hand.texture_binding(points, theta)
+    theta_eval = perturb_pose(hand, theta, 10.0, rng)
+    _, jac = hand.texture_jacobian(binding, theta_eval)
+    eps = 1e-6
+    numeric = np.stack([(hand.transform_texture(binding, theta_eval + eps * e)
+                         - hand.transform_texture(binding, theta_eval - eps * e)) / (2 * eps)
+                        for e in np.eye(27)], axis=-1)
+    np.testing.assert_allclose(jac, numeric, atol=1e-5)
+
+
+def test_e_step_log_domain_far_points_and_single_match():
+    model = np.array([[0.0, 0.0, 0.0], [100.0, 0.0, 0.0]])
+    data = np.array([[0.0, 0.0, 0.0], [1e6, 0.0, 0.0]])
+    weights, weighted, inlier, energy = e_step_statistics(model, data, 1.0, np.log(PAPER_C))
+    # a single exact match: alpha = 1 / (1 + c), eq. (17)
+    assert inlier[0] == pytest.approx(1.0 / (1.0 + PAPER_C))
+    assert inlier[0] == pytest.approx(0.21, abs=0.01)
+    assert inlier[1] == 0.0 and np.all(np.isfinite(weighted)) and np.isfinite(energy)
+
+
+def test_e_step_chunking_matches_dense():
+    rng = make_rng(5)
+    model = rng.normal(size=(40, 3)) * 10
+    data = rng.normal(size=(70, 3)) * 10
+    dense = e_step_statistics(model, data, 3.0, 0.5, chunk=1000)
+    chunked = e_step_statistics(model, data, 3.0, 0.5, chunk=7)
+    for a, b in zip(dense, chunked):
+        np.testing.assert_allclose(a, b, rtol=1e-10, atol=1e-12)
+    sq = np.sum((model[:, None] - data[None]) ** 2, axis=2)
+    kernel = np.exp(-sq / 18.0)
+    alpha = kernel / (kernel.sum(axis=0) + np.exp(0.5))
+    np.testing.assert_allclose(dense[2], alpha.sum(axis=0), rtol=1e-10)
+
+
+def test_register_em_exact_correspondences_converges(hand):
+    rng = make_rng(6)
+    theta_true = random_pose(hand, rng)
+    theta_init = perturb_pose(hand, theta_true, 10.0, rng)
+    model = hand.sample_surface(theta_init, 400, rng)
+    data = hand.transform_texture(hand.texture_binding(model, theta_init), theta_true)
+    result = register_em(model, data, hand, theta_init, 10.0, 1.0, iterations_per_level=4)
+    assert joint_rmse_deg(result.theta, theta_true) < 1.0
+    assert result.history.shape[1] == 2 and result.history[-1, 0] == pytest.approx(1.0)
+    limits = hand.joint_limits()
+    assert np.all((result.theta >= limits[:, 0]) & (result.theta <= limits[:, 1]))
+
+
+def test_register_em_inlier_prob_separates_outliers(hand):
+    problem = make_registration_problem(hand, 7, joint_error_deg=5.0, noise_mm=1.0, outlier_ratio=1.0,
+                                        n_model=300, n_data=300)
+    result = register_em(problem.model_points, problem.data_points, hand, problem.theta_init, 15.0, 3.0)
+    assert result.inlier_prob.shape == (len(problem.data_points),)
+    assert np.mean(result.inlier_prob[~problem.is_outlier]) > 3 * np.mean(result.inlier_prob[problem.is_outlier])
+
+
+def test_fit_surface_reduces_distance(hand):
+    rng = make_rng(8)
+    theta_true = random_pose(hand, rng)
+    data = hand.sample_surface(theta_true, 300, rng)
+    start = perturb_pose(hand, theta_true, 4.0, rng, palm_rotation_deg=1.0, palm_translation_mm=1.0)
+    before = np.sqrt(np.mean(hand.surface_distance(data, start) ** 2))
+    result = fit_surface(data, hand, start, n_steps=3)
+    assert result.rms_distance < 0.5 * before
+
+
+def test_softassign_slack_extremes(hand):
+    problem = make_registration_problem(hand, 9, joint_error_deg=5.0, noise_mm=1.0, outlier_ratio=0.5,
+                                        n_model=150, n_data=150)
+    args = (problem.model_points, problem.data_points, hand, problem.theta_init, 10.0, 3.0)
+    high = softassign_register(*args, slack=1e3, n_levels=2, iterations_per_level=1)
+    low = softassign_register(*args, slack=1e-8, n_levels=2, iterations_per_level=1)
+    # too high a slack: everything is an outlier; too low: every model point gets matched
+    assert np.mean(high.inlier_prob) < 0.2
+    assert low.inlier_prob.sum() > 0.9 * len(problem.model_points)
+
+
+def test_tracking_sequence_generator(hand):
+    seq = make_tracking_sequence(hand, 10, n_frames=3, n_surface=600, n_clutter=60)
+    assert seq.poses.shape == (3, 27) and len(seq.frames) == 3
+    n_surface_points = [int((~mask).sum()) for mask in seq.is_outlier]
+    assert all(150 < n < 600 for n in n_surface_points)  # only the camera-facing side
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"data_points": np.full((5, 3), np.nan)}, "data_points"),
+        ({"data_points": np.zeros((5, 2))}, "data_points"),
+        ({"model_points": np.zeros((0, 3))}, "model_points"),
+        ({"theta_init": np.zeros(26)}, "theta_init"),
+        ({"sigma_min": 30.0}, "sigma_min"),
+        ({"theta_init": "outside"}, "theta_init"),
+    ],
+)
+def test_register_em_bad_input(hand, kwargs, match):
+    rng = make_rng(11)
+    theta = hand.rest_pose()
+    args = {"model_points": rng.normal(size=(5, 3)), "data_points": rng.normal(size=(5, 3)),
+            "theta_init": theta, "sigma_max": 20.0, "sigma_min": 2.0}
+    if isinstance(kwargs.get("theta_init"), str):
+        kwargs = {"theta_init": theta.copy()}
+        kwargs["theta_init"][12] = 3.0
+    args.update(kwargs)
+    with pytest.raises(ValueError, match=match):
+        register_em(args["model_points"], args["data_points"], hand, args["theta_init"],
+                    args["sigma_max"], args["sigma_min"])
+
+
+def test_hand_bad_input(hand):
+    with pytest.raises(ValueError, match="theta"):
+        hand.part_transforms(np.zeros(5))
+    with pytest.raises(ValueError, match="points"):
+        hand.surface_distance(np.array([[np.inf, 0, 0]]), hand.rest_pose())
+    with pytest.raises(TypeError, match="hand"):
+        register_em(np.zeros((3, 3)), np.zeros((3, 3)), "hand", np.zeros(27))
