@@ -1,0 +1,42 @@
+"""Chapter 4: ear biometrics with geometric features (Choraś, AMDO 2004).
+
+Synthetic seeded ear images stand in for the paper's (unavailable) database.
+"""
+
+from amdo_lab.ear_biometrics.features import (
+    CircleFeatures,
+    ContourTopology,
+    Normalisation,
+    TopologyFeatures,
+    as_grey_image,
+    canny_contours,
+    circle_features,
+    clean_contours,
+    crossing_number,
+    detect_contours,
+    normalise_coordinates,
+    topology_features,
+)
+from amdo_lab.ear_biometrics.matcher import (
+    EarMatcher,
+    EarTemplate,
+    HogNearestNeighbour,
+    IdentificationResult,
+    OpenSetRates,
+    cumulative_match,
+    open_set_rates,
+    rank_of_truth,
+    topology_similarity,
+)
+from amdo_lab.ear_biometrics.synthetic import (
+    CapturePose,
+    EarDatabase,
+    EarShape,
+    draw_capture_pose,
+    draw_ear_shape,
+    ear_curves,
+    generate_ear_database,
+    load_ear_folder,
+    render_ear,
+)
+from amdo_lab.ear_biometrics.plotting import draw_circles, draw_topology

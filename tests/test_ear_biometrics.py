@@ -1,0 +1,248 @@
+"""Tests for chapter 4 (Choraś 2004): synthetic ears, contour detector, V and F, matcher."""
+
+import cv2
+import numpy as np
+import pytest
+
+from amdo_lab import ear_biometrics as eb
+from amdo_lab.common import make_rng
+
+
+@pytest.fixture(scope="module")
+def clean_ear_contours():
+    """Contours of one noise-light perpendicular ear, padded into a 256x256 frame."""
+    rng = make_rng(7)
+    shape = eb.draw_ear_shape(rng)
+    image = eb.render_ear(shape, eb.CapturePose(0.0, 1.0, np.zeros(2), 0.0), rng, size=128)
+    contours = eb.clean_contours(eb.detect_contours(image, 8.0))
+    big = np.zeros((256, 256), bool)
+    big[64:192, 64:192] = contours
+    return big
+
+
+def test_generator_is_seeded_and_unpacks():
+    images, ids = eb.generate_ear_database(3, 2, "easy", 11)
+    again = eb.generate_ear_database(3, 2, "easy", 11)
+    other = eb.generate_ear_database(3, 2, "easy", 12)
+    assert images.shape == (6, 128, 128) and images.dtype == np.uint8
+    assert ids.tolist() == [0, 0, 1, 1, 2, 2]
+    assert np.array_equal(images, again.images)
+    assert not np.array_equal(images, other.images)
+    assert again.poses[0].yaw == 0.0 and np.deg2rad(20) - 1e-9 <= again.poses[1].yaw <= np.deg2rad(30) + 1e-9
+
+
+def test_difficult_images_carry_more_clutter_than_easy_ones():
+    """Same subjects and seeds: occluders, noise and uneven light add contour pixels."""
+    easy = eb.generate_ear_database(4, 1, "easy", 3).images
+    hard = eb.generate_ear_database(4, 1, "difficult", 3).images
+    clutter = [np.mean([eb.clean_contours(eb.detect_contours(im)).mean() for im in ims]) for ims in (easy, hard)]
+    assert clutter[1] > 1.5 * clutter[0]
+
+
+def test_generator_rejects_bad_arguments():
+    with pytest.raises(ValueError, match="difficulty"):
+        eb.generate_ear_database(2, 2, "medium", 0)
+    with pytest.raises(TypeError, match="n_subjects"):
+        eb.generate_ear_database(2.5, 2, "easy", 0)
+
+
+def test_loader_reads_grey_and_colour_files(tmp_path):
+    images, _ = eb.generate_ear_database(2, 1, "easy", 5)
+    cv2.imwrite(str(tmp_path / "007_a.png"), images[0])
+    cv2.imwrite(str(tmp_path / "012_b.png"), cv2.cvtColor(images[1], cv2.COLOR_GRAY2BGR))
+    (tmp_path / "notes.txt").write_text("not an image")
+    loaded, ids = eb.load_ear_folder(tmp_path)
+    assert ids.tolist() == ["007", "012"]
+    assert np.array_equal(loaded[0], images[0])
+    assert loaded[1].ndim == 2 and np.abs(loaded[1].astype(int) - images[1]).max() <= 1
+    resized, _ = eb.load_ear_folder(tmp_path, size=64)
+    assert resized[0].shape == (64, 64)
+    with pytest.raises(ValueError, match="no image files"):
+        eb.load_ear_folder(_empty(tmp_path))
+    with pytest.raises(ValueError, match="directory"):
+        eb.load_ear_folder(tmp_path / "missing")
+
+
+def _empty(tmp_path):
+    folder = tmp_path / "empty"
+    folder.mkdir()
+    return folder
+
+
+def test_detector_matches_a_literal_loop_of_eqs_1_to_5():
+    image = make_rng(1).uniform(10, 200, size=(12, 13))
+    k = 2.5
+    padded = np.pad(image, 1, mode="symmetric")
+    expected = np.zeros(image.shape, bool)
+    for i in range(image.shape[0]):
+        for j in range(image.shape[1]):
+            window = padded[i:i + 3, j:j + 3]
+            mu, sigma = window.mean(), window.std(ddof=1)  # eqs. 1, 2
+            spread = window.max() - window.min()  # eq. 3
+            expected[i, j] = spread >= mu - k * sigma and spread > 0  # eqs. 4, 5
+    assert np.array_equal(eb.detect_contours(image, k), expected)
+
+
+def test_detector_finds_a_step_edge_and_is_monotone_in_k():
+    image = np.full((20, 20), 100.0)
+    image[:, 10:] = 160.0
+    contours = eb.detect_contours(image, k=4.0)
+    assert contours[:, 9:11].all() and not contours[:, :8].any() and not contours[:, 12:].any()
+    noisy = image + make_rng(2).normal(0, 3, image.shape)
+    assert np.all(eb.detect_contours(noisy, 2.0) <= eb.detect_contours(noisy, 6.0))
+    assert not eb.detect_contours(np.zeros((16, 16)), 5.0).any()  # flat black: S = 0, no contour
+
+
+@pytest.mark.parametrize("bad, error", [
+    (np.full((16, 16), np.nan), ValueError),
+    (np.zeros((16, 16, 3)), ValueError),
+    (np.zeros(16), ValueError),
+    (np.zeros((16, 16), bool), TypeError),
+    (np.array([["a"] * 16] * 16), TypeError),
+])
+def test_detector_rejects_bad_images(bad, error):
+    with pytest.raises(error, match="image"):
+        eb.detect_contours(bad)
+
+
+def test_detector_rejects_even_window():
+    with pytest.raises(ValueError, match="window"):
+        eb.detect_contours(np.ones((16, 16)), window=4)
+
+
+def test_circle_features_of_a_plus_sign():
+    contours = np.zeros((101, 101), bool)
+    contours[50, 10:91] = True
+    contours[10:91, 50] = True
+    features = eb.circle_features(contours, n_circles=3, step=0.5)
+    spread = features.normalisation.spread[0]
+    assert features.counts.tolist() == [4, 4, 4]
+    radii_px = features.radii * spread
+    assert np.all(radii_px < 40)
+    np.testing.assert_allclose(features.distance_sums, 4 * np.sqrt(2) * features.radii, rtol=0.03)
+    assert features.vector.shape == (3, 3)
+
+
+def test_circle_features_reject_empty_and_non_boolean():
+    with pytest.raises(ValueError, match="no contour"):
+        eb.circle_features(np.zeros((20, 20), bool))
+    with pytest.raises(TypeError, match="boolean"):
+        eb.circle_features(np.ones((20, 20)))
+
+
+def test_exact_invariance_to_quarter_turns_shifts(clean_ear_contours):
+    base = eb.circle_features(clean_ear_contours)
+    for moved in (np.rot90(clean_ear_contours), np.roll(clean_ear_contours, (7, -5), (0, 1))):
+        other = eb.circle_features(moved)
+        assert np.array_equal(other.counts, base.counts)
+        np.testing.assert_allclose(other.distance_sums, base.distance_sums, atol=1e-6)
+
+
+def test_property_random_similarities_change_features_only_by_discretisation(clean_ear_contours):
+    """Property test over random similarity transforms (rotation, scale 0.8-1.25, shift): with the
+    isotropic normalisation the counts move by about one and the distance sums a little; with the
+    paper's per-axis normalisation (eq. 6 literally) rotation changes V much more."""
+    rng = make_rng(2024)
+    base = {mode: eb.circle_features(clean_ear_contours, mode=mode) for mode in ("isotropic", "axes")}
+    gaps = {"isotropic": [], "axes": []}
+    for _ in range(8):
+        matrix = cv2.getRotationMatrix2D((128, 128), rng.uniform(0, 360), rng.uniform(0.8, 1.25))
+        matrix[:, 2] += rng.uniform(-20, 20, 2)
+        warped = cv2.warpAffine(clean_ear_contours.astype(np.uint8), matrix, (256, 256), flags=cv2.INTER_NEAREST) > 0
+        for mode in gaps:
+            moved = eb.circle_features(warped, mode=mode)
+            gaps[mode].append((np.abs(moved.counts - base[mode].counts).mean(),
+                               np.abs(moved.distance_sums - base[mode].distance_sums).mean()))
+    iso, axes = np.array(gaps["isotropic"]), np.array(gaps["axes"])
+    assert iso[:, 0].mean() <= 1.5 and iso[:, 1].mean() <= 0.3
+    assert axes[:, 1].mean() > 2 * iso[:, 1].mean()
+
+
+def test_crossing_number_endings_and_bifurcation():
+    skeleton = np.zeros((15, 15), bool)
+    skeleton[7, 2:8] = True  # stem
+    for step in range(1, 6):
+        skeleton[7 - step, 7 + step] = True  # upper branch
+        skeleton[7 + step, 7 + step] = True  # lower branch
+    n_c = eb.crossing_number(skeleton)
+    assert np.sum(n_c == 1) == 3
+    assert np.sum(n_c > 2) >= 1 and n_c[7, 7] >= 3
+    assert np.all(n_c[~skeleton] == 0)
+
+
+def test_topology_features_of_a_y_contour():
+    contours = np.zeros((80, 80), bool)
+    cv2.line(contours.view(np.uint8), (10, 40), (40, 40), 1, 1)
+    cv2.line(contours.view(np.uint8), (40, 40), (70, 10), 1, 1)
+    cv2.line(contours.view(np.uint8), (40, 40), (70, 70), 1, 1)
+    features = eb.topology_features(contours, n_circles=4, step=0.4)
+    assert len(features.contours) == 1
+    n_e, n_b, n_i = features.contours[0].triple
+    assert (n_e, n_b) == (3, 1)
+    assert n_i == int(features.circles.counts.sum())
+
+
+@pytest.fixture(scope="module")
+def small_database():
+    return eb.generate_ear_database(6, 2, "easy", 99)
+
+
+def test_matcher_finds_an_enrolled_image_and_rejects_blank(small_database):
+    images, ids = small_database
+    matcher = eb.EarMatcher()
+    for image, subject in zip(images[0::2], ids[0::2]):
+        matcher.enroll(subject, image)
+    result = matcher.identify(images[4])
+    assert result.subject_id == ids[4] and result.candidate_ids[0] == ids[4]
+    assert result.scores.shape == (6,) and np.argmin(result.scores) == 2
+    blank = matcher.identify(np.full((128, 128), 120, np.uint8))
+    assert blank.subject_id is None and blank.reason == "no contour"
+    strict = eb.EarMatcher(distance_threshold=1e-9)
+    strict.enroll(0, images[0])
+    assert strict.identify(images[3]).subject_id is None
+
+
+def test_matcher_bad_input(small_database):
+    images, _ = small_database
+    matcher = eb.EarMatcher()
+    with pytest.raises(ValueError, match="enroll"):
+        matcher.identify(images[0])
+    with pytest.raises(ValueError, match="no contour"):
+        matcher.enroll(1, np.zeros((64, 64), np.uint8))
+    matcher.enroll(1, images[0])
+    with pytest.raises(ValueError, match="finite"):
+        matcher.identify(np.full((64, 64), np.nan))
+    with pytest.raises(TypeError, match="dtype"):
+        matcher.identify(images[0] > 100)
+    with pytest.raises(ValueError, match="2-D"):
+        matcher.identify(np.stack([images[0]] * 3, axis=-1))
+
+
+def test_hog_baseline_and_cmc(small_database):
+    images, ids = small_database
+    baseline = eb.HogNearestNeighbour()
+    for image, subject in zip(images[0::2], ids[0::2]):
+        baseline.enroll(subject, image)
+    assert baseline.identify(images[6]) == ids[6]
+    assert eb.rank_of_truth(np.array([0.3, 0.1, 0.2]), np.array([5, 6, 7]), 7) == 2
+    cmc = eb.cumulative_match(np.array([1, 3, 2, 1]), 3)
+    np.testing.assert_allclose(cmc, [0.5, 0.75, 1.0])
+
+
+def test_enroll_template_checks_and_open_set_rates(small_database):
+    images, ids = small_database
+    matcher = eb.EarMatcher()
+    with pytest.raises(TypeError, match="template"):
+        matcher.enroll_template(0, images[0])
+    with pytest.raises(ValueError, match="circles"):
+        matcher.enroll_template(0, eb.EarMatcher(n_circles=4).extract(images[0]))
+    templates = [matcher.extract(im) for im in images]
+    for t, s in zip(templates[0:6:2], ids[0:6:2]):  # subjects 0-2 enrolled, 3-5 never seen
+        matcher.enroll_template(s, t)
+    rates = eb.open_set_rates(matcher, templates[0:6:2], list(ids[0:6:2]), templates[6::2], np.array([0.0, np.inf]))
+    assert matcher.distance_threshold == np.inf
+    # threshold 0 accepts nothing; an infinite threshold accepts each enrolled image as itself
+    np.testing.assert_allclose(rates.false_accept[0], 0.0)
+    np.testing.assert_allclose(rates.false_reject, [1.0, 0.0])
+    np.testing.assert_allclose(rates.misidentified, [0.0, 0.0])
+    assert np.all(np.diff(rates.false_accept) >= 0)
