@@ -45,7 +45,8 @@ CHAPTERS: tuple[Chapter, ...] = (
         1,
         "01_em_articulated_registration.ipynb",
         "Robust EM registration of 3-D points to an articulated hand",
-        "Registers noisy, cluttered 3-D points to a 27-DOF hand of ellipsoids with bending surfaces by annealed robust EM, and compares with SoftAssign.",
+        "A 27-DOF hand of ellipsoids with bending surfaces, annealed robust EM and SoftAssign. "
+        "Work in progress: the EM does not yet converge on independently sampled data.",
         "G. Dewaele, F. Devernay, R. Horaud, F. Forbes. The Alignment Between 3-D Data and "
         "Articulated Shapes with Bending Surfaces. ECCV 2006, LNCS 3953, pp. 578-591.",
     ),
