@@ -14,28 +14,20 @@ import numpy as np
 
 from amdo_lab.common import spawn_rngs
 from amdo_lab.em_articulated import (
+    COARSE_TO_FINE_SETTINGS,
+    PAPER_SETTINGS,
     HandModel,
+    run_registration_trials,
     e_step_statistics,
-    fit_surface,
-    joint_rmse_deg,
     make_registration_problem,
     register_em,
 )
 
 
-def run_level(hand: HandModel, trials: int, seed: int, **problem_kwargs) -> dict:
-    errors, success, seconds = [], [], []
-    for rng in spawn_rngs(seed, trials):
-        problem = make_registration_problem(hand, rng, **problem_kwargs)
-        start = time.perf_counter()
-        em = register_em(problem.model_points, problem.data_points, hand, problem.theta_init, 20.0, 3.0,
-                         iterations_per_level=4)
-        theta = fit_surface(problem.data_points, hand, em.theta, weights=em.inlier_prob).theta
-        seconds.append(time.perf_counter() - start)
-        errors.append(joint_rmse_deg(theta, problem.theta_true))
-        success.append(np.degrees(np.max(np.abs(theta[6:] - problem.theta_true[6:]))) < 10.0)
-    return {"median_rmse_deg": float(np.median(errors)), "success": float(np.mean(success)),
-            "seconds": float(np.median(seconds))}
+def run_level(hand: HandModel, trials: int, seed: int, settings: dict, **problem_kwargs) -> dict:
+    summary = run_registration_trials(hand, seed, trials, problem=problem_kwargs, em_settings=settings)
+    return {"median_rmse_deg": summary.median_rmse_deg, "success": summary.success_rate,
+            "seconds": float(np.median(summary.seconds))}
 
 
 def peer_rigid_cpd(hand: HandModel, trials: int, seed: int) -> list[str]:
@@ -52,7 +44,7 @@ def peer_rigid_cpd(hand: HandModel, trials: int, seed: int) -> list[str]:
         cpd_seconds = time.perf_counter() - start
         # pycpd maps Y -> s Y R + t (row vectors), so its R is the transpose of the column-vector rotation
         start = time.perf_counter()
-        em = register_em(problem.model_points, problem.data_points, hand, problem.theta_init, 20.0, 3.0)
+        em = register_em(problem.model_points, problem.data_points, hand, problem.theta_init, **COARSE_TO_FINE_SETTINGS)
         em_seconds = time.perf_counter() - start
         palm_true = hand.part_transforms(problem.theta_true)[0, :3, 3]
         palm_init = hand.part_transforms(problem.theta_init)[0, :3, 3]
@@ -80,15 +72,16 @@ def main() -> None:
     args = parser.parse_args()
     hand = HandModel()
     print(f"trials per level: {args.trials}")
-    print("condition                              median joint RMSE (deg)  success (all joints < 10 deg)  s/trial")
+    print(f"{'condition':38s} {'settings':15s} {'median joint RMSE (deg)':>24s} {'success':>8s} {'s/trial':>8s}")
     levels = [("done-when: 20 deg, 2 mm, 1:1 outliers", dict(joint_error_deg=20.0, noise_mm=2.0, outlier_ratio=1.0))]
     levels += [(f"init {e:.0f} deg, 2 mm, 1:1", dict(joint_error_deg=e, noise_mm=2.0, outlier_ratio=1.0)) for e in (10.0, 30.0)]
     levels += [(f"noise {n:.0f} mm, 20 deg, 1:1", dict(joint_error_deg=20.0, noise_mm=n, outlier_ratio=1.0)) for n in (0.0, 4.0, 8.0)]
     levels += [(f"outliers {o:.0f}:1, 20 deg, 2 mm", dict(joint_error_deg=20.0, noise_mm=2.0, outlier_ratio=o)) for o in (0.0, 2.0)]
     levels += [("occlusion (camera side), 20 deg", dict(joint_error_deg=20.0, noise_mm=2.0, outlier_ratio=1.0, occlusion=True))]
     for k, (name, kwargs) in enumerate(levels):
-        r = run_level(hand, args.trials, 1000 + k, **kwargs)
-        print(f"{name:38s} {r['median_rmse_deg']:10.2f} {r['success']:24.2f} {r['seconds']:18.2f}")
+        for label, settings in (("paper", PAPER_SETTINGS), ("coarse-to-fine", COARSE_TO_FINE_SETTINGS)):
+            r = run_level(hand, args.trials, 1000 + k, settings, **kwargs)
+            print(f"{name:38s} {label:15s} {r['median_rmse_deg']:24.2f} {r['success']:8.2f} {r['seconds']:8.2f}")
     print(e_step_timing(hand))
     for line in peer_rigid_cpd(hand, min(args.trials, 5), 7):
         print(line)

@@ -210,3 +210,46 @@ def test_hand_bad_input(hand):
         hand.surface_distance(np.array([[np.inf, 0, 0]]), hand.rest_pose())
     with pytest.raises(TypeError, match="hand"):
         register_em(np.zeros((3, 3)), np.zeros((3, 3)), "hand", np.zeros(27))
+
+
+def test_digit_clearance_separates_rest_from_crossed_fingers(hand):
+    assert hand.digit_clearance(hand.rest_pose()) > 0
+    crossed = hand.rest_pose()
+    crossed[11], crossed[15] = np.radians(20), np.radians(-20)  # index and middle turn into each other
+    assert hand.digit_clearance(crossed) < -5
+
+
+def test_registration_problems_never_start_with_crossed_fingers(hand):
+    from amdo_lab.em_articulated.data import MIN_DIGIT_CLEARANCE_MM
+    for seed in range(3):
+        problem = make_registration_problem(hand, seed, joint_error_deg=20.0, n_model=20, n_data=20)
+        assert hand.digit_clearance(problem.theta_true) >= MIN_DIGIT_CLEARANCE_MM
+        assert hand.digit_clearance(problem.theta_init) >= MIN_DIGIT_CLEARANCE_MM
+        assert joint_rmse_deg(problem.theta_init, problem.theta_true) > 15.0
+
+
+def test_lever_arms_shrink_along_each_finger(hand):
+    from amdo_lab.em_articulated import dof_lever_arms
+    theta = hand.rest_pose()
+    points = hand.sample_surface(theta, 400, make_rng(3))
+    lever = dof_lever_arms(hand, hand.texture_binding(points, theta), theta)
+    assert np.all(np.isinf(lever[:3]))
+    for first in (11, 15, 19, 23):  # abduction, then the three flexions of each finger
+        assert lever[first + 1] > lever[first + 2] > lever[first + 3] > 0
+
+
+def test_release_sigma_holds_the_fingers_while_sigma_is_large(hand):
+    rng = make_rng(4)
+    theta = hand.rest_pose()
+    model = hand.sample_surface(theta, 200, rng)
+    moved = theta.copy()
+    moved[:3] += [3.0, -2.0, 1.0]
+    moved[12] += 0.2
+    data = hand.transform_texture(hand.texture_binding(model, theta), moved)
+    held = register_em(model, data, hand, theta, 20.0, 10.0, release_sigma=5.0, n_levels=2)
+    np.testing.assert_array_equal(held.theta[6:], theta[6:])
+    assert np.linalg.norm(held.theta[:3] - moved[:3]) < 1.5
+    free = register_em(model, data, hand, theta, 20.0, 10.0, n_levels=2)
+    assert np.any(free.theta[6:] != theta[6:])
+    with pytest.raises(ValueError, match="release_sigma"):
+        register_em(model, data, hand, theta, 20.0, 10.0, release_sigma=-1.0)

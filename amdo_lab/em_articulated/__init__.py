@@ -13,12 +13,16 @@ from amdo_lab.em_articulated.data import (
     random_pose,
     visible_points,
 )
+from amdo_lab.em_articulated.experiments import SUCCESS_DEG, TrialSummary, run_registration_trials
 from amdo_lab.em_articulated.hand import PART_NAMES, HandModel, TextureBinding
 from amdo_lab.em_articulated.registration import (
+    COARSE_TO_FINE_SETTINGS,
     PAPER_C,
+    PAPER_SETTINGS,
     EMResult,
     SoftAssignResult,
     SurfaceFitResult,
+    dof_lever_arms,
     e_step_statistics,
     fit_surface,
     register_em,
@@ -27,8 +31,9 @@ from amdo_lab.em_articulated.registration import (
 from amdo_lab.em_articulated.tracking import TrackingResult, track_sequence
 
 __all__ = [
-    "PAPER_C", "PART_NAMES", "EMResult", "HandModel", "RegistrationProblem", "SoftAssignResult",
-    "SurfaceFitResult", "TextureBinding", "TrackingResult", "TrackingSequence", "e_step_statistics",
+    "COARSE_TO_FINE_SETTINGS", "SUCCESS_DEG", "TrialSummary", "run_registration_trials", "PAPER_C", "PAPER_SETTINGS", "PART_NAMES", "EMResult", "HandModel", "RegistrationProblem", "SoftAssignResult",
+    "SurfaceFitResult", "TextureBinding", "TrackingResult", "TrackingSequence", "dof_lever_arms",
+    "e_step_statistics",
     "fit_surface", "joint_rmse_deg", "make_registration_problem", "make_tracking_sequence",
     "perturb_pose", "random_pose", "register_em", "softassign_register", "track_sequence",
     "visible_points",

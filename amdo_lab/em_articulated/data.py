@@ -22,29 +22,65 @@ def joint_rmse_deg(theta_est: np.ndarray, theta_true: np.ndarray) -> float:
                                              - np.asarray(theta_true)[_ARTICULATION]) ** 2))))
 
 
+#: Poses whose digits overlap by more than this (mm) are physically impossible and are redrawn.
+MIN_DIGIT_CLEARANCE_MM = -2.0
+_MAX_DRAWS = 200
+#: Abduction DOFs of the index, middle, ring and little fingers.
+_FINGER_ABDUCTION = (11, 15, 19, 23)
+
+
+def _first_valid(hand: HandModel, draw, what: str) -> np.ndarray:
+    """Redraw until the digits do not interpenetrate (see :meth:`HandModel.digit_clearance`)."""
+    for _ in range(_MAX_DRAWS):
+        theta = draw()
+        if hand.digit_clearance(theta) >= MIN_DIGIT_CLEARANCE_MM:
+            return theta
+    raise RuntimeError(f"no {what} without crossed fingers in {_MAX_DRAWS} draws")
+
+
 def perturb_pose(hand: HandModel, theta: np.ndarray, joint_error_deg: float, rng: np.random.Generator,
                  *, palm_rotation_deg: float = 5.0, palm_translation_mm: float = 5.0) -> np.ndarray:
-    """Offset each articulation DOF by ±``joint_error_deg`` (random sign), staying inside the limits."""
+    """Offset each articulation DOF by ±``joint_error_deg`` (random signs), staying inside the limits.
+
+    Where the offset would leave a joint's range its sign is flipped (then clipped as a last
+    resort). Sign patterns that make two digits cross are redrawn: a start pose with the index
+    lying inside the middle finger is not a pose a tracker could have produced.
+    """
     limits = hand.joint_limits()
-    out = np.array(theta, dtype=float)
-    signs = rng.choice([-1.0, 1.0], size=21)
-    proposal = out[_ARTICULATION] + signs * np.radians(joint_error_deg)
     lo, hi = limits[_ARTICULATION, 0], limits[_ARTICULATION, 1]
-    # flip the sign where the offset would leave the range, then clip as a last resort
-    flipped = np.where((proposal < lo) | (proposal > hi), out[_ARTICULATION] - signs * np.radians(joint_error_deg), proposal)
-    out[_ARTICULATION] = np.clip(flipped, lo, hi)
-    out[:3] += rng.normal(scale=palm_translation_mm / np.sqrt(3), size=3)
-    out[3:6] += rng.normal(scale=np.radians(palm_rotation_deg) / np.sqrt(3), size=3)
-    return np.clip(out, limits[:, 0], limits[:, 1])
+    offset = np.radians(joint_error_deg)
+
+    def draw() -> np.ndarray:
+        out = np.array(theta, dtype=float)
+        signs = rng.choice([-1.0, 1.0], size=21)
+        # the four finger abductions share one sign: turning all fingers the same way keeps
+        # them side by side; independent signs would cross neighbours in half of the draws
+        signs[np.array(_FINGER_ABDUCTION) - 6] = signs[_FINGER_ABDUCTION[0] - 6]
+        proposal = out[_ARTICULATION] + signs * offset
+        flipped = np.where((proposal < lo) | (proposal > hi), out[_ARTICULATION] - signs * offset, proposal)
+        out[_ARTICULATION] = np.clip(flipped, lo, hi)
+        out[:3] += rng.normal(scale=palm_translation_mm / np.sqrt(3), size=3)
+        out[3:6] += rng.normal(scale=np.radians(palm_rotation_deg) / np.sqrt(3), size=3)
+        return np.clip(out, limits[:, 0], limits[:, 1])
+
+    return _first_valid(hand, draw, "perturbed pose")
 
 
 def random_pose(hand: HandModel, rng: np.random.Generator) -> np.ndarray:
-    """A natural pose: rest pose plus moderate random flexions within the limits."""
+    """A natural pose: rest pose, small spreads and moderate flexions, digits not crossing."""
     limits = hand.joint_limits()
-    theta = hand.rest_pose()
-    theta[6:] = np.clip(theta[6:] + rng.uniform(-0.1, 0.6, size=21) * (np.arange(21) % 4 != 0),
-                        limits[6:, 0], limits[6:, 1])
-    return theta
+    flexion = ~np.isin(np.arange(6, 27), (6, 8) + _FINGER_ABDUCTION)
+
+    def draw() -> np.ndarray:
+        theta = hand.rest_pose()
+        theta[6:] += np.where(flexion, rng.uniform(-0.1, 0.6, size=21), 0.0)
+        theta[[6, 8]] += rng.uniform(-0.2, 0.2, size=2)
+        # fingers fan out together (index and little most), plus a little independent jitter
+        fan = rng.uniform(0.0, 0.15) * np.array([-1.0, -1 / 3, 1 / 3, 1.0])
+        theta[list(_FINGER_ABDUCTION)] += fan + rng.uniform(-0.03, 0.03, size=4)
+        return np.clip(theta, limits[:, 0], limits[:, 1])
+
+    return _first_valid(hand, draw, "random pose")
 
 
 def visible_points(hand: HandModel, points: np.ndarray, theta: np.ndarray, camera: np.ndarray) -> np.ndarray:
@@ -75,8 +111,15 @@ def make_registration_problem(hand: HandModel, rng: np.random.Generator | int, *
     rng = make_rng(rng)
     check_positive(noise_mm, "noise_mm", allow_zero=True)
     check_positive(outlier_ratio, "outlier_ratio", allow_zero=True)
-    theta_true = random_pose(hand, rng)
-    theta_init = perturb_pose(hand, theta_true, joint_error_deg, rng)
+    for _ in range(_MAX_DRAWS):
+        theta_true = random_pose(hand, rng)
+        try:
+            theta_init = perturb_pose(hand, theta_true, joint_error_deg, rng)
+            break
+        except RuntimeError:  # a true pose with no valid start at this distance: draw another
+            continue
+    else:
+        raise RuntimeError(f"no start pose {joint_error_deg} deg away without crossed fingers")
     model_points = hand.sample_surface(theta_init, check_positive_int(n_model, "n_model"), rng)
     surface = hand.sample_surface(theta_true, 2 * check_positive_int(n_data, "n_data") if occlusion else n_data, rng)
     if occlusion:

@@ -26,7 +26,7 @@ _PHALANX_LENGTHS = {
     "ring": (42.0, 27.0, 21.0),
     "little": (33.0, 20.0, 18.0),
 }
-_FINGER_BASE_X = {"index": -27.0, "middle": -9.0, "ring": 9.0, "little": 27.0}
+_FINGER_BASE_X = {"index": -30.0, "middle": -10.0, "ring": 10.0, "little": 30.0}
 _DEG = np.pi / 180.0
 # Joint ranges of the Shadow Dexterous Hand (Shadow Robot Company, "Shadow Dexterous Hand
 # technical specification", joint table: FFJ4 -20..20, FFJ3 -15..90, FFJ2 0..90, FFJ1 0..90;
@@ -78,13 +78,14 @@ class HandModel:
         parts: list[_Part] = []
         limits = [(-np.inf, np.inf)] * 3 + [(-np.pi, np.pi), (-np.pi / 2, np.pi / 2), (-np.pi, np.pi)]
         parts.append(_Part(-1, np.eye(4), (3, 4, 5), (_Z, _Y, _X), np.array([0.0, 0.0, 0.0]),
-                           np.array([40.0, 48.0, 13.0])))
+                           np.array([42.0, 48.0, 13.0])))
         dof = 6
         for finger in FINGERS:
             lengths = _PHALANX_LENGTHS[finger]
             radius = 10.0 if finger == "thumb" else 8.5
             if finger == "thumb":
-                base = _homogeneous(rotation_matrix(_Z, -55 * _DEG), np.array([-32.0, -20.0, -4.0]))
+                # the thumb leaves the palm's radial side pointing outwards (35° from the fingers)
+                base = _homogeneous(rotation_matrix(_Z, 35 * _DEG), np.array([-36.0, -14.0, -4.0]))
                 joint_axes = ((_Z, _FLEX), (_Z, _FLEX), (_FLEX,))
                 limits += [(lo * _DEG, hi * _DEG) for lo, hi in _THUMB_LIMITS]
             else:
@@ -161,6 +162,25 @@ class HandModel:
     def part_transforms(self, theta: object) -> np.ndarray:
         """Rigid motion T_p(Θ) of every part, part frame -> world, as (16, 4, 4)."""
         return self._forward(self.check_theta(theta))[0]
+
+    def digit_clearance(self, theta: object, n_samples: int = 7) -> float:
+        """Smallest gap (mm) between the phalanges of two different digits; negative = overlap.
+
+        Each phalanx is reduced to its axis (sampled at ``n_samples`` points) and a radius (its
+        larger cross-section semi-axis), which is enough to reject poses where fingers cross.
+        """
+        frames = self._forward(self.check_theta(theta))[0]
+        along = np.linspace(-0.5, 0.5, check_positive_int(n_samples, "n_samples"))
+        axis_points, radius, digit = [], [], []
+        for p, part in enumerate(self._parts[1:], start=1):
+            half = part.radii[1] - 3.0  # the ellipsoid overshoots the joints by 3 mm
+            local = part.centre[None, :] + along[:, None] * 2 * half * _Y[None, :]
+            axis_points.append(local @ frames[p, :3, :3].T + frames[p, :3, 3])
+            radius.append(np.full(len(along), max(part.radii[0], part.radii[2])))
+            digit.append(np.full(len(along), (p - 1) // 3))
+        points, radius, digit = np.concatenate(axis_points), np.concatenate(radius), np.concatenate(digit)
+        gap = np.linalg.norm(points[:, None] - points[None], axis=2) - radius[:, None] - radius[None]
+        return float(np.min(gap[digit[:, None] != digit[None]]))
 
     # ------------------------------------------------------------------ shape, eqs. (1)-(2)
     def part_distances(self, points: np.ndarray, theta: object) -> np.ndarray:

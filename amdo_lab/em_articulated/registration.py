@@ -11,11 +11,19 @@ from amdo_lab.common import as_finite_array, check_choice, check_positive, check
 
 from amdo_lab.em_articulated.hand import HandModel, TextureBinding
 
-__all__ = ["EMResult", "register_em", "fit_surface", "softassign_register", "PAPER_C",
+__all__ = ["EMResult", "register_em", "dof_lever_arms", "PAPER_SETTINGS", "COARSE_TO_FINE_SETTINGS", "fit_surface", "softassign_register", "PAPER_C",
            "e_step_statistics", "SurfaceFitResult", "SoftAssignResult"]
 
 #: Outlier constant of eq. (18) with n v << V.
 PAPER_C = 3.0 * np.sqrt(np.pi / 2.0)
+
+#: register_em settings as in the paper: every DOF free at every σ, c of eq. (18), σ down to the noise.
+PAPER_SETTINGS = {"sigma_max": 20.0, "sigma_min": 2.0, "iterations_per_level": 3}
+#: Our settings for sparse, independently sampled texture and data (see the chapter's ablation):
+#: σ floor at about half the texture spacing, a smaller c so sparse inliers keep their weight,
+#: the palm alone while σ is wider than half a finger pitch, short-lever joints released last.
+COARSE_TO_FINE_SETTINGS = {"sigma_max": 20.0, "sigma_min": 4.0, "iterations_per_level": 6,
+                           "outlier_c": 0.1, "release_ratio": 4.0, "release_sigma": 9.0}
 
 
 @dataclass(frozen=True)
@@ -62,21 +70,36 @@ def e_step_statistics(model_points: np.ndarray, data_points: np.ndarray, sigma: 
     return weights, weighted_data, inlier_prob, energy
 
 
+def dof_lever_arms(hand: HandModel, binding: TextureBinding, theta: np.ndarray) -> np.ndarray:
+    """Largest distance (mm) a unit rotation of each DOF moves a texture point, shape (27,).
+
+    Palm translations get +inf (always resolvable). A DOF whose lever arm is short moves points
+    by much less than σ while σ is large, so its estimate there is dominated by the blur of the
+    targets G_i (eq. 20) rather than by the data.
+    """
+    _, jac = hand.texture_jacobian(binding, theta)
+    lever = np.max(np.linalg.norm(jac, axis=1), axis=0)
+    lever[:3] = np.inf
+    return lever
+
+
 def _m_step(hand: HandModel, binding: TextureBinding, theta: np.ndarray, weights: np.ndarray,
-            targets: np.ndarray, n_steps: int, damping: float) -> np.ndarray:
-    """Minimise Σ_i w_i ||Ȳ_i - T(X_i, Θ)||² (equivalent to eq. 20) by projected Gauss-Newton."""
+            targets: np.ndarray, n_steps: int, damping: float, free: np.ndarray | None = None) -> np.ndarray:
+    """Minimise Σ_i w_i ||G_i - T(X_i, Θ)||² (eq. 20) by projected Gauss-Newton over the ``free`` DOFs."""
     limits = hand.joint_limits()
     active = weights > 1e-8
+    free = np.ones(hand.n_dof, bool) if free is None else free
     if not np.any(active):
         return theta
     sqrt_w = np.sqrt(weights[active])[:, None]
     for _ in range(n_steps):
         moved, jac = hand.texture_jacobian(binding, theta)
         residual = (sqrt_w * (targets[active] - moved[active])).ravel()
-        jac_w = (sqrt_w[:, :, None] * jac[active]).reshape(-1, hand.n_dof)
+        jac_w = (sqrt_w[:, :, None] * jac[active][:, :, free]).reshape(-1, int(free.sum()))
         normal = jac_w.T @ jac_w
         normal += damping * np.diag(np.diag(normal) + 1e-6)
-        step = np.linalg.solve(normal, jac_w.T @ residual)
+        step = np.zeros(hand.n_dof)
+        step[free] = np.linalg.solve(normal, jac_w.T @ residual)
         theta = np.clip(theta + step, limits[:, 0], limits[:, 1])
         if np.max(np.abs(step)) < 1e-6:
             break
@@ -101,7 +124,8 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
                 sigma_max: float = 20.0, sigma_min: float = 2.0, *, n_levels: int = 5,
                 iterations_per_level: int = 3, outlier_c: float | None = None,
                 sigma_mode: str = "anneal", a: float = 2.0, gauss_newton_steps: int = 2,
-                damping: float = 1e-3, chunk: int = 256) -> EMResult:
+                damping: float = 1e-3, chunk: int = 256, release_ratio: float | None = None,
+                release_sigma: float | None = None) -> EMResult:
     """Robust EM alignment of texture points X_i (at ``theta_init``) to data Y_j (Sec. 3).
 
     Parameters
@@ -116,6 +140,11 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
         uses c·(σ/σ_min)^3, i.e. a fixed outlier density rather than a fixed c.
     sigma_mode : "anneal" (paper), "scaled" (σ-scaled c, ablation) or "estimate" (σ re-estimated
         in the M-step from the weighted residuals, the variant the paper warns against).
+    release_ratio, release_sigma : coarse-to-fine schedule, ours (the paper frees every DOF at
+        every σ, which is the default ``None``). With ``release_ratio`` a joint is estimated only
+        once σ is below its lever arm (:func:`dof_lever_arms`) divided by the ratio; with
+        ``release_sigma`` no finger DOF is estimated while σ exceeds it (only the palm's six).
+        Both keep a blurred E-step (σ wider than a finger) from curling or crossing fingers.
     """
     model, data, theta, sigma_max, sigma_min = _check_common(hand, model_points, data_points,
                                                              theta_init, sigma_max, sigma_min)
@@ -125,8 +154,13 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
     iterations_per_level = check_positive_int(iterations_per_level, "iterations_per_level")
     check_choice(sigma_mode, "sigma_mode", ("anneal", "scaled", "estimate"))
     c = PAPER_C if outlier_c is None else check_positive(outlier_c, "outlier_c")
+    if release_ratio is not None:
+        release_ratio = check_positive(release_ratio, "release_ratio")
+    if release_sigma is not None:
+        release_sigma = check_positive(release_sigma, "release_sigma")
     binding = hand.texture_binding(model, theta, a)
     sigmas = np.geomspace(sigma_max, sigma_min, n_levels)
+    lever = dof_lever_arms(hand, binding, theta)
     history = []
     sigma = sigma_max
     inlier_prob = np.zeros(data.shape[0])
@@ -139,7 +173,14 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
             weights, weighted, inlier_prob, energy = e_step_statistics(moved, data, sigma, log_c, chunk)
             history.append((sigma, energy))
             targets = weighted / np.maximum(weights, 1e-300)[:, None]
-            theta = _m_step(hand, binding, theta, weights, targets, gauss_newton_steps, damping)
+            # coarse-to-fine: a DOF is estimated once σ is below its lever arm / release_ratio
+            scale = min(sigma, sigmas[level])
+            free = np.ones(hand.n_dof, bool)
+            if release_ratio is not None:
+                free &= lever >= release_ratio * scale
+            if release_sigma is not None and scale > release_sigma:
+                free[6:] = False
+            theta = _m_step(hand, binding, theta, weights, targets, gauss_newton_steps, damping, free)
             if sigma_mode == "estimate":
                 _, _, _, new_energy = e_step_statistics(hand.transform_texture(binding, theta), data, sigma, log_c, chunk)
                 sigma = max(np.sqrt(new_energy / max(3 * weights.sum(), 1e-12)), 1e-3)
@@ -155,11 +196,14 @@ class SurfaceFitResult:
 
 
 def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, weights: object = None,
-                n_steps: int = 3, damping: float = 1e-2, fd_step: float = 1e-4) -> SurfaceFitResult:
+                n_steps: int = 3, damping: float = 1e-2, fd_step: float = 1e-4,
+                epsilon_mm: float | None = None) -> SurfaceFitResult:
     """Refine Θ by minimising Σ_j w_j d(Y_j, Θ)² (Sec. 3.4, eqs. 21-22; d from eq. 2).
 
     Gauss-Newton with a forward-difference Jacobian of eq. (2) in Θ, clipped to the joint limits.
-    ``weights`` (per data point, e.g. the EM inlier probabilities) default to 1.
+    ``weights`` (per data point, e.g. the EM inlier probabilities) default to 1. With
+    ``epsilon_mm`` each step uses only the points within ε of the current surface, so clutter a
+    few centimetres away (which eq. 22 would square) cannot pull the hand.
     """
     if not isinstance(hand, HandModel):
         raise TypeError(f"hand must be a HandModel, got {type(hand).__name__}")
@@ -168,10 +212,12 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
     w = np.ones(len(data)) if weights is None else as_finite_array(weights, "weights", ndim=1, shape=(len(data),))
     if np.any(w < 0):
         raise ValueError("weights must be non-negative")
+    if epsilon_mm is not None:
+        epsilon_mm = check_positive(epsilon_mm, "epsilon_mm")
     limits = hand.joint_limits()
-    sqrt_w = np.sqrt(w)
     for _ in range(n_steps):
         dist = hand.surface_distance(data, theta)
+        sqrt_w = np.sqrt(w if epsilon_mm is None else w * (np.abs(dist) < epsilon_mm))
         jac = np.empty((len(data), hand.n_dof))
         for k in range(hand.n_dof):
             shifted = theta.copy()
@@ -182,6 +228,8 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
         normal += damping * np.diag(np.diag(normal) + 1e-6)
         theta = np.clip(theta - np.linalg.solve(normal, jac_w.T @ (sqrt_w * dist)), limits[:, 0], limits[:, 1])
     dist = hand.surface_distance(data, theta)
+    if epsilon_mm is not None:
+        w = w * (np.abs(dist) < epsilon_mm)
     return SurfaceFitResult(theta, float(np.sqrt(np.sum(w * dist**2) / max(w.sum(), 1e-12))))
 
 
