@@ -4,7 +4,7 @@ PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.amdo-installed
-NBVAL  := --nbval --sanitize-with tests/nbval_sanitize.cfg
+NBVAL  := --nbval --nbval-sanitize-with tests/nbval_sanitize.cfg
 EGL_PACKAGES := libegl1 libegl-mesa0
 
 .PHONY: book test lab figures check-env setup egl clean

@@ -19,6 +19,7 @@ from amdo_lab.em_articulated import (
     HandModel,
     run_registration_trials,
     e_step_statistics,
+    e_step_statistics_kdtree,
     make_registration_problem,
     register_em,
 )
@@ -56,14 +57,34 @@ def peer_rigid_cpd(hand: HandModel, trials: int, seed: int) -> list[str]:
             f"time (s): pycpd {r[2]:.2f}, ours {r[3]:.2f}, ratio {r[2] / r[3]:.1f}"]
 
 
-def e_step_timing(hand: HandModel) -> str:
-    rng = spawn_rngs(0, 1)[0]
-    model = rng.normal(size=(500, 3)) * 40
-    data = rng.normal(size=(1000, 3)) * 40
+def _per_call_ms(function, repeats: int = 10) -> float:
     start = time.perf_counter()
-    for _ in range(10):
-        e_step_statistics(model, data, 5.0, np.log(3.76))
-    return f"E-step 500 model x 1000 data: {1000 * (time.perf_counter() - start) / 10:.1f} ms"
+    for _ in range(repeats):
+        function()
+    return 1000 * (time.perf_counter() - start) / repeats
+
+
+def e_step_timing(hand: HandModel) -> list[str]:
+    """E-step on 500 texture points x 1000 data points (500 on the hand, 500 clutter)."""
+    rng = spawn_rngs(0, 1)[0]
+    theta = hand.rest_pose()
+    model = hand.sample_surface(theta, 500, rng)
+    data = np.concatenate([hand.sample_surface(theta, 500, rng), rng.uniform(-100, 150, size=(500, 3))])
+    lines = ["E-step, 500 texture x 1000 data points (ms per call):",
+             f"{'sigma (mm)':>10s} {'dense':>8s} {'k-d tree':>9s} {'pycpd':>8s} {'pycpd/tree':>11s}"]
+    try:
+        from pycpd import RigidRegistration  # lazy: peer for the benchmark only
+    except ImportError:
+        RigidRegistration = None
+    for sigma in (20.0, 8.0, 4.0):
+        dense = _per_call_ms(lambda: e_step_statistics(model, data, sigma, np.log(0.1)))
+        tree = _per_call_ms(lambda: e_step_statistics_kdtree(model, data, sigma, np.log(0.1)))
+        peer = float("nan")
+        if RigidRegistration is not None:
+            reg = RigidRegistration(X=data, Y=model, sigma2=sigma**2, w=0.5)
+            peer = _per_call_ms(reg.expectation)
+        lines.append(f"{sigma:10.0f} {dense:8.1f} {tree:9.1f} {peer:8.1f} {peer / tree:11.1f}")
+    return lines
 
 
 def main() -> None:
@@ -82,7 +103,8 @@ def main() -> None:
         for label, settings in (("paper", PAPER_SETTINGS), ("coarse-to-fine", COARSE_TO_FINE_SETTINGS)):
             r = run_level(hand, args.trials, 1000 + k, settings, **kwargs)
             print(f"{name:38s} {label:15s} {r['median_rmse_deg']:24.2f} {r['success']:8.2f} {r['seconds']:8.2f}")
-    print(e_step_timing(hand))
+    for line in e_step_timing(hand):
+        print(line)
     for line in peer_rigid_cpd(hand, min(args.trials, 5), 7):
         print(line)
 

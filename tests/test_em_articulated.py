@@ -253,3 +253,21 @@ def test_release_sigma_holds_the_fingers_while_sigma_is_large(hand):
     assert np.any(free.theta[6:] != theta[6:])
     with pytest.raises(ValueError, match="release_sigma"):
         register_em(model, data, hand, theta, 20.0, 10.0, release_sigma=-1.0)
+
+
+def test_kdtree_e_step_matches_dense(hand):
+    from amdo_lab.em_articulated import e_step_statistics_kdtree
+    theta = hand.rest_pose()
+    rng = make_rng(12)
+    model = hand.sample_surface(theta, 300, rng)
+    data = np.concatenate([hand.sample_surface(theta, 300, rng) + rng.normal(scale=2.0, size=(300, 3)),
+                           rng.uniform(-100, 150, size=(100, 3))])
+    for sigma in (3.0, 10.0):
+        dense = e_step_statistics(model, data, sigma, np.log(PAPER_C))
+        tree = e_step_statistics_kdtree(model, data, sigma, np.log(PAPER_C))
+        for a, b in zip(dense[:3], tree[:3]):
+            np.testing.assert_allclose(a, b, atol=2e-3 * max(1.0, np.abs(a).max()))
+        assert tree[3] == pytest.approx(dense[3], rel=2e-2)
+    em_dense = register_em(model, data, hand, theta, 10.0, 3.0, n_levels=2)
+    em_tree = register_em(model, data, hand, theta, 10.0, 3.0, n_levels=2, e_step="kdtree")
+    assert np.max(np.abs(em_dense.theta - em_tree.theta)) < 1e-2

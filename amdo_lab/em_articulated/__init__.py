@@ -24,6 +24,7 @@ from amdo_lab.em_articulated.registration import (
     SurfaceFitResult,
     dof_lever_arms,
     e_step_statistics,
+    e_step_statistics_kdtree,
     fit_surface,
     register_em,
     softassign_register,
@@ -33,7 +34,7 @@ from amdo_lab.em_articulated.tracking import TrackingResult, track_sequence
 __all__ = [
     "COARSE_TO_FINE_SETTINGS", "SUCCESS_DEG", "TrialSummary", "run_registration_trials", "PAPER_C", "PAPER_SETTINGS", "PART_NAMES", "EMResult", "HandModel", "RegistrationProblem", "SoftAssignResult",
     "SurfaceFitResult", "TextureBinding", "TrackingResult", "TrackingSequence", "dof_lever_arms",
-    "e_step_statistics",
+    "e_step_statistics", "e_step_statistics_kdtree",
     "fit_surface", "joint_rmse_deg", "make_registration_problem", "make_tracking_sequence",
     "perturb_pose", "random_pose", "register_em", "softassign_register", "track_sequence",
     "visible_points",

@@ -11,7 +11,7 @@ from amdo_lab.common import as_finite_array, check_choice, check_positive, check
 
 from amdo_lab.em_articulated.hand import HandModel, TextureBinding
 
-__all__ = ["EMResult", "register_em", "dof_lever_arms", "PAPER_SETTINGS", "COARSE_TO_FINE_SETTINGS", "fit_surface", "softassign_register", "PAPER_C",
+__all__ = ["EMResult", "register_em", "e_step_statistics_kdtree", "dof_lever_arms", "PAPER_SETTINGS", "COARSE_TO_FINE_SETTINGS", "fit_surface", "softassign_register", "PAPER_C",
            "e_step_statistics", "SurfaceFitResult", "SoftAssignResult"]
 
 #: Outlier constant of eq. (18) with n v << V.
@@ -83,6 +83,30 @@ def dof_lever_arms(hand: HandModel, binding: TextureBinding, theta: np.ndarray) 
     return lever
 
 
+def e_step_statistics_kdtree(model_points: np.ndarray, data_points: np.ndarray, sigma: float,
+                             log_c: float, radius_sigmas: float = 4.0) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """Truncated eq. (17): only pairs closer than ``radius_sigmas``·σ, found with a k-d tree.
+
+    Same outputs as :func:`e_step_statistics`. A pair at 4σ has kernel exp(-8) ≈ 3e-4, so the
+    dropped mass is negligible next to c; memory is O(M + N + number of close pairs). The kernel
+    of a kept pair is at least exp(-radius²/2), so the linear domain cannot underflow here.
+    """
+    from scipy.spatial import cKDTree  # local: only this variant needs it
+
+    radius = radius_sigmas * sigma
+    pairs = cKDTree(data_points).sparse_distance_matrix(cKDTree(model_points), radius, output_type="ndarray")
+    data_index, model_index, dist = pairs["i"], pairs["j"], pairs["v"]
+    kernel = np.exp(-dist**2 / (2 * sigma**2))
+    row_sum = np.bincount(data_index, kernel, minlength=len(data_points)) + np.exp(log_c)
+    alpha = kernel / row_sum[data_index]
+    n_model = len(model_points)
+    weights = np.bincount(model_index, alpha, minlength=n_model)
+    weighted_data = np.stack([np.bincount(model_index, alpha * data_points[data_index, k], minlength=n_model)
+                              for k in range(3)], axis=1)
+    inlier_prob = np.bincount(data_index, alpha, minlength=len(data_points))
+    return weights, weighted_data, inlier_prob, float(np.sum(alpha * dist**2))
+
+
 def _m_step(hand: HandModel, binding: TextureBinding, theta: np.ndarray, weights: np.ndarray,
             targets: np.ndarray, n_steps: int, damping: float, free: np.ndarray | None = None) -> np.ndarray:
     """Minimise Σ_i w_i ||G_i - T(X_i, Θ)||² (eq. 20) by projected Gauss-Newton over the ``free`` DOFs."""
@@ -125,7 +149,7 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
                 iterations_per_level: int = 3, outlier_c: float | None = None,
                 sigma_mode: str = "anneal", a: float = 2.0, gauss_newton_steps: int = 2,
                 damping: float = 1e-3, chunk: int = 256, release_ratio: float | None = None,
-                release_sigma: float | None = None) -> EMResult:
+                release_sigma: float | None = None, e_step: str = "dense") -> EMResult:
     """Robust EM alignment of texture points X_i (at ``theta_init``) to data Y_j (Sec. 3).
 
     Parameters
@@ -145,6 +169,8 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
         once σ is below its lever arm (:func:`dof_lever_arms`) divided by the ratio; with
         ``release_sigma`` no finger DOF is estimated while σ exceeds it (only the palm's six).
         Both keep a blurred E-step (σ wider than a finger) from curling or crossing fingers.
+    e_step : "dense" (every pair, streamed in chunks) or "kdtree" (pairs within 4σ only,
+        :func:`e_step_statistics_kdtree`).
     """
     model, data, theta, sigma_max, sigma_min = _check_common(hand, model_points, data_points,
                                                              theta_init, sigma_max, sigma_min)
@@ -153,6 +179,13 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
     n_levels = check_positive_int(n_levels, "n_levels")
     iterations_per_level = check_positive_int(iterations_per_level, "iterations_per_level")
     check_choice(sigma_mode, "sigma_mode", ("anneal", "scaled", "estimate"))
+    check_choice(e_step, "e_step", ("dense", "kdtree"))
+
+    def statistics(points: np.ndarray, sigma: float, log_c: float) -> tuple:
+        if e_step == "kdtree":
+            return e_step_statistics_kdtree(points, data, sigma, log_c)
+        return e_step_statistics(points, data, sigma, log_c, chunk)
+
     c = PAPER_C if outlier_c is None else check_positive(outlier_c, "outlier_c")
     if release_ratio is not None:
         release_ratio = check_positive(release_ratio, "release_ratio")
@@ -170,7 +203,7 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
                 sigma = sigmas[level]
             log_c = np.log(c) + (3 * np.log(sigma / sigma_min) if sigma_mode == "scaled" else 0.0)
             moved = hand.transform_texture(binding, theta)
-            weights, weighted, inlier_prob, energy = e_step_statistics(moved, data, sigma, log_c, chunk)
+            weights, weighted, inlier_prob, energy = statistics(moved, sigma, log_c)
             history.append((sigma, energy))
             targets = weighted / np.maximum(weights, 1e-300)[:, None]
             # coarse-to-fine: a DOF is estimated once σ is below its lever arm / release_ratio
@@ -182,7 +215,7 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
                 free[6:] = False
             theta = _m_step(hand, binding, theta, weights, targets, gauss_newton_steps, damping, free)
             if sigma_mode == "estimate":
-                _, _, _, new_energy = e_step_statistics(hand.transform_texture(binding, theta), data, sigma, log_c, chunk)
+                _, _, _, new_energy = statistics(hand.transform_texture(binding, theta), sigma, log_c)
                 sigma = max(np.sqrt(new_energy / max(3 * weights.sum(), 1e-12)), 1e-3)
     return EMResult(theta, inlier_prob, np.array(history), hand.transform_texture(binding, theta))
 
