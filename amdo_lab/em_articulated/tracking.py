@@ -24,11 +24,12 @@ class TrackingResult:
 
 def track_sequence(frames: list, hand: HandModel, theta_start: np.ndarray, *, epsilon_mm: float = 5.0,
                    sigma_max: float = 15.0, sigma_min: float = 2.0, max_texture: int = 500,
-                   surface_fit: bool = True) -> TrackingResult:
+                   surface_fit: bool = True, em_settings: dict | None = None) -> TrackingResult:
     """Track a sequence: EM on the previous frame's texture, surface fit, then texture refresh.
 
     The texture for frame t+1 is the data of frame t within ``epsilon_mm`` of the fitted surface
-    (|d| < ε, eq. 2), at most ``max_texture`` of them (evenly subsampled).
+    (|d| < ε, eq. 2), at most ``max_texture`` of them (evenly subsampled). ``em_settings`` are
+    extra keyword arguments of :func:`register_em` (e.g. ``outlier_c``, ``e_step``).
     """
     epsilon_mm = check_positive(epsilon_mm, "epsilon_mm")
     theta = hand.check_theta(theta_start, "theta_start", within_limits=True)
@@ -36,7 +37,8 @@ def track_sequence(frames: list, hand: HandModel, theta_start: np.ndarray, *, ep
     poses, counts = [theta], [len(texture)]
     for data in frames[1:]:
         texture = texture[:: max(1, int(np.ceil(len(texture) / max_texture)))]
-        result = register_em(texture, data, hand, theta, sigma_max, sigma_min, n_levels=4, iterations_per_level=2)
+        settings = {"n_levels": 4, "iterations_per_level": 2, **(em_settings or {})}
+        result = register_em(texture, data, hand, theta, sigma_max, sigma_min, **settings)
         theta = result.theta
         if surface_fit:
             close = np.abs(hand.surface_distance(data, theta)) < epsilon_mm
