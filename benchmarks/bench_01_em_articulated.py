@@ -18,9 +18,12 @@ from amdo_lab.em_articulated import (
     PAPER_SETTINGS,
     HandModel,
     run_registration_trials,
+    track_sequence,
     e_step_statistics,
     e_step_statistics_kdtree,
+    joint_rmse_deg,
     make_registration_problem,
+    make_tracking_sequence,
     register_em,
 )
 
@@ -87,9 +90,23 @@ def e_step_timing(hand: HandModel) -> list[str]:
     return lines
 
 
+def tracking_run(hand: HandModel, n_frames: int) -> list[str]:
+    """The issue's sequence (20 fps, camera-side points, clutter), tracked frame to frame."""
+    sequence = make_tracking_sequence(hand, 5, n_frames=n_frames, fps=20.0, n_surface=1000)
+    start = time.perf_counter()
+    result = track_sequence(sequence.frames, hand, sequence.poses[0], sigma_max=8.0, sigma_min=3.0,
+                            em_settings={"outlier_c": 0.1, "e_step": "kdtree", "iterations_per_level": 3})
+    per_frame = (time.perf_counter() - start) / (n_frames - 1)
+    errors = np.array([joint_rmse_deg(est, true) for est, true in zip(result.poses, sequence.poses)])
+    return [f"tracking {n_frames} frames: {1000 * per_frame:.0f} ms/frame (goal < 100), joint RMSE median "
+            f"{np.median(errors[1:]):.1f} deg, max {errors.max():.1f} deg, frames over 10 deg: {int(np.sum(errors > 10))}, "
+            f"texture kept median {np.median(result.n_texture[1:]):.0f} (paper: about 250)"]
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--trials", type=int, default=5, help="seeded trials per level (issue: 100)")
+    parser.add_argument("--frames", type=int, default=100, help="tracking sequence length (0: skip)")
     args = parser.parse_args()
     hand = HandModel()
     print(f"trials per level: {args.trials}")
@@ -105,6 +122,9 @@ def main() -> None:
             print(f"{name:38s} {label:15s} {r['median_rmse_deg']:24.2f} {r['success']:8.2f} {r['seconds']:8.2f}")
     for line in e_step_timing(hand):
         print(line)
+    if args.frames:
+        for line in tracking_run(hand, args.frames):
+            print(line)
     for line in peer_rigid_cpd(hand, min(args.trials, 5), 7):
         print(line)
 
