@@ -8,7 +8,9 @@ from amdo_lab.em_articulated import (
     PAPER_C,
     HandModel,
     e_step_statistics,
+    fit_known_correspondences,
     fit_surface,
+    make_skin_texture,
     joint_rmse_deg,
     make_registration_problem,
     make_tracking_sequence,
@@ -172,10 +174,10 @@ def test_softassign_slack_extremes(hand):
 
 
 def test_tracking_sequence_generator(hand):
-    seq = make_tracking_sequence(hand, 10, n_frames=3, n_surface=600, n_clutter=60)
+    seq = make_tracking_sequence(hand, 10, n_frames=3, n_features=600, n_clutter=60)
     assert seq.poses.shape == (3, 27) and len(seq.frames) == 3
     n_surface_points = [int((~mask).sum()) for mask in seq.is_outlier]
-    assert all(150 < n < 600 for n in n_surface_points)  # only the camera-facing side
+    assert all(150 < n < 0.8 * 600 for n in n_surface_points)  # only the camera-facing side, 80 % detected
 
 
 @pytest.mark.parametrize(
@@ -238,7 +240,7 @@ def test_lever_arms_shrink_along_each_finger(hand):
         assert lever[first + 1] > lever[first + 2] > lever[first + 3] > 0
 
 
-def test_release_sigma_holds_the_fingers_while_sigma_is_large(hand):
+def test_release_ratio_holds_short_levers_while_sigma_is_large(hand):
     rng = make_rng(4)
     theta = hand.rest_pose()
     model = hand.sample_surface(theta, 200, rng)
@@ -246,13 +248,92 @@ def test_release_sigma_holds_the_fingers_while_sigma_is_large(hand):
     moved[:3] += [3.0, -2.0, 1.0]
     moved[12] += 0.2
     data = hand.transform_texture(hand.texture_binding(model, theta), moved)
-    held = register_em(model, data, hand, theta, 20.0, 10.0, release_sigma=5.0, n_levels=2)
-    np.testing.assert_array_equal(held.theta[6:], theta[6:])
+    # σ = 20 mm with ratio 10: only DOFs whose lever arm exceeds 200 mm (the palm translation) move
+    held = register_em(model, data, hand, theta, 20.0, 19.0, release_ratio=10.0, n_levels=2)
+    np.testing.assert_array_equal(held.theta[3:], theta[3:])
     assert np.linalg.norm(held.theta[:3] - moved[:3]) < 1.5
-    free = register_em(model, data, hand, theta, 20.0, 10.0, n_levels=2)
+    free = register_em(model, data, hand, theta, 20.0, 19.0, n_levels=2)
     assert np.any(free.theta[6:] != theta[6:])
-    with pytest.raises(ValueError, match="release_sigma"):
-        register_em(model, data, hand, theta, 20.0, 10.0, release_sigma=-1.0)
+    with pytest.raises(ValueError, match="release_ratio"):
+        register_em(model, data, hand, theta, 20.0, 10.0, release_ratio=-1.0)
+
+
+def test_debiased_targets_keep_a_perfect_fit_at_large_sigma(hand):
+    """Data that coincide with the texture: the paper's blurred targets G_i move the hand at
+    σ = 20 mm (fingers curl towards the middle), the bias-corrected ones leave it in place."""
+    rng = make_rng(21)
+    theta = random_pose(hand, rng)
+    texture = hand.sample_surface(theta, 400, rng)
+    paper = register_em(texture, texture, hand, theta, 20.0, 19.0, n_levels=1, iterations_per_level=5)
+    ours = register_em(texture, texture, hand, theta, 20.0, 19.0, n_levels=1, iterations_per_level=5,
+                       targets="debiased")
+    assert joint_rmse_deg(paper.theta, theta) > 5.0
+    assert joint_rmse_deg(ours.theta, theta) < 0.1
+    with pytest.raises(ValueError, match="targets"):
+        register_em(texture, texture, hand, theta, 20.0, 19.0, targets="mean")
+
+
+def test_register_em_stops_a_level_once_converged(hand):
+    rng = make_rng(22)
+    theta = random_pose(hand, rng)
+    texture = hand.sample_surface(theta, 200, rng)
+    result = register_em(texture, texture, hand, theta, 10.0, 3.0, n_levels=3, iterations_per_level=10,
+                         tol=1e-3, targets="debiased")
+    assert len(result.history) < 3 * 10  # each level ends as soon as Θ stops changing
+    assert sorted(set(result.history[:, 0]), reverse=True) == pytest.approx(np.geomspace(10.0, 3.0, 3))
+
+
+def test_skin_texture_features_move_with_eq3_and_matches_are_true(hand):
+    skin = make_skin_texture(hand, 300, 5)
+    np.testing.assert_allclose(skin.positions(hand, hand.rest_pose()), skin.rest_points, atol=1e-9)
+    problem = make_registration_problem(hand, 23, noise_mm=0.0, outlier_ratio=1.0, n_model=200, n_data=200,
+                                        repeatability=0.8)
+    model_index, data_index = problem.true_matches()
+    assert 0.5 * 200 < len(model_index) <= 200
+    assert not np.any(problem.is_outlier[data_index])
+    # noise-free: the matched texture moved by eq. (3) from the initial to the true pose is its match
+    binding = hand.texture_binding(problem.model_points, problem.theta_init)
+    moved = hand.transform_texture(binding, problem.theta_true)
+    assert np.median(np.linalg.norm(moved[model_index] - problem.data_points[data_index], axis=1)) < 1.0
+    independent = make_registration_problem(hand, 23, n_model=50, n_data=50, repeatability=0.0)
+    assert len(independent.true_matches()[0]) == 0
+    with pytest.raises(ValueError, match="repeatability"):
+        make_registration_problem(hand, 23, n_model=50, n_data=50, repeatability=1.5)
+
+
+def test_known_correspondences_recover_the_pose(hand):
+    problem = make_registration_problem(hand, 24, noise_mm=0.0, outlier_ratio=0.0, n_model=300, n_data=300)
+    model_index, data_index = problem.true_matches()
+    theta = fit_known_correspondences(problem.model_points[model_index], problem.data_points[data_index],
+                                      hand, problem.theta_init)
+    assert joint_rmse_deg(problem.theta_init, problem.theta_true) > 15.0
+    assert joint_rmse_deg(theta, problem.theta_true) < 1.0
+
+
+def test_surface_distance_jacobian_matches_finite_differences(hand):
+    rng = make_rng(25)
+    theta = random_pose(hand, rng)
+    points = hand.sample_surface(theta, 120, rng) + rng.normal(scale=2.0, size=(120, 3))
+    dist, jac = hand.surface_distance_jacobian(points, theta)
+    np.testing.assert_allclose(dist, hand.surface_distance(points, theta), atol=1e-12)
+    eps = 1e-6
+    numeric = np.stack([(hand.surface_distance(points, theta + eps * e) - hand.surface_distance(points, theta - eps * e))
+                        / (2 * eps) for e in np.eye(27)], axis=1)
+    np.testing.assert_allclose(jac, numeric, atol=1e-5 * max(1.0, np.abs(numeric).max()))
+
+
+def test_fit_surface_eq22_ignores_far_points(hand):
+    rng = make_rng(26)
+    theta_true = random_pose(hand, rng)
+    data = hand.sample_surface(theta_true, 300, rng)
+    clutter = rng.uniform(-100, 150, size=(300, 3))
+    clutter = clutter[np.abs(hand.surface_distance(clutter, theta_true)) > 15.0]
+    start = perturb_pose(hand, theta_true, 3.0, rng, palm_rotation_deg=1.0, palm_translation_mm=1.0)
+    robust = fit_surface(np.concatenate([data, clutter]), hand, start, n_steps=5, sigma=3.0)
+    plain = fit_surface(np.concatenate([data, clutter]), hand, start, n_steps=5, sigma=None)
+    assert joint_rmse_deg(robust.theta, theta_true) < joint_rmse_deg(plain.theta, theta_true)
+    with pytest.raises(ValueError, match="sigma"):
+        fit_surface(data, hand, start, sigma=0.0)
 
 
 def test_kdtree_e_step_matches_dense(hand):

@@ -4,7 +4,10 @@ Dewaele, Devernay, Horaud & Forbes, ECCV 2006.
 """
 
 from amdo_lab.em_articulated.data import (
+    DEFAULT_REPEATABILITY,
     RegistrationProblem,
+    SkinTexture,
+    make_skin_texture,
     TrackingSequence,
     joint_rmse_deg,
     make_registration_problem,
@@ -16,7 +19,8 @@ from amdo_lab.em_articulated.data import (
 from amdo_lab.em_articulated.experiments import SUCCESS_DEG, TrialSummary, run_registration_trials
 from amdo_lab.em_articulated.hand import PART_NAMES, HandModel, TextureBinding
 from amdo_lab.em_articulated.registration import (
-    COARSE_TO_FINE_SETTINGS,
+    OUR_SETTINGS,
+    fit_known_correspondences,
     PAPER_C,
     PAPER_SETTINGS,
     EMResult,
@@ -32,7 +36,7 @@ from amdo_lab.em_articulated.registration import (
 from amdo_lab.em_articulated.tracking import TrackingResult, track_sequence
 
 __all__ = [
-    "COARSE_TO_FINE_SETTINGS", "SUCCESS_DEG", "TrialSummary", "run_registration_trials", "PAPER_C", "PAPER_SETTINGS", "PART_NAMES", "EMResult", "HandModel", "RegistrationProblem", "SoftAssignResult",
+    "OUR_SETTINGS", "fit_known_correspondences", "SkinTexture", "make_skin_texture", "DEFAULT_REPEATABILITY", "SUCCESS_DEG", "TrialSummary", "run_registration_trials", "PAPER_C", "PAPER_SETTINGS", "PART_NAMES", "EMResult", "HandModel", "RegistrationProblem", "SoftAssignResult",
     "SurfaceFitResult", "TextureBinding", "TrackingResult", "TrackingSequence", "dof_lever_arms",
     "e_step_statistics", "e_step_statistics_kdtree",
     "fit_surface", "joint_rmse_deg", "make_registration_problem", "make_tracking_sequence",

@@ -8,10 +8,11 @@ import numpy as np
 
 from amdo_lab.common import check_positive, check_positive_int, make_rng
 
-from amdo_lab.em_articulated.hand import HandModel
+from amdo_lab.em_articulated.hand import HandModel, TextureBinding
 
 __all__ = ["RegistrationProblem", "make_registration_problem", "perturb_pose", "visible_points",
-           "make_tracking_sequence", "TrackingSequence", "joint_rmse_deg"]
+           "make_tracking_sequence", "TrackingSequence", "joint_rmse_deg", "SkinTexture", "make_skin_texture",
+           "random_pose", "DEFAULT_REPEATABILITY"]
 
 _ARTICULATION = slice(6, 27)
 
@@ -89,28 +90,100 @@ def visible_points(hand: HandModel, points: np.ndarray, theta: np.ndarray, camer
     return np.sum(normals * (np.asarray(camera) - points), axis=1) > 0
 
 
+#: Share of the skin's features a stereo detector finds again in a new view. Interest points
+#: between nearby views are re-detected at roughly this rate (Schmid, Mohr & Bauckhage, IJCV 2000,
+#: report 0.7-0.9 repeatability for Harris under small rotations and viewpoint changes).
+DEFAULT_REPEATABILITY = 0.8
+
+
+@dataclass(frozen=True)
+class SkinTexture:
+    """Features of the skin (the paper's texture): fixed surface points that move with the hand.
+
+    ``rest_points`` (K, 3) are the features at the rest pose; ``binding`` attaches them to the
+    kinematic chain so that :meth:`positions` moves them by the bending model of eq. (3). Every
+    observation of the hand sees a subset of the same features, which is what makes point-to-point
+    matching (Sec. 3) meaningful: a data point is the same skin mark as some texture point.
+    """
+
+    rest_points: np.ndarray
+    binding: TextureBinding
+
+    @property
+    def n_features(self) -> int:
+        return len(self.rest_points)
+
+    def positions(self, hand: HandModel, theta: np.ndarray) -> np.ndarray:
+        """Noise-free 3-D positions (K, 3) of every feature at pose ``theta``."""
+        return hand.transform_texture(self.binding, hand.check_theta(theta))
+
+
+def make_skin_texture(hand: HandModel, n_features: int, rng: np.random.Generator | int, *, a: float = 2.0) -> SkinTexture:
+    """``n_features`` skin features drawn uniformly on the fused surface at the rest pose."""
+    rest = hand.rest_pose()
+    points = hand.sample_surface(rest, check_positive_int(n_features, "n_features"), make_rng(rng))
+    return SkinTexture(points, hand.texture_binding(points, rest, a))
+
+
+def _observe(positions: np.ndarray, candidates: np.ndarray, n: int, noise_mm: float,
+             rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """Detect ``n`` of the ``candidates`` features at random and add isotropic Gaussian noise."""
+    chosen = rng.choice(candidates, size=min(n, len(candidates)), replace=False)
+    points = positions[chosen]
+    if noise_mm > 0:
+        points = points + rng.normal(scale=noise_mm, size=points.shape)
+    return points, chosen
+
+
 @dataclass(frozen=True)
 class RegistrationProblem:
-    """One synthetic problem: model texture at ``theta_init``, data at ``theta_true``."""
+    """One synthetic problem: model texture at ``theta_init``, data at ``theta_true``.
+
+    ``model_feature`` and ``data_feature`` name the skin feature each point observes (-1 for an
+    outlier or, with independent samples, for every point), so the true matches are known.
+    """
 
     theta_true: np.ndarray
     theta_init: np.ndarray
     model_points: np.ndarray
     data_points: np.ndarray
     is_outlier: np.ndarray
+    model_feature: np.ndarray
+    data_feature: np.ndarray
+
+    def true_matches(self) -> tuple[np.ndarray, np.ndarray]:
+        """Index pairs (model i, data j) that observe the same skin feature."""
+        data_of_feature = {f: j for j, f in enumerate(self.data_feature) if f >= 0}
+        pairs = [(i, data_of_feature[f]) for i, f in enumerate(self.model_feature) if f in data_of_feature]
+        pairs = np.array(pairs, dtype=int).reshape(-1, 2)
+        return pairs[:, 0], pairs[:, 1]
+
+
+_CAMERA = np.array([0.0, 40.0, 500.0])
 
 
 def make_registration_problem(hand: HandModel, rng: np.random.Generator | int, *, joint_error_deg: float = 20.0,
                               noise_mm: float = 2.0, outlier_ratio: float = 1.0, n_model: int = 500,
-                              n_data: int = 500, occlusion: bool = False) -> RegistrationProblem:
-    """Texture sampled at the initial pose; data = surface at the true pose + noise + uniform outliers.
+                              n_data: int = 500, occlusion: bool = False,
+                              repeatability: float = DEFAULT_REPEATABILITY) -> RegistrationProblem:
+    """Texture observed at the initial pose, data observed at the true pose, plus uniform outliers.
 
-    Outliers are uniform in the data's bounding box enlarged by 30 mm; ``outlier_ratio`` outliers
-    per inlier. ``occlusion`` keeps only the camera-facing half (camera on +z... at 500 mm).
+    The hand carries ``n_model / repeatability`` skin features (the paper's texture). The model
+    texture is ``n_model`` of them seen at ``theta_init`` (a previous frame's data, so it is
+    noisy too), the data ``n_data`` of them seen at ``theta_true``, both with Gaussian noise of
+    ``noise_mm`` per coordinate; on average ``repeatability``·n_data data points have a true match.
+    ``repeatability=0`` draws model and data as independent samples of the surface (no feature
+    seen twice: the textureless case where point matching has nothing to match). Outliers are
+    uniform in the data's bounding box enlarged by 30 mm, ``outlier_ratio`` per inlier.
+    ``occlusion`` keeps only features facing a camera 500 mm above the hand.
     """
     rng = make_rng(rng)
-    check_positive(noise_mm, "noise_mm", allow_zero=True)
-    check_positive(outlier_ratio, "outlier_ratio", allow_zero=True)
+    noise_mm = check_positive(noise_mm, "noise_mm", allow_zero=True)
+    outlier_ratio = check_positive(outlier_ratio, "outlier_ratio", allow_zero=True)
+    n_model, n_data = check_positive_int(n_model, "n_model"), check_positive_int(n_data, "n_data")
+    repeatability = check_positive(repeatability, "repeatability", allow_zero=True)
+    if repeatability > 1:
+        raise ValueError(f"repeatability must lie in [0, 1], got {repeatability}")
     for _ in range(_MAX_DRAWS):
         theta_true = random_pose(hand, rng)
         try:
@@ -120,18 +193,32 @@ def make_registration_problem(hand: HandModel, rng: np.random.Generator | int, *
             continue
     else:
         raise RuntimeError(f"no start pose {joint_error_deg} deg away without crossed fingers")
-    model_points = hand.sample_surface(theta_init, check_positive_int(n_model, "n_model"), rng)
-    surface = hand.sample_surface(theta_true, 2 * check_positive_int(n_data, "n_data") if occlusion else n_data, rng)
+    scale = 2 if occlusion else 1  # about half of the features face the camera
+    if repeatability == 0:
+        at_init = hand.sample_surface(theta_init, scale * n_model, rng)
+        at_true = hand.sample_surface(theta_true, scale * n_data, rng)
+        n_skin = 0
+    else:
+        skin = make_skin_texture(hand, int(np.ceil(scale * max(n_model, n_data) / repeatability)), rng)
+        at_init, at_true = skin.positions(hand, theta_init), skin.positions(hand, theta_true)
+        n_skin = skin.n_features
+    seen_init, seen_true = np.arange(len(at_init)), np.arange(len(at_true))
     if occlusion:
-        surface = surface[visible_points(hand, surface, theta_true, np.array([0.0, 40.0, 500.0]))][:n_data]
-    inliers = surface + rng.normal(scale=noise_mm, size=surface.shape) if noise_mm > 0 else surface
+        seen_init = seen_init[visible_points(hand, at_init, theta_init, _CAMERA)]
+        seen_true = seen_true[visible_points(hand, at_true, theta_true, _CAMERA)]
+    model_points, model_feature = _observe(at_init, seen_init, n_model, noise_mm, rng)
+    inliers, data_feature = _observe(at_true, seen_true, n_data, noise_mm, rng)
+    if n_skin == 0:
+        model_feature, data_feature = np.full(len(model_points), -1), np.full(len(inliers), -1)
     n_out = int(round(outlier_ratio * len(inliers)))
     lo, hi = inliers.min(axis=0) - 30, inliers.max(axis=0) + 30
     outliers = rng.uniform(lo, hi, size=(n_out, 3))
     data = np.concatenate([inliers, outliers])
     is_outlier = np.r_[np.zeros(len(inliers), bool), np.ones(n_out, bool)]
+    feature = np.r_[data_feature, np.full(n_out, -1)]
     order = rng.permutation(len(data))
-    return RegistrationProblem(theta_true, theta_init, model_points, data[order], is_outlier[order])
+    return RegistrationProblem(theta_true, theta_init, model_points, data[order], is_outlier[order],
+                               model_feature, feature[order])
 
 
 @dataclass(frozen=True)
@@ -145,16 +232,21 @@ class TrackingSequence:
 
 
 def make_tracking_sequence(hand: HandModel, rng: np.random.Generator | int, *, n_frames: int = 100,
-                           fps: float = 20.0, n_surface: int = 1200, noise_mm: float = 2.0,
-                           n_clutter: int = 150) -> TrackingSequence:
-    """A hand turning about an axis parallel to the image plane while bending its fingers.
+                           fps: float = 20.0, n_features: int = 1500, noise_mm: float = 2.0,
+                           n_clutter: int = 150, repeatability: float = DEFAULT_REPEATABILITY) -> TrackingSequence:
+    """A hand turning about an axis parallel to the image plane while bending its fingers (Fig. 3).
 
-    The camera looks down -z from 500 mm; only camera-facing surface points are kept (about
-    500-700 per frame). Clutter: points on an unmodelled forearm cylinder behind the wrist plus
-    uniform background points.
+    The skin carries ``n_features`` features (:func:`make_skin_texture`); each frame a camera
+    500 mm above the hand detects ``repeatability`` of those facing it (about 500-700 points),
+    with ``noise_mm`` of noise. Clutter: points on an unmodelled forearm cylinder behind the wrist
+    plus uniform background points, ``n_clutter`` and ``n_clutter // 3`` per frame.
     """
     rng = make_rng(rng)
     n_frames = check_positive_int(n_frames, "n_frames", minimum=2)
+    noise_mm = check_positive(noise_mm, "noise_mm", allow_zero=True)
+    repeatability = check_positive(repeatability, "repeatability")
+    if repeatability > 1:
+        raise ValueError(f"repeatability must lie in (0, 1], got {repeatability}")
     time = np.arange(n_frames) / check_positive(fps, "fps")
     base = hand.rest_pose()
     poses = np.repeat(base[None], n_frames, axis=0)
@@ -166,12 +258,12 @@ def make_tracking_sequence(hand: HandModel, rng: np.random.Generator | int, *, n
         poses[:, 13 + 4 * f] = 0.1 + 0.9 * bend
         poses[:, 14 + 4 * f] = 0.1 + 0.6 * bend
     poses[:, 10] = 0.1 + 0.6 * bend
-    camera = np.array([0.0, 40.0, 500.0])
+    skin = make_skin_texture(hand, n_features, rng)
     frames, masks = [], []
     for pose in poses:
-        surface = hand.sample_surface(pose, n_surface, rng)
-        surface = surface[visible_points(hand, surface, pose, camera)]
-        surface = surface + rng.normal(scale=noise_mm, size=surface.shape)
+        features = skin.positions(hand, pose)
+        facing = np.flatnonzero(visible_points(hand, features, pose, _CAMERA))
+        surface, _ = _observe(features, facing, int(round(repeatability * len(facing))), noise_mm, rng)
         # forearm: a cylinder of radius 30 mm along -y below the wrist, front half only
         angle = rng.uniform(0, np.pi, size=n_clutter)
         arm = np.column_stack([30 * np.cos(angle), rng.uniform(-160, -60, n_clutter), 30 * np.sin(angle) - 10])

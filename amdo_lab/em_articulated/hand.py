@@ -113,6 +113,18 @@ class HandModel:
                 ancestor[list(parts[q].dofs), p] = True
                 q = parts[q].parent
         self._dof_moves_part = ancestor
+        # per-DOF unit axes in their joint frames and Rodrigues matrices K, K^2 (vectorised kinematics)
+        joint_axes = np.zeros((self.n_dof, 3))
+        for part in parts:
+            for k, axis in zip(part.dofs, part.axes):
+                joint_axes[k] = axis
+        skew_axes = np.zeros((self.n_dof, 3, 3))
+        skew_axes[:, 0, 1], skew_axes[:, 0, 2] = -joint_axes[:, 2], joint_axes[:, 1]
+        skew_axes[:, 1, 0], skew_axes[:, 1, 2] = joint_axes[:, 2], -joint_axes[:, 0]
+        skew_axes[:, 2, 0], skew_axes[:, 2, 1] = -joint_axes[:, 1], joint_axes[:, 0]
+        self._joint_axes, self._skew, self._skew2 = joint_axes, skew_axes, skew_axes @ skew_axes
+        self._centres = np.array([part.centre for part in parts])
+        self._radii = np.array([part.radii for part in parts])
         adjacency = np.eye(self.n_parts, dtype=bool)
         for p, part in enumerate(parts):
             if part.parent >= 0:
@@ -143,20 +155,26 @@ class HandModel:
         return theta
 
     def _forward(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        frames = np.empty((self.n_parts, 4, 4))
+        """Part frames (16, 4, 4), and every DOF's world axis and a point on it (27, 3) each."""
+        angles = theta[:, None, None]
+        rotations = np.eye(3) + np.sin(angles) * self._skew + (1.0 - np.cos(angles)) * self._skew2
+        frames = np.zeros((self.n_parts, 4, 4))
+        frames[:, 3, 3] = 1.0
         axes_world = np.zeros((self.n_dof, 3))
         origins_world = np.zeros((self.n_dof, 3))
         axes_world[:3] = np.eye(3)
         for p, part in enumerate(self._parts):
             if p == 0:
-                frame = _homogeneous(np.eye(3), theta[:3])
+                rotation, origin = np.eye(3), theta[:3]
             else:
-                frame = frames[part.parent] @ part.offset
-            for k, axis in zip(part.dofs, part.axes):
-                axes_world[k] = frame[:3, :3] @ axis
-                origins_world[k] = frame[:3, 3]
-                frame = frame @ _homogeneous(rotation_matrix(axis, theta[k]), np.zeros(3))
-            frames[p] = frame
+                parent = frames[part.parent]
+                rotation = parent[:3, :3] @ part.offset[:3, :3]
+                origin = parent[:3, :3] @ part.offset[:3, 3] + parent[:3, 3]
+            for k in part.dofs:
+                axes_world[k] = rotation @ self._joint_axes[k]
+                origins_world[k] = origin
+                rotation = rotation @ rotations[k]
+            frames[p, :3, :3], frames[p, :3, 3] = rotation, origin
         return frames, axes_world, origins_world
 
     def part_transforms(self, theta: object) -> np.ndarray:
@@ -183,6 +201,11 @@ class HandModel:
         return float(np.min(gap[digit[:, None] != digit[None]]))
 
     # ------------------------------------------------------------------ shape, eqs. (1)-(2)
+    def _local_coordinates(self, points: np.ndarray, frames: np.ndarray) -> np.ndarray:
+        """R_p^T (x_m - t_p) - c_p for every point and part, shape (M, 16, 3)."""
+        offsets = points[:, None, None, :] - frames[None, :, None, :3, 3]  # (M, 16, 1, 3) row vectors
+        return (offsets @ frames[None, :, :3, :3])[:, :, 0, :] - self._centres
+
     def part_distances(self, points: np.ndarray, theta: object) -> np.ndarray:
         """Pseudo-Euclidean distance from each point to each ellipsoid, (M, 16).
 
@@ -191,13 +214,10 @@ class HandModel:
         """
         points = as_finite_array(points, "points", ndim=2, shape=(None, 3))
         frames = self._forward(self.check_theta(theta))[0]
-        out = np.empty((points.shape[0], self.n_parts))
-        for p, part in enumerate(self._parts):
-            local = (points - frames[p, :3, 3]) @ frames[p, :3, :3] - part.centre
-            radial = np.linalg.norm(local / part.radii, axis=1)
-            norm = np.linalg.norm(local, axis=1)
-            out[:, p] = norm * (1.0 - 1.0 / np.maximum(radial, 1e-12))
-        return out
+        # local[m, p] = R_p^T (x_m - t_p) - c_p
+        local = self._local_coordinates(points, frames)
+        radial = np.linalg.norm(local / self._radii, axis=2)
+        return np.linalg.norm(local, axis=2) * (1.0 - 1.0 / np.maximum(radial, 1e-12))
 
     def part_fields(self, points: np.ndarray, theta: object) -> np.ndarray:
         """Field functions φ_p = exp(-d/ν), eq. (1), shape (M, 16)."""
@@ -214,6 +234,38 @@ class HandModel:
     def surface_distance(self, points: object, theta: object, *, neighbour_rule: bool = True) -> np.ndarray:
         """Distance to the fused surface d = -ν log φ, eq. (2) (negative inside), shape (M,)."""
         return -self.nu * np.log(self.fused_field(points, theta, neighbour_rule=neighbour_rule))
+
+    def surface_distance_jacobian(self, points: object, theta: object) -> tuple[np.ndarray, np.ndarray]:
+        """Distance to the fused surface (eq. 2) and its analytic derivative in Θ, shapes (M,) and (M, 27).
+
+        With φ = Σ_p φ_p over the strongest part and its neighbours, ∂d/∂Θ = Σ_p (φ_p/φ) ∂d_p/∂Θ.
+        A part's distance depends on Θ through the point's local coordinates; for a revolute DOF k
+        with world axis ω_k through o_k, ∂d_p/∂θ_k = -n_p · (ω_k × (x - o_k)), with n_p the world
+        gradient of d_p in x; for a palm translation it is -n_p. The strongest part is held fixed
+        (the rule is piecewise constant), as is the clip of very deep points in :meth:`part_fields`.
+        """
+        points = as_finite_array(points, "points", ndim=2, shape=(None, 3))
+        theta = self.check_theta(theta)
+        frames, axes, origins = self._forward(theta)
+        rotations = frames[:, :3, :3]
+        local = self._local_coordinates(points, frames)
+        length = np.maximum(np.linalg.norm(local, axis=2), 1e-12)
+        radial = np.maximum(np.linalg.norm(local / self._radii, axis=2), 1e-12)
+        part_distance = length * (1.0 - 1.0 / radial)
+        fields = np.exp(-np.clip(part_distance, -20 * self.nu, None) / self.nu)
+        fields = fields * self.adjacency[np.argmax(fields, axis=1)]
+        fused = fields.sum(axis=1)
+        share = fields / fused[:, None]  # φ_p / φ over the strongest part's neighbourhood
+        # ∂d_p/∂l in the part frame, then rotated to the world frame
+        grad_local = ((1.0 - 1.0 / radial) / length)[..., None] * local + (length / radial**3)[..., None] * local / self._radii**2
+        grad_world = (rotations[None] @ grad_local[..., None])[..., 0]
+        # N[m, k] = Σ_p (φ_p/φ) [DOF k moves part p] n_p
+        blended = np.einsum("mp,kp,mpj->mkj", share, self._dof_moves_part.astype(float), grad_world)
+        jac = np.empty((len(points), self.n_dof))
+        jac[:, :3] = -np.einsum("mkj,kj->mk", blended[:, :3, :], np.eye(3))
+        lever = np.cross(axes[None, 3:], points[:, None, :] - origins[None, 3:])
+        jac[:, 3:] = -np.einsum("mkj,mkj->mk", blended[:, 3:, :], lever)
+        return -self.nu * np.log(fused), jac
 
     def sample_surface(self, theta: object, n: int, rng: np.random.Generator | int,
                        *, newton_steps: int = 4) -> np.ndarray:
@@ -302,13 +354,15 @@ class HandModel:
         frames, axes, origins = self._forward(theta)
         world_p, world_r = binding.world_points(frames)
         w = binding.weight_p[:, None]
-        jac = np.zeros((len(w), 3, self.n_dof))
+        jac = np.empty((len(w), 3, self.n_dof))
         jac[:, :, :3] = np.eye(3)
-        for k in range(3, self.n_dof):
-            moves_p = self._dof_moves_part[k, binding.part_p][:, None]
-            moves_r = self._dof_moves_part[k, binding.part_r][:, None]
-            jac[:, :, k] = (w * moves_p * np.cross(axes[k], world_p - origins[k])
-                            + (1 - w) * moves_r * np.cross(axes[k], world_r - origins[k]))
+        # ω_k × (x - o_k) for every point and revolute DOF at once, zero where DOF k does not move the part
+        lever_p = np.cross(axes[None, 3:], world_p[:, None, :] - origins[None, 3:])
+        lever_r = np.cross(axes[None, 3:], world_r[:, None, :] - origins[None, 3:])
+        moves_p = self._dof_moves_part[3:, binding.part_p].T[:, :, None]
+        moves_r = self._dof_moves_part[3:, binding.part_r].T[:, :, None]
+        blended = w[:, None] * moves_p * lever_p + (1 - w[:, None]) * moves_r * lever_r
+        jac[:, :, 3:] = blended.transpose(0, 2, 1)
         return w * world_p + (1 - w) * world_r, jac
 
     def move_texture(self, points: object, theta_from: object, theta_to: object, a: float = 2.0) -> np.ndarray:

@@ -5,25 +5,33 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.spatial import cKDTree
 from scipy.special import logsumexp
+from threadpoolctl import threadpool_limits
 
 from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
 
 from amdo_lab.em_articulated.hand import HandModel, TextureBinding
 
-__all__ = ["EMResult", "register_em", "e_step_statistics_kdtree", "dof_lever_arms", "PAPER_SETTINGS", "COARSE_TO_FINE_SETTINGS", "fit_surface", "softassign_register", "PAPER_C",
-           "e_step_statistics", "SurfaceFitResult", "SoftAssignResult"]
+__all__ = ["EMResult", "register_em", "e_step_statistics_kdtree", "dof_lever_arms", "PAPER_SETTINGS",
+           "OUR_SETTINGS", "fit_surface", "softassign_register", "PAPER_C", "e_step_statistics",
+           "SurfaceFitResult", "SoftAssignResult", "fit_known_correspondences"]
 
 #: Outlier constant of eq. (18) with n v << V.
 PAPER_C = 3.0 * np.sqrt(np.pi / 2.0)
 
-#: register_em settings as in the paper: every DOF free at every σ, c of eq. (18), σ down to the noise.
-PAPER_SETTINGS = {"sigma_max": 20.0, "sigma_min": 2.0, "iterations_per_level": 3}
-#: Our settings for sparse, independently sampled texture and data (see the chapter's ablation):
-#: σ floor at about half the texture spacing, a smaller c so sparse inliers keep their weight,
-#: the palm alone while σ is wider than half a finger pitch, short-lever joints released last.
-COARSE_TO_FINE_SETTINGS = {"sigma_max": 20.0, "sigma_min": 4.0, "iterations_per_level": 6,
-                           "outlier_c": 0.1, "release_ratio": 4.0, "release_sigma": 9.0}
+#: register_em as the paper describes it: the M-step targets G_i of eq. (20), every DOF free at
+#: every σ, σ annealed geometrically in five levels from the largest motion to about the noise,
+#: EM iterated at each level until Θ stops changing.
+PAPER_SETTINGS = {"sigma_max": 20.0, "sigma_min": 3.0, "n_levels": 5, "iterations_per_level": 10,
+                  "targets": "paper", "e_step": "kdtree"}
+#: Ours (see the chapter's ablation): the same EM with bias-corrected targets (the model blurred
+#: by the same E-step is subtracted, so a perfect fit is a fixed point at every σ) and each joint
+#: released only once σ is below half its lever arm.
+OUR_SETTINGS = {**PAPER_SETTINGS, "targets": "debiased", "release_ratio": 2.0}
+
+#: The EM at one σ stops when no DOF moves by more than this (radians, or mm for the palm).
+DEFAULT_TOL = 1e-3
 
 
 @dataclass(frozen=True)
@@ -84,17 +92,18 @@ def dof_lever_arms(hand: HandModel, binding: TextureBinding, theta: np.ndarray) 
 
 
 def e_step_statistics_kdtree(model_points: np.ndarray, data_points: np.ndarray, sigma: float,
-                             log_c: float, radius_sigmas: float = 4.0) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+                             log_c: float, radius_sigmas: float = 4.0,
+                             data_tree: cKDTree | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """Truncated eq. (17): only pairs closer than ``radius_sigmas``·σ, found with a k-d tree.
 
     Same outputs as :func:`e_step_statistics`. A pair at 4σ has kernel exp(-8) ≈ 3e-4, so the
     dropped mass is negligible next to c; memory is O(M + N + number of close pairs). The kernel
     of a kept pair is at least exp(-radius²/2), so the linear domain cannot underflow here.
+    ``data_tree`` (a ``cKDTree`` of ``data_points``) can be passed to build it once per registration.
     """
-    from scipy.spatial import cKDTree  # local: only this variant needs it
-
     radius = radius_sigmas * sigma
-    pairs = cKDTree(data_points).sparse_distance_matrix(cKDTree(model_points), radius, output_type="ndarray")
+    data_tree = cKDTree(data_points) if data_tree is None else data_tree
+    pairs = data_tree.sparse_distance_matrix(cKDTree(model_points), radius, output_type="ndarray")
     data_index, model_index, dist = pairs["i"], pairs["j"], pairs["v"]
     kernel = np.exp(-dist**2 / (2 * sigma**2))
     row_sum = np.bincount(data_index, kernel, minlength=len(data_points)) + np.exp(log_c)
@@ -145,12 +154,16 @@ def _check_common(hand: HandModel, model_points: object, data_points: object, th
 
 
 def register_em(model_points: object, data_points: object, hand: HandModel, theta_init: object,
-                sigma_max: float = 20.0, sigma_min: float = 2.0, *, n_levels: int = 5,
-                iterations_per_level: int = 3, outlier_c: float | None = None,
-                sigma_mode: str = "anneal", a: float = 2.0, gauss_newton_steps: int = 2,
-                damping: float = 1e-3, chunk: int = 256, release_ratio: float | None = None,
-                release_sigma: float | None = None, e_step: str = "dense") -> EMResult:
+                sigma_max: float = 20.0, sigma_min: float = 3.0, *, n_levels: int = 5,
+                iterations_per_level: int = 10, tol: float = DEFAULT_TOL, outlier_c: float | None = None,
+                sigma_mode: str = "anneal", targets: str = "paper", a: float = 2.0,
+                gauss_newton_steps: int = 2, damping: float = 1e-3, chunk: int = 256,
+                release_ratio: float | None = None, e_step: str = "dense") -> EMResult:
     """Robust EM alignment of texture points X_i (at ``theta_init``) to data Y_j (Sec. 3).
+
+    At each of ``n_levels`` geometric σ levels from ``sigma_max`` to ``sigma_min`` (Sec. 3.3),
+    E-step (eq. 17) and M-step (eq. 20) alternate until no DOF moves by more than ``tol`` or
+    ``iterations_per_level`` iterations have run.
 
     Parameters
     ----------
@@ -159,16 +172,20 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
     hand : HandModel
     theta_init : (27,) start pose, inside the joint limits.
     sigma_max, sigma_min : annealing range in mm (largest expected motion, noise level).
-    n_levels : number of geometric σ levels (the paper uses about five).
+    n_levels : number of geometric σ levels (the paper: about five).
+    iterations_per_level : most EM iterations at one σ.
+    tol : convergence threshold on the largest change of Θ in one iteration (rad; mm for the palm).
     outlier_c : constant c of eq. (17); default 3√(π/2) (eq. 18). ``sigma_mode="scaled"`` instead
         uses c·(σ/σ_min)^3, i.e. a fixed outlier density rather than a fixed c.
     sigma_mode : "anneal" (paper), "scaled" (σ-scaled c, ablation) or "estimate" (σ re-estimated
         in the M-step from the weighted residuals, the variant the paper warns against).
-    release_ratio, release_sigma : coarse-to-fine schedule, ours (the paper frees every DOF at
-        every σ, which is the default ``None``). With ``release_ratio`` a joint is estimated only
-        once σ is below its lever arm (:func:`dof_lever_arms`) divided by the ratio; with
-        ``release_sigma`` no finger DOF is estimated while σ exceeds it (only the palm's six).
-        Both keep a blurred E-step (σ wider than a finger) from curling or crossing fingers.
+    targets : "paper" (G_i of eq. 20) or "debiased" (ours): T(X_i) + G_i - B_i, where B_i is the
+        same weighted mean computed with the moved texture itself as data. At large σ the G_i are
+        blurred towards the middle of the hand, which curls fingers; B_i carries the same blur, so
+        data that coincide with the model give zero force at every σ.
+    release_ratio : coarse-to-fine (ours; the paper frees every DOF at every σ, the default None):
+        a joint is estimated only once σ is below its lever arm (:func:`dof_lever_arms`) divided
+        by this ratio, so σ-wide blur cannot swing short phalanges.
     e_step : "dense" (every pair, streamed in chunks) or "kdtree" (pairs within 4σ only,
         :func:`e_step_statistics_kdtree`).
     """
@@ -178,46 +195,68 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
         raise ValueError("model_points and data_points must be non-empty")
     n_levels = check_positive_int(n_levels, "n_levels")
     iterations_per_level = check_positive_int(iterations_per_level, "iterations_per_level")
+    tol = check_positive(tol, "tol", allow_zero=True)
     check_choice(sigma_mode, "sigma_mode", ("anneal", "scaled", "estimate"))
+    check_choice(targets, "targets", ("paper", "debiased"))
     check_choice(e_step, "e_step", ("dense", "kdtree"))
-
-    def statistics(points: np.ndarray, sigma: float, log_c: float) -> tuple:
-        if e_step == "kdtree":
-            return e_step_statistics_kdtree(points, data, sigma, log_c)
-        return e_step_statistics(points, data, sigma, log_c, chunk)
-
     c = PAPER_C if outlier_c is None else check_positive(outlier_c, "outlier_c")
     if release_ratio is not None:
         release_ratio = check_positive(release_ratio, "release_ratio")
-    if release_sigma is not None:
-        release_sigma = check_positive(release_sigma, "release_sigma")
+    data_tree = cKDTree(data) if e_step == "kdtree" else None
+
+    def statistics(points: np.ndarray, observed: np.ndarray, sigma: float, log_c: float, tree=None) -> tuple:
+        if e_step == "kdtree":
+            return e_step_statistics_kdtree(points, observed, sigma, log_c, data_tree=tree)
+        return e_step_statistics(points, observed, sigma, log_c, chunk)
+
     binding = hand.texture_binding(model, theta, a)
     sigmas = np.geomspace(sigma_max, sigma_min, n_levels)
     lever = dof_lever_arms(hand, binding, theta)
     history = []
     sigma = sigma_max
     inlier_prob = np.zeros(data.shape[0])
-    for level in range(n_levels):
-        for _ in range(iterations_per_level):
-            if sigma_mode != "estimate":
-                sigma = sigmas[level]
-            log_c = np.log(c) + (3 * np.log(sigma / sigma_min) if sigma_mode == "scaled" else 0.0)
-            moved = hand.transform_texture(binding, theta)
-            weights, weighted, inlier_prob, energy = statistics(moved, sigma, log_c)
-            history.append((sigma, energy))
-            targets = weighted / np.maximum(weights, 1e-300)[:, None]
-            # coarse-to-fine: a DOF is estimated once σ is below its lever arm / release_ratio
-            scale = min(sigma, sigmas[level])
+    with threadpool_limits(1):  # small dense algebra: BLAS threads only contend
+        for level in range(n_levels):
             free = np.ones(hand.n_dof, bool)
             if release_ratio is not None:
-                free &= lever >= release_ratio * scale
-            if release_sigma is not None and scale > release_sigma:
-                free[6:] = False
-            theta = _m_step(hand, binding, theta, weights, targets, gauss_newton_steps, damping, free)
-            if sigma_mode == "estimate":
-                _, _, _, new_energy = statistics(hand.transform_texture(binding, theta), sigma, log_c)
-                sigma = max(np.sqrt(new_energy / max(3 * weights.sum(), 1e-12)), 1e-3)
+                free &= lever >= release_ratio * sigmas[level]
+            for _ in range(iterations_per_level):
+                if sigma_mode != "estimate":
+                    sigma = sigmas[level]
+                log_c = np.log(c) + (3 * np.log(sigma / sigma_min) if sigma_mode == "scaled" else 0.0)
+                moved = hand.transform_texture(binding, theta)
+                weights, weighted, inlier_prob, energy = statistics(moved, data, sigma, log_c, data_tree)
+                history.append((sigma, energy))
+                goal = weighted / np.maximum(weights, 1e-300)[:, None]
+                if targets == "debiased":
+                    self_weights, self_weighted, _, _ = statistics(moved, moved, sigma, log_c)
+                    goal = moved + goal - self_weighted / np.maximum(self_weights, 1e-300)[:, None]
+                new_theta = _m_step(hand, binding, theta, weights, goal, gauss_newton_steps, damping, free)
+                change = float(np.max(np.abs(new_theta - theta)))
+                theta = new_theta
+                if sigma_mode == "estimate":
+                    _, _, _, new_energy = statistics(hand.transform_texture(binding, theta), data, sigma, log_c, data_tree)
+                    sigma = max(np.sqrt(new_energy / max(3 * weights.sum(), 1e-12)), 1e-3)
+                if change <= tol:
+                    break
     return EMResult(theta, inlier_prob, np.array(history), hand.transform_texture(binding, theta))
+
+
+def fit_known_correspondences(model_points: object, matched_points: object, hand: HandModel, theta_init: object,
+                              *, a: float = 2.0, n_steps: int = 30) -> np.ndarray:
+    """Least-squares pose when every texture point's match is known: the M-step (eq. 20) with α = 1.
+
+    The noise floor of point registration: no assignment can do better than the true one.
+    ``matched_points`` (N, 3) are the observations of ``model_points`` (N, 3) at the unknown pose.
+    """
+    if not isinstance(hand, HandModel):
+        raise TypeError(f"hand must be a HandModel, got {type(hand).__name__}")
+    model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3))
+    matched = as_finite_array(matched_points, "matched_points", ndim=2, shape=(len(model), 3))
+    theta = hand.check_theta(theta_init, "theta_init", within_limits=True)
+    with threadpool_limits(1):
+        binding = hand.texture_binding(model, theta, a)
+        return _m_step(hand, binding, theta, np.ones(len(model)), matched, check_positive_int(n_steps, "n_steps"), 1e-3)
 
 
 @dataclass(frozen=True)
@@ -229,41 +268,47 @@ class SurfaceFitResult:
 
 
 def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, weights: object = None,
-                n_steps: int = 3, damping: float = 1e-2, fd_step: float = 1e-4,
+                sigma: float | None = 3.0, n_steps: int = 3, damping: float = 1e-2,
                 epsilon_mm: float | None = None) -> SurfaceFitResult:
-    """Refine Θ by minimising Σ_j w_j d(Y_j, Θ)² (Sec. 3.4, eqs. 21-22; d from eq. 2).
+    """Refine Θ by minimising Σ_j β_j d(Y_j, Θ)² (Sec. 3.4, eq. 21; d from eq. 2).
 
-    Gauss-Newton with a forward-difference Jacobian of eq. (2) in Θ, clipped to the joint limits.
-    ``weights`` (per data point, e.g. the EM inlier probabilities) default to 1. With
-    ``epsilon_mm`` each step uses only the points within ε of the current surface, so clutter a
-    few centimetres away (which eq. 22 would square) cannot pull the hand.
+    Gauss-Newton with the analytic Jacobian of eq. (2) (:meth:`HandModel.surface_distance_jacobian`),
+    clipped to the joint limits. At every step β_j = exp(-d(Y_j)²/σ²) (eq. 22), so points far
+    from the surface lose their weight (``sigma=None`` drops eq. 22: β_j = 1). ``weights`` (per
+    data point, e.g. the EM inlier probabilities) multiply β_j. With ``epsilon_mm`` each step uses
+    only the points within ε of the current surface.
     """
     if not isinstance(hand, HandModel):
         raise TypeError(f"hand must be a HandModel, got {type(hand).__name__}")
     data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3))
+    if len(data) == 0:
+        raise ValueError("data_points must be non-empty")
     theta = hand.check_theta(theta_init, "theta_init", within_limits=True)
     w = np.ones(len(data)) if weights is None else as_finite_array(weights, "weights", ndim=1, shape=(len(data),))
     if np.any(w < 0):
         raise ValueError("weights must be non-negative")
+    if sigma is not None:
+        sigma = check_positive(sigma, "sigma")
     if epsilon_mm is not None:
         epsilon_mm = check_positive(epsilon_mm, "epsilon_mm")
+    n_steps = check_positive_int(n_steps, "n_steps", minimum=0)
     limits = hand.joint_limits()
-    for _ in range(n_steps):
-        dist = hand.surface_distance(data, theta)
-        sqrt_w = np.sqrt(w if epsilon_mm is None else w * (np.abs(dist) < epsilon_mm))
-        jac = np.empty((len(data), hand.n_dof))
-        for k in range(hand.n_dof):
-            shifted = theta.copy()
-            shifted[k] += fd_step
-            jac[:, k] = (hand.surface_distance(data, shifted) - dist) / fd_step
-        jac_w = sqrt_w[:, None] * jac
-        normal = jac_w.T @ jac_w
-        normal += damping * np.diag(np.diag(normal) + 1e-6)
-        theta = np.clip(theta - np.linalg.solve(normal, jac_w.T @ (sqrt_w * dist)), limits[:, 0], limits[:, 1])
+
+    def step_weights(dist: np.ndarray) -> np.ndarray:
+        beta = w if sigma is None else w * np.exp(-dist**2 / sigma**2)
+        return beta if epsilon_mm is None else beta * (np.abs(dist) < epsilon_mm)
+
+    with threadpool_limits(1):
+        for _ in range(n_steps):
+            dist, jac = hand.surface_distance_jacobian(data, theta)
+            sqrt_w = np.sqrt(step_weights(dist))
+            jac_w = sqrt_w[:, None] * jac
+            normal = jac_w.T @ jac_w
+            normal += damping * np.diag(np.diag(normal) + 1e-6)
+            theta = np.clip(theta - np.linalg.solve(normal, jac_w.T @ (sqrt_w * dist)), limits[:, 0], limits[:, 1])
     dist = hand.surface_distance(data, theta)
-    if epsilon_mm is not None:
-        w = w * (np.abs(dist) < epsilon_mm)
-    return SurfaceFitResult(theta, float(np.sqrt(np.sum(w * dist**2) / max(w.sum(), 1e-12))))
+    final = step_weights(dist)
+    return SurfaceFitResult(theta, float(np.sqrt(np.sum(final * dist**2) / max(final.sum(), 1e-12))))
 
 
 @dataclass(frozen=True)

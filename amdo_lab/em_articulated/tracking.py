@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import check_positive
+from amdo_lab.common import check_positive, check_positive_int
 
 from amdo_lab.em_articulated.hand import HandModel
 from amdo_lab.em_articulated.registration import fit_surface, register_em
@@ -24,14 +24,17 @@ class TrackingResult:
 
 def track_sequence(frames: list, hand: HandModel, theta_start: np.ndarray, *, epsilon_mm: float = 5.0,
                    sigma_max: float = 15.0, sigma_min: float = 2.0, max_texture: int = 500,
-                   surface_fit: bool = True, em_settings: dict | None = None) -> TrackingResult:
+                   surface_steps: int = 3, em_settings: dict | None = None) -> TrackingResult:
     """Track a sequence: EM on the previous frame's texture, surface fit, then texture refresh.
 
     The texture for frame t+1 is the data of frame t within ``epsilon_mm`` of the fitted surface
-    (|d| < ε, eq. 2), at most ``max_texture`` of them (evenly subsampled). ``em_settings`` are
-    extra keyword arguments of :func:`register_em` (e.g. ``outlier_c``, ``e_step``).
+    (|d| < ε, eq. 2), at most ``max_texture`` of them (evenly subsampled). ``surface_steps``
+    Gauss-Newton steps of the surface fit (Sec. 3.4; 0 skips it) on the data within ε of the
+    EM's pose correct the drift that frame-to-frame matching alone accumulates. ``em_settings``
+    are extra keyword arguments of :func:`register_em` (e.g. ``targets``, ``e_step``).
     """
     epsilon_mm = check_positive(epsilon_mm, "epsilon_mm")
+    surface_steps = check_positive_int(surface_steps, "surface_steps", minimum=0)
     theta = hand.check_theta(theta_start, "theta_start", within_limits=True)
     texture = frames[0][np.abs(hand.surface_distance(frames[0], theta)) < epsilon_mm]
     poses, counts = [theta], [len(texture)]
@@ -40,9 +43,10 @@ def track_sequence(frames: list, hand: HandModel, theta_start: np.ndarray, *, ep
         settings = {"n_levels": 4, "iterations_per_level": 2, **(em_settings or {})}
         result = register_em(texture, data, hand, theta, sigma_max, sigma_min, **settings)
         theta = result.theta
-        if surface_fit:
+        if surface_steps:
             close = np.abs(hand.surface_distance(data, theta)) < epsilon_mm
-            theta = fit_surface(data[close], hand, theta, n_steps=1).theta
+            if np.any(close):
+                theta = fit_surface(data[close], hand, theta, n_steps=surface_steps).theta
         texture = data[np.abs(hand.surface_distance(data, theta)) < epsilon_mm]
         poses.append(theta)
         counts.append(len(texture))
