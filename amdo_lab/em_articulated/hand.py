@@ -50,6 +50,13 @@ class _Part:
     radii: np.ndarray  # ellipsoid semi-axes in the part frame
 
 
+def _axis_cross(axes: np.ndarray, vectors: np.ndarray) -> np.ndarray:
+    """axes (K, 3) × vectors (M, K, 3) -> (M, K, 3); spelled out because np.cross is slow on small arrays."""
+    a0, a1, a2 = axes[:, 0], axes[:, 1], axes[:, 2]
+    v0, v1, v2 = vectors[..., 0], vectors[..., 1], vectors[..., 2]
+    return np.stack([a1 * v2 - a2 * v1, a2 * v0 - a0 * v2, a0 * v1 - a1 * v0], axis=-1)
+
+
 def _homogeneous(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray:
     transform = np.eye(4)
     transform[:3, :3] = rotation
@@ -124,6 +131,8 @@ class HandModel:
         skew_axes[:, 2, 0], skew_axes[:, 2, 1] = -joint_axes[:, 1], joint_axes[:, 0]
         self._joint_axes, self._skew, self._skew2 = joint_axes, skew_axes, skew_axes @ skew_axes
         self._centres = np.array([part.centre for part in parts])
+        self._chain = tuple((part.parent, part.offset[:3, :3].copy(), part.offset[:3, 3].copy(), part.dofs)
+                            for part in parts)
         self._radii = np.array([part.radii for part in parts])
         adjacency = np.eye(self.n_parts, dtype=bool)
         for p, part in enumerate(parts):
@@ -163,14 +172,14 @@ class HandModel:
         axes_world = np.zeros((self.n_dof, 3))
         origins_world = np.zeros((self.n_dof, 3))
         axes_world[:3] = np.eye(3)
-        for p, part in enumerate(self._parts):
+        for p, (parent, offset_rotation, offset_origin, dofs) in enumerate(self._chain):
             if p == 0:
                 rotation, origin = np.eye(3), theta[:3]
             else:
-                parent = frames[part.parent]
-                rotation = parent[:3, :3] @ part.offset[:3, :3]
-                origin = parent[:3, :3] @ part.offset[:3, 3] + parent[:3, 3]
-            for k in part.dofs:
+                parent_rotation = frames[parent, :3, :3]
+                rotation = parent_rotation @ offset_rotation
+                origin = parent_rotation @ offset_origin + frames[parent, :3, 3]
+            for k in dofs:
                 axes_world[k] = rotation @ self._joint_axes[k]
                 origins_world[k] = origin
                 rotation = rotation @ rotations[k]
@@ -263,7 +272,7 @@ class HandModel:
         blended = np.einsum("mp,kp,mpj->mkj", share, self._dof_moves_part.astype(float), grad_world)
         jac = np.empty((len(points), self.n_dof))
         jac[:, :3] = -np.einsum("mkj,kj->mk", blended[:, :3, :], np.eye(3))
-        lever = np.cross(axes[None, 3:], points[:, None, :] - origins[None, 3:])
+        lever = _axis_cross(axes[3:], points[:, None, :] - origins[None, 3:])
         jac[:, 3:] = -np.einsum("mkj,mkj->mk", blended[:, 3:, :], lever)
         return -self.nu * np.log(fused), jac
 
@@ -314,6 +323,24 @@ class HandModel:
         grad = self._distance_gradient(points, self.check_theta(theta))
         return grad / np.maximum(np.linalg.norm(grad, axis=1, keepdims=True), 1e-12)
 
+    def ellipsoid_mesh(self, theta: object, resolution: int = 16) -> tuple[np.ndarray, np.ndarray]:
+        """Triangle mesh of the 16 raw ellipsoids at pose ``theta``: vertices (V, 3) and faces (F, 3).
+
+        Each ellipsoid is a latitude-longitude grid of ``resolution`` x ``resolution`` vertices,
+        scaled by its semi-axes and placed by its part's rigid motion T_p(Θ).
+        """
+        frames = self._forward(self.check_theta(theta))[0]
+        n = check_positive_int(resolution, "resolution", minimum=4)
+        polar, azimuth = np.meshgrid(np.linspace(0, np.pi, n), np.linspace(0, 2 * np.pi, n), indexing="ij")
+        unit = np.stack([np.sin(polar) * np.cos(azimuth), np.cos(polar), np.sin(polar) * np.sin(azimuth)], axis=-1)
+        local = unit.reshape(1, -1, 3) * self._radii[:, None, :] + self._centres[:, None, :]  # (16, n², 3)
+        vertices = np.einsum("pij,pvj->pvi", frames[:, :3, :3], local) + frames[:, None, :3, 3]
+        cell = np.arange(n - 1)[:, None] * n + np.arange(n - 1)[None, :]
+        quads = np.stack([cell, cell + 1, cell + n + 1, cell + n], axis=-1).reshape(-1, 4)
+        one = np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
+        faces = (one[None] + (np.arange(self.n_parts) * n * n)[:, None, None]).reshape(-1, 3)
+        return vertices.reshape(-1, 3), faces
+
     # ------------------------------------------------------------------ bending texture, eq. (3)
     def texture_binding(self, points: object, theta: object, a: float = 2.0) -> "TextureBinding":
         """Attach texture points to their strongest part p and its strongest neighbour r.
@@ -357,8 +384,8 @@ class HandModel:
         jac = np.empty((len(w), 3, self.n_dof))
         jac[:, :, :3] = np.eye(3)
         # ω_k × (x - o_k) for every point and revolute DOF at once, zero where DOF k does not move the part
-        lever_p = np.cross(axes[None, 3:], world_p[:, None, :] - origins[None, 3:])
-        lever_r = np.cross(axes[None, 3:], world_r[:, None, :] - origins[None, 3:])
+        lever_p = _axis_cross(axes[3:], world_p[:, None, :] - origins[None, 3:])
+        lever_r = _axis_cross(axes[3:], world_r[:, None, :] - origins[None, 3:])
         moves_p = self._dof_moves_part[3:, binding.part_p].T[:, :, None]
         moves_r = self._dof_moves_part[3:, binding.part_r].T[:, :, None]
         blended = w[:, None] * moves_p * lever_p + (1 - w[:, None]) * moves_r * lever_r

@@ -25,10 +25,9 @@ PAPER_C = 3.0 * np.sqrt(np.pi / 2.0)
 #: EM iterated at each level until Θ stops changing.
 PAPER_SETTINGS = {"sigma_max": 20.0, "sigma_min": 3.0, "n_levels": 5, "iterations_per_level": 10,
                   "targets": "paper", "e_step": "kdtree"}
-#: Ours (see the chapter's ablation): the same EM with bias-corrected targets (the model blurred
-#: by the same E-step is subtracted, so a perfect fit is a fixed point at every σ) and each joint
-#: released only once σ is below half its lever arm.
-OUR_SETTINGS = {**PAPER_SETTINGS, "targets": "debiased", "release_ratio": 2.0}
+#: Ours (see the chapter's ablation): the same EM with bias-corrected targets; the texture blurred
+#: by the same E-step is subtracted, so a perfect fit is a fixed point at every σ.
+OUR_SETTINGS = {**PAPER_SETTINGS, "targets": "debiased"}
 
 #: The EM at one σ stops when no DOF moves by more than this (radians, or mm for the palm).
 DEFAULT_TOL = 1e-3
@@ -274,9 +273,12 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
 
     Gauss-Newton with the analytic Jacobian of eq. (2) (:meth:`HandModel.surface_distance_jacobian`),
     clipped to the joint limits. At every step β_j = exp(-d(Y_j)²/σ²) (eq. 22), so points far
-    from the surface lose their weight (``sigma=None`` drops eq. 22: β_j = 1). ``weights`` (per
-    data point, e.g. the EM inlier probabilities) multiply β_j. With ``epsilon_mm`` each step uses
-    only the points within ε of the current surface.
+    from the surface lose their weight (``sigma=None`` drops eq. 22: β_j = 1). These β_j are the
+    iteratively-reweighted form of Welsch's robust loss σ²(1 - exp(-d²/σ²)); a step is kept only
+    if it lowers that loss, otherwise the damping grows tenfold (Levenberg-Marquardt), and the fit
+    stops early when no step helps. ``weights`` (per data point, e.g. the EM inlier
+    probabilities) multiply β_j. With ``epsilon_mm`` each step uses only the points within ε of
+    the current surface.
     """
     if not isinstance(hand, HandModel):
         raise TypeError(f"hand must be a HandModel, got {type(hand).__name__}")
@@ -298,15 +300,33 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
         beta = w if sigma is None else w * np.exp(-dist**2 / sigma**2)
         return beta if epsilon_mm is None else beta * (np.abs(dist) < epsilon_mm)
 
+    def cost(dist: np.ndarray) -> float:
+        # β_j of eq. (22) reweight Welsch's loss σ²(1 - exp(-d²/σ²)): the cost every accepted step lowers
+        if sigma is not None:
+            return float(np.sum(w * sigma**2 * (1.0 - np.exp(-dist**2 / sigma**2))))
+        squared = dist**2 if epsilon_mm is None else np.minimum(dist**2, epsilon_mm**2)
+        return float(np.sum(w * squared))
+
     with threadpool_limits(1):
+        dist, jac = hand.surface_distance_jacobian(data, theta)
+        current = cost(dist)
         for _ in range(n_steps):
-            dist, jac = hand.surface_distance_jacobian(data, theta)
             sqrt_w = np.sqrt(step_weights(dist))
             jac_w = sqrt_w[:, None] * jac
             normal = jac_w.T @ jac_w
-            normal += damping * np.diag(np.diag(normal) + 1e-6)
-            theta = np.clip(theta - np.linalg.solve(normal, jac_w.T @ (sqrt_w * dist)), limits[:, 0], limits[:, 1])
-    dist = hand.surface_distance(data, theta)
+            gradient = jac_w.T @ (sqrt_w * dist)
+            lm = damping
+            for _attempt in range(6):  # Levenberg-Marquardt: raise the damping until the step pays
+                trial = np.clip(theta - np.linalg.solve(normal + lm * np.diag(np.diag(normal) + 1e-6), gradient),
+                                limits[:, 0], limits[:, 1])
+                trial_dist, trial_jac = hand.surface_distance_jacobian(data, trial)
+                trial_cost = cost(trial_dist)
+                if trial_cost <= current:
+                    theta, dist, jac, current = trial, trial_dist, trial_jac, trial_cost
+                    break
+                lm *= 10.0
+            else:
+                break  # no step lowers the cost: converged
     final = step_weights(dist)
     return SurfaceFitResult(theta, float(np.sqrt(np.sum(final * dist**2) / max(final.sum(), 1e-12))))
 
