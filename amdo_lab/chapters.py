@@ -54,7 +54,9 @@ CHAPTERS: tuple[Chapter, ...] = (
         2,
         "02_pdm_mixtures.ipynb",
         "Mixtures of point distribution models for articulated shape recognition",
-        "Learns mixtures of point distribution models of limbs and of limb arrangements by EM and recognises human poses hierarchically.",
+        "Learns mixtures of point distribution models of limbs and of limb arrangements by EM and recognises human poses "
+        "hierarchically. 92.3 % vs the paper's 93.2 % (target missed); above the nearest-mean baseline, level with a "
+        "single Cartesian PDM on validation data, below a landmark GMM.",
         "A. A. Al-Shaher, E. R. Hancock. A Probabilistic Framework for Articulated Shape "
         "Recognition. AMDO 2004, LNCS 3179, pp. 62-75.",
     ),

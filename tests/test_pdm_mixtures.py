@@ -267,9 +267,59 @@ def test_iterative_alignment_reduces_misfit_and_validates(small_problem):
 def test_score_components_polar_term_recognises_distinct_classes(small_problem):
     _, test, recogniser = small_problem
     parts = recogniser.score_components(test.shapes)
-    assert parts.shape.shape == parts.limb_gate.shape == parts.label_string.shape == (len(test.shapes), 6)
-    predicted = np.asarray(recogniser.classes_)[np.argmax(parts.shape, axis=1)]
+    assert parts.shape.shape == parts.limb_gate.shape == parts.label_string.shape == (len(test.shapes), 6, 2)
+    predicted = np.asarray(recogniser.classes_)[np.argmax(parts.class_scores("shape"), axis=1)]
     assert np.mean(predicted == test.labels) > 0.8
+    # All three terms together are the first iteration of recognise().
+    full = parts.class_scores("shape", "limb_gate", "label_string")
+    first = recogniser.recognise(test.shapes[:20]).posteriors[0]
+    expected = np.exp(full[:20] - np.logaddexp.reduce(full[:20], axis=1, keepdims=True))
+    np.testing.assert_allclose(first, expected, atol=1e-12)
+    with pytest.raises(ValueError, match="terms"):
+        parts.class_scores("polar")
+
+
+def test_dictionary_has_one_string_per_class_component(small_problem):
+    train, _, recogniser = small_problem
+    assert recogniser.dictionary_.shape == (6, 2, 13)
+    assert recogniser.dictionary_.min() >= 0 and recogniser.dictionary_.max() < recogniser.n_limb_labels
+    # With one component the string is the per-limb majority MAP label of the class.
+    single = ArticulatedShapeRecognizer(n_shape_components=1).fit(train.shapes, train.labels)
+    j = single.classes_.index("boxing")
+    labels = single.training_label_strings_[train.labels == "boxing"]
+    majority = [np.bincount(labels[:, k], minlength=single.n_limb_labels).argmax() for k in range(13)]
+    np.testing.assert_array_equal(single.dictionary_[j, 0], majority)
+
+
+def test_block_polar_pdm_models_angles_and_centres_separately(small_problem):
+    train, _, recogniser = small_problem
+    single = ArticulatedShapeRecognizer(n_shape_components=1).fit(train.shapes, train.labels)
+    j = single.classes_.index("stretching")
+    model = single.shape_models_[j][0]
+    assert [b.stop - b.start for b in model.blocks] == [13, 26]
+    deviation = single._deviation(_polar(single.align(train.shapes[train.labels == "stretching"])), single.angle_means_[j])
+    # The angle PDM's eigenvalues are those of the angle covariance alone (the alpha_k that clamp Gamma).
+    angle_cov = np.cov(deviation[:, :13].T, bias=True)
+    top = np.sort(np.linalg.eigvalsh(angle_cov))[::-1][: model.pdms[0].n_modes]
+    np.testing.assert_allclose(model.pdms[0].variances, top, rtol=1e-10)
+    # The log-density is the sum of the two blocks' densities; a joint model has one block.
+    joint = ArticulatedShapeRecognizer(n_shape_components=1, polar_model="joint").fit(train.shapes, train.labels)
+    assert len(joint.shape_models_[j][0].pdms) == 1
+    fitted = model.fit(deviation)
+    assert fitted.shape == deviation.shape
+    assert np.all(np.isfinite(model.log_density(deviation)))
+
+
+def test_limb_likelihood_options_give_label_posteriors(small_problem):
+    train, test, recogniser = small_problem
+    residual = ArticulatedShapeRecognizer(limb_likelihood="residual").fit(train.shapes, train.labels)
+    for model in (recogniser, residual):
+        posteriors = np.exp(model._limb_log_posteriors(model.align(test.shapes[:5])))
+        np.testing.assert_allclose(posteriors.sum(axis=2), 1.0)
+    with pytest.raises(ValueError, match="limb_likelihood"):
+        ArticulatedShapeRecognizer(limb_likelihood="hamming")
+    with pytest.raises(ValueError, match="polar_model"):
+        ArticulatedShapeRecognizer(polar_model="cartesian")
 
 
 def test_shape_level_mixture_separates_articulation_modes(small_problem):
@@ -297,6 +347,7 @@ def test_single_component_is_one_polar_pdm_per_class(small_problem):
     j = single.classes_.index("kicking")
     deviation = single._deviation(vectors[train.labels == "kicking"], single.angle_means_[j])
     np.testing.assert_allclose(single.shape_models_[j][0].mean, deviation.mean(axis=0), atol=1e-12)
+    np.testing.assert_allclose(single.shape_weights_[j], [1.0])
     again = ArticulatedShapeRecognizer().fit(train.shapes, train.labels)  # the seeded EM is reproducible
     np.testing.assert_array_equal(again.predict_proba(test.shapes[:10]),
                                   ArticulatedShapeRecognizer().fit(train.shapes, train.labels).predict_proba(test.shapes[:10]))
@@ -311,3 +362,19 @@ def test_generator_rejects_bad_parameters():
         generate_pose_dataset([], 2, 0)
     with pytest.raises(TypeError):
         generate_pose_dataset(TABLE1_CLASSES, 2, None)
+
+
+def test_polar_mixture_components_are_weighted_moments_in_original_units():
+    from amdo_lab.pdm_mixtures.recognizer import _fit_polar_mixture, _polar_blocks
+
+    rng = make_rng(3)
+    # Two clusters; angles (radians) and centres (small units) on very different scales.
+    data = np.concatenate([rng.standard_normal((15, 39)), rng.standard_normal((15, 39)) + 4.0])
+    data[:, 13:] *= 1e-2
+    models, weights, resp = _fit_polar_mixture(data, 2, _polar_blocks("block"), make_rng(0), 20, 0.95)
+    np.testing.assert_allclose(weights.sum(), 1.0)
+    np.testing.assert_allclose(resp.sum(axis=1), 1.0)
+    for m, model in enumerate(models):
+        expected = resp[:, m] @ data / resp[:, m].sum()  # eq. 7, normalised, in the data's own units
+        np.testing.assert_allclose(model.mean, expected, rtol=1e-9, atol=1e-12)
+    assert sorted(np.round(resp[:, 0]).astype(int).tolist()) == [0] * 15 + [1] * 15  # the clusters are found

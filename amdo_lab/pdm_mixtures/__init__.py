@@ -29,6 +29,7 @@ from amdo_lab.pdm_mixtures.poses import (
 from amdo_lab.pdm_mixtures.recognizer import (
     AlignmentTrace,
     ArticulatedShapeRecognizer,
+    PolarPDM,
     RecognitionTrace,
     ScoreComponents,
     hamming_distance,

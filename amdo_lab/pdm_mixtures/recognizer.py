@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng, procrustes_align
+from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int, make_rng, procrustes_align
 from amdo_lab.pdm_mixtures.gmm import fit_gaussian_mixture
 from amdo_lab.pdm_mixtures.pdm import (
     PointDistributionModel,
@@ -19,7 +19,15 @@ from amdo_lab.pdm_mixtures.pdm import (
 )
 from amdo_lab.pdm_mixtures.representation import centred_limbs, polar_shape_vector, wrap_angle
 
-__all__ = ["ArticulatedShapeRecognizer", "RecognitionTrace", "ScoreComponents", "AlignmentTrace", "hamming_distance", "label_string_log_prob"]
+__all__ = [
+    "ArticulatedShapeRecognizer",
+    "PolarPDM",
+    "RecognitionTrace",
+    "ScoreComponents",
+    "AlignmentTrace",
+    "hamming_distance",
+    "label_string_log_prob",
+]
 
 N_LIMBS = 13
 MIN_PER_CLASS = 3
@@ -41,6 +49,43 @@ def label_string_log_prob(hamming: np.ndarray, n_limbs: int, error_probability: 
 
 
 @dataclass(frozen=True)
+class PolarPDM:
+    """One polar point distribution model of S = (Theta, C): one PDM per block of S (Sec. 4).
+
+    With ``polar_model="block"`` (our default) the K angle rows and the 2K centre rows of S each get
+    their own PDM, so the angle eigenvalues alpha_k that clamp the angle parameters come from the
+    covariance of the angles alone, as Sec. 4 describes; with ``"joint"`` one PDM spans all 3K rows.
+    ``blocks`` are the slices of S each PDM in ``pdms`` models.
+    """
+
+    blocks: tuple[slice, ...]
+    pdms: tuple[PointDistributionModel, ...]
+
+    @property
+    def mean(self) -> np.ndarray:
+        """The mean vector S (in deviation coordinates), ``(3K,)``."""
+        return np.concatenate([pdm.mean for pdm in self.pdms])
+
+    @property
+    def n_modes(self) -> int:
+        return sum(pdm.n_modes for pdm in self.pdms)
+
+    def fit(self, deviation: np.ndarray) -> np.ndarray:
+        """Clamped least-squares modal fit of every block (eq. 12), reconstructed: ``(n, 3K)``."""
+        return np.concatenate([reconstruct(pdm, fit_modes(pdm, deviation[:, block]))
+                               for pdm, block in zip(self.pdms, self.blocks)], axis=1)
+
+    def log_density(self, deviation: np.ndarray) -> np.ndarray:
+        """``ln p(S | Phi, Gamma*)``: the sum over blocks of each PDM's Gaussian (PPCA) density."""
+        total = np.zeros(deviation.shape[0])
+        for pdm, block in zip(self.pdms, self.blocks):
+            data = deviation[:, block]
+            gamma = fit_modes(pdm, data)
+            total += _ppca_log_density(pdm, data, gamma, reconstruct(pdm, gamma))
+        return total
+
+
+@dataclass(frozen=True)
 class RecognitionTrace:
     """Per-iteration record of recognition: ``posteriors (n_iter, n, C)``, ``label_strings
     (n_iter, n, K)``, ``reconstructions (n_iter, n, 3K)`` (posterior-weighted polar model fit),
@@ -54,13 +99,25 @@ class RecognitionTrace:
 
 @dataclass(frozen=True)
 class ScoreComponents:
-    """The three terms of a class's log-score before label refinement, each ``(n, C)``:
-    limb gates ``sum_k ln P(lambda_k^w | z_k)``, ``ln P(L | Lambda_w)`` for the MAP labels (eq. 18)
-    and the polar-PDM log-likelihood ``ln p(S | Phi_w, Gamma_w*)``."""
+    """The terms of the first-iteration score of every class ``w`` and mixture component ``m``,
+    each ``(n, C, M)``: limb gates ``sum_k ln P(lambda_k^wm | z_k)`` (eq. 11), ``ln P(L | Lambda_wm)``
+    for the MAP labels (eq. 18) and the polar-PDM log-likelihood ``ln p(S | Phi_wm, Gamma_wm*)``;
+    plus the mixing weights ``log_weights (C, M)`` and ``class_log_prior (C,)``."""
 
     limb_gate: np.ndarray
     label_string: np.ndarray
     shape: np.ndarray
+    log_weights: np.ndarray
+    class_log_prior: np.ndarray
+
+    def class_scores(self, *terms: str) -> np.ndarray:
+        """Class log-scores ``(n, C)`` from a subset of the terms (``"limb_gate"``, ``"label_string"``,
+        ``"shape"``): ``ln P(w) + ln sum_m pi_wm exp(sum of the chosen terms)``."""
+        unknown = [t for t in terms if t not in ("limb_gate", "label_string", "shape")]
+        if unknown or not terms:
+            raise ValueError(f"terms must be some of 'limb_gate', 'label_string', 'shape', got {terms}")
+        joint = self.log_weights[None] + sum(getattr(self, t) for t in terms)
+        return self.class_log_prior + np.logaddexp.reduce(joint, axis=2)
 
 
 @dataclass(frozen=True)
@@ -76,6 +133,12 @@ def _circular_mean(angles: np.ndarray) -> np.ndarray:
     return np.arctan2(np.sin(angles).mean(axis=0), np.cos(angles).mean(axis=0))
 
 
+def _polar_blocks(polar_model: str) -> tuple[slice, ...]:
+    if polar_model == "block":
+        return (slice(0, N_LIMBS), slice(N_LIMBS, 3 * N_LIMBS))
+    return (slice(0, 3 * N_LIMBS),)
+
+
 class ArticulatedShapeRecognizer:
     """Two-layer recogniser: limb PDM mixtures + label dictionary + per-class mixtures of polar PDMs.
 
@@ -83,16 +146,27 @@ class ArticulatedShapeRecognizer:
     ----------
     n_limb_labels : int
         Mixture components (limb labels) learnt by EM for each of the 13 limbs.
+    n_shape_components : int
+        Polar-PDM mixture components learnt by EM for each class (1 gives one polar PDM per class).
+        Each component has its own permissible label string in the class's dictionary.
+    shape_seed : int
+        Seed of the k-means++ initialisation of the shape-level EM.
     label_error_probability : float
         p of eq. 18, in (0, 0.5).
     variance_fraction : float
         Variance kept by each PDM's eigenmodes.
-    n_shape_components : int
-        Polar-PDM mixture components learnt by EM for each class (1 gives one polar PDM per class).
-    shape_seed : int
-        Seed of the k-means++ initialisation of the shape-level EM.
     max_iter : int
         Maximum number of limb-layer / shape-layer iterations.
+    em_iterations : int
+        Iterations of every EM fit (eqs. 2-8).
+    polar_model : {"block", "joint"}
+        ``"block"``: separate PDMs for the angle rows and the centre rows of S (Sec. 4: the first K
+        rows of Gamma are the angles, constrained by the eigenvalues of the angle covariance);
+        ``"joint"``: one PDM over all of S, whose eigenmodes radians then dominate (an ablation).
+    limb_likelihood : {"gaussian", "residual"}
+        How a limb's label posterior (eq. 10) is computed: ``"gaussian"``, the label component's
+        Gaussian (eq. 6) restricted to its PDM (in-model Mahalanobis term on gamma plus residual);
+        ``"residual"``, the isotropic fit residual alone (eq. 16), the paper's "in practice" choice.
     classes : sequence of str, optional
         The expected class names; then every one must have training examples.
     """
@@ -107,6 +181,8 @@ class ArticulatedShapeRecognizer:
         variance_fraction: float = 0.95,
         max_iter: int = 10,
         em_iterations: int = 30,
+        polar_model: str = "block",
+        limb_likelihood: str = "gaussian",
         classes: tuple[str, ...] | None = None,
     ) -> None:
         self.n_limb_labels = check_positive_int(n_limb_labels, "n_limb_labels")
@@ -123,6 +199,8 @@ class ArticulatedShapeRecognizer:
             raise ValueError(f"variance_fraction must be in (0, 1], got {variance_fraction}")
         self.max_iter = check_positive_int(max_iter, "max_iter")
         self.em_iterations = check_positive_int(em_iterations, "em_iterations")
+        self.polar_model = check_choice(polar_model, "polar_model", ("block", "joint"))
+        self.limb_likelihood = check_choice(limb_likelihood, "limb_likelihood", ("gaussian", "residual"))
         self.classes = None if classes is None else tuple(classes)
 
     # ------------------------------------------------------------------ validation
@@ -136,9 +214,13 @@ class ArticulatedShapeRecognizer:
             )
         return array
 
+    def _check_fitted(self) -> None:
+        if not hasattr(self, "classes_"):
+            raise ValueError("the recogniser must be fitted before recognising or aligning shapes")
+
     # ------------------------------------------------------------------ training
     def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "ArticulatedShapeRecognizer":
-        """Learn the limb mixtures, the label dictionary and the class polar PDMs."""
+        """Learn the limb mixtures, the class polar-PDM mixtures and the label dictionary."""
         shapes = self._check_shapes(shapes)
         labels = np.asarray(labels)
         if labels.shape != (shapes.shape[0],):
@@ -166,13 +248,16 @@ class ArticulatedShapeRecognizer:
         aligned, self.reference_ = generalized_procrustes(flat)
         aligned = aligned.reshape(shapes.shape)
         self._fit_limb_layer(aligned)
-        train_labels = np.argmax(self._limb_log_posteriors(aligned), axis=2)  # (n, K) MAP labels
+        self.training_label_strings_ = np.argmax(self._limb_log_posteriors(aligned), axis=2)  # (n, K), eq. 10
+        responsibilities = self._fit_shape_layer(aligned, labels)
+        # Dictionary (Sec. 5): one permissible label string per class and mixture component, the most
+        # frequent MAP label of each limb over the class's training shapes, each shape counted with
+        # its EM responsibility for the component.
+        one_hot = self.training_label_strings_[..., None] == np.arange(self.n_limb_labels)  # (n, K, labels)
         self.dictionary_ = np.stack([
-            np.array([np.bincount(train_labels[labels == c, k], minlength=self.n_limb_labels).argmax()
-                      for k in range(N_LIMBS)])
-            for c in self.classes_
-        ])
-        self._fit_shape_layer(aligned, labels)
+            np.argmax(np.einsum("tm,tkl->mkl", resp, one_hot[labels == c]), axis=2)
+            for c, resp in zip(self.classes_, responsibilities)
+        ])  # (C, M, K)
         self.class_log_prior_ = np.log(np.array([counts[c] for c in self.classes_], float) / len(labels))
         return self
 
@@ -200,40 +285,53 @@ class ArticulatedShapeRecognizer:
             self.limb_noise_[k] = max(float(errors.min(axis=1).mean()) / data.shape[1], 1e-12)
 
     def _limb_log_posteriors(self, aligned: np.ndarray) -> np.ndarray:
-        """log P(lambda | z_k) for every shape, limb and label (eqs. 9, 10, 16): ``(n, K, labels)``."""
+        """log P(lambda | z_k) for every shape, limb and label (eqs. 4, 9, 10): ``(n, K, labels)``.
+
+        The class-conditional density of a label is its PDM's Gaussian (``limb_likelihood=
+        "gaussian"``) or the isotropic residual of the clamped fit (``"residual"``, eq. 16)."""
         limbs = centred_limbs(aligned)
         log_lik = np.empty((aligned.shape[0], N_LIMBS, self.n_limb_labels))
         for k in range(N_LIMBS):
-            errors = np.stack([_fit_error(mdl, limbs[:, k]) for mdl in self.limb_models_[k]], axis=1)
-            log_lik[:, k] = -errors / (2 * self.limb_noise_[k]) + np.log(self.limb_weights_[k])
+            data = limbs[:, k]
+            if self.limb_likelihood == "gaussian":
+                densities = []
+                for model in self.limb_models_[k]:
+                    gamma = fit_modes(model, data)
+                    densities.append(_ppca_log_density(model, data, gamma, reconstruct(model, gamma)))
+                log_lik[:, k] = np.stack(densities, axis=1)
+            else:
+                errors = np.stack([_fit_error(mdl, data) for mdl in self.limb_models_[k]], axis=1)
+                log_lik[:, k] = -errors / (2 * self.limb_noise_[k])
+            log_lik[:, k] += np.log(self.limb_weights_[k])
         return log_lik - np.logaddexp.reduce(log_lik, axis=2, keepdims=True)
 
-    def _fit_shape_layer(self, aligned: np.ndarray, labels: np.ndarray) -> None:
+    def _fit_shape_layer(self, aligned: np.ndarray, labels: np.ndarray) -> list[np.ndarray]:
         """Per class, a mixture of polar PDMs learnt by EM (Sec. 4, eqs. 2-8) on S relative to the
-        class's circular mean angles; EM starts from a seeded k-means++ partition."""
+        class's circular mean angles; EM starts from a seeded k-means++ partition. Returns each
+        class's training responsibilities ``(T_c, M)``."""
         vectors = polar_shape_vector(aligned)
+        blocks = _polar_blocks(self.polar_model)
         rng = make_rng(self.shape_seed)
         self.angle_means_ = []
-        self.shape_models_: list[list[PointDistributionModel]] = []
+        self.shape_models_: list[list[PolarPDM]] = []
         self.shape_weights_: list[np.ndarray] = []
+        responsibilities = []
         for c in self.classes_:
             class_vectors = vectors[labels == c]
             angle_mean = _circular_mean(class_vectors[:, :N_LIMBS])
             self.angle_means_.append(angle_mean)
             deviation = self._deviation(class_vectors, angle_mean)
-            if self.n_shape_components == 1:
-                self.shape_models_.append([fit_pdm(deviation, variance_fraction=self.variance_fraction)])
-                self.shape_weights_.append(np.ones(1))
-                continue
-            models, weights = _fit_pdm_mixture(deviation, self.n_shape_components, rng,
-                                               self.em_iterations, self.variance_fraction)
+            models, weights, resp = _fit_polar_mixture(deviation, self.n_shape_components, blocks, rng,
+                                                       self.em_iterations, self.variance_fraction)
             self.shape_models_.append(models)
             self.shape_weights_.append(weights)
+            responsibilities.append(resp)
         # The most responsible component of every training shape, per class (for inspection).
         self.training_components_ = [
             np.argmax(self._component_log_likelihoods(self._deviation(vectors[labels == c], a), j)[0], axis=1)
             for j, (c, a) in enumerate(zip(self.classes_, self.angle_means_))
         ]
+        return responsibilities
 
     @staticmethod
     def _deviation(vectors: np.ndarray, angle_mean: np.ndarray) -> np.ndarray:
@@ -243,29 +341,37 @@ class ArticulatedShapeRecognizer:
         return out
 
     def _component_log_likelihoods(self, deviation: np.ndarray, j: int) -> tuple[np.ndarray, np.ndarray]:
-        """``ln pi_k + ln p(S | Phi_k, Gamma_k*)`` for every component k of class j, ``(n, K)``, and
-        the clamped modal fits ``(K, n, 3K)`` (in deviation coordinates)."""
-        scores, fits = [], []
-        for model, weight in zip(self.shape_models_[j], self.shape_weights_[j]):
-            gamma = fit_modes(model, deviation)
-            fits.append(reconstruct(model, gamma))
-            scores.append(np.log(weight) + _ppca_log_density(model, deviation, gamma, fits[-1]))
-        return np.stack(scores, axis=1), np.stack(fits)
+        """``ln pi_m + ln p(S | Phi_m, Gamma_m*)`` for every component m of class j, ``(n, M)``, and
+        the clamped modal fits ``(M, n, 3K)`` (in deviation coordinates)."""
+        scores = np.stack([np.log(weight) + model.log_density(deviation)
+                           for model, weight in zip(self.shape_models_[j], self.shape_weights_[j])], axis=1)
+        fits = np.stack([model.fit(deviation) for model in self.shape_models_[j]])
+        return scores, fits
 
-    def _shape_log_likelihoods(self, aligned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """ln p(S | class) per class (mixture of clamped polar PDMs, PPCA densities) and the
-        responsibility-weighted model fits ``(C, n, 3K)``."""
+    def _shape_terms(self, aligned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Polar-PDM log-likelihoods ``(n, C, M)`` (without the mixing weights) and model fits
+        ``(C, M, n, 3K)`` with the angles put back in absolute terms."""
         vectors = polar_shape_vector(aligned)
-        log_lik = np.empty((aligned.shape[0], len(self.classes_)))
-        fits = np.empty((len(self.classes_),) + vectors.shape)
+        log_lik, fits = [], []
         for j, angle_mean in enumerate(self.angle_means_):
             scores, component_fits = self._component_log_likelihoods(self._deviation(vectors, angle_mean), j)
-            log_lik[:, j] = np.logaddexp.reduce(scores, axis=1)
-            responsibilities = np.exp(scores - log_lik[:, j:j + 1])  # eq. 4 for a test shape
-            fitted = np.einsum("nk,knd->nd", responsibilities, component_fits)
-            fitted[:, :N_LIMBS] = wrap_angle(fitted[:, :N_LIMBS] + angle_mean)
-            fits[j] = fitted
-        return log_lik, fits
+            log_lik.append(scores - np.log(self.shape_weights_[j]))
+            component_fits[..., :N_LIMBS] = wrap_angle(component_fits[..., :N_LIMBS] + angle_mean)
+            fits.append(component_fits)
+        return np.stack(log_lik, axis=1), np.stack(fits)
+
+    def _gates(self, limb_log_post: np.ndarray) -> np.ndarray:
+        """Eq. 11's first gate, ``sum_k ln P(lambda_k^wm | z_k)`` for every dictionary string: ``(n, C, M)``."""
+        n = limb_log_post.shape[0]
+        strings = self.dictionary_.reshape(-1, N_LIMBS)  # (C*M, K)
+        picked = np.take_along_axis(limb_log_post[:, None], strings[None, :, :, None], axis=3)[..., 0]
+        return picked.sum(axis=2).reshape(n, *self.dictionary_.shape[:2])
+
+    def _string_log_prob(self, label_strings: np.ndarray) -> np.ndarray:
+        """Eq. 18's ``ln P(L | Lambda_wm)`` for every dictionary string: ``(n, C, M)``."""
+        hamming = hamming_distance(label_strings, self.dictionary_.reshape(-1, N_LIMBS))
+        return label_string_log_prob(hamming, N_LIMBS, self.label_error_probability).reshape(
+            len(label_strings), *self.dictionary_.shape[:2])
 
     # ------------------------------------------------------------------ recognition
     def align(self, shapes: np.ndarray) -> np.ndarray:
@@ -276,28 +382,31 @@ class ArticulatedShapeRecognizer:
 
     def recognise(self, shapes: np.ndarray) -> RecognitionTrace:
         """Run the hierarchical EM (eqs. 9-18) and return the full per-iteration trace."""
-        if not hasattr(self, "classes_"):
-            raise ValueError("the recogniser must be fitted before recognising shapes")
+        self._check_fitted()
         aligned = self.align(shapes)
         limb_log_post = self._limb_log_posteriors(aligned)  # (n, K, labels)
-        shape_log_lik, fits = self._shape_log_likelihoods(aligned)  # (n, C), (C, n, 3K)
-        # Gate 1: product over limbs of P(lambda_k^w | z_k) for the labels class w expects.
-        gate = np.sum(np.take_along_axis(limb_log_post[:, None, :, :],
-                                         self.dictionary_[None, :, :, None], axis=3)[..., 0], axis=2)
+        shape_log_lik, fits = self._shape_terms(aligned)  # (n, C, M), (C, M, n, 3K)
+        gate = self._gates(limb_log_post)  # (n, C, M)
+        log_weights = np.log(np.stack(self.shape_weights_))  # (C, M)
         k_p = np.log((1 - self.label_error_probability) / self.label_error_probability)
         label_strings = np.argmax(limb_log_post, axis=2)  # eq. 10: MAP limb labels
         history_post, history_labels, history_fit = [], [], []
+        rows = np.arange(len(aligned))
         for _ in range(self.max_iter):
-            hamming = hamming_distance(label_strings, self.dictionary_)
-            log_score = (self.class_log_prior_ + gate + shape_log_lik
-                         + label_string_log_prob(hamming, N_LIMBS, self.label_error_probability))
+            # Eqs. 11-13: every component's polar likelihood gated by its limb posteriors and by
+            # P(L | Lambda) of its dictionary string; a class sums its components.
+            joint = log_weights[None] + shape_log_lik + gate + self._string_log_prob(label_strings)
+            class_joint = np.logaddexp.reduce(joint, axis=2)  # (n, C)
+            log_score = self.class_log_prior_ + class_joint
             posterior = np.exp(log_score - np.logaddexp.reduce(log_score, axis=1, keepdims=True))
+            within = np.exp(joint - class_joint[..., None])  # component responsibilities per class
             history_post.append(posterior)
             history_labels.append(label_strings)
-            history_fit.append(np.einsum("nc,cnd->nd", posterior, fits))
+            history_fit.append(np.einsum("nc,ncm,cmnd->nd", posterior, within, fits))
             best = np.argmax(posterior, axis=1)  # eq. 13
-            # Eq. 14: relabel limbs using the winning class's dictionary string as prior.
-            consistent = self.dictionary_[best][:, :, None] == np.arange(self.n_limb_labels)
+            component = np.argmax(joint[rows, best], axis=1)
+            # Eq. 14: relabel limbs using the winning class component's dictionary string as prior.
+            consistent = self.dictionary_[best, component][:, :, None] == np.arange(self.n_limb_labels)
             refined = np.argmax(limb_log_post + np.where(consistent, 0.0, -k_p), axis=2)
             if np.array_equal(refined, label_strings):
                 break
@@ -307,24 +416,19 @@ class ArticulatedShapeRecognizer:
 
     def score_components(self, shapes: np.ndarray) -> ScoreComponents:
         """The separate terms of the first-iteration class score (for ablations)."""
-        if not hasattr(self, "classes_"):
-            raise ValueError("the recogniser must be fitted before recognising shapes")
+        self._check_fitted()
         aligned = self.align(shapes)
         limb_log_post = self._limb_log_posteriors(aligned)
-        shape_log_lik, _ = self._shape_log_likelihoods(aligned)
-        gate = np.sum(np.take_along_axis(limb_log_post[:, None, :, :],
-                                         self.dictionary_[None, :, :, None], axis=3)[..., 0], axis=2)
-        hamming = hamming_distance(np.argmax(limb_log_post, axis=2), self.dictionary_)
-        return ScoreComponents(gate, label_string_log_prob(hamming, N_LIMBS, self.label_error_probability),
-                               shape_log_lik)
+        shape_log_lik, _ = self._shape_terms(aligned)
+        return ScoreComponents(self._gates(limb_log_post), self._string_log_prob(np.argmax(limb_log_post, axis=2)),
+                               shape_log_lik, np.log(np.stack(self.shape_weights_)), self.class_log_prior_)
 
     def iterative_alignment(self, shape: np.ndarray, class_name: str, n_iter: int = 4) -> AlignmentTrace:
         """Fit class ``class_name``'s polar PDM to one shape ``(13, m, 2)`` by alternating a
         similarity pose fit of the model's limb centres (Procrustes) with the clamped modal fit
         (eq. 12) in the model frame; iteration 1 is the mean shape posed onto the data, later
         iterations also fit each limb's dictionary-label PDM to the data limb (eq. 15)."""
-        if not hasattr(self, "classes_"):
-            raise ValueError("the recogniser must be fitted before aligning shapes")
+        self._check_fitted()
         if class_name not in self.classes_:
             raise ValueError(f"class_name must be one of {self.classes_}, got {class_name!r}")
         n_iter = check_positive_int(n_iter, "n_iter")
@@ -333,8 +437,8 @@ class ArticulatedShapeRecognizer:
         angle_mean = self.angle_means_[j]
         # Use the class's mixture component that best explains the shape as first posed.
         start = self._deviation(polar_shape_vector(self.align(shape[None])), angle_mean)
-        model = self.shape_models_[j][int(np.argmax(self._component_log_likelihoods(start, j)[0][0]))]
-        labels = self.dictionary_[j]
+        best = int(np.argmax(self._component_log_likelihoods(start, j)[0][0]))
+        model, labels = self.shape_models_[j][best], self.dictionary_[j, best]
         data_centres = shape.mean(axis=1)
         model_vector = model.mean.copy()
         model_vector[:N_LIMBS] = wrap_angle(model_vector[:N_LIMBS] + angle_mean)
@@ -349,7 +453,7 @@ class ArticulatedShapeRecognizer:
             drawn.append(pose.scale * model_shape @ pose.rotation.T + pose.translation)
             misfit.append(pose.rms_error)
             deviation = self._deviation(polar_shape_vector(shape_in_model[None]), angle_mean)
-            model_vector = reconstruct(model, fit_modes(model, deviation))[0]
+            model_vector = model.fit(deviation)[0]
             model_vector[:N_LIMBS] = wrap_angle(model_vector[:N_LIMBS] + angle_mean)
         return AlignmentTrace(np.stack(drawn), np.array(misfit))
 
@@ -405,24 +509,42 @@ def _kmeans_partition(data: np.ndarray, n_clusters: int, rng: np.random.Generato
     return assign
 
 
-def _fit_pdm_mixture(data: np.ndarray, n_components: int, rng: np.random.Generator, n_iter: int,
-                     variance_fraction: float) -> tuple[list[PointDistributionModel], np.ndarray]:
-    """Mixture of PDMs on ``data (T, D)`` by EM (eqs. 2-8): k-means++ means, the pooled covariance
-    as every starting covariance, a small ridge (T < D), then one PDM per component (eq. 1's
-    eigen-decomposition of the component covariance, at most ``round(T pi_k) - 1`` modes)."""
-    assign = _kmeans_partition(data, n_components, rng)
-    means_init = np.stack([data[assign == k].mean(axis=0) if np.any(assign == k) else data[k]
+def _fit_polar_mixture(data: np.ndarray, n_components: int, blocks: tuple[slice, ...], rng: np.random.Generator,
+                       n_iter: int, variance_fraction: float) -> tuple[list[PolarPDM], np.ndarray, np.ndarray]:
+    """Mixture of polar PDMs on ``data (T, 3K)`` by EM (eqs. 2-8); returns the components, the
+    mixing weights and the training responsibilities ``(T, M)``.
+
+    One component is the PDM of every block (eq. 1, no ridge). For several, EM runs on S with each
+    block divided by the square root of its total variance (so radians and shape units weigh the
+    same in the k-means++ start and in the ridge; a full-covariance EM is otherwise unaffected by
+    the scaling): k-means++ means, the pooled covariance as every starting covariance, a ridge of
+    1e-3 times the mean variance (T < 3K makes component covariances singular). Each component's
+    mean and covariance blocks, scaled back, become one PDM per block (at most ``round(T pi_m) - 1``
+    modes).
+    """
+    if n_components == 1:
+        pdms = tuple(fit_pdm(data[:, block], variance_fraction=variance_fraction) for block in blocks)
+        return [PolarPDM(blocks, pdms)], np.ones(1), np.ones((len(data), 1))
+    scale = np.empty(data.shape[1])
+    for block in blocks:
+        scale[block] = 1.0 / np.sqrt(data[:, block].var(axis=0).sum())
+    scaled = data * scale
+    assign = _kmeans_partition(scaled, n_components, rng)
+    means_init = np.stack([scaled[assign == k].mean(axis=0) if np.any(assign == k) else scaled[k]
                            for k in range(n_components)])
-    spread = np.cov(data.T, bias=True)
+    spread = np.cov(scaled.T, bias=True)
     reg = 1e-3 * float(np.trace(spread)) / data.shape[1]
-    mixture = fit_gaussian_mixture(data, n_components, means_init=means_init,
+    mixture = fit_gaussian_mixture(scaled, n_components, means_init=means_init,
                                    covariances_init=np.repeat(spread[None] + reg * np.eye(data.shape[1]),
                                                               n_components, axis=0),
                                    n_iter=n_iter, reg_covar=reg)
-    counts = mixture.weights * len(data)
-    models = [pdm_from_moments(mean, cov, variance_fraction=variance_fraction, max_modes=max(1, int(round(n)) - 1))
-              for mean, cov, n in zip(mixture.means, mixture.covariances, counts)]
-    return models, np.clip(mixture.weights, 1e-12, None)
+    models = []
+    for mean, cov, weight in zip(mixture.means / scale, mixture.covariances / np.outer(scale, scale), mixture.weights):
+        cap = max(1, int(round(weight * len(data))) - 1)
+        models.append(PolarPDM(blocks, tuple(
+            pdm_from_moments(mean[block], cov[block, block], variance_fraction=variance_fraction, max_modes=cap)
+            for block in blocks)))
+    return models, np.clip(mixture.weights, 1e-12, None), mixture.responsibilities
 
 
 def _fit_error(model: PointDistributionModel, data: np.ndarray) -> np.ndarray:
