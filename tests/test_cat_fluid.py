@@ -191,6 +191,21 @@ def test_sor_converges_to_the_fft_solution(omega):
     np.testing.assert_allclose(sor, exact, atol=1e-6 * np.abs(exact).max())
 
 
+def test_red_black_with_both_components_at_once_diverges_at_high_omega():
+    """The paper's checkerboard: fine component by component, divergent when both components of a
+    colour are relaxed together (the mixed term couples same-colour diagonal neighbours)."""
+    force = np.random.default_rng(7).normal(size=(2, 16, 16))
+    exact = cf.solve_velocity(force, "fft", LAM, MU)
+
+    def error(ordering, omega):
+        return np.linalg.norm(cf.sor_solve(force, LAM, MU, sweeps=200, omega=omega, ordering=ordering) - exact)
+
+    scale = np.linalg.norm(exact)
+    assert error("four-colour", 1.9) < 1e-8 * scale and error("red-black", 1.9) < 1e-8 * scale
+    assert error("red-black-together", 1.5) < 1e-3 * scale
+    assert error("red-black-together", 1.9) > 1e3 * scale
+
+
 def test_sor_error_shrinks_with_sweeps_and_warm_start_continues():
     force = np.random.default_rng(4).normal(size=(2, 32, 32))
     exact = cf.solve_velocity(force, "fft", LAM, MU)
@@ -204,6 +219,8 @@ def test_sor_rejects_bad_settings():
     force = np.zeros((2, 8, 8))
     with pytest.raises(ValueError, match="omega"):
         cf.sor_solve(force, LAM, MU, omega=2.0)
+    with pytest.raises(ValueError, match="ordering"):
+        cf.sor_solve(force, LAM, MU, ordering="lexicographic")
     with pytest.raises(ValueError, match="even"):
         cf.sor_solve(np.zeros((2, 7, 8)), LAM, MU)
     with pytest.raises(ValueError, match="mu"):

@@ -26,9 +26,11 @@ from amdo_lab.cat_fluid.stencil import NEIGHBOUR_OFFSETS, check_moduli, fluid_st
 from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
 
 __all__ = ["SOLVERS", "cat_symbol", "finite_difference_symbol", "apply_finite_difference",
-           "solve_symbol", "sor_solve", "solve_velocity", "default_omega"]
+           "solve_symbol", "sor_solve", "solve_velocity", "default_omega", "SOR_ORDERINGS"]
 
 SOLVERS = ("cat", "sor", "fft")
+SOR_ORDERINGS = ("four-colour", "red-black", "red-black-together")
+RED_BLACK = (((0, 0), (1, 1)), ((0, 1), (1, 0)))  # colours (row parity, column parity) of each half
 
 
 def _frequencies(shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
@@ -104,7 +106,7 @@ def default_omega(shape: tuple[int, int]) -> float:
 
 
 def sor_solve(force: np.ndarray, lam: float, mu: float, *, sweeps: int = 250, omega: float | None = None,
-              initial: np.ndarray | None = None) -> np.ndarray:
+              initial: np.ndarray | None = None, ordering: str = "four-colour") -> np.ndarray:
     """Successive over-relaxation for the finite-difference eq. (17), periodic, four-colour ordering.
 
     Pixels are coloured by (row parity, column parity). The 9-point stencil of eq. (17) (5-point
@@ -112,9 +114,11 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, sweeps: int = 250, om
     three *other* colours, so updating one colour at a time, all its pixels at once, is an exact
     Gauss-Seidel ordering; SOR then converges for 0 < ω < 2 because -L is symmetric positive
     semi-definite (Ostrowski-Reich). The paper's red-black checkerboard puts the mixed term's
-    diagonal neighbours in the *same* colour, so each half-sweep is a Jacobi step on them, which
-    can diverge at high ω. Each colour is stored as an (H/2, W/2) sub-lattice with a periodic
-    one-pixel frame, so H and W must be even.
+    diagonal neighbours in the *same* colour: updating both velocity components of a colour at
+    once ("red-black-together") is then a Jacobi step on the mixed coupling and diverges at high
+    ω; updating them one after the other ("red-black") is again a Gauss-Seidel ordering. Each
+    colour is stored as an (H/2, W/2) sub-lattice with a periodic one-pixel frame, so H and W must
+    be even.
 
     Parameters
     ----------
@@ -123,6 +127,7 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, sweeps: int = 250, om
     sweeps : number of full sweeps (the paper: 250 per registration iteration).
     omega : relaxation factor in (0, 2); default :func:`default_omega`.
     initial : (2, H, W) starting velocity (warm start), zero by default.
+    ordering : "four-colour" (default), "red-black" or "red-black-together" (see above).
 
     Returns
     -------
@@ -131,6 +136,7 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, sweeps: int = 250, om
     force = as_finite_array(force, "force", ndim=3, shape=(2, None, None))
     lam, mu = check_moduli(lam, mu, require_positive_mu=True)
     sweeps = check_positive_int(sweeps, "sweeps", minimum=0)
+    check_choice(ordering, "ordering", SOR_ORDERINGS)
     h, w = force.shape[1:]
     omega = default_omega((h, w)) if omega is None else check_positive(omega, "omega")
     if omega >= 2:
@@ -152,20 +158,31 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, sweeps: int = 250, om
         a0, a1 = 1 + (r + d0) // 2, 1 + (s + d1) // 2
         return padded[a0:a0 + n0, a1:a1 + n1]
 
+    def relaxed(comp: int, r: int, s: int) -> np.ndarray:
+        """The SOR value of component ``comp`` on colour (r, s), from the current values."""
+        v, other = pad[comp], pad[1 - comp]
+        axis0 = neighbour(v, r, s, 1, 0) + neighbour(v, r, s, -1, 0)
+        axis1 = neighbour(v, r, s, 0, 1) + neighbour(v, r, s, 0, -1)
+        own, cross = (axis0, axis1) if comp == 0 else (axis1, axis0)
+        mixed = (neighbour(other, r, s, 1, 1) - neighbour(other, r, s, 1, -1)
+                 - neighbour(other, r, s, -1, 1) + neighbour(other, r, s, -1, -1))
+        off_centre = own_weight * own + other_weight * cross + mixed_weight * mixed
+        centre = v[r][s][1:-1, 1:-1]
+        return centre + omega * ((rhs[comp][r][s] - off_centre) * inv_centre - centre)
+
+    # each step updates a group of (component, colour) blocks from the values before the step
+    if ordering == "four-colour":
+        steps = [[(comp, r, s)] for r in (0, 1) for s in (0, 1) for comp in (0, 1)]
+    elif ordering == "red-black":
+        steps = [[(comp, r, s) for r, s in colours] for colours in RED_BLACK for comp in (0, 1)]
+    else:  # "red-black-together": both components of a colour at once
+        steps = [[(comp, r, s) for r, s in colours for comp in (0, 1)] for colours in RED_BLACK]
     for _ in range(sweeps):
-        for r in (0, 1):
-            for s in (0, 1):
-                for comp in (0, 1):
-                    v, other = pad[comp], pad[1 - comp]
-                    axis0 = neighbour(v, r, s, 1, 0) + neighbour(v, r, s, -1, 0)
-                    axis1 = neighbour(v, r, s, 0, 1) + neighbour(v, r, s, 0, -1)
-                    own, cross = (axis0, axis1) if comp == 0 else (axis1, axis0)
-                    mixed = (neighbour(other, r, s, 1, 1) - neighbour(other, r, s, 1, -1)
-                             - neighbour(other, r, s, -1, 1) + neighbour(other, r, s, -1, -1))
-                    off_centre = own_weight * own + other_weight * cross + mixed_weight * mixed
-                    centre = v[r][s][1:-1, 1:-1]
-                    centre += omega * ((rhs[comp][r][s] - off_centre) * inv_centre - centre)
-                    _refresh_halo(v[r][s])
+        for step in steps:
+            new_values = [relaxed(comp, r, s) for comp, r, s in step]
+            for (comp, r, s), values in zip(step, new_values):
+                pad[comp][r][s][1:-1, 1:-1] = values
+                _refresh_halo(pad[comp][r][s])
     velocity = np.empty_like(force)
     for comp in (0, 1):
         for r in (0, 1):
