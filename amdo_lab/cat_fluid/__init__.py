@@ -19,6 +19,7 @@ from amdo_lab.cat_fluid.registration import (
 )
 from amdo_lab.cat_fluid.solvers import (
     SOLVERS,
+    SOR_ORDERINGS,
     apply_finite_difference,
     cat_symbol,
     finite_difference_symbol,
@@ -37,7 +38,7 @@ from amdo_lab.cat_fluid.stencil import (
 
 __all__ = [
     "CubicalComplex", "DipyResult", "FluidResult", "HISTORY_COLUMNS", "NEIGHBOUR_OFFSETS", "PAIR_NAMES", "RegistrationPair",
-    "SOLVERS", "apply_finite_difference", "apply_stencil", "cat_symbol", "compose_displacements",
+    "SOLVERS", "SOR_ORDERINGS", "apply_finite_difference", "apply_stencil", "cat_symbol", "compose_displacements",
     "displacement_jacobian", "displacement_rmse", "external_force", "finite_difference_symbol",
     "fluid_stencil", "foreground_mask", "grey_level_difference", "inverse_consistency_error",
     "jacobian_determinant", "load_dipy_image", "make_pair", "material_update", "printed_stencil",
