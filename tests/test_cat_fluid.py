@@ -361,6 +361,19 @@ def test_register_fluid_rejects_bad_settings(small_images, options, message):
         cf.register_fluid(*small_images, **options)
 
 
+def test_public_helpers_validate_their_inputs(small_images):
+    with pytest.raises(TypeError, match="backtrack"):
+        cf.register_fluid(*small_images, backtrack=1)
+    with pytest.raises(ValueError, match="study"):
+        cf.external_force(np.zeros((8, 8)), np.zeros((8, 7)))
+    with pytest.raises(ValueError, match="velocity"):
+        cf.material_update(np.zeros((2, 8, 8)), np.zeros((2, 8, 7)), 0.5)
+    with pytest.raises(ValueError, match="dt"):
+        cf.material_update(np.zeros((2, 8, 8)), np.zeros((2, 8, 8)), -1.0)
+    with pytest.raises(ValueError, match="second"):
+        cf.compose_displacements(np.zeros((2, 8, 8)), np.zeros((3, 8, 8)))
+
+
 def test_warp_image_rejects_a_mismatched_displacement():
     with pytest.raises(ValueError, match="displacement"):
         cf.warp_image(np.zeros((8, 8)), np.zeros((2, 8, 9)))

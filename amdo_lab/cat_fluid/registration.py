@@ -67,24 +67,41 @@ def warp_image(image: object, displacement: object) -> np.ndarray:
     return _warp(image, _check_displacement(displacement, image.shape))
 
 
-def displacement_jacobian(displacement: np.ndarray) -> np.ndarray:
-    """J[i, j] = ∂u_i/∂x_j by central differences (one-sided at the border), shape (2, 2, H, W)."""
+def _jacobian(displacement: np.ndarray) -> np.ndarray:
     return np.stack([np.stack(np.gradient(component), axis=0) for component in displacement], axis=0)
+
+
+def displacement_jacobian(displacement: object) -> np.ndarray:
+    """J[i, j] = ∂u_i/∂x_j by central differences (one-sided at the border), shape (2, 2, H, W)."""
+    return _jacobian(as_finite_array(displacement, "displacement", shape=(2, None, None)))
 
 
 def jacobian_determinant(displacement: object) -> np.ndarray:
     """det(I - ∇u) of the map x -> x - u(x), shape (H, W); a value ≤ 0 marks a folded pixel."""
-    displacement = as_finite_array(displacement, "displacement", shape=(2, None, None))
-    jac = displacement_jacobian(displacement)
+    return _determinant(as_finite_array(displacement, "displacement", shape=(2, None, None)))
+
+
+def _determinant(displacement: np.ndarray) -> np.ndarray:
+    jac = _jacobian(displacement)
     return (1 - jac[0, 0]) * (1 - jac[1, 1]) - jac[0, 1] * jac[1, 0]
 
 
-def external_force(deformed_template: np.ndarray, study: np.ndarray) -> np.ndarray:
-    """Eq. (18): F = -(I1 - I2) ∇I1 with I1 the deformed template, shape (2, H, W)."""
+def _force(deformed_template: np.ndarray, study: np.ndarray) -> np.ndarray:
     return -(deformed_template - study)[None] * np.stack(np.gradient(deformed_template), axis=0)
 
 
-def material_update(displacement: np.ndarray, velocity: np.ndarray, dt: float) -> np.ndarray:
+def external_force(deformed_template: object, study: object) -> np.ndarray:
+    """Eq. (18): F = -(I1 - I2) ∇I1 with I1 the deformed template and I2 the study, shape (2, H, W)."""
+    deformed_template = _check_image(deformed_template, "deformed_template")
+    return _force(deformed_template, as_finite_array(study, "study", shape=deformed_template.shape))
+
+
+def _update(displacement: np.ndarray, velocity: np.ndarray, dt: float) -> np.ndarray:
+    jac = _jacobian(displacement)
+    return displacement + dt * (velocity - np.einsum("ijhw,jhw->ihw", jac, velocity))
+
+
+def material_update(displacement: object, velocity: object, dt: float) -> np.ndarray:
     """Eq. (16): u + Δt (I - J) v with J[i, j] = ∂u_i/∂x_j, i.e. Δt (v - (v·∇)u).
 
     The paper prints (I - (∇u)ᵀ) v. We read ∇u with the continuum-mechanics convention
@@ -93,15 +110,21 @@ def material_update(displacement: np.ndarray, velocity: np.ndarray, dt: float) -
     T(x - u) is carried along by v. (tests/test_cat_fluid.py pins this down against the exact
     flow of a known displacement.)
     """
-    jac = displacement_jacobian(displacement)
-    return displacement + dt * (velocity - np.einsum("ijhw,jhw->ihw", jac, velocity))
+    displacement = as_finite_array(displacement, "displacement", shape=(2, None, None))
+    velocity = _check_displacement(velocity, displacement.shape[1:], "velocity")
+    return _update(displacement, velocity, check_positive(dt, "dt"))
 
 
-def compose_displacements(first: np.ndarray, second: np.ndarray) -> np.ndarray:
+def compose_displacements(first: object, second: object) -> np.ndarray:
     """Displacement of "warp by ``first``, then warp the result by ``second``".
 
     warp(warp(I, first), second)(x) = I(x - w(x)) with w(x) = second(x) + first(x - second(x)).
     """
+    first = as_finite_array(first, "first", shape=(2, None, None))
+    return _compose(first, _check_displacement(second, first.shape[1:], "second"))
+
+
+def _compose(first: np.ndarray, second: np.ndarray) -> np.ndarray:
     moved = np.indices(first.shape[1:], dtype=float) - second
     return second + np.stack([sample_bilinear(component, moved) for component in first])
 
@@ -134,7 +157,7 @@ def inverse_consistency_error(forward: object, backward: object, mask: object | 
     registering B to A; 0 for a perfectly inverse-consistent pair."""
     forward = as_finite_array(forward, "forward", shape=(2, None, None))
     backward = _check_displacement(backward, forward.shape[1:], "backward")
-    return displacement_rmse(compose_displacements(forward, backward), np.zeros_like(forward), mask)
+    return displacement_rmse(_compose(forward, backward), np.zeros_like(forward), mask)
 
 
 @dataclass(frozen=True)
@@ -193,8 +216,9 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
     SOR or exactly); then eq. (16), u <- u + Δt (I - J_u) v (:func:`material_update`), with Δt set
     so that the largest displacement change is the current step bound (``max_step`` pixels at
     first). With ``backtrack`` a step that does not lower the sum of squared differences is
-    rejected and the bound halved (the paper does not say how it chose Δt; this keeps a fixed
-    step from oscillating). When min det(I - ∇u) of the current segment falls below
+    rejected and the bound halved, and after an accepted step the bound doubles again up to
+    ``max_step`` (the paper does not say how it chose Δt; this keeps a fixed step from
+    oscillating). The same rule applies to every ``method``. When min det(I - ∇u) of the current segment falls below
     ``regrid_threshold``, a new segment starts from the deformed template (regridding, as
     Christensen et al.); the segments are composed and the original template is warped once by
     the composition, so regridding adds no blur.
@@ -206,7 +230,8 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
     lam, mu : Lamé constants, λ ≥ 0 and μ > 0 (the paper: 1 and 5).
     n_iter : velocity solves; default the paper's counts, 10 for "cat" and "fft", 100 for "sor".
     max_step : largest displacement change per iteration, pixels.
-    backtrack : halve the step bound after a step that does not decrease the SSD.
+    backtrack : reject a step that does not decrease the SSD and halve the bound (else Christensen's
+        fixed bound, every step accepted).
     regrid_threshold : regrid when min det(I - ∇u) of the segment falls below it, in (0, 1).
     sor_sweeps, sor_omega : SOR sweeps per solve (the paper: 250) and relaxation factor (default
         :func:`~amdo_lab.cat_fluid.solvers.default_omega`); the SOR velocity is warm-started from
@@ -215,6 +240,8 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
     template, study = _check_images(template, study)
     check_choice(method, "method", SOLVERS)
     lam, mu = check_moduli(lam, mu, require_positive_mu=True)
+    if not isinstance(backtrack, bool):
+        raise TypeError(f"backtrack must be a bool, got {type(backtrack).__name__}")
     n_iter = check_positive_int(DEFAULT_ITERATIONS[method] if n_iter is None else n_iter, "n_iter")
     step_bound = check_positive(max_step, "max_step")
     regrid_threshold = check_positive(regrid_threshold, "regrid_threshold")
@@ -235,19 +262,19 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
     ssd = float(np.sum((warped - study) ** 2))
     history, regrids = [(float(np.mean(np.abs(warped - study))), 0.0, 1.0, 0.0)], 0
     for _ in range(n_iter):
-        force = external_force(warped, study)
+        force = _force(warped, study)
         force -= force.mean(axis=(1, 2), keepdims=True)
         if symbol is None:
             velocity = sor_solve(force, lam, mu, sweeps=sor_sweeps, omega=sor_omega,
                                  initial=velocity)
         else:
             velocity = solve_symbol(symbol, force)
-        unit = material_update(segment, velocity, 1.0) - segment
+        unit = _update(segment, velocity, 1.0) - segment
         largest = float(np.max(np.hypot(unit[0], unit[1])))
         taken = 0.0
         while largest > 0:
             candidate = segment + (step_bound / largest) * unit
-            candidate_total = candidate if regrids == 0 else compose_displacements(previous, candidate)
+            candidate_total = candidate if regrids == 0 else _compose(previous, candidate)
             candidate_warped = _warp(template, candidate_total)
             candidate_ssd = float(np.sum((candidate_warped - study) ** 2))
             if not backtrack or candidate_ssd < ssd:
@@ -258,8 +285,8 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
             step_bound /= 2
             if step_bound < 1e-3 * max_step:  # no descent left at any sensible step: stop moving
                 break
-        total_det = float(jacobian_determinant(total).min())
-        segment_det = total_det if regrids == 0 else float(jacobian_determinant(segment).min())
+        total_det = float(_determinant(total).min())
+        segment_det = total_det if regrids == 0 else float(_determinant(segment).min())
         if taken and segment_det < regrid_threshold:
             previous, segment, regrids = total, np.zeros_like(segment), regrids + 1
         history.append((float(np.mean(np.abs(warped - study))), time.perf_counter() - start, total_det, taken))
