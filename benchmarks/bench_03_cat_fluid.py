@@ -14,7 +14,11 @@ mean |deformed template - study| in grey levels of 0-255 (Table 1's measure) on 
 on the mask, in pixels; "folded" the share of pixels with det(I - grad u) <= 0. A separate CAT run of
 --target-iterations looks for the first iteration that reaches SOR's final residual (its time
 from the run's own history); the speed-up is SOR's time over that time. The notebook's reduced
-SOR setting (--reduced-sweeps per solve) is run too, to show how it compares with the full anchor. BLAS/FFT threads are limited to one.
+SOR setting (--reduced-sweeps per solve) is run too, to show how it compares with the full anchor.
+
+Caveat on the speed ratios: our SOR is vectorised numpy (one colour of one component per array
+operation, about 3 ms per sweep on 256x256); a compiled SOR would be several times faster, so the
+ratios measure these implementations, not the algorithms alone. Each exact CAT solve is two FFTs. BLAS/FFT threads are limited to one.
 """
 
 from __future__ import annotations
