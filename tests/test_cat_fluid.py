@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 
 from amdo_lab import cat_fluid as cf
-from amdo_lab.cat_fluid.solvers import solve_symbol
+from amdo_lab.cat_fluid.registration import sample_bilinear
+from amdo_lab.common import make_rng
 
 LAM, MU = 1.0, 5.0
 
@@ -33,7 +36,7 @@ def test_each_square_has_four_edges_and_each_edge_two_ends():
 def test_coboundary_of_a_zero_cochain_is_the_difference_of_end_values():
     """Eq. (7): D_1(γ) = Ψ_0(x_*) - Ψ_0(x_#) on every 1-face."""
     complex_ = cf.CubicalComplex((5, 7))
-    values = np.random.default_rng(0).normal(size=complex_.n_pixels[0])
+    values = make_rng(0).normal(size=complex_.n_pixels[0])
     tails, heads = complex_.edges()
     np.testing.assert_allclose(complex_.coboundary(0) @ values, values[heads] - values[tails])
     # on the image layout: horizontal edges carry the difference along axis 1
@@ -127,7 +130,7 @@ def test_printed_stencil_matches_derivation_up_to_three_sign_slips_and_a_row():
     assert [2 * p + 1 for p in range(9) if differs[2 * p + 1]] == [13, 15]  # k_{1,14}, k_{1,16}
     np.testing.assert_allclose(np.abs(same_mu[0][0]), np.abs(same_mu[1][0]))
     # the λ parts of the centre and the own-axis edges have the opposite sign
-    lam_derived = cf.fluid_stencil(1.0, 0.0)[0] - 0.0
+    lam_derived = cf.fluid_stencil(1.0, 0.0)[0]
     lam_printed = cf.printed_stencil(1.0, 0.0)[0]
     np.testing.assert_allclose(lam_printed[[0, 4, 10]], -lam_derived[[0, 4, 10]])
     assert not np.allclose(derived, printed)
@@ -142,16 +145,34 @@ def test_printed_stencil_fails_the_consistency_checks():
     assert not np.allclose(cf.rotate_stencil(printed), printed)
 
 
-def test_stencil_rejects_negative_moduli():
-    with pytest.raises(ValueError, match="lam"):
-        cf.fluid_stencil(-1.0, 5.0)
-    with pytest.raises(ValueError, match="mu"):
-        cf.fluid_stencil(1.0, -5.0)
+@pytest.mark.parametrize("lam, mu, message", [(-1.0, 5.0, "lam"), (1.0, -5.0, "mu"), (np.nan, 5.0, "lam"),
+                                               (1.0, np.inf, "mu")])
+def test_stencil_rejects_negative_or_non_finite_moduli(lam, mu, message):
+    with pytest.raises(ValueError, match=message):
+        cf.fluid_stencil(lam, mu)
+    with pytest.raises(ValueError, match=message):
+        cf.finite_difference_symbol((8, 8), lam, mu)
+
+
+def test_stencil_symbol_of_the_printed_stencil_and_its_checks():
+    """At ω = 0 the symbol is the sum of the nine blocks: the force on a uniform velocity."""
+    printed = cf.printed_stencil(LAM, MU)
+    symbol = cf.stencil_symbol(printed, (8, 8))
+    np.testing.assert_allclose(symbol[:, :, 0, 0], cf.stencil_blocks(printed).sum(axis=0))
+    np.testing.assert_allclose(cf.stencil_symbol(cf.fluid_stencil(LAM, MU), (8, 8))[:, :, 0, 0], 0.0, atol=1e-12)
+    lopsided = cf.fluid_stencil(LAM, MU)
+    lopsided[0, 2] += 1.0  # neighbour (0, 1) only: no longer centro-symmetric
+    with pytest.raises(ValueError, match="centro-symmetric"):
+        cf.stencil_symbol(lopsided, (8, 8))
+    with pytest.raises(ValueError, match="shape"):
+        cf.stencil_symbol(printed, (8,))
+    with pytest.raises(ValueError, match="stencil"):
+        cf.stencil_symbol(printed[:, :9], (8, 8))
 
 
 def test_periodic_stencil_conserves_momentum_and_matches_its_symbol():
     """Σ_x force = 0 (the dual cells' fluxes cancel), and apply_stencil inverts the symbol solve."""
-    rng = np.random.default_rng(1)
+    rng = make_rng(1)
     velocity = rng.normal(size=(2, 12, 10))
     force = cf.apply_stencil(cf.fluid_stencil(LAM, MU), velocity)
     np.testing.assert_allclose(force.sum(axis=(1, 2)), 0.0, atol=1e-10)
@@ -177,7 +198,7 @@ def test_cat_operator_is_negative_definite_except_the_uniform_mode():
 # --- solvers -----------------------------------------------------------------------------
 
 def test_fft_solve_inverts_the_finite_difference_operator():
-    force = np.random.default_rng(2).normal(size=(2, 16, 20))
+    force = make_rng(2).normal(size=(2, 16, 20))
     velocity = cf.solve_velocity(force, "fft", LAM, MU)
     np.testing.assert_allclose(cf.apply_finite_difference(velocity, LAM, MU),
                                force - force.mean(axis=(1, 2), keepdims=True), atol=1e-10)
@@ -185,7 +206,7 @@ def test_fft_solve_inverts_the_finite_difference_operator():
 
 @pytest.mark.parametrize("omega", [1.6, 1.9])
 def test_sor_converges_to_the_fft_solution(omega):
-    force = np.random.default_rng(3).normal(size=(2, 24, 32))
+    force = make_rng(3).normal(size=(2, 24, 32))
     exact = cf.solve_velocity(force, "fft", LAM, MU)
     sor = cf.sor_solve(force, LAM, MU, sweeps=800, omega=omega)
     np.testing.assert_allclose(sor, exact, atol=1e-6 * np.abs(exact).max())
@@ -194,7 +215,7 @@ def test_sor_converges_to_the_fft_solution(omega):
 def test_red_black_with_both_components_at_once_diverges_at_high_omega():
     """The paper's checkerboard: fine component by component, divergent when both components of a
     colour are relaxed together (the mixed term couples same-colour diagonal neighbours)."""
-    force = np.random.default_rng(7).normal(size=(2, 16, 16))
+    force = make_rng(7).normal(size=(2, 16, 16))
     exact = cf.solve_velocity(force, "fft", LAM, MU)
 
     def error(ordering, omega):
@@ -207,12 +228,21 @@ def test_red_black_with_both_components_at_once_diverges_at_high_omega():
 
 
 def test_sor_error_shrinks_with_sweeps_and_warm_start_continues():
-    force = np.random.default_rng(4).normal(size=(2, 32, 32))
+    force = make_rng(4).normal(size=(2, 32, 32))
     exact = cf.solve_velocity(force, "fft", LAM, MU)
     errors = [np.linalg.norm(cf.sor_solve(force, LAM, MU, sweeps=k) - exact) for k in (5, 20, 80)]
     assert errors[0] > errors[1] > errors[2]
     warm = cf.sor_solve(force, LAM, MU, sweeps=60, initial=cf.sor_solve(force, LAM, MU, sweeps=20))
     assert np.linalg.norm(warm - exact) < errors[1]
+
+
+def test_apply_finite_difference_validates_its_inputs():
+    with pytest.raises(ValueError, match="velocity"):
+        cf.apply_finite_difference(np.zeros((3, 8, 8)), LAM, MU)
+    with pytest.raises(ValueError, match="finite"):
+        cf.apply_finite_difference(np.full((2, 8, 8), np.nan), LAM, MU)
+    with pytest.raises(ValueError, match="lam"):
+        cf.apply_finite_difference(np.zeros((2, 8, 8)), -1.0, MU)
 
 
 def test_sor_rejects_bad_settings():
@@ -243,6 +273,18 @@ def test_warp_image_against_a_known_shift():
     np.testing.assert_allclose(cf.warp_image(image, np.zeros((2, 20, 24))), image)
 
 
+@pytest.mark.parametrize("shape", [(1, 5), (5, 1), (2, 2), (7, 9), (16, 12)])
+def test_bilinear_sampling_matches_scipy_map_coordinates(shape):
+    """Our fast sampler against scipy's order-1 interpolation, coordinates inside and outside."""
+    from scipy.ndimage import map_coordinates
+
+    rng = make_rng(11)
+    image = rng.random(shape)
+    coords = rng.uniform(-3.0, max(shape) + 3.0, size=(2,) + shape)
+    np.testing.assert_allclose(sample_bilinear(image, coords), map_coordinates(image, coords, order=1, mode="nearest"),
+                               atol=1e-12)
+
+
 def test_material_update_follows_the_flow_with_the_untransposed_jacobian():
     """Eq. (16) read as u + Δt (v - J v), J[i, j] = ∂u_i/∂x_j: transporting the deformed template
     T(x - u) by a uniform velocity v for Δt gives exactly u(x - vΔt) + vΔt. Our reading is off
@@ -264,7 +306,7 @@ def test_material_update_follows_the_flow_with_the_untransposed_jacobian():
 
 
 def test_compose_then_warp_equals_warping_twice():
-    rng = np.random.default_rng(5)
+    rng = make_rng(5)
     image = cf.load_dipy_image("t1_coronal_slice")[64:192, 64:192]
     first = cf.smooth_warp(image.shape, rng, amplitude=3.0)
     second = cf.smooth_warp(image.shape, rng, amplitude=3.0)
@@ -314,6 +356,17 @@ def test_regridding_keeps_the_map_unfolded():
     assert cf.jacobian_determinant(result.displacement).min() > 0
 
 
+def test_identical_images_stay_put_without_warnings():
+    """No force anywhere: a zero velocity, no step, no division by zero."""
+    image = cf.make_pair("C").template[::4, ::4]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for method in cf.SOLVERS:
+            result = cf.register_fluid(image, image, method=method, n_iter=3, sor_sweeps=5)
+            assert np.all(result.displacement == 0) and np.all(result.residuals == 0)
+            np.testing.assert_array_equal(result.warped, image)
+
+
 def test_inverse_consistency_error_is_zero_for_exact_inverses():
     shift = np.broadcast_to(np.array([1.5, -2.0])[:, None, None], (2, 16, 16))
     assert cf.inverse_consistency_error(shift, -shift) < 1e-12
@@ -326,13 +379,27 @@ def test_grey_level_difference_in_a_mask():
     assert cf.grey_level_difference(image, reference, mask) == (pytest.approx(11.5), pytest.approx(np.std(np.arange(8.0, 16))))
     with pytest.raises(ValueError, match="mask"):
         cf.grey_level_difference(image, reference, mask.astype(int))
+    with pytest.raises(ValueError, match="at least one pixel"):
+        cf.grey_level_difference(image, reference, np.zeros((4, 4), bool))
+    with pytest.raises(ValueError, match="scale"):
+        cf.grey_level_difference(image, reference, scale=-255)
+
+
+def test_displacement_measures_validate_the_mask():
+    zero, one = np.zeros((2, 4, 4)), np.ones((2, 4, 4))
+    assert cf.displacement_rmse(zero, one, np.eye(4, dtype=bool)) == pytest.approx(np.sqrt(2))
+    for bad, message in [(np.eye(4), "boolean"), (np.ones((3, 3), bool), "shape"), (np.zeros((4, 4), bool), "at least one")]:
+        with pytest.raises(ValueError, match=message):
+            cf.displacement_rmse(zero, one, bad)
+        with pytest.raises(ValueError, match=message):
+            cf.inverse_consistency_error(zero, one, bad)
 
 
 # --- bad input ---------------------------------------------------------------------------
 
 @pytest.fixture(scope="module")
 def small_images():
-    rng = np.random.default_rng(6)
+    rng = make_rng(6)
     return rng.random((16, 16)), rng.random((16, 16))
 
 
@@ -393,6 +460,23 @@ def test_pairs_are_deterministic_and_their_warps_unfolded():
         assert 0.1 < pair.mask.mean() < 0.4
     with pytest.raises(ValueError, match="name"):
         cf.make_pair("D")
+
+
+def test_data_helpers_validate_their_inputs():
+    with pytest.raises(ValueError, match="seed"):
+        cf.make_pair("B", seed=-1)
+    with pytest.raises(ValueError, match="support"):
+        cf.smooth_warp((16, 16), 0, support=np.ones((16, 16)))
+    with pytest.raises(ValueError, match="support"):
+        cf.smooth_warp((16, 16), 0, support=np.zeros((16, 16), bool))
+    with pytest.raises(ValueError, match="shape"):
+        cf.smooth_warp((16,), 0)
+    with pytest.raises(ValueError, match="threshold"):
+        cf.foreground_mask(np.ones((8, 8)), threshold=np.nan)
+    with pytest.raises(ValueError, match="name"):
+        cf.load_dipy_image("t2_axial")
+    with pytest.raises(ValueError, match="level_iters"):
+        cf.register_dipy(*[make_rng(0).random((16, 16)) for _ in range(2)], level_iters=())
 
 
 def test_dipy_peer_uses_our_displacement_convention():

@@ -9,15 +9,16 @@ stresses that its pairs A and B do not contain the same grey/white-matter config
 
 from __future__ import annotations
 
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.ndimage import binary_fill_holes, gaussian_filter
 
 from amdo_lab.cat_fluid.registration import warp_image
-from amdo_lab.common import as_finite_array, check_choice, check_positive, make_rng
+from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int, make_rng
 
-__all__ = ["PAIR_NAMES", "DIPY_IMAGES", "RegistrationPair", "load_dipy_image", "smooth_warp", "foreground_mask",
+__all__ = ["PAIR_NAMES", "DIPY_IMAGES", "BLOB_CENTRE_FRACTION", "BLOB_SD", "BLOB_HEIGHT", "RegistrationPair", "load_dipy_image", "smooth_warp", "foreground_mask",
            "make_pair"]
 
 PAIR_NAMES = ("A", "B", "C")
@@ -51,12 +52,21 @@ def smooth_warp(shape: tuple[int, int], rng: np.random.Generator | int, *, ampli
     Gaussian-filtered white noise (standard deviation ``smoothness`` pixels, periodic); with a
     boolean ``support`` it fades out away from the object, so the border stays still.
     """
+    if not isinstance(shape, (tuple, list)) or len(shape) != 2:
+        raise ValueError(f"shape must be a pair (H, W), got {shape!r}")
+    shape = (check_positive_int(shape[0], "shape[0]"), check_positive_int(shape[1], "shape[1]"))
     rng = make_rng(rng)
     amplitude = check_positive(amplitude, "amplitude")
     smoothness = check_positive(smoothness, "smoothness")
+    if support is not None:
+        support = np.asarray(support)
+        if support.dtype != bool or support.shape != shape:
+            raise ValueError(f"support must be a boolean array of shape {shape}, got {support.dtype} {support.shape}")
+        if not support.any():
+            raise ValueError("support must contain at least one pixel, got an all-False mask")
     field = np.stack([gaussian_filter(rng.normal(size=shape), smoothness, mode="wrap") for _ in range(2)])
     if support is not None:
-        field *= gaussian_filter(np.asarray(support, float), smoothness / 2)[None]
+        field *= gaussian_filter(support.astype(float), smoothness / 2)[None]
     return amplitude * field / np.max(np.hypot(field[0], field[1]))
 
 
@@ -64,6 +74,8 @@ def foreground_mask(image: object, threshold: float = 0.05) -> np.ndarray:
     """Boolean mask of the object (the head on a brain slice): grey level above ``threshold``,
     holes filled so dark structures inside (ventricles, sulci) count as foreground."""
     image = as_finite_array(image, "image", shape=(None, None))
+    if isinstance(threshold, bool) or not isinstance(threshold, numbers.Real) or not np.isfinite(threshold):
+        raise ValueError(f"threshold must be a finite real number, got {threshold!r}")
     return binary_fill_holes(image > threshold)
 
 
@@ -78,10 +90,15 @@ class RegistrationPair:
     mask: np.ndarray
 
 
+#: Pair A's extra structure: centre as fractions of (H, W), standard deviation in pixels, height.
+BLOB_CENTRE_FRACTION, BLOB_SD, BLOB_HEIGHT = (0.37, 0.57), 5.0, 0.3
+
+
 def _extra_structure(shape: tuple[int, int]) -> np.ndarray:
-    """A bright blob (sd 5 pixels, +0.3) in the right hemisphere: present in the study only."""
+    """A bright Gaussian blob in the right hemisphere (see ``BLOB_*``): present in the study only."""
     rows, cols = np.indices(shape, dtype=float)
-    return 0.3 * np.exp(-((rows - 0.37 * shape[0]) ** 2 + (cols - 0.57 * shape[1]) ** 2) / (2 * 5.0 ** 2))
+    centre = (BLOB_CENTRE_FRACTION[0] * shape[0], BLOB_CENTRE_FRACTION[1] * shape[1])
+    return BLOB_HEIGHT * np.exp(-((rows - centre[0]) ** 2 + (cols - centre[1]) ** 2) / (2 * BLOB_SD ** 2))
 
 
 def make_pair(name: str, seed: int = 0) -> RegistrationPair:
@@ -93,6 +110,7 @@ def make_pair(name: str, seed: int = 0) -> RegistrationPair:
     other change. ``mask`` is the foreground of the template or of the noise-free warped template.
     """
     check_choice(name, "name", PAIR_NAMES)
+    seed = check_positive_int(seed, "seed", minimum=0)
     image_name, amplitude, blob, noise, drift = _PAIR_SETTINGS[name]
     rng = make_rng(seed + PAIR_NAMES.index(name))
     template = load_dipy_image(image_name)

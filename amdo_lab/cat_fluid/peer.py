@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.cat_fluid.registration import _check_images
-from amdo_lab.common import check_choice
+from amdo_lab.common import check_choice, check_positive_int
 
 __all__ = ["DipyResult", "register_dipy"]
 
@@ -36,6 +36,9 @@ def register_dipy(template: object, study: object, metric: str = "cc",
     """
     template, study = _check_images(template, study)
     check_choice(metric, "metric", ("cc", "ssd"))
+    if not isinstance(level_iters, (tuple, list)) or not level_iters:
+        raise ValueError(f"level_iters must be a non-empty tuple of iteration counts, got {level_iters!r}")
+    level_iters = tuple(check_positive_int(n, "level_iters", minimum=0) for n in level_iters)
     from dipy.align.imwarp import SymmetricDiffeomorphicRegistration  # lazy: dipy is slow to import
     from dipy.align.metrics import CCMetric, SSDMetric
 

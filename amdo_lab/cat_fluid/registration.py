@@ -135,21 +135,29 @@ def grey_level_difference(image: object, reference: object, mask: object | None 
     over all pixels or over a boolean ``mask``."""
     image = _check_image(image, "image")
     reference = as_finite_array(reference, "reference", shape=image.shape)
+    scale = check_positive(scale, "scale")
     diff = scale * np.abs(image - reference)
     if mask is not None:
-        mask = np.asarray(mask)
-        if mask.dtype != bool or mask.shape != image.shape:
-            raise ValueError(f"mask must be a boolean array of shape {image.shape}, got {mask.dtype} {mask.shape}")
-        diff = diff[mask]
+        diff = diff[_check_mask(mask, image.shape)]
     return float(diff.mean()), float(diff.std())
 
 
+def _check_mask(mask: object, shape: tuple[int, ...]) -> np.ndarray:
+    """A boolean mask of ``shape`` with at least one pixel (an empty mean would be NaN)."""
+    mask = np.asarray(mask)
+    if mask.dtype != bool or mask.shape != tuple(shape):
+        raise ValueError(f"mask must be a boolean array of shape {tuple(shape)}, got {mask.dtype} {mask.shape}")
+    if not mask.any():
+        raise ValueError("mask must select at least one pixel, got an all-False mask")
+    return mask
+
+
 def displacement_rmse(displacement: object, truth: object, mask: object | None = None) -> float:
-    """Root-mean-square length of (displacement - truth), pixels, over all pixels or a mask."""
+    """Root-mean-square length of (displacement - truth), pixels, over all pixels or a boolean mask."""
     truth = as_finite_array(truth, "truth", shape=(2, None, None))
     displacement = _check_displacement(displacement, truth.shape[1:])
     squared = np.sum((displacement - truth) ** 2, axis=0)
-    return float(np.sqrt(squared.mean() if mask is None else squared[np.asarray(mask, bool)].mean()))
+    return float(np.sqrt(squared.mean() if mask is None else squared[_check_mask(mask, squared.shape)].mean()))
 
 
 def inverse_consistency_error(forward: object, backward: object, mask: object | None = None) -> float:

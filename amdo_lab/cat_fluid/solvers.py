@@ -22,15 +22,21 @@ from __future__ import annotations
 
 import numpy as np
 
-from amdo_lab.cat_fluid.stencil import NEIGHBOUR_OFFSETS, check_moduli, fluid_stencil
+from amdo_lab.cat_fluid.stencil import NEIGHBOUR_OFFSETS, check_moduli, fluid_stencil, stencil_blocks
 from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
 
-__all__ = ["SOLVERS", "cat_symbol", "finite_difference_symbol", "apply_finite_difference",
+__all__ = ["SOLVERS", "stencil_symbol", "cat_symbol", "finite_difference_symbol", "apply_finite_difference",
            "solve_symbol", "sor_solve", "solve_velocity", "default_omega", "SOR_ORDERINGS"]
 
 SOLVERS = ("cat", "sor", "fft")
 SOR_ORDERINGS = ("four-colour", "red-black", "red-black-together")
 RED_BLACK = (((0, 0), (1, 1)), ((0, 1), (1, 0)))  # colours (row parity, column parity) of each half
+
+
+def _check_shape(shape: object) -> tuple[int, int]:
+    if not isinstance(shape, (tuple, list)) or len(shape) != 2:
+        raise ValueError(f"shape must be a pair (H, W), got {shape!r}")
+    return check_positive_int(shape[0], "shape[0]"), check_positive_int(shape[1], "shape[1]")
 
 
 def _frequencies(shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
@@ -39,25 +45,31 @@ def _frequencies(shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
     return w0, w1
 
 
-def cat_symbol(shape: tuple[int, int], lam: float, mu: float) -> np.ndarray:
-    """Fourier symbol of the CAT stencil: a 2x2 real matrix per frequency, shape (2, 2, H, W//2+1).
+def stencil_symbol(stencil: object, shape: tuple[int, int]) -> np.ndarray:
+    """Fourier symbol of a centro-symmetric (2, 18) stencil (eq. 15 layout), shape (2, 2, H, W//2+1).
 
-    The stencil sums K_p v(x + d_p) over the neighbours d_p, so its symbol is Σ K_p exp(i ω·d_p);
-    the stencil is centro-symmetric, so the symbol is real.
+    The stencil sums K_p v(x + d_p) over the neighbours d_p of :data:`NEIGHBOUR_OFFSETS`, so its
+    symbol is Σ K_p exp(i ω·d_p), one 2x2 matrix per frequency ω of the real FFT of an (H, W) field.
+    When K(d) = K(-d), as for the derived and the printed stencils, the sine parts cancel and the
+    symbol is real.
     """
-    stencil = fluid_stencil(lam, mu)
-    w0, w1 = _frequencies(shape)
-    symbol = np.zeros((2, 2) + np.broadcast_shapes(w0.shape, w1.shape))
-    for p, (d0, d1) in enumerate(NEIGHBOUR_OFFSETS):
-        phase = np.cos(w0 * d0 + w1 * d1)  # the sine parts cancel between d and -d
-        for c in range(2):
-            symbol[:, c] += stencil[:, 2 * p + c, None, None] * phase
-    return symbol
+    blocks = stencil_blocks(stencil)
+    if not np.allclose(blocks, blocks[[NEIGHBOUR_OFFSETS.index((-d0, -d1)) for d0, d1 in NEIGHBOUR_OFFSETS]]):
+        raise ValueError("stencil must be centro-symmetric (K(d) = K(-d)) for a real symbol")
+    w0, w1 = _frequencies(_check_shape(shape))
+    phases = np.stack([np.cos(w0 * d0 + w1 * d1) for d0, d1 in NEIGHBOUR_OFFSETS])  # (9, H, W//2+1)
+    return np.einsum("pij,phw->ijhw", blocks, phases)
+
+
+def cat_symbol(shape: tuple[int, int], lam: float, mu: float) -> np.ndarray:
+    """Fourier symbol of the CAT stencil (eq. 15, :func:`fluid_stencil`), shape (2, 2, H, W//2+1)."""
+    return stencil_symbol(fluid_stencil(lam, mu), shape)
 
 
 def finite_difference_symbol(shape: tuple[int, int], lam: float, mu: float) -> np.ndarray:
     """Symbol of μΔ + (λ+μ)∇∇· with 3-point second differences and central mixed differences (eq. 17)."""
-    w0, w1 = _frequencies(shape)
+    lam, mu = check_moduli(lam, mu)
+    w0, w1 = _frequencies(_check_shape(shape))
     d00 = 2 * np.cos(w0) - 2 + 0 * w1
     d11 = 2 * np.cos(w1) - 2 + 0 * w0
     d01 = -np.sin(w0) * np.sin(w1)  # (i sin ω0)(i sin ω1)
@@ -66,8 +78,11 @@ def finite_difference_symbol(shape: tuple[int, int], lam: float, mu: float) -> n
                      [(lam + mu) * d01, laplace + (lam + mu) * d11]])
 
 
-def apply_finite_difference(velocity: np.ndarray, lam: float, mu: float) -> np.ndarray:
+def apply_finite_difference(velocity: object, lam: float, mu: float) -> np.ndarray:
     """The finite-difference operator of eq. (17) applied to a (2, H, W) field, periodic boundaries."""
+    velocity = as_finite_array(velocity, "velocity", shape=(2, None, None))
+    lam, mu = check_moduli(lam, mu)
+
     def shifted(field: np.ndarray, d0: int, d1: int) -> np.ndarray:
         return np.roll(field, (-d0, -d1), axis=(0, 1))  # value at x + (d0, d1)
 
