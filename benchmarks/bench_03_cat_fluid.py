@@ -17,7 +17,7 @@ from the run's own history); the speed-up is SOR's time over that time. The note
 SOR setting (--reduced-sweeps per solve) is run too, to show how it compares with the full anchor.
 
 Caveat on the speed ratios: our SOR is vectorised numpy (one colour of one component per array
-operation, about 3 ms per sweep on 256x256); a compiled SOR would be several times faster, so the
+operation, about 1.5-2 ms per sweep on 256x256); a compiled SOR would be several times faster, so the
 ratios measure these implementations, not the algorithms alone. Each exact CAT solve is two FFTs. BLAS/FFT threads are limited to one.
 """
 

@@ -164,8 +164,12 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, sweeps: int = 250, om
     pad = [[[np.pad(start[comp, r::2, s::2], 1, mode="wrap") for s in (0, 1)] for r in (0, 1)] for comp in (0, 1)]
     rhs = [[[force[comp, r::2, s::2] for s in (0, 1)] for r in (0, 1)] for comp in (0, 1)]
     n0, n1 = h // 2, w // 2
-    inv_centre = -1.0 / (2 * lam + 6 * mu)
-    own_weight, other_weight, mixed_weight = lam + 2 * mu, mu, 0.25 * (lam + mu)
+    # the SOR update v <- (1 - ω) v + ω (F - off-centre terms) / centre, with its constants folded in
+    # (centre = -(2λ + 6μ)): v <- (1 - ω) v + scaled F + own·Σ own-axis + other·Σ other-axis + mixed·Σ ±diagonals
+    scale = -omega / (2 * lam + 6 * mu)
+    own_weight, other_weight, mixed_weight = -scale * (lam + 2 * mu), -scale * mu, -scale * 0.25 * (lam + mu)
+    rhs = [[[scale * block for block in row] for row in comp] for comp in rhs]
+    work = np.empty((n0, n1)), np.empty((n0, n1))  # scratch arrays, reused by every update
 
     def neighbour(grid: list, r: int, s: int, d0: int, d1: int) -> np.ndarray:
         """View of the values at (2a + r + d0, 2b + s + d1) for all colour-(r, s) pixels."""
@@ -174,16 +178,24 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, sweeps: int = 250, om
         return padded[a0:a0 + n0, a1:a1 + n1]
 
     def relaxed(comp: int, r: int, s: int) -> np.ndarray:
-        """The SOR value of component ``comp`` on colour (r, s), from the current values."""
+        """The SOR value of component ``comp`` on colour (r, s), from the current values (a new array)."""
         v, other = pad[comp], pad[1 - comp]
-        axis0 = neighbour(v, r, s, 1, 0) + neighbour(v, r, s, -1, 0)
-        axis1 = neighbour(v, r, s, 0, 1) + neighbour(v, r, s, 0, -1)
-        own, cross = (axis0, axis1) if comp == 0 else (axis1, axis0)
-        mixed = (neighbour(other, r, s, 1, 1) - neighbour(other, r, s, 1, -1)
-                 - neighbour(other, r, s, -1, 1) + neighbour(other, r, s, -1, -1))
-        off_centre = own_weight * own + other_weight * cross + mixed_weight * mixed
-        centre = v[r][s][1:-1, 1:-1]
-        return centre + omega * ((rhs[comp][r][s] - off_centre) * inv_centre - centre)
+        along, across = ((1, 0), (0, 1)) if comp == 0 else ((0, 1), (1, 0))
+        out = np.multiply(v[r][s][1:-1, 1:-1], 1.0 - omega)
+        total, scratch = work
+        np.add(neighbour(v, r, s, *along), neighbour(v, r, s, -along[0], -along[1]), out=total)
+        total *= own_weight
+        out += total
+        np.add(neighbour(v, r, s, *across), neighbour(v, r, s, -across[0], -across[1]), out=total)
+        total *= other_weight
+        out += total
+        np.subtract(neighbour(other, r, s, 1, 1), neighbour(other, r, s, 1, -1), out=total)
+        np.subtract(neighbour(other, r, s, -1, -1), neighbour(other, r, s, -1, 1), out=scratch)
+        total += scratch
+        total *= mixed_weight
+        out += total
+        out += rhs[comp][r][s]
+        return out
 
     # each step updates a group of (component, colour) blocks from the values before the step
     if ordering == "four-colour":
