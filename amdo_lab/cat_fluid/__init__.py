@@ -1,0 +1,48 @@
+"""Chapter 3: viscous-fluid registration with computational algebraic topology (Bentabet & Ziou, AMDO 2004)."""
+
+from amdo_lab.cat_fluid.complex import CubicalComplex
+from amdo_lab.cat_fluid.data import BLOB_CENTRE_FRACTION, BLOB_SD, PAIR_NAMES, RegistrationPair, foreground_mask, load_dipy_image, make_pair, smooth_warp
+from amdo_lab.cat_fluid.peer import DipyResult, register_dipy
+from amdo_lab.cat_fluid.registration import (
+    HISTORY_COLUMNS,
+    FluidResult,
+    compose_displacements,
+    displacement_jacobian,
+    displacement_rmse,
+    external_force,
+    grey_level_difference,
+    inverse_consistency_error,
+    jacobian_determinant,
+    material_update,
+    register_fluid,
+    warp_image,
+)
+from amdo_lab.cat_fluid.solvers import (
+    SOLVERS,
+    SOR_ORDERINGS,
+    apply_finite_difference,
+    cat_symbol,
+    finite_difference_symbol,
+    solve_velocity,
+    sor_solve,
+    stencil_symbol,
+)
+from amdo_lab.cat_fluid.stencil import (
+    NEIGHBOUR_OFFSETS,
+    apply_stencil,
+    fluid_stencil,
+    printed_stencil,
+    rotate_stencil,
+    stencil_at_origin,
+    stencil_blocks,
+)
+
+__all__ = [
+    "BLOB_CENTRE_FRACTION", "BLOB_SD", "CubicalComplex", "DipyResult", "FluidResult", "HISTORY_COLUMNS", "NEIGHBOUR_OFFSETS", "PAIR_NAMES", "RegistrationPair",
+    "SOLVERS", "SOR_ORDERINGS", "apply_finite_difference", "apply_stencil", "cat_symbol", "compose_displacements",
+    "displacement_jacobian", "displacement_rmse", "external_force", "finite_difference_symbol",
+    "fluid_stencil", "foreground_mask", "grey_level_difference", "inverse_consistency_error",
+    "jacobian_determinant", "load_dipy_image", "make_pair", "material_update", "printed_stencil",
+    "register_dipy", "register_fluid", "rotate_stencil", "smooth_warp", "solve_velocity", "sor_solve", "stencil_at_origin",
+    "stencil_blocks", "stencil_symbol", "warp_image",
+]

@@ -1,0 +1,81 @@
+"""The CAT image model (Sec. 2): a 2-D cubical complex with chains, boundaries and cochains.
+
+q-pixels of an H x W grid of 0-pixels: vertices (0-pixels), horizontal and vertical edges
+(1-pixels, oriented along +axis 1 and +axis 0) and unit squares (2-pixels, oriented
+counter-clockwise in the (axis 1, axis 0) plane). A q-chain is an integer vector over the
+q-pixels; the boundary operator maps q-chains to (q-1)-chains and the coboundary, its
+transpose, maps (q-1)-cochains (values on (q-1)-pixels) to q-cochains.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from amdo_lab.common import check_positive_int
+
+__all__ = ["CubicalComplex"]
+
+
+class CubicalComplex:
+    """Cubical complex of an image support with ``shape = (H, W)`` 0-pixels.
+
+    Numbering: vertex (i, j) -> i*W + j; horizontal edge (i, j)->(i, j+1) -> i*(W-1) + j, then
+    vertical edges (i, j)->(i+1, j) -> H*(W-1) + i*W + j; square with lower corner (i, j) ->
+    i*(W-1) + j.
+    """
+
+    def __init__(self, shape: tuple[int, int]) -> None:
+        if not isinstance(shape, (tuple, list)) or len(shape) != 2:
+            raise ValueError(f"shape must be a pair (H, W), got {shape!r}")
+        self.shape = (check_positive_int(shape[0], "shape[0]", minimum=2),
+                      check_positive_int(shape[1], "shape[1]", minimum=2))
+
+    @property
+    def n_pixels(self) -> tuple[int, int, int]:
+        """Number of 0-, 1- and 2-pixels."""
+        h, w = self.shape
+        return h * w, h * (w - 1) + (h - 1) * w, (h - 1) * (w - 1)
+
+    def edges(self) -> tuple[np.ndarray, np.ndarray]:
+        """Tail and head vertex numbers of every 1-pixel, in edge-number order (∂γ = head - tail)."""
+        h, w = self.shape
+        vertex = np.arange(h * w).reshape(h, w)
+        tails = np.concatenate([vertex[:, :-1].ravel(), vertex[:-1, :].ravel()])
+        heads = np.concatenate([vertex[:, 1:].ravel(), vertex[1:, :].ravel()])
+        return tails, heads
+
+    def boundary(self, q: int) -> sp.csr_matrix:
+        """Boundary operator ∂_q as a sparse (n_{q-1} x n_q) integer matrix, q = 1 or 2.
+
+        Column k is the (q-1)-chain ∂γ_k: head - tail for an edge; for a square, its four edges
+        with sign +1 where the edge runs with the square's counter-clockwise orientation.
+        """
+        h, w = self.shape
+        if q == 1:
+            # an oriented edge's boundary is head - tail
+            tails, heads = self.edges()
+            edges = np.arange(len(tails))
+            rows = np.concatenate([heads, tails])
+            values = np.concatenate([np.ones(len(edges)), -np.ones(len(edges))])
+            return sp.csr_matrix((values, (rows, np.concatenate([edges, edges]))), shape=(h * w, len(edges)), dtype=int)
+        if q == 2:
+            horizontal = np.arange(h * (w - 1)).reshape(h, w - 1)
+            vertical = h * (w - 1) + np.arange((h - 1) * w).reshape(h - 1, w)
+            squares = np.arange((h - 1) * (w - 1))
+            # counter-clockwise: bottom edge +, right edge +, top edge -, left edge -
+            faces = [(horizontal[:-1, :], 1), (vertical[:, 1:], 1), (horizontal[1:, :], -1), (vertical[:, :-1], -1)]
+            rows = np.concatenate([edges.ravel() for edges, _ in faces])
+            values = np.concatenate([np.full(squares.size, sign) for _, sign in faces])
+            cols = np.tile(squares, 4)
+            return sp.csr_matrix((values, (rows, cols)), shape=(self.n_pixels[1], squares.size), dtype=int)
+        raise ValueError(f"q must be 1 or 2 for a 2-D complex, got {q!r}")
+
+    def coboundary(self, q: int) -> sp.csr_matrix:
+        """Coboundary δ_q: q-cochains -> (q+1)-cochains, (δ_q f)(γ) = f(∂γ), so δ_q = ∂_{q+1}ᵀ.
+
+        For q = 0 this is eq. (7): the value on an edge is f(head) - f(tail).
+        """
+        if q not in (0, 1):
+            raise ValueError(f"q must be 0 or 1 for a 2-D complex, got {q!r}")
+        return self.boundary(q + 1).T.tocsr()

@@ -1,0 +1,126 @@
+"""Template/study pairs from images that ship inside dipy, deformed by known smooth warps.
+
+The paper's CT slices are not available. dipy installs a 256x256 T1 coronal brain slice and the
+circle and C shapes of its registration tutorial; nothing is downloaded. Each pair's study is the
+template deformed by a known smooth displacement (so the registration error can be measured
+against ground truth), plus, for pairs A and B, differences that no warp can explain: the paper
+stresses that its pairs A and B do not contain the same grey/white-matter configuration.
+"""
+
+from __future__ import annotations
+
+import numbers
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.ndimage import binary_fill_holes, gaussian_filter
+
+from amdo_lab.cat_fluid.registration import warp_image
+from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int, make_rng
+
+__all__ = ["PAIR_NAMES", "DIPY_IMAGES", "BLOB_CENTRE_FRACTION", "BLOB_SD", "BLOB_HEIGHT", "RegistrationPair", "load_dipy_image", "smooth_warp", "foreground_mask",
+           "make_pair"]
+
+PAIR_NAMES = ("A", "B", "C")
+DIPY_IMAGES = ("t1_coronal_slice", "reg_o", "reg_c")
+
+# Decided from the paper's description of its pairs before any registration was run:
+# (image, warp amplitude in pixels, extra structure in the study, noise sd, intensity drift)
+_PAIR_SETTINGS = {
+    "A": ("t1_coronal_slice", 4.0, True, 0.02, 0.0),   # not equivalent: a structure only in the study
+    "B": ("t1_coronal_slice", 6.0, False, 0.02, 0.1),  # not equivalent: noise and a grey-level drift
+    "C": ("reg_c", 5.0, False, 0.0, 0.0),              # equivalent: the same shape, warped
+}
+
+
+def load_dipy_image(name: str) -> np.ndarray:
+    """One of :data:`DIPY_IMAGES` (each 256x256), as float grey levels scaled to [0, 1].
+
+    They ship inside the dipy package (``dipy.data.get_fnames``); nothing is downloaded.
+    """
+    check_choice(name, "name", DIPY_IMAGES)
+    from dipy.data import get_fnames  # lazy: dipy is slow to import
+
+    image = np.load(get_fnames(name=name)).astype(float)
+    return (image - image.min()) / (image.max() - image.min())
+
+
+def smooth_warp(shape: tuple[int, int], rng: np.random.Generator | int, *, amplitude: float = 4.0,
+                smoothness: float = 20.0, support: np.ndarray | None = None) -> np.ndarray:
+    """A random smooth displacement (2, H, W) in pixels whose largest length is ``amplitude``.
+
+    Gaussian-filtered white noise (standard deviation ``smoothness`` pixels, periodic); with a
+    boolean ``support`` it fades out away from the object, so the border stays still.
+    """
+    if not isinstance(shape, (tuple, list)) or len(shape) != 2:
+        raise ValueError(f"shape must be a pair (H, W), got {shape!r}")
+    shape = (check_positive_int(shape[0], "shape[0]"), check_positive_int(shape[1], "shape[1]"))
+    rng = make_rng(rng)
+    amplitude = check_positive(amplitude, "amplitude")
+    smoothness = check_positive(smoothness, "smoothness")
+    if support is not None:
+        support = np.asarray(support)
+        if support.dtype != bool or support.shape != shape:
+            raise ValueError(f"support must be a boolean array of shape {shape}, got {support.dtype} {support.shape}")
+        if not support.any():
+            raise ValueError("support must contain at least one pixel, got an all-False mask")
+    field = np.stack([gaussian_filter(rng.normal(size=shape), smoothness, mode="wrap") for _ in range(2)])
+    if support is not None:
+        field *= gaussian_filter(support.astype(float), smoothness / 2)[None]
+    return amplitude * field / np.max(np.hypot(field[0], field[1]))
+
+
+def foreground_mask(image: object, threshold: float = 0.05) -> np.ndarray:
+    """Boolean mask of the object (the head on a brain slice): grey level above ``threshold``,
+    holes filled so dark structures inside (ventricles, sulci) count as foreground."""
+    image = as_finite_array(image, "image", shape=(None, None))
+    if isinstance(threshold, bool) or not isinstance(threshold, numbers.Real) or not np.isfinite(threshold):
+        raise ValueError(f"threshold must be a finite real number, got {threshold!r}")
+    return binary_fill_holes(image > threshold)
+
+
+@dataclass(frozen=True)
+class RegistrationPair:
+    """A template, its study and the known displacement: study ≈ template(x - true_displacement(x))."""
+
+    name: str
+    template: np.ndarray
+    study: np.ndarray
+    true_displacement: np.ndarray
+    mask: np.ndarray
+
+
+#: Pair A's extra structure: centre as fractions of (H, W), standard deviation in pixels, height.
+BLOB_CENTRE_FRACTION, BLOB_SD, BLOB_HEIGHT = (0.37, 0.57), 5.0, 0.3
+
+
+def _extra_structure(shape: tuple[int, int]) -> np.ndarray:
+    """A bright Gaussian blob in the right hemisphere (see ``BLOB_*``): present in the study only."""
+    rows, cols = np.indices(shape, dtype=float)
+    centre = (BLOB_CENTRE_FRACTION[0] * shape[0], BLOB_CENTRE_FRACTION[1] * shape[1])
+    return BLOB_HEIGHT * np.exp(-((rows - centre[0]) ** 2 + (cols - centre[1]) ** 2) / (2 * BLOB_SD ** 2))
+
+
+def make_pair(name: str, seed: int = 0) -> RegistrationPair:
+    """Pairs in the spirit of the paper's Fig. 3 (grey levels in [0, 1], 256x256).
+
+    A: the brain slice, a smooth warp of at most 4 pixels; the study also has a bright blob that
+    the template lacks, and noise (sd 0.02). B: the brain slice, a different warp of at most 6
+    pixels, noise and a ±10 % left-right grey-level drift. C: the C shape, a 5-pixel warp, no
+    other change. ``mask`` is the foreground of the template or of the noise-free warped template.
+    """
+    check_choice(name, "name", PAIR_NAMES)
+    seed = check_positive_int(seed, "seed", minimum=0)
+    image_name, amplitude, blob, noise, drift = _PAIR_SETTINGS[name]
+    rng = make_rng(seed + PAIR_NAMES.index(name))
+    template = load_dipy_image(image_name)
+    true = smooth_warp(template.shape, rng, amplitude=amplitude, support=foreground_mask(template))
+    study = warp_image(template, true)
+    mask = foreground_mask(template) | foreground_mask(study)  # before the noise, which would speckle it
+    if blob:
+        study = study + _extra_structure(study.shape)
+    if drift:
+        study = study * (1.0 + drift * np.linspace(-1, 1, study.shape[1])[None, :])
+    if noise:
+        study = study + rng.normal(scale=noise, size=study.shape)
+    return RegistrationPair(name, template, study, true, mask)

@@ -1,0 +1,235 @@
+"""Velocity solvers: operator(v) = F for the CAT stencil and for Christensen's finite differences.
+
+Three ways to get the velocity of one registration iteration:
+
+* ``"cat"``  the CAT stencil of :func:`~amdo_lab.cat_fluid.stencil.fluid_stencil` (eqs. 13-15),
+  solved exactly;
+* ``"fft"``  Christensen's PDE (eq. 17) discretised by central finite differences, solved exactly;
+* ``"sor"``  the same finite-difference system by successive over-relaxation with a four-colour
+  ("checkerboard") ordering, the anchor of the paper's Sec. 5.
+
+Boundary conditions are periodic for all three (the paper does not state its own; brain images
+have a dark border where the force of eq. 18 vanishes). With periodic boundaries a translation-
+invariant stencil is diagonalised by the discrete Fourier transform: one 2x2 matrix per frequency.
+The uniform velocity (zero frequency) is in the operator's null space and is set to zero, which
+needs a zero-mean force (we remove the mean of the force first, in all three solvers).
+
+Sign convention: the operator is L v = μΔv + (λ+μ)∇(∇·v) (negative semi-definite) and the
+system solved is L v = F, as printed in eq. (17) and eq. (15) (negative centre coefficient).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from amdo_lab.cat_fluid.stencil import NEIGHBOUR_OFFSETS, check_moduli, fluid_stencil, stencil_blocks
+from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
+
+__all__ = ["SOLVERS", "stencil_symbol", "cat_symbol", "finite_difference_symbol", "apply_finite_difference",
+           "solve_symbol", "sor_solve", "solve_velocity", "default_omega", "SOR_ORDERINGS"]
+
+SOLVERS = ("cat", "sor", "fft")
+SOR_ORDERINGS = ("four-colour", "red-black", "red-black-together")
+RED_BLACK = (((0, 0), (1, 1)), ((0, 1), (1, 0)))  # colours (row parity, column parity) of each half
+
+
+def _check_shape(shape: object) -> tuple[int, int]:
+    if not isinstance(shape, (tuple, list)) or len(shape) != 2:
+        raise ValueError(f"shape must be a pair (H, W), got {shape!r}")
+    return check_positive_int(shape[0], "shape[0]"), check_positive_int(shape[1], "shape[1]")
+
+
+def _frequencies(shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    w0 = 2 * np.pi * np.fft.fftfreq(shape[0])[:, None]
+    w1 = 2 * np.pi * np.fft.rfftfreq(shape[1])[None, :]
+    return w0, w1
+
+
+def stencil_symbol(stencil: object, shape: tuple[int, int]) -> np.ndarray:
+    """Fourier symbol of a centro-symmetric (2, 18) stencil (eq. 15 layout), shape (2, 2, H, W//2+1).
+
+    The stencil sums K_p v(x + d_p) over the neighbours d_p of :data:`NEIGHBOUR_OFFSETS`, so its
+    symbol is Σ K_p exp(i ω·d_p), one 2x2 matrix per frequency ω of the real FFT of an (H, W) field.
+    When K(d) = K(-d), as for the derived and the printed stencils, the sine parts cancel and the
+    symbol is real.
+    """
+    blocks = stencil_blocks(stencil)
+    if not np.allclose(blocks, blocks[[NEIGHBOUR_OFFSETS.index((-d0, -d1)) for d0, d1 in NEIGHBOUR_OFFSETS]]):
+        raise ValueError("stencil must be centro-symmetric (K(d) = K(-d)) for a real symbol")
+    w0, w1 = _frequencies(_check_shape(shape))
+    phases = np.stack([np.cos(w0 * d0 + w1 * d1) for d0, d1 in NEIGHBOUR_OFFSETS])  # (9, H, W//2+1)
+    return np.einsum("pij,phw->ijhw", blocks, phases)
+
+
+def cat_symbol(shape: tuple[int, int], lam: float, mu: float) -> np.ndarray:
+    """Fourier symbol of the CAT stencil (eq. 15, :func:`fluid_stencil`), shape (2, 2, H, W//2+1)."""
+    return stencil_symbol(fluid_stencil(lam, mu), shape)
+
+
+def finite_difference_symbol(shape: tuple[int, int], lam: float, mu: float) -> np.ndarray:
+    """Symbol of μΔ + (λ+μ)∇∇· with 3-point second differences and central mixed differences (eq. 17)."""
+    lam, mu = check_moduli(lam, mu)
+    w0, w1 = _frequencies(_check_shape(shape))
+    d00 = 2 * np.cos(w0) - 2 + 0 * w1
+    d11 = 2 * np.cos(w1) - 2 + 0 * w0
+    d01 = -np.sin(w0) * np.sin(w1)  # (i sin ω0)(i sin ω1)
+    laplace = mu * (d00 + d11)
+    return np.array([[laplace + (lam + mu) * d00, (lam + mu) * d01],
+                     [(lam + mu) * d01, laplace + (lam + mu) * d11]])
+
+
+def apply_finite_difference(velocity: object, lam: float, mu: float) -> np.ndarray:
+    """The finite-difference operator of eq. (17) applied to a (2, H, W) field, periodic boundaries."""
+    velocity = as_finite_array(velocity, "velocity", shape=(2, None, None))
+    lam, mu = check_moduli(lam, mu)
+
+    def shifted(field: np.ndarray, d0: int, d1: int) -> np.ndarray:
+        return np.roll(field, (-d0, -d1), axis=(0, 1))  # value at x + (d0, d1)
+
+    out = np.empty_like(velocity, dtype=float)
+    for comp in (0, 1):
+        v, w = velocity[comp], velocity[1 - comp]
+        own = shifted(v, 1, 0) + shifted(v, -1, 0) if comp == 0 else shifted(v, 0, 1) + shifted(v, 0, -1)
+        other = shifted(v, 0, 1) + shifted(v, 0, -1) if comp == 0 else shifted(v, 1, 0) + shifted(v, -1, 0)
+        mixed = 0.25 * (shifted(w, 1, 1) - shifted(w, 1, -1) - shifted(w, -1, 1) + shifted(w, -1, -1))
+        out[comp] = (lam + 2 * mu) * own + mu * other + (lam + mu) * mixed - (2 * lam + 6 * mu) * v
+    return out
+
+
+def solve_symbol(symbol: np.ndarray, force: np.ndarray) -> np.ndarray:
+    """Solve symbol(ω) v̂(ω) = F̂(ω) frequency by frequency (2x2 Cramer's rule); v̂(0) = 0."""
+    shape = force.shape[1:]
+    rhs = np.fft.rfft2(force, axes=(1, 2))
+    a, b, c, d = symbol[0, 0], symbol[0, 1], symbol[1, 0], symbol[1, 1]
+    det = a * d - b * c
+    det = np.where(det == 0, 1.0, det)  # only the zero frequency, whose solution is set to 0 below
+    v0 = (d * rhs[0] - b * rhs[1]) / det
+    v1 = (a * rhs[1] - c * rhs[0]) / det
+    v0[0, 0] = v1[0, 0] = 0.0
+    return np.fft.irfft2(np.stack([v0, v1]), s=shape, axes=(1, 2))
+
+
+def _refresh_halo(padded: np.ndarray) -> None:
+    """Copy the periodic neighbours into the one-pixel frame of a padded sub-lattice."""
+    padded[0, :], padded[-1, :] = padded[-2, :], padded[1, :]
+    padded[:, 0], padded[:, -1] = padded[:, -2], padded[:, 1]
+
+
+def default_omega(shape: tuple[int, int]) -> float:
+    """Textbook SOR factor 2 / (1 + sin(π / N)) of the N x N Laplacian, N the longer side."""
+    return 2.0 / (1.0 + np.sin(np.pi / max(shape)))
+
+
+def sor_solve(force: np.ndarray, lam: float, mu: float, *, sweeps: int = 250, omega: float | None = None,
+              initial: np.ndarray | None = None, ordering: str = "four-colour") -> np.ndarray:
+    """Successive over-relaxation for the finite-difference eq. (17), periodic, four-colour ordering.
+
+    Pixels are coloured by (row parity, column parity). The 9-point stencil of eq. (17) (5-point
+    second differences plus the diagonal mixed derivative) couples a pixel only to pixels of the
+    three *other* colours, so updating one colour at a time, all its pixels at once, is an exact
+    Gauss-Seidel ordering; SOR then converges for 0 < ω < 2 because -L is symmetric positive
+    semi-definite (Ostrowski-Reich). The paper's red-black checkerboard puts the mixed term's
+    diagonal neighbours in the *same* colour: updating both velocity components of a colour at
+    once ("red-black-together") is then a Jacobi step on the mixed coupling and diverges at high
+    ω; updating them one after the other ("red-black") is again a Gauss-Seidel ordering. Each
+    colour is stored as an (H/2, W/2) sub-lattice with a periodic one-pixel frame, so H and W must
+    be even.
+
+    Parameters
+    ----------
+    force : (2, H, W) right-hand side F of L v = F (its mean is removed).
+    lam, mu : Lamé constants λ ≥ 0, μ > 0.
+    sweeps : number of full sweeps (the paper: 250 per registration iteration).
+    omega : relaxation factor in (0, 2); default :func:`default_omega`.
+    initial : (2, H, W) starting velocity (warm start), zero by default.
+    ordering : "four-colour" (default), "red-black" or "red-black-together" (see above).
+
+    Returns
+    -------
+    (2, H, W) velocity with zero mean.
+    """
+    force = as_finite_array(force, "force", ndim=3, shape=(2, None, None))
+    lam, mu = check_moduli(lam, mu, require_positive_mu=True)
+    sweeps = check_positive_int(sweeps, "sweeps", minimum=0)
+    check_choice(ordering, "ordering", SOR_ORDERINGS)
+    h, w = force.shape[1:]
+    omega = default_omega((h, w)) if omega is None else check_positive(omega, "omega")
+    if omega >= 2:
+        raise ValueError(f"omega must be in (0, 2) for SOR to converge, got {omega}")
+    if h % 2 or w % 2:
+        raise ValueError(f"SOR's four-colour ordering needs even image sizes, got {(h, w)}")
+    start = np.zeros_like(force) if initial is None else as_finite_array(initial, "initial", shape=force.shape)
+    force = force - force.mean(axis=(1, 2), keepdims=True)
+    # pad[comp][r][s]: colour-(r, s) pixels (2a + r, 2b + s) of component comp, with a periodic frame
+    pad = [[[np.pad(start[comp, r::2, s::2], 1, mode="wrap") for s in (0, 1)] for r in (0, 1)] for comp in (0, 1)]
+    rhs = [[[force[comp, r::2, s::2] for s in (0, 1)] for r in (0, 1)] for comp in (0, 1)]
+    n0, n1 = h // 2, w // 2
+    # the SOR update v <- (1 - ω) v + ω (F - off-centre terms) / centre, with its constants folded in
+    # (centre = -(2λ + 6μ)): v <- (1 - ω) v + scaled F + own·Σ own-axis + other·Σ other-axis + mixed·Σ ±diagonals
+    scale = -omega / (2 * lam + 6 * mu)
+    own_weight, other_weight, mixed_weight = -scale * (lam + 2 * mu), -scale * mu, -scale * 0.25 * (lam + mu)
+    rhs = [[[scale * block for block in row] for row in comp] for comp in rhs]
+    work = np.empty((n0, n1)), np.empty((n0, n1))  # scratch arrays, reused by every update
+
+    def neighbour(grid: list, r: int, s: int, d0: int, d1: int) -> np.ndarray:
+        """View of the values at (2a + r + d0, 2b + s + d1) for all colour-(r, s) pixels."""
+        padded = grid[(r + d0) % 2][(s + d1) % 2]
+        a0, a1 = 1 + (r + d0) // 2, 1 + (s + d1) // 2
+        return padded[a0:a0 + n0, a1:a1 + n1]
+
+    def relaxed(comp: int, r: int, s: int) -> np.ndarray:
+        """The SOR value of component ``comp`` on colour (r, s), from the current values (a new array)."""
+        v, other = pad[comp], pad[1 - comp]
+        along, across = ((1, 0), (0, 1)) if comp == 0 else ((0, 1), (1, 0))
+        out = np.multiply(v[r][s][1:-1, 1:-1], 1.0 - omega)
+        total, scratch = work
+        np.add(neighbour(v, r, s, *along), neighbour(v, r, s, -along[0], -along[1]), out=total)
+        total *= own_weight
+        out += total
+        np.add(neighbour(v, r, s, *across), neighbour(v, r, s, -across[0], -across[1]), out=total)
+        total *= other_weight
+        out += total
+        np.subtract(neighbour(other, r, s, 1, 1), neighbour(other, r, s, 1, -1), out=total)
+        np.subtract(neighbour(other, r, s, -1, -1), neighbour(other, r, s, -1, 1), out=scratch)
+        total += scratch
+        total *= mixed_weight
+        out += total
+        out += rhs[comp][r][s]
+        return out
+
+    # each step updates a group of (component, colour) blocks from the values before the step
+    if ordering == "four-colour":
+        steps = [[(comp, r, s)] for r in (0, 1) for s in (0, 1) for comp in (0, 1)]
+    elif ordering == "red-black":
+        steps = [[(comp, r, s) for r, s in colours] for colours in RED_BLACK for comp in (0, 1)]
+    else:  # "red-black-together": both components of a colour at once
+        steps = [[(comp, r, s) for r, s in colours for comp in (0, 1)] for colours in RED_BLACK]
+    for _ in range(sweeps):
+        for step in steps:
+            new_values = [relaxed(comp, r, s) for comp, r, s in step]
+            for (comp, r, s), values in zip(step, new_values):
+                pad[comp][r][s][1:-1, 1:-1] = values
+                _refresh_halo(pad[comp][r][s])
+    velocity = np.empty_like(force)
+    for comp in (0, 1):
+        for r in (0, 1):
+            for s in (0, 1):
+                velocity[comp, r::2, s::2] = pad[comp][r][s][1:-1, 1:-1]
+    return velocity - velocity.mean(axis=(1, 2), keepdims=True)
+
+
+def solve_velocity(force: object, method: str = "cat", lam: float = 1.0, mu: float = 5.0,
+                   **sor_options: object) -> np.ndarray:
+    """Velocity v with L v = F (mean of F removed) by one of :data:`SOLVERS` (see module docstring).
+
+    ``sor_options`` (``sweeps``, ``omega``, ``initial``) are passed to :func:`sor_solve`.
+    """
+    force = as_finite_array(force, "force", ndim=3, shape=(2, None, None))
+    check_choice(method, "method", SOLVERS)
+    lam, mu = check_moduli(lam, mu, require_positive_mu=True)
+    if method == "sor":
+        return sor_solve(force, lam, mu, **sor_options)
+    if sor_options:
+        raise ValueError(f"SOR options {sorted(sor_options)} only apply to method='sor'")
+    symbol = cat_symbol if method == "cat" else finite_difference_symbol
+    return solve_symbol(symbol(force.shape[1:], lam, mu), force - force.mean(axis=(1, 2), keepdims=True))

@@ -1,0 +1,165 @@
+"""The velocity-force stencil of the CAT viscous fluid (Sec. 4, eqs. 8-15).
+
+Geometry (Fig. 2a). The primal complex K^p has its 0-pixels on the pixel centres; the dual
+complex K^s has its 2-pixels on the pixels. The dual 2-pixel γ_F of the pixel at the origin is
+the square [-1/2, 1/2]^2; it overlaps one quadrant of each of the four primal 2-pixels that have
+the origin as a corner. Inside a primal 2-pixel the velocity is the bilinear interpolation of its
+four corner values (eq. 13), its gradient d = ∇v gives the stress of the constitutive law
+(eq. 12, pressure left out: σ = λ tr(d) I + μ (d + dᵀ)), and the force on γ_F is the stress flux
+through the four 1-faces of γ_F, each 1-face split into the two halves lying in different primal
+2-pixels (eqs. 9-11 and the four S_1 integrals, eq. 14). The result is linear in the nine corner
+velocities around the pixel: two rows (force components) of 9 x 2 = 18 coefficients (eq. 15).
+
+Coordinates: x1 along array axis 0 (rows), x2 along array axis 1 (columns), unit spacing;
+velocity component 1 (index 0) is along x1. The 18 columns follow :data:`NEIGHBOUR_OFFSETS`,
+each neighbour contributing (v_1, v_2).
+
+Sign convention: the stencil is the *internal* force ∮ σ n dl on γ_F, which approximates
+μΔv + (λ+μ)∇(∇·v), the operator on the left of eq. (17); its centre coefficient is negative, as
+in the paper's printed k_{1,1}. Registration solves stencil · v = F^ext as eq. (17) is printed.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from amdo_lab.common import as_finite_array, check_positive
+
+__all__ = ["NEIGHBOUR_OFFSETS", "check_moduli", "fluid_stencil", "printed_stencil", "apply_stencil",
+           "stencil_at_origin", "rotate_stencil", "stencil_blocks"]
+
+#: (axis-0, axis-1) offsets of the 9 neighbours behind the 18 columns (two components each):
+#: our reading of the paper's "00, 01, ..., -1-1" sequence in eq. (15). The printed k values fix
+#: its shape: columns (3, 9) and (5, 11) hold opposite edge neighbours, columns 7, 13, 15 and 17
+#: the diagonals, and the sequence starts at 00, 01 and ends at -1-1.
+NEIGHBOUR_OFFSETS: tuple[tuple[int, int], ...] = (
+    (0, 0), (0, 1), (1, 0), (1, 1), (0, -1), (-1, 0), (-1, 1), (1, -1), (-1, -1))
+
+# the integrand along each half 1-face is linear, so the midpoint rule is exact
+_HALF_FACES = (  # (point on the half-face, outward normal, length)
+    *[((0.5, m), (1.0, 0.0), 0.5) for m in (-0.25, 0.25)],
+    *[((-0.5, m), (-1.0, 0.0), 0.5) for m in (-0.25, 0.25)],
+    *[((m, 0.5), (0.0, 1.0), 0.5) for m in (-0.25, 0.25)],
+    *[((m, -0.5), (0.0, -1.0), 0.5) for m in (-0.25, 0.25)],
+)
+
+
+def check_moduli(lam: object, mu: object, *, require_positive_mu: bool = False) -> tuple[float, float]:
+    """Validate the Lamé constants: λ ≥ 0 and μ ≥ 0 (μ > 0 when a velocity is solved for)."""
+    return (check_positive(lam, "lam", allow_zero=True),
+            check_positive(mu, "mu", allow_zero=not require_positive_mu))
+
+
+def _bilinear_gradient(corner_velocity: Callable[[int, int], np.ndarray], point: np.ndarray) -> np.ndarray:
+    """d[i, j] = ∂v_i/∂x_j of the bilinear interpolation (eq. 13) at ``point``, inside the primal
+    2-pixel whose lower corner is floor(point)."""
+    a, b = int(np.floor(point[0])), int(np.floor(point[1]))
+    s, t = point[0] - a, point[1] - b  # local coordinates in [0, 1]^2
+    v00, v10, v01, v11 = (corner_velocity(a + da, b + db) for da, db in ((0, 0), (1, 0), (0, 1), (1, 1)))
+    d_dx1 = (1 - t) * (v10 - v00) + t * (v11 - v01)
+    d_dx2 = (1 - s) * (v01 - v00) + s * (v11 - v10)
+    return np.column_stack([d_dx1, d_dx2])
+
+
+def _stress(grad: np.ndarray, lam: float, mu: float) -> np.ndarray:
+    """Eq. (12) without the pressure term: σ = λ tr((d + dᵀ)/2) I + μ (d + dᵀ)."""
+    return lam * np.trace(grad) * np.eye(2) + mu * (grad + grad.T)
+
+
+def _flux(corner_velocity: Callable[[int, int], np.ndarray], lam: float, mu: float) -> np.ndarray:
+    """∮ σ n dl over ∂γ_F, the sum of the four S_1 of eq. (11), for given corner velocities."""
+    force = np.zeros(2)
+    for point, normal, length in _HALF_FACES:
+        grad = _bilinear_gradient(corner_velocity, np.array(point))
+        force += length * _stress(grad, lam, mu) @ np.array(normal)
+    return force
+
+
+def fluid_stencil(lam: float = 1.0, mu: float = 5.0) -> np.ndarray:
+    """The (2, 18) CAT matrix K of eq. (15), derived by carrying out the integrals of eq. (14).
+
+    Column ``2 p + c`` multiplies velocity component ``c`` at the neighbour
+    ``NEIGHBOUR_OFFSETS[p]``; row ``i`` is force component ``i``. The integrals are exact
+    (midpoint rule on integrands that are linear along each half 1-face), taken one unit corner
+    velocity at a time. ``K · v`` approximates μΔv + (λ+μ)∇(∇·v) (see the module docstring).
+
+    Parameters
+    ----------
+    lam, mu : Lamé constants λ ≥ 0 and μ ≥ 0 (the paper: λ = 1, μ = 5).
+    """
+    lam, mu = check_moduli(lam, mu)
+    stencil = np.zeros((2, 18))
+    for p, offset in enumerate(NEIGHBOUR_OFFSETS):
+        for c in range(2):
+            unit = np.eye(2)[c]
+
+            def corner_velocity(i: int, j: int, offset: tuple[int, int] = offset, unit: np.ndarray = unit) -> np.ndarray:
+                return unit if (i, j) == offset else np.zeros(2)
+
+            stencil[:, 2 * p + c] = _flux(corner_velocity, lam, mu)
+    return stencil
+
+
+def printed_stencil(lam: float = 1.0, mu: float = 5.0) -> np.ndarray:
+    """The k_{i,j} printed under eq. (15), taken literally, in the order of :data:`NEIGHBOUR_OFFSETS`.
+
+    k11 = k22 = -9/2 μ + 3/2 λ; k13 = k19 = k24 = k2,10 = (μ - λ)/4; k15 = k1,11 = k26 = k2,12 =
+    5/4 μ - 3/4 λ; k17 = k1,13 = k1,15 = k1,17 = k28 = k2,14 = k2,16 = k2,18 = 3/8 μ + 1/8 λ;
+    k18 = k1,14 = k1,16 = k1,18 = k27 = k2,13 = k2,15 = k2,17 = (μ + λ)/4; the rest 0.
+    """
+    lam, mu = check_moduli(lam, mu)
+    k = np.zeros((2, 18))
+    centre, edge_a, edge_b = -4.5 * mu + 1.5 * lam, 0.25 * (mu - lam), 1.25 * mu - 0.75 * lam
+    diag_same, diag_cross = 0.375 * mu + 0.125 * lam, 0.25 * (mu + lam)
+    for row in range(2):  # 1-based column j of row i is index j - 1
+        k[row, row] = centre
+        for j in (3, 9):
+            k[row, j - 1 + row] = edge_a
+        for j in (5, 11):
+            k[row, j - 1 + row] = edge_b
+        for j in (7, 13, 15, 17):
+            k[row, j - 1 + row] = diag_same
+            k[row, j - row] = diag_cross
+    return k
+
+
+def stencil_blocks(stencil: object) -> np.ndarray:
+    """The stencil as nine 2x2 blocks, shape (9, 2, 2): block p maps v(x + d_p) to the force."""
+    stencil = as_finite_array(stencil, "stencil", shape=(2, 18))
+    return stencil.reshape(2, 9, 2).transpose(1, 0, 2)
+
+
+def apply_stencil(stencil: object, velocity: object) -> np.ndarray:
+    """Force Σ_p K_p v(x + d_p) of a (2, 18) stencil on a (2, H, W) velocity, periodic boundaries."""
+    blocks = stencil_blocks(stencil)
+    velocity = as_finite_array(velocity, "velocity", shape=(2, None, None))
+    out = np.zeros_like(velocity)
+    for block, (d0, d1) in zip(blocks, NEIGHBOUR_OFFSETS):
+        shifted = np.roll(velocity, (-d0, -d1), axis=(1, 2))  # value at x + offset
+        out += np.einsum("ij,jhw->ihw", block, shifted)
+    return out
+
+
+def stencil_at_origin(stencil: object, velocity: Callable[[float, float], tuple[float, float]]) -> np.ndarray:
+    """Force at the origin for a velocity field given as a function of (x1, x2), e.g. a polynomial."""
+    blocks = stencil_blocks(stencil)
+    return sum(block @ np.asarray(velocity(float(d0), float(d1)), float)
+               for block, (d0, d1) in zip(blocks, NEIGHBOUR_OFFSETS))
+
+
+def rotate_stencil(stencil: object) -> np.ndarray:
+    """The stencil of the operator rotated by 90°: blocks K'(d) = R K(Rᵀ d) Rᵀ, R = [[0, -1], [1, 0]].
+
+    An isotropic operator (as μΔ + (λ+μ)∇∇· is) is unchanged, which ties the v_2 row to the
+    v_1 row: k_2 at offset R d equals (-k_{1, v2}, k_{1, v1}) at offset d.
+    """
+    blocks = stencil_blocks(stencil)
+    rotation = np.array([[0.0, -1.0], [1.0, 0.0]])
+    index = {offset: p for p, offset in enumerate(NEIGHBOUR_OFFSETS)}
+    rotated = np.empty_like(blocks)
+    for p, d in enumerate(NEIGHBOUR_OFFSETS):
+        source = tuple(int(x) for x in rotation.T @ np.array(d))
+        rotated[p] = rotation @ blocks[index[source]] @ rotation.T
+    return rotated.transpose(1, 0, 2).reshape(2, 18)

@@ -1,0 +1,486 @@
+"""Tests of amdo_lab.cat_fluid (Bentabet & Ziou, AMDO 2004): complex, stencil, solvers, registration."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+from amdo_lab import cat_fluid as cf
+from amdo_lab.cat_fluid.registration import sample_bilinear
+from amdo_lab.common import make_rng
+
+LAM, MU = 1.0, 5.0
+
+
+# --- the CAT image model (Sec. 2) -------------------------------------------------------------
+
+@pytest.mark.parametrize("shape", [(2, 2), (3, 5), (6, 4)])
+def test_boundary_of_boundary_and_coboundary_of_coboundary_vanish(shape):
+    complex_ = cf.CubicalComplex(shape)
+    assert (complex_.boundary(1) @ complex_.boundary(2)).count_nonzero() == 0
+    assert (complex_.coboundary(1) @ complex_.coboundary(0)).count_nonzero() == 0
+    n0, n1, n2 = complex_.n_pixels
+    assert complex_.boundary(1).shape == (n0, n1) and complex_.boundary(2).shape == (n1, n2)
+    assert n0 - n1 + n2 == 1  # Euler characteristic of a filled rectangle
+
+
+def test_each_square_has_four_edges_and_each_edge_two_ends():
+    complex_ = cf.CubicalComplex((4, 5))
+    assert np.all(np.abs(complex_.boundary(2)).sum(axis=0) == 4)
+    assert np.all(complex_.boundary(1).sum(axis=0) == 0)  # head - tail
+    assert np.all(np.abs(complex_.boundary(1)).sum(axis=0) == 2)
+
+
+def test_coboundary_of_a_zero_cochain_is_the_difference_of_end_values():
+    """Eq. (7): D_1(γ) = Ψ_0(x_*) - Ψ_0(x_#) on every 1-face."""
+    complex_ = cf.CubicalComplex((5, 7))
+    values = make_rng(0).normal(size=complex_.n_pixels[0])
+    tails, heads = complex_.edges()
+    np.testing.assert_allclose(complex_.coboundary(0) @ values, values[heads] - values[tails])
+    # on the image layout: horizontal edges carry the difference along axis 1
+    grid = values.reshape(5, 7)
+    np.testing.assert_allclose((complex_.coboundary(0) @ values)[:5 * 6], np.diff(grid, axis=1).ravel())
+
+
+def test_coboundary_of_a_one_cochain_is_its_circulation():
+    complex_ = cf.CubicalComplex((3, 3))
+    tails, heads = complex_.edges()
+    coords = np.stack(np.unravel_index(np.arange(9), (3, 3)), axis=1).astype(float)
+    # the 1-cochain of the rotation field (-x2, x1) integrated along each edge
+    mid = 0.5 * (coords[tails] + coords[heads])
+    step = coords[heads] - coords[tails]
+    circulation = mid[:, 0] * step[:, 1] - mid[:, 1] * step[:, 0]
+    # the square's orientation is counter-clockwise in the (axis 1, axis 0) plane: curl -2 per unit area
+    np.testing.assert_allclose(complex_.coboundary(1) @ circulation, -2.0)
+
+
+def test_complex_rejects_bad_shapes():
+    with pytest.raises(ValueError, match="shape"):
+        cf.CubicalComplex((4,))
+    with pytest.raises(ValueError, match="shape"):
+        cf.CubicalComplex((1, 4))
+    with pytest.raises(ValueError, match="q must be"):
+        cf.CubicalComplex((3, 3)).boundary(3)
+
+
+# --- the stencil (Sec. 4, eqs. 8-15) ---------------------------------------------------------
+
+def continuous_operator(kind: str, lam: float, mu: float) -> np.ndarray:
+    """μΔv + (λ+μ)∇(∇·v) of the quadratic fields below, worked out by hand."""
+    return {"x1^2": np.array([2 * lam + 4 * mu, 0.0]),  # μ·2 + (λ+μ)·2 on component 1
+            "x2^2": np.array([2 * mu, 0.0]),
+            "x1x2": np.array([0.0, lam + mu]),        # ∇·v = x2, so (λ+μ)∇x2
+            "v2=x2^2": np.array([0.0, 2 * lam + 4 * mu]),
+            "v2=x1^2": np.array([0.0, 2 * mu]),
+            "v2=x1x2": np.array([lam + mu, 0.0])}[kind]
+
+
+QUADRATIC_FIELDS = {
+    "x1^2": lambda x1, x2: (x1 ** 2, 0.0), "x2^2": lambda x1, x2: (x2 ** 2, 0.0),
+    "x1x2": lambda x1, x2: (x1 * x2, 0.0), "v2=x2^2": lambda x1, x2: (0.0, x2 ** 2),
+    "v2=x1^2": lambda x1, x2: (0.0, x1 ** 2), "v2=x1x2": lambda x1, x2: (0.0, x1 * x2),
+}
+LOW_ORDER_FIELDS = [lambda x1, x2: (1.0, 0.0), lambda x1, x2: (0.0, 1.0), lambda x1, x2: (x1, 0.0),
+                    lambda x1, x2: (x2, 0.0), lambda x1, x2: (0.0, x1), lambda x1, x2: (0.0, x2),
+                    lambda x1, x2: (3 - 2 * x1 + x2, 1 + x1 - 4 * x2)]
+
+
+@pytest.mark.parametrize("lam, mu", [(1.0, 5.0), (0.0, 1.0), (2.5, 0.5)])
+def test_derived_stencil_gives_zero_force_on_constant_and_linear_fields(lam, mu):
+    stencil = cf.fluid_stencil(lam, mu)
+    for field in LOW_ORDER_FIELDS:
+        np.testing.assert_allclose(cf.stencil_at_origin(stencil, field), 0.0, atol=1e-12)
+
+
+@pytest.mark.parametrize("lam, mu", [(1.0, 5.0), (0.0, 1.0), (2.5, 0.5)])
+@pytest.mark.parametrize("kind", list(QUADRATIC_FIELDS))
+def test_derived_stencil_reproduces_the_continuous_operator_on_quadratics(kind, lam, mu):
+    """Sign convention: stencil · v ≈ +[μΔv + (λ+μ)∇(∇·v)] (internal force, negative centre)."""
+    got = cf.stencil_at_origin(cf.fluid_stencil(lam, mu), QUADRATIC_FIELDS[kind])
+    np.testing.assert_allclose(got, continuous_operator(kind, lam, mu), atol=1e-12)
+
+
+def test_derived_stencil_is_invariant_under_a_quarter_turn():
+    """The v_2 row is the 90° rotation of the v_1 row."""
+    stencil = cf.fluid_stencil(LAM, MU)
+    np.testing.assert_allclose(cf.rotate_stencil(stencil), stencil, atol=1e-12)
+
+
+def test_derived_stencil_exact_values():
+    """The integrals in closed form (our derivation, in the order of NEIGHBOUR_OFFSETS)."""
+    lam, mu = 2.0, 3.0
+    blocks = cf.stencil_blocks(cf.fluid_stencil(lam, mu))
+    index = {offset: p for p, offset in enumerate(cf.NEIGHBOUR_OFFSETS)}
+    np.testing.assert_allclose(blocks[index[(0, 0)]], np.diag([-4.5 * mu - 1.5 * lam] * 2))
+    np.testing.assert_allclose(blocks[index[(1, 0)]], np.diag([1.25 * mu + 0.75 * lam, 0.25 * (mu - lam)]))
+    np.testing.assert_allclose(blocks[index[(0, -1)]], np.diag([0.25 * (mu - lam), 1.25 * mu + 0.75 * lam]))
+    diagonal = 0.375 * mu + 0.125 * lam
+    for offset, sign in [((1, 1), 1), ((-1, -1), 1), ((1, -1), -1), ((-1, 1), -1)]:
+        np.testing.assert_allclose(blocks[index[offset]], [[diagonal, sign * 0.25 * (mu + lam)],
+                                                           [sign * 0.25 * (mu + lam), diagonal]])
+
+
+def test_printed_stencil_matches_derivation_up_to_three_sign_slips_and_a_row():
+    derived, printed = cf.fluid_stencil(LAM, MU), cf.printed_stencil(LAM, MU)
+    # the μ parts of row 1 agree except the signs of two cross-diagonal coefficients
+    same_mu = cf.fluid_stencil(0.0, 1.0), cf.printed_stencil(0.0, 1.0)
+    differs = ~np.isclose(same_mu[0][0], same_mu[1][0])
+    assert [2 * p + 1 for p in range(9) if differs[2 * p + 1]] == [13, 15]  # k_{1,14}, k_{1,16}
+    np.testing.assert_allclose(np.abs(same_mu[0][0]), np.abs(same_mu[1][0]))
+    # the λ parts of the centre and the own-axis edges have the opposite sign
+    lam_derived = cf.fluid_stencil(1.0, 0.0)[0]
+    lam_printed = cf.printed_stencil(1.0, 0.0)[0]
+    np.testing.assert_allclose(lam_printed[[0, 4, 10]], -lam_derived[[0, 4, 10]])
+    assert not np.allclose(derived, printed)
+
+
+def test_printed_stencil_fails_the_consistency_checks():
+    printed = cf.printed_stencil(LAM, MU)
+    constant_v2 = cf.stencil_at_origin(printed, lambda x1, x2: (0.0, 1.0))
+    assert abs(constant_v2[0]) > 1.0  # a uniform flow would feel a force
+    quadratic = cf.stencil_at_origin(printed, QUADRATIC_FIELDS["x1^2"])
+    assert not np.allclose(quadratic, continuous_operator("x1^2", LAM, MU))
+    assert not np.allclose(cf.rotate_stencil(printed), printed)
+
+
+@pytest.mark.parametrize("lam, mu, message", [(-1.0, 5.0, "lam"), (1.0, -5.0, "mu"), (np.nan, 5.0, "lam"),
+                                               (1.0, np.inf, "mu")])
+def test_stencil_rejects_negative_or_non_finite_moduli(lam, mu, message):
+    with pytest.raises(ValueError, match=message):
+        cf.fluid_stencil(lam, mu)
+    with pytest.raises(ValueError, match=message):
+        cf.finite_difference_symbol((8, 8), lam, mu)
+
+
+def test_stencil_symbol_of_the_printed_stencil_and_its_checks():
+    """At ω = 0 the symbol is the sum of the nine blocks: the force on a uniform velocity."""
+    printed = cf.printed_stencil(LAM, MU)
+    symbol = cf.stencil_symbol(printed, (8, 8))
+    np.testing.assert_allclose(symbol[:, :, 0, 0], cf.stencil_blocks(printed).sum(axis=0))
+    np.testing.assert_allclose(cf.stencil_symbol(cf.fluid_stencil(LAM, MU), (8, 8))[:, :, 0, 0], 0.0, atol=1e-12)
+    lopsided = cf.fluid_stencil(LAM, MU)
+    lopsided[0, 2] += 1.0  # neighbour (0, 1) only: no longer centro-symmetric
+    with pytest.raises(ValueError, match="centro-symmetric"):
+        cf.stencil_symbol(lopsided, (8, 8))
+    with pytest.raises(ValueError, match="shape"):
+        cf.stencil_symbol(printed, (8,))
+    with pytest.raises(ValueError, match="stencil"):
+        cf.stencil_symbol(printed[:, :9], (8, 8))
+
+
+def test_periodic_stencil_conserves_momentum_and_matches_its_symbol():
+    """Σ_x force = 0 (the dual cells' fluxes cancel), and apply_stencil inverts the symbol solve."""
+    rng = make_rng(1)
+    velocity = rng.normal(size=(2, 12, 10))
+    force = cf.apply_stencil(cf.fluid_stencil(LAM, MU), velocity)
+    np.testing.assert_allclose(force.sum(axis=(1, 2)), 0.0, atol=1e-10)
+    solved = cf.solve_velocity(force, "cat", LAM, MU)
+    np.testing.assert_allclose(solved, velocity - velocity.mean(axis=(1, 2), keepdims=True), atol=1e-10)
+
+
+@pytest.mark.parametrize("symbol", [cf.cat_symbol, cf.finite_difference_symbol])
+def test_both_discretisations_approach_the_continuous_symbol_at_low_frequency(symbol):
+    n = 256
+    got = symbol((n, n), LAM, MU)[:, :, 1, 2]  # ω = 2π (1, 2) / n
+    omega = 2 * np.pi * np.array([1, 2]) / n
+    expected = -(MU * omega @ omega * np.eye(2) + (LAM + MU) * np.outer(omega, omega))
+    np.testing.assert_allclose(got, expected, rtol=2e-3)
+
+
+def test_cat_operator_is_negative_definite_except_the_uniform_mode():
+    symbol = cf.cat_symbol((16, 16), LAM, MU)
+    eigen = np.linalg.eigvalsh(np.moveaxis(symbol, (0, 1), (-2, -1)))
+    assert np.all(eigen.reshape(-1, 2)[1:] < -1e-6) and np.allclose(eigen[0, 0], 0.0)
+
+
+# --- solvers -----------------------------------------------------------------------------
+
+def test_fft_solve_inverts_the_finite_difference_operator():
+    force = make_rng(2).normal(size=(2, 16, 20))
+    velocity = cf.solve_velocity(force, "fft", LAM, MU)
+    np.testing.assert_allclose(cf.apply_finite_difference(velocity, LAM, MU),
+                               force - force.mean(axis=(1, 2), keepdims=True), atol=1e-10)
+
+
+@pytest.mark.parametrize("omega", [1.6, 1.9])
+def test_sor_converges_to_the_fft_solution(omega):
+    force = make_rng(3).normal(size=(2, 24, 32))
+    exact = cf.solve_velocity(force, "fft", LAM, MU)
+    sor = cf.sor_solve(force, LAM, MU, sweeps=800, omega=omega)
+    np.testing.assert_allclose(sor, exact, atol=1e-6 * np.abs(exact).max())
+
+
+def test_red_black_with_both_components_at_once_diverges_at_high_omega():
+    """The paper's checkerboard: fine component by component, divergent when both components of a
+    colour are relaxed together (the mixed term couples same-colour diagonal neighbours)."""
+    force = make_rng(7).normal(size=(2, 16, 16))
+    exact = cf.solve_velocity(force, "fft", LAM, MU)
+
+    def error(ordering, omega):
+        return np.linalg.norm(cf.sor_solve(force, LAM, MU, sweeps=200, omega=omega, ordering=ordering) - exact)
+
+    scale = np.linalg.norm(exact)
+    assert error("four-colour", 1.9) < 1e-8 * scale and error("red-black", 1.9) < 1e-8 * scale
+    assert error("red-black-together", 1.5) < 1e-3 * scale
+    assert error("red-black-together", 1.9) > 1e3 * scale
+
+
+def test_sor_error_shrinks_with_sweeps_and_warm_start_continues():
+    force = make_rng(4).normal(size=(2, 32, 32))
+    exact = cf.solve_velocity(force, "fft", LAM, MU)
+    errors = [np.linalg.norm(cf.sor_solve(force, LAM, MU, sweeps=k) - exact) for k in (5, 20, 80)]
+    assert errors[0] > errors[1] > errors[2]
+    warm = cf.sor_solve(force, LAM, MU, sweeps=60, initial=cf.sor_solve(force, LAM, MU, sweeps=20))
+    assert np.linalg.norm(warm - exact) < errors[1]
+
+
+def test_apply_finite_difference_validates_its_inputs():
+    with pytest.raises(ValueError, match="velocity"):
+        cf.apply_finite_difference(np.zeros((3, 8, 8)), LAM, MU)
+    with pytest.raises(ValueError, match="finite"):
+        cf.apply_finite_difference(np.full((2, 8, 8), np.nan), LAM, MU)
+    with pytest.raises(ValueError, match="lam"):
+        cf.apply_finite_difference(np.zeros((2, 8, 8)), -1.0, MU)
+
+
+def test_sor_rejects_bad_settings():
+    force = np.zeros((2, 8, 8))
+    with pytest.raises(ValueError, match="omega"):
+        cf.sor_solve(force, LAM, MU, omega=2.0)
+    with pytest.raises(ValueError, match="ordering"):
+        cf.sor_solve(force, LAM, MU, ordering="lexicographic")
+    with pytest.raises(ValueError, match="even"):
+        cf.sor_solve(np.zeros((2, 7, 8)), LAM, MU)
+    with pytest.raises(ValueError, match="mu"):
+        cf.solve_velocity(force, "fft", LAM, 0.0)
+    with pytest.raises(ValueError, match="method"):
+        cf.solve_velocity(force, "multigrid")
+
+
+# --- registration pieces -----------------------------------------------------------------
+
+def test_warp_image_against_a_known_shift():
+    rows, cols = np.indices((20, 24), dtype=float)
+    image = 2.0 * rows - 0.5 * cols + 0.1 * rows * cols
+    shift = np.array([2.5, -1.25])
+    warped = cf.warp_image(image, np.broadcast_to(shift[:, None, None], (2, 20, 24)))
+    expected = 2.0 * (rows - 2.5) - 0.5 * (cols + 1.25) + 0.1 * (rows - 2.5) * (cols + 1.25)
+    inside = (slice(3, None), slice(None, -2))  # where x - u stays inside the image
+    # bilinear interpolation is exact on each cell for a bilinear image
+    np.testing.assert_allclose(warped[inside], expected[inside], atol=1e-9)
+    np.testing.assert_allclose(cf.warp_image(image, np.zeros((2, 20, 24))), image)
+
+
+@pytest.mark.parametrize("shape", [(1, 5), (5, 1), (2, 2), (7, 9), (16, 12)])
+def test_bilinear_sampling_matches_scipy_map_coordinates(shape):
+    """Our fast sampler against scipy's order-1 interpolation, coordinates inside and outside."""
+    from scipy.ndimage import map_coordinates
+
+    rng = make_rng(11)
+    image = rng.random(shape)
+    coords = rng.uniform(-3.0, max(shape) + 3.0, size=(2,) + shape)
+    np.testing.assert_allclose(sample_bilinear(image, coords), map_coordinates(image, coords, order=1, mode="nearest"),
+                               atol=1e-12)
+
+
+def test_material_update_follows_the_flow_with_the_untransposed_jacobian():
+    """Eq. (16) read as u + Δt (v - J v), J[i, j] = ∂u_i/∂x_j: transporting the deformed template
+    T(x - u) by a uniform velocity v for Δt gives exactly u(x - vΔt) + vΔt. Our reading is off
+    at second order in Δt, the other reading ((∇u) untransposed, J swapped) at first order."""
+    rows, cols = np.indices((40, 40), dtype=float)
+
+    def displacement(r, c):  # quadratic, with a non-symmetric Jacobian
+        return np.stack([0.002 * r * c + 0.004 * c ** 2, 0.003 * r ** 2 - 0.1 * c])
+
+    v = np.array([1.0, 2.0])
+    velocity = np.broadcast_to(v[:, None, None], (2, 40, 40))
+    u, dt = displacement(rows, cols), 0.1
+    exact = displacement(rows - dt * v[0], cols - dt * v[1]) + dt * velocity
+    ours = cf.material_update(u, velocity, dt)
+    jac = cf.displacement_jacobian(u)
+    swapped = u + dt * (velocity - np.einsum("jihw,jhw->ihw", jac, velocity))
+    interior = (slice(None), slice(1, -1), slice(1, -1))  # central differences are exact there
+    assert np.abs(ours - exact)[interior].max() < 1e-3 < np.abs(swapped - exact)[interior].max()
+
+
+def test_compose_then_warp_equals_warping_twice():
+    rng = make_rng(5)
+    image = cf.load_dipy_image("t1_coronal_slice")[64:192, 64:192]
+    first = cf.smooth_warp(image.shape, rng, amplitude=3.0)
+    second = cf.smooth_warp(image.shape, rng, amplitude=3.0)
+    twice = cf.warp_image(cf.warp_image(image, first), second)
+    once = cf.warp_image(image, cf.compose_displacements(first, second))
+    assert np.abs(twice - once)[8:-8, 8:-8].mean() < 0.01
+
+
+def test_external_force_points_down_the_ssd_gradient():
+    """Eq. (18) with L v = F and L negative: v ∝ -F to first order, which must lower the SSD."""
+    pair = cf.make_pair("C")
+    force = cf.external_force(pair.template, pair.study)
+    velocity = cf.solve_velocity(force, "cat", LAM, MU)
+    before = np.sum((pair.template - pair.study) ** 2)
+    small = 0.2 / np.abs(velocity).max()
+    after = np.sum((cf.warp_image(pair.template, small * velocity) - pair.study) ** 2)
+    assert after < before
+
+
+@pytest.mark.parametrize("method", ["cat", "fft"])
+@pytest.mark.parametrize("name", ["A", "C"])
+def test_registration_reduces_the_residual_without_folds(method, name):
+    pair = cf.make_pair(name)
+    result = cf.register_fluid(pair.template, pair.study, method=method)
+    assert result.residuals[-1] < 0.8 * result.residuals[0]
+    assert np.all(np.diff(result.history[:, 1]) >= 0)
+    assert cf.jacobian_determinant(result.displacement).min() > 0
+    np.testing.assert_allclose(result.warped, cf.warp_image(pair.template, result.displacement), atol=1e-12)
+    rmse = cf.displacement_rmse(result.displacement, pair.true_displacement, pair.mask)
+    assert rmse < cf.displacement_rmse(np.zeros_like(result.displacement), pair.true_displacement, pair.mask)
+
+
+def test_sor_registration_on_a_small_image():
+    pair = cf.make_pair("C")
+    template, study = pair.template[::4, ::4], pair.study[::4, ::4]  # 64 x 64
+    result = cf.register_fluid(template, study, method="sor", n_iter=10, sor_sweeps=30)
+    assert result.history.shape == (11, len(cf.HISTORY_COLUMNS))
+    assert result.residuals[-1] < 0.8 * result.residuals[0]
+    assert cf.jacobian_determinant(result.displacement).min() > 0
+
+
+def test_regridding_keeps_the_map_unfolded():
+    pair = cf.make_pair("C")
+    result = cf.register_fluid(pair.template, pair.study, "cat", n_iter=10, max_step=3.0, backtrack=False,
+                               regrid_threshold=0.9)
+    assert result.n_regrids >= 1
+    assert cf.jacobian_determinant(result.displacement).min() > 0
+
+
+def test_identical_images_stay_put_without_warnings():
+    """No force anywhere: a zero velocity, no step, no division by zero."""
+    image = cf.make_pair("C").template[::4, ::4]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for method in cf.SOLVERS:
+            result = cf.register_fluid(image, image, method=method, n_iter=3, sor_sweeps=5)
+            assert np.all(result.displacement == 0) and np.all(result.residuals == 0)
+            np.testing.assert_array_equal(result.warped, image)
+
+
+def test_inverse_consistency_error_is_zero_for_exact_inverses():
+    shift = np.broadcast_to(np.array([1.5, -2.0])[:, None, None], (2, 16, 16))
+    assert cf.inverse_consistency_error(shift, -shift) < 1e-12
+    assert cf.inverse_consistency_error(shift, shift) == pytest.approx(5.0)
+
+
+def test_grey_level_difference_in_a_mask():
+    image, reference = np.arange(16.0).reshape(4, 4), np.zeros((4, 4))
+    mask = image >= 8
+    assert cf.grey_level_difference(image, reference, mask) == (pytest.approx(11.5), pytest.approx(np.std(np.arange(8.0, 16))))
+    with pytest.raises(ValueError, match="mask"):
+        cf.grey_level_difference(image, reference, mask.astype(int))
+    with pytest.raises(ValueError, match="at least one pixel"):
+        cf.grey_level_difference(image, reference, np.zeros((4, 4), bool))
+    with pytest.raises(ValueError, match="scale"):
+        cf.grey_level_difference(image, reference, scale=-255)
+
+
+def test_displacement_measures_validate_the_mask():
+    zero, one = np.zeros((2, 4, 4)), np.ones((2, 4, 4))
+    assert cf.displacement_rmse(zero, one, np.eye(4, dtype=bool)) == pytest.approx(np.sqrt(2))
+    for bad, message in [(np.eye(4), "boolean"), (np.ones((3, 3), bool), "shape"), (np.zeros((4, 4), bool), "at least one")]:
+        with pytest.raises(ValueError, match=message):
+            cf.displacement_rmse(zero, one, bad)
+        with pytest.raises(ValueError, match=message):
+            cf.inverse_consistency_error(zero, one, bad)
+
+
+# --- bad input ---------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def small_images():
+    rng = make_rng(6)
+    return rng.random((16, 16)), rng.random((16, 16))
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda t, s: (t, s[:, :-2]), "same shape"),
+    (lambda t, s: (t[None], s), "template must have shape"),
+    (lambda t, s: (t, s.ravel()), "study must have shape"),
+    (lambda t, s: (np.where(t > 0.9, np.nan, t), s), "finite"),
+    (lambda t, s: (t, np.where(s > 0.9, np.inf, s)), "finite"),
+    (lambda t, s: (np.full_like(t, 0.3), s), "template is constant"),
+    (lambda t, s: (t, np.zeros_like(s)), "study is constant"),
+])
+def test_register_fluid_rejects_bad_images(small_images, change, message):
+    template, study = change(*small_images)
+    with pytest.raises(ValueError, match=message):
+        cf.register_fluid(template, study)
+
+
+@pytest.mark.parametrize("options, message", [
+    ({"lam": -1.0}, "lam"), ({"mu": -5.0}, "mu"), ({"mu": 0.0}, "mu"), ({"method": "demons"}, "method"),
+    ({"max_step": 0.0}, "max_step"), ({"regrid_threshold": 1.5}, "regrid_threshold"),
+    ({"sor_omega": 2.5}, "sor_omega"),
+])
+def test_register_fluid_rejects_bad_settings(small_images, options, message):
+    with pytest.raises(ValueError, match=message):
+        cf.register_fluid(*small_images, **options)
+
+
+def test_public_helpers_validate_their_inputs(small_images):
+    with pytest.raises(TypeError, match="backtrack"):
+        cf.register_fluid(*small_images, backtrack=1)
+    with pytest.raises(ValueError, match="study"):
+        cf.external_force(np.zeros((8, 8)), np.zeros((8, 7)))
+    with pytest.raises(ValueError, match="velocity"):
+        cf.material_update(np.zeros((2, 8, 8)), np.zeros((2, 8, 7)), 0.5)
+    with pytest.raises(ValueError, match="dt"):
+        cf.material_update(np.zeros((2, 8, 8)), np.zeros((2, 8, 8)), -1.0)
+    with pytest.raises(ValueError, match="second"):
+        cf.compose_displacements(np.zeros((2, 8, 8)), np.zeros((3, 8, 8)))
+
+
+def test_warp_image_rejects_a_mismatched_displacement():
+    with pytest.raises(ValueError, match="displacement"):
+        cf.warp_image(np.zeros((8, 8)), np.zeros((2, 8, 9)))
+    with pytest.raises(ValueError, match="finite"):
+        cf.warp_image(np.zeros((8, 8)), np.full((2, 8, 8), np.nan))
+
+
+# --- data ---------------------------------------------------------------------------------
+
+def test_pairs_are_deterministic_and_their_warps_unfolded():
+    for name in cf.PAIR_NAMES:
+        pair = cf.make_pair(name)
+        again = cf.make_pair(name)
+        np.testing.assert_array_equal(pair.study, again.study)
+        assert pair.template.shape == pair.study.shape == (256, 256)
+        assert cf.jacobian_determinant(pair.true_displacement).min() > 0.5
+        assert 0.1 < pair.mask.mean() < 0.4
+    with pytest.raises(ValueError, match="name"):
+        cf.make_pair("D")
+
+
+def test_data_helpers_validate_their_inputs():
+    with pytest.raises(ValueError, match="seed"):
+        cf.make_pair("B", seed=-1)
+    with pytest.raises(ValueError, match="support"):
+        cf.smooth_warp((16, 16), 0, support=np.ones((16, 16)))
+    with pytest.raises(ValueError, match="support"):
+        cf.smooth_warp((16, 16), 0, support=np.zeros((16, 16), bool))
+    with pytest.raises(ValueError, match="shape"):
+        cf.smooth_warp((16,), 0)
+    with pytest.raises(ValueError, match="threshold"):
+        cf.foreground_mask(np.ones((8, 8)), threshold=np.nan)
+    with pytest.raises(ValueError, match="name"):
+        cf.load_dipy_image("t2_axial")
+    with pytest.raises(ValueError, match="level_iters"):
+        cf.register_dipy(*[make_rng(0).random((16, 16)) for _ in range(2)], level_iters=())
+
+
+def test_dipy_peer_uses_our_displacement_convention():
+    pair = cf.make_pair("C")
+    template, study = pair.template[::4, ::4], pair.study[::4, ::4]
+    result = cf.register_dipy(template, study, level_iters=(10, 5))
+    np.testing.assert_allclose(cf.warp_image(template, result.displacement), result.warped, atol=1e-5)
