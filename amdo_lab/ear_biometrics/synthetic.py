@@ -18,6 +18,28 @@ import numpy as np
 from amdo_lab.common import check_choice, check_positive_int, make_rng
 
 DIFFICULTIES = ("easy", "difficult")
+NUISANCE_FACTORS = ("rotation", "scale", "translation", "yaw", "illumination", "noise", "jitter")
+"""Per-capture nuisance factors that :func:`generate_ear_database` can switch off (``disable=``):
+in-plane rotation, scale, translation, the camera's yaw, illumination (light direction, groove
+contrast, background level; for difficult images also the gradient and gain), sensor noise with
+skin texture, and the small per-capture shape jitter. A disabled factor is still drawn (so the
+random stream, and hence every other factor, stays the same) and then set to its neutral value."""
+
+FIXED_LIGHT = 0.75 * np.pi  # highlight direction (image angle) when illumination does not vary
+
+
+def check_disable(disable: object) -> frozenset:
+    """Validate a collection of nuisance-factor names (see :data:`NUISANCE_FACTORS`)."""
+    if isinstance(disable, str):
+        raise TypeError(f"disable must be a collection of factor names, got the string {disable!r}")
+    try:
+        names = frozenset(disable)
+    except TypeError:
+        raise TypeError(f"disable must be a collection of factor names, got {type(disable).__name__}") from None
+    unknown = sorted(str(n) for n in names - set(NUISANCE_FACTORS))
+    if unknown:
+        raise ValueError(f"disable holds unknown nuisance factors {unknown}; choose from {NUISANCE_FACTORS}")
+    return names
 
 
 @dataclass(frozen=True)
@@ -154,14 +176,18 @@ def render_ear(
     *,
     difficulty: str = "easy",
     size: int = 128,
+    disable: object = (),
 ) -> np.ndarray:
     """Render one grey-level uint8 ear image of ``shape`` seen under ``pose``.
 
     ``difficulty="easy"``: even illumination, mild noise. ``"difficult"``: illumination gradient,
     lower contrast and stronger noise, plus hair strands, an earring and a straight glasses arm.
+    ``disable`` may hold ``"illumination"`` and ``"noise"`` (see :data:`NUISANCE_FACTORS`).
     """
     check_choice(difficulty, "difficulty", DIFFICULTIES)
     size = check_positive_int(size, "size", minimum=32)
+    disable = check_disable(disable)
+    lit, noisy = "illumination" not in disable, "noise" not in disable
     rng = make_rng(rng)
     hard = difficulty == "difficult"
     curves = [_to_pixels(c, pose, size) for c in ear_curves(shape)]
@@ -181,23 +207,28 @@ def render_ear(
     grooves = cv2.GaussianBlur(grooves, (0, 0), 0.9 * size / 128)
     grooves = np.clip(grooves / max(float(grooves.max()), 1e-6), 0, 1)  # peak darkening = contrast
     light = rng.uniform(0, 2 * np.pi)
+    light = light if lit else FIXED_LIGHT
     offset = np.array([np.cos(light), np.sin(light)]) * 1.5 * size / 128
     highlight = cv2.warpAffine(grooves, np.float32([[1, 0, offset[0]], [0, 1, offset[1]]]), (size, size))
     texture = cv2.GaussianBlur(rng.normal(size=(size, size)).astype(np.float32), (0, 0), 2.0)
-    texture *= 0.02 / max(float(texture.std()), 1e-6)
+    texture *= (0.02 if noisy else 0.0) / max(float(texture.std()), 1e-6)
     contrast = rng.uniform(0.35, 0.55) if hard else rng.uniform(0.75, 0.9)
+    contrast = contrast if lit else (0.45 if hard else 0.825)
     skin = 0.72 * (1 + texture)
-    background = 0.45 + 0.04 * rng.normal()
+    background = 0.45 + (0.04 if lit else 0.0) * rng.normal()
     image = background + (skin - background) * silhouette
     image = image * (1 - contrast * 0.8 * grooves + contrast * 0.25 * highlight)
     if hard:
         image = _add_occluders(image, curves, rng, size)
         rows, cols = np.mgrid[0:size, 0:size] / size - 0.5
         direction = rng.uniform(0, 2 * np.pi)
-        image = image * (1 + rng.uniform(0.3, 0.6) * (np.cos(direction) * cols + np.sin(direction) * rows))
-        image = image * rng.uniform(0.6, 1.0) + rng.uniform(0.0, 0.15)
+        gradient, gain, offset_level = rng.uniform(0.3, 0.6), rng.uniform(0.6, 1.0), rng.uniform(0.0, 0.15)
+        if not lit:  # neutral values: mid gradient strength along a fixed direction, mid gain/offset
+            direction, gradient, gain, offset_level = 0.0, 0.45, 0.8, 0.075
+        image = image * (1 + gradient * (np.cos(direction) * cols + np.sin(direction) * rows))
+        image = image * gain + offset_level
     noise = rng.uniform(0.02, 0.035) if hard else 0.01
-    image = image + noise * rng.normal(size=image.shape)
+    image = image + (noise if noisy else 0.0) * rng.normal(size=image.shape)
     return np.clip(np.round(255 * image), 0, 255).astype(np.uint8)
 
 
@@ -242,6 +273,16 @@ def draw_capture_pose(rng: np.random.Generator, *, frontal: bool, size: int, dif
     )
 
 
+def _neutralise(pose: CapturePose, disable: frozenset) -> CapturePose:
+    """Set the disabled pose factors to neutral (no rotation, unit scale, centred, perpendicular)."""
+    return CapturePose(
+        rotation=0.0 if "rotation" in disable else pose.rotation,
+        scale=1.0 if "scale" in disable else pose.scale,
+        translation=np.zeros(2) if "translation" in disable else pose.translation,
+        yaw=0.0 if "yaw" in disable else pose.yaw,
+    )
+
+
 def generate_ear_database(
     n_subjects: int,
     images_per_subject: int = 2,
@@ -251,24 +292,31 @@ def generate_ear_database(
     size: int = 128,
     max_yaw: float = 30.0,
     max_rotation: float | None = None,
+    disable: object = (),
 ) -> EarDatabase:
     """Seeded synthetic ear database: capture 0 of a subject is perpendicular, the others yawed.
 
-    Returns an :class:`EarDatabase`, which unpacks as ``images, subject_ids``.
+    ``disable`` switches nuisance factors off (names from :data:`NUISANCE_FACTORS`); the random
+    stream is unchanged, so a database with a factor disabled differs from the default one only in
+    that factor. Returns an :class:`EarDatabase`, which unpacks as ``images, subject_ids``.
     """
     n_subjects = check_positive_int(n_subjects, "n_subjects")
     images_per_subject = check_positive_int(images_per_subject, "images_per_subject")
     check_choice(difficulty, "difficulty", DIFFICULTIES)
     size = check_positive_int(size, "size", minimum=32)
+    disable = check_disable(disable)
     rng = make_rng(rng)
     shapes, poses, images, ids = [], [], [], []
     for subject in range(n_subjects):
         shape = draw_ear_shape(rng)
         shapes.append(shape)
         for capture in range(images_per_subject):
-            pose = draw_capture_pose(rng, frontal=capture == 0, size=size, difficulty=difficulty,
-                                     max_yaw=max_yaw, max_rotation=max_rotation)
-            images.append(render_ear(_jitter_shape(shape, rng, 0.005), pose, rng, difficulty=difficulty, size=size))
+            pose = _neutralise(draw_capture_pose(rng, frontal=capture == 0, size=size, difficulty=difficulty,
+                                                 max_yaw=max_yaw, max_rotation=max_rotation), disable)
+            jittered = _jitter_shape(shape, rng, 0.005)
+            if "jitter" in disable:
+                jittered = shape
+            images.append(render_ear(jittered, pose, rng, difficulty=difficulty, size=size, disable=disable))
             poses.append(pose)
             ids.append(subject)
     return EarDatabase(np.stack(images), np.array(ids), tuple(shapes), tuple(poses), difficulty)
