@@ -104,42 +104,78 @@ def canny_contours(image: object, sigma: float = 1.5, low: float = 20, high: flo
     return cv2.Canny(np.clip(smooth, 0, 255).astype(np.uint8), low, high) > 0
 
 
+NORMALISATION_MODES = ("principal", "axes", "isotropic")
+
+
 @dataclass(frozen=True)
 class Normalisation:
-    """Eq. (6): centroid (I, J) in (row, col) pixels and per-axis spreads (sigma_i, sigma_j)."""
+    """Eq. (6): centroid (I, J) in (row, col) pixels and the linear map to normalised (x, y).
+
+    ``matrix`` (2x2) maps a pixel offset (row - I, col - J) to normalised (x, y); ``spread`` holds
+    the pixel standard deviations along the normalised x and y axes (the sigmas that eq. 6 divides by).
+    """
 
     centroid: np.ndarray
     spread: np.ndarray
+    matrix: np.ndarray
 
     def to_normalised(self, rows_cols: np.ndarray) -> np.ndarray:
-        """Pixel (row, col) -> normalised (x, y) with x to the right and y up."""
-        rc = (np.asarray(rows_cols, float) - self.centroid) / self.spread
-        return np.c_[rc[:, 1], -rc[:, 0]]
+        """Pixel (row, col) -> normalised (x, y)."""
+        return (np.asarray(rows_cols, float).reshape(-1, 2) - self.centroid) @ self.matrix.T
 
     def to_pixels(self, xy: np.ndarray) -> np.ndarray:
         """Normalised (x, y) -> pixel (row, col)."""
-        xy = np.asarray(xy, float).reshape(-1, 2)
-        return np.c_[-xy[:, 1], xy[:, 0]] * self.spread + self.centroid
+        return np.asarray(xy, float).reshape(-1, 2) @ np.linalg.inv(self.matrix).T + self.centroid
 
 
-def normalise_coordinates(contours: object, mode: str = "isotropic") -> Normalisation:
+def _image_axes_matrix(spread: np.ndarray) -> np.ndarray:
+    # x to the right (columns), y up (minus rows), each divided by its sigma
+    return np.array([[0.0, 1.0 / spread[1]], [-1.0 / spread[0], 0.0]])
+
+
+def normalise_coordinates(contours: object, mode: str = "principal") -> Normalisation:
     """Eq. (6): translate the centroid of the contour pixels to the origin and divide by the spread.
 
-    ``mode="axes"`` is the paper's literal matrix: rows divided by sigma_i, columns by sigma_j.
-    ``mode="isotropic"`` (our default) divides both by sqrt((sigma_i^2 + sigma_j^2)/2), which keeps
-    circles circles under rotation: the paper's rotation-invariance claim holds only for this variant
-    (with per-axis spreads an elongated ear rotated by 45 degrees is squashed differently).
+    Three readings of the per-axis division:
+
+    ``"axes"``
+        The literal matrix: rows divided by sigma_i, columns by sigma_j (the image axes). Not
+        rotation invariant: an elongated ear turned by 45 degrees has other per-axis spreads than
+        upright, so its normalised shape is squashed differently.
+    ``"principal"`` (default)
+        The same division along the *principal axes* of the contour pixels (eigenvectors of their
+        2x2 covariance): y along the major axis, x along the minor one. For an upright ear (principal
+        axes = image axes) this is eq. 6 exactly; for a rotated one it first undoes the rotation, so
+        the paper's rotation-invariance claim holds. It also removes any horizontal foreshortening
+        of an upright ear (the camera's yaw), as the literal eq. 6 does. Axis signs are fixed by the
+        sign of the third moment (skewness) along each axis, so the frame is the same for every
+        capture of an ear.
+    ``"isotropic"``
+        Both image axes divided by sqrt((sigma_i^2 + sigma_j^2) / 2): a similarity normalisation,
+        rotation covariant (circles stay circles) but the frame turns with the ear and the aspect
+        ratio is kept.
     """
     array = as_contour_image(contours)
-    check_choice(mode, "mode", ("axes", "isotropic"))
+    check_choice(mode, "mode", NORMALISATION_MODES)
     pixels = np.argwhere(array).astype(float)
     centroid = pixels.mean(axis=0)
-    spread = pixels.std(axis=0)
+    offsets = pixels - centroid
+    spread = offsets.std(axis=0)
     if np.any(spread == 0):
         raise ValueError("contours must not lie on a single row or column (zero spread)")
+    if mode == "axes":
+        return Normalisation(centroid, spread, _image_axes_matrix(spread))
     if mode == "isotropic":
         spread = np.full(2, np.sqrt(np.mean(spread**2)))
-    return Normalisation(centroid, spread)
+        return Normalisation(centroid, spread, _image_axes_matrix(spread))
+    variances, vectors = np.linalg.eigh(np.cov(offsets.T, bias=True))  # ascending: minor, major
+    if variances[0] <= 1e-12 * variances[1]:
+        raise ValueError("contours must not lie on a single straight line (zero spread across it)")
+    projected = offsets @ vectors  # (n, 2): along minor, major axis
+    signs = np.where(np.mean(projected**3, axis=0) < 0, -1.0, 1.0)  # positive skewness on both axes
+    spread = np.sqrt(variances)
+    matrix = (vectors * signs).T / spread[:, None]  # row m: unit axis m (signed) / sigma_m
+    return Normalisation(centroid, spread, matrix)
 
 
 @dataclass(frozen=True)
@@ -158,53 +194,93 @@ class CircleFeatures:
         return np.c_[self.radii, self.counts, self.distance_sums]
 
 
-def _circle_runs(hits: np.ndarray) -> np.ndarray:
-    """Midpoint sample indices (float) of the runs of True on a closed (circular) boolean array."""
-    if not hits.any():
-        return np.zeros(0)
-    if hits.all():
-        return np.zeros(1)
-    first_false = int(np.argmin(hits))
-    rolled = np.roll(hits, -first_false)
-    edges = np.diff(rolled.astype(np.int8))
-    starts = np.flatnonzero(edges == 1) + 1
-    ends = np.flatnonzero(edges == -1)
-    if rolled[-1]:
-        ends = np.append(ends, len(rolled) - 1)
-    return ((starts + ends) / 2 + first_false) % len(hits)
+def _roll_rows(values: np.ndarray, shifts: np.ndarray) -> np.ndarray:
+    """Row r rolled left by shifts[r] (row r starts at its element shifts[r])."""
+    n = values.shape[1]
+    return values[np.arange(len(values))[:, None], (np.arange(n) + shifts[:, None]) % n]
 
 
-def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *, mode: str = "isotropic") -> CircleFeatures:
+def _runs(rolled: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(row, start, end exclusive) of every run of True in each row (rows need not be circular)."""
+    edges = np.diff(np.pad(rolled.astype(np.int8), ((0, 0), (1, 1))), axis=1)
+    rows, starts = np.nonzero(edges == 1)
+    _, ends = np.nonzero(edges == -1)  # row-major order pairs each start with its end
+    return rows, starts, ends
+
+
+def _fill_short_gaps(hits: np.ndarray, arc: np.ndarray, min_gap: float) -> np.ndarray:
+    """Close runs of False on closed rows whose arc length (sum of ``arc``) is below ``min_gap``."""
+    partial = hits.any(axis=1) & ~hits.all(axis=1)
+    if min_gap <= 0 or not partial.any():
+        return hits
+    sub, sub_arc = hits[partial], arc[partial]
+    shifts = np.argmax(sub, axis=1)  # start every row on a True, so no gap wraps around
+    rolled, rolled_arc = _roll_rows(sub, shifts), _roll_rows(sub_arc, shifts)
+    rows, starts, ends = _runs(~rolled)
+    cumulative = np.pad(np.cumsum(rolled_arc, axis=1), ((0, 0), (1, 0)))
+    short = cumulative[rows, ends] - cumulative[rows, starts] < min_gap
+    fill = np.zeros(rolled.shape[1] + 1, np.int32)[None].repeat(len(rolled), axis=0)
+    np.add.at(fill, (rows[short], starts[short]), 1)
+    np.add.at(fill, (rows[short], ends[short]), -1)
+    rolled = rolled | (np.cumsum(fill, axis=1)[:, :-1] > 0)
+    filled = hits.copy()
+    filled[partial] = _roll_rows(rolled, (-shifts) % hits.shape[1])
+    return filled
+
+
+def _circle_crossings(hits: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Row and midpoint sample index (float) of every run of True on closed (circular) rows,
+    sorted by row, then counter-clockwise. A fully covered row counts as one crossing at index 0."""
+    n = hits.shape[1]
+    full = hits.all(axis=1)
+    shifts = np.argmin(hits, axis=1)  # start every row on a False, so no run wraps around
+    rows, starts, ends = _runs(_roll_rows(hits & ~full[:, None], shifts))
+    mids = ((starts + ends - 1) / 2 + shifts[rows]) % n
+    rows, mids = np.r_[rows, np.flatnonzero(full)], np.r_[mids, np.zeros(full.sum())]
+    order = np.lexsort((mids, rows))
+    return rows[order], mids[order]
+
+
+def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *, mode: str = "principal",
+                    min_gap: float = 0.0) -> CircleFeatures:
     """First feature vector V, eq. (7).
 
     Circles of radius r_m = m * step (m = 1..n_circles) in *normalised* units (eq. 6) are centred on
     the centroid; our reading of "alpha pixels apart" uses normalised units so that V is scale
-    invariant. Each circle is sampled at about two points per pixel of its circumference; a run of
-    consecutive samples on contour pixels is one intersection (l_r counts runs, so a 2-pixel-thick
-    contour crossing the circle counts once). sum d is the perimeter of the polygon through the
-    intersections taken counter-clockwise, closed so that it does not depend on a start angle.
+    invariant. All circles are sampled at the same angles, at least two samples per pixel of the
+    largest one; a run of consecutive samples on contour pixels is one intersection (l_r counts runs,
+    so a 2-pixel-thick contour crossing the circle counts once). ``min_gap`` > 0 (pixels of arc)
+    first merges runs separated by a shorter gap (a ragged contour grazing the circle). sum d is the
+    perimeter of the polygon through the intersections taken counter-clockwise, closed so that it
+    does not depend on a start angle (0 for fewer than two intersections).
     """
     array = as_contour_image(contours)
     n_circles = check_positive_int(n_circles, "n_circles")
     step = check_positive(step, "step")
+    min_gap = check_positive(min_gap, "min_gap", allow_zero=True)
     norm = normalise_coordinates(array, mode)
     radii = step * np.arange(1, n_circles + 1)
-    counts, sums, points = [], [], []
-    for radius in radii:
-        n_samples = int(8 * np.ceil(4 * np.pi * radius * norm.spread.max() / 8)) + 8
-        angles = 2 * np.pi * np.arange(n_samples) / n_samples
-        xy = radius * np.c_[np.cos(angles), np.sin(angles)]
-        rc = np.round(norm.to_pixels(xy)).astype(int)
-        inside = (rc[:, 0] >= 0) & (rc[:, 0] < array.shape[0]) & (rc[:, 1] >= 0) & (rc[:, 1] < array.shape[1])
-        hits = np.zeros(n_samples, bool)
-        hits[inside] = array[rc[inside, 0], rc[inside, 1]]
-        mids = 2 * np.pi * _circle_runs(hits) / n_samples
-        crossing = radius * np.c_[np.cos(mids), np.sin(mids)]
-        counts.append(len(mids))
-        closed = np.vstack([crossing, crossing[:1]]) if len(mids) > 1 else crossing
-        sums.append(float(np.linalg.norm(np.diff(closed, axis=0), axis=1).sum()))
-        points.append(crossing)
-    return CircleFeatures(radii, np.array(counts), np.array(sums), tuple(points), norm)
+    n_samples = int(8 * np.ceil(4 * np.pi * radii[-1] * norm.spread.max() / 8)) + 8
+    angles = 2 * np.pi * np.arange(n_samples) / n_samples
+    unit = np.c_[np.cos(angles), np.sin(angles)]
+    pixels = norm.to_pixels((radii[:, None, None] * unit).reshape(-1, 2)).reshape(n_circles, n_samples, 2)
+    rc = np.round(pixels).astype(int)
+    inside = (rc[..., 0] >= 0) & (rc[..., 0] < array.shape[0]) & (rc[..., 1] >= 0) & (rc[..., 1] < array.shape[1])
+    hits = np.zeros((n_circles, n_samples), bool)
+    hits[inside] = array[rc[inside][:, 0], rc[inside][:, 1]]
+    arc = np.linalg.norm(np.roll(pixels, -1, axis=1) - pixels, axis=2)  # pixel length of each sample step
+    rows, mids = _circle_crossings(_fill_short_gaps(hits, arc, min_gap))
+    theta = 2 * np.pi * mids / n_samples
+    crossings = radii[rows, None] * np.c_[np.cos(theta), np.sin(theta)]
+    counts = np.bincount(rows, minlength=n_circles)
+    # closed polygon per circle: each crossing joined to the next one of the same circle (cyclically)
+    first = np.cumsum(counts) - counts
+    position = np.arange(len(rows)) - first[rows]
+    following = first[rows] + (position + 1) % counts[rows]
+    chords = np.linalg.norm(crossings[following] - crossings, axis=1)
+    sums = np.where(counts > 1, np.bincount(rows, chords, minlength=n_circles), 0.0)
+    points = tuple(np.split(crossings, np.cumsum(counts)[:-1]))
+    return CircleFeatures(radii, counts, sums, points, norm)
 
 
 def crossing_number(skeleton: np.ndarray) -> np.ndarray:
@@ -257,7 +333,8 @@ def _cluster_centres(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.array(ndimage.center_of_mass(mask, labels, np.arange(1, n + 1))).reshape(-1, 2), labels
 
 
-def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, *, mode: str = "isotropic") -> TopologyFeatures:
+def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, *, mode: str = "principal",
+                      min_gap: float = 0.0) -> TopologyFeatures:
     """Second feature vector F, eq. (9).
 
     The contour image is thinned (``skimage.morphology.skeletonize``); skeleton pixels with
@@ -267,7 +344,7 @@ def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, 
     from the outermost (largest normalised radius) inwards, the paper's tracing order.
     """
     array = as_contour_image(contours)
-    circles = circle_features(array, n_circles, step, mode=mode)
+    circles = circle_features(array, n_circles, step, mode=mode, min_gap=min_gap)
     norm = circles.normalisation
     skeleton = skeletonize(array)
     n_c = crossing_number(skeleton)

@@ -88,7 +88,8 @@ class EarMatcher:
     max_count_violations: int = 0
     distance_threshold: float = np.inf
     topology_weight: float = 1.0
-    mode: str = "isotropic"
+    mode: str = "principal"
+    min_gap: float = 0.0
     _ids: list = field(default_factory=list, init=False, repr=False)
     _templates: list = field(default_factory=list, init=False, repr=False)
 
@@ -100,7 +101,7 @@ class EarMatcher:
         contours = clean_contours(detect_contours(grey, self.k, self.window), self.min_component_size)
         if not contours.any():
             raise ValueError("image has no contour (blank, constant or too smooth image)")
-        topology = topology_features(contours, self.n_circles, self.step, mode=self.mode)
+        topology = topology_features(contours, self.n_circles, self.step, mode=self.mode, min_gap=self.min_gap)
         return EarTemplate(topology.circles, topology)
 
     def enroll(self, subject_id: object, image: object) -> EarTemplate:

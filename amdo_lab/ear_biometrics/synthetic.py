@@ -20,8 +20,8 @@ from amdo_lab.common import check_choice, check_positive_int, make_rng
 DIFFICULTIES = ("easy", "difficult")
 NUISANCE_FACTORS = ("rotation", "scale", "translation", "yaw", "illumination", "noise", "jitter")
 """Per-capture nuisance factors that :func:`generate_ear_database` can switch off (``disable=``):
-in-plane rotation, scale, translation, the camera's yaw, illumination (light direction, groove
-contrast, background level; for difficult images also the gradient and gain), sensor noise with
+in-plane rotation, scale, translation, the camera's yaw, illumination (difficult images only: light
+direction, groove contrast, background level, gradient and gain; easy images never vary it), sensor noise with
 skin texture, and the small per-capture shape jitter. A disabled factor is still drawn (so the
 random stream, and hence every other factor, stays the same) and then set to its neutral value."""
 
@@ -59,6 +59,9 @@ class EarShape:
     antitragus_centre: np.ndarray  # (2,)
     lobule_depth: float  # how far the lobule hangs below the helix ellipse
     helix_start: float  # polar angle (rad) where the helix root starts at the front
+    lobule_width: float  # horizontal extent of the lobule
+    tragus_size: float  # relative size of the tragus
+    antitragus_size: float  # relative size of the antitragus
 
 
 @dataclass(frozen=True)
@@ -88,27 +91,45 @@ class EarDatabase:
 def draw_ear_shape(rng: np.random.Generator) -> EarShape:
     """Draw one subject's ear shape parameters.
 
-    Between-subject spreads (standard deviations): helix axes 12 %, radius harmonics 0.06, crura end
-    points 0.12, concha centre 0.08 and axes 20 %, tragus/antitragus 0.06 (ear height = 2 units).
-    A first draft with half these spreads left both our method and the HOG baseline near chance even
-    without yaw; the spreads were doubled once, then frozen.
+    The canonical ear is about 2.15 units tall (helix top to lobule tip), so one unit is roughly
+    29 mm of a 62 mm adult ear. Between-subject spreads follow the anthropometric literature
+    (coefficients of variation, roughly: ear length 7 %, width/length index 9 %, concha 10-12 %,
+    lobule 15 %): overall size 7 % and helix width relative to height 9 % (the method normalises
+    size away, the baseline does not), concha axes 12 %, lobule width 15 % and depth 0.08 units,
+    tragus and antitragus sizes 15 %, their positions 0.06 units (about 2 mm); the antihelix
+    (scapha width) 9 %, its shape harmonics and the helix's 0.06, the crura junction angle 15
+    degrees. The crura end beneath the helix rim: their end points are drawn as a polar angle
+    (standard deviation 9 degrees) and a fraction of the local helix radius (uniform, 0.72-0.90 for
+    the superior crus, 0.60-0.78 for the inferior one), so they never leave the ear.
     """
     rng = make_rng(rng)
     normal = rng.normal
+    size = 1 + 0.07 * normal()
+    helix_axes = np.array([0.62 * (1 + 0.09 * normal()), 0.95]) * size
+    helix_harmonics = 0.06 * normal(size=(3, 2))
+
+    def under_helix(mean_angle_deg: float, low: float, high: float) -> np.ndarray:
+        angle = np.deg2rad(mean_angle_deg + 9 * normal())
+        radius = _radius(np.array([angle]), helix_harmonics)[0] * rng.uniform(low, high)
+        return np.array([np.cos(angle), np.sin(angle)]) * helix_axes * radius
+
     return EarShape(
-        helix_axes=np.array([0.62, 0.95]) * (1 + 0.12 * normal(size=2)),
-        helix_harmonics=0.06 * normal(size=(3, 2)),
+        helix_axes=helix_axes,
+        helix_harmonics=helix_harmonics,
         antihelix_scale=float(0.66 + 0.06 * normal()),
         antihelix_harmonics=0.06 * normal(size=(3, 2)),
         junction_angle=float(np.deg2rad(105 + 15 * normal())),
-        superior_crus_end=np.array([0.18, 0.72]) + 0.12 * normal(size=2),
-        inferior_crus_end=np.array([0.40, 0.22]) + 0.12 * normal(size=2),
-        concha_centre=np.array([0.12, -0.12]) + 0.08 * normal(size=2),
-        concha_axes=np.array([0.26, 0.30]) * (1 + 0.2 * normal(size=2)),
-        tragus_centre=np.array([0.58, -0.22]) + 0.06 * normal(size=2),
-        antitragus_centre=np.array([0.12, -0.58]) + 0.06 * normal(size=2),
-        lobule_depth=float(0.25 + 0.08 * normal()),
+        superior_crus_end=under_helix(76, 0.72, 0.90),
+        inferior_crus_end=under_helix(20, 0.60, 0.78),
+        concha_centre=np.array([0.12, -0.12]) * size + 0.08 * normal(size=2),
+        concha_axes=np.array([0.26, 0.30]) * size * (1 + 0.12 * normal(size=2)),
+        tragus_centre=np.array([0.58, -0.22]) * size + 0.06 * normal(size=2),
+        antitragus_centre=np.array([0.12, -0.58]) * size + 0.06 * normal(size=2),
+        lobule_depth=float(0.25 * size + 0.08 * normal()),
         helix_start=float(np.deg2rad(15 + 12 * normal())),
+        lobule_width=float(0.22 * size * (1 + 0.15 * normal())),
+        tragus_size=float(size * (1 + 0.15 * normal())),
+        antitragus_size=float(size * (1 + 0.15 * normal())),
     )
 
 
@@ -128,8 +149,7 @@ def ear_curves(shape: EarShape) -> list[np.ndarray]:
     helix = np.c_[np.cos(angles), np.sin(angles)] * shape.helix_axes * _radius(angles, shape.helix_harmonics)[:, None]
     bottom = helix[-1]
     lobule_angles = np.linspace(np.pi, 2 * np.pi, 40)
-    lobule_width = 0.22
-    lobule = np.c_[bottom[0] + lobule_width * (1 + np.cos(lobule_angles)),
+    lobule = np.c_[bottom[0] + shape.lobule_width * (1 + np.cos(lobule_angles)),
                    bottom[1] + shape.lobule_depth * np.sin(lobule_angles)]
     outer = np.vstack([helix, lobule[1:]])
     anti_angles = np.linspace(shape.junction_angle, np.deg2rad(250), 90)
@@ -141,9 +161,9 @@ def ear_curves(shape: EarShape) -> list[np.ndarray]:
     concha_angles = np.linspace(np.deg2rad(110), np.deg2rad(320), 60)
     concha = shape.concha_centre + np.c_[np.cos(concha_angles), np.sin(concha_angles)] * shape.concha_axes
     tragus_angles = np.linspace(np.deg2rad(-80), np.deg2rad(80), 30)
-    tragus = shape.tragus_centre + np.c_[-0.12 * np.cos(tragus_angles), 0.16 * np.sin(tragus_angles)]
+    tragus = shape.tragus_centre + shape.tragus_size * np.c_[-0.12 * np.cos(tragus_angles), 0.16 * np.sin(tragus_angles)]
     anti_t_angles = np.linspace(np.deg2rad(20), np.deg2rad(160), 30)
-    antitragus = shape.antitragus_centre + np.c_[0.14 * np.cos(anti_t_angles), 0.09 * np.sin(anti_t_angles)]
+    antitragus = shape.antitragus_centre + shape.antitragus_size * np.c_[0.14 * np.cos(anti_t_angles), 0.09 * np.sin(anti_t_angles)]
     return [outer, antihelix, superior, inferior, concha, tragus, antitragus]
 
 
@@ -180,16 +200,20 @@ def render_ear(
 ) -> np.ndarray:
     """Render one grey-level uint8 ear image of ``shape`` seen under ``pose``.
 
-    ``difficulty="easy"``: even illumination, mild noise. ``"difficult"``: illumination gradient,
-    lower contrast and stronger noise, plus hair strands, an earring and a straight glasses arm.
-    ``disable`` may hold ``"illumination"`` and ``"noise"`` (see :data:`NUISANCE_FACTORS`).
+    ``difficulty="easy"``: one fixed, even illumination for every capture (light direction, groove
+    contrast and background level do not vary; the paper's easy images have no illumination
+    changes), mild noise. ``"difficult"``: a random light direction and groove contrast per capture,
+    an illumination gradient, lower contrast and stronger noise, plus hair strands, an earring and a
+    straight glasses arm. ``disable`` may hold ``"illumination"`` (difficult images only) and
+    ``"noise"`` (see :data:`NUISANCE_FACTORS`).
     """
     check_choice(difficulty, "difficulty", DIFFICULTIES)
     size = check_positive_int(size, "size", minimum=32)
     disable = check_disable(disable)
-    lit, noisy = "illumination" not in disable, "noise" not in disable
-    rng = make_rng(rng)
     hard = difficulty == "difficult"
+    # The paper's easy images were taken "without illumination changes" (Sec. 6): one fixed lighting.
+    lit, noisy = hard and "illumination" not in disable, "noise" not in disable
+    rng = make_rng(rng)
     curves = [_to_pixels(c, pose, size) for c in ear_curves(shape)]
     shift = 4  # sub-pixel drawing precision (cv2 fixed point)
 
