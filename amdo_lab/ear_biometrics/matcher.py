@@ -89,7 +89,7 @@ class EarMatcher:
     distance_threshold: float = np.inf
     topology_weight: float = 1.0
     mode: str = "principal"
-    min_gap: float = 0.0
+    min_gap: float = 3.0
     _ids: list = field(default_factory=list, init=False, repr=False)
     _templates: list = field(default_factory=list, init=False, repr=False)
 
