@@ -76,6 +76,9 @@ class EarMatcher:
     minus ``topology_weight`` times the topology similarity (exact triples + close coordinates).
     ``smoothing`` > 0 applies a Gaussian blur (that sigma, pixels) before contour detection; the
     default 0 follows the paper. Step 1's contours are cleaned by :func:`clean_contours`.
+    ``mode`` is the reading of eq. 6 (see :func:`normalise_coordinates`; default the principal-axis
+    one) and ``min_gap`` merges circle crossings separated by less than that many pixels of arc
+    (default 3; 0 is the literal count), see :func:`circle_features`.
     """
 
     k: float = 8.0
