@@ -195,7 +195,7 @@ def render_ear(
     rng: np.random.Generator,
     *,
     difficulty: str = "easy",
-    size: int = 128,
+    size: int = 256,
     disable: object = (),
 ) -> np.ndarray:
     """Render one grey-level uint8 ear image of ``shape`` seen under ``pose``.
@@ -234,7 +234,9 @@ def render_ear(
     light = light if lit else FIXED_LIGHT
     offset = np.array([np.cos(light), np.sin(light)]) * 1.5 * size / 128
     highlight = cv2.warpAffine(grooves, np.float32([[1, 0, offset[0]], [0, 1, offset[1]]]), (size, size))
-    texture = cv2.GaussianBlur(rng.normal(size=(size, size)).astype(np.float32), (0, 0), 2.0)
+    # skin texture is a property of the skin: its grain scales with the ear (2 px at 128 px), so a
+    # larger size renders the same scene at a finer sampling; the sensor noise below stays per pixel
+    texture = cv2.GaussianBlur(rng.normal(size=(size, size)).astype(np.float32), (0, 0), 2.0 * size / 128)
     texture *= (0.02 if noisy else 0.0) / max(float(texture.std()), 1e-6)
     contrast = rng.uniform(0.35, 0.55) if hard else rng.uniform(0.75, 0.9)
     contrast = contrast if lit else (0.45 if hard else 0.825)
@@ -313,12 +315,17 @@ def generate_ear_database(
     difficulty: str = "easy",
     rng: int | np.random.Generator = 0,
     *,
-    size: int = 128,
+    size: int = 256,
     max_yaw: float = 30.0,
     max_rotation: float | None = None,
     disable: object = (),
 ) -> EarDatabase:
     """Seeded synthetic ear database: capture 0 of a subject is perpendicular, the others yawed.
+
+    Images are ``size`` x ``size`` (default 256: the issue states its speed goal for 256 x 256
+    images, and the paper's "very high quality" photographs resolve the ear far more finely than
+    128 px; at 128 px the contours are only a few pixels apart and the circle features change with
+    the rasterisation of the same ear).
 
     ``disable`` switches nuisance factors off (names from :data:`NUISANCE_FACTORS`); the random
     stream is unchanged, so a database with a factor disabled differs from the default one only in
