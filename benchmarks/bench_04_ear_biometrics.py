@@ -69,12 +69,19 @@ def main() -> None:
     ours_identify = max(identify.values())
     query_hogs = [baseline.describe(image) for image in queries]
     hog_identify = best_time(lambda d: int(np.argmin(np.linalg.norm(baseline._matrix - d, axis=1))), query_hogs)
-    contours = [eb.clean_contours(eb.detect_contours(image, ours.k)) for image in gallery]
+    def clean(raw):
+        return eb.clean_contours(raw, ours.min_component_size, ours.closing)
+
+    settings = dict(mode=ours.mode, min_gap=ours.min_gap, crossings=ours.crossings,
+                    polyline_smoothing=ours.polyline_smoothing, band=ours.band, spur_length=ours.spur_length)
+    contours = [clean(eb.detect_contours(image, ours.k)) for image in gallery]
     stages = {
         "contours, eqs. 1-5": best_time(lambda image: eb.detect_contours(image, ours.k), gallery),
-        "clean-up (closing, small parts)": best_time(eb.clean_contours, [eb.detect_contours(im, ours.k) for im in gallery]),
-        "V: normalisation + circles": best_time(lambda c: eb.circle_features(c, ours.n_circles, ours.step, min_gap=ours.min_gap), contours),
-        "F: thinning, N_c, tracing (incl. V)": best_time(lambda c: eb.topology_features(c, ours.n_circles, ours.step, min_gap=ours.min_gap), contours),
+        "clean-up (closing, small parts)": best_time(clean, [eb.detect_contours(im, ours.k) for im in gallery]),
+        f"V ({ours.crossings} crossings)": best_time(lambda c: eb.circle_features(c, ours.n_circles, ours.step, **settings), contours),
+        "V (pixel-run crossings)": best_time(lambda c: eb.circle_features(c, ours.n_circles, ours.step, mode=ours.mode,
+                                                                           min_gap=ours.min_gap), contours),
+        "F: thinning, N_c, tracing (incl. V)": best_time(lambda c: eb.topology_features(c, ours.n_circles, ours.step, **settings), contours),
     }
 
     print(f"{args.size}x{args.size} images, {len(gallery)} enrolled, {len(queries)} queries, one BLAS thread")

@@ -24,7 +24,7 @@ def test_generator_is_seeded_and_unpacks():
     images, ids = eb.generate_ear_database(3, 2, "easy", 11)
     again = eb.generate_ear_database(3, 2, "easy", 11)
     other = eb.generate_ear_database(3, 2, "easy", 12)
-    assert images.shape == (6, 128, 128) and images.dtype == np.uint8
+    assert images.shape == (6, 256, 256) and images.dtype == np.uint8
     assert ids.tolist() == [0, 0, 1, 1, 2, 2]
     assert np.array_equal(images, again.images)
     assert not np.array_equal(images, other.images)
@@ -174,6 +174,91 @@ def test_min_gap_merges_a_ragged_double_line():
     assert merged.counts.tolist() == [4, 4, 4]
     with pytest.raises(ValueError, match="min_gap"):
         eb.circle_features(contours, min_gap=-1)
+
+
+def _plus(size: int = 201, arm: int = 90) -> np.ndarray:
+    contours = np.zeros((size, size), bool)
+    centre = size // 2
+    contours[centre, centre - arm:centre + arm + 1] = True
+    contours[centre - arm:centre + arm + 1, centre] = True
+    return contours
+
+
+def test_skeleton_graph_reads_a_staircase_as_one_path():
+    """An 8-connected staircase (with L corners) is a path: n - 1 edges, no triangles."""
+    stairs = np.zeros((12, 12), bool)
+    rows = np.repeat(np.arange(6), 2)
+    stairs[rows, np.arange(12)] = True  # two pixels per row: horizontal steps + diagonal risers
+    stairs[rows[1:] + 0, np.arange(1, 12)] |= False
+    nodes, edges = eb.skeleton_graph(stairs)
+    assert len(nodes) == stairs.sum() and len(edges) == len(nodes) - 1
+    degree = np.bincount(edges.ravel(), minlength=len(nodes))
+    assert sorted(degree.tolist()).count(1) == 2  # two ends
+    corner = np.zeros((3, 3), bool)
+    corner[0, 0] = corner[0, 1] = corner[1, 1] = True  # an L: the diagonal (0,0)-(1,1) is redundant
+    assert len(eb.skeleton_graph(corner)[1]) == 2
+    with pytest.raises(TypeError, match="skeleton"):
+        eb.skeleton_graph(np.zeros((3, 3)))
+
+
+def test_polyline_crossings_of_a_plus_sign_and_a_jagged_line():
+    plus = _plus()
+    features = eb.circle_features(plus, n_circles=3, step=0.5, mode="isotropic", crossings="polyline")
+    assert features.counts.tolist() == [4, 4, 4]
+    np.testing.assert_allclose(features.distance_sums, 4 * np.sqrt(2) * features.radii, rtol=0.03)
+    # a line at a shallow angle rasterises as a staircase; it still crosses each circle once per arm
+    jagged = np.zeros((201, 201), np.uint8)
+    cv2.line(jagged, (10, 90), (190, 110), 1, 1)
+    cv2.line(jagged, (90, 10), (110, 190), 1, 1)
+    counts = eb.circle_features(jagged > 0, n_circles=3, step=0.5, mode="isotropic", crossings="polyline").counts
+    assert counts.tolist() == [4, 4, 4]
+
+
+def test_dead_band_ignores_a_graze_and_keeps_a_crossing():
+    """A bump whose tip pokes 1.5 px beyond a circle and turns back crosses it twice as a sign change,
+    not at all with a 3-px dead band; the plus's real crossings survive the band."""
+    plus = _plus()
+    base = eb.circle_features(plus, n_circles=2, step=0.5, mode="isotropic")
+    radius_px = base.radii[1] * base.normalisation.spread[0]
+    centre = base.normalisation.centroid  # (row, col)
+    direction = np.array([-1.0, 1.0]) / np.sqrt(2)  # up-right diagonal, between the arms
+    tangent = np.array([1.0, 1.0]) / np.sqrt(2)
+    apex = centre + (radius_px + 1.5) * direction
+    ends = [centre + (radius_px - 12) * direction + sign * 8 * tangent for sign in (-1, 1)]
+    canvas = plus.astype(np.uint8)
+    for end in ends:
+        cv2.line(canvas, tuple(int(v) for v in np.round(end[::-1])), tuple(int(v) for v in np.round(apex[::-1])), 1, 1)
+    skeleton = canvas > 0
+    common = dict(n_circles=2, step=0.5, mode="isotropic", crossings="polyline", polyline_smoothing=0, skeleton=skeleton)
+    plain = eb.circle_features(plus, band=0.0, **common).counts
+    banded = eb.circle_features(plus, band=3.0, **common).counts
+    assert plain.tolist() == [4, 6] and banded.tolist() == [4, 4]
+    with pytest.raises(ValueError, match="band"):
+        eb.circle_features(plus, crossings="polyline", band=-1.0)
+    with pytest.raises(ValueError, match="crossings"):
+        eb.circle_features(plus, crossings="subpixel")
+    with pytest.raises(ValueError, match="skeleton"):
+        eb.circle_features(plus, crossings="polyline", skeleton=np.zeros((5, 5), bool))
+
+
+def test_prune_spurs_removes_short_branches_and_keeps_line_length():
+    line = np.zeros((20, 40), bool)
+    line[10, 2:38] = True
+    spur = line.copy()
+    spur[7:10, 20] = True  # a 3-pixel side branch
+    pruned = eb.prune_spurs(spur, 5)
+    assert np.array_equal(pruned, line)
+    assert np.array_equal(eb.prune_spurs(line, 5), line)
+    assert np.array_equal(eb.prune_spurs(spur, 0), spur)
+
+
+def test_smooth_polylines_keeps_ends_and_straightens_a_zigzag():
+    nodes = np.c_[np.zeros(9), np.arange(9.0)]
+    nodes[1::2, 0] = 1.0  # zigzag between rows 0 and 1
+    edges = np.c_[np.arange(8), np.arange(1, 9)]
+    smoothed = eb.smooth_polylines(nodes, edges, 4)
+    np.testing.assert_array_equal(smoothed[[0, -1]], nodes[[0, -1]])
+    assert np.ptp(smoothed[2:-2, 0]) < 0.5 * np.ptp(nodes[2:-2, 0])
 
 
 def test_principal_normalisation_whitens_and_round_trips(clean_ear_contours):

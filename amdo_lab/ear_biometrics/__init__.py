@@ -4,6 +4,7 @@ Synthetic seeded ear images stand in for the paper's (unavailable) database.
 """
 
 from amdo_lab.ear_biometrics.features import (
+    CROSSING_READINGS,
     NORMALISATION_MODES,
     CircleFeatures,
     ContourTopology,
@@ -16,6 +17,9 @@ from amdo_lab.ear_biometrics.features import (
     crossing_number,
     detect_contours,
     normalise_coordinates,
+    prune_spurs,
+    skeleton_graph,
+    smooth_polylines,
     topology_features,
 )
 from amdo_lab.ear_biometrics.matcher import (

@@ -7,6 +7,8 @@ from dataclasses import dataclass
 
 import cv2
 import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 from skimage.morphology import skeletonize
 
 from amdo_lab.common import check_choice, check_positive, check_positive_int
@@ -246,45 +248,220 @@ def _circle_crossings(hits: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return rows[order], mids[order]
 
 
-def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *, mode: str = "principal",
-                    min_gap: float = 0.0) -> CircleFeatures:
-    """First feature vector V, eq. (7).
+CROSSING_READINGS = ("pixels", "polyline")
 
-    Circles of radius r_m = m * step (m = 1..n_circles) in *normalised* units (eq. 6) are centred on
-    the centroid; our reading of "alpha pixels apart" uses normalised units so that V is scale
-    invariant. All circles are sampled at the same angles, at least two samples per pixel of the
-    largest one; a run of consecutive samples on contour pixels is one intersection (l_r counts runs,
-    so a 2-pixel-thick contour crossing the circle counts once). ``min_gap`` > 0 (pixels of arc)
-    first merges runs separated by a shorter gap (a ragged contour grazing the circle). sum d is the
-    perimeter of the polygon through the intersections taken counter-clockwise, closed so that it
-    does not depend on a start angle (0 for fewer than two intersections).
+
+def skeleton_graph(skeleton: object) -> tuple[np.ndarray, np.ndarray]:
+    """The contour polylines of a thinned contour image as a graph.
+
+    Nodes are the skeleton pixels (row, col); edges join 4-adjacent pixels, and diagonal pixels only
+    when no 4-adjacent pixel of the skeleton already links them (a staircase corner is one path, not
+    a triangle, so a circle passing the corner is crossed once). Returns ``(nodes (n, 2) float,
+    edges (m, 2) int)``.
     """
-    array = as_contour_image(contours)
-    n_circles = check_positive_int(n_circles, "n_circles")
-    step = check_positive(step, "step")
-    min_gap = check_positive(min_gap, "min_gap", allow_zero=True)
-    norm = normalise_coordinates(array, mode)
-    radii = step * np.arange(1, n_circles + 1)
+    thin = np.asarray(skeleton)
+    if thin.dtype != bool or thin.ndim != 2:
+        raise TypeError(f"skeleton must be a 2-D boolean image, got dtype {thin.dtype}, shape {thin.shape}")
+    h, w = thin.shape
+    index = np.full((h + 2, w + 2), -1, np.int64)
+    nodes = np.argwhere(thin)
+    index[nodes[:, 0] + 1, nodes[:, 1] + 1] = np.arange(len(nodes))
+    on = index >= 0
+
+    def at(d_row: int, d_col: int, array: np.ndarray) -> np.ndarray:
+        return array[1 + d_row:1 + d_row + h, 1 + d_col:1 + d_col + w]
+
+    here = at(0, 0, index)
+    pairs = []
+    for d_row, d_col, keep in [(0, 1, None), (1, 0, None), (1, 1, (0, 1, 1, 0)), (1, -1, (0, -1, 1, 0))]:
+        linked = thin & at(d_row, d_col, on)
+        if keep is not None:  # diagonal: only if neither shared 4-neighbour is on the skeleton
+            linked &= ~at(keep[0], keep[1], on) & ~at(keep[2], keep[3], on)
+        pairs.append(np.c_[here[linked], at(d_row, d_col, index)[linked]])
+    return nodes.astype(float), np.vstack(pairs)
+
+
+def smooth_polylines(nodes: np.ndarray, edges: np.ndarray, iterations: int) -> np.ndarray:
+    """Light smoothing along the contours: ``iterations`` rounds of replacing every node of degree 2
+    (an interior polyline point) by the mean of itself and its two neighbours. Endings and
+    bifurcations stay put, so contours neither shrink nor come apart."""
+    iterations = check_positive_int(iterations, "iterations", minimum=0)
+    positions = np.asarray(nodes, float).copy()
+    degree = np.bincount(edges.ravel(), minlength=len(positions))
+    interior = degree == 2
+    for _ in range(iterations):
+        totals = positions.copy()
+        np.add.at(totals, edges[:, 0], positions[edges[:, 1]])
+        np.add.at(totals, edges[:, 1], positions[edges[:, 0]])
+        positions[interior] = totals[interior] / 3.0
+    return positions
+
+
+def _pixel_crossings(array: np.ndarray, norm: Normalisation, radii: np.ndarray,
+                     min_gap: float) -> tuple[np.ndarray, np.ndarray]:
+    """Literal reading: circle index and angle of every run of contour pixels met along each circle."""
     n_samples = int(8 * np.ceil(4 * np.pi * radii[-1] * norm.spread.max() / 8)) + 8
     angles = 2 * np.pi * np.arange(n_samples) / n_samples
     unit = np.c_[np.cos(angles), np.sin(angles)]
-    pixels = norm.to_pixels((radii[:, None, None] * unit).reshape(-1, 2)).reshape(n_circles, n_samples, 2)
+    pixels = norm.to_pixels((radii[:, None, None] * unit).reshape(-1, 2)).reshape(len(radii), n_samples, 2)
     rc = np.round(pixels).astype(int)
     inside = (rc[..., 0] >= 0) & (rc[..., 0] < array.shape[0]) & (rc[..., 1] >= 0) & (rc[..., 1] < array.shape[1])
-    hits = np.zeros((n_circles, n_samples), bool)
+    hits = np.zeros((len(radii), n_samples), bool)
     hits[inside] = array[rc[inside][:, 0], rc[inside][:, 1]]
     arc = np.linalg.norm(np.roll(pixels, -1, axis=1) - pixels, axis=2)  # pixel length of each sample step
     rows, mids = _circle_crossings(_fill_short_gaps(hits, arc, min_gap))
-    theta = 2 * np.pi * mids / n_samples
+    return rows, 2 * np.pi * mids / n_samples
+
+
+def _polyline_crossings(skeleton: np.ndarray, norm: Normalisation, radii: np.ndarray, smoothing: int,
+                        band: float) -> tuple[np.ndarray, np.ndarray]:
+    """Sub-pixel reading: circle index and angle of every crossing of the (lightly smoothed) skeleton
+    polylines with each circle.
+
+    With ``band`` = 0 a crossing is a sign change of r(s) - R along an edge, located by linear
+    interpolation. With ``band`` = h > 0 (pixels) the sign change must go from below R - h to above
+    R + h (a dead band, as in a Schmitt trigger): a stretch of contour inside the band counts once if
+    it enters from one side and leaves on the other, and not at all if it touches the circle and turns
+    back (a graze), so sub-pixel wobble near a tangent point cannot add or remove crossings.
+    """
+    nodes, edges = skeleton_graph(skeleton)
+    xy = norm.to_normalised(smooth_polylines(nodes, edges, smoothing))
+    radius = np.linalg.norm(xy, axis=1)
+    n_nodes, n_circles = len(xy), len(radii)
+    h = band / np.sqrt(np.prod(norm.spread))  # pixels -> normalised units (geometric-mean spread)
+    side = np.where(radius[:, None] < radii - h, -1, np.where(radius[:, None] >= radii + h, 1, 0))
+    a, b = edges[:, 0], edges[:, 1]
+    # direct jumps over the whole band (always the case for h = 0)
+    edge_index, rows = np.nonzero(side[a] * side[b] == -1)
+    ea, eb = a[edge_index], b[edge_index]
+    t = (radii[rows] - radius[ea]) / (radius[eb] - radius[ea])
+    points = xy[ea] + t[:, None] * (xy[eb] - xy[ea])
+    rows_out, theta_out = [rows], [np.arctan2(points[:, 1], points[:, 0])]
+    if h > 0:
+        # stretches inside the band: connected components of band nodes, one graph per circle
+        in_band = side == 0  # (n_nodes, n_circles)
+        key = lambda node, circle: circle * n_nodes + node  # noqa: E731
+        e_idx, c_idx = np.nonzero(in_band[a] & in_band[b])
+        graph = coo_matrix((np.ones(len(e_idx)), (key(a[e_idx], c_idx), key(b[e_idx], c_idx))),
+                           shape=(n_nodes * n_circles,) * 2)
+        _, component = connected_components(graph, directed=False)
+        # edges leaving a band stretch to the inside (-1) or the outside (+1)
+        both = np.r_[a, b], np.r_[b, a]
+        e_idx, c_idx = np.nonzero(in_band[both[0]] & (side[both[1]] != 0))
+        stretch = component[key(both[0][e_idx], c_idx)]
+        exits = side[both[1][e_idx], c_idx]
+        n_comp = component.max() + 1
+        inward = np.bincount(stretch, exits < 0, minlength=n_comp)
+        outward = np.bincount(stretch, exits > 0, minlength=n_comp)
+        crossing_stretches = np.flatnonzero(np.minimum(inward, outward) > 0)
+        count = np.minimum(inward, outward)[crossing_stretches].astype(int)
+        band_nodes, band_circles = np.nonzero(in_band)
+        band_component = component[key(band_nodes, band_circles)]
+        size = np.bincount(band_component, minlength=n_comp)
+        centre = np.c_[np.bincount(band_component, xy[band_nodes, 0], n_comp),
+                       np.bincount(band_component, xy[band_nodes, 1], n_comp)] / np.maximum(size, 1)[:, None]
+        circle_of = np.zeros(n_comp, int)
+        circle_of[band_component] = band_circles
+        centre = np.repeat(centre[crossing_stretches], count, axis=0)
+        rows_out.append(np.repeat(circle_of[crossing_stretches], count))
+        theta_out.append(np.arctan2(centre[:, 1], centre[:, 0]))
+    return np.concatenate(rows_out), np.concatenate(theta_out) % (2 * np.pi)
+
+
+def prune_spurs(skeleton: object, length: int) -> np.ndarray:
+    """Remove side branches shorter than ``length`` pixels from a thinned image (spurs that a ragged
+    contour border leaves after thinning): ``length`` rounds of deleting end pixels, then the
+    surviving ends regrow along the original skeleton by up to ``length`` pixels, so genuine open
+    contours keep their full length."""
+    thin = np.asarray(skeleton)
+    if thin.dtype != bool or thin.ndim != 2:
+        raise TypeError(f"skeleton must be a 2-D boolean image, got dtype {thin.dtype}, shape {thin.shape}")
+    length = check_positive_int(length, "length", minimum=0)
+    kernel = np.ones((3, 3), np.uint8)
+
+    def ends(mask: np.ndarray) -> np.ndarray:  # one branch (N_c = 1) or isolated (N_c = 0)
+        return mask & (crossing_number(mask) <= 1)
+
+    pruned = thin.copy()
+    for _ in range(length):
+        pruned &= ~ends(pruned)
+    grown = ends(pruned) & (crossing_number(pruned) == 1)  # ends of the pruned skeleton
+    front = grown
+    for _ in range(length):
+        front = cv2.dilate(front.astype(np.uint8), kernel).astype(bool) & thin & ~pruned & ~grown
+        grown |= front
+    return pruned | grown
+
+
+def _circle_polygons(rows: np.ndarray, theta: np.ndarray, radii: np.ndarray
+                     ) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:
+    """Counts l_r, closed counter-clockwise polygon perimeters sum d and crossing points per circle."""
+    order = np.lexsort((theta, rows))
+    rows, theta = rows[order], theta[order]
+    n_circles = len(radii)
     crossings = radii[rows, None] * np.c_[np.cos(theta), np.sin(theta)]
     counts = np.bincount(rows, minlength=n_circles)
     # closed polygon per circle: each crossing joined to the next one of the same circle (cyclically)
     first = np.cumsum(counts) - counts
     position = np.arange(len(rows)) - first[rows]
-    following = first[rows] + (position + 1) % counts[rows]
+    following = first[rows] + (position + 1) % np.maximum(counts[rows], 1)
     chords = np.linalg.norm(crossings[following] - crossings, axis=1)
     sums = np.where(counts > 1, np.bincount(rows, chords, minlength=n_circles), 0.0)
-    points = tuple(np.split(crossings, np.cumsum(counts)[:-1]))
+    return counts, sums, tuple(np.split(crossings, np.cumsum(counts)[:-1]))
+
+
+def _skeleton(array: np.ndarray) -> np.ndarray:
+    """skeletonize inside the contours' bounding box (plus a 1-pixel margin): same result, less to scan."""
+    rows, cols = np.flatnonzero(array.any(axis=1)), np.flatnonzero(array.any(axis=0))
+    top, left = max(rows[0] - 1, 0), max(cols[0] - 1, 0)
+    thin = np.zeros_like(array)
+    thin[top:rows[-1] + 2, left:cols[-1] + 2] = skeletonize(array[top:rows[-1] + 2, left:cols[-1] + 2])
+    return thin
+
+
+def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *, mode: str = "principal",
+                    min_gap: float = 0.0, crossings: str = "pixels", polyline_smoothing: int = 2,
+                    band: float = 0.0, spur_length: int = 0, skeleton: np.ndarray | None = None) -> CircleFeatures:
+    """First feature vector V, eq. (7).
+
+    Circles of radius r_m = m * step (m = 1..n_circles) in *normalised* units (eq. 6) are centred on
+    the centroid; our reading of "alpha pixels apart" uses normalised units so that V is scale
+    invariant. Two readings of "the contour crosses the circle":
+
+    ``crossings="pixels"`` (the literal one)
+        All circles are sampled at the same angles, at least two samples per pixel of the largest
+        one; a run of consecutive samples on contour pixels is one intersection (l_r counts runs, so
+        a 2-pixel-thick contour crossing the circle counts once). ``min_gap`` > 0 (pixels of arc)
+        first merges runs separated by a shorter gap (a ragged contour grazing the circle).
+    ``crossings="polyline"`` (sub-pixel)
+        The contours are thinned, the skeleton is read as polylines (:func:`skeleton_graph`),
+        smoothed by ``polyline_smoothing`` rounds of neighbour averaging (:func:`smooth_polylines`)
+        and intersected with each circle analytically: one crossing per sign change of r(s) - R
+        along a contour, so a contour that crosses a circle once counts once however ragged its
+        pixels are. ``min_gap`` is not used. ``skeleton`` may pass an already thinned image.
+
+    sum d is the perimeter of the polygon through the intersections taken counter-clockwise, closed
+    so that it does not depend on a start angle (0 for fewer than two intersections).
+    """
+    array = as_contour_image(contours)
+    n_circles = check_positive_int(n_circles, "n_circles")
+    step = check_positive(step, "step")
+    min_gap = check_positive(min_gap, "min_gap", allow_zero=True)
+    check_choice(crossings, "crossings", CROSSING_READINGS)
+    polyline_smoothing = check_positive_int(polyline_smoothing, "polyline_smoothing", minimum=0)
+    band = check_positive(band, "band", allow_zero=True)
+    spur_length = check_positive_int(spur_length, "spur_length", minimum=0)
+    norm = normalise_coordinates(array, mode)
+    radii = step * np.arange(1, n_circles + 1)
+    if crossings == "pixels":
+        rows, theta = _pixel_crossings(array, norm, radii, min_gap)
+    else:
+        thin = _skeleton(array) if skeleton is None else np.asarray(skeleton)
+        if thin.shape != array.shape or thin.dtype != bool:
+            raise ValueError(f"skeleton must be a boolean image of the contours' shape {array.shape}, "
+                             f"got dtype {thin.dtype}, shape {thin.shape}")
+        rows, theta = _polyline_crossings(prune_spurs(thin, spur_length), norm, radii, polyline_smoothing, band)
+    counts, sums, points = _circle_polygons(rows, theta, radii)
     return CircleFeatures(radii, counts, sums, points, norm)
 
 
@@ -343,7 +520,8 @@ def _cluster_centres(mask: np.ndarray) -> np.ndarray:
 
 
 def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, *, mode: str = "principal",
-                      min_gap: float = 0.0) -> TopologyFeatures:
+                      min_gap: float = 0.0, crossings: str = "pixels", polyline_smoothing: int = 2,
+                      band: float = 0.0, spur_length: int = 0) -> TopologyFeatures:
     """Second feature vector F, eq. (9).
 
     The contour image is thinned (``skimage.morphology.skeletonize``); skeleton pixels with
@@ -353,14 +531,17 @@ def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, 
     from the outermost (largest normalised radius) inwards, the paper's tracing order.
     """
     array = as_contour_image(contours)
-    circles = circle_features(array, n_circles, step, mode=mode, min_gap=min_gap)
+    full_skeleton = _skeleton(array)
+    circles = circle_features(array, n_circles, step, mode=mode, min_gap=min_gap, crossings=crossings,
+                              polyline_smoothing=polyline_smoothing, band=band, spur_length=spur_length,
+                              skeleton=full_skeleton)
     norm = circles.normalisation
     # Work inside the contours' bounding box (plus a 1-pixel margin): same result, less to scan.
     rows, cols = np.flatnonzero(array.any(axis=1)), np.flatnonzero(array.any(axis=0))
     top, left = max(rows[0] - 1, 0), max(cols[0] - 1, 0)
     crop = array[top:rows[-1] + 2, left:cols[-1] + 2]
     offset = np.array([top, left])
-    thin = skeletonize(crop)
+    thin = full_skeleton[top:rows[-1] + 2, left:cols[-1] + 2]
     n_c = crossing_number(thin)
     endings = _cluster_centres(n_c == 1) + offset
     bifurcations = _cluster_centres(n_c > 2) + offset
@@ -401,6 +582,4 @@ def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, 
             intersections=all_crossings[crossing_labels == label],
             outer_radius=float(outer[label - 1]),
         ))
-    skeleton = np.zeros_like(array)
-    skeleton[top:top + crop.shape[0], left:left + crop.shape[1]] = thin
-    return TopologyFeatures(tuple(result), skeleton, endings, bifurcations, circles)
+    return TopologyFeatures(tuple(result), full_skeleton, endings, bifurcations, circles)
