@@ -189,7 +189,6 @@ def test_skeleton_graph_reads_a_staircase_as_one_path():
     stairs = np.zeros((12, 12), bool)
     rows = np.repeat(np.arange(6), 2)
     stairs[rows, np.arange(12)] = True  # two pixels per row: horizontal steps + diagonal risers
-    stairs[rows[1:] + 0, np.arange(1, 12)] |= False
     nodes, edges = eb.skeleton_graph(stairs)
     assert len(nodes) == stairs.sum() and len(edges) == len(nodes) - 1
     degree = np.bincount(edges.ravel(), minlength=len(nodes))
@@ -259,6 +258,19 @@ def test_smooth_polylines_keeps_ends_and_straightens_a_zigzag():
     smoothed = eb.smooth_polylines(nodes, edges, 4)
     np.testing.assert_array_equal(smoothed[[0, -1]], nodes[[0, -1]])
     assert np.ptp(smoothed[2:-2, 0]) < 0.5 * np.ptp(nodes[2:-2, 0])
+    with pytest.raises(ValueError, match="edges must index"):
+        eb.smooth_polylines(nodes, edges + 1, 2)
+    with pytest.raises(ValueError, match="edges"):
+        eb.smooth_polylines(nodes, edges.astype(float), 2)
+    with pytest.raises(ValueError, match="nodes"):
+        eb.smooth_polylines(np.full((9, 2), np.nan), edges, 2)
+
+
+def test_prune_spurs_rejects_bad_input():
+    with pytest.raises(TypeError, match="skeleton"):
+        eb.prune_spurs(np.zeros((5, 5), np.uint8), 3)
+    with pytest.raises(ValueError, match="length"):
+        eb.prune_spurs(np.zeros((5, 5), bool), -1)
 
 
 def test_principal_normalisation_whitens_and_round_trips(clean_ear_contours):

@@ -11,7 +11,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from skimage.morphology import skeletonize
 
-from amdo_lab.common import check_choice, check_positive, check_positive_int
+from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
 
 
 
@@ -286,7 +286,13 @@ def smooth_polylines(nodes: np.ndarray, edges: np.ndarray, iterations: int) -> n
     (an interior polyline point) by the mean of itself and its two neighbours. Endings and
     bifurcations stay put, so contours neither shrink nor come apart."""
     iterations = check_positive_int(iterations, "iterations", minimum=0)
-    positions = np.asarray(nodes, float).copy()
+    positions = as_finite_array(nodes, "nodes", shape=(None, 2))
+    edges = np.asarray(edges)
+    if edges.ndim != 2 or edges.shape[1] != 2 or not np.issubdtype(edges.dtype, np.integer):
+        raise ValueError(f"edges must be an (m, 2) integer array of node indices, got dtype {edges.dtype}, "
+                         f"shape {edges.shape}")
+    if edges.size and (edges.min() < 0 or edges.max() >= len(positions)):
+        raise ValueError(f"edges must index nodes 0..{len(positions) - 1}, got indices {edges.min()}..{edges.max()}")
     degree = np.bincount(edges.ravel(), minlength=len(positions))
     interior = degree == 2
     for _ in range(iterations):
