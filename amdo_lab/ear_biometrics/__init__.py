@@ -4,6 +4,8 @@ Synthetic seeded ear images stand in for the paper's (unavailable) database.
 """
 
 from amdo_lab.ear_biometrics.features import (
+    CROSSING_READINGS,
+    NORMALISATION_MODES,
     CircleFeatures,
     ContourTopology,
     Normalisation,
@@ -15,6 +17,9 @@ from amdo_lab.ear_biometrics.features import (
     crossing_number,
     detect_contours,
     normalise_coordinates,
+    prune_spurs,
+    skeleton_graph,
+    smooth_polylines,
     topology_features,
 )
 from amdo_lab.ear_biometrics.matcher import (
@@ -29,6 +34,7 @@ from amdo_lab.ear_biometrics.matcher import (
     topology_similarity,
 )
 from amdo_lab.ear_biometrics.synthetic import (
+    NUISANCE_FACTORS,
     CapturePose,
     EarDatabase,
     EarShape,
@@ -38,5 +44,14 @@ from amdo_lab.ear_biometrics.synthetic import (
     generate_ear_database,
     load_ear_folder,
     render_ear,
+)
+from amdo_lab.ear_biometrics.evaluation import (
+    ClosedSetResult,
+    Separation,
+    closed_set,
+    distance_sum_gaps,
+    genuine_impostor_separation,
+    hog_closed_set,
+    nuisance_study,
 )
 from amdo_lab.ear_biometrics.plotting import draw_circles, draw_topology

@@ -7,12 +7,12 @@ from dataclasses import dataclass
 
 import cv2
 import numpy as np
-from scipy import ndimage
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 from skimage.morphology import skeletonize
 
-from amdo_lab.common import check_choice, check_positive, check_positive_int
+from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
 
-EIGHT = np.ones((3, 3), dtype=bool)
 
 
 def as_grey_image(image: object, name: str = "image") -> np.ndarray:
@@ -67,12 +67,20 @@ def detect_contours(image: object, k: float = 8.0, window: int = 3) -> np.ndarra
     if window % 2 == 0:
         raise ValueError(f"window must be odd, got {window}")
     n2 = window * window
-    mean = cv2.blur(grey, (window, window), borderType=cv2.BORDER_REFLECT)
-    mean_sq = cv2.blur(grey * grey, (window, window), borderType=cv2.BORDER_REFLECT)
-    sigma = np.sqrt(np.maximum(mean_sq - mean * mean, 0.0) * n2 / (n2 - 1))
     kernel = np.ones((window, window), np.uint8)
-    spread = cv2.dilate(grey, kernel, borderType=cv2.BORDER_REFLECT) - cv2.erode(grey, kernel, borderType=cv2.BORDER_REFLECT)
-    return (spread >= mean - k * sigma) & (spread > 0)
+    raw = np.asarray(image)
+    # 8-bit images: window sums of the integer values are exact in float32 (below 2**24), and the
+    # max/min filters run on uint8 -- several times faster than the float64 path, same rule.
+    values = raw if raw.dtype == np.uint8 else grey
+    work = values.astype(np.float32) if raw.dtype == np.uint8 else grey
+    box = dict(ddepth=-1, ksize=(window, window), normalize=False, borderType=cv2.BORDER_REFLECT)
+    sums = cv2.boxFilter(work, **box).astype(float)
+    sums_sq = cv2.boxFilter(work * work, **box).astype(float)
+    mean = sums / n2  # eq. 1
+    sigma = np.sqrt(np.maximum(sums_sq - sums * mean, 0.0) / (n2 - 1))  # eq. 2
+    spread = (cv2.dilate(values, kernel, borderType=cv2.BORDER_REFLECT).astype(float)
+              - cv2.erode(values, kernel, borderType=cv2.BORDER_REFLECT))  # eq. 3
+    return (spread >= mean - k * sigma) & (spread > 0)  # eqs. 4-5
 
 
 def clean_contours(contours: object, min_size: int = 20, closing: int = 1) -> np.ndarray:
@@ -90,9 +98,8 @@ def clean_contours(contours: object, min_size: int = 20, closing: int = 1) -> np
         padded = np.pad(array.astype(np.uint8), closing)  # zero border, as binary closing with border 0
         closed = cv2.morphologyEx(padded, cv2.MORPH_CLOSE, kernel, borderType=cv2.BORDER_CONSTANT, borderValue=0)
         array = closed[closing:-closing, closing:-closing].astype(bool)
-    labels, n = ndimage.label(array, structure=EIGHT)
-    sizes = np.bincount(labels.ravel(), minlength=n + 1)
-    keep = sizes >= min_size
+    _, labels, stats, _ = cv2.connectedComponentsWithStats(array.astype(np.uint8), connectivity=8)
+    keep = stats[:, cv2.CC_STAT_AREA] >= min_size
     keep[0] = False
     return keep[labels]
 
@@ -104,42 +111,78 @@ def canny_contours(image: object, sigma: float = 1.5, low: float = 20, high: flo
     return cv2.Canny(np.clip(smooth, 0, 255).astype(np.uint8), low, high) > 0
 
 
+NORMALISATION_MODES = ("principal", "axes", "isotropic")
+
+
 @dataclass(frozen=True)
 class Normalisation:
-    """Eq. (6): centroid (I, J) in (row, col) pixels and per-axis spreads (sigma_i, sigma_j)."""
+    """Eq. (6): centroid (I, J) in (row, col) pixels and the linear map to normalised (x, y).
+
+    ``matrix`` (2x2) maps a pixel offset (row - I, col - J) to normalised (x, y); ``spread`` holds
+    the pixel standard deviations along the normalised x and y axes (the sigmas that eq. 6 divides by).
+    """
 
     centroid: np.ndarray
     spread: np.ndarray
+    matrix: np.ndarray
 
     def to_normalised(self, rows_cols: np.ndarray) -> np.ndarray:
-        """Pixel (row, col) -> normalised (x, y) with x to the right and y up."""
-        rc = (np.asarray(rows_cols, float) - self.centroid) / self.spread
-        return np.c_[rc[:, 1], -rc[:, 0]]
+        """Pixel (row, col) -> normalised (x, y)."""
+        return (np.asarray(rows_cols, float).reshape(-1, 2) - self.centroid) @ self.matrix.T
 
     def to_pixels(self, xy: np.ndarray) -> np.ndarray:
         """Normalised (x, y) -> pixel (row, col)."""
-        xy = np.asarray(xy, float).reshape(-1, 2)
-        return np.c_[-xy[:, 1], xy[:, 0]] * self.spread + self.centroid
+        return np.asarray(xy, float).reshape(-1, 2) @ np.linalg.inv(self.matrix).T + self.centroid
 
 
-def normalise_coordinates(contours: object, mode: str = "isotropic") -> Normalisation:
+def _image_axes_matrix(spread: np.ndarray) -> np.ndarray:
+    # x to the right (columns), y up (minus rows), each divided by its sigma
+    return np.array([[0.0, 1.0 / spread[1]], [-1.0 / spread[0], 0.0]])
+
+
+def normalise_coordinates(contours: object, mode: str = "principal") -> Normalisation:
     """Eq. (6): translate the centroid of the contour pixels to the origin and divide by the spread.
 
-    ``mode="axes"`` is the paper's literal matrix: rows divided by sigma_i, columns by sigma_j.
-    ``mode="isotropic"`` (our default) divides both by sqrt((sigma_i^2 + sigma_j^2)/2), which keeps
-    circles circles under rotation: the paper's rotation-invariance claim holds only for this variant
-    (with per-axis spreads an elongated ear rotated by 45 degrees is squashed differently).
+    Three readings of the per-axis division:
+
+    ``"axes"``
+        The literal matrix: rows divided by sigma_i, columns by sigma_j (the image axes). Not
+        rotation invariant: an elongated ear turned by 45 degrees has other per-axis spreads than
+        upright, so its normalised shape is squashed differently.
+    ``"principal"`` (default)
+        The same division along the *principal axes* of the contour pixels (eigenvectors of their
+        2x2 covariance): y along the major axis, x along the minor one. For an upright ear (principal
+        axes = image axes) this is eq. 6 exactly; for a rotated one it first undoes the rotation, so
+        the paper's rotation-invariance claim holds. It also removes any horizontal foreshortening
+        of an upright ear (the camera's yaw), as the literal eq. 6 does. Axis signs are fixed by the
+        sign of the third moment (skewness) along each axis, so the frame is the same for every
+        capture of an ear.
+    ``"isotropic"``
+        Both image axes divided by sqrt((sigma_i^2 + sigma_j^2) / 2): a similarity normalisation,
+        rotation covariant (circles stay circles) but the frame turns with the ear and the aspect
+        ratio is kept.
     """
     array = as_contour_image(contours)
-    check_choice(mode, "mode", ("axes", "isotropic"))
+    check_choice(mode, "mode", NORMALISATION_MODES)
     pixels = np.argwhere(array).astype(float)
     centroid = pixels.mean(axis=0)
-    spread = pixels.std(axis=0)
+    offsets = pixels - centroid
+    spread = offsets.std(axis=0)
     if np.any(spread == 0):
         raise ValueError("contours must not lie on a single row or column (zero spread)")
+    if mode == "axes":
+        return Normalisation(centroid, spread, _image_axes_matrix(spread))
     if mode == "isotropic":
         spread = np.full(2, np.sqrt(np.mean(spread**2)))
-    return Normalisation(centroid, spread)
+        return Normalisation(centroid, spread, _image_axes_matrix(spread))
+    variances, vectors = np.linalg.eigh(np.cov(offsets.T, bias=True))  # ascending: minor, major
+    if variances[0] <= 1e-12 * variances[1]:
+        raise ValueError("contours must not lie on a single straight line (zero spread across it)")
+    projected = offsets @ vectors  # (n, 2): along minor, major axis
+    signs = np.where(np.mean(projected**3, axis=0) < 0, -1.0, 1.0)  # positive skewness on both axes
+    spread = np.sqrt(variances)
+    matrix = (vectors * signs).T / spread[:, None]  # row m: unit axis m (signed) / sigma_m
+    return Normalisation(centroid, spread, matrix)
 
 
 @dataclass(frozen=True)
@@ -158,53 +201,274 @@ class CircleFeatures:
         return np.c_[self.radii, self.counts, self.distance_sums]
 
 
-def _circle_runs(hits: np.ndarray) -> np.ndarray:
-    """Midpoint sample indices (float) of the runs of True on a closed (circular) boolean array."""
-    if not hits.any():
-        return np.zeros(0)
-    if hits.all():
-        return np.zeros(1)
-    first_false = int(np.argmin(hits))
-    rolled = np.roll(hits, -first_false)
-    edges = np.diff(rolled.astype(np.int8))
-    starts = np.flatnonzero(edges == 1) + 1
-    ends = np.flatnonzero(edges == -1)
-    if rolled[-1]:
-        ends = np.append(ends, len(rolled) - 1)
-    return ((starts + ends) / 2 + first_false) % len(hits)
+def _roll_rows(values: np.ndarray, shifts: np.ndarray) -> np.ndarray:
+    """Row r rolled left by shifts[r] (row r starts at its element shifts[r])."""
+    n = values.shape[1]
+    return values[np.arange(len(values))[:, None], (np.arange(n) + shifts[:, None]) % n]
 
 
-def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *, mode: str = "isotropic") -> CircleFeatures:
+def _runs(rolled: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(row, start, end exclusive) of every run of True in each row (rows need not be circular)."""
+    edges = np.diff(np.pad(rolled.astype(np.int8), ((0, 0), (1, 1))), axis=1)
+    rows, starts = np.nonzero(edges == 1)
+    _, ends = np.nonzero(edges == -1)  # row-major order pairs each start with its end
+    return rows, starts, ends
+
+
+def _fill_short_gaps(hits: np.ndarray, arc: np.ndarray, min_gap: float) -> np.ndarray:
+    """Close runs of False on closed rows whose arc length (sum of ``arc``) is below ``min_gap``."""
+    partial = hits.any(axis=1) & ~hits.all(axis=1)
+    if min_gap <= 0 or not partial.any():
+        return hits
+    sub, sub_arc = hits[partial], arc[partial]
+    shifts = np.argmax(sub, axis=1)  # start every row on a True, so no gap wraps around
+    rolled, rolled_arc = _roll_rows(sub, shifts), _roll_rows(sub_arc, shifts)
+    rows, starts, ends = _runs(~rolled)
+    cumulative = np.pad(np.cumsum(rolled_arc, axis=1), ((0, 0), (1, 0)))
+    short = cumulative[rows, ends] - cumulative[rows, starts] < min_gap
+    fill = np.zeros(rolled.shape[1] + 1, np.int32)[None].repeat(len(rolled), axis=0)
+    np.add.at(fill, (rows[short], starts[short]), 1)
+    np.add.at(fill, (rows[short], ends[short]), -1)
+    rolled = rolled | (np.cumsum(fill, axis=1)[:, :-1] > 0)
+    filled = hits.copy()
+    filled[partial] = _roll_rows(rolled, (-shifts) % hits.shape[1])
+    return filled
+
+
+def _circle_crossings(hits: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Row and midpoint sample index (float) of every run of True on closed (circular) rows,
+    sorted by row, then counter-clockwise. A fully covered row counts as one crossing at index 0."""
+    n = hits.shape[1]
+    full = hits.all(axis=1)
+    shifts = np.argmin(hits, axis=1)  # start every row on a False, so no run wraps around
+    rows, starts, ends = _runs(_roll_rows(hits & ~full[:, None], shifts))
+    mids = ((starts + ends - 1) / 2 + shifts[rows]) % n
+    rows, mids = np.r_[rows, np.flatnonzero(full)], np.r_[mids, np.zeros(full.sum())]
+    order = np.lexsort((mids, rows))
+    return rows[order], mids[order]
+
+
+CROSSING_READINGS = ("pixels", "polyline")
+
+
+def skeleton_graph(skeleton: object) -> tuple[np.ndarray, np.ndarray]:
+    """The contour polylines of a thinned contour image as a graph.
+
+    Nodes are the skeleton pixels (row, col); edges join 4-adjacent pixels, and diagonal pixels only
+    when no 4-adjacent pixel of the skeleton already links them (a staircase corner is one path, not
+    a triangle, so a circle passing the corner is crossed once). Returns ``(nodes (n, 2) float,
+    edges (m, 2) int)``.
+    """
+    thin = np.asarray(skeleton)
+    if thin.dtype != bool or thin.ndim != 2:
+        raise TypeError(f"skeleton must be a 2-D boolean image, got dtype {thin.dtype}, shape {thin.shape}")
+    h, w = thin.shape
+    index = np.full((h + 2, w + 2), -1, np.int64)
+    nodes = np.argwhere(thin)
+    index[nodes[:, 0] + 1, nodes[:, 1] + 1] = np.arange(len(nodes))
+    on = index >= 0
+
+    def at(d_row: int, d_col: int, array: np.ndarray) -> np.ndarray:
+        return array[1 + d_row:1 + d_row + h, 1 + d_col:1 + d_col + w]
+
+    here = at(0, 0, index)
+    pairs = []
+    for d_row, d_col, keep in [(0, 1, None), (1, 0, None), (1, 1, (0, 1, 1, 0)), (1, -1, (0, -1, 1, 0))]:
+        linked = thin & at(d_row, d_col, on)
+        if keep is not None:  # diagonal: only if neither shared 4-neighbour is on the skeleton
+            linked &= ~at(keep[0], keep[1], on) & ~at(keep[2], keep[3], on)
+        pairs.append(np.c_[here[linked], at(d_row, d_col, index)[linked]])
+    return nodes.astype(float), np.vstack(pairs)
+
+
+def smooth_polylines(nodes: np.ndarray, edges: np.ndarray, iterations: int) -> np.ndarray:
+    """Light smoothing along the contours: ``iterations`` rounds of replacing every node of degree 2
+    (an interior polyline point) by the mean of itself and its two neighbours. Endings and
+    bifurcations stay put, so contours neither shrink nor come apart."""
+    iterations = check_positive_int(iterations, "iterations", minimum=0)
+    positions = as_finite_array(nodes, "nodes", shape=(None, 2))
+    edges = np.asarray(edges)
+    if edges.ndim != 2 or edges.shape[1] != 2 or not np.issubdtype(edges.dtype, np.integer):
+        raise ValueError(f"edges must be an (m, 2) integer array of node indices, got dtype {edges.dtype}, "
+                         f"shape {edges.shape}")
+    if edges.size and (edges.min() < 0 or edges.max() >= len(positions)):
+        raise ValueError(f"edges must index nodes 0..{len(positions) - 1}, got indices {edges.min()}..{edges.max()}")
+    degree = np.bincount(edges.ravel(), minlength=len(positions))
+    interior = degree == 2
+    for _ in range(iterations):
+        totals = positions.copy()
+        np.add.at(totals, edges[:, 0], positions[edges[:, 1]])
+        np.add.at(totals, edges[:, 1], positions[edges[:, 0]])
+        positions[interior] = totals[interior] / 3.0
+    return positions
+
+
+def _pixel_crossings(array: np.ndarray, norm: Normalisation, radii: np.ndarray,
+                     min_gap: float) -> tuple[np.ndarray, np.ndarray]:
+    """Literal reading: circle index and angle of every run of contour pixels met along each circle."""
+    n_samples = int(8 * np.ceil(4 * np.pi * radii[-1] * norm.spread.max() / 8)) + 8
+    angles = 2 * np.pi * np.arange(n_samples) / n_samples
+    unit = np.c_[np.cos(angles), np.sin(angles)]
+    pixels = norm.to_pixels((radii[:, None, None] * unit).reshape(-1, 2)).reshape(len(radii), n_samples, 2)
+    rc = np.round(pixels).astype(int)
+    inside = (rc[..., 0] >= 0) & (rc[..., 0] < array.shape[0]) & (rc[..., 1] >= 0) & (rc[..., 1] < array.shape[1])
+    hits = np.zeros((len(radii), n_samples), bool)
+    hits[inside] = array[rc[inside][:, 0], rc[inside][:, 1]]
+    arc = np.linalg.norm(np.roll(pixels, -1, axis=1) - pixels, axis=2)  # pixel length of each sample step
+    rows, mids = _circle_crossings(_fill_short_gaps(hits, arc, min_gap))
+    return rows, 2 * np.pi * mids / n_samples
+
+
+def _polyline_crossings(skeleton: np.ndarray, norm: Normalisation, radii: np.ndarray, smoothing: int,
+                        band: float) -> tuple[np.ndarray, np.ndarray]:
+    """Sub-pixel reading: circle index and angle of every crossing of the (lightly smoothed) skeleton
+    polylines with each circle.
+
+    With ``band`` = 0 a crossing is a sign change of r(s) - R along an edge, located by linear
+    interpolation. With ``band`` = h > 0 (pixels) the sign change must go from below R - h to above
+    R + h (a dead band, as in a Schmitt trigger): a stretch of contour inside the band counts once if
+    it enters from one side and leaves on the other, and not at all if it touches the circle and turns
+    back (a graze), so sub-pixel wobble near a tangent point cannot add or remove crossings.
+    """
+    nodes, edges = skeleton_graph(skeleton)
+    xy = norm.to_normalised(smooth_polylines(nodes, edges, smoothing))
+    radius = np.linalg.norm(xy, axis=1)
+    n_nodes, n_circles = len(xy), len(radii)
+    h = band / np.sqrt(np.prod(norm.spread))  # pixels -> normalised units (geometric-mean spread)
+    side = np.where(radius[:, None] < radii - h, -1, np.where(radius[:, None] >= radii + h, 1, 0))
+    a, b = edges[:, 0], edges[:, 1]
+    # direct jumps over the whole band (always the case for h = 0)
+    edge_index, rows = np.nonzero(side[a] * side[b] == -1)
+    ea, eb = a[edge_index], b[edge_index]
+    t = (radii[rows] - radius[ea]) / (radius[eb] - radius[ea])
+    points = xy[ea] + t[:, None] * (xy[eb] - xy[ea])
+    rows_out, theta_out = [rows], [np.arctan2(points[:, 1], points[:, 0])]
+    if h > 0:
+        # stretches inside the band: connected components of band nodes, one graph per circle
+        in_band = side == 0  # (n_nodes, n_circles)
+        key = lambda node, circle: circle * n_nodes + node  # noqa: E731
+        e_idx, c_idx = np.nonzero(in_band[a] & in_band[b])
+        graph = coo_matrix((np.ones(len(e_idx)), (key(a[e_idx], c_idx), key(b[e_idx], c_idx))),
+                           shape=(n_nodes * n_circles,) * 2)
+        _, component = connected_components(graph, directed=False)
+        # edges leaving a band stretch to the inside (-1) or the outside (+1)
+        both = np.r_[a, b], np.r_[b, a]
+        e_idx, c_idx = np.nonzero(in_band[both[0]] & (side[both[1]] != 0))
+        stretch = component[key(both[0][e_idx], c_idx)]
+        exits = side[both[1][e_idx], c_idx]
+        n_comp = component.max() + 1
+        inward = np.bincount(stretch, exits < 0, minlength=n_comp)
+        outward = np.bincount(stretch, exits > 0, minlength=n_comp)
+        crossing_stretches = np.flatnonzero(np.minimum(inward, outward) > 0)
+        count = np.minimum(inward, outward)[crossing_stretches].astype(int)
+        band_nodes, band_circles = np.nonzero(in_band)
+        band_component = component[key(band_nodes, band_circles)]
+        size = np.bincount(band_component, minlength=n_comp)
+        centre = np.c_[np.bincount(band_component, xy[band_nodes, 0], n_comp),
+                       np.bincount(band_component, xy[band_nodes, 1], n_comp)] / np.maximum(size, 1)[:, None]
+        circle_of = np.zeros(n_comp, int)
+        circle_of[band_component] = band_circles
+        centre = np.repeat(centre[crossing_stretches], count, axis=0)
+        rows_out.append(np.repeat(circle_of[crossing_stretches], count))
+        theta_out.append(np.arctan2(centre[:, 1], centre[:, 0]))
+    return np.concatenate(rows_out), np.concatenate(theta_out) % (2 * np.pi)
+
+
+def prune_spurs(skeleton: object, length: int) -> np.ndarray:
+    """Remove side branches shorter than ``length`` pixels from a thinned image (spurs that a ragged
+    contour border leaves after thinning): ``length`` rounds of deleting end pixels, then the
+    surviving ends regrow along the original skeleton by up to ``length`` pixels, so genuine open
+    contours keep their full length."""
+    thin = np.asarray(skeleton)
+    if thin.dtype != bool or thin.ndim != 2:
+        raise TypeError(f"skeleton must be a 2-D boolean image, got dtype {thin.dtype}, shape {thin.shape}")
+    length = check_positive_int(length, "length", minimum=0)
+    kernel = np.ones((3, 3), np.uint8)
+
+    def ends(mask: np.ndarray) -> np.ndarray:  # one branch (N_c = 1) or isolated (N_c = 0)
+        return mask & (crossing_number(mask) <= 1)
+
+    pruned = thin.copy()
+    for _ in range(length):
+        pruned &= ~ends(pruned)
+    grown = ends(pruned) & (crossing_number(pruned) == 1)  # ends of the pruned skeleton
+    front = grown
+    for _ in range(length):
+        front = cv2.dilate(front.astype(np.uint8), kernel).astype(bool) & thin & ~pruned & ~grown
+        grown |= front
+    return pruned | grown
+
+
+def _circle_polygons(rows: np.ndarray, theta: np.ndarray, radii: np.ndarray
+                     ) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:
+    """Counts l_r, closed counter-clockwise polygon perimeters sum d and crossing points per circle."""
+    order = np.lexsort((theta, rows))
+    rows, theta = rows[order], theta[order]
+    n_circles = len(radii)
+    crossings = radii[rows, None] * np.c_[np.cos(theta), np.sin(theta)]
+    counts = np.bincount(rows, minlength=n_circles)
+    # closed polygon per circle: each crossing joined to the next one of the same circle (cyclically)
+    first = np.cumsum(counts) - counts
+    position = np.arange(len(rows)) - first[rows]
+    following = first[rows] + (position + 1) % np.maximum(counts[rows], 1)
+    chords = np.linalg.norm(crossings[following] - crossings, axis=1)
+    sums = np.where(counts > 1, np.bincount(rows, chords, minlength=n_circles), 0.0)
+    return counts, sums, tuple(np.split(crossings, np.cumsum(counts)[:-1]))
+
+
+def _skeleton(array: np.ndarray) -> np.ndarray:
+    """skeletonize inside the contours' bounding box (plus a 1-pixel margin): same result, less to scan."""
+    rows, cols = np.flatnonzero(array.any(axis=1)), np.flatnonzero(array.any(axis=0))
+    top, left = max(rows[0] - 1, 0), max(cols[0] - 1, 0)
+    thin = np.zeros_like(array)
+    thin[top:rows[-1] + 2, left:cols[-1] + 2] = skeletonize(array[top:rows[-1] + 2, left:cols[-1] + 2])
+    return thin
+
+
+def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *, mode: str = "principal",
+                    min_gap: float = 0.0, crossings: str = "pixels", polyline_smoothing: int = 2,
+                    band: float = 0.0, spur_length: int = 0, skeleton: np.ndarray | None = None) -> CircleFeatures:
     """First feature vector V, eq. (7).
 
     Circles of radius r_m = m * step (m = 1..n_circles) in *normalised* units (eq. 6) are centred on
     the centroid; our reading of "alpha pixels apart" uses normalised units so that V is scale
-    invariant. Each circle is sampled at about two points per pixel of its circumference; a run of
-    consecutive samples on contour pixels is one intersection (l_r counts runs, so a 2-pixel-thick
-    contour crossing the circle counts once). sum d is the perimeter of the polygon through the
-    intersections taken counter-clockwise, closed so that it does not depend on a start angle.
+    invariant. Two readings of "the contour crosses the circle":
+
+    ``crossings="pixels"`` (the literal one)
+        All circles are sampled at the same angles, at least two samples per pixel of the largest
+        one; a run of consecutive samples on contour pixels is one intersection (l_r counts runs, so
+        a 2-pixel-thick contour crossing the circle counts once). ``min_gap`` > 0 (pixels of arc)
+        first merges runs separated by a shorter gap (a ragged contour grazing the circle).
+    ``crossings="polyline"`` (sub-pixel)
+        The contours are thinned, the skeleton is read as polylines (:func:`skeleton_graph`),
+        smoothed by ``polyline_smoothing`` rounds of neighbour averaging (:func:`smooth_polylines`)
+        and intersected with each circle analytically: one crossing per sign change of r(s) - R
+        along a contour, so a contour that crosses a circle once counts once however ragged its
+        pixels are. ``min_gap`` is not used. ``skeleton`` may pass an already thinned image.
+
+    sum d is the perimeter of the polygon through the intersections taken counter-clockwise, closed
+    so that it does not depend on a start angle (0 for fewer than two intersections).
     """
     array = as_contour_image(contours)
     n_circles = check_positive_int(n_circles, "n_circles")
     step = check_positive(step, "step")
+    min_gap = check_positive(min_gap, "min_gap", allow_zero=True)
+    check_choice(crossings, "crossings", CROSSING_READINGS)
+    polyline_smoothing = check_positive_int(polyline_smoothing, "polyline_smoothing", minimum=0)
+    band = check_positive(band, "band", allow_zero=True)
+    spur_length = check_positive_int(spur_length, "spur_length", minimum=0)
     norm = normalise_coordinates(array, mode)
     radii = step * np.arange(1, n_circles + 1)
-    counts, sums, points = [], [], []
-    for radius in radii:
-        n_samples = int(8 * np.ceil(4 * np.pi * radius * norm.spread.max() / 8)) + 8
-        angles = 2 * np.pi * np.arange(n_samples) / n_samples
-        xy = radius * np.c_[np.cos(angles), np.sin(angles)]
-        rc = np.round(norm.to_pixels(xy)).astype(int)
-        inside = (rc[:, 0] >= 0) & (rc[:, 0] < array.shape[0]) & (rc[:, 1] >= 0) & (rc[:, 1] < array.shape[1])
-        hits = np.zeros(n_samples, bool)
-        hits[inside] = array[rc[inside, 0], rc[inside, 1]]
-        mids = 2 * np.pi * _circle_runs(hits) / n_samples
-        crossing = radius * np.c_[np.cos(mids), np.sin(mids)]
-        counts.append(len(mids))
-        closed = np.vstack([crossing, crossing[:1]]) if len(mids) > 1 else crossing
-        sums.append(float(np.linalg.norm(np.diff(closed, axis=0), axis=1).sum()))
-        points.append(crossing)
-    return CircleFeatures(radii, np.array(counts), np.array(sums), tuple(points), norm)
+    if crossings == "pixels":
+        rows, theta = _pixel_crossings(array, norm, radii, min_gap)
+    else:
+        thin = _skeleton(array) if skeleton is None else np.asarray(skeleton)
+        if thin.shape != array.shape or thin.dtype != bool:
+            raise ValueError(f"skeleton must be a boolean image of the contours' shape {array.shape}, "
+                             f"got dtype {thin.dtype}, shape {thin.shape}")
+        rows, theta = _polyline_crossings(prune_spurs(thin, spur_length), norm, radii, polyline_smoothing, band)
+    counts, sums, points = _circle_polygons(rows, theta, radii)
+    return CircleFeatures(radii, counts, sums, points, norm)
 
 
 def crossing_number(skeleton: np.ndarray) -> np.ndarray:
@@ -248,16 +512,22 @@ class TopologyFeatures:
     circles: CircleFeatures
 
 
-def _cluster_centres(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _label(mask: np.ndarray) -> tuple[np.ndarray, int]:
+    """8-connected component labels (0 = background) and the number of components."""
+    n, labels = cv2.connectedComponents(mask.astype(np.uint8), connectivity=8, ltype=cv2.CV_32S)
+    return labels, n - 1
+
+
+def _cluster_centres(mask: np.ndarray) -> np.ndarray:
     """Centres (row, col) of 8-connected clusters of ``mask`` (adjacent bifurcation pixels are one
-    bifurcation) and the cluster count."""
-    labels, n = ndimage.label(mask, structure=EIGHT)
-    if n == 0:
-        return np.zeros((0, 2)), labels
-    return np.array(ndimage.center_of_mass(mask, labels, np.arange(1, n + 1))).reshape(-1, 2), labels
+    bifurcation)."""
+    n, _, _, centroids = cv2.connectedComponentsWithStats(mask.astype(np.uint8), connectivity=8)
+    return centroids[1:, ::-1].reshape(-1, 2)  # OpenCV gives (x, y) = (col, row)
 
 
-def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, *, mode: str = "isotropic") -> TopologyFeatures:
+def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, *, mode: str = "principal",
+                      min_gap: float = 0.0, crossings: str = "pixels", polyline_smoothing: int = 2,
+                      band: float = 0.0, spur_length: int = 0) -> TopologyFeatures:
     """Second feature vector F, eq. (9).
 
     The contour image is thinned (``skimage.morphology.skeletonize``); skeleton pixels with
@@ -267,25 +537,33 @@ def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, 
     from the outermost (largest normalised radius) inwards, the paper's tracing order.
     """
     array = as_contour_image(contours)
-    circles = circle_features(array, n_circles, step, mode=mode)
+    full_skeleton = _skeleton(array)
+    circles = circle_features(array, n_circles, step, mode=mode, min_gap=min_gap, crossings=crossings,
+                              polyline_smoothing=polyline_smoothing, band=band, spur_length=spur_length,
+                              skeleton=full_skeleton)
     norm = circles.normalisation
-    skeleton = skeletonize(array)
-    n_c = crossing_number(skeleton)
-    endings, _ = _cluster_centres(n_c == 1)
-    bifurcations, _ = _cluster_centres(n_c > 2)
+    # Work inside the contours' bounding box (plus a 1-pixel margin): same result, less to scan.
+    rows, cols = np.flatnonzero(array.any(axis=1)), np.flatnonzero(array.any(axis=0))
+    top, left = max(rows[0] - 1, 0), max(cols[0] - 1, 0)
+    crop = array[top:rows[-1] + 2, left:cols[-1] + 2]
+    offset = np.array([top, left])
+    thin = full_skeleton[top:rows[-1] + 2, left:cols[-1] + 2]
+    n_c = crossing_number(thin)
+    endings = _cluster_centres(n_c == 1) + offset
+    bifurcations = _cluster_centres(n_c > 2) + offset
     # Thinning preserves 8-connectivity, so a skeleton component is the skeleton of exactly one
     # contour component: label the (thick) contours and look points up in a 3x3-dilated label image
     # (a crossing's rounded position can fall one pixel off the contour).
-    labels, n_components = ndimage.label(skeleton, structure=EIGHT)
+    labels, n_components = _label(thin)
     spread_labels = cv2.dilate(labels.astype(np.float32), np.ones((3, 3), np.uint8)).astype(int)
-    contour_labels, _ = ndimage.label(array, structure=EIGHT)
+    contour_labels, _ = _label(crop)
     # skeleton label of each contour component (the paper traces contours; one skeleton per contour)
     to_skeleton = np.zeros(contour_labels.max() + 1, int)
     on = labels > 0
     to_skeleton[contour_labels[on]] = labels[on]
 
     def component_of(rows_cols: np.ndarray) -> np.ndarray:
-        rc = np.clip(np.round(rows_cols).astype(int), 0, np.array(array.shape) - 1).reshape(-1, 2)
+        rc = np.clip(np.round(rows_cols - offset).astype(int), 0, np.array(crop.shape) - 1).reshape(-1, 2)
         direct = to_skeleton[contour_labels[rc[:, 0], rc[:, 1]]]
         return np.where(direct > 0, direct, spread_labels[rc[:, 0], rc[:, 1]])
 
@@ -293,13 +571,15 @@ def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, 
     crossing_labels = component_of(norm.to_pixels(all_crossings)) if len(all_crossings) else np.zeros(0, int)
     ending_labels = component_of(endings)
     bifurcation_labels = component_of(bifurcations)
-    pixels = np.argwhere(skeleton)
-    radius = np.linalg.norm(norm.to_normalised(pixels), axis=1)
+    pixels = np.argwhere(thin)
+    radius = np.linalg.norm(norm.to_normalised(pixels + offset), axis=1)
     pixel_labels = labels[pixels[:, 0], pixels[:, 1]]
-    outer = ndimage.maximum(radius, pixel_labels, np.arange(1, n_components + 1))
-    inner = ndimage.minimum(radius, pixel_labels, np.arange(1, n_components + 1))
+    outer = np.full(n_components, -np.inf)
+    inner = np.full(n_components, np.inf)
+    np.maximum.at(outer, pixel_labels - 1, radius)
+    np.minimum.at(inner, pixel_labels - 1, radius)
     result = []
-    for label in np.argsort(-np.asarray(outer)) + 1:
+    for label in np.argsort(-outer, kind="stable") + 1:
         if inner[label - 1] > circles.radii[-1]:
             continue  # entirely outside the outermost circle
         result.append(ContourTopology(
@@ -308,4 +588,4 @@ def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, 
             intersections=all_crossings[crossing_labels == label],
             outer_radius=float(outer[label - 1]),
         ))
-    return TopologyFeatures(tuple(result), skeleton, endings, bifurcations, circles)
+    return TopologyFeatures(tuple(result), full_skeleton, endings, bifurcations, circles)
