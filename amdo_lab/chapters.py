@@ -45,8 +45,9 @@ CHAPTERS: tuple[Chapter, ...] = (
         1,
         "01_em_articulated_registration.ipynb",
         "Robust EM registration of 3-D points to an articulated hand",
-        "A 27-DOF hand of ellipsoids with bending surfaces, annealed robust EM and SoftAssign. "
-        "Work in progress: the EM does not yet converge on independently sampled data.",
+        "A 27-DOF hand of ellipsoids with bending surfaces, annealed robust EM with a correction for the blur of "
+        "large variances, surface fitting, SoftAssign, and a 100-frame tracked sequence; errors are measured against "
+        "the noise floor of known matches (the issue's 3-degree target lies below that floor).",
         "G. Dewaele, F. Devernay, R. Horaud, F. Forbes. The Alignment Between 3-D Data and "
         "Articulated Shapes with Bending Surfaces. ECCV 2006, LNCS 3953, pp. 578-591.",
     ),
@@ -74,7 +75,9 @@ CHAPTERS: tuple[Chapter, ...] = (
         4,
         "04_ear_geometric_features.ipynb",
         "Geometric ear-biometric features and matching",
-        "Detects ear contours, extracts concentric-circle and contour-topology features, and identifies people from synthetic ear images.",
+        "Detects ear contours, extracts concentric-circle and contour-topology features, and identifies people from "
+        "synthetic ear images; the paper's error-free recognition is not reproduced (the features change with the "
+        "detected contours between captures).",
         "M. Choraś. Ear Biometrics Based on Geometrical Method of Feature Extraction. "
         "AMDO 2004, LNCS 3179, pp. 51-61.",
     ),
