@@ -20,6 +20,7 @@ from pycpd import RigidRegistration
 from amdo_lab.common import spawn_rngs
 from amdo_lab.em_articulated import (
     OUR_SETTINGS,
+    PAPER_C,
     PAPER_SETTINGS,
     HandModel,
     e_step_statistics,
@@ -73,8 +74,8 @@ def e_step_table(hand: HandModel) -> None:
     print(f"\nE-step, {len(model)} texture x {len(data)} data points (ms per call)")
     print(f"{'sigma (mm)':>10s} {'dense':>8s} {'k-d tree':>9s} {'pycpd':>8s} {'pycpd/dense':>12s} {'pycpd/tree':>11s}")
     for sigma in (20.0, 8.0, 3.0):
-        dense = _per_call_ms(lambda: e_step_statistics(model, data, sigma, np.log(3.76)))
-        tree = _per_call_ms(lambda: e_step_statistics_kdtree(model, data, sigma, np.log(3.76)))
+        dense = _per_call_ms(lambda: e_step_statistics(model, data, sigma, np.log(PAPER_C)))
+        tree = _per_call_ms(lambda: e_step_statistics_kdtree(model, data, sigma, np.log(PAPER_C)))
         peer_registration = RigidRegistration(X=data, Y=model, sigma2=sigma**2, w=0.5)
         peer = _per_call_ms(peer_registration.expectation)
         print(f"{sigma:10.0f} {dense:8.1f} {tree:9.1f} {peer:8.1f} {peer / dense:12.1f} {peer / tree:11.1f}")

@@ -168,7 +168,8 @@ def make_registration_problem(hand: HandModel, rng: np.random.Generator | int, *
                               repeatability: float = DEFAULT_REPEATABILITY) -> RegistrationProblem:
     """Texture observed at the initial pose, data observed at the true pose, plus uniform outliers.
 
-    The hand carries ``n_model / repeatability`` skin features (the paper's texture). The model
+    The hand carries max(n_model, n_data) / repeatability skin features (the paper's texture;
+    twice that with ``occlusion``, since about half face the camera). The model
     texture is ``n_model`` of them seen at ``theta_init`` (a previous frame's data, so it is
     noisy too), the data ``n_data`` of them seen at ``theta_true``, both with Gaussian noise of
     ``noise_mm`` per coordinate; on average ``repeatability``·n_data data points have a true match.
