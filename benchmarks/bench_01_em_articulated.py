@@ -3,7 +3,8 @@
 Prints, per condition, the median joint-angle RMSE, the share of trials with every finger joint
 within 10 degrees, the noise floor (least squares with the true matches, same points) and the time
 per trial, for the paper's EM settings and ours (bias-corrected targets); then the E-step against
-pycpd's, the 100-frame tracking run, and rigid CPD on the same points.
+pycpd's, the 100-frame tracking run (and one frame at the issue's point counts), and rigid CPD on the
+same points. --tracking-ablation adds the held-out comparison that chose the tracker's EM settings.
 
 Default run is short (--trials 5). The issue's protocol is 100 seeded trials per level:
     .venv/bin/python benchmarks/bench_01_em_articulated.py --trials 100
@@ -22,9 +23,11 @@ from amdo_lab.em_articulated import (
     OUR_SETTINGS,
     PAPER_C,
     PAPER_SETTINGS,
+    TRACKING_SETTINGS,
     HandModel,
     e_step_statistics,
     e_step_statistics_kdtree,
+    fit_surface,
     joint_rmse_deg,
     make_registration_problem,
     make_tracking_sequence,
@@ -81,20 +84,57 @@ def e_step_table(hand: HandModel) -> None:
         print(f"{sigma:10.0f} {dense:8.1f} {tree:9.1f} {peer:8.1f} {peer / dense:12.1f} {peer / tree:11.1f}")
 
 
-def tracking_line(hand: HandModel, n_frames: int) -> None:
-    """The chapter's sequence (20 fps, camera-side skin features, clutter), tracked frame to frame."""
-    sequence = make_tracking_sequence(hand, 5, n_frames=n_frames, fps=20.0)
-    settings = {key: value for key, value in OUR_SETTINGS.items() if key not in ("sigma_max", "sigma_min")}
-    settings.update(n_levels=4, iterations_per_level=5)
+def _track(hand: HandModel, seed: int, n_frames: int, **overrides) -> tuple[float, np.ndarray, object]:
+    """Track the chapter's sequence drawn with ``seed``: (seconds per frame, joint RMSE per frame, result)."""
+    sequence = make_tracking_sequence(hand, seed, n_frames=n_frames, fps=20.0)
     start = time.perf_counter()
     result = track_sequence(sequence.frames, hand, sequence.poses[0], sigma_max=8.0, sigma_min=3.0,
-                            em_settings=settings)
+                            em_settings={**TRACKING_SETTINGS, **overrides})
     per_frame = (time.perf_counter() - start) / (n_frames - 1)
     errors = np.array([joint_rmse_deg(est, true) for est, true in zip(result.poses, sequence.poses)])
+    return per_frame, errors, (sequence, result)
+
+
+def tracking_line(hand: HandModel, n_frames: int) -> None:
+    """The chapter's sequence (seed 5: 20 fps, camera-side skin features, clutter), tracked frame to frame."""
+    per_frame, errors, (sequence, result) = _track(hand, 5, n_frames)
     points = [len(frame) for frame in sequence.frames]
-    print(f"\ntracking {n_frames} frames ({min(points)}-{max(points)} points each): {1000 * per_frame:.0f} ms/frame "
-          f"(goal < 100, aim 50); joint RMSE median {np.median(errors[1:]):.1f} deg, worst {errors.max():.1f} deg, "
-          f"last {errors[-1]:.1f} deg; texture kept median {np.median(result.n_texture[1:]):.0f} (paper: about 250)")
+    print(f"\ntracking {n_frames} frames ({min(points)}-{max(points)} points each; {TRACKING_SETTINGS['n_levels']} "
+          f"sigma levels x {TRACKING_SETTINGS['iterations_per_level']} EM iterations + 3 surface steps): "
+          f"{1000 * per_frame:.0f} ms/frame (goal < 100, aim 50); joint RMSE median {np.median(errors[1:]):.1f} deg, "
+          f"worst {errors.max():.1f} deg, last {errors[-1]:.1f} deg; texture kept median "
+          f"{np.median(result.n_texture[1:]):.0f} (paper: about 250)")
+
+
+def frame_timing(hand: HandModel, n_frames: int = 20) -> None:
+    """One tracking frame at the issue's point counts: 500 texture points, 1000 data points (half clutter),
+    a 5-degree motion per joint, the tracker's EM (sigma 8 -> 3 mm) then 3 surface-fit steps."""
+    seconds = []
+    for rng in spawn_rngs(21, n_frames):
+        problem = make_registration_problem(hand, rng, joint_error_deg=5.0, noise_mm=2.0, outlier_ratio=1.0,
+                                            n_model=500, n_data=500)
+        start = time.perf_counter()
+        em = register_em(problem.model_points, problem.data_points, hand, problem.theta_init, 8.0, 3.0,
+                         **TRACKING_SETTINGS)
+        close = np.abs(hand.surface_distance(problem.data_points, em.theta)) < 5.0
+        fit_surface(problem.data_points[close], hand, em.theta, n_steps=3)
+        seconds.append(time.perf_counter() - start)
+    print(f"one frame, {len(problem.model_points)} texture x {len(problem.data_points)} data points "
+          f"(median of {n_frames}): {1000 * np.median(seconds):.0f} ms (goal < 100, aim 50)")
+
+
+def tracking_ablation(hand: HandModel, n_frames: int, seeds: tuple[int, ...] = (11, 12)) -> None:
+    """EM iterations per sigma level on held-out sequences (not the chapter's seed 5): how
+    TRACKING_SETTINGS was chosen."""
+    print(f"\ntracking ablation, sequences {seeds}, {n_frames} frames: joint RMSE per frame (deg), "
+          "median over frames per sequence")
+    print(f"{'EM iterations per level':>24s} {'ms/frame':>9s} " + " ".join(f"{'seed ' + str(s):>8s}" for s in seeds)
+          + f" {'worst frame':>12s}")
+    for iterations in (1, 2, 3, 5):
+        runs = [_track(hand, seed, n_frames, iterations_per_level=iterations) for seed in seeds]
+        medians = " ".join(f"{np.median(errors[1:]):8.2f}" for _, errors, _ in runs)
+        worst = max(errors.max() for _, errors, _ in runs)
+        print(f"{iterations:24d} {1000 * np.mean([r[0] for r in runs]):9.0f} {medians} {worst:12.2f}", flush=True)
 
 
 def peer_table(hand: HandModel, trials: int) -> None:
@@ -126,6 +166,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--trials", type=int, default=5, help="seeded trials per condition (issue: 100)")
     parser.add_argument("--frames", type=int, default=100, help="tracking sequence length (0: skip)")
+    parser.add_argument("--tracking-ablation", action="store_true",
+                        help="also compare EM iterations per sigma level on held-out sequences (about 2 min)")
     args = parser.parse_args()
     hand = HandModel()
     print(f"trials per condition: {args.trials}; success = every finger joint within 10 deg; "
@@ -134,6 +176,9 @@ def main() -> None:
     e_step_table(hand)
     if args.frames:
         tracking_line(hand, args.frames)
+        frame_timing(hand)
+        if args.tracking_ablation:
+            tracking_ablation(hand, args.frames)
     peer_table(hand, min(args.trials, 5))
 
 

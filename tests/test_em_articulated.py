@@ -352,3 +352,46 @@ def test_kdtree_e_step_matches_dense(hand):
     em_dense = register_em(model, data, hand, theta, 10.0, 3.0, n_levels=2)
     em_tree = register_em(model, data, hand, theta, 10.0, 3.0, n_levels=2, e_step="kdtree")
     assert np.max(np.abs(em_dense.theta - em_tree.theta)) < 1e-2
+
+
+def _chain_reference(hand, theta):
+    """Part frames by the textbook recursion, one part and one joint rotation at a time."""
+    from amdo_lab.common.geometry import rotation_matrix
+    frames = []
+    for p, part in enumerate(hand._parts):
+        frame = np.eye(4)
+        if p == 0:
+            frame[:3, 3] = theta[:3]
+        else:
+            frame = frames[part.parent] @ part.offset
+        for k, axis in zip(part.dofs, part.axes):
+            joint = np.eye(4)
+            joint[:3, :3] = rotation_matrix(axis, theta[k])
+            frame = frame @ joint
+        frames.append(frame)
+    return np.array(frames)
+
+
+def test_batched_kinematics_match_the_part_by_part_chain(hand):
+    rng = make_rng(3)
+    limits = hand.joint_limits()
+    for _ in range(5):
+        theta = rng.uniform(np.maximum(limits[:, 0], -1.0), np.minimum(limits[:, 1], 1.0))
+        np.testing.assert_allclose(hand.part_transforms(theta), _chain_reference(hand, theta), atol=1e-12)
+
+
+def test_close_pair_cache_returns_the_pairs_of_a_fresh_query(hand):
+    from scipy.spatial import cKDTree
+    from amdo_lab.em_articulated.registration import _ClosePairs
+    rng = make_rng(4)
+    data = rng.uniform(-60, 60, size=(400, 3))
+    model = rng.uniform(-60, 60, size=(300, 3))
+    to_data, to_self = _ClosePairs(data, cKDTree(data)), _ClosePairs(None, None)
+    for step, radius in [(0.0, 12.0), (0.5, 12.0), (1.0, 12.0), (6.0, 12.0), (0.5, 8.0), (20.0, 8.0)]:
+        model = model + rng.normal(scale=step / np.sqrt(3), size=model.shape)
+        for cache, observed in ((to_data, data), (to_self, model)):
+            fresh = cKDTree(observed).sparse_distance_matrix(cKDTree(model), radius, output_type="ndarray")
+            data_index, model_index, dist = cache(model, radius)
+            assert sorted(zip(data_index, model_index)) == sorted(zip(fresh["i"], fresh["j"]))
+            order, fresh_order = np.lexsort((model_index, data_index)), np.lexsort((fresh["j"], fresh["i"]))
+            np.testing.assert_allclose(dist[order], fresh["v"][fresh_order], atol=1e-12)

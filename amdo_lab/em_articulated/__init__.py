@@ -33,13 +33,13 @@ from amdo_lab.em_articulated.registration import (
     register_em,
     softassign_register,
 )
-from amdo_lab.em_articulated.tracking import TrackingResult, track_sequence
+from amdo_lab.em_articulated.tracking import TRACKING_SETTINGS, TrackingResult, track_sequence
 
 __all__ = [
     "OUR_SETTINGS", "fit_known_correspondences", "SkinTexture", "make_skin_texture", "DEFAULT_REPEATABILITY", "SUCCESS_DEG", "TrialSummary", "run_registration_trials", "PAPER_C", "PAPER_SETTINGS", "PART_NAMES", "EMResult", "HandModel", "RegistrationProblem", "SoftAssignResult",
     "SurfaceFitResult", "TextureBinding", "TrackingResult", "TrackingSequence", "dof_lever_arms",
     "e_step_statistics", "e_step_statistics_kdtree",
     "fit_surface", "joint_rmse_deg", "make_registration_problem", "make_tracking_sequence",
-    "perturb_pose", "random_pose", "register_em", "softassign_register", "track_sequence",
+    "perturb_pose", "random_pose", "register_em", "softassign_register", "track_sequence", "TRACKING_SETTINGS",
     "visible_points",
 ]

@@ -50,11 +50,21 @@ class _Part:
     radii: np.ndarray  # ellipsoid semi-axes in the part frame
 
 
-def _axis_cross(axes: np.ndarray, vectors: np.ndarray) -> np.ndarray:
-    """axes (K, 3) × vectors (M, K, 3) -> (M, K, 3); spelled out because np.cross is slow on small arrays."""
-    a0, a1, a2 = axes[:, 0], axes[:, 1], axes[:, 2]
-    v0, v1, v2 = vectors[..., 0], vectors[..., 1], vectors[..., 2]
-    return np.stack([a1 * v2 - a2 * v1, a2 * v0 - a0 * v2, a0 * v1 - a1 * v0], axis=-1)
+def _axis_levers(axes: np.ndarray, origins: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """ω_k × (x_m - o_k) for every point and axis, (M, 3) points -> (M, K, 3).
+
+    Written as one matrix product, x @ [ω_k]ₓᵀ for all k at once, minus the constant ω_k × o_k:
+    the cross product is linear in x, and a single GEMM beats K broadcast cross products.
+    """
+    skew_t = np.zeros((3, len(axes), 3))  # skew_t[i, k, j] = [ω_k]ₓ[j, i]
+    skew_t[1, :, 0], skew_t[2, :, 0] = -axes[:, 2], axes[:, 1]
+    skew_t[0, :, 1], skew_t[2, :, 1] = axes[:, 2], -axes[:, 0]
+    skew_t[0, :, 2], skew_t[1, :, 2] = -axes[:, 1], axes[:, 0]
+    levers = (points @ skew_t.reshape(3, -1)).reshape(len(points), len(axes), 3)
+    offsets = np.stack([axes[:, 1] * origins[:, 2] - axes[:, 2] * origins[:, 1],
+                        axes[:, 2] * origins[:, 0] - axes[:, 0] * origins[:, 2],
+                        axes[:, 0] * origins[:, 1] - axes[:, 1] * origins[:, 0]], axis=1)  # ω_k × o_k
+    return levers - offsets[None]
 
 
 def _homogeneous(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray:
@@ -131,9 +141,23 @@ class HandModel:
         skew_axes[:, 2, 0], skew_axes[:, 2, 1] = -joint_axes[:, 1], joint_axes[:, 0]
         self._joint_axes, self._skew, self._skew2 = joint_axes, skew_axes, skew_axes @ skew_axes
         self._centres = np.array([part.centre for part in parts])
-        self._chain = tuple((part.parent, part.offset[:3, :3].copy(), part.offset[:3, 3].copy(), part.dofs)
-                            for part in parts)
         self._radii = np.array([part.radii for part in parts])
+        # the digits' parts grouped by depth for _forward: (parts, parents, offset R, offset t, DOF slots)
+        depth = np.zeros(self.n_parts, int)
+        for p, part in enumerate(parts[1:], start=1):
+            depth[p] = depth[part.parent] + 1
+        width = max(len(part.dofs) for part in parts[1:])
+        levels = []
+        for level in range(1, depth.max() + 1):
+            members = np.flatnonzero(depth == level)
+            slots = np.full((len(members), width), self.n_dof)  # n_dof = no DOF in this slot
+            for row, p in enumerate(members):
+                slots[row, :len(parts[p].dofs)] = parts[p].dofs
+            levels.append((members, np.array([parts[p].parent for p in members]),
+                           np.array([parts[p].offset[:3, :3] for p in members]),
+                           np.array([parts[p].offset[:3, 3] for p in members]), slots))
+        self._levels = tuple(levels)
+        self._joint_axes_padded = np.concatenate([joint_axes, np.zeros((1, 3))])
         adjacency = np.eye(self.n_parts, dtype=bool)
         for p, part in enumerate(parts):
             if part.parent >= 0:
@@ -164,27 +188,34 @@ class HandModel:
         return theta
 
     def _forward(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Part frames (16, 4, 4), and every DOF's world axis and a point on it (27, 3) each."""
+        """Part frames (16, 4, 4), and every DOF's world axis and a point on it (27, 3) each.
+
+        The palm first, then the five digits together, one phalanx depth at a time (a DOF slot a
+        part lacks points at an identity rotation), so a pose costs a few batched products.
+        """
         angles = theta[:, None, None]
         rotations = np.eye(3) + np.sin(angles) * self._skew + (1.0 - np.cos(angles)) * self._skew2
+        rotations = np.concatenate([rotations, np.eye(3)[None]])  # index n_dof: the padding slot
         frames = np.zeros((self.n_parts, 4, 4))
         frames[:, 3, 3] = 1.0
-        axes_world = np.zeros((self.n_dof, 3))
-        origins_world = np.zeros((self.n_dof, 3))
+        axes_world = np.zeros((self.n_dof + 1, 3))
+        origins_world = np.zeros((self.n_dof + 1, 3))
         axes_world[:3] = np.eye(3)
-        for p, (parent, offset_rotation, offset_origin, dofs) in enumerate(self._chain):
-            if p == 0:
-                rotation, origin = np.eye(3), theta[:3]
-            else:
-                parent_rotation = frames[parent, :3, :3]
-                rotation = parent_rotation @ offset_rotation
-                origin = parent_rotation @ offset_origin + frames[parent, :3, 3]
-            for k in dofs:
-                axes_world[k] = rotation @ self._joint_axes[k]
-                origins_world[k] = origin
-                rotation = rotation @ rotations[k]
-            frames[p, :3, :3], frames[p, :3, 3] = rotation, origin
-        return frames, axes_world, origins_world
+        rotation = np.eye(3)
+        for k in self._parts[0].dofs:  # palm: rotations about z, y, x in turn, centred at the translation
+            axes_world[k], origins_world[k] = rotation @ self._joint_axes[k], theta[:3]
+            rotation = rotation @ rotations[k]
+        frames[0, :3, :3], frames[0, :3, 3] = rotation, theta[:3]
+        for parts, parents, offset_rotation, offset_origin, slots in self._levels:
+            parent_rotation = frames[parents, :3, :3]
+            rotation = parent_rotation @ offset_rotation
+            origin = (parent_rotation @ offset_origin[..., None])[..., 0] + frames[parents, :3, 3]
+            for slot in slots.T:
+                axes_world[slot] = (rotation @ self._joint_axes_padded[slot][..., None])[..., 0]
+                origins_world[slot] = origin
+                rotation = rotation @ rotations[slot]
+            frames[parts, :3, :3], frames[parts, :3, 3] = rotation, origin
+        return frames, axes_world[:-1], origins_world[:-1]
 
     def part_transforms(self, theta: object) -> np.ndarray:
         """Rigid motion T_p(Θ) of every part, part frame -> world, as (16, 4, 4)."""
@@ -212,8 +243,10 @@ class HandModel:
     # ------------------------------------------------------------------ shape, eqs. (1)-(2)
     def _local_coordinates(self, points: np.ndarray, frames: np.ndarray) -> np.ndarray:
         """R_p^T (x_m - t_p) - c_p for every point and part, shape (M, 16, 3)."""
-        offsets = points[:, None, None, :] - frames[None, :, None, :3, 3]  # (M, 16, 1, 3) row vectors
-        return (offsets @ frames[None, :, :3, :3])[:, :, 0, :] - self._centres
+        rotations = frames[:, :3, :3]
+        # (x - t_p) R_p for all parts as one product: x @ [R_0 | R_1 | ...] minus the constant t_p R_p
+        rotated = (points @ rotations.transpose(1, 0, 2).reshape(3, -1)).reshape(len(points), self.n_parts, 3)
+        return rotated - np.einsum("pi,pij->pj", frames[:, :3, 3], rotations) - self._centres
 
     def part_distances(self, points: np.ndarray, theta: object) -> np.ndarray:
         """Pseudo-Euclidean distance from each point to each ellipsoid, (M, 16).
@@ -269,11 +302,12 @@ class HandModel:
         grad_local = ((1.0 - 1.0 / radial) / length)[..., None] * local + (length / radial**3)[..., None] * local / self._radii**2
         grad_world = (rotations[None] @ grad_local[..., None])[..., 0]
         # N[m, k] = Σ_p (φ_p/φ) [DOF k moves part p] n_p
-        blended = np.einsum("mp,kp,mpj->mkj", share, self._dof_moves_part.astype(float), grad_world)
-        jac = np.empty((len(points), self.n_dof))
-        jac[:, :3] = -np.einsum("mkj,kj->mk", blended[:, :3, :], np.eye(3))
-        lever = _axis_cross(axes[3:], points[:, None, :] - origins[None, 3:])
-        jac[:, 3:] = -np.einsum("mkj,mkj->mk", blended[:, 3:, :], lever)
+        # (a sum over parts for every DOF: one tensordot rather than a three-operand einsum)
+        blended = np.tensordot(self._dof_moves_part.astype(float), share[..., None] * grad_world, axes=([1], [1]))
+        jac = np.empty((len(points), self.n_dof))  # blended is (27, M, 3)
+        jac[:, :3] = -blended[:3].transpose(1, 0, 2).diagonal(axis1=1, axis2=2)
+        lever = _axis_levers(axes[3:], origins[3:], points)
+        jac[:, 3:] = -np.einsum("kmj,mkj->mk", blended[3:], lever)
         return -self.nu * np.log(fused), jac
 
     def sample_surface(self, theta: object, n: int, rng: np.random.Generator | int,
@@ -384,11 +418,10 @@ class HandModel:
         jac = np.empty((len(w), 3, self.n_dof))
         jac[:, :, :3] = np.eye(3)
         # ω_k × (x - o_k) for every point and revolute DOF at once, zero where DOF k does not move the part
-        lever_p = _axis_cross(axes[3:], world_p[:, None, :] - origins[None, 3:])
-        lever_r = _axis_cross(axes[3:], world_r[:, None, :] - origins[None, 3:])
-        moves_p = self._dof_moves_part[3:, binding.part_p].T[:, :, None]
-        moves_r = self._dof_moves_part[3:, binding.part_r].T[:, :, None]
-        blended = w[:, None] * moves_p * lever_p + (1 - w[:, None]) * moves_r * lever_r
+        share_p = w * self._dof_moves_part[3:, binding.part_p].T  # (N, 24): weight of part p's motion
+        share_r = (1 - w) * self._dof_moves_part[3:, binding.part_r].T
+        blended = (share_p[..., None] * _axis_levers(axes[3:], origins[3:], world_p)
+                   + share_r[..., None] * _axis_levers(axes[3:], origins[3:], world_r))
         jac[:, :, 3:] = blended.transpose(0, 2, 1)
         return w * world_p + (1 - w) * world_r, jac
 

@@ -29,6 +29,9 @@ PAPER_SETTINGS = {"sigma_max": 20.0, "sigma_min": 3.0, "n_levels": 5, "iteration
 #: by the same E-step is subtracted, so a perfect fit is a fixed point at every σ.
 OUR_SETTINGS = {**PAPER_SETTINGS, "targets": "debiased"}
 
+#: Truncation radius of the k-d tree E-step, in σ.
+_KDTREE_RADIUS_SIGMAS = 4.0
+
 #: The EM at one σ stops when no DOF moves by more than this (radians, or mm for the palm).
 DEFAULT_TOL = 1e-3
 
@@ -91,7 +94,7 @@ def dof_lever_arms(hand: HandModel, binding: TextureBinding, theta: np.ndarray) 
 
 
 def e_step_statistics_kdtree(model_points: np.ndarray, data_points: np.ndarray, sigma: float,
-                             log_c: float, radius_sigmas: float = 4.0,
+                             log_c: float, radius_sigmas: float = _KDTREE_RADIUS_SIGMAS,
                              data_tree: cKDTree | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """Truncated eq. (17): only pairs closer than ``radius_sigmas``·σ, found with a k-d tree.
 
@@ -103,29 +106,79 @@ def e_step_statistics_kdtree(model_points: np.ndarray, data_points: np.ndarray, 
     radius = radius_sigmas * sigma
     data_tree = cKDTree(data_points) if data_tree is None else data_tree
     pairs = data_tree.sparse_distance_matrix(cKDTree(model_points), radius, output_type="ndarray")
-    data_index, model_index, dist = pairs["i"], pairs["j"], pairs["v"]
+    return _statistics_from_pairs(*_pair_arrays(pairs), data_points, len(model_points), sigma, log_c)
+
+
+def _pair_arrays(pairs: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The fields of ``cKDTree.sparse_distance_matrix(..., output_type="ndarray")`` as contiguous arrays
+    (the structured array's strided fields make every later gather several times slower)."""
+    return tuple(np.ascontiguousarray(pairs[field]) for field in ("i", "j", "v"))
+
+
+def _statistics_from_pairs(data_index: np.ndarray, model_index: np.ndarray, dist: np.ndarray, data_points: np.ndarray,
+                           n_model: int, sigma: float, log_c: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """Eq. (17) on the listed (data, model) pairs only; the outputs of :func:`e_step_statistics`."""
     kernel = np.exp(-dist**2 / (2 * sigma**2))
     row_sum = np.bincount(data_index, kernel, minlength=len(data_points)) + np.exp(log_c)
-    alpha = kernel / row_sum[data_index]
-    n_model = len(model_points)
+    alpha = kernel / np.take(row_sum, data_index)
     weights = np.bincount(model_index, alpha, minlength=n_model)
-    weighted_data = np.stack([np.bincount(model_index, alpha * data_points[data_index, k], minlength=n_model)
-                              for k in range(3)], axis=1)
+    weighted_pairs = np.ascontiguousarray((np.take(data_points, data_index, axis=0) * alpha[:, None]).T)
+    weighted_data = np.stack([np.bincount(model_index, column, minlength=n_model) for column in weighted_pairs], axis=1)
     inlier_prob = np.bincount(data_index, alpha, minlength=len(data_points))
     return weights, weighted_data, inlier_prob, float(np.sum(alpha * dist**2))
 
 
+class _ClosePairs:
+    """The (data, model) pairs closer than a radius, for a model that moves a little per EM iteration.
+
+    A k-d tree query returns every pair within radius + margin, with the model where it is now;
+    later calls only re-measure those candidates, and query again when the radius changes or some
+    model point has moved so far that a pair from outside the candidates could have come within
+    the radius (more than the margin; half of it when the data are the model itself). The pairs
+    returned are exactly those a fresh query would give: this saves time, not accuracy.
+    """
+
+    def __init__(self, data_points: np.ndarray | None, data_tree: cKDTree | None, margin_ratio: float = 0.1) -> None:
+        self._data, self._tree, self._margin_ratio = data_points, data_tree, margin_ratio
+        self._radius = -1.0
+        self._anchor = self._data_index = self._model_index = None
+
+    def __call__(self, model_points: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        data = model_points if self._data is None else self._data
+        margin = self._margin_ratio * radius
+        allowed = margin / 2 if self._data is None else margin  # a self pair closes in from both ends
+        if (radius != self._radius
+                or np.max(np.sum((model_points - self._anchor) ** 2, axis=1)) > allowed**2):
+            if self._data is None:  # each unordered pair once (half the work), then both orders and i = j
+                unique = cKDTree(model_points).query_pairs(radius + margin, output_type="ndarray")
+                own = np.arange(len(model_points))
+                self._data_index = np.concatenate([unique[:, 0], unique[:, 1], own])
+                self._model_index = np.concatenate([unique[:, 1], unique[:, 0], own])
+            else:
+                pairs = self._tree.sparse_distance_matrix(cKDTree(model_points), radius + margin, output_type="ndarray")
+                self._data_index, self._model_index, _ = _pair_arrays(pairs)
+            self._radius, self._anchor = radius, model_points.copy()
+        offset = np.take(data, self._data_index, axis=0) - np.take(model_points, self._model_index, axis=0)
+        dist = np.sqrt(np.einsum("ij,ij->i", offset, offset))
+        keep = dist <= radius
+        return self._data_index[keep], self._model_index[keep], dist[keep]
+
+
 def _m_step(hand: HandModel, binding: TextureBinding, theta: np.ndarray, weights: np.ndarray,
-            targets: np.ndarray, n_steps: int, damping: float, free: np.ndarray | None = None) -> np.ndarray:
-    """Minimise Σ_i w_i ||G_i - T(X_i, Θ)||² (eq. 20) by projected Gauss-Newton over the ``free`` DOFs."""
+            targets: np.ndarray, n_steps: int, damping: float, free: np.ndarray | None = None,
+            start: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+    """Minimise Σ_i w_i ||G_i - T(X_i, Θ)||² (eq. 20) by projected Gauss-Newton over the ``free`` DOFs.
+
+    ``start`` is ``hand.texture_jacobian(binding, theta)`` when the caller has it already.
+    """
     limits = hand.joint_limits()
     active = weights > 1e-8
     free = np.ones(hand.n_dof, bool) if free is None else free
     if not np.any(active):
         return theta
     sqrt_w = np.sqrt(weights[active])[:, None]
-    for _ in range(n_steps):
-        moved, jac = hand.texture_jacobian(binding, theta)
+    for step_index in range(n_steps):
+        moved, jac = start if step_index == 0 and start is not None else hand.texture_jacobian(binding, theta)
         residual = (sqrt_w * (targets[active] - moved[active])).ravel()
         jac_w = (sqrt_w[:, :, None] * jac[active][:, :, free]).reshape(-1, int(free.sum()))
         normal = jac_w.T @ jac_w
@@ -201,11 +254,13 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
     c = PAPER_C if outlier_c is None else check_positive(outlier_c, "outlier_c")
     if release_ratio is not None:
         release_ratio = check_positive(release_ratio, "release_ratio")
-    data_tree = cKDTree(data) if e_step == "kdtree" else None
+    data_pairs = _ClosePairs(data, cKDTree(data)) if e_step == "kdtree" else None
+    self_pairs = _ClosePairs(None, None) if e_step == "kdtree" else None
 
-    def statistics(points: np.ndarray, observed: np.ndarray, sigma: float, log_c: float, tree=None) -> tuple:
-        if e_step == "kdtree":
-            return e_step_statistics_kdtree(points, observed, sigma, log_c, data_tree=tree)
+    def statistics(points: np.ndarray, observed: np.ndarray, sigma: float, log_c: float, pairs=None) -> tuple:
+        if e_step == "kdtree":  # truncated at 4σ, as e_step_statistics_kdtree
+            close = pairs(points, _KDTREE_RADIUS_SIGMAS * sigma)
+            return _statistics_from_pairs(*close, observed, len(points), sigma, log_c)
         return e_step_statistics(points, observed, sigma, log_c, chunk)
 
     binding = hand.texture_binding(model, theta, a)
@@ -223,18 +278,19 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
                 if sigma_mode != "estimate":
                     sigma = sigmas[level]
                 log_c = np.log(c) + (3 * np.log(sigma / sigma_min) if sigma_mode == "scaled" else 0.0)
-                moved = hand.transform_texture(binding, theta)
-                weights, weighted, inlier_prob, energy = statistics(moved, data, sigma, log_c, data_tree)
+                moved, jac = hand.texture_jacobian(binding, theta)  # the M-step's first linearisation too
+                weights, weighted, inlier_prob, energy = statistics(moved, data, sigma, log_c, data_pairs)
                 history.append((sigma, energy))
                 goal = weighted / np.maximum(weights, 1e-300)[:, None]
                 if targets == "debiased":
-                    self_weights, self_weighted, _, _ = statistics(moved, moved, sigma, log_c)
+                    self_weights, self_weighted, _, _ = statistics(moved, moved, sigma, log_c, self_pairs)
                     goal = moved + goal - self_weighted / np.maximum(self_weights, 1e-300)[:, None]
-                new_theta = _m_step(hand, binding, theta, weights, goal, gauss_newton_steps, damping, free)
+                new_theta = _m_step(hand, binding, theta, weights, goal, gauss_newton_steps, damping, free,
+                                    start=(moved, jac))
                 change = float(np.max(np.abs(new_theta - theta)))
                 theta = new_theta
                 if sigma_mode == "estimate":
-                    _, _, _, new_energy = statistics(hand.transform_texture(binding, theta), data, sigma, log_c, data_tree)
+                    _, _, _, new_energy = statistics(hand.transform_texture(binding, theta), data, sigma, log_c, data_pairs)
                     sigma = max(np.sqrt(new_energy / max(3 * weights.sum(), 1e-12)), 1e-3)
                 if change <= tol:
                     break

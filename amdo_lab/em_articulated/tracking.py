@@ -9,9 +9,17 @@ import numpy as np
 from amdo_lab.common import check_positive, check_positive_int
 
 from amdo_lab.em_articulated.hand import HandModel
-from amdo_lab.em_articulated.registration import fit_surface, register_em
+from amdo_lab.em_articulated.registration import OUR_SETTINGS, fit_surface, register_em
 
-__all__ = ["TrackingResult", "track_sequence"]
+__all__ = ["TrackingResult", "track_sequence", "TRACKING_SETTINGS"]
+
+#: EM settings of a tracking frame (σ range aside): our debiased EM with the k-d tree E-step, four σ
+#: levels, two EM iterations per level. Between frames 50 ms apart the pose moves little, and the
+#: surface fit that follows corrects what the EM leaves; more EM iterations per level (3 or 5)
+#: did not track better on held-out sequences (seeds 11 and 12) and cost up to twice the time.
+#: ``benchmarks/bench_01_em_articulated.py --tracking-ablation`` prints that comparison.
+TRACKING_SETTINGS = {**{key: value for key, value in OUR_SETTINGS.items() if key not in ("sigma_max", "sigma_min")},
+                     "n_levels": 4, "iterations_per_level": 2}
 
 
 @dataclass(frozen=True)
@@ -31,7 +39,7 @@ def track_sequence(frames: list, hand: HandModel, theta_start: np.ndarray, *, ep
     (|d| < ε, eq. 2), at most ``max_texture`` of them (evenly subsampled). ``surface_steps``
     Gauss-Newton steps of the surface fit (Sec. 3.4; 0 skips it) on the data within ε of the
     EM's pose correct the drift that frame-to-frame matching alone accumulates. ``em_settings``
-    are extra keyword arguments of :func:`register_em` (e.g. ``targets``, ``e_step``).
+    are keyword arguments of :func:`register_em` that override :data:`TRACKING_SETTINGS`.
     """
     epsilon_mm = check_positive(epsilon_mm, "epsilon_mm")
     surface_steps = check_positive_int(surface_steps, "surface_steps", minimum=0)
@@ -40,7 +48,7 @@ def track_sequence(frames: list, hand: HandModel, theta_start: np.ndarray, *, ep
     poses, counts = [theta], [len(texture)]
     for data in frames[1:]:
         texture = texture[:: max(1, int(np.ceil(len(texture) / max_texture)))]
-        settings = {"n_levels": 4, "iterations_per_level": 2, **(em_settings or {})}
+        settings = {**TRACKING_SETTINGS, **(em_settings or {})}
         result = register_em(texture, data, hand, theta, sigma_max, sigma_min, **settings)
         theta = result.theta
         if surface_steps:
