@@ -378,3 +378,74 @@ def test_polar_mixture_components_are_weighted_moments_in_original_units():
         expected = resp[:, m] @ data / resp[:, m].sum()  # eq. 7, normalised, in the data's own units
         np.testing.assert_allclose(model.mean, expected, rtol=1e-9, atol=1e-12)
     assert sorted(np.round(resp[:, 0]).astype(int).tolist()) == [0] * 15 + [1] * 15  # the clusters are found
+
+
+# ---------------------------------------------------------------- open choices: ridge, restarts, held-out likelihood
+def test_shape_ridge_and_em_restarts_validate_and_default_to_the_previous_recogniser(small_problem):
+    train, test, recogniser = small_problem
+    for bad in (0.0, -1e-3, float("nan")):
+        with pytest.raises(ValueError, match="shape_ridge"):
+            ArticulatedShapeRecognizer(shape_ridge=bad)
+    with pytest.raises(TypeError, match="shape_ridge"):
+        ArticulatedShapeRecognizer(shape_ridge="1e-3")
+    with pytest.raises(ValueError, match="em_restarts"):
+        ArticulatedShapeRecognizer(em_restarts=0)
+    with pytest.raises(TypeError, match="em_restarts"):
+        ArticulatedShapeRecognizer(em_restarts=2.0)
+    explicit = ArticulatedShapeRecognizer(shape_ridge=1e-3, em_restarts=1).fit(train.shapes, train.labels)
+    np.testing.assert_array_equal(explicit.predict_proba(test.shapes[:20]), recogniser.predict_proba(test.shapes[:20]))
+
+
+def test_larger_shape_ridge_raises_the_component_residual_variance(small_problem):
+    train, _, recogniser = small_problem
+    wide = ArticulatedShapeRecognizer(shape_ridge=1e-1).fit(train.shapes, train.labels)
+    for narrow_components, wide_components in zip(recogniser.shape_models_, wide.shape_models_):
+        narrow_floor = min(c.pdms[1].residual_variance for c in narrow_components)
+        wide_floor = min(c.pdms[1].residual_variance for c in wide_components)
+        assert wide_floor > narrow_floor
+
+
+def test_em_restarts_keep_the_start_with_the_highest_training_likelihood(monkeypatch):
+    from amdo_lab.pdm_mixtures import recognizer as module
+
+    rng = make_rng(5)
+    data = np.concatenate([rng.standard_normal((12, 39)), rng.standard_normal((12, 39)) + 1.5])
+    runs = []
+
+    def recording_em(*args, **kwargs):
+        result = fit_gaussian_mixture(*args, **kwargs)
+        runs.append(result)
+        return result
+
+    monkeypatch.setattr(module, "fit_gaussian_mixture", recording_em)
+    _, weights, resp = module._fit_polar_mixture(data, 2, module._polar_blocks("block"), make_rng(0), 15, 0.95,
+                                                 n_restarts=4)
+    assert len(runs) == 4
+    best = max(runs, key=lambda run: run.log_likelihood[-1])
+    np.testing.assert_array_equal(resp, best.responsibilities)
+    runs.clear()
+    _, _, first = module._fit_polar_mixture(data, 2, module._polar_blocks("block"), make_rng(0), 15, 0.95)
+    assert len(runs) == 1  # one start by default, the same first start
+    assert best.log_likelihood[-1] >= runs[0].log_likelihood[-1]
+
+
+def test_held_out_log_likelihood_is_deterministic_and_validates(small_problem):
+    from amdo_lab.pdm_mixtures import held_out_log_likelihood
+
+    train, _, recogniser = small_problem
+    j = recogniser.classes_.index("boxing")
+    vectors = recogniser._deviation(_polar(recogniser.align(train.shapes[train.labels == "boxing"])),
+                                    recogniser.angle_means_[j])  # 12 shapes
+    one = held_out_log_likelihood(vectors, 1, n_folds=4)
+    assert np.isfinite(one) and one == held_out_log_likelihood(vectors, 1, n_folds=4)
+    assert np.isfinite(held_out_log_likelihood(vectors, 2, n_folds=3, shape_ridge=1e-2))
+    with pytest.raises(ValueError, match="n_folds"):
+        held_out_log_likelihood(vectors, 1, n_folds=1)
+    with pytest.raises(ValueError, match="rows outside every fold"):
+        held_out_log_likelihood(vectors, 4, n_folds=4)  # 9 rows per training split; 4 components need 12
+    with pytest.raises(ValueError, match="shape_ridge"):
+        held_out_log_likelihood(vectors, 2, shape_ridge=0.0)
+    with pytest.raises(ValueError, match="polar_vectors"):
+        held_out_log_likelihood(vectors[:, :13], 1)
+    with pytest.raises(ValueError, match="polar_model"):
+        held_out_log_likelihood(vectors, 1, polar_model="both")

@@ -33,6 +33,7 @@ from amdo_lab.pdm_mixtures.recognizer import (
     RecognitionTrace,
     ScoreComponents,
     hamming_distance,
+    held_out_log_likelihood,
     label_string_log_prob,
 )
 from amdo_lab.pdm_mixtures.representation import (

@@ -27,6 +27,7 @@ __all__ = [
     "AlignmentTrace",
     "hamming_distance",
     "label_string_log_prob",
+    "held_out_log_likelihood",
 ]
 
 N_LIMBS = 13
@@ -151,6 +152,13 @@ class ArticulatedShapeRecognizer:
         Each component has its own permissible label string in the class's dictionary.
     shape_seed : int
         Seed of the k-means++ initialisation of the shape-level EM.
+    shape_ridge : float
+        Ridge added to every shape-level EM covariance (eq. 8), as a multiple of the mean variance
+        of the block-scaled S (positive; the paper leaves it open, default 1e-3). It also sets the
+        smallest eigenvalues a component PDM can have, hence its residual variance.
+    em_restarts : int
+        Seeded k-means++ starts of each class's shape-level EM; the run with the highest final
+        training log-likelihood (eq. 3) is kept (default 1, a single start).
     label_error_probability : float
         p of eq. 18, in (0, 0.5).
     variance_fraction : float
@@ -177,6 +185,8 @@ class ArticulatedShapeRecognizer:
         n_limb_labels: int = 4,
         n_shape_components: int = 2,
         shape_seed: int = 0,
+        shape_ridge: float = 1e-3,
+        em_restarts: int = 1,
         label_error_probability: float = 0.2,
         variance_fraction: float = 0.95,
         max_iter: int = 10,
@@ -190,6 +200,8 @@ class ArticulatedShapeRecognizer:
         if isinstance(shape_seed, bool) or not isinstance(shape_seed, (int, np.integer)):
             raise TypeError(f"shape_seed must be an int, got {shape_seed!r}")
         self.shape_seed = int(shape_seed)
+        self.shape_ridge = check_positive(shape_ridge, "shape_ridge")
+        self.em_restarts = check_positive_int(em_restarts, "em_restarts")
         p = check_positive(label_error_probability, "label_error_probability")
         if not p < 0.5:
             raise ValueError(f"label_error_probability must be in (0, 0.5), got {p}")
@@ -322,7 +334,8 @@ class ArticulatedShapeRecognizer:
             self.angle_means_.append(angle_mean)
             deviation = self._deviation(class_vectors, angle_mean)
             models, weights, resp = _fit_polar_mixture(deviation, self.n_shape_components, blocks, rng,
-                                                       self.em_iterations, self.variance_fraction)
+                                                       self.em_iterations, self.variance_fraction,
+                                                       ridge=self.shape_ridge, n_restarts=self.em_restarts)
             self.shape_models_.append(models)
             self.shape_weights_.append(weights)
             responsibilities.append(resp)
@@ -510,7 +523,8 @@ def _kmeans_partition(data: np.ndarray, n_clusters: int, rng: np.random.Generato
 
 
 def _fit_polar_mixture(data: np.ndarray, n_components: int, blocks: tuple[slice, ...], rng: np.random.Generator,
-                       n_iter: int, variance_fraction: float) -> tuple[list[PolarPDM], np.ndarray, np.ndarray]:
+                       n_iter: int, variance_fraction: float, *, ridge: float = 1e-3,
+                       n_restarts: int = 1) -> tuple[list[PolarPDM], np.ndarray, np.ndarray]:
     """Mixture of polar PDMs on ``data (T, 3K)`` by EM (eqs. 2-8); returns the components, the
     mixing weights and the training responsibilities ``(T, M)``.
 
@@ -518,9 +532,10 @@ def _fit_polar_mixture(data: np.ndarray, n_components: int, blocks: tuple[slice,
     block divided by the square root of its total variance (so radians and shape units weigh the
     same in the k-means++ start and in the ridge; a full-covariance EM is otherwise unaffected by
     the scaling): k-means++ means, the pooled covariance as every starting covariance, a ridge of
-    1e-3 times the mean variance (T < 3K makes component covariances singular). Each component's
-    mean and covariance blocks, scaled back, become one PDM per block (at most ``round(T pi_m) - 1``
-    modes).
+    ``ridge`` times the mean variance (T < 3K makes component covariances singular). With
+    ``n_restarts`` > 1, EM runs from that many k-means++ starts drawn in turn from ``rng`` and the
+    run with the highest final log-likelihood (eq. 3) is kept. Each component's mean and covariance
+    blocks, scaled back, become one PDM per block (at most ``round(T pi_m) - 1`` modes).
     """
     if n_components == 1:
         pdms = tuple(fit_pdm(data[:, block], variance_fraction=variance_fraction) for block in blocks)
@@ -529,15 +544,19 @@ def _fit_polar_mixture(data: np.ndarray, n_components: int, blocks: tuple[slice,
     for block in blocks:
         scale[block] = 1.0 / np.sqrt(data[:, block].var(axis=0).sum())
     scaled = data * scale
-    assign = _kmeans_partition(scaled, n_components, rng)
-    means_init = np.stack([scaled[assign == k].mean(axis=0) if np.any(assign == k) else scaled[k]
-                           for k in range(n_components)])
     spread = np.cov(scaled.T, bias=True)
-    reg = 1e-3 * float(np.trace(spread)) / data.shape[1]
-    mixture = fit_gaussian_mixture(scaled, n_components, means_init=means_init,
-                                   covariances_init=np.repeat(spread[None] + reg * np.eye(data.shape[1]),
-                                                              n_components, axis=0),
-                                   n_iter=n_iter, reg_covar=reg)
+    reg = ridge * float(np.trace(spread)) / data.shape[1]
+    mixture = None
+    for _ in range(n_restarts):
+        assign = _kmeans_partition(scaled, n_components, rng)
+        means_init = np.stack([scaled[assign == k].mean(axis=0) if np.any(assign == k) else scaled[k]
+                               for k in range(n_components)])
+        candidate = fit_gaussian_mixture(scaled, n_components, means_init=means_init,
+                                         covariances_init=np.repeat(spread[None] + reg * np.eye(data.shape[1]),
+                                                                    n_components, axis=0),
+                                         n_iter=n_iter, reg_covar=reg)
+        if mixture is None or candidate.log_likelihood[-1] > mixture.log_likelihood[-1]:
+            mixture = candidate
     models = []
     for mean, cov, weight in zip(mixture.means / scale, mixture.covariances / np.outer(scale, scale), mixture.weights):
         cap = max(1, int(round(weight * len(data))) - 1)
@@ -545,6 +564,72 @@ def _fit_polar_mixture(data: np.ndarray, n_components: int, blocks: tuple[slice,
             pdm_from_moments(mean[block], cov[block, block], variance_fraction=variance_fraction, max_modes=cap)
             for block in blocks)))
     return models, np.clip(mixture.weights, 1e-12, None), mixture.responsibilities
+
+
+def held_out_log_likelihood(
+    polar_vectors: np.ndarray,
+    n_components: int,
+    *,
+    shape_ridge: float = 1e-3,
+    n_folds: int = 5,
+    variance_fraction: float = 0.95,
+    em_iterations: int = 30,
+    polar_model: str = "block",
+    seed: int = 0,
+) -> float:
+    """Mean held-out log-density of one class's polar vectors under a mixture of polar PDMs.
+
+    A generative criterion for the choices Sec. 4 leaves open (number of components, covariance
+    ridge), computed from the training set alone: the rows are split into ``n_folds`` seeded folds;
+    for each fold the mixture is learnt by EM (eqs. 2-8, as in the recogniser) on the other folds
+    and the held-out rows are scored with ``ln sum_m pi_m p(S | Phi_m, Gamma_m*)``, the same
+    clamped PPCA density the recogniser uses.
+
+    Parameters
+    ----------
+    polar_vectors : (T, 3K) array_like
+        Polar vectors S of one class, angles relative to the class's circular mean (wrapped).
+    n_components : int
+        Mixture components M.
+    shape_ridge : float
+        Positive EM ridge, as ``ArticulatedShapeRecognizer(shape_ridge=...)``.
+    n_folds : int
+        Number of folds (at least 2); every training split needs ``3 * n_components`` rows.
+    variance_fraction, em_iterations, polar_model
+        As for ``ArticulatedShapeRecognizer``.
+    seed : int
+        Seed of the fold split and of the k-means++ starts.
+
+    Returns
+    -------
+    float
+        Held-out log-density summed over the folds, divided by T (nats per shape).
+    """
+    vectors = as_finite_array(polar_vectors, "polar_vectors", shape=(None, 3 * N_LIMBS))
+    n_components = check_positive_int(n_components, "n_components")
+    shape_ridge = check_positive(shape_ridge, "shape_ridge")
+    n_folds = check_positive_int(n_folds, "n_folds", minimum=2)
+    variance_fraction = check_positive(variance_fraction, "variance_fraction")
+    if variance_fraction > 1:
+        raise ValueError(f"variance_fraction must be in (0, 1], got {variance_fraction}")
+    em_iterations = check_positive_int(em_iterations, "em_iterations")
+    blocks = _polar_blocks(check_choice(polar_model, "polar_model", ("block", "joint")))
+    t = len(vectors)
+    smallest_split = t - -(-t // n_folds)
+    if smallest_split < MIN_PER_CLASS * n_components:
+        raise ValueError(f"polar_vectors needs at least {MIN_PER_CLASS * n_components} rows outside every fold "
+                         f"(n_components={n_components}, n_folds={n_folds}), got {smallest_split} of {t}")
+    rng = make_rng(seed)
+    folds = np.empty(t, dtype=int)
+    folds[rng.permutation(t)] = np.arange(t) % n_folds
+    total = 0.0
+    for fold in range(n_folds):
+        held = folds == fold
+        models, weights, _ = _fit_polar_mixture(vectors[~held], n_components, blocks, rng, em_iterations,
+                                                variance_fraction, ridge=shape_ridge)
+        scores = np.stack([np.log(w) + model.log_density(vectors[held]) for model, w in zip(models, weights)], axis=1)
+        total += float(np.logaddexp.reduce(scores, axis=1).sum())
+    return total / t
 
 
 def _fit_error(model: PointDistributionModel, data: np.ndarray) -> np.ndarray:

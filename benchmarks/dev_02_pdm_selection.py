@@ -1,0 +1,70 @@
+"""Chapter 2: validation study of the choices the paper leaves open (not the notebook's test set).
+
+The recogniser's settings that Al-Shaher & Hancock do not fix (mixture components per class, the
+shape-level EM ridge, EM restarts, PDM modes kept, limb labels per limb, the label-error
+probability p of eq. 18) are compared one at a time with the single Cartesian PDM and the nearest
+Procrustes mean. Every seed draws a fresh training set (20 shapes per class) and a validation set
+(100 per class) with ``spawn_rngs(seed, 2)``; the notebook's test set comes from
+``spawn_rngs(2004, 4)`` and is never used here. Selection seeds 201-210, confirmation seeds
+301-310 (a variant chosen on the first set must hold on the second).
+
+    .venv/bin/python benchmarks/dev_02_pdm_selection.py [--seeds 201 ... 210] [--per-class 100]
+"""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from amdo_lab.common import spawn_rngs
+from amdo_lab import pdm_mixtures as pm
+
+VARIANTS = {
+    "defaults (2 components, ridge 1e-3)": {},
+    "1 component per class": dict(n_shape_components=1),
+    "3 components per class": dict(n_shape_components=3),
+    "shape ridge 3e-3": dict(shape_ridge=3e-3),
+    "shape ridge 1e-2": dict(shape_ridge=1e-2),
+    "shape ridge 1e-1": dict(shape_ridge=1e-1),
+    "5 EM restarts": dict(em_restarts=5),
+    "shape ridge 1e-2, 5 EM restarts": dict(shape_ridge=1e-2, em_restarts=5),
+    "variance fraction 0.90": dict(variance_fraction=0.90),
+    "variance fraction 0.98": dict(variance_fraction=0.98),
+    "3 limb labels": dict(n_limb_labels=3),
+    "p = 0.05": dict(label_error_probability=0.05),
+    "p = 0.45": dict(label_error_probability=0.45),
+}
+BASELINES = {"single Cartesian PDM": pm.SingleCartesianPDMClassifier,
+             "nearest Procrustes mean": pm.NearestProcrustesMeanClassifier}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seeds", type=int, nargs="+", default=list(range(201, 211)))
+    parser.add_argument("--per-class", type=int, default=100)
+    args = parser.parse_args()
+    if 2004 in args.seeds:
+        parser.error("seed 2004 draws the notebook's test set; use other seeds")
+    rates = {name: [] for name in list(VARIANTS) + list(BASELINES)}
+    for seed in args.seeds:
+        fit_rng, check_rng = spawn_rngs(seed, 2)
+        fit_set = pm.generate_pose_dataset(pm.TABLE1_CLASSES, 20, fit_rng)
+        check_set = pm.generate_pose_dataset(pm.TABLE1_CLASSES, args.per_class, check_rng)
+        models = {name: pm.ArticulatedShapeRecognizer(**options) for name, options in VARIANTS.items()}
+        models |= {name: make() for name, make in BASELINES.items()}
+        for name, model in models.items():
+            predicted = model.fit(fit_set.shapes, fit_set.labels).predict(check_set.shapes)
+            rates[name].append(float(np.mean(predicted == check_set.labels)))
+    reference = np.array(rates["single Cartesian PDM"])
+    print(f"validation seeds {args.seeds}, 20 training and {args.per_class} validation shapes per class")
+    print(f"{'setting':38s} {'mean':>6s} {'sd':>6s} {'min':>6s} {'max':>6s} {'- single PDM':>13s} {'wins':>5s}")
+    for name, values in rates.items():
+        values = np.array(values)
+        gap = values - reference
+        print(f"{name:38s} {values.mean():6.3f} {values.std(ddof=1):6.3f} {values.min():6.3f} {values.max():6.3f} "
+              f"{gap.mean():+6.3f}±{gap.std(ddof=1):5.3f} {int(np.sum(gap > 0)):2d}/{len(gap)}")
+
+
+if __name__ == "__main__":
+    main()
