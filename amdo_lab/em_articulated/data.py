@@ -165,7 +165,8 @@ _CAMERA = np.array([0.0, 40.0, 500.0])
 def make_registration_problem(hand: HandModel, rng: np.random.Generator | int, *, joint_error_deg: float = 20.0,
                               noise_mm: float = 2.0, outlier_ratio: float = 1.0, n_model: int = 500,
                               n_data: int = 500, occlusion: bool = False,
-                              repeatability: float = DEFAULT_REPEATABILITY) -> RegistrationProblem:
+                              repeatability: float = DEFAULT_REPEATABILITY,
+                              texture_noise_mm: float | None = None) -> RegistrationProblem:
     """Texture observed at the initial pose, data observed at the true pose, plus uniform outliers.
 
     The hand carries max(n_model, n_data) / repeatability skin features (the paper's texture;
@@ -177,9 +178,13 @@ def make_registration_problem(hand: HandModel, rng: np.random.Generator | int, *
     seen twice: the textureless case where point matching has nothing to match). Outliers are
     uniform in the data's bounding box enlarged by 30 mm, ``outlier_ratio`` per inlier.
     ``occlusion`` keeps only features facing a camera 500 mm above the hand.
+    ``texture_noise_mm`` sets the texture's noise apart from the data's (default: ``noise_mm``;
+    0 reads "2 mm noise" as noise on the data only, with an exactly known texture).
     """
     rng = make_rng(rng)
     noise_mm = check_positive(noise_mm, "noise_mm", allow_zero=True)
+    texture_noise_mm = noise_mm if texture_noise_mm is None else check_positive(texture_noise_mm, "texture_noise_mm",
+                                                                                 allow_zero=True)
     outlier_ratio = check_positive(outlier_ratio, "outlier_ratio", allow_zero=True)
     n_model, n_data = check_positive_int(n_model, "n_model"), check_positive_int(n_data, "n_data")
     repeatability = check_positive(repeatability, "repeatability", allow_zero=True)
@@ -207,7 +212,7 @@ def make_registration_problem(hand: HandModel, rng: np.random.Generator | int, *
     if occlusion:
         seen_init = seen_init[visible_points(hand, at_init, theta_init, _CAMERA)]
         seen_true = seen_true[visible_points(hand, at_true, theta_true, _CAMERA)]
-    model_points, model_feature = _observe(at_init, seen_init, n_model, noise_mm, rng)
+    model_points, model_feature = _observe(at_init, seen_init, n_model, texture_noise_mm, rng)
     inliers, data_feature = _observe(at_true, seen_true, n_data, noise_mm, rng)
     if n_skin == 0:
         model_feature, data_feature = np.full(len(model_points), -1), np.full(len(inliers), -1)

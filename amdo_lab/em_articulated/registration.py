@@ -122,10 +122,10 @@ def _statistics_from_pairs(data_index: np.ndarray, model_index: np.ndarray, dist
     row_sum = np.bincount(data_index, kernel, minlength=len(data_points)) + np.exp(log_c)
     alpha = kernel / np.take(row_sum, data_index)
     weights = np.bincount(model_index, alpha, minlength=n_model)
-    weighted_pairs = np.ascontiguousarray((np.take(data_points, data_index, axis=0) * alpha[:, None]).T)
-    weighted_data = np.stack([np.bincount(model_index, column, minlength=n_model) for column in weighted_pairs], axis=1)
+    weighted_data = np.stack([np.bincount(model_index, alpha * np.take(column, data_index), minlength=n_model)
+                              for column in data_points.T], axis=1)
     inlier_prob = np.bincount(data_index, alpha, minlength=len(data_points))
-    return weights, weighted_data, inlier_prob, float(np.sum(alpha * dist**2))
+    return weights, weighted_data, inlier_prob, float(np.dot(alpha, dist**2))
 
 
 class _ClosePairs:
