@@ -484,3 +484,15 @@ def test_dipy_peer_uses_our_displacement_convention():
     template, study = pair.template[::4, ::4], pair.study[::4, ::4]
     result = cf.register_dipy(template, study, level_iters=(10, 5))
     np.testing.assert_allclose(cf.warp_image(template, result.displacement), result.warped, atol=1e-5)
+
+
+def test_sor_cold_start_differs_from_the_warm_start_and_checks_its_flag():
+    pair = cf.make_pair("C")
+    template, study = pair.template[::4, ::4], pair.study[::4, ::4]
+    warm = cf.register_fluid(template, study, method="sor", n_iter=4, sor_sweeps=3)
+    cold = cf.register_fluid(template, study, method="sor", n_iter=4, sor_sweeps=3, sor_warm_start=False)
+    # the first solve starts from zero either way; later ones differ only in their start
+    assert not np.allclose(warm.displacement, cold.displacement)
+    assert cold.residuals[-1] < cold.residuals[0]
+    with pytest.raises(TypeError, match="sor_warm_start"):
+        cf.register_fluid(template, study, method="sor", n_iter=1, sor_warm_start="no")

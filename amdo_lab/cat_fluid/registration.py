@@ -216,7 +216,8 @@ def _check_images(template: object, study: object) -> tuple[np.ndarray, np.ndarr
 
 def register_fluid(template: object, study: object, method: str = "cat", lam: float = 1.0, mu: float = 5.0,
                    n_iter: int | None = None, *, max_step: float = 1.0, backtrack: bool = True,
-                   regrid_threshold: float = 0.5, sor_sweeps: int = 250, sor_omega: float | None = None) -> FluidResult:
+                   regrid_threshold: float = 0.5, sor_sweeps: int = 250, sor_omega: float | None = None,
+                   sor_warm_start: bool = True) -> FluidResult:
     """Deform ``template`` onto ``study`` as a viscous fluid (Secs. 4-5).
 
     Each iteration: the force of eq. (18) on the deformed template; the velocity from
@@ -242,14 +243,16 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
         fixed bound, every step accepted).
     regrid_threshold : regrid when min det(I - ∇u) of the segment falls below it, in (0, 1).
     sor_sweeps, sor_omega : SOR sweeps per solve (the paper: 250) and relaxation factor (default
-        :func:`~amdo_lab.cat_fluid.solvers.default_omega`); the SOR velocity is warm-started from
-        the previous iteration's.
+        :func:`~amdo_lab.cat_fluid.solvers.default_omega`).
+    sor_warm_start : start each SOR solve from the previous iteration's velocity (default) or from
+        zero (the paper does not say which it did).
     """
     template, study = _check_images(template, study)
     check_choice(method, "method", SOLVERS)
     lam, mu = check_moduli(lam, mu, require_positive_mu=True)
-    if not isinstance(backtrack, bool):
-        raise TypeError(f"backtrack must be a bool, got {type(backtrack).__name__}")
+    for flag, flag_name in ((backtrack, "backtrack"), (sor_warm_start, "sor_warm_start")):
+        if not isinstance(flag, bool):
+            raise TypeError(f"{flag_name} must be a bool, got {type(flag).__name__}")
     n_iter = check_positive_int(DEFAULT_ITERATIONS[method] if n_iter is None else n_iter, "n_iter")
     step_bound = check_positive(max_step, "max_step")
     regrid_threshold = check_positive(regrid_threshold, "regrid_threshold")
@@ -274,7 +277,7 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
         force -= force.mean(axis=(1, 2), keepdims=True)
         if symbol is None:
             velocity = sor_solve(force, lam, mu, sweeps=sor_sweeps, omega=sor_omega,
-                                 initial=velocity)
+                                 initial=velocity if sor_warm_start else None)
         else:
             velocity = solve_symbol(symbol, force)
         unit = _update(segment, velocity, 1.0) - segment
