@@ -134,8 +134,9 @@ class _ClosePairs:
     A k-d tree query returns every pair within radius + margin, with the model where it is now;
     later calls only re-measure those candidates, and query again when the radius changes or some
     model point has moved so far that a pair from outside the candidates could have come within
-    the radius (more than the margin; half of it when the data are the model itself). The pairs
-    returned are exactly those a fresh query would give: this saves time, not accuracy.
+    the radius (more than the margin; half of it when the data are the model itself, whose
+    unordered pairs are stored once and mirrored). The pairs returned are exactly those a fresh
+    query would give: this saves time, not accuracy.
     """
 
     def __init__(self, data_points: np.ndarray | None, data_tree: cKDTree | None, margin_ratio: float = 0.1) -> None:
@@ -144,24 +145,29 @@ class _ClosePairs:
         self._anchor = self._data_index = self._model_index = None
 
     def __call__(self, model_points: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        data = model_points if self._data is None else self._data
         margin = self._margin_ratio * radius
         allowed = margin / 2 if self._data is None else margin  # a self pair closes in from both ends
+        fresh = None
         if (radius != self._radius
                 or np.max(np.sum((model_points - self._anchor) ** 2, axis=1)) > allowed**2):
-            if self._data is None:  # each unordered pair once (half the work), then both orders and i = j
+            if self._data is None:  # each unordered pair i < j once
                 unique = cKDTree(model_points).query_pairs(radius + margin, output_type="ndarray")
-                own = np.arange(len(model_points))
-                self._data_index = np.concatenate([unique[:, 0], unique[:, 1], own])
-                self._model_index = np.concatenate([unique[:, 1], unique[:, 0], own])
-            else:
-                pairs = self._tree.sparse_distance_matrix(cKDTree(model_points), radius + margin, output_type="ndarray")
-                self._data_index, self._model_index, _ = _pair_arrays(pairs)
+                self._data_index, self._model_index = unique[:, 0].copy(), unique[:, 1].copy()
+            else:  # the query measures the distances already: no need to measure them again now
+                self._data_index, self._model_index, fresh = _pair_arrays(
+                    self._tree.sparse_distance_matrix(cKDTree(model_points), radius + margin, output_type="ndarray"))
             self._radius, self._anchor = radius, model_points.copy()
-        offset = np.take(data, self._data_index, axis=0) - np.take(model_points, self._model_index, axis=0)
-        dist = np.sqrt(np.einsum("ij,ij->i", offset, offset))
-        keep = dist <= radius
-        return self._data_index[keep], self._model_index[keep], dist[keep]
+        data = model_points if self._data is None else self._data
+        if fresh is None:
+            offset = np.take(data, self._data_index, axis=0) - np.take(model_points, self._model_index, axis=0)
+            fresh = np.sqrt(np.einsum("ij,ij->i", offset, offset))
+        keep = fresh <= radius
+        data_index, model_index, dist = self._data_index[keep], self._model_index[keep], fresh[keep]
+        if self._data is None:  # both orders of every unordered pair, and every point with itself
+            own = np.arange(len(model_points))
+            return (np.concatenate([data_index, model_index, own]), np.concatenate([model_index, data_index, own]),
+                    np.concatenate([dist, dist, np.zeros(len(own))]))
+        return data_index, model_index, dist
 
 
 def _m_step(hand: HandModel, binding: TextureBinding, theta: np.ndarray, weights: np.ndarray,
