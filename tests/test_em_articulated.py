@@ -405,3 +405,20 @@ def test_texture_noise_can_be_set_apart_from_the_data_noise(hand):
     assert np.median(np.abs(hand.surface_distance(noisy.model_points, noisy.theta_init))) > 1.0
     with pytest.raises(ValueError, match="texture_noise_mm"):
         make_registration_problem(hand, 8, texture_noise_mm=-1.0)
+
+
+def test_dense_e_step_matches_a_logsumexp_reference():
+    from scipy.special import logsumexp
+    rng = make_rng(6)
+    model = rng.normal(scale=20.0, size=(40, 3))
+    data = np.concatenate([model[:25] + rng.normal(scale=1.0, size=(25, 3)), [[1e4, 0.0, 0.0]]])
+    for sigma, log_c in ((0.5, np.log(PAPER_C)), (3.0, -700.0), (20.0, 5.0)):
+        sq = np.sum((data[:, None, :] - model[None, :, :]) ** 2, axis=2)
+        log_kernel = -sq / (2 * sigma**2)
+        alpha = np.exp(log_kernel - np.logaddexp(logsumexp(log_kernel, axis=1), log_c)[:, None])
+        weights, weighted, inlier, energy = e_step_statistics(model, data, sigma, log_c, chunk=7)
+        np.testing.assert_allclose(weights, alpha.sum(axis=0), rtol=1e-10, atol=1e-300)
+        np.testing.assert_allclose(weighted, alpha.T @ data, rtol=1e-9, atol=1e-12)
+        np.testing.assert_allclose(inlier, alpha.sum(axis=1), rtol=1e-10, atol=1e-300)
+        assert energy == pytest.approx(float(np.sum(alpha * sq)), rel=1e-9)
+        assert np.all(np.isfinite(inlier)) and inlier[-1] < 1e-12  # the far point is an outlier, not NaN

@@ -70,9 +70,12 @@ def e_step_statistics(model_points: np.ndarray, data_points: np.ndarray, sigma: 
     for start in range(0, data_points.shape[0], chunk):
         block = data_points[start:start + chunk]
         sq = np.maximum(np.sum(block**2, axis=1)[:, None] + model_sq[None, :] - 2 * block @ model_points.T, 0.0)
-        log_kernel = -sq / (2 * sigma**2)
-        log_norm = np.logaddexp(logsumexp(log_kernel, axis=1), log_c)
-        alpha = np.exp(log_kernel - log_norm[:, None])  # (chunk, N), never underflows to NaN
+        log_kernel = sq * (-0.5 / sigma**2)
+        # log domain: factor the largest term of each normaliser (c included) out before exponentiating,
+        # so no term overflows and a point far from every texture point gets alpha ~ 0, never 0/0
+        top = np.maximum(log_kernel.max(axis=1), log_c)
+        kernel = np.exp(log_kernel - top[:, None])
+        alpha = kernel / (kernel.sum(axis=1) + np.exp(log_c - top))[:, None]  # (chunk, N)
         weights += alpha.sum(axis=0)
         weighted_data += alpha.T @ block
         inlier_prob[start:start + chunk] = alpha.sum(axis=1)
