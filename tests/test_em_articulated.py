@@ -386,7 +386,7 @@ def test_close_pair_cache_returns_the_pairs_of_a_fresh_query(hand):
     rng = make_rng(4)
     data = rng.uniform(-60, 60, size=(400, 3))
     model = rng.uniform(-60, 60, size=(300, 3))
-    to_data, to_self = _ClosePairs(data, cKDTree(data)), _ClosePairs(None, None)
+    to_data, to_self = _ClosePairs(data), _ClosePairs(None)
     for step, radius in [(0.0, 12.0), (0.5, 12.0), (1.0, 12.0), (6.0, 12.0), (0.5, 8.0), (20.0, 8.0)]:
         model = model + rng.normal(scale=step / np.sqrt(3), size=model.shape)
         for cache, observed in ((to_data, data), (to_self, model)):

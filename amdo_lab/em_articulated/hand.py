@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng
-from amdo_lab.common.geometry import rotation_matrix
+from amdo_lab.common.geometry import rigid_transform, rotation_matrix, skew
 
 __all__ = ["HandModel", "PART_NAMES"]
 
@@ -56,22 +56,9 @@ def _axis_levers(axes: np.ndarray, origins: np.ndarray, points: np.ndarray) -> n
     Written as one matrix product, x @ [ω_k]ₓᵀ for all k at once, minus the constant ω_k × o_k:
     the cross product is linear in x, and a single GEMM beats K broadcast cross products.
     """
-    skew_t = np.zeros((3, len(axes), 3))  # skew_t[i, k, j] = [ω_k]ₓ[j, i]
-    skew_t[1, :, 0], skew_t[2, :, 0] = -axes[:, 2], axes[:, 1]
-    skew_t[0, :, 1], skew_t[2, :, 1] = axes[:, 2], -axes[:, 0]
-    skew_t[0, :, 2], skew_t[1, :, 2] = -axes[:, 1], axes[:, 0]
-    levers = (points @ skew_t.reshape(3, -1)).reshape(len(points), len(axes), 3)
-    offsets = np.stack([axes[:, 1] * origins[:, 2] - axes[:, 2] * origins[:, 1],
-                        axes[:, 2] * origins[:, 0] - axes[:, 0] * origins[:, 2],
-                        axes[:, 0] * origins[:, 1] - axes[:, 1] * origins[:, 0]], axis=1)  # ω_k × o_k
-    return levers - offsets[None]
-
-
-def _homogeneous(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray:
-    transform = np.eye(4)
-    transform[:3, :3] = rotation
-    transform[:3, 3] = translation
-    return transform
+    cross = skew(axes)  # (K, 3, 3): cross[k] @ x = ω_k × x
+    levers = (points @ cross.transpose(2, 0, 1).reshape(3, -1)).reshape(len(points), len(axes), 3)
+    return levers - (cross @ origins[..., None])[None, ..., 0]  # minus ω_k × o_k
 
 
 class HandModel:
@@ -102,16 +89,16 @@ class HandModel:
             radius = 10.0 if finger == "thumb" else 8.5
             if finger == "thumb":
                 # the thumb leaves the palm's radial side pointing outwards (35° from the fingers)
-                base = _homogeneous(rotation_matrix(_Z, 35 * _DEG), np.array([-36.0, -14.0, -4.0]))
+                base = rigid_transform(rotation_matrix(_Z, 35 * _DEG), np.array([-36.0, -14.0, -4.0]))
                 joint_axes = ((_Z, _FLEX), (_Z, _FLEX), (_FLEX,))
                 limits += [(lo * _DEG, hi * _DEG) for lo, hi in _THUMB_LIMITS]
             else:
-                base = _homogeneous(np.eye(3), np.array([_FINGER_BASE_X[finger], 46.0, 0.0]))
+                base = rigid_transform(np.eye(3), np.array([_FINGER_BASE_X[finger], 46.0, 0.0]))
                 joint_axes = ((_Z, _FLEX), (_FLEX,), (_FLEX,))
                 limits += [(lo * _DEG, hi * _DEG) for lo, hi in _FINGER_LIMITS]
             parent = 0
             for k, (length, axes) in enumerate(zip(lengths, joint_axes)):
-                offset = base if k == 0 else _homogeneous(np.eye(3), np.array([0.0, lengths[k - 1], 0.0]))
+                offset = base if k == 0 else rigid_transform(np.eye(3), np.array([0.0, lengths[k - 1], 0.0]))
                 dofs = tuple(range(dof, dof + len(axes)))
                 dof += len(axes)
                 shrink = 1.0 - 0.08 * k
@@ -135,10 +122,7 @@ class HandModel:
         for part in parts:
             for k, axis in zip(part.dofs, part.axes):
                 joint_axes[k] = axis
-        skew_axes = np.zeros((self.n_dof, 3, 3))
-        skew_axes[:, 0, 1], skew_axes[:, 0, 2] = -joint_axes[:, 2], joint_axes[:, 1]
-        skew_axes[:, 1, 0], skew_axes[:, 1, 2] = joint_axes[:, 2], -joint_axes[:, 0]
-        skew_axes[:, 2, 0], skew_axes[:, 2, 1] = -joint_axes[:, 1], joint_axes[:, 0]
+        skew_axes = skew(joint_axes)
         self._joint_axes, self._skew, self._skew2 = joint_axes, skew_axes, skew_axes @ skew_axes
         self._centres = np.array([part.centre for part in parts])
         self._radii = np.array([part.radii for part in parts])

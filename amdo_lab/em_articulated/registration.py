@@ -97,18 +97,18 @@ def dof_lever_arms(hand: HandModel, binding: TextureBinding, theta: np.ndarray) 
 
 
 def e_step_statistics_kdtree(model_points: np.ndarray, data_points: np.ndarray, sigma: float,
-                             log_c: float, radius_sigmas: float = _KDTREE_RADIUS_SIGMAS,
-                             data_tree: cKDTree | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+                             log_c: float,
+                             radius_sigmas: float = _KDTREE_RADIUS_SIGMAS) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """Truncated eq. (17): only pairs closer than ``radius_sigmas``·σ, found with a k-d tree.
 
     Same outputs as :func:`e_step_statistics`. A pair at 4σ has kernel exp(-8) ≈ 3e-4, so the
     dropped mass is negligible next to c; memory is O(M + N + number of close pairs). The kernel
     of a kept pair is at least exp(-radius²/2), so the linear domain cannot underflow here.
-    ``data_tree`` (a ``cKDTree`` of ``data_points``) can be passed to build it once per registration.
+    (:func:`register_em` gets the same pairs from a cache that re-measures candidates between
+    iterations instead of querying anew.)
     """
     radius = radius_sigmas * sigma
-    data_tree = cKDTree(data_points) if data_tree is None else data_tree
-    pairs = data_tree.sparse_distance_matrix(cKDTree(model_points), radius, output_type="ndarray")
+    pairs = cKDTree(data_points).sparse_distance_matrix(cKDTree(model_points), radius, output_type="ndarray")
     return _statistics_from_pairs(*_pair_arrays(pairs), data_points, len(model_points), sigma, log_c)
 
 
@@ -142,8 +142,10 @@ class _ClosePairs:
     query would give: this saves time, not accuracy.
     """
 
-    def __init__(self, data_points: np.ndarray | None, data_tree: cKDTree | None, margin_ratio: float = 0.1) -> None:
-        self._data, self._tree, self._margin_ratio = data_points, data_tree, margin_ratio
+    def __init__(self, data_points: np.ndarray | None, margin_ratio: float = 0.1) -> None:
+        """``data_points`` (M, 3), or None when the data are the model points themselves."""
+        self._data, self._margin_ratio = data_points, margin_ratio
+        self._tree = None if data_points is None else cKDTree(data_points)
         self._radius = -1.0
         self._anchor = self._data_index = self._model_index = None
 
@@ -263,8 +265,8 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
     c = PAPER_C if outlier_c is None else check_positive(outlier_c, "outlier_c")
     if release_ratio is not None:
         release_ratio = check_positive(release_ratio, "release_ratio")
-    data_pairs = _ClosePairs(data, cKDTree(data)) if e_step == "kdtree" else None
-    self_pairs = _ClosePairs(None, None) if e_step == "kdtree" else None
+    data_pairs = _ClosePairs(data) if e_step == "kdtree" else None
+    self_pairs = _ClosePairs(None) if e_step == "kdtree" else None
 
     def statistics(points: np.ndarray, observed: np.ndarray, sigma: float, log_c: float, pairs=None) -> tuple:
         if e_step == "kdtree":  # truncated at 4σ, as e_step_statistics_kdtree
