@@ -117,18 +117,24 @@ def test_e_step_log_domain_far_points_and_single_match():
     assert inlier[1] == 0.0 and np.all(np.isfinite(weighted)) and np.isfinite(energy)
 
 
-def test_e_step_chunking_matches_dense():
+@pytest.mark.parametrize("precision, rtol", [("double", 1e-10), ("single", 2e-6)])
+def test_e_step_chunking_matches_dense(precision, rtol):
     rng = make_rng(5)
     model = rng.normal(size=(40, 3)) * 10
     data = rng.normal(size=(70, 3)) * 10
-    dense = e_step_statistics(model, data, 3.0, 0.5, chunk=1000)
-    chunked = e_step_statistics(model, data, 3.0, 0.5, chunk=7)
+    dense = e_step_statistics(model, data, 3.0, 0.5, chunk=1000, precision=precision)
+    chunked = e_step_statistics(model, data, 3.0, 0.5, chunk=7, precision=precision)
     for a, b in zip(dense, chunked):
-        np.testing.assert_allclose(a, b, rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(a, b, rtol=rtol, atol=rtol * np.abs(a).max())
     sq = np.sum((model[:, None] - data[None]) ** 2, axis=2)
     kernel = np.exp(-sq / 18.0)
     alpha = kernel / (kernel.sum(axis=0) + np.exp(0.5))
-    np.testing.assert_allclose(dense[2], alpha.sum(axis=0), rtol=1e-10)
+    np.testing.assert_allclose(dense[2], alpha.sum(axis=0), rtol=rtol)
+
+
+def test_e_step_precision_is_checked():
+    with pytest.raises(ValueError, match="precision"):
+        e_step_statistics(np.zeros((2, 3)), np.ones((3, 3)), 1.0, 0.0, precision="half")
 
 
 def test_register_em_exact_correspondences_converges(hand):
@@ -407,7 +413,8 @@ def test_texture_noise_can_be_set_apart_from_the_data_noise(hand):
         make_registration_problem(hand, 8, texture_noise_mm=-1.0)
 
 
-def test_dense_e_step_matches_a_logsumexp_reference():
+@pytest.mark.parametrize("precision, rtol", [("double", 1e-9), ("single", 2e-6)])
+def test_dense_e_step_matches_a_logsumexp_reference(precision, rtol):
     from scipy.special import logsumexp
     rng = make_rng(6)
     model = rng.normal(scale=20.0, size=(40, 3))
@@ -416,9 +423,30 @@ def test_dense_e_step_matches_a_logsumexp_reference():
         sq = np.sum((data[:, None, :] - model[None, :, :]) ** 2, axis=2)
         log_kernel = -sq / (2 * sigma**2)
         alpha = np.exp(log_kernel - np.logaddexp(logsumexp(log_kernel, axis=1), log_c)[:, None])
-        weights, weighted, inlier, energy = e_step_statistics(model, data, sigma, log_c, chunk=7)
-        np.testing.assert_allclose(weights, alpha.sum(axis=0), rtol=1e-10, atol=1e-300)
-        np.testing.assert_allclose(weighted, alpha.T @ data, rtol=1e-9, atol=1e-12)
-        np.testing.assert_allclose(inlier, alpha.sum(axis=1), rtol=1e-10, atol=1e-300)
-        assert energy == pytest.approx(float(np.sum(alpha * sq)), rel=1e-9)
+        weights, weighted, inlier, energy = e_step_statistics(model, data, sigma, log_c, chunk=7, precision=precision)
+        # in single precision an α below float32's smallest normal number (about 1e-38) may become 0
+        tiny = 1e-300 if precision == "double" else 1e-37
+        np.testing.assert_allclose(weights, alpha.sum(axis=0), rtol=rtol, atol=tiny)
+        np.testing.assert_allclose(weighted, alpha.T @ data, rtol=rtol, atol=rtol * np.abs(data[:-1]).max())
+        np.testing.assert_allclose(inlier, alpha.sum(axis=1), rtol=rtol, atol=tiny)
+        assert energy == pytest.approx(float(np.sum(alpha * sq)), rel=rtol)
         assert np.all(np.isfinite(inlier)) and inlier[-1] < 1e-12  # the far point is an outlier, not NaN
+
+
+def test_pair_fraction_estimate_and_the_dense_switch(hand):
+    from amdo_lab.em_articulated.registration import _DENSE_PAIR_FRACTION, _ClosePairs
+    rng = make_rng(13)
+    theta = hand.rest_pose()
+    model = hand.sample_surface(theta, 300, rng)
+    data = model + rng.normal(scale=2.0, size=model.shape)
+    for radius in (12.0, 40.0, 80.0):
+        exact = np.mean(np.linalg.norm(data[:, None] - model[None], axis=2) <= radius)
+        assert _ClosePairs(data).pair_fraction(model, radius) == pytest.approx(exact, abs=0.05)
+        exact_self = np.mean(np.linalg.norm(model[:, None] - model[None], axis=2) <= radius)
+        assert _ClosePairs(None).pair_fraction(model, radius) == pytest.approx(exact_self, abs=0.05)
+    # at σ of 15-20 mm the 4σ balls hold more than the switch's share of all pairs, so "kdtree"
+    # runs the dense E-step, and the two settings give the same pose
+    assert _ClosePairs(data).pair_fraction(model, 4 * 15.0) > _DENSE_PAIR_FRACTION
+    em_dense = register_em(model, data, hand, theta, 20.0, 15.0, n_levels=2)
+    em_tree = register_em(model, data, hand, theta, 20.0, 15.0, n_levels=2, e_step="kdtree")
+    np.testing.assert_array_equal(em_dense.theta, em_tree.theta)

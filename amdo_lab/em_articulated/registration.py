@@ -31,6 +31,10 @@ OUR_SETTINGS = {**PAPER_SETTINGS, "targets": "debiased"}
 
 #: Truncation radius of the k-d tree E-step, in σ.
 _KDTREE_RADIUS_SIGMAS = 4.0
+#: register_em(e_step="kdtree") switches to the exact dense E-step when more than this share of all
+#: pairs lies within the truncation radius: a pair costs several times more on the sparse path than in
+#: the dense one's matrix products (crossover about 0.13-0.2 in `benchmarks/bench_01_em_articulated.py`).
+_DENSE_PAIR_FRACTION = 0.15
 
 #: The EM at one σ stops when no DOF moves by more than this (radians, or mm for the palm).
 DEFAULT_TOL = 1e-3
@@ -51,8 +55,21 @@ class EMResult:
 
 
 def e_step_statistics(model_points: np.ndarray, data_points: np.ndarray, sigma: float,
-                      log_c: float, chunk: int = 256) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+                      log_c: float, chunk: int = 256,
+                      precision: str = "single") -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """Stream eq. (17) over data chunks in the log domain; memory O(M + N + chunk·N).
+
+    Every output is a sum over pairs, so α itself is never normalised and stored. Per chunk, one
+    product of augmented, centred coordinates gives the log kernels −||Y_j − X_i||²/2σ² (double
+    precision); the largest term of each normaliser (c included) is factored out before
+    exponentiating, so nothing overflows and a point far from every texture point gets α ≈ 0, never
+    0/0; one more product, with the data rows divided by their normalisers, gives Σ_j α_ij Y_j and
+    Σ_j α_ij together.
+
+    ``precision="single"`` exponentiates and sums the shifted kernels in float32, which is about
+    twice as fast on CPUs without vectorised double-precision exp. Each α then carries a relative
+    error of about 1e-7 (α below about 1e-38 becomes 0), far below anything the EM can resolve at
+    millimetre noise; ``"double"`` keeps every step in float64 (a reference for the tests).
 
     Returns
     -------
@@ -61,26 +78,43 @@ def e_step_statistics(model_points: np.ndarray, data_points: np.ndarray, sigma: 
     inlier_prob : (M,) Σ_i α_ij per data point
     energy : float, Σ_ij α_ij ||Y_j - T(X_i)||² (eq. 19/20 up to the 1/2σ² factor)
     """
-    n_model = model_points.shape[0]
-    weights = np.zeros(n_model)
-    weighted_data = np.zeros((n_model, 3))
-    inlier_prob = np.empty(data_points.shape[0])
-    energy = 0.0
-    model_sq = np.sum(model_points**2, axis=1)
-    for start in range(0, data_points.shape[0], chunk):
-        block = data_points[start:start + chunk]
-        sq = np.maximum(np.sum(block**2, axis=1)[:, None] + model_sq[None, :] - 2 * block @ model_points.T, 0.0)
-        log_kernel = sq * (-0.5 / sigma**2)
-        # log domain: factor the largest term of each normaliser (c included) out before exponentiating,
-        # so no term overflows and a point far from every texture point gets alpha ~ 0, never 0/0
+    check_choice(precision, "precision", ("single", "double"))
+    dtype = np.float32 if precision == "single" else np.float64
+    n_model, n_data = model_points.shape[0], data_points.shape[0]
+    centre = data_points.mean(axis=0)  # centred coordinates keep the expanded squared distance accurate
+    model_centred, data_centred = model_points - centre, data_points - centre
+    inv_var = 1.0 / sigma**2
+    # log kernel_ji = [Y_j, ||Y_j||², 1] · [X_i/σ², −1/2σ², −||X_i||²/2σ²]
+    model_aug = np.empty((n_model, 5))
+    model_aug[:, :3] = model_centred * inv_var
+    model_aug[:, 3] = -0.5 * inv_var
+    model_aug[:, 4] = -0.5 * inv_var * np.einsum("ij,ij->i", model_centred, model_centred)
+    data_aug = np.empty((n_data, 5))
+    data_aug[:, :3] = data_centred
+    data_aug[:, 3] = np.einsum("ij,ij->i", data_centred, data_centred)
+    data_aug[:, 4] = 1.0
+    data_one = data_aug[:, [0, 1, 2, 4]].astype(dtype)  # [Y_j − centre, 1]
+    shifted = np.empty((min(chunk, n_data), n_model), dtype)
+    kernel = np.empty_like(shifted)
+    sums = np.zeros((n_model, 4))
+    inlier_prob = np.empty(n_data)
+    weighted_log_kernel = 0.0  # Σ_ij α_ij log kernel_ji
+    for start in range(0, n_data, chunk):
+        rows = slice(start, start + chunk)
+        log_kernel = data_aug[rows] @ model_aug.T  # (rows, N)
         top = np.maximum(log_kernel.max(axis=1), log_c)
-        kernel = np.exp(log_kernel - top[:, None])
-        alpha = kernel / (kernel.sum(axis=1) + np.exp(log_c - top))[:, None]  # (chunk, N)
-        weights += alpha.sum(axis=0)
-        weighted_data += alpha.T @ block
-        inlier_prob[start:start + chunk] = alpha.sum(axis=1)
-        energy += float(np.sum(alpha * sq))
-    return weights, weighted_data, inlier_prob, energy
+        block_shifted, block_kernel = shifted[:len(log_kernel)], kernel[:len(log_kernel)]
+        np.subtract(log_kernel, top[:, None], out=block_shifted, casting="same_kind")
+        np.exp(block_shifted, out=block_kernel)
+        row_sum = block_kernel.sum(axis=1, dtype=np.float64)
+        normaliser = row_sum + np.exp(log_c - top)  # ≥ 1: the largest term is exp(0)
+        inlier_prob[rows] = row_sum / normaliser
+        sums += block_kernel.T @ (data_one[rows] / normaliser[:, None].astype(dtype))
+        shifted_sums = np.einsum("ji,ji->j", block_kernel, block_shifted, dtype=np.float64)
+        weighted_log_kernel += float(np.sum(shifted_sums / normaliser) + top @ inlier_prob[rows])
+    weights = sums[:, 3]
+    weighted_data = sums[:, :3] + weights[:, None] * centre
+    return weights, weighted_data, inlier_prob, max(-2 * sigma**2 * weighted_log_kernel, 0.0)  # a sum of squares: no round-off below 0
 
 
 def dof_lever_arms(hand: HandModel, binding: TextureBinding, theta: np.ndarray) -> np.ndarray:
@@ -146,8 +180,20 @@ class _ClosePairs:
         """``data_points`` (M, 3), or None when the data are the model points themselves."""
         self._data, self._margin_ratio = data_points, margin_ratio
         self._tree = None if data_points is None else cKDTree(data_points)
-        self._radius = -1.0
+        self._radius = self._fraction_radius = -1.0
         self._anchor = self._data_index = self._model_index = None
+        self._fraction = 0.0
+
+    def pair_fraction(self, model_points: np.ndarray, radius: float, n_samples: int = 64) -> float:
+        """Share of all (data, model) pairs closer than ``radius``, estimated from about ``n_samples``
+        model points spread through the array; re-estimated only when the radius changes."""
+        if radius != self._fraction_radius:
+            sample = model_points[::max(1, len(model_points) // n_samples)]
+            tree, n_data = ((cKDTree(model_points), len(model_points)) if self._data is None
+                            else (self._tree, len(self._data)))
+            self._fraction = float(np.mean(tree.query_ball_point(sample, radius, return_length=True))) / n_data
+            self._fraction_radius = radius
+        return self._fraction
 
     def __call__(self, model_points: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         margin = self._margin_ratio * radius
@@ -250,7 +296,8 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
         a joint is estimated only once σ is below its lever arm (:func:`dof_lever_arms`) divided
         by this ratio, so σ-wide blur cannot swing short phalanges.
     e_step : "dense" (every pair, streamed in chunks) or "kdtree" (pairs within 4σ only,
-        :func:`e_step_statistics_kdtree`).
+        :func:`e_step_statistics_kdtree`). At a σ where the 4σ balls hold more than 15 % of all
+        pairs, "kdtree" uses the dense E-step instead: there it is faster and not truncated.
     """
     model, data, theta, sigma_max, sigma_min = _check_common(hand, model_points, data_points,
                                                              theta_init, sigma_max, sigma_min)
@@ -269,9 +316,10 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
     self_pairs = _ClosePairs(None) if e_step == "kdtree" else None
 
     def statistics(points: np.ndarray, observed: np.ndarray, sigma: float, log_c: float, pairs=None) -> tuple:
-        if e_step == "kdtree":  # truncated at 4σ, as e_step_statistics_kdtree
-            close = pairs(points, _KDTREE_RADIUS_SIGMAS * sigma)
-            return _statistics_from_pairs(*close, observed, len(points), sigma, log_c)
+        radius = _KDTREE_RADIUS_SIGMAS * sigma
+        if e_step == "kdtree" and pairs.pair_fraction(points, radius) <= _DENSE_PAIR_FRACTION:
+            # truncated at 4σ, as e_step_statistics_kdtree
+            return _statistics_from_pairs(*pairs(points, radius), observed, len(points), sigma, log_c)
         return e_step_statistics(points, observed, sigma, log_c, chunk)
 
     binding = hand.texture_binding(model, theta, a)
