@@ -7,7 +7,8 @@ per trial, for the paper's EM settings and ours (bias-corrected targets); then t
 pycpd's, the 100-frame tracking run (and one frame at the issue's point counts), and rigid CPD on the
 same points. --tracking-ablation adds the held-out comparison that chose the tracker's EM settings.
 
-Default run is short (--trials 5). The issue's protocol is 100 seeded trials per level:
+Default run is short (--trials 5, about 2 minutes). The issue's protocol is 100 seeded trials per
+level (about 21 minutes on 2 cores; add --frames 0 to skip the tracking run):
     .venv/bin/python benchmarks/bench_01_em_articulated.py --trials 100
 """
 
