@@ -137,6 +137,33 @@ def test_e_step_precision_is_checked():
         e_step_statistics(np.zeros((2, 3)), np.ones((3, 3)), 1.0, 0.0, precision="half")
 
 
+@pytest.mark.parametrize("changes, error, message", [
+    (dict(model_points=np.full((2, 3), np.nan)), ValueError, "model_points must be finite"),
+    (dict(data_points=np.ones((3, 2))), ValueError, "data_points must have"),
+    (dict(data_points=np.zeros((0, 3))), ValueError, "data_points must not be empty"),
+    (dict(sigma=0.0), ValueError, "sigma must be"),
+    (dict(sigma=-1.0), ValueError, "sigma must be"),
+    (dict(log_c=np.nan), ValueError, "log_c"),
+    (dict(log_c=np.inf), ValueError, "log_c"),
+    (dict(log_c="1"), TypeError, "log_c"),
+])
+def test_e_steps_reject_bad_input(changes, error, message):
+    from amdo_lab.em_articulated import e_step_statistics_kdtree
+    arguments = dict(model_points=np.zeros((2, 3)), data_points=np.ones((3, 3)), sigma=1.0, log_c=0.0) | changes
+    for step in (e_step_statistics, e_step_statistics_kdtree):
+        with pytest.raises(error, match=message):
+            step(**arguments)
+    with pytest.raises(ValueError, match="chunk"):
+        e_step_statistics(np.zeros((2, 3)), np.ones((3, 3)), 1.0, 0.0, chunk=0)
+
+
+def test_e_step_without_outlier_class():
+    # log c = -inf (c = 0): every data point is fully assigned to the texture, however far it is
+    weights, _, inlier, _ = e_step_statistics(np.zeros((2, 3)), np.array([[0.0, 0, 0], [500.0, 0, 0]]), 1.0, -np.inf)
+    np.testing.assert_allclose(inlier, 1.0)
+    np.testing.assert_allclose(weights, 1.0)
+
+
 def test_register_em_exact_correspondences_converges(hand):
     rng = make_rng(6)
     theta_true = random_pose(hand, rng)

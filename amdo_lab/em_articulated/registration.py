@@ -54,7 +54,20 @@ class EMResult:
     model_points: np.ndarray
 
 
-def e_step_statistics(model_points: np.ndarray, data_points: np.ndarray, sigma: float,
+def _check_e_step_inputs(model_points: object, data_points: object, sigma: object,
+                         log_c: object) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """Validate the arguments shared by the public E-step functions."""
+    model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3))
+    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3))
+    sigma = check_positive(sigma, "sigma")
+    if not isinstance(log_c, (int, float, np.integer, np.floating)) or isinstance(log_c, (bool, np.bool_)):
+        raise TypeError(f"log_c must be a real number, got {type(log_c).__name__}")
+    if np.isnan(log_c) or log_c == np.inf:  # -inf is allowed: no outlier class (c = 0)
+        raise ValueError(f"log_c must be a number or -inf (c = 0), got {log_c}")
+    return model, data, sigma, float(log_c)
+
+
+def e_step_statistics(model_points: object, data_points: object, sigma: float,
                       log_c: float, chunk: int = 256,
                       precision: str = "single") -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """Stream eq. (17) over data chunks in the log domain; memory O(M + N + chunk·N).
@@ -78,7 +91,15 @@ def e_step_statistics(model_points: np.ndarray, data_points: np.ndarray, sigma: 
     inlier_prob : (M,) Σ_i α_ij per data point
     energy : float, Σ_ij α_ij ||Y_j - T(X_i)||² (eq. 19/20 up to the 1/2σ² factor)
     """
+    model_points, data_points, sigma, log_c = _check_e_step_inputs(model_points, data_points, sigma, log_c)
+    chunk = check_positive_int(chunk, "chunk")
     check_choice(precision, "precision", ("single", "double"))
+    return _dense_statistics(model_points, data_points, sigma, log_c, chunk, precision)
+
+
+def _dense_statistics(model_points: np.ndarray, data_points: np.ndarray, sigma: float, log_c: float,
+                      chunk: int, precision: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """:func:`e_step_statistics` on validated (N, 3) and (M, 3) arrays (the EM loop's inner call)."""
     dtype = np.float32 if precision == "single" else np.float64
     n_model, n_data = model_points.shape[0], data_points.shape[0]
     centre = data_points.mean(axis=0)  # centred coordinates keep the expanded squared distance accurate
@@ -130,7 +151,7 @@ def dof_lever_arms(hand: HandModel, binding: TextureBinding, theta: np.ndarray) 
     return lever
 
 
-def e_step_statistics_kdtree(model_points: np.ndarray, data_points: np.ndarray, sigma: float,
+def e_step_statistics_kdtree(model_points: object, data_points: object, sigma: float,
                              log_c: float,
                              radius_sigmas: float = _KDTREE_RADIUS_SIGMAS) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """Truncated eq. (17): only pairs closer than ``radius_sigmas``·σ, found with a k-d tree.
@@ -141,7 +162,8 @@ def e_step_statistics_kdtree(model_points: np.ndarray, data_points: np.ndarray, 
     (:func:`register_em` gets the same pairs from a cache that re-measures candidates between
     iterations instead of querying anew.)
     """
-    radius = radius_sigmas * sigma
+    model_points, data_points, sigma, log_c = _check_e_step_inputs(model_points, data_points, sigma, log_c)
+    radius = check_positive(radius_sigmas, "radius_sigmas") * sigma
     pairs = cKDTree(data_points).sparse_distance_matrix(cKDTree(model_points), radius, output_type="ndarray")
     return _statistics_from_pairs(*_pair_arrays(pairs), data_points, len(model_points), sigma, log_c)
 
@@ -309,6 +331,7 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
     check_choice(sigma_mode, "sigma_mode", ("anneal", "scaled", "estimate"))
     check_choice(targets, "targets", ("paper", "debiased"))
     check_choice(e_step, "e_step", ("dense", "kdtree"))
+    chunk = check_positive_int(chunk, "chunk")
     c = PAPER_C if outlier_c is None else check_positive(outlier_c, "outlier_c")
     if release_ratio is not None:
         release_ratio = check_positive(release_ratio, "release_ratio")
@@ -320,7 +343,7 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
         if e_step == "kdtree" and pairs.pair_fraction(points, radius) <= _DENSE_PAIR_FRACTION:
             # truncated at 4σ, as e_step_statistics_kdtree
             return _statistics_from_pairs(*pairs(points, radius), observed, len(points), sigma, log_c)
-        return e_step_statistics(points, observed, sigma, log_c, chunk)
+        return _dense_statistics(points, observed, sigma, log_c, chunk, "single")
 
     binding = hand.texture_binding(model, theta, a)
     sigmas = np.geomspace(sigma_max, sigma_min, n_levels)
