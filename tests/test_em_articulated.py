@@ -18,6 +18,7 @@ from amdo_lab.em_articulated import (
     random_pose,
     register_em,
     softassign_register,
+    track_sequence,
 )
 
 
@@ -477,3 +478,50 @@ def test_pair_fraction_estimate_and_the_dense_switch(hand):
     em_dense = register_em(model, data, hand, theta, 20.0, 15.0, n_levels=2)
     em_tree = register_em(model, data, hand, theta, 20.0, 15.0, n_levels=2, e_step="kdtree")
     np.testing.assert_array_equal(em_dense.theta, em_tree.theta)
+
+
+def test_pose_helpers_reject_bad_input(hand):
+    from amdo_lab.em_articulated import dof_lever_arms, perturb_pose, random_pose, visible_points
+    theta = hand.rest_pose()
+    points = hand.sample_surface(theta, 20, 0)
+    with pytest.raises(ValueError, match="theta_est must be finite"):
+        joint_rmse_deg(np.full(27, np.nan), theta)
+    with pytest.raises(ValueError, match="theta_true must have shape"):
+        joint_rmse_deg(theta, theta[:5])
+    with pytest.raises(ValueError, match="joint_error_deg must be non-negative"):
+        perturb_pose(hand, theta, -5.0, 0)
+    with pytest.raises(ValueError, match="joint_error_deg must be finite"):
+        perturb_pose(hand, theta, np.nan, 0)
+    with pytest.raises(ValueError, match="theta must have shape"):
+        perturb_pose(hand, theta[:5], 5.0, 0)
+    with pytest.raises(TypeError, match="HandModel"):
+        random_pose("hand", 0)
+    with pytest.raises(TypeError, match="Generator"):
+        random_pose(hand, "seed")
+    with pytest.raises(ValueError, match="camera must have shape"):
+        visible_points(hand, points, theta, np.zeros(2))
+    with pytest.raises(ValueError, match="points must be finite"):
+        visible_points(hand, np.full((3, 3), np.nan), theta, np.array([0.0, 0.0, 500.0]))
+    with pytest.raises(ValueError, match="theta must have shape"):
+        dof_lever_arms(hand, hand.texture_binding(points, theta), theta[:5])
+    with pytest.raises(TypeError, match="binding"):
+        dof_lever_arms(hand, points, theta)
+    # an integer seed and the generator it makes give the same pose
+    np.testing.assert_array_equal(perturb_pose(hand, theta, 10.0, 3), perturb_pose(hand, theta, 10.0, make_rng(3)))
+
+
+def test_loop_settings_reject_bad_input(hand):
+    theta = hand.rest_pose()
+    points = hand.sample_surface(theta, 30, 0)
+    with pytest.raises(ValueError, match="gauss_newton_steps"):
+        register_em(points, points, hand, theta, gauss_newton_steps=0)
+    with pytest.raises(ValueError, match="damping"):
+        register_em(points, points, hand, theta, damping=-1.0)
+    with pytest.raises(ValueError, match="chunk"):
+        register_em(points, points, hand, theta, chunk=0)
+    with pytest.raises(ValueError, match="sinkhorn_iterations"):
+        softassign_register(points, points, hand, theta, sinkhorn_iterations=0)
+    with pytest.raises(ValueError, match="frames must be a non-empty list"):
+        track_sequence([], hand, theta)
+    with pytest.raises(ValueError, match="max_texture"):
+        track_sequence([points, points], hand, theta, max_texture=0)

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng
 
 from amdo_lab.em_articulated.hand import HandModel, TextureBinding
 
@@ -19,8 +19,9 @@ _ARTICULATION = slice(6, 27)
 
 def joint_rmse_deg(theta_est: np.ndarray, theta_true: np.ndarray) -> float:
     """RMSE over the 21 finger/thumb joint angles, in degrees."""
-    return float(np.degrees(np.sqrt(np.mean((np.asarray(theta_est)[_ARTICULATION]
-                                             - np.asarray(theta_true)[_ARTICULATION]) ** 2))))
+    theta_est = as_finite_array(theta_est, "theta_est", ndim=1, shape=(27,))
+    theta_true = as_finite_array(theta_true, "theta_true", ndim=1, shape=(27,))
+    return float(np.degrees(np.sqrt(np.mean((theta_est[_ARTICULATION] - theta_true[_ARTICULATION]) ** 2))))
 
 
 #: Poses whose digits overlap by more than this (mm) are physically impossible and are redrawn.
@@ -39,7 +40,7 @@ def _first_valid(hand: HandModel, draw, what: str) -> np.ndarray:
     raise RuntimeError(f"no {what} without crossed fingers in {_MAX_DRAWS} draws")
 
 
-def perturb_pose(hand: HandModel, theta: np.ndarray, joint_error_deg: float, rng: np.random.Generator,
+def perturb_pose(hand: HandModel, theta: np.ndarray, joint_error_deg: float, rng: np.random.Generator | int,
                  *, palm_rotation_deg: float = 5.0, palm_translation_mm: float = 5.0) -> np.ndarray:
     """Offset each articulation DOF by ±``joint_error_deg`` (random signs), staying inside the limits.
 
@@ -47,6 +48,12 @@ def perturb_pose(hand: HandModel, theta: np.ndarray, joint_error_deg: float, rng
     resort). Sign patterns that make two digits cross are redrawn: a start pose with the index
     lying inside the middle finger is not a pose a tracker could have produced.
     """
+    _check_hand(hand)
+    theta = hand.check_theta(theta, "theta")
+    joint_error_deg = check_positive(joint_error_deg, "joint_error_deg", allow_zero=True)
+    palm_rotation_deg = check_positive(palm_rotation_deg, "palm_rotation_deg", allow_zero=True)
+    palm_translation_mm = check_positive(palm_translation_mm, "palm_translation_mm", allow_zero=True)
+    rng = make_rng(rng)
     limits = hand.joint_limits()
     lo, hi = limits[_ARTICULATION, 0], limits[_ARTICULATION, 1]
     offset = np.radians(joint_error_deg)
@@ -67,8 +74,10 @@ def perturb_pose(hand: HandModel, theta: np.ndarray, joint_error_deg: float, rng
     return _first_valid(hand, draw, "perturbed pose")
 
 
-def random_pose(hand: HandModel, rng: np.random.Generator) -> np.ndarray:
+def random_pose(hand: HandModel, rng: np.random.Generator | int) -> np.ndarray:
     """A natural pose: rest pose, small spreads and moderate flexions, digits not crossing."""
+    _check_hand(hand)
+    rng = make_rng(rng)
     limits = hand.joint_limits()
     flexion = ~np.isin(np.arange(6, 27), (6, 8) + _FINGER_ABDUCTION)
 
@@ -86,8 +95,16 @@ def random_pose(hand: HandModel, rng: np.random.Generator) -> np.ndarray:
 
 def visible_points(hand: HandModel, points: np.ndarray, theta: np.ndarray, camera: np.ndarray) -> np.ndarray:
     """Boolean mask of points whose surface normal faces ``camera`` (back-face culling)."""
+    _check_hand(hand)
+    points = as_finite_array(points, "points", ndim=2, shape=(None, 3))
+    camera = as_finite_array(camera, "camera", ndim=1, shape=(3,))
     normals = hand.surface_normals(points, theta)
-    return np.sum(normals * (np.asarray(camera) - points), axis=1) > 0
+    return np.sum(normals * (camera - points), axis=1) > 0
+
+
+def _check_hand(hand: object) -> None:
+    if not isinstance(hand, HandModel):
+        raise TypeError(f"hand must be a HandModel, got {type(hand).__name__}")
 
 
 #: Share of the skin's features a stereo detector finds again in a new view. Interest points

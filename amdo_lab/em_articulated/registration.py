@@ -145,7 +145,11 @@ def dof_lever_arms(hand: HandModel, binding: TextureBinding, theta: np.ndarray) 
     by much less than σ while σ is large, so its estimate there is dominated by the blur of the
     targets G_i (eq. 20) rather than by the data.
     """
-    _, jac = hand.texture_jacobian(binding, theta)
+    if not isinstance(hand, HandModel):
+        raise TypeError(f"hand must be a HandModel, got {type(hand).__name__}")
+    if not isinstance(binding, TextureBinding):
+        raise TypeError(f"binding must be a TextureBinding (HandModel.texture_binding), got {type(binding).__name__}")
+    _, jac = hand.texture_jacobian(binding, hand.check_theta(theta, "theta"))
     lever = np.max(np.linalg.norm(jac, axis=1), axis=0)
     lever[:3] = np.inf
     return lever
@@ -332,6 +336,8 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
     check_choice(targets, "targets", ("paper", "debiased"))
     check_choice(e_step, "e_step", ("dense", "kdtree"))
     chunk = check_positive_int(chunk, "chunk")
+    gauss_newton_steps = check_positive_int(gauss_newton_steps, "gauss_newton_steps")
+    damping = check_positive(damping, "damping", allow_zero=True)
     c = PAPER_C if outlier_c is None else check_positive(outlier_c, "outlier_c")
     if release_ratio is not None:
         release_ratio = check_positive(release_ratio, "release_ratio")
@@ -491,6 +497,9 @@ def softassign_register(model_points: object, data_points: object, hand: HandMod
     if model.shape[0] == 0 or data.shape[0] == 0:
         raise ValueError("model_points and data_points must be non-empty")
     slack = check_positive(slack, "slack")
+    n_levels = check_positive_int(n_levels, "n_levels")
+    iterations_per_level = check_positive_int(iterations_per_level, "iterations_per_level")
+    sinkhorn_iterations = check_positive_int(sinkhorn_iterations, "sinkhorn_iterations")
     binding = hand.texture_binding(model, theta, a)
     n_model, n_data = len(model), len(data)
     inlier_prob = np.zeros(n_data)

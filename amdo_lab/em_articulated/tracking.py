@@ -41,7 +41,10 @@ def track_sequence(frames: list, hand: HandModel, theta_start: np.ndarray, *, ep
     EM's pose correct the drift that frame-to-frame matching alone accumulates. ``em_settings``
     are keyword arguments of :func:`register_em` that override :data:`TRACKING_SETTINGS`.
     """
+    if not hasattr(frames, "__len__") or len(frames) == 0:
+        raise ValueError("frames must be a non-empty list of (n, 3) point arrays, one per frame")
     epsilon_mm = check_positive(epsilon_mm, "epsilon_mm")
+    max_texture = check_positive_int(max_texture, "max_texture")
     surface_steps = check_positive_int(surface_steps, "surface_steps", minimum=0)
     theta = hand.check_theta(theta_start, "theta_start", within_limits=True)
     texture = frames[0][np.abs(hand.surface_distance(frames[0], theta)) < epsilon_mm]
