@@ -465,3 +465,143 @@ def test_enroll_template_checks_and_open_set_rates(small_database):
     np.testing.assert_allclose(rates.false_reject, [1.0, 0.0])
     np.testing.assert_allclose(rates.misidentified, [0.0, 0.0])
     assert np.all(np.diff(rates.false_accept) >= 0)
+
+
+# --- bad input at every public entry point ------------------------------------------------------
+
+@pytest.mark.parametrize("settings, error, message", [
+    ({"k": np.nan}, ValueError, "k must be finite"),
+    ({"window": 4}, ValueError, "window must be odd"),
+    ({"smoothing": -1.0}, ValueError, "smoothing must be non-negative"),
+    ({"smoothing": np.nan}, ValueError, "smoothing must be finite"),
+    ({"n_circles": 0}, ValueError, "n_circles must be at least 1"),
+    ({"min_component_size": 0}, ValueError, "min_component_size must be at least 1"),
+    ({"count_tolerance": -1}, ValueError, "count_tolerance must be at least 0"),
+    ({"count_tolerance": 1.5}, TypeError, "count_tolerance must be an int"),
+    ({"max_count_violations": -1}, ValueError, "max_count_violations must be at least 0"),
+    ({"distance_threshold": np.nan}, ValueError, "distance_threshold must be a non-negative number or inf"),
+    ({"distance_threshold": -1.0}, ValueError, "distance_threshold must be non-negative"),
+    ({"distance_threshold": "1"}, TypeError, "distance_threshold must be a real number"),
+    ({"topology_weight": np.nan}, ValueError, "topology_weight must be finite"),
+    ({"topology_weight": -1.0}, ValueError, "topology_weight must be non-negative"),
+    ({"mode": "affine"}, ValueError, "mode must be one of"),
+    ({"crossings": "edges"}, ValueError, "crossings must be one of"),
+    ({"band": -1.0}, ValueError, "band must be non-negative"),
+    ({"spur_length": -1}, ValueError, "spur_length must be at least 0"),
+])
+def test_matcher_settings_are_checked_when_it_is_built(settings, error, message):
+    with pytest.raises(error, match=message):
+        eb.EarMatcher(**settings)
+
+
+def test_feature_helpers_reject_bad_input(clean_ear_contours):
+    norm = eb.normalise_coordinates(clean_ear_contours)
+    features = eb.topology_features(clean_ear_contours)
+    checks = [
+        (lambda: eb.canny_contours(np.full((16, 16), 100.0), low=np.nan), ValueError, "low must be finite"),
+        (lambda: eb.canny_contours(np.full((16, 16), 100.0), high=-1.0), ValueError, "high must be non-negative"),
+        (lambda: norm.to_normalised(np.ones((2, 3))), ValueError, r"rows_cols must have shape \(n, 2\)"),
+        (lambda: norm.to_normalised([[np.nan, 1.0]]), ValueError, "rows_cols must be finite"),
+        (lambda: norm.to_pixels(np.ones(4)), ValueError, r"xy must have shape \(n, 2\)"),
+        (lambda: eb.crossing_number(np.ones(5, bool)), TypeError, "skeleton must be a 2-D boolean image"),
+        (lambda: eb.crossing_number(np.full((5, 5), 0.5)), TypeError, "skeleton must be a 2-D boolean image"),
+        (lambda: eb.topology_similarity(features, features, np.nan), ValueError, "coordinate_tolerance must be finite"),
+        (lambda: eb.topology_similarity(features, features, -0.1), ValueError, "coordinate_tolerance must be non-negative"),
+        (lambda: eb.topology_similarity(features.circles, features), TypeError, "query must be TopologyFeatures"),
+    ]
+    for call, error, message in checks:
+        with pytest.raises(error, match=message):
+            call()
+
+
+def test_matching_and_evaluation_reject_bad_input(small_database):
+    images, ids = small_database
+    templates = [eb.EarMatcher().extract(im) for im in images[:6]]
+    matcher = eb.EarMatcher()
+    for t, s in zip(templates[0::2], ids[0:6:2]):
+        matcher.enroll_template(s, t)
+    baseline = eb.HogNearestNeighbour()
+    baseline.enroll(0, images[0])
+    checks = [
+        (lambda: eb.EarMatcher().identify_template(templates[0]), ValueError, "no subject enrolled"),
+        (lambda: matcher.identify_template(images[0]), TypeError, "query must be an EarTemplate"),
+        (lambda: matcher.identify_template(eb.EarMatcher(n_circles=5).extract(images[1])), ValueError,
+         "query has 5 circles, matcher expects 8"),
+        (lambda: baseline.enroll(1, images[1][:128, :128]), ValueError, r"image must have the enrolled images' shape \(256, 256\)"),
+        (lambda: baseline.distances(images[1][:128, :128]), ValueError, "image must have the enrolled images' shape"),
+        (lambda: eb.open_set_rates(matcher, templates[1::2], [0], templates[:1], [1.0]), ValueError,
+         "genuine_ids must give one subject per genuine template"),
+        (lambda: eb.open_set_rates(matcher, templates[1::2], ids[1:6:2], templates[:1], [np.nan]), ValueError,
+         "thresholds must be a non-negative number or inf"),
+        (lambda: eb.open_set_rates(matcher, templates[1::2], ids[1:6:2], templates[:1], 1.0), ValueError,
+         "thresholds must be a non-empty 1-D sequence"),
+        (lambda: eb.open_set_rates(matcher, templates[1::2], ids[1:6:2], [], [1.0]), ValueError,
+         "impostors must be a non-empty list of EarTemplate"),
+        (lambda: eb.open_set_rates(matcher, list(images[1:6:2]), ids[1:6:2], templates[:1], [1.0]), TypeError,
+         "genuine must hold EarTemplate objects"),
+        (lambda: eb.open_set_rates(eb.EarMatcher(), templates[1::2], ids[1:6:2], templates[:1], [1.0]), ValueError,
+         "matcher has no subject enrolled"),
+        (lambda: eb.rank_of_truth([0.1, 0.5], [0, 1], 7), ValueError, "true_id 7 is not among enrolled_ids"),
+        (lambda: eb.rank_of_truth([0.1, 0.5, 0.3], [0, 1], 1), ValueError, "enrolled_ids must have one subject per score"),
+        (lambda: eb.rank_of_truth([np.nan, 0.5], [0, 1], 1), ValueError, "scores must be finite"),
+        (lambda: eb.cumulative_match([], 3), ValueError, "ranks must not be empty"),
+        (lambda: eb.cumulative_match([np.nan, 1], 3), ValueError, "ranks must be finite"),
+        (lambda: eb.cumulative_match([0, 1], 3), ValueError, r"ranks must be 1-based"),
+        (lambda: eb.cumulative_match([1.5, 1], 3), ValueError, "ranks must hold whole numbers"),
+        (lambda: eb.distance_sum_gaps([], templates), ValueError, "queries must be a non-empty list of EarTemplate"),
+        (lambda: eb.distance_sum_gaps([eb.EarMatcher(n_circles=5).extract(images[1])], templates), ValueError,
+         "queries and references must all have the same number of circles"),
+        (lambda: eb.closed_set("matcher", templates, ids[:6]), TypeError, "matcher must be an EarMatcher"),
+        (lambda: eb.hog_closed_set(images[:5], ids[:5]), ValueError, "images and subject_ids must have the same even length"),
+        (lambda: eb.hog_closed_set(images, ids[:4]), ValueError, "images and subject_ids must have the same even length"),
+        (lambda: eb.nuisance_study(2, 0, ["baseline"]), TypeError, "conditions must map row names"),
+        (lambda: eb.nuisance_study(2, 0, {"a": ("blur",)}), ValueError, "unknown nuisance factors"),
+        (lambda: eb.nuisance_study(2, 0, {"a": ()}, relaxed_violations=-1), ValueError, "relaxed_violations must be at least 0"),
+        (lambda: eb.nuisance_study(2, 0, {"a": ()}, band=-1.0), ValueError, "band must be non-negative"),
+    ]
+    for call, error, message in checks:
+        with pytest.raises(error, match=message):
+            call()
+
+
+def test_generator_and_loader_reject_bad_input(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rng = make_rng(0)
+    shape = eb.draw_ear_shape(rng)
+    pose = eb.CapturePose(0.0, 1.0, np.zeros(2), 0.0)
+    cv2.imwrite(str(tmp_path / "001_a.png"), np.full((16, 16), 100, np.uint8))
+    fig, ax = plt.subplots()
+    checks = [
+        (lambda: eb.draw_capture_pose(rng, frontal=True, size=128, difficulty="hard"), ValueError, "difficulty must be one of"),
+        (lambda: eb.draw_capture_pose(rng, frontal="no", size=128, difficulty="easy"), TypeError, "frontal must be a bool"),
+        (lambda: eb.draw_capture_pose(rng, frontal=True, size=0, difficulty="easy"), ValueError, "size must be at least 32"),
+        (lambda: eb.draw_capture_pose(rng, frontal=False, size=128, difficulty="easy", max_yaw=np.nan), ValueError,
+         "max_yaw must be finite"),
+        (lambda: eb.draw_capture_pose(rng, frontal=False, size=128, difficulty="easy", max_yaw=120), ValueError,
+         "max_yaw must be below 90 degrees"),
+        (lambda: eb.generate_ear_database(1, 2, max_yaw=-30), ValueError, "max_yaw must be non-negative"),
+        (lambda: eb.generate_ear_database(1, 2, max_rotation=np.nan), ValueError, "max_rotation must be finite"),
+        (lambda: eb.render_ear("shape", pose, rng), TypeError, "shape must be an EarShape"),
+        (lambda: eb.render_ear(shape, (0.0, 1.0), rng), TypeError, "pose must be a CapturePose"),
+        (lambda: eb.render_ear(shape, eb.CapturePose(np.nan, 1.0, np.zeros(2), 0.0), rng), ValueError,
+         "pose.rotation must be finite"),
+        (lambda: eb.render_ear(shape, eb.CapturePose(0.0, 0.0, np.zeros(2), 0.0), rng), ValueError,
+         "pose.scale must be positive"),
+        (lambda: eb.render_ear(shape, eb.CapturePose(0.0, 1.0, np.zeros(2), 2.0), rng), ValueError,
+         r"pose.yaw must be within \(-pi/2, pi/2\)"),
+        (lambda: eb.ear_curves(eb.EarShape(**{**vars(shape), "lobule_depth": np.nan})), ValueError,
+         "shape.lobule_depth must be finite"),
+        (lambda: eb.load_ear_folder(tmp_path, size=0), ValueError, "size must be at least 1"),
+        (lambda: eb.load_ear_folder(tmp_path, size=2.5), TypeError, "size must be an int"),
+        (lambda: eb.load_ear_folder(3), TypeError, "folder must be a path"),
+        (lambda: eb.draw_circles(ax, np.zeros((8, 8), bool), "features"), TypeError, "features must be CircleFeatures"),
+        (lambda: eb.draw_topology(None, "features"), TypeError, "ax must be a matplotlib Axes"),
+    ]
+    for call, error, message in checks:
+        with pytest.raises(error, match=message):
+            call()
+    plt.close(fig)
