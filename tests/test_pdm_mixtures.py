@@ -550,44 +550,53 @@ def test_public_functions_reject_bad_input(call, error, message):
         call()
 
 
-def test_fitted_models_reject_bad_input(small_problem):
+@pytest.fixture(scope="module")
+def fitted(small_problem):
+    """The fitted recogniser and baselines, training and test data and axes for the cases below."""
+    import types
+
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     train, test, recogniser = small_problem
-    vector, labels = recogniser.shape_models_[0][0].mean, recogniser.dictionary_[0, 0]
-    checks = [
-        (lambda: recogniser.model_limbs(np.full(39, np.nan), labels), ValueError, "polar_vector must be finite"),
-        (lambda: recogniser.model_limbs(vector[:20], labels), ValueError, r"polar_vector must have shape \(39,\)"),
-        (lambda: recogniser.model_limbs(vector, np.full(13, 9)), ValueError, r"label_string must hold limb labels in 0\.\.3"),
-        (lambda: recogniser.model_limbs(vector, np.full(13, -1)), ValueError, "label_string must hold limb labels"),
-        (lambda: recogniser.model_limbs(vector, labels[:5]), ValueError, r"label_string must have shape \(13,\)"),
-        (lambda: recogniser.model_limbs(vector, labels, np.zeros((13, 5))), ValueError, r"observed_limbs must have shape \(13, 12\)"),
-        (lambda: recogniser.shape_models_[0][0].fit(np.full((2, 39), np.nan)), ValueError, "deviation must be finite"),
-        (lambda: recogniser.shape_models_[0][0].log_density(np.zeros((2, 10))), ValueError, r"deviation must have shape \(n, 39\)"),
-        (lambda: ArticulatedShapeRecognizer().align(test.shapes), ValueError, "must be fitted"),
-        (lambda: ArticulatedShapeRecognizer().model_limbs(vector, labels), ValueError, "must be fitted"),
-        (lambda: ArticulatedShapeRecognizer().fit(train.shapes, np.where(train.labels == "boxing", np.nan, 1.0)),
-         ValueError, "labels must not contain NaN"),
-    ]
-    for cls in (pm.SingleCartesianPDMClassifier, NearestProcrustesMeanClassifier, pm.SklearnGMMClassifier):
-        fitted = cls().fit(train.shapes, train.labels)
-        checks += [
-            (lambda cls=cls: cls().fit(train.shapes, train.labels[:-1]), ValueError, r"labels must have shape \(72,\)"),
-            (lambda cls=cls: cls().fit(train.shapes, np.where(train.labels == "boxing", np.nan, 1.0)),
-             ValueError, "labels must not contain NaN"),
-            (lambda cls=cls: cls().predict(test.shapes), ValueError, "must be fitted"),
-            (lambda fitted=fitted: fitted.predict(test.shapes[:, :, :4]), ValueError, "6 landmarks per limb"),
-        ]
+    baselines = {cls: cls().fit(train.shapes, train.labels)
+                 for cls in (pm.SingleCartesianPDMClassifier, NearestProcrustesMeanClassifier, pm.SklearnGMMClassifier)}
     fig, ax = plt.subplots()
-    checks += [
-        (lambda: pm.draw_shape(ax, np.full((13, 6, 2), np.nan)), ValueError, "shape must be finite"),
-        (lambda: pm.draw_shape(ax, test.shapes[:2]), ValueError, r"shape must have shape \(13, n, 2\)"),
-        (lambda: pm.draw_shape(None, test.shapes[0]), TypeError, "ax must be a matplotlib Axes"),
-    ]
-    for call, error, message in checks:
-        with pytest.raises(error, match=message):
-            call()
+    yield types.SimpleNamespace(train=train, test=test, recogniser=recogniser, baselines=baselines, ax=ax,
+                                vector=recogniser.shape_models_[0][0].mean, labels=recogniser.dictionary_[0, 0],
+                                nan_labels=np.where(train.labels == "boxing", np.nan, 1.0))
     plt.close(fig)
+
+
+_BASELINES = (pm.SingleCartesianPDMClassifier, NearestProcrustesMeanClassifier, pm.SklearnGMMClassifier)
+
+
+@pytest.mark.parametrize("call, error, message", [
+    (lambda f: f.recogniser.model_limbs(np.full(39, np.nan), f.labels), ValueError, "polar_vector must be finite"),
+    (lambda f: f.recogniser.model_limbs(f.vector[:20], f.labels), ValueError, r"polar_vector must have shape \(39,\)"),
+    (lambda f: f.recogniser.model_limbs(f.vector, np.full(13, 9)), ValueError, r"label_string must hold limb labels in 0\.\.3"),
+    (lambda f: f.recogniser.model_limbs(f.vector, np.full(13, -1)), ValueError, "label_string must hold limb labels"),
+    (lambda f: f.recogniser.model_limbs(f.vector, f.labels[:5]), ValueError, r"label_string must have shape \(13,\)"),
+    (lambda f: f.recogniser.model_limbs(f.vector, f.labels, np.zeros((13, 5))), ValueError,
+     r"observed_limbs must have shape \(13, 12\)"),
+    (lambda f: f.recogniser.shape_models_[0][0].fit(np.full((2, 39), np.nan)), ValueError, "deviation must be finite"),
+    (lambda f: f.recogniser.shape_models_[0][0].log_density(np.zeros((2, 10))), ValueError,
+     r"deviation must have shape \(n, 39\)"),
+    (lambda f: ArticulatedShapeRecognizer().align(f.test.shapes), ValueError, "must be fitted"),
+    (lambda f: ArticulatedShapeRecognizer().model_limbs(f.vector, f.labels), ValueError, "must be fitted"),
+    (lambda f: ArticulatedShapeRecognizer().fit(f.train.shapes, f.nan_labels), ValueError, "labels must not contain NaN"),
+    *[case for cls in _BASELINES for case in (
+        (lambda f, cls=cls: cls().fit(f.train.shapes, f.train.labels[:-1]), ValueError, r"labels must have shape \(72,\)"),
+        (lambda f, cls=cls: cls().fit(f.train.shapes, f.nan_labels), ValueError, "labels must not contain NaN"),
+        (lambda f, cls=cls: cls().predict(f.test.shapes), ValueError, "must be fitted"),
+        (lambda f, cls=cls: f.baselines[cls].predict(f.test.shapes[:, :, :4]), ValueError, "6 landmarks per limb"),
+    )],
+    (lambda f: pm.draw_shape(f.ax, np.full((13, 6, 2), np.nan)), ValueError, "shape must be finite"),
+    (lambda f: pm.draw_shape(f.ax, f.test.shapes[:2]), ValueError, r"shape must have shape \(13, n, 2\)"),
+    (lambda f: pm.draw_shape(None, f.test.shapes[0]), TypeError, "ax must be a matplotlib Axes"),
+])
+def test_fitted_models_reject_bad_input(fitted, call, error, message):
+    with pytest.raises(error, match=message):
+        call(fitted)
