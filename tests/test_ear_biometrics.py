@@ -568,9 +568,9 @@ def bad_input_context(clean_ear_contours, small_database, tmp_path_factory):
     (lambda c: eb.hog_closed_set(c.images[:5], c.ids[:5]), ValueError, "images and subject_ids must have the same even length"),
     (lambda c: eb.hog_closed_set(c.images, c.ids[:4]), ValueError, "images and subject_ids must have the same even length"),
     (lambda c: eb.nuisance_study(2, 0, ["baseline"]), TypeError, "conditions must map row names"),
-    (lambda c: eb.nuisance_study(2, 0, {"a": ("blur",)}), ValueError, "unknown nuisance factors"),
     (lambda c: eb.nuisance_study(2, 0, {"a": ()}, relaxed_violations=-1), ValueError, "relaxed_violations must be at least 0"),
-    (lambda c: eb.nuisance_study(2, 0, {"a": ()}, band=-1.0), ValueError, "band must be non-negative"),
+    (lambda c: eb.nuisance_study(2, 0, {"a": ()}, size=64, topology_weight=np.nan), ValueError,
+     "topology_weight must be finite"),
     # generator, loader and plots
     (lambda c: eb.draw_capture_pose(c.rng, frontal=True, size=128, difficulty="hard"), ValueError, "difficulty must be one of"),
     (lambda c: eb.draw_capture_pose(c.rng, frontal="no", size=128, difficulty="easy"), TypeError, "frontal must be a bool"),
