@@ -31,7 +31,7 @@ _MARKERS = {"l2": "s", "soft_l2": "o"}
 _LINES = {"fixed": "-", "e90": "--"}
 
 
-#: Levels of the paper's factors that the findings and figures compare (they must all be in the fit).
+# Levels of the paper's factors that the findings and Fig. 2 compare (they must all be in the fit).
 _COMPARED_LEVELS = {"U": ("none", "reflection"), "M": ("l2", "soft_l2"), "D": ("fixed", "e90"), "F": ("no", "yes")}
 
 
@@ -48,9 +48,9 @@ def _check_result(result: object, name: str = "result", *, compared: bool = Fals
     if missing:
         raise ValueError(f"{name} must be a fit with the paper's factors U, M, D and F (e.g. PAPER_FORMULA); "
                          f"it lacks {missing}")
-    for factor, wanted in _COMPARED_LEVELS.items():
+    for factor, wanted in _COMPARED_LEVELS.items() if compared else ():
         absent = [level for level in wanted if level not in levels[factor]]
-        if compared and absent:
+        if absent:
             raise ValueError(f"{name} factor {factor!r} lacks the level(s) {absent} that are compared")
     if drawn:
         styles = {"U": SUPPLEMENT_COLOURS, "M": _MARKERS, "D": _LINES, "F": {"no": None, "yes": None}}
