@@ -146,6 +146,8 @@ def test_rotation_matrix_is_vectorised_over_angles():
     (lambda: apply_similarity_2d(np.ones((2, 2)), 1.0, 0.0, [0, np.nan]), ValueError, "translation must be finite"),
     (lambda: apply_similarity_2d(np.ones((2, 2)), 1.0, 0.0, [0, 0, 0]), ValueError, r"translation must have shape \(2,\)"),
     (lambda: procrustes_align(np.eye(3, dtype=bool), np.eye(3)), TypeError, "source must be a numeric array"),
+    # 78 identical points: their mean has round-off, so their variance is ~1e-32 rather than 0
+    (lambda: procrustes_align(np.ones((78, 2)), make_rng(0).normal(size=(78, 2))), ValueError, "source points are all identical"),
 ])
 def test_geometry_rejects_bad_input(call, error, message):
     with pytest.raises(error, match=message):

@@ -231,7 +231,7 @@ def procrustes_align(
     rotation = (u * correction) @ vt
     if allow_scale:
         source_var = float(w @ np.sum(centred_source**2, axis=1))
-        if source_var == 0:
+        if source_var == 0 or np.all(source == source[0]):  # round-off can leave identical points a tiny variance
             raise ValueError("source points are all identical: scale is undefined")
         scale = float(singular @ correction) / source_var
     else:

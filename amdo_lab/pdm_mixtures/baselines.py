@@ -7,6 +7,7 @@ import numpy as np
 from amdo_lab.common import as_finite_array, check_positive_int, procrustes_align
 from amdo_lab.pdm_mixtures.pdm import (
     _align_to_reference,
+    _check_point_set_sizes,
     _check_variance_fraction,
     _fit_modes,
     _reconstruct,
@@ -25,7 +26,9 @@ __all__ = [
 
 
 def _check(shapes: object) -> np.ndarray:
-    return as_finite_array(shapes, "shapes", shape=(None, 13, None, 2))
+    shapes = as_finite_array(shapes, "shapes", shape=(None, 13, None, 2))
+    _check_point_set_sizes(shapes.reshape(len(shapes), -1, 2), "shapes")
+    return shapes
 
 
 def _check_labels(labels: object, n_shapes: int) -> np.ndarray:

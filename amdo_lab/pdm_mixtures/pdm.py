@@ -168,10 +168,11 @@ def _normalise_shape(points: np.ndarray) -> np.ndarray:
 
 def _check_point_set_sizes(point_sets: np.ndarray, name: str) -> None:
     """Refuse point sets whose points all coincide: they have no size to normalise or align."""
-    sizes = np.sum((point_sets - point_sets.mean(axis=1, keepdims=True)) ** 2, axis=(1, 2))
-    if np.any(sizes == 0):
+    # compared exactly: a centroid size computed from such a set is round-off, not always zero
+    coincident = np.all(point_sets == point_sets[:, :1], axis=(1, 2))
+    if np.any(coincident):
         raise ValueError(f"{name} must not contain a point set whose points all coincide "
-                         f"(zero centroid size at index {int(np.argmax(sizes == 0))})")
+                         f"(zero centroid size at index {int(np.argmax(coincident))})")
 
 
 def generalized_procrustes(point_sets: np.ndarray, *, n_iter: int = 5) -> tuple[np.ndarray, np.ndarray]:

@@ -11,6 +11,7 @@ from amdo_lab.pdm_mixtures.gmm import fit_gaussian_mixture
 from amdo_lab.pdm_mixtures.pdm import (
     PointDistributionModel,
     _align_to_reference,
+    _check_point_set_sizes,
     _fit_modes,
     _pdm_from_moments,
     _reconstruct,
@@ -275,6 +276,7 @@ class ArticulatedShapeRecognizer:
         array = as_finite_array(shapes, name, shape=(None, N_LIMBS, None, 2))
         if array.shape[2] < 2:
             raise ValueError(f"{name} must have at least 2 landmarks per limb, got {array.shape[2]}")
+        _check_point_set_sizes(array.reshape(len(array), -1, 2), name)
         if hasattr(self, "landmarks_per_limb_") and array.shape[2] != self.landmarks_per_limb_:
             raise ValueError(
                 f"{name} must have {self.landmarks_per_limb_} landmarks per limb (as in training), got {array.shape[2]}"
