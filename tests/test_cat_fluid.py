@@ -441,6 +441,26 @@ def test_public_helpers_validate_their_inputs(small_images):
         cf.compose_displacements(np.zeros((2, 8, 8)), np.zeros((3, 8, 8)))
 
 
+@pytest.mark.parametrize("call, error, message", [
+    (lambda: cf.displacement_jacobian(np.zeros((2, 1, 5))), ValueError, "displacement must be at least 2x2 pixels"),
+    (lambda: cf.jacobian_determinant(np.zeros((2, 5, 1))), ValueError, "displacement must be at least 2x2 pixels"),
+    (lambda: cf.material_update(np.zeros((2, 1, 5)), np.zeros((2, 1, 5)), 0.5), ValueError,
+     "displacement must be at least 2x2 pixels"),
+    (lambda: cf.external_force(np.ones((1, 5)), np.ones((1, 5))), ValueError, "deformed_template must be at least 2x2 pixels"),
+    (lambda: cf.stencil_at_origin(cf.fluid_stencil(), 3), TypeError, "velocity must be a function"),
+    (lambda: cf.stencil_at_origin(cf.fluid_stencil(), lambda a, b: (np.nan, 0.0)), ValueError, r"velocity\(0, 0\) must be finite"),
+    (lambda: cf.stencil_at_origin(cf.fluid_stencil(), lambda a, b: (a, b, 0.0)), ValueError, r"velocity\(0, 0\) must have shape \(2,\)"),
+    (lambda: cf.stencil_at_origin(cf.fluid_stencil(), lambda a, b: a), ValueError, r"velocity\(0, 0\) must have shape \(2,\)"),
+    (lambda: cf.CubicalComplex((3, 3)).boundary(True), TypeError, "q must be an int"),
+    (lambda: cf.CubicalComplex((3, 3)).boundary(1.0), TypeError, "q must be an int"),
+    (lambda: cf.CubicalComplex((3, 3)).coboundary("0"), TypeError, "q must be an int"),
+    (lambda: cf.stencil_blocks(np.ones((2, 18), bool)), TypeError, "stencil must be a numeric array"),
+])
+def test_helpers_reject_tiny_images_bad_callables_and_bad_degrees(call, error, message):
+    with pytest.raises(error, match=message):
+        call()
+
+
 def test_warp_image_rejects_a_mismatched_displacement():
     with pytest.raises(ValueError, match="displacement"):
         cf.warp_image(np.zeros((8, 8)), np.zeros((2, 8, 9)))

@@ -69,6 +69,17 @@ def test_as_finite_array_names_the_argument():
     assert out.dtype == float and out.shape == (1, 3)
 
 
+@pytest.mark.parametrize("value, options, error, message", [
+    ([True, False], {}, TypeError, "mask must be a numeric array, got dtype bool"),
+    ([1.5, 2.0], dict(dtype=int), ValueError, "mask must hold whole numbers"),
+    ([np.nan, 2.0], dict(dtype=int), ValueError, "mask must be finite"),
+])
+def test_as_finite_array_refuses_booleans_and_lossy_integer_casts(value, options, error, message):
+    with pytest.raises(error, match=message):
+        as_finite_array(value, "mask", **options)
+    assert as_finite_array([2.0, 3.0], "labels", dtype=int).tolist() == [2, 3]
+
+
 def test_scalar_checks():
     assert check_positive(2, "sigma") == 2.0
     assert check_positive(0, "sigma", allow_zero=True) == 0.0
@@ -105,6 +116,50 @@ def test_rotation_matrix_is_vectorised_over_angles():
     np.testing.assert_allclose(rotation_2d(angles)[3], rotation_z(angles[3])[:2, :2], atol=1e-15)
     with pytest.raises(ValueError, match="non-zero"):
         rotation_matrix(np.zeros(3), 0.3)
+
+
+@pytest.mark.parametrize("call, error, message", [
+    (lambda: rotation_matrix([0, 0, 1], np.nan), ValueError, "angle must be finite"),
+    (lambda: rotation_matrix([0, 0, 1], [0.1, np.inf]), ValueError, "angle must be finite"),
+    (lambda: rotation_matrix([0, 0, 1], "0.3"), TypeError, "angle must be a numeric array"),
+    (lambda: rotation_x(None), TypeError, "angle must be a numeric array"),
+    (lambda: rotation_z(1j), TypeError, "angle must be real-valued"),
+    (lambda: rotation_2d(np.nan), ValueError, "angle must be finite"),
+    (lambda: rotation_2d("a"), TypeError, "angle must be a numeric array"),
+    (lambda: rigid_transform(np.full((3, 3), np.nan), np.zeros(3)), ValueError, "rotation must be finite"),
+    (lambda: rigid_transform(np.ones((3, 2)), np.zeros(3)), ValueError, "rotation must be a square"),
+    (lambda: rigid_transform(np.ones(3), np.zeros(3)), ValueError, "rotation must be a square"),
+    (lambda: rigid_transform(np.eye(3), [0.0, np.nan, 0.0]), ValueError, "translation must be finite"),
+    (lambda: rigid_transform(np.eye(3), np.zeros(2)), ValueError, r"translation must have shape \(\.\.\., 3\)"),
+    (lambda: rigid_transform(np.stack([np.eye(3)] * 2), np.zeros((3, 3))), ValueError, "translation must have shape"),
+    (lambda: apply_rigid(np.eye(4), np.full((2, 3), np.nan)), ValueError, "points must be finite"),
+    (lambda: apply_rigid(np.eye(4), np.ones((2, 2))), ValueError, r"points must have shape \(n, 3\)"),
+    (lambda: apply_rigid(np.ones((3, 4)), np.ones((2, 3))), ValueError, "transform must be a homogeneous"),
+    (lambda: apply_rigid(np.full((4, 4), np.inf), np.ones((2, 3))), ValueError, "transform must be finite"),
+    (lambda: apply_similarity_2d(np.full((2, 2), np.nan), 1.0, 0.0, [0, 0]), ValueError, "points must be finite"),
+    (lambda: apply_similarity_2d(np.ones((2, 3)), 1.0, 0.0, [0, 0]), ValueError, r"points must have shape \(n, 2\)"),
+    (lambda: apply_similarity_2d(np.ones((2, 2)), np.nan, 0.0, [0, 0]), ValueError, "scale must be finite"),
+    (lambda: apply_similarity_2d(np.ones((2, 2)), 0.0, 0.0, [0, 0]), ValueError, "scale must be positive"),
+    (lambda: apply_similarity_2d(np.ones((2, 2)), "2", 0.0, [0, 0]), TypeError, "scale must be a real number"),
+    (lambda: apply_similarity_2d(np.ones((2, 2)), 1.0, np.nan, [0, 0]), ValueError, "angle must be finite"),
+    (lambda: apply_similarity_2d(np.ones((2, 2)), 1.0, [0.0, 1.0], [0, 0]), ValueError, "angle must have 0 dimensions"),
+    (lambda: apply_similarity_2d(np.ones((2, 2)), 1.0, 0.0, [0, np.nan]), ValueError, "translation must be finite"),
+    (lambda: apply_similarity_2d(np.ones((2, 2)), 1.0, 0.0, [0, 0, 0]), ValueError, r"translation must have shape \(2,\)"),
+    (lambda: procrustes_align(np.eye(3, dtype=bool), np.eye(3)), TypeError, "source must be a numeric array"),
+    # 78 identical points: their mean has round-off, so their variance is ~1e-32 rather than 0
+    (lambda: procrustes_align(np.ones((78, 2)), make_rng(0).normal(size=(78, 2))), ValueError, "source points are all identical"),
+])
+def test_geometry_rejects_bad_input(call, error, message):
+    with pytest.raises(error, match=message):
+        call()
+
+
+def test_geometry_keeps_accepting_single_points_empty_sets_and_angle_arrays():
+    assert apply_rigid(np.eye(4), np.ones(3)).shape == (3,)
+    assert apply_rigid(np.eye(4), np.zeros((0, 3))).shape == (0, 3)
+    assert rotation_2d(np.zeros((0,))).shape == (0, 2, 2)
+    batched = rigid_transform(np.stack([np.eye(3)] * 2), [1.0, 2.0, 3.0])  # one translation for the whole stack
+    np.testing.assert_allclose(batched[:, :3, 3], [[1.0, 2.0, 3.0]] * 2)
 
 
 def test_skew_gives_the_cross_product():

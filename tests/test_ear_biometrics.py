@@ -465,3 +465,138 @@ def test_enroll_template_checks_and_open_set_rates(small_database):
     np.testing.assert_allclose(rates.false_reject, [1.0, 0.0])
     np.testing.assert_allclose(rates.misidentified, [0.0, 0.0])
     assert np.all(np.diff(rates.false_accept) >= 0)
+
+
+# --- bad input at every public entry point ------------------------------------------------------
+
+@pytest.mark.parametrize("settings, error, message", [
+    ({"k": np.nan}, ValueError, "k must be finite"),
+    ({"window": 4}, ValueError, "window must be odd"),
+    ({"smoothing": -1.0}, ValueError, "smoothing must be non-negative"),
+    ({"smoothing": np.nan}, ValueError, "smoothing must be finite"),
+    ({"n_circles": 0}, ValueError, "n_circles must be at least 1"),
+    ({"min_component_size": 0}, ValueError, "min_component_size must be at least 1"),
+    ({"count_tolerance": -1}, ValueError, "count_tolerance must be at least 0"),
+    ({"count_tolerance": 1.5}, TypeError, "count_tolerance must be an int"),
+    ({"max_count_violations": -1}, ValueError, "max_count_violations must be at least 0"),
+    ({"distance_threshold": np.nan}, ValueError, "distance_threshold must be a non-negative number or inf"),
+    ({"distance_threshold": -1.0}, ValueError, "distance_threshold must be non-negative"),
+    ({"distance_threshold": "1"}, TypeError, "distance_threshold must be a real number"),
+    ({"topology_weight": np.nan}, ValueError, "topology_weight must be finite"),
+    ({"topology_weight": -1.0}, ValueError, "topology_weight must be non-negative"),
+    ({"mode": "affine"}, ValueError, "mode must be one of"),
+    ({"crossings": "edges"}, ValueError, "crossings must be one of"),
+    ({"band": -1.0}, ValueError, "band must be non-negative"),
+    ({"spur_length": -1}, ValueError, "spur_length must be at least 0"),
+])
+def test_matcher_settings_are_checked_when_it_is_built(settings, error, message):
+    with pytest.raises(error, match=message):
+        eb.EarMatcher(**settings)
+
+
+@pytest.fixture(scope="module")
+def bad_input_context(clean_ear_contours, small_database, tmp_path_factory):
+    """Features, a matcher with three subjects, a HOG baseline, a folder and axes for the cases below."""
+    import types
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    images, ids = small_database
+    templates = [eb.EarMatcher().extract(im) for im in images[:6]]
+    matcher = eb.EarMatcher()
+    for t, s in zip(templates[0::2], ids[0:6:2]):
+        matcher.enroll_template(s, t)
+    baseline = eb.HogNearestNeighbour()
+    baseline.enroll(0, images[0])
+    folder = tmp_path_factory.mktemp("ears")
+    cv2.imwrite(str(folder / "001_a.png"), np.full((16, 16), 100, np.uint8))
+    rng = make_rng(0)
+    fig, ax = plt.subplots()
+    yield types.SimpleNamespace(
+        norm=eb.normalise_coordinates(clean_ear_contours), features=eb.topology_features(clean_ear_contours),
+        images=images, ids=ids, templates=templates, matcher=matcher, baseline=baseline,
+        five_circles=eb.EarMatcher(n_circles=5).extract(images[1]), folder=folder, rng=rng,
+        shape=eb.draw_ear_shape(rng), pose=eb.CapturePose(0.0, 1.0, np.zeros(2), 0.0), ax=ax)
+    plt.close(fig)
+
+
+@pytest.mark.parametrize("call, error, message", [
+    # features
+    (lambda c: eb.canny_contours(np.full((16, 16), 100.0), low=np.nan), ValueError, "low must be finite"),
+    (lambda c: eb.canny_contours(np.full((16, 16), 100.0), high=-1.0), ValueError, "high must be non-negative"),
+    (lambda c: c.norm.to_normalised(np.ones((2, 3))), ValueError, r"rows_cols must have shape \(n, 2\)"),
+    (lambda c: c.norm.to_normalised([[np.nan, 1.0]]), ValueError, "rows_cols must be finite"),
+    (lambda c: c.norm.to_pixels(np.ones(4)), ValueError, r"xy must have shape \(n, 2\)"),
+    (lambda c: eb.crossing_number(np.ones(5, bool)), TypeError, "skeleton must be a 2-D boolean image"),
+    (lambda c: eb.crossing_number(np.full((5, 5), 0.5)), TypeError, "skeleton must be a 2-D boolean image"),
+    (lambda c: eb.topology_similarity(c.features, c.features, np.nan), ValueError, "coordinate_tolerance must be finite"),
+    (lambda c: eb.topology_similarity(c.features, c.features, -0.1), ValueError, "coordinate_tolerance must be non-negative"),
+    (lambda c: eb.topology_similarity(c.features.circles, c.features), TypeError, "query must be TopologyFeatures"),
+    # matching and evaluation
+    (lambda c: eb.EarMatcher().identify_template(c.templates[0]), ValueError, "no subject enrolled"),
+    (lambda c: c.matcher.identify_template(c.images[0]), TypeError, "query must be an EarTemplate"),
+    (lambda c: c.matcher.identify_template(c.five_circles), ValueError, "query has 5 circles, matcher expects 8"),
+    (lambda c: c.baseline.enroll(1, c.images[1][:128, :128]), ValueError,
+     r"image must have the enrolled images' shape \(256, 256\)"),
+    (lambda c: c.baseline.distances(c.images[1][:128, :128]), ValueError, "image must have the enrolled images' shape"),
+    (lambda c: eb.open_set_rates(c.matcher, c.templates[1::2], [0], c.templates[:1], [1.0]), ValueError,
+     "genuine_ids must give one subject per genuine template"),
+    (lambda c: eb.open_set_rates(c.matcher, c.templates[1::2], c.ids[1:6:2], c.templates[:1], [np.nan]), ValueError,
+     "thresholds must be a non-negative number or inf"),
+    (lambda c: eb.open_set_rates(c.matcher, c.templates[1::2], c.ids[1:6:2], c.templates[:1], 1.0), ValueError,
+     "thresholds must be a non-empty 1-D sequence"),
+    (lambda c: eb.open_set_rates(c.matcher, c.templates[1::2], c.ids[1:6:2], [], [1.0]), ValueError,
+     "impostors must be a non-empty list of EarTemplate"),
+    (lambda c: eb.open_set_rates(c.matcher, list(c.images[1:6:2]), c.ids[1:6:2], c.templates[:1], [1.0]), TypeError,
+     "genuine must hold EarTemplate objects"),
+    (lambda c: eb.open_set_rates(eb.EarMatcher(), c.templates[1::2], c.ids[1:6:2], c.templates[:1], [1.0]), ValueError,
+     "matcher has no subject enrolled"),
+    (lambda c: eb.rank_of_truth([0.1, 0.5], [0, 1], 7), ValueError, "true_id 7 is not among enrolled_ids"),
+    (lambda c: eb.rank_of_truth([0.1, 0.5, 0.3], [0, 1], 1), ValueError, "enrolled_ids must have one subject per score"),
+    (lambda c: eb.rank_of_truth([np.nan, 0.5], [0, 1], 1), ValueError, "scores must be finite"),
+    (lambda c: eb.cumulative_match([], 3), ValueError, "ranks must not be empty"),
+    (lambda c: eb.cumulative_match([np.nan, 1], 3), ValueError, "ranks must be finite"),
+    (lambda c: eb.cumulative_match([0, 1], 3), ValueError, r"ranks must be 1-based"),
+    (lambda c: eb.cumulative_match([1.5, 1], 3), ValueError, "ranks must hold whole numbers"),
+    (lambda c: eb.distance_sum_gaps([], c.templates), ValueError, "queries must be a non-empty list of EarTemplate"),
+    (lambda c: eb.distance_sum_gaps([c.five_circles], c.templates), ValueError,
+     "queries and references must all have the same number of circles"),
+    (lambda c: eb.closed_set("matcher", c.templates, c.ids[:6]), TypeError, "matcher must be an EarMatcher"),
+    (lambda c: eb.hog_closed_set(c.images[:5], c.ids[:5]), ValueError, "images and subject_ids must have the same even length"),
+    (lambda c: eb.hog_closed_set(c.images, c.ids[:4]), ValueError, "images and subject_ids must have the same even length"),
+    (lambda c: eb.nuisance_study(2, 0, ["baseline"]), TypeError, "conditions must map row names"),
+    (lambda c: eb.nuisance_study(2, 0, {"a": ()}, relaxed_violations=-1), ValueError, "relaxed_violations must be at least 0"),
+    (lambda c: eb.nuisance_study(2, 0, {"a": ()}, size=64, topology_weight=np.nan), ValueError,
+     "topology_weight must be finite"),
+    # generator, loader and plots
+    (lambda c: eb.draw_capture_pose(c.rng, frontal=True, size=128, difficulty="hard"), ValueError, "difficulty must be one of"),
+    (lambda c: eb.draw_capture_pose(c.rng, frontal="no", size=128, difficulty="easy"), TypeError, "frontal must be a bool"),
+    (lambda c: eb.draw_capture_pose(c.rng, frontal=True, size=0, difficulty="easy"), ValueError, "size must be at least 32"),
+    (lambda c: eb.draw_capture_pose(c.rng, frontal=False, size=128, difficulty="easy", max_yaw=np.nan), ValueError,
+     "max_yaw must be finite"),
+    (lambda c: eb.draw_capture_pose(c.rng, frontal=False, size=128, difficulty="easy", max_yaw=120), ValueError,
+     "max_yaw must be below 90 degrees"),
+    (lambda c: eb.generate_ear_database(1, 2, max_yaw=-30), ValueError, "max_yaw must be non-negative"),
+    (lambda c: eb.generate_ear_database(1, 2, max_rotation=np.nan), ValueError, "max_rotation must be finite"),
+    (lambda c: eb.render_ear("shape", c.pose, c.rng), TypeError, "shape must be an EarShape"),
+    (lambda c: eb.render_ear(c.shape, (0.0, 1.0), c.rng), TypeError, "pose must be a CapturePose"),
+    (lambda c: eb.render_ear(c.shape, eb.CapturePose(np.nan, 1.0, np.zeros(2), 0.0), c.rng), ValueError,
+     "pose.rotation must be finite"),
+    (lambda c: eb.render_ear(c.shape, eb.CapturePose(0.0, 0.0, np.zeros(2), 0.0), c.rng), ValueError,
+     "pose.scale must be positive"),
+    (lambda c: eb.render_ear(c.shape, eb.CapturePose(0.0, 1.0, np.zeros(2), 2.0), c.rng), ValueError,
+     r"pose.yaw must be within \(-pi/2, pi/2\)"),
+    (lambda c: eb.ear_curves(eb.EarShape(**{**vars(c.shape), "lobule_depth": np.nan})), ValueError,
+     "shape.lobule_depth must be finite"),
+    (lambda c: eb.load_ear_folder(c.folder, size=0), ValueError, "size must be at least 1"),
+    (lambda c: eb.load_ear_folder(c.folder, size=2.5), TypeError, "size must be an int"),
+    (lambda c: eb.load_ear_folder(3), TypeError, "folder must be a path"),
+    (lambda c: eb.draw_circles(c.ax, np.zeros((8, 8), bool), "features"), TypeError, "features must be CircleFeatures"),
+    (lambda c: eb.draw_topology(None, "features"), TypeError, "ax must be a matplotlib Axes"),
+])
+def test_public_functions_reject_bad_input(bad_input_context, call, error, message):
+    with pytest.raises(error, match=message):
+        call(bad_input_context)

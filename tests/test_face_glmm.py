@@ -320,3 +320,156 @@ def test_agrees_with_statsmodels_bayes_mixed_glm_on_a_small_table():
     np.testing.assert_allclose(ours.coefficients.to_numpy()[1:], theirs.fe_mean[1:], atol=5e-3)
     assert ours.coefficients.iloc[0] == pytest.approx(theirs.fe_mean[0], abs=2e-2)
     assert ours.variance_components["p"] == pytest.approx(np.exp(theirs.vcp_mean[0]) ** 2, rel=0.15)
+
+
+# --- bad input at every public entry point ------------------------------------------------
+
+import amdo_lab.face_glmm as fg  # noqa: E402
+
+_RNG = make_rng(17)
+_A, _B = _RNG.normal(size=(3, 4)), _RNG.normal(size=(5, 4))
+_COUNTS = _RNG.integers(0, 30, 20).astype(float)
+
+
+@pytest.mark.parametrize("call, error, message", [
+    (lambda: fg.binomial_deviance(np.full(20, np.nan), np.full(20, 30.0), np.zeros(20)), ValueError, "y must be finite"),
+    (lambda: fg.binomial_deviance(_COUNTS, np.full(20, 30.0), np.full(20, np.inf)), ValueError, "eta must be finite"),
+    (lambda: fg.binomial_deviance(_COUNTS, np.full(20, 30.0), np.zeros(3)), ValueError, r"eta must have shape \(20,\)"),
+    (lambda: fg.binomial_deviance(_COUNTS + 40, 30.0, np.zeros(20)), ValueError, r"y must hold counts in \[0, trials\]"),
+    (lambda: fg.binomial_deviance(_COUNTS, 0.0, np.zeros(20)), ValueError, "trials must be positive"),
+    (lambda: fg.binomial_deviance(_COUNTS, np.full(3, 30.0), np.zeros(20)), ValueError, "trials must be a number or have the shape of y"),
+    (lambda: fg.pca_basis(np.full((4, 5), np.nan)), ValueError, "samples must be finite"),
+    (lambda: fg.pca_basis(np.ones((1, 5))), ValueError, "samples must have at least 2 rows"),
+    (lambda: fg.pca_basis(np.ones((4, 5, 2))), ValueError, "samples must have 2 dimensions"),
+    (lambda: fg.e90_dimension(np.array([3.0, 1.0]), 1.5), ValueError, r"energy must be in \(0, 1\]"),
+    (lambda: fg.e90_dimension(np.array([3.0, 1.0]), np.nan), ValueError, "energy must be finite"),
+    (lambda: fg.e90_dimension(np.zeros(3)), ValueError, "eigenvalues must be non-negative with a positive sum"),
+    (lambda: fg.e90_dimension(np.array([np.nan, 1.0])), ValueError, "eigenvalues must be finite"),
+    (lambda: fg.weighted_sq_distances(_A, _B[:, :3], np.ones(4)), ValueError, r"b must have shape \(n, 4\)"),
+    (lambda: fg.weighted_sq_distances(_A, _B, np.ones(3)), ValueError, r"weights must have shape \(4,\)"),
+    (lambda: fg.weighted_sq_distances(np.full((3, 4), np.nan), _B, np.ones(4)), ValueError, "a must be finite"),
+    (lambda: fg.weighted_sq_distances(_A, _B, -np.ones(4)), ValueError, "weights must be non-negative"),
+    (lambda: PcaLda(True), ValueError, "pca_dimension must be a positive int"),
+    (lambda: PcaLda("fixed", 0), ValueError, "base_images_per_class must be at least 1"),
+    (lambda: PcaLda("fixed", 2.7), TypeError, "base_images_per_class must be an int"),
+    (lambda: PcaLda().transform(np.ones((2, 10))), ValueError, "the PcaLda must be fitted"),
+    (lambda: PcaLda().metric_weights("l2"), ValueError, "the PcaLda must be fitted"),
+    (lambda: elliptical_mask((6.5, 5)), TypeError, r"shape\[0\] must be an int"),
+    (lambda: elliptical_mask((6, 5, 3)), ValueError, r"shape must be a pair \(rows, cols\)"),
+    (lambda: elliptical_mask((0, 5)), ValueError, r"shape\[0\] must be at least 1"),
+    (lambda: generate_face_population(3, 2, 0, shape=(16.7, 14)), TypeError, r"shape\[0\] must be an int"),
+    (lambda: generate_face_population(3, 2, 0, shape=16), ValueError, r"shape must be a pair"),
+    (lambda: preprocess_images(np.ones((2, 1, 1))), ValueError, "images must have at least 2 pixels inside the elliptical mask"),
+    (lambda: make_supplement(np.full((2, 8, 8), np.nan), "shift", make_rng(0)), ValueError, "images must be finite"),
+    (lambda: make_supplement(np.ones((8, 8)), "shift", make_rng(0)), ValueError, "images must have 3 dimensions"),
+    (lambda: fg.FactorialDesign(n_subjects=8, n_train_subjects=2.5), TypeError, "n_train_subjects must be an int"),
+    (lambda: fg.FactorialDesign(supplements=("none", "none")), ValueError, "supplements must not repeat"),
+    (lambda: fg.FactorialDesign(shape=(15, 14)), ValueError, "shape must have even rows and cols"),
+    (lambda: fg.FactorialDesign(shape=16), ValueError, r"shape must be a pair"),
+    (lambda: fg.FactorialDesign(population_kwargs=[("noise_sd", 0.1)]), TypeError, "population_kwargs must be a dict"),
+    (lambda: fg.load_or_run_experiment({"n_subjects": 8}, 0, "unused"), TypeError, "design must be a FactorialDesign"),
+    (lambda: fg.load_or_run_experiment(reduced_design(), True, "unused"), TypeError, "seed must be an int"),
+    (lambda: fg.load_or_run_experiment(reduced_design(), 0, 3), TypeError, "cache_dir must be a path"),
+    (lambda: build_design(np.zeros((2, 2)), [("M",)]), TypeError, "table must be a pandas DataFrame"),
+    (lambda: build_design(_crossed_table(1, 2), "MD"), TypeError, "terms must be a list of tuples"),
+    (lambda: build_design(_crossed_table(1, 2), ["M", "D"]), TypeError, "terms must be a list of tuples"),
+    (lambda: build_design(_crossed_table(1, 2), [("M",)], levels="M"), TypeError, "levels must map factor names"),
+    (lambda: fg.group_indices(_crossed_table(1, 2), 3), TypeError, "term must be a grouping term"),
+    (lambda: fg.summarise_recovery(pd.Series([0.5, 0.0]), np.ones((5, 2)), np.ones((5, 2)), level=1.5), ValueError,
+     r"level must be in \(0, 1\)"),
+    (lambda: fg.summarise_recovery(pd.Series([0.5, 0.0]), np.full((5, 2), np.nan), np.ones((5, 2))), ValueError,
+     "estimates must be finite"),
+    (lambda: fg.summarise_recovery(pd.Series([0.5, 0.0]), np.ones((5, 1)), np.ones((5, 1))), ValueError,
+     r"estimates must have shape \(n, 2\)"),
+    (lambda: fg.summarise_recovery(pd.Series([0.5, 0.0]), np.ones((5, 2)), np.ones((3, 2))), ValueError,
+     r"ses must have shape \(5, 2\)"),
+    (lambda: fg.summarise_recovery(pd.Series([0.5, 0.0]), np.ones((5, 2)), -np.ones((5, 2))), ValueError,
+     "ses must be non-negative"),
+    (lambda: fg.summarise_recovery(np.array([0.5, 0.0]), np.ones((5, 2)), np.ones((5, 2))), TypeError,
+     "true must be a pandas Series"),
+])
+def test_public_functions_reject_bad_input(call, error, message):
+    with pytest.raises(error, match=message):
+        call()
+
+
+@pytest.fixture(scope="module")
+def fitted(simulated, population, reduced_table):
+    """Fits, images and axes the bad-input cases below work on."""
+    import types
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    table, variances = simulated
+    fig, axes = plt.subplots(1, 3)
+    yield types.SimpleNamespace(
+        table=table, variances=variances,
+        fit=fit_binomial_glmm(table, "Y ~ M * D + U", ["p"], 30),  # no F: not a fit of the paper's design
+        paper_fit=fit_binomial_glmm(reduced_table[reduced_table.S == "standard"], PAPER_FORMULA, ["t", "p"], 10),
+        size_free=fit_binomial_glmm(reduced_table, PAPER_FORMULA, ["p"], 10),
+        cell=pd.DataFrame({"M": ["l2"], "D": ["fixed"], "U": ["none"]}),
+        images=preprocess_images(population.images), labels=population.labels, axes=axes)
+    plt.close(fig)
+
+
+@pytest.mark.parametrize("call, error, message", [
+    (lambda f: f.fit.predict(f.cell, ci=1.5), ValueError, r"ci must be in \(0, 1\)"),
+    (lambda f: f.fit.predict(f.cell, ci=np.nan), ValueError, "ci must be finite"),
+    (lambda f: f.fit.predict(f.cell, ci=0.0), ValueError, "ci must be positive"),
+    (lambda f: f.fit.predict(f.cell.to_numpy()), TypeError, "newdata must be a pandas DataFrame"),
+    (lambda f: f.fit.predict(f.cell.iloc[:0]), ValueError, "newdata must have at least one row"),
+    (lambda f: f.fit.predict_marginal(pd.DataFrame({"M": ["l2"]}), ci=2.0), ValueError, r"ci must be in \(0, 1\)"),
+    (lambda f: fit_binomial_glmm(f.table, "Y ~ M", ["p"], 30, start_sd=np.nan), ValueError, "start_sd must be finite"),
+    (lambda f: fit_binomial_glmm(f.table, "Y ~ M", ["p"], 30, start_sd=-1.0), ValueError, "start_sd must be non-negative"),
+    (lambda f: fit_binomial_glmm(f.table, "Y ~ M", [3], 30), TypeError, "random must hold grouping terms as non-empty strings"),
+    (lambda f: fit_binomial_glmm(f.table, "Y ~ M", None, 30), TypeError, "random must be a sequence of grouping terms"),
+    (lambda f: fit_binomial_glmm(f.table, "Y ~ M", ["p", "p"], 30), ValueError, "random must not repeat a grouping term"),
+    (lambda f: fit_binomial_glmm(f.table.iloc[:0], "Y ~ M", ["p"], 30), ValueError, "table must have at least one row"),
+    (lambda f: fit_binomial_glmm(f.table.assign(Y=f.table.Y > 10), "Y ~ M", ["p"], 30), TypeError,
+     "response 'Y' must hold counts, got booleans"),
+    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [np.nan, 0.0], {}, 30, 0), ValueError, "coefficients must be finite"),
+    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], {"p": np.nan}, 30, 0), ValueError,
+     r"variances\['p'\] must be finite"),
+    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], {"p": -1.0}, 30, 0), ValueError,
+     r"variances\['p'\] must be non-negative"),
+    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], ["p"], 30, 0), TypeError, "variances must map grouping terms"),
+    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], {}, 2.5, 0), TypeError, "trials must be an int"),
+    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], {}, 0, 0), ValueError, "trials must be at least 1"),
+    (lambda f: fg.recovery_study(f.table, "Y ~ M * D + U", f.fit.coefficients, f.variances, 0, 1), ValueError,
+     "n_replicates must be at least 1"),
+    (lambda f: fg.recovery_study(f.table, "Y ~ M * D + U", f.fit.coefficients, f.variances, 1, True), TypeError,
+     "rng must be an int seed"),
+    (lambda f: fg.recovery_study(f.table, "Y ~ M * D + U", f.fit.coefficients, f.variances, 1, 1, level=2.0), ValueError,
+     r"level must be in \(0, 1\)"),
+    (lambda f: fg.recovery_study(f.table, "Y ~ M * D + U", f.fit.coefficients.to_numpy(), f.variances, 1, 1), TypeError,
+     "coefficients must be a pandas Series"),
+    (lambda f: fg.recovery_study(f.table, "Y ~ M * D + U", f.fit.coefficients, {}, 1, 1), ValueError,
+     "variances must name at least one"),
+    (lambda f: fg.fit_gee_exchangeable(f.table, "Y ~ M", trials=0), ValueError, "trials must be at least 1"),
+    (lambda f: fg.fit_gee_exchangeable(f.table, "Y ~ M", group="q"), ValueError, "group 'q' is not a column of table"),
+    (lambda f: fg.fit_gee_exchangeable(f.table.assign(Y=f.table.Y + 100), "Y ~ M"), ValueError,
+     r"response 'Y' must hold integer counts in \[0, trials=30\]"),
+    (lambda f: fg.fit_naive_logistic(f.table.assign(Y=np.where(f.table.index == 0, np.nan, f.table.Y)), "Y ~ M"),
+     ValueError, "response 'Y' must be finite counts"),
+    (lambda f: fg.fit_naive_logistic(f.table, "Z ~ M"), ValueError, "response 'Z' is not a column of table"),
+    (lambda f: fg.fit_naive_logistic(f.table, "Y ~ M", trials=2.5), TypeError, "trials must be an int"),
+    (lambda f: fit_with_lme4(f.table, "Y ~ M", ["p"], trials=0), ValueError, "trials must be at least 1"),
+    (lambda f: fit_with_lme4(f.table, "Y ~ M", ["q"]), ValueError, "random term 'q' names columns not in table"),
+    (lambda f: PcaLda().fit(f.images, f.labels, basis="basis"), TypeError, "basis must be a PcaBasis"),
+    (lambda f: PcaLda().fit(f.images, f.labels, basis=fg.pca_basis(f.images.reshape(len(f.images), -1)[:, :10])),
+     ValueError, "basis must be the PcaBasis of images with 480 pixels"),
+    (lambda f: PcaLda().fit(f.images, np.where(f.labels == 0, np.nan, f.labels)), ValueError, "labels must not contain NaN"),
+    (lambda f: fg.table2_comparison("fit"), TypeError, "result must be a GlmmResult"),
+    (lambda f: fg.cell_predictions(f.fit), ValueError, r"result must be a fit with the paper's factors U, M, D and F"),
+    (lambda f: fg.findings(f.fit), ValueError, r"it lacks \['F'\]"),
+    (lambda f: fg.findings(f.paper_fit, f.size_free), ValueError, "size_result must be a fit with image-size"),
+    (lambda f: fg.plot_figure1(f.paper_fit, None), TypeError, "ax must be a matplotlib Axes"),
+    (lambda f: fg.plot_figure2(f.paper_fit, f.axes[:2]), ValueError, "axes must be three matplotlib Axes"),
+    (lambda f: fg.plot_figure2(f.fit, f.axes), ValueError, r"result must be a fit with the paper's factors"),
+])
+def test_models_and_fits_reject_bad_input(fitted, call, error, message):
+    with pytest.raises(error, match=message):
+        call(fitted)

@@ -6,6 +6,7 @@ import warnings
 import numpy as np
 import pytest
 
+import amdo_lab.pdm_mixtures as pm
 from amdo_lab.common import make_rng, procrustes_align, rotation_2d, spawn_rngs
 from amdo_lab.pdm_mixtures import (
     LIMB_PARENTS,
@@ -449,3 +450,157 @@ def test_held_out_log_likelihood_is_deterministic_and_validates(small_problem):
         held_out_log_likelihood(vectors[:, :13], 1)
     with pytest.raises(ValueError, match="polar_model"):
         held_out_log_likelihood(vectors, 1, polar_model="both")
+
+
+# ---------------------------------------------------------------- bad input at every public entry point
+_RNG = make_rng(21)
+_VECTORS = _RNG.standard_normal((10, 4))
+_PDM = fit_pdm(_VECTORS)
+_SHAPES = generate_pose_dataset(TABLE1_CLASSES[:1], 2, 0).shapes
+_EYES = np.stack([np.eye(2)] * 2)
+
+
+@pytest.mark.parametrize("call, error, message", [
+    # Gaussian mixture
+    (lambda: pm.gaussian_log_density(np.full((3, 2), np.nan), np.zeros((2, 2)), _EYES), ValueError, "points must be finite"),
+    (lambda: pm.gaussian_log_density(np.ones(2), np.zeros((2, 2)), _EYES), ValueError, "points must have 2 dimensions"),
+    (lambda: pm.gaussian_log_density(np.ones((3, 3)), np.zeros((2, 2)), _EYES), ValueError, r"means must have shape \(n, 3\)"),
+    (lambda: pm.gaussian_log_density(np.ones((3, 2)), np.zeros((3, 2)), _EYES), ValueError, r"covariances must have shape \(3, 2, 2\)"),
+    (lambda: pm.gaussian_log_density(np.ones((3, 2)), np.zeros((2, 2)), -_EYES), ValueError, "covariances must be positive definite"),
+    (lambda: fit_gaussian_mixture(_RNG.standard_normal((6, 2)), 2, means_init=np.zeros((2, 2)), covariances_init=-_EYES),
+     ValueError, "covariances_init must be positive definite"),
+    (lambda: fit_gaussian_mixture(np.ones((6, 2), bool), 2, means_init=np.zeros((2, 2)), covariances_init=_EYES),
+     TypeError, "X must be a numeric array"),
+    # point distribution models
+    (lambda: fit_pdm(_VECTORS, variance_fraction=0.0), ValueError, "variance_fraction must be positive"),
+    (lambda: fit_pdm(_VECTORS, variance_fraction=1.5), ValueError, r"variance_fraction must be in \(0, 1\]"),
+    (lambda: fit_pdm(_VECTORS, variance_fraction=np.nan), ValueError, "variance_fraction must be finite"),
+    (lambda: fit_pdm(_VECTORS, max_modes=0), ValueError, "max_modes must be at least 1"),
+    (lambda: fit_pdm(_VECTORS, max_modes=1.5), TypeError, "max_modes must be an int"),
+    (lambda: fit_pdm(_VECTORS[:, :1]), ValueError, "long_vectors needs at least 2 columns"),
+    (lambda: pm.pdm_from_moments(np.zeros(4), np.full((4, 4), np.nan)), ValueError, "covariance must be finite"),
+    (lambda: pm.pdm_from_moments(np.zeros(4), np.ones((4, 3))), ValueError, "covariance must be a square"),
+    (lambda: pm.pdm_from_moments(np.zeros(1), np.ones((1, 1))), ValueError, "D >= 2"),
+    (lambda: pm.pdm_from_moments(np.zeros(3), np.eye(4)), ValueError, r"mean must have shape \(4,\)"),
+    (lambda: pm.pdm_from_moments(np.full(4, np.nan), np.eye(4)), ValueError, "mean must be finite"),
+    (lambda: pm.pdm_from_moments(np.zeros(4), np.eye(4), variance_fraction=2.0), ValueError, "variance_fraction"),
+    (lambda: pm.pdm_from_moments(np.zeros(4), np.eye(4), max_modes=-1), ValueError, "max_modes"),
+    (lambda: pm.pdm_from_moments(np.zeros(4), np.eye(4), min_residual_variance=np.nan), ValueError, "min_residual_variance"),
+    (lambda: fit_modes(_PDM, np.full((2, 4), np.nan)), ValueError, "observed must be finite"),
+    (lambda: fit_modes(_PDM, np.ones((2, 3))), ValueError, r"observed must have shape \(n, 4\)"),
+    (lambda: fit_modes("model", np.ones((2, 4))), TypeError, "model must be a PointDistributionModel"),
+    (lambda: reconstruct(_PDM, np.full((2, _PDM.n_modes), np.nan)), ValueError, "gamma must be finite"),
+    (lambda: reconstruct(_PDM, np.zeros((2, _PDM.n_modes + 1))), ValueError, "gamma must have shape"),
+    (lambda: pm.normalise_shape(np.ones((5, 2))), ValueError, "points must not all coincide"),
+    (lambda: pm.normalise_shape(np.full((5, 2), np.nan)), ValueError, "points must be finite"),
+    (lambda: pm.normalise_shape(np.ones((5, 3))), ValueError, r"points must have shape \(n, 2\)"),
+    (lambda: generalized_procrustes(np.ones((3, 4, 2))), ValueError, "point_sets must not contain a point set whose points all coincide"),
+    (lambda: pm.align_to_reference(_RNG.random((3, 4, 2)), _RNG.random((5, 2))), ValueError, r"reference must have shape \(4, 2\)"),
+    (lambda: pm.align_to_reference(np.full((3, 4, 2), np.nan), _RNG.random((4, 2))), ValueError, "point_sets must be finite"),
+    (lambda: pm.align_to_reference(np.zeros((0, 4, 2)), _RNG.random((4, 2))), ValueError, "point_sets must not be empty"),
+    # polar representation
+    (lambda: wrap_angle(np.array([np.nan])), ValueError, "angles must be finite"),
+    (lambda: wrap_angle("a"), TypeError, "angles must be a numeric array"),
+    (lambda: limb_centres(np.full((1, 13, 6, 2), np.nan)), ValueError, "shapes must be finite"),
+    (lambda: limb_centres(np.ones((1, 13, 6, 3))), ValueError, "shapes must have shape"),
+    (lambda: pm.articulation_centre(np.ones((13, 2))), ValueError, "centres must have shape"),
+    (lambda: limb_angles(np.full((1, 13, 2), np.inf)), ValueError, "centres must be finite"),
+    (lambda: polar_shape_vector(_SHAPES[0]), ValueError, "shapes must have shape"),
+    (lambda: pm.centred_limbs(np.full((1, 13, 6, 2), np.nan)), ValueError, "shapes must be finite"),
+    # generator
+    (lambda: pm.pose_modes("dancing"), ValueError, "name must be one of"),
+    (lambda: skeleton_strokes(np.full((1, 13), np.nan), MEAN_LENGTHS[None], 6), ValueError, "directions_deg must be finite"),
+    (lambda: skeleton_strokes(np.zeros((2, 13)), MEAN_LENGTHS[None], 6), ValueError, r"lengths must have shape \(2, 13\)"),
+    (lambda: skeleton_strokes(np.zeros((1, 13)), -MEAN_LENGTHS[None], 6), ValueError, "lengths must be positive"),
+    (lambda: skeleton_strokes(np.zeros((1, 5)), MEAN_LENGTHS[None, :5], 6), ValueError, r"directions_deg must have shape \(n, 13\)"),
+    (lambda: skeleton_strokes(np.zeros((1, 13)), MEAN_LENGTHS[None], 1), ValueError, "landmarks_per_limb must be at least 2"),
+    (lambda: skeleton_strokes(np.zeros((1, 13)), MEAN_LENGTHS[None], 2.5), TypeError, "landmarks_per_limb must be an int"),
+    # label model
+    (lambda: hamming_distance(np.zeros((2, 13), int), np.ones((3, 12), int)), ValueError, r"dictionary must have shape \(n, 13\)"),
+    (lambda: hamming_distance(np.zeros(13, int), np.ones((3, 13), int)), ValueError, "label_strings must have 2 dimensions"),
+    (lambda: hamming_distance(np.full((2, 13), np.nan), np.ones((3, 13))), ValueError, "label_strings must be finite"),
+    (lambda: hamming_distance(np.full((2, 13), 0.5), np.ones((3, 13))), ValueError, "label_strings must hold whole numbers"),
+    (lambda: label_string_log_prob(np.array([1]), 13, 0.0), ValueError, "error_probability must be positive"),
+    (lambda: label_string_log_prob(np.array([1]), 13, 1.0), ValueError, r"error_probability must be in \(0, 1\)"),
+    (lambda: label_string_log_prob(np.array([1]), 13, np.nan), ValueError, "error_probability must be finite"),
+    (lambda: label_string_log_prob(np.array([1]), 0, 0.2), ValueError, "n_limbs must be at least 1"),
+    (lambda: label_string_log_prob(np.array([20]), 13, 0.2), ValueError, r"hamming must hold distances in \[0, n_limbs=13\]"),
+    (lambda: label_string_log_prob(np.array([np.nan]), 13, 0.2), ValueError, "hamming must be finite"),
+    # embeddings and distances
+    (lambda: pairwise_distances(np.full((3, 2), np.nan)), ValueError, "vectors must be finite"),
+    (lambda: pairwise_distances(np.ones(3)), ValueError, "vectors must have 2 dimensions"),
+    (lambda: classical_mds(np.full((3, 3), np.nan)), ValueError, "distances must be finite"),
+    (lambda: classical_mds(np.ones((3, 2))), ValueError, "distances must be a square"),
+    (lambda: classical_mds(-np.ones((3, 3))), ValueError, "distances must be non-negative"),
+    (lambda: classical_mds(np.zeros((3, 3)), 4), ValueError, "n_dims must be at most the number of points 3"),
+    (lambda: classical_mds(np.zeros((3, 3)), 0), ValueError, "n_dims must be at least 1"),
+    (lambda: classical_mds(np.zeros((0, 0))), ValueError, "distances must not be empty"),
+    (lambda: pm.pca_embedding(_VECTORS, 5), ValueError, r"n_dims must be at most min\(n, d\) = 4"),
+    (lambda: pm.pca_embedding(_VECTORS, 2.5), TypeError, "n_dims must be an int"),
+    (lambda: pm.pca_embedding(np.full((3, 3), np.nan)), ValueError, "vectors must be finite"),
+    (lambda: pm.SingleCartesianPDMClassifier(variance_fraction=np.nan), ValueError, "variance_fraction must be finite"),
+    (lambda: pm.SingleCartesianPDMClassifier(variance_fraction=2.0), ValueError, "variance_fraction must be in"),
+    # recogniser settings
+    (lambda: ArticulatedShapeRecognizer(classes="boxing"), TypeError, "classes must be a sequence of class names"),
+    (lambda: ArticulatedShapeRecognizer(classes=()), ValueError, "classes must name at least one class"),
+    (lambda: ArticulatedShapeRecognizer(classes=("boxing", "boxing")), ValueError, "classes must not repeat a name"),
+])
+def test_public_functions_reject_bad_input(call, error, message):
+    with pytest.raises(error, match=message):
+        call()
+
+
+@pytest.fixture(scope="module")
+def fitted(small_problem):
+    """The fitted recogniser and baselines, training and test data and axes for the cases below."""
+    import types
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    train, test, recogniser = small_problem
+    baselines = {cls: cls().fit(train.shapes, train.labels)
+                 for cls in (pm.SingleCartesianPDMClassifier, NearestProcrustesMeanClassifier, pm.SklearnGMMClassifier)}
+    fig, ax = plt.subplots()
+    yield types.SimpleNamespace(train=train, test=test, recogniser=recogniser, baselines=baselines, ax=ax,
+                                vector=recogniser.shape_models_[0][0].mean, labels=recogniser.dictionary_[0, 0],
+                                nan_labels=np.where(train.labels == "boxing", np.nan, 1.0))
+    plt.close(fig)
+
+
+_BASELINES = (pm.SingleCartesianPDMClassifier, NearestProcrustesMeanClassifier, pm.SklearnGMMClassifier)
+
+
+@pytest.mark.parametrize("call, error, message", [
+    (lambda f: f.recogniser.model_limbs(np.full(39, np.nan), f.labels), ValueError, "polar_vector must be finite"),
+    (lambda f: f.recogniser.model_limbs(f.vector[:20], f.labels), ValueError, r"polar_vector must have shape \(39,\)"),
+    (lambda f: f.recogniser.model_limbs(f.vector, np.full(13, 9)), ValueError, r"label_string must hold limb labels in 0\.\.3"),
+    (lambda f: f.recogniser.model_limbs(f.vector, np.full(13, -1)), ValueError, "label_string must hold limb labels"),
+    (lambda f: f.recogniser.model_limbs(f.vector, f.labels[:5]), ValueError, r"label_string must have shape \(13,\)"),
+    (lambda f: f.recogniser.model_limbs(f.vector, f.labels, np.zeros((13, 5))), ValueError,
+     r"observed_limbs must have shape \(13, 12\)"),
+    (lambda f: f.recogniser.shape_models_[0][0].fit(np.full((2, 39), np.nan)), ValueError, "deviation must be finite"),
+    (lambda f: f.recogniser.shape_models_[0][0].log_density(np.zeros((2, 10))), ValueError,
+     r"deviation must have shape \(n, 39\)"),
+    (lambda f: ArticulatedShapeRecognizer().align(f.test.shapes), ValueError, "must be fitted"),
+    (lambda f: ArticulatedShapeRecognizer().model_limbs(f.vector, f.labels), ValueError, "must be fitted"),
+    (lambda f: ArticulatedShapeRecognizer().fit(f.train.shapes, f.nan_labels), ValueError, "labels must not contain NaN"),
+    *[case for cls in _BASELINES for case in (
+        (lambda f, cls=cls: cls().fit(f.train.shapes, f.train.labels[:-1]), ValueError, r"labels must have shape \(72,\)"),
+        (lambda f, cls=cls: cls().fit(f.train.shapes, f.nan_labels), ValueError, "labels must not contain NaN"),
+        (lambda f, cls=cls: cls().predict(f.test.shapes), ValueError, "must be fitted"),
+        (lambda f, cls=cls: f.baselines[cls].predict(f.test.shapes[:, :, :4]), ValueError, "6 landmarks per limb"),
+    )],
+    *[(lambda f, cls=cls: f.baselines[cls].predict(np.r_[np.ones((1, 13, 6, 2)), f.test.shapes[:1]]), ValueError,
+       "shapes must not contain a point set whose points all coincide") for cls in _BASELINES],
+    (lambda f: f.recogniser.predict(np.r_[f.test.shapes[:1], np.ones((1, 13, 6, 2))]), ValueError,
+     r"shapes must not contain a point set whose points all coincide \(zero centroid size at index 1\)"),
+    (lambda f: pm.draw_shape(f.ax, np.full((13, 6, 2), np.nan)), ValueError, "shape must be finite"),
+    (lambda f: pm.draw_shape(f.ax, f.test.shapes[:2]), ValueError, r"shape must have shape \(13, n, 2\)"),
+    (lambda f: pm.draw_shape(None, f.test.shapes[0]), TypeError, "ax must be a matplotlib Axes"),
+])
+def test_fitted_models_reject_bad_input(fitted, call, error, message):
+    with pytest.raises(error, match=message):
+        call(fitted)

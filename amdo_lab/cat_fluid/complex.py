@@ -9,6 +9,8 @@ transpose, maps (q-1)-cochains (values on (q-1)-pixels) to q-cochains.
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -51,6 +53,7 @@ class CubicalComplex:
         Column k is the (q-1)-chain ∂γ_k: head - tail for an edge; for a square, its four edges
         with sign +1 where the edge runs with the square's counter-clockwise orientation.
         """
+        _check_degree(q)
         h, w = self.shape
         if q == 1:
             # an oriented edge's boundary is head - tail
@@ -76,6 +79,13 @@ class CubicalComplex:
 
         For q = 0 this is eq. (7): the value on an edge is f(head) - f(tail).
         """
+        _check_degree(q)
         if q not in (0, 1):
             raise ValueError(f"q must be 0 or 1 for a 2-D complex, got {q!r}")
         return self.boundary(q + 1).T.tocsr()
+
+
+def _check_degree(q: object) -> None:
+    """A chain degree is an int (``True`` or ``1.0`` would otherwise pass as 1)."""
+    if isinstance(q, bool) or not isinstance(q, numbers.Integral):
+        raise TypeError(f"q must be an int, got {type(q).__name__}")

@@ -38,6 +38,13 @@ def _check_displacement(displacement: object, shape: tuple[int, ...], name: str 
     return as_finite_array(displacement, name, shape=(2,) + tuple(shape))
 
 
+def _check_differentiable(array: np.ndarray, name: str) -> np.ndarray:
+    """Finite differences (np.gradient) need at least two pixels along each image axis."""
+    if min(array.shape[-2:]) < 2:
+        raise ValueError(f"{name} must be at least 2x2 pixels for finite differences, got shape {array.shape}")
+    return array
+
+
 def sample_bilinear(image: np.ndarray, coords: np.ndarray) -> np.ndarray:
     """image at the (2, H, W) array coordinates ``coords``, bilinear, coordinates clamped to the image
     (the same values as ``scipy.ndimage.map_coordinates(order=1, mode="nearest")``, a few times faster)."""
@@ -73,12 +80,14 @@ def _jacobian(displacement: np.ndarray) -> np.ndarray:
 
 def displacement_jacobian(displacement: object) -> np.ndarray:
     """J[i, j] = ∂u_i/∂x_j by central differences (one-sided at the border), shape (2, 2, H, W)."""
-    return _jacobian(as_finite_array(displacement, "displacement", shape=(2, None, None)))
+    displacement = as_finite_array(displacement, "displacement", shape=(2, None, None))
+    return _jacobian(_check_differentiable(displacement, "displacement"))
 
 
 def jacobian_determinant(displacement: object) -> np.ndarray:
     """det(I - ∇u) of the map x -> x - u(x), shape (H, W); a value ≤ 0 marks a folded pixel."""
-    return _determinant(as_finite_array(displacement, "displacement", shape=(2, None, None)))
+    displacement = as_finite_array(displacement, "displacement", shape=(2, None, None))
+    return _determinant(_check_differentiable(displacement, "displacement"))
 
 
 def _determinant(displacement: np.ndarray) -> np.ndarray:
@@ -92,7 +101,7 @@ def _force(deformed_template: np.ndarray, study: np.ndarray) -> np.ndarray:
 
 def external_force(deformed_template: object, study: object) -> np.ndarray:
     """Eq. (18): F = -(I1 - I2) ∇I1 with I1 the deformed template and I2 the study, shape (2, H, W)."""
-    deformed_template = _check_image(deformed_template, "deformed_template")
+    deformed_template = _check_differentiable(_check_image(deformed_template, "deformed_template"), "deformed_template")
     return _force(deformed_template, as_finite_array(study, "study", shape=deformed_template.shape))
 
 
@@ -111,6 +120,7 @@ def material_update(displacement: object, velocity: object, dt: float) -> np.nda
     flow of a known displacement.)
     """
     displacement = as_finite_array(displacement, "displacement", shape=(2, None, None))
+    _check_differentiable(displacement, "displacement")
     velocity = _check_displacement(velocity, displacement.shape[1:], "velocity")
     return _update(displacement, velocity, check_positive(dt, "dt"))
 

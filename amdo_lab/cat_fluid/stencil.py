@@ -143,9 +143,14 @@ def apply_stencil(stencil: object, velocity: object) -> np.ndarray:
 
 
 def stencil_at_origin(stencil: object, velocity: Callable[[float, float], tuple[float, float]]) -> np.ndarray:
-    """Force at the origin for a velocity field given as a function of (x1, x2), e.g. a polynomial."""
+    """Force at the origin for a velocity field given as a function of (x1, x2), e.g. a polynomial.
+
+    ``velocity(x1, x2)`` must return the two finite velocity components at that point.
+    """
     blocks = stencil_blocks(stencil)
-    return sum(block @ np.asarray(velocity(float(d0), float(d1)), float)
+    if not callable(velocity):
+        raise TypeError(f"velocity must be a function of (x1, x2), got {type(velocity).__name__}")
+    return sum(block @ as_finite_array(velocity(float(d0), float(d1)), f"velocity({d0}, {d1})", shape=(2,))
                for block, (d0, d1) in zip(blocks, NEIGHBOUR_OFFSETS))
 
 

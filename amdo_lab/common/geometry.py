@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common.validation import as_finite_array
+from amdo_lab.common.validation import as_finite_array, check_positive
 
 __all__ = [
     "ProcrustesResult",
@@ -63,7 +63,7 @@ def rotation_matrix(axis: np.ndarray, angle: float | np.ndarray) -> np.ndarray:
     if norm == 0:
         raise ValueError("axis must be a non-zero 3-vector")
     k = skew(axis / norm)
-    angle = np.asarray(angle, dtype=float)[..., None, None]
+    angle = as_finite_array(angle, "angle", allow_empty=True)[..., None, None]
     return np.eye(3) + np.sin(angle) * k + (1.0 - np.cos(angle)) * (k @ k)
 
 
@@ -84,16 +84,33 @@ def rotation_z(angle: float | np.ndarray) -> np.ndarray:
 
 def rotation_2d(angle: float | np.ndarray) -> np.ndarray:
     """Counter-clockwise 2-D rotation, ``(2, 2)`` or ``(*angle.shape, 2, 2)``."""
-    angle = np.asarray(angle, dtype=float)
+    return _rotation_2d(as_finite_array(angle, "angle", allow_empty=True))
+
+
+def _rotation_2d(angle: np.ndarray) -> np.ndarray:
+    """:func:`rotation_2d` of an already validated float array of angles."""
     c, s = np.cos(angle), np.sin(angle)
     return np.stack([np.stack([c, -s], axis=-1), np.stack([s, c], axis=-1)], axis=-2)
 
 
 def rigid_transform(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray:
-    """Homogeneous ``(d+1, d+1)`` matrix of the map ``x -> R x + t``; batched over leading axes."""
-    rotation = np.asarray(rotation, dtype=float)
-    translation = np.asarray(translation, dtype=float)
+    """Homogeneous ``(d+1, d+1)`` matrix of the map ``x -> R x + t``; batched over leading axes.
+
+    Parameters
+    ----------
+    rotation : (..., d, d) array_like
+        Rotation matrix, or a stack of them.
+    translation : (..., d) array_like
+        Translation vector(s), broadcastable against the leading axes of ``rotation``.
+    """
+    rotation = as_finite_array(rotation, "rotation")
+    if rotation.ndim < 2 or rotation.shape[-1] != rotation.shape[-2]:
+        raise ValueError(f"rotation must be a square (d, d) matrix or a stack (..., d, d), got shape {rotation.shape}")
     d = rotation.shape[-1]
+    translation = as_finite_array(translation, "translation")
+    if translation.ndim < 1 or translation.shape[-1] != d or not _broadcasts_to(translation.shape, rotation.shape[:-1]):
+        raise ValueError(f"translation must have shape (..., {d}) matching rotation {rotation.shape}, "
+                         f"got {translation.shape}")
     out = np.zeros(rotation.shape[:-2] + (d + 1, d + 1))
     out[..., :d, :d] = rotation
     out[..., :d, d] = translation
@@ -101,20 +118,57 @@ def rigid_transform(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray
     return out
 
 
+def _broadcasts_to(shape: tuple[int, ...], target: tuple[int, ...]) -> bool:
+    try:
+        return np.broadcast_shapes(shape, target) == target
+    except ValueError:
+        return False
+
+
 def apply_rigid(transform: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """Apply a homogeneous transform ``(d+1, d+1)`` to points ``(n, d)``: ``R p + t`` per row."""
-    transform = np.asarray(transform, dtype=float)
-    points = np.asarray(points, dtype=float)
+    """Apply a homogeneous transform ``(d+1, d+1)`` to points ``(n, d)``: ``R p + t`` per row.
+
+    A single point ``(d,)`` gives a ``(d,)`` result; an empty ``(0, d)`` set gives an empty one.
+    """
+    transform = as_finite_array(transform, "transform", ndim=2)
     d = transform.shape[-1] - 1
+    if d < 1 or transform.shape != (d + 1, d + 1):
+        raise ValueError(f"transform must be a homogeneous (d+1, d+1) matrix with d >= 1, got shape {transform.shape}")
+    points = as_finite_array(points, "points", allow_empty=True)
+    if points.ndim not in (1, 2) or points.shape[-1] != d:
+        raise ValueError(f"points must have shape (n, {d}) to match transform {transform.shape}, got {points.shape}")
     return points @ transform[:d, :d].T + transform[:d, d]
 
 
 def apply_similarity_2d(
     points: np.ndarray, scale: float, angle: float, translation: np.ndarray
 ) -> np.ndarray:
-    """Map 2-D points by ``x -> s R(angle) x + t`` (the similarity group of the plane)."""
-    points = np.asarray(points, dtype=float)
-    return scale * points @ rotation_2d(angle).T + np.asarray(translation, dtype=float)
+    """Map 2-D points by ``x -> s R(angle) x + t`` (the similarity group of the plane).
+
+    Parameters
+    ----------
+    points : (n, 2) or (2,) array_like
+        Points as rows.
+    scale : float
+        Positive scale factor s.
+    angle : float
+        Rotation angle in radians (a single angle).
+    translation : (2,) array_like
+        Translation t.
+    """
+    points = as_finite_array(points, "points", allow_empty=True)
+    if points.ndim not in (1, 2) or points.shape[-1] != 2:
+        raise ValueError(f"points must have shape (n, 2), got {points.shape}")
+    scale = check_positive(scale, "scale")
+    angle = as_finite_array(angle, "angle", ndim=0)
+    translation = as_finite_array(translation, "translation", shape=(2,))
+    return _apply_similarity_2d(points, scale, angle, translation)
+
+
+def _apply_similarity_2d(points: np.ndarray, scale: float, angle: float | np.ndarray,
+                         translation: np.ndarray) -> np.ndarray:
+    """:func:`apply_similarity_2d` on validated input (for loops over many point sets)."""
+    return scale * points @ _rotation_2d(angle).T + translation
 
 
 @dataclass(frozen=True)
@@ -177,7 +231,7 @@ def procrustes_align(
     rotation = (u * correction) @ vt
     if allow_scale:
         source_var = float(w @ np.sum(centred_source**2, axis=1))
-        if source_var == 0:
+        if source_var == 0 or np.all(source == source[0]):  # round-off can leave identical points a tiny variance
             raise ValueError("source points are all identical: scale is undefined")
         scale = float(singular @ correction) / source_var
     else:

@@ -37,7 +37,8 @@ def as_finite_array(
     allow_empty : bool
         Whether a zero-size array is accepted.
     dtype : type
-        Target dtype (float by default). Booleans and non-numeric inputs raise ``TypeError``.
+        Target dtype (float by default). Booleans and non-numeric inputs raise ``TypeError``; an
+        integer ``dtype`` refuses fractional values instead of truncating them.
 
     Returns
     -------
@@ -45,9 +46,8 @@ def as_finite_array(
         A new array of ``dtype`` (the input is never modified).
     """
     array = np.asarray(value)
-    if array.dtype == object or not (
-        np.issubdtype(array.dtype, np.number) or np.issubdtype(array.dtype, np.bool_)
-    ):
+    if array.dtype == object or not np.issubdtype(array.dtype, np.number):
+        # booleans are refused too: a mask passed where numbers are expected is a mistake
         raise TypeError(f"{name} must be a numeric array, got dtype {array.dtype}")
     if np.issubdtype(array.dtype, np.complexfloating):
         raise TypeError(f"{name} must be real-valued, got dtype {array.dtype}")
@@ -65,11 +65,21 @@ def as_finite_array(
                 )
     if array.size == 0 and not allow_empty:
         raise ValueError(f"{name} must not be empty, got shape {array.shape}")
+    if np.issubdtype(np.dtype(dtype), np.integer) and np.issubdtype(array.dtype, np.floating):
+        # checked before the cast, which would turn NaN into an arbitrary integer and 1.5 into 1
+        _check_finite(array, name)
+        if np.any(array != np.trunc(array)):
+            raise ValueError(f"{name} must hold whole numbers, got a fractional value")
     array = array.astype(dtype, copy=True)
-    if np.issubdtype(array.dtype, np.floating) and not np.all(np.isfinite(array)):
+    if np.issubdtype(array.dtype, np.floating):
+        _check_finite(array, name)
+    return array
+
+
+def _check_finite(array: np.ndarray, name: str) -> None:
+    if not np.all(np.isfinite(array)):
         n_bad = int(np.size(array) - np.count_nonzero(np.isfinite(array)))
         raise ValueError(f"{name} must be finite, got {n_bad} NaN or infinite value(s)")
-    return array
 
 
 def _format_shape(shape: Sequence[int | None]) -> str:

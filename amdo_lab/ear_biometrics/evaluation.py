@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
 from amdo_lab.common import as_finite_array, check_positive_int
-from amdo_lab.ear_biometrics.matcher import EarMatcher, EarTemplate, HogNearestNeighbour, rank_of_truth
-from amdo_lab.ear_biometrics.synthetic import generate_ear_database
+from amdo_lab.ear_biometrics.matcher import EarMatcher, EarTemplate, HogNearestNeighbour, _check_templates, rank_of_truth
+from amdo_lab.ear_biometrics.synthetic import check_disable, generate_ear_database
 
 
 @dataclass(frozen=True)
@@ -49,7 +50,15 @@ def genuine_impostor_separation(distances: object, enrolled_ids: object, query_i
 
 
 def distance_sum_gaps(queries: list[EarTemplate], references: list[EarTemplate]) -> np.ndarray:
-    """Step 4's distance: mean over circles of |sum d (query) - sum d (reference)|, all pairs."""
+    """Step 4's distance: mean over circles of |sum d (query) - sum d (reference)|, all pairs.
+
+    ``queries`` and ``references`` are non-empty lists of :class:`EarTemplate` with equally many circles.
+    """
+    _check_templates(queries, "queries")
+    _check_templates(references, "references")
+    n_circles = {len(t.circles.distance_sums) for t in [*queries, *references]}
+    if len(n_circles) > 1:
+        raise ValueError(f"queries and references must all have the same number of circles, got {sorted(n_circles)}")
     q = np.array([t.circles.distance_sums for t in queries])
     r = np.array([t.circles.distance_sums for t in references])
     return np.abs(q[:, None, :] - r[None, :, :]).mean(axis=2)
@@ -82,6 +91,8 @@ def closed_set(matcher: EarMatcher, templates: list[EarTemplate], subject_ids: o
 
     ``matcher`` must be empty; its settings decide the rule (``max_count_violations``) and ranking.
     """
+    if not isinstance(matcher, EarMatcher):
+        raise TypeError(f"matcher must be an EarMatcher, got {type(matcher).__name__}")
     if matcher.n_enrolled:
         raise ValueError("matcher must be empty (a fresh EarMatcher)")
     ids = np.asarray(subject_ids)
@@ -104,6 +115,9 @@ def hog_closed_set(images: np.ndarray, subject_ids: object, pixels_per_cell: int
     ``pixels_per_cell`` defaults to an eighth of the image side (16 px at 128, 32 px at 256), so the
     HOG grid covers the ear the same way at every resolution."""
     ids = np.asarray(subject_ids)
+    if ids.ndim != 1 or len(ids) != len(images) or len(ids) % 2:
+        raise ValueError("images and subject_ids must have the same even length (two captures per subject), "
+                         f"got {len(images)} images and subject_ids of shape {ids.shape}")
     if pixels_per_cell is None:
         pixels_per_cell = max(2, int(np.shape(images)[-1]) // 8)
     baseline = HogNearestNeighbour(pixels_per_cell)
@@ -127,6 +141,13 @@ def nuisance_study(n_subjects: int, rng: int, conditions: dict[str, tuple], *, d
     n_subjects = check_positive_int(n_subjects, "n_subjects", minimum=2)
     if not isinstance(rng, (int, np.integer)) or isinstance(rng, bool):
         raise TypeError(f"rng must be an int seed (each condition redraws from it), got {type(rng).__name__}")
+    # Everything is checked before the first (slow) database is drawn.
+    if not isinstance(conditions, Mapping):
+        raise TypeError(f"conditions must map row names to factors to disable, got {type(conditions).__name__}")
+    for disabled in conditions.values():
+        check_disable(disabled)
+    check_positive_int(relaxed_violations, "relaxed_violations", minimum=0)
+    EarMatcher(**matcher_settings)  # checks the settings under their own names
     rows = []
     for name, disabled in conditions.items():
         database = generate_ear_database(n_subjects, 2, difficulty, int(rng), size=size, disable=disabled)

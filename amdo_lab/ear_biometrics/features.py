@@ -105,8 +105,10 @@ def clean_contours(contours: object, min_size: int = 20, closing: int = 1) -> np
 
 
 def canny_contours(image: object, sigma: float = 1.5, low: float = 20, high: float = 50) -> np.ndarray:
-    """Peer method: OpenCV Canny after Gaussian smoothing (thresholds on the 0-255 scale)."""
+    """Peer method: OpenCV Canny after Gaussian smoothing (non-negative thresholds on the 0-255 scale)."""
     grey = as_grey_image(image)
+    check_positive(low, "low", allow_zero=True)
+    check_positive(high, "high", allow_zero=True)
     smooth = cv2.GaussianBlur(grey, (0, 0), check_positive(sigma, "sigma"))
     return cv2.Canny(np.clip(smooth, 0, 255).astype(np.uint8), low, high) > 0
 
@@ -127,12 +129,20 @@ class Normalisation:
     matrix: np.ndarray
 
     def to_normalised(self, rows_cols: np.ndarray) -> np.ndarray:
-        """Pixel (row, col) -> normalised (x, y)."""
-        return (np.asarray(rows_cols, float).reshape(-1, 2) - self.centroid) @ self.matrix.T
+        """Pixel (row, col) ``(n, 2)`` (or one ``(2,)`` point) -> normalised (x, y) ``(n, 2)``."""
+        return (_check_points(rows_cols, "rows_cols") - self.centroid) @ self.matrix.T
 
     def to_pixels(self, xy: np.ndarray) -> np.ndarray:
-        """Normalised (x, y) -> pixel (row, col)."""
-        return np.asarray(xy, float).reshape(-1, 2) @ np.linalg.inv(self.matrix).T + self.centroid
+        """Normalised (x, y) ``(n, 2)`` (or one ``(2,)`` point) -> pixel (row, col) ``(n, 2)``."""
+        return _check_points(xy, "xy") @ np.linalg.inv(self.matrix).T + self.centroid
+
+
+def _check_points(points: object, name: str) -> np.ndarray:
+    """Finite 2-D points as rows; an (n, 3) array is refused rather than silently re-cut into pairs."""
+    array = as_finite_array(points, name, allow_empty=True)
+    if array.ndim not in (1, 2) or array.shape[-1] != 2:
+        raise ValueError(f"{name} must have shape (n, 2) or (2,), got {array.shape}")
+    return array.reshape(-1, 2)
 
 
 def _image_axes_matrix(spread: np.ndarray) -> np.ndarray:
@@ -386,12 +396,12 @@ def prune_spurs(skeleton: object, length: int) -> np.ndarray:
     kernel = np.ones((3, 3), np.uint8)
 
     def ends(mask: np.ndarray) -> np.ndarray:  # one branch (N_c = 1) or isolated (N_c = 0)
-        return mask & (crossing_number(mask) <= 1)
+        return mask & (_crossing_number(mask) <= 1)
 
     pruned = thin.copy()
     for _ in range(length):
         pruned &= ~ends(pruned)
-    grown = ends(pruned) & (crossing_number(pruned) == 1)  # ends of the pruned skeleton
+    grown = ends(pruned) & (_crossing_number(pruned) == 1)  # ends of the pruned skeleton
     front = grown
     for _ in range(length):
         front = cv2.dilate(front.astype(np.uint8), kernel).astype(bool) & thin & ~pruned & ~grown
@@ -473,7 +483,15 @@ def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *,
 
 def crossing_number(skeleton: np.ndarray) -> np.ndarray:
     """8-connected crossing number N_c = 1/2 sum_k |p_{k+1} - p_k| over the 8 neighbours in cyclic
-    order (Fig. 7), evaluated on every pixel (0 off the skeleton)."""
+    order (Fig. 7), evaluated on every pixel of a 2-D boolean ``skeleton`` (0 off the skeleton)."""
+    thin = np.asarray(skeleton)
+    if thin.dtype != bool or thin.ndim != 2:
+        raise TypeError(f"skeleton must be a 2-D boolean image, got dtype {thin.dtype}, shape {thin.shape}")
+    return _crossing_number(thin)
+
+
+def _crossing_number(skeleton: np.ndarray) -> np.ndarray:
+    """:func:`crossing_number` of a validated skeleton (the spur pruning loop's inner call)."""
     padded = np.pad(skeleton.astype(np.int8), 1)
     h, w = skeleton.shape
     ring = [(0, 1), (0, 2), (1, 2), (2, 2), (2, 1), (2, 0), (1, 0), (0, 0)]  # N, NE, E, SE, S, SW, W, NW
@@ -548,7 +566,7 @@ def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, 
     crop = array[top:rows[-1] + 2, left:cols[-1] + 2]
     offset = np.array([top, left])
     thin = full_skeleton[top:rows[-1] + 2, left:cols[-1] + 2]
-    n_c = crossing_number(thin)
+    n_c = _crossing_number(thin)
     endings = _cluster_centres(n_c == 1) + offset
     bifurcations = _cluster_centres(n_c > 2) + offset
     # Thinning preserves 8-connectivity, so a skeleton component is the skeleton of exactly one

@@ -2,14 +2,17 @@
 
 from __future__ import annotations
 
+import numbers
 from dataclasses import dataclass, field
 
 import cv2
 import numpy as np
 from skimage.feature import hog
 
-from amdo_lab.common import check_positive_int
+from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
 from amdo_lab.ear_biometrics.features import (
+    CROSSING_READINGS,
+    NORMALISATION_MODES,
     CircleFeatures,
     TopologyFeatures,
     as_grey_image,
@@ -43,11 +46,25 @@ class IdentificationResult:
     reason: str = ""
 
 
-def topology_similarity(query: TopologyFeatures, reference: TopologyFeatures, coordinate_tolerance: float = 0.2) -> float:
+# Default of topology_similarity(coordinate_tolerance=...), also what EarMatcher ranks with.
+_COORDINATE_TOLERANCE = 0.2
+
+
+def topology_similarity(query: TopologyFeatures, reference: TopologyFeatures,
+                        coordinate_tolerance: float = _COORDINATE_TOLERANCE) -> float:
     """Steps 7-9: fraction of contours (of the larger set) whose triple (N_E, N_B, N_I) equals that of
     an unused contour of the other image *and* whose characteristic points lie within
     ``coordinate_tolerance`` (normalised units, mean nearest-point distance) of it. Greedy, outermost
     contour first (the paper's tracing order)."""
+    for features, name in ((query, "query"), (reference, "reference")):
+        if not isinstance(features, TopologyFeatures):
+            raise TypeError(f"{name} must be TopologyFeatures (from topology_features), got {type(features).__name__}")
+    tolerance = check_positive(coordinate_tolerance, "coordinate_tolerance", allow_zero=True)
+    return _topology_similarity(query, reference, tolerance)
+
+
+def _topology_similarity(query: TopologyFeatures, reference: TopologyFeatures, coordinate_tolerance: float) -> float:
+    """:func:`topology_similarity` on validated input (called for every shortlisted candidate)."""
     used = np.zeros(len(reference.contours), bool)
     matched = 0
     for contour in query.contours:
@@ -107,6 +124,28 @@ class EarMatcher:
     _ids: list = field(default_factory=list, init=False, repr=False)
     _templates: list = field(default_factory=list, init=False, repr=False)
 
+    def __post_init__(self) -> None:
+        # Checked once here, under the matcher's own names; several settings (the step 2-4 rule and
+        # the ranking weight) are not used by any function that would check them later.
+        check_positive(self.k, "k", allow_zero=True)
+        if check_positive_int(self.window, "window", minimum=3) % 2 == 0:
+            raise ValueError(f"window must be odd, got {self.window}")
+        check_positive(self.smoothing, "smoothing", allow_zero=True)
+        check_positive_int(self.n_circles, "n_circles")
+        check_positive(self.step, "step")
+        check_positive_int(self.min_component_size, "min_component_size")
+        check_positive_int(self.closing, "closing", minimum=0)
+        check_positive_int(self.count_tolerance, "count_tolerance", minimum=0)
+        check_positive_int(self.max_count_violations, "max_count_violations", minimum=0)
+        _check_distance_threshold(self.distance_threshold, "distance_threshold")
+        check_positive(self.topology_weight, "topology_weight", allow_zero=True)
+        check_choice(self.mode, "mode", NORMALISATION_MODES)
+        check_positive(self.min_gap, "min_gap", allow_zero=True)
+        check_choice(self.crossings, "crossings", CROSSING_READINGS)
+        check_positive_int(self.polyline_smoothing, "polyline_smoothing", minimum=0)
+        check_positive(self.band, "band", allow_zero=True)
+        check_positive_int(self.spur_length, "spur_length", minimum=0)
+
     def extract(self, image: object) -> EarTemplate:
         """Features of one image: contours (eqs. 1-5), clean-up, V and F."""
         grey = as_grey_image(image)  # validates; 8-bit input keeps the detector's fast uint8 path
@@ -162,6 +201,12 @@ class EarMatcher:
     def identify_template(self, query: EarTemplate, *, shortlist: int = 10) -> IdentificationResult:
         """Steps 2-9 on already extracted features."""
         shortlist = check_positive_int(shortlist, "shortlist")
+        if not self._ids:
+            raise ValueError("no subject enrolled: call enroll() first")
+        if not isinstance(query, EarTemplate):
+            raise TypeError(f"query must be an EarTemplate, got {type(query).__name__}")
+        if len(query.circles.counts) != self.n_circles:
+            raise ValueError(f"query has {len(query.circles.counts)} circles, matcher expects {self.n_circles}")
         count_gap = np.abs(self._counts - query.circles.counts)
         violations = np.sum(count_gap > self.count_tolerance, axis=1)
         sum_gap = np.abs(self._sums - query.circles.distance_sums).mean(axis=1)
@@ -171,7 +216,8 @@ class EarMatcher:
         if len(candidates) == 0:
             return IdentificationResult(None, (), np.zeros(0), scores, "no reference passed steps 2-4")
         candidates = candidates[np.argsort(sum_gap[candidates])][:shortlist]
-        topo = np.array([topology_similarity(query.topology, self._templates[i].topology) for i in candidates])
+        topo = np.array([_topology_similarity(query.topology, self._templates[i].topology, _COORDINATE_TOLERANCE)
+                         for i in candidates])
         final = sum_gap[candidates] - self.topology_weight * topo
         order = np.argsort(final, kind="stable")
         candidates, final = candidates[order], final[order]
@@ -193,15 +239,23 @@ class HogNearestNeighbour:
         cell = (self.pixels_per_cell, self.pixels_per_cell)
         return hog(grey, orientations=9, pixels_per_cell=cell, cells_per_block=(2, 2), feature_vector=True)
 
+    def _check_size(self, image: object) -> None:
+        """Descriptors are only comparable between images of one size (the HOG grid depends on it)."""
+        if self._ids and np.shape(image) != self._shape:
+            raise ValueError(f"image must have the enrolled images' shape {self._shape}, got {np.shape(image)}")
+
     def enroll(self, subject_id: object, image: object) -> None:
-        self._ids.append(subject_id)
+        self._check_size(image)
         self._features.append(self.describe(image))
+        self._ids.append(subject_id)
+        self._shape = np.shape(image)
         self._matrix = np.array(self._features)
 
     def distances(self, image: object) -> np.ndarray:
         """L2 distance from the query's HOG to every enrolled HOG (lower is better)."""
         if not self._ids:
             raise ValueError("no subject enrolled: call enroll() first")
+        self._check_size(image)
         return np.linalg.norm(self._matrix - self.describe(image), axis=1)
 
     def identify(self, image: object) -> object:
@@ -221,8 +275,25 @@ class OpenSetRates:
 def open_set_rates(matcher: EarMatcher, genuine: list, genuine_ids: list, impostors: list,
                    thresholds: np.ndarray) -> OpenSetRates:
     """Sweep ``matcher.distance_threshold`` (step 4) over ``thresholds`` on extracted templates;
-    the matcher's threshold is restored afterwards."""
-    thresholds = np.asarray(thresholds, float)
+    the matcher's threshold is restored afterwards.
+
+    ``genuine`` (templates of enrolled subjects, with their ``genuine_ids``) and ``impostors``
+    (templates of subjects never enrolled) are non-empty lists of :class:`EarTemplate`;
+    ``thresholds`` is a non-empty 1-D sequence of non-negative numbers (``inf``: no threshold).
+    """
+    if not isinstance(matcher, EarMatcher):
+        raise TypeError(f"matcher must be an EarMatcher, got {type(matcher).__name__}")
+    if not matcher.n_enrolled:
+        raise ValueError("matcher has no subject enrolled: call enroll() first")
+    for templates, name in ((genuine, "genuine"), (impostors, "impostors")):
+        _check_templates(templates, name)
+    if len(genuine_ids) != len(genuine):
+        raise ValueError(f"genuine_ids must give one subject per genuine template ({len(genuine)}), "
+                         f"got {len(genuine_ids)}")
+    values = np.asarray(thresholds, dtype=object)
+    if values.ndim != 1 or values.size == 0:
+        raise ValueError(f"thresholds must be a non-empty 1-D sequence, got shape {values.shape}")
+    thresholds = np.array([_check_distance_threshold(t, "thresholds") for t in values.tolist()])
     saved = matcher.distance_threshold
     far, frr, mis = [], [], []
     try:
@@ -238,13 +309,46 @@ def open_set_rates(matcher: EarMatcher, genuine: list, genuine_ids: list, impost
 
 
 def rank_of_truth(scores: np.ndarray, enrolled_ids: np.ndarray, true_id: object) -> int:
-    """1-based rank of the best-scoring template of ``true_id`` when templates are sorted by score."""
-    scores = np.asarray(scores, float)
-    best_true = scores[np.asarray(enrolled_ids) == true_id].min()
+    """1-based rank of the best-scoring template of ``true_id`` when templates are sorted by score.
+
+    ``scores`` ``(n,)`` are finite (a NaN would compare as neither better nor worse); ``enrolled_ids``
+    gives the subject of each of the n templates and must include ``true_id``.
+    """
+    scores = as_finite_array(scores, "scores", ndim=1)
+    enrolled_ids = np.asarray(enrolled_ids)
+    if enrolled_ids.shape != scores.shape:
+        raise ValueError(f"enrolled_ids must have one subject per score, shape {scores.shape}, "
+                         f"got {enrolled_ids.shape}")
+    own = enrolled_ids == true_id
+    if not np.any(own):
+        raise ValueError(f"true_id {true_id!r} is not among enrolled_ids")
+    best_true = scores[own].min()
     return int(np.sum(scores < best_true) + 1)
 
 
 def cumulative_match(ranks: np.ndarray, max_rank: int) -> np.ndarray:
-    """CMC: fraction of queries whose true subject is within rank 1..max_rank."""
-    ranks = np.asarray(ranks)
+    """CMC: fraction of queries whose true subject is within rank 1..max_rank (``ranks``: 1-D, ints >= 1)."""
+    ranks = as_finite_array(ranks, "ranks", ndim=1, dtype=int)
+    if np.any(ranks < 1):
+        raise ValueError(f"ranks must be 1-based (>= 1), got minimum {ranks.min()}")
     return np.array([np.mean(ranks <= r) for r in range(1, check_positive_int(max_rank, "max_rank") + 1)])
+
+
+def _check_distance_threshold(value: object, name: str) -> float:
+    """A step-4 threshold: a non-negative number (0 accepts nothing), or ``inf`` for no threshold
+    (the matcher's default)."""
+    if isinstance(value, numbers.Real) and not isinstance(value, bool):
+        if value == np.inf:
+            return float(value)
+        if np.isnan(value) or value == -np.inf:
+            raise ValueError(f"{name} must be a non-negative number or inf (no threshold), got {value}")
+    return check_positive(value, name, allow_zero=True)
+
+
+def _check_templates(templates: object, name: str) -> None:
+    """A non-empty list of :class:`EarTemplate` (features, not images)."""
+    if isinstance(templates, (str, np.ndarray)) or not hasattr(templates, "__len__") or not len(templates):
+        raise ValueError(f"{name} must be a non-empty list of EarTemplate")
+    wrong = [type(t).__name__ for t in templates if not isinstance(t, EarTemplate)]
+    if wrong:
+        raise TypeError(f"{name} must hold EarTemplate objects (from EarMatcher.extract), got {wrong[0]}")

@@ -3,9 +3,17 @@
 from __future__ import annotations
 
 import numpy as np
+from matplotlib.axes import Axes
 
 from amdo_lab.common import PALETTE
 from amdo_lab.ear_biometrics.features import CircleFeatures, TopologyFeatures
+
+
+def _check_plot_arguments(ax: object, features: object, kind: type) -> None:
+    if not isinstance(ax, Axes):
+        raise TypeError(f"ax must be a matplotlib Axes, got {type(ax).__name__}")
+    if not isinstance(features, kind):
+        raise TypeError(f"features must be {kind.__name__}, got {type(features).__name__}")
 
 
 def _circle_pixels(features: CircleFeatures, radius: float, n: int = 200) -> np.ndarray:
@@ -16,6 +24,7 @@ def _circle_pixels(features: CircleFeatures, radius: float, n: int = 200) -> np.
 def draw_circles(ax, contours: np.ndarray, features: CircleFeatures, *, show_crossings: bool = False) -> None:
     """Contours (black), centroid (cross) and the N_r circles of V; optionally the crossings and the
     counter-clockwise polygon whose length is sum d (Fig. 6)."""
+    _check_plot_arguments(ax, features, CircleFeatures)
     ax.imshow(contours, cmap="gray_r", interpolation="nearest")
     centre = features.normalisation.centroid
     for radius in features.radii:
@@ -34,6 +43,7 @@ def draw_circles(ax, contours: np.ndarray, features: CircleFeatures, *, show_cro
 
 def draw_topology(ax, features: TopologyFeatures) -> None:
     """Skeleton with endings (E, squares), bifurcations (B, diamonds) and circle crossings (dots)."""
+    _check_plot_arguments(ax, features, TopologyFeatures)
     ax.imshow(features.skeleton, cmap="gray_r", interpolation="nearest")
     circles = features.circles
     for radius in circles.radii:

@@ -9,13 +9,14 @@ on a textured skin silhouette.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import os
+from dataclasses import dataclass, fields
 from pathlib import Path
 
 import cv2
 import numpy as np
 
-from amdo_lab.common import check_choice, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int, make_rng
 
 DIFFICULTIES = ("easy", "difficult")
 NUISANCE_FACTORS = ("rotation", "scale", "translation", "yaw", "illumination", "noise", "jitter")
@@ -143,8 +144,33 @@ def _bezier(start: np.ndarray, control: np.ndarray, end: np.ndarray, n: int = 40
     return (1 - t) ** 2 * start + 2 * (1 - t) * t * control + t**2 * end
 
 
+def _check_ear_shape(shape: object) -> EarShape:
+    """An :class:`EarShape` whose parameters are all finite (a NaN would draw a garbage image silently)."""
+    if not isinstance(shape, EarShape):
+        raise TypeError(f"shape must be an EarShape (from draw_ear_shape), got {type(shape).__name__}")
+    for item in fields(EarShape):
+        as_finite_array(getattr(shape, item.name), f"shape.{item.name}")
+    return shape
+
+
+def _check_pose(pose: object) -> CapturePose:
+    """A :class:`CapturePose` with finite values, a positive scale and a yaw under 90 degrees."""
+    if not isinstance(pose, CapturePose):
+        raise TypeError(f"pose must be a CapturePose (from draw_capture_pose), got {type(pose).__name__}")
+    as_finite_array(pose.rotation, "pose.rotation", ndim=0)
+    check_positive(pose.scale, "pose.scale")
+    as_finite_array(pose.translation, "pose.translation", shape=(2,))
+    if not abs(as_finite_array(pose.yaw, "pose.yaw", ndim=0)) < np.pi / 2:
+        raise ValueError(f"pose.yaw must be within (-pi/2, pi/2) (the ear faces the camera), got {pose.yaw}")
+    return pose
+
+
 def ear_curves(shape: EarShape) -> list[np.ndarray]:
     """Polylines (canonical frame) of the ear's anatomical curves; the first is the outer silhouette."""
+    return _ear_curves(_check_ear_shape(shape))
+
+
+def _ear_curves(shape: EarShape) -> list[np.ndarray]:
     angles = np.linspace(shape.helix_start, np.deg2rad(268), 160)
     helix = np.c_[np.cos(angles), np.sin(angles)] * shape.helix_axes * _radius(angles, shape.helix_harmonics)[:, None]
     bottom = helix[-1]
@@ -207,14 +233,22 @@ def render_ear(
     straight glasses arm. ``disable`` may hold ``"illumination"`` (difficult images only) and
     ``"noise"`` (see :data:`NUISANCE_FACTORS`).
     """
+    _check_ear_shape(shape)
+    _check_pose(pose)
     check_choice(difficulty, "difficulty", DIFFICULTIES)
     size = check_positive_int(size, "size", minimum=32)
     disable = check_disable(disable)
+    return _render_ear(shape, pose, rng, difficulty=difficulty, size=size, disable=disable)
+
+
+def _render_ear(shape: EarShape, pose: CapturePose, rng: np.random.Generator | int, *, difficulty: str, size: int,
+                disable: frozenset) -> np.ndarray:
+    """:func:`render_ear` on validated input (the database generator's per-image call)."""
     hard = difficulty == "difficult"
     # The paper's easy images were taken "without illumination changes" (Sec. 6): one fixed lighting.
     lit, noisy = hard and "illumination" not in disable, "noise" not in disable
     rng = make_rng(rng)
-    curves = [_to_pixels(c, pose, size) for c in ear_curves(shape)]
+    curves = [_to_pixels(c, pose, size) for c in _ear_curves(shape)]
     shift = 4  # sub-pixel drawing precision (cv2 fixed point)
 
     def polyline(canvas, pts, thickness, value=1.0, closed=False):
@@ -287,7 +321,33 @@ def draw_capture_pose(rng: np.random.Generator, *, frontal: bool, size: int, dif
                       max_yaw: float = 30.0, max_rotation: float | None = None) -> CapturePose:
     """Per-capture nuisance: rotation ±10° (±20° difficult) unless ``max_rotation`` (degrees) is given,
     scale 0.85–1.1, shift ±6 % of the image, yaw 0 for the perpendicular capture, else uniform in
-    [2/3, 1] x ``max_yaw`` degrees (the paper's second view is at 30°)."""
+    [2/3, 1] x ``max_yaw`` degrees (the paper's second view is at 30°).
+
+    ``rng`` is a generator or an int seed, ``frontal`` a bool, ``size`` the image side (>= 32),
+    ``max_yaw`` in [0, 90) degrees and ``max_rotation`` non-negative.
+    """
+    rng = make_rng(rng)
+    if not isinstance(frontal, (bool, np.bool_)):
+        raise TypeError(f"frontal must be a bool, got {type(frontal).__name__}")
+    size = check_positive_int(size, "size", minimum=32)
+    check_choice(difficulty, "difficulty", DIFFICULTIES)
+    max_yaw, max_rotation = _check_pose_ranges(max_yaw, max_rotation)
+    return _draw_capture_pose(rng, frontal=frontal, size=size, difficulty=difficulty, max_yaw=max_yaw,
+                              max_rotation=max_rotation)
+
+
+def _check_pose_ranges(max_yaw: object, max_rotation: object) -> tuple[object, object]:
+    """``max_yaw`` in [0, 90) degrees (at 90 the ear is seen edge-on) and a non-negative ``max_rotation``."""
+    if not check_positive(max_yaw, "max_yaw", allow_zero=True) < 90:
+        raise ValueError(f"max_yaw must be below 90 degrees, got {max_yaw}")
+    if max_rotation is not None:
+        check_positive(max_rotation, "max_rotation", allow_zero=True)
+    return max_yaw, max_rotation
+
+
+def _draw_capture_pose(rng: np.random.Generator, *, frontal: bool, size: int, difficulty: str,
+                       max_yaw: float, max_rotation: float | None) -> CapturePose:
+    """:func:`draw_capture_pose` on validated input."""
     hard = difficulty == "difficult"
     if max_rotation is None:
         max_rotation = 20.0 if hard else 10.0
@@ -335,6 +395,7 @@ def generate_ear_database(
     images_per_subject = check_positive_int(images_per_subject, "images_per_subject")
     check_choice(difficulty, "difficulty", DIFFICULTIES)
     size = check_positive_int(size, "size", minimum=32)
+    max_yaw, max_rotation = _check_pose_ranges(max_yaw, max_rotation)
     disable = check_disable(disable)
     rng = make_rng(rng)
     shapes, poses, images, ids = [], [], [], []
@@ -342,12 +403,12 @@ def generate_ear_database(
         shape = draw_ear_shape(rng)
         shapes.append(shape)
         for capture in range(images_per_subject):
-            pose = _neutralise(draw_capture_pose(rng, frontal=capture == 0, size=size, difficulty=difficulty,
-                                                 max_yaw=max_yaw, max_rotation=max_rotation), disable)
+            pose = _neutralise(_draw_capture_pose(rng, frontal=capture == 0, size=size, difficulty=difficulty,
+                                                  max_yaw=max_yaw, max_rotation=max_rotation), disable)
             jittered = _jitter_shape(shape, rng, 0.005)
             if "jitter" in disable:
                 jittered = shape
-            images.append(render_ear(jittered, pose, rng, difficulty=difficulty, size=size, disable=disable))
+            images.append(_render_ear(jittered, pose, rng, difficulty=difficulty, size=size, disable=disable))
             poses.append(pose)
             ids.append(subject)
     return EarDatabase(np.stack(images), np.array(ids), tuple(shapes), tuple(poses), difficulty)
@@ -363,6 +424,10 @@ def load_ear_folder(folder: str | Path, *, size: int | None = None) -> tuple[lis
     read in sorted order. Colour images are converted to grey (OpenCV's BGR->GRAY weights).
     ``size`` resizes every image to ``size x size`` (area interpolation) when given.
     """
+    if not isinstance(folder, (str, os.PathLike)):
+        raise TypeError(f"folder must be a path (str or pathlib.Path), got {type(folder).__name__}")
+    if size is not None:
+        size = check_positive_int(size, "size")
     folder = Path(folder)
     if not folder.is_dir():
         raise ValueError(f"folder must be an existing directory, got {folder.name!r}")

@@ -10,8 +10,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from amdo_lab.common import check_choice
-from amdo_lab.face_glmm.design import build_design, parse_formula
+from amdo_lab.common import check_choice, check_positive_int
+from amdo_lab.face_glmm.design import build_design, group_indices, parse_formula
+from amdo_lab.face_glmm.glmm import _check_random_terms, _response_counts
 
 __all__ = ["lme4_available", "fit_with_lme4", "fit_gee_exchangeable", "fit_naive_logistic"]
 
@@ -53,10 +54,13 @@ def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), tri
     whose interactions have at most one multi-level factor first), ``standard_errors``,
     ``variance_components`` (term -> variance) and ``seconds`` (R's elapsed fit time).
     """
+    design, _ = _design_and_response(table, fixed, trials)
+    random = _check_random_terms(random)
+    for term in random:
+        group_indices(table, term)  # its columns exist and have no missing values
     if not lme4_available():
         raise RuntimeError("Rscript with lme4 is not available")
     response, terms = parse_formula(fixed)
-    design = build_design(table, terms)
     factors = [v for v, lev in design.levels.items() if lev is not None]
     rhs = " + ".join(":".join(term) for term in terms)
     random_part = " + ".join(f"(1|{g})" for g in random)
@@ -87,10 +91,14 @@ def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), tri
     }
 
 
-def _design_and_response(table, fixed):
+def _design_and_response(table: object, fixed: str, trials: object) -> tuple:
+    """The fixed design and the response counts, after checking the table and ``trials``."""
+    if not isinstance(table, pd.DataFrame):
+        raise TypeError(f"table must be a pandas DataFrame, got {type(table).__name__}")
+    trials = check_positive_int(trials, "trials")
     response, terms = parse_formula(fixed)
-    design = build_design(table, terms)
-    return design, table[response].to_numpy(dtype=float)
+    y = _response_counts(table, response, trials)  # proportions above 1 would not be refused by statsmodels
+    return build_design(table, terms), y
 
 
 def fit_gee_exchangeable(table: pd.DataFrame, fixed: str, group: str = "p", trials: int = 30,
@@ -104,7 +112,9 @@ def fit_gee_exchangeable(table: pd.DataFrame, fixed: str, group: str = "p", tria
 
     check_choice(correlation, "correlation", ("exchangeable", "independence"))
     structure = sm.cov_struct.Exchangeable() if correlation == "exchangeable" else sm.cov_struct.Independence()
-    design, y = _design_and_response(table, fixed)
+    design, y = _design_and_response(table, fixed, trials)
+    if group not in table.columns:
+        raise ValueError(f"group {group!r} is not a column of table")
     order = np.argsort(table[group].to_numpy(), kind="stable")
     model = sm.GEE(y[order] / trials, design.matrix[order], groups=table[group].to_numpy()[order],
                    family=sm.families.Binomial(), cov_struct=structure)
@@ -120,7 +130,7 @@ def fit_naive_logistic(table: pd.DataFrame, fixed: str, trials: int = 30) -> pd.
     """Ordinary binomial GLM ignoring all grouping (the naive analysis)."""
     import statsmodels.api as sm
 
-    design, y = _design_and_response(table, fixed)
+    design, y = _design_and_response(table, fixed, trials)
     endog = np.column_stack([y, trials - y])
     fitted = sm.GLM(endog, design.matrix, family=sm.families.Binomial()).fit()
     return pd.DataFrame({"estimate": fitted.params, "se": fitted.bse}, index=list(design.column_names))

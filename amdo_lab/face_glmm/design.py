@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from itertools import combinations
 
@@ -89,7 +90,21 @@ def _variable_coding(column: pd.Series, name: str, levels=None) -> tuple[np.ndar
 
 
 def build_design(table: pd.DataFrame, terms: list[tuple[str, ...]], levels: dict | None = None) -> DesignMatrix:
-    """Intercept plus one block of columns per term (row-wise products of codings)."""
+    """Intercept plus one block of columns per term (row-wise products of codings).
+
+    ``terms`` are tuples of column names (as :func:`parse_formula` returns them); ``levels``
+    optionally maps a factor to the levels to code it with.
+    """
+    _check_table(table)
+    if isinstance(terms, (str, tuple)) or not hasattr(terms, "__iter__"):
+        raise TypeError(f"terms must be a list of tuples of column names (see parse_formula), got {terms!r}")
+    terms = list(terms)
+    bad = [term for term in terms if not isinstance(term, tuple) or not term
+           or not all(isinstance(name, str) for name in term)]
+    if bad:
+        raise TypeError(f"terms must be a list of tuples of column names (see parse_formula), got the term {bad[0]!r}")
+    if levels is not None and not isinstance(levels, Mapping):
+        raise TypeError(f"levels must map factor names to their levels, got {type(levels).__name__}")
     variables = sorted({v for term in terms for v in term})
     missing = [v for v in variables if v not in table.columns]
     if missing:
@@ -118,6 +133,9 @@ def build_design(table: pd.DataFrame, terms: list[tuple[str, ...]], levels: dict
 
 def group_indices(table: pd.DataFrame, term: str) -> np.ndarray:
     """Integer level index (0..q-1) of a grouping term such as ``"t"`` or ``"t:p"``."""
+    _check_table(table)
+    if not isinstance(term, str):
+        raise TypeError(f"term must be a grouping term such as 't' or 't:p', got {type(term).__name__}")
     names = [s.strip() for s in term.split(":")]
     missing = [v for v in names if v not in table.columns]
     if missing:
@@ -129,3 +147,8 @@ def group_indices(table: pd.DataFrame, term: str) -> np.ndarray:
         return pd.factorize(table[names[0]], sort=True)[0]
     keys = pd.MultiIndex.from_frame(table[names].astype(str))
     return pd.factorize(keys, sort=True)[0]
+
+
+def _check_table(table: object) -> None:
+    if not isinstance(table, pd.DataFrame):
+        raise TypeError(f"table must be a pandas DataFrame, got {type(table).__name__}")

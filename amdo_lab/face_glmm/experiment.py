@@ -13,10 +13,11 @@ import numpy as np
 import pandas as pd
 from threadpoolctl import threadpool_limits
 
-from amdo_lab.common import check_positive, check_positive_int, make_rng
-from amdo_lab.face_glmm.pcalda import METRICS, PcaLda, pca_basis, weighted_sq_distances
+from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng
+from amdo_lab.face_glmm.pcalda import METRICS, PcaLda, _pca_basis, _weighted_sq_distances
 from amdo_lab.face_glmm.population import (
     STANDARD_SHAPE,
+    _check_image_shape,
     downsample_by_two,
     elliptical_mask,
     generate_face_population,
@@ -50,12 +51,20 @@ class FactorialDesign:
         check_positive_int(self.n_training_sets, "n_training_sets")
         check_positive_int(self.n_galleries, "n_galleries")
         check_positive(self.nuisance, "nuisance")
-        if not 2 <= self.n_train_subjects <= self.n_subjects:
+        if not 2 <= check_positive_int(self.n_train_subjects, "n_train_subjects") <= self.n_subjects:
             raise ValueError(f"n_train_subjects must be in [2, n_subjects={self.n_subjects}], "
                              f"got {self.n_train_subjects}")
         bad = [s for s in self.supplements if s not in SUPPLEMENTS]
         if bad or not self.supplements:
             raise ValueError(f"supplements must be a non-empty subset of {SUPPLEMENTS}, got {self.supplements}")
+        if len(set(self.supplements)) != len(self.supplements):
+            raise ValueError(f"supplements must not repeat a supplement, got {self.supplements}")
+        # checked here rather than after the population is drawn: the small size halves each side
+        rows, cols = _check_image_shape(self.shape, minimum=8)
+        if rows % 2 or cols % 2:
+            raise ValueError(f"shape must have even rows and cols (the small size halves them), got {self.shape}")
+        if not isinstance(self.population_kwargs, dict):
+            raise TypeError(f"population_kwargs must be a dict, got {type(self.population_kwargs).__name__}")
 
 
 def paper_design() -> FactorialDesign:
@@ -75,7 +84,16 @@ def make_supplement(images: np.ndarray, kind: str, rng: np.random.Generator) -> 
     shift: one pixel to the left (the vacated column is 0, the masked background);
     reflection: mirror about the vertical mid-line; noise: Gaussian, sd 2 % of each
     image's dynamic range. The face mask is re-applied so the background stays 0.
+    ``images`` is ``(n, rows, cols)``; ``rng`` (a generator or an int seed) is used by "noise" only.
     """
+    images = as_finite_array(images, "images", ndim=3)
+    if kind == "noise":
+        rng = make_rng(rng)
+    return _make_supplement(images, kind, rng)
+
+
+def _make_supplement(images: np.ndarray, kind: str, rng: np.random.Generator) -> np.ndarray:
+    """:func:`make_supplement` on validated images (the experiment's inner call)."""
     mask = elliptical_mask(images.shape[1:])
     if kind == "shift":
         out = np.zeros_like(images)
@@ -149,17 +167,17 @@ def _run(design: FactorialDesign, rng) -> pd.DataFrame:
                 if u == "none":
                     train, labels = base, base_labels
                 else:
-                    extra = make_supplement(base, u, noise_rngs[t * len(SIZES) + si])
+                    extra = _make_supplement(base, u, noise_rngs[t * len(SIZES) + si])
                     train = np.concatenate([base, extra])
                     labels = np.concatenate([base_labels, base_labels])
                 samples = train.reshape(train.shape[0], -1)
-                basis = pca_basis(samples)  # shared by both PCA dimensions
+                basis = _pca_basis(samples)  # shared by both PCA dimensions
                 for d in DIMENSIONS:
                     model = PcaLda(d).fit(samples, labels, basis=basis)
                     probe_feat = model.transform(probes)
                     cand_feat = model.transform(candidates.reshape(n * 3, -1))
                     for m in METRICS:
-                        dist = weighted_sq_distances(probe_feat, cand_feat, model.metric_weights(m))
+                        dist = _weighted_sq_distances(probe_feat, cand_feat, model.metric_weights(m))
                         y = _rank1_counts(dist.reshape(n, n, 3), gallery_choice)
                         blocks.append(pd.DataFrame({
                             "t": t, "p": np.arange(n), "U": u, "M": m, "D": d, "S": size,

@@ -24,6 +24,7 @@ from scipy.special import expit, log_expit, xlogy
 
 from threadpoolctl import threadpool_limits
 
+from amdo_lab.common import as_finite_array, check_positive
 from amdo_lab.face_glmm.design import DesignMatrix, build_design, group_indices, parse_formula
 
 __all__ = ["GlmmResult", "fit_binomial_glmm", "binomial_deviance"]
@@ -68,6 +69,8 @@ class GlmmResult:
         With sum-to-zero coding the average over a factor's levels is obtained by
         setting every column of every term that contains it to 0.
         """
+        _check_frame(grid, "grid")
+        _check_ci(ci)
         full = grid.copy()
         absent = [v for v, lev in self.design.levels.items() if v not in grid.columns]
         for v in absent:
@@ -97,16 +100,85 @@ class GlmmResult:
         Returns columns ``p`` (and ``lower``/``upper`` for a Wald interval on the logit
         scale when ``ci`` is given).
         """
+        _check_frame(newdata, "newdata")
+        _check_ci(ci)
         _, terms = parse_formula(self.formula)
         design = build_design(newdata, terms, self.design.levels).matrix
         return self._predict_rows(design, newdata.index, ci)
+
+
+def _check_frame(frame: object, name: str) -> None:
+    if not isinstance(frame, pd.DataFrame):
+        raise TypeError(f"{name} must be a pandas DataFrame, got {type(frame).__name__}")
+    if frame.empty:
+        raise ValueError(f"{name} must have at least one row, got an empty DataFrame")
+
+
+def _check_ci(ci: object) -> None:
+    """A Wald interval level strictly between 0 and 1 (or None for no interval)."""
+    if ci is not None and not check_positive(ci, "ci") < 1:
+        raise ValueError(f"ci must be in (0, 1), got {ci}")
+
+
+def _response_counts(table: pd.DataFrame, response: str, trials: int) -> np.ndarray:
+    """The response column as float counts, each an integer in [0, trials]."""
+    if response not in table.columns:
+        raise ValueError(f"response {response!r} is not a column of table")
+    if pd.api.types.is_bool_dtype(table[response]):
+        raise TypeError(f"response {response!r} must hold counts, got booleans")
+    y = pd.to_numeric(table[response], errors="coerce").to_numpy(dtype=float)
+    if not np.all(np.isfinite(y)):
+        raise ValueError(f"response {response!r} must be finite counts, got NaN/non-numeric values")
+    if np.any(y < 0) or np.any(y > trials) or np.any(y != np.round(y)):
+        raise ValueError(f"response {response!r} must hold integer counts in [0, trials={trials}]")
+    return y
+
+
+def _check_random_terms(random: object) -> tuple[str, ...]:
+    """Grouping terms: a non-empty sequence of distinct names such as "t", "p" or "t:p"."""
+    if isinstance(random, str):
+        random = [random]
+    if not hasattr(random, "__iter__"):
+        raise TypeError(f"random must be a sequence of grouping terms, got {type(random).__name__}")
+    random = tuple(random)
+    if not random:
+        raise ValueError("random must name at least one grouping term")
+    bad = [term for term in random if not isinstance(term, str) or not term.strip()]
+    if bad:
+        raise TypeError(f"random must hold grouping terms as non-empty strings, got {bad[0]!r}")
+    if len(set(random)) != len(random):
+        raise ValueError(f"random must not repeat a grouping term, got {random}")
+    return random
 
 
 def binomial_deviance(y: np.ndarray, trials: np.ndarray, eta: np.ndarray) -> float:
     """Binomial deviance 2 sum[y log(y/mu) + (n-y) log((n-y)/(n-mu))], mu = n expit(eta).
 
     Written with log-expit of the linear predictor so that p -> 0 or 1 stays finite.
+
+    Parameters
+    ----------
+    y : array_like
+        Success counts, each in [0, trials].
+    trials : float or array_like
+        Positive binomial sizes n, one per count or one for all.
+    eta : array_like
+        Linear predictor, the shape of ``y``.
     """
+    y = as_finite_array(y, "y")
+    eta = as_finite_array(eta, "eta", shape=y.shape)
+    trials = as_finite_array(trials, "trials")
+    if trials.shape not in ((), y.shape):
+        raise ValueError(f"trials must be a number or have the shape of y {y.shape}, got {trials.shape}")
+    if np.any(trials <= 0):
+        raise ValueError("trials must be positive")
+    if np.any(y < 0) or np.any(y > trials):
+        raise ValueError("y must hold counts in [0, trials]")
+    return _binomial_deviance(y, trials, eta)
+
+
+def _binomial_deviance(y: np.ndarray, trials: np.ndarray, eta: np.ndarray) -> float:
+    """:func:`binomial_deviance` on validated arrays (the IRLS loop's inner call)."""
     saturated = xlogy(y, y / trials) + xlogy(trials - y, (trials - y) / trials)
     fitted = y * log_expit(eta) + (trials - y) * log_expit(-eta)
     return float(2.0 * np.sum(saturated - fitted))
@@ -142,7 +214,7 @@ class _Problem:
             return self.x @ b + z_rest_l @ ur + lam_big * ub[self.g_big]
 
         def pdev(eta, ur, ub):
-            return binomial_deviance(self.y, self.trials, eta) + ur @ ur + ub @ ub
+            return _binomial_deviance(self.y, self.trials, eta) + ur @ ur + ub @ ub
 
         eta = eta_of(beta, u_rest, u_big)
         current = pdev(eta, u_rest, u_big)
@@ -247,21 +319,14 @@ def fit_binomial_glmm(
 def _fit(table, fixed, random, trials, start_sd) -> GlmmResult:
     if not isinstance(table, pd.DataFrame):
         raise TypeError(f"table must be a pandas DataFrame, got {type(table).__name__}")
-    if isinstance(random, str):
-        random = [random]
-    random = tuple(random)
-    if not random:
-        raise ValueError("random must name at least one grouping term")
+    if table.empty:
+        raise ValueError("table must have at least one row, got an empty DataFrame")
+    random = _check_random_terms(random)
     if not isinstance(trials, (int, np.integer)) or isinstance(trials, bool) or trials < 1:
         raise ValueError(f"trials must be a positive int, got {trials!r}")
+    start_sd = check_positive(start_sd, "start_sd", allow_zero=True)  # L-BFGS-B would clip a negative one silently
     response, terms = parse_formula(fixed)
-    if response not in table.columns:
-        raise ValueError(f"response {response!r} is not a column of table")
-    y = pd.to_numeric(table[response], errors="coerce").to_numpy(dtype=float)
-    if not np.all(np.isfinite(y)):
-        raise ValueError(f"response {response!r} must be finite counts, got NaN/non-numeric values")
-    if np.any(y < 0) or np.any(y > trials) or np.any(y != np.round(y)):
-        raise ValueError(f"response {response!r} must hold integer counts in [0, trials={trials}]")
+    y = _response_counts(table, response, trials)
     design = build_design(table, terms)
     x = design.matrix
     if np.linalg.matrix_rank(x) < x.shape[1]:

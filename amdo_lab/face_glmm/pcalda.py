@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from amdo_lab.common import as_finite_array, check_choice
+from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
 
 __all__ = ["PcaLda", "PcaBasis", "pca_basis", "e90_dimension", "fisher_basis", "METRICS"]
 
@@ -25,7 +25,15 @@ class PcaBasis:
 
 
 def pca_basis(samples: np.ndarray) -> PcaBasis:
-    """PCA of row-vector samples by a thin SVD (the 'eigenfaces' of Sec. 3)."""
+    """PCA of row-vector samples ``(n, n_pixels)``, n >= 2, by a thin SVD (the 'eigenfaces' of Sec. 3)."""
+    samples = as_finite_array(samples, "samples", ndim=2)
+    if samples.shape[0] < 2:
+        raise ValueError(f"samples must have at least 2 rows for a covariance, got {samples.shape[0]}")
+    return _pca_basis(samples)
+
+
+def _pca_basis(samples: np.ndarray) -> PcaBasis:
+    """:func:`pca_basis` on validated samples (once per configuration of the experiment)."""
     mean = samples.mean(axis=0)
     _, singular, vt = np.linalg.svd(samples - mean, full_matrices=False)
     rank = max(1, min(samples.shape[0] - 1, int(np.sum(singular > singular[0] * 1e-10))))
@@ -33,7 +41,19 @@ def pca_basis(samples: np.ndarray) -> PcaBasis:
 
 
 def e90_dimension(eigenvalues: np.ndarray, energy: float = 0.90) -> int:
-    """Number of leading eigenvectors holding ``energy`` of the total (E90%, Kirby [7])."""
+    """Number of leading eigenvectors holding ``energy`` of the total (E90%, Kirby [7]).
+
+    ``eigenvalues`` are non-negative, in decreasing order, with a positive sum; ``energy`` is in (0, 1].
+    """
+    eigenvalues = as_finite_array(eigenvalues, "eigenvalues", ndim=1)
+    if np.any(eigenvalues < 0) or eigenvalues.sum() <= 0:
+        raise ValueError("eigenvalues must be non-negative with a positive sum")
+    if check_positive(energy, "energy") > 1:
+        raise ValueError(f"energy must be in (0, 1], got {energy}")
+    return _e90_dimension(eigenvalues, energy)
+
+
+def _e90_dimension(eigenvalues: np.ndarray, energy: float = 0.90) -> int:
     cumulative = np.cumsum(eigenvalues) / np.sum(eigenvalues)
     return int(np.searchsorted(cumulative, energy) + 1)
 
@@ -76,10 +96,11 @@ class PcaLda:
     def __init__(self, pca_dimension: int | str = "fixed", base_images_per_class: int = 3):
         if isinstance(pca_dimension, str):
             check_choice(pca_dimension, "pca_dimension", ("fixed", "e90"))
-        elif not isinstance(pca_dimension, (int, np.integer)) or pca_dimension < 1:
+        elif (not isinstance(pca_dimension, (int, np.integer)) or isinstance(pca_dimension, (bool, np.bool_))
+              or pca_dimension < 1):
             raise ValueError(f"pca_dimension must be a positive int, 'fixed' or 'e90', got {pca_dimension!r}")
         self.pca_dimension = pca_dimension
-        self.base_images_per_class = int(base_images_per_class)
+        self.base_images_per_class = check_positive_int(base_images_per_class, "base_images_per_class")
 
     def fit(self, images: np.ndarray, labels: np.ndarray, basis: PcaBasis | None = None) -> "PcaLda":
         """Train on ``images`` (n, rows, cols) or (n, pixels) with subject ``labels``."""
@@ -87,6 +108,13 @@ class PcaLda:
         labels = np.asarray(labels)
         if labels.shape != (samples.shape[0],):
             raise ValueError(f"labels must have shape ({samples.shape[0]},), got {labels.shape}")
+        if labels.dtype.kind == "f" and np.isnan(labels).any():
+            raise ValueError("labels must not contain NaN (every image needs a subject)")
+        if basis is not None and not isinstance(basis, PcaBasis):
+            raise TypeError(f"basis must be a PcaBasis (from pca_basis), got {type(basis).__name__}")
+        if basis is not None and basis.mean.shape != (samples.shape[1],):
+            raise ValueError(f"basis must be the PcaBasis of images with {samples.shape[1]} pixels, "
+                             f"got one of {basis.mean.size} pixels")
         n_classes = np.unique(labels).size
         if n_classes < 2:
             raise ValueError("labels must contain at least 2 subjects for LDA")
@@ -95,10 +123,10 @@ class PcaLda:
                 f"too few images for LDA: {samples.shape[0]} images of {n_classes} subjects leave "
                 f"{samples.shape[0] - n_classes} within-class degrees of freedom, need >= {n_classes - 1}"
             )
-        self.basis_ = basis if basis is not None else pca_basis(samples)
+        self.basis_ = basis if basis is not None else _pca_basis(samples)
         cap = min(samples.shape[0] - n_classes, self.basis_.vectors.shape[1])
         if self.pca_dimension == "e90":
-            k = e90_dimension(self.basis_.eigenvalues)
+            k = _e90_dimension(self.basis_.eigenvalues)
         elif self.pca_dimension == "fixed":
             k = int(0.6 * (n_classes * self.base_images_per_class - 1))  # 114 for 64 x 3
         else:
@@ -114,6 +142,7 @@ class PcaLda:
 
     def transform(self, images: np.ndarray) -> np.ndarray:
         """Coordinates in the PCA+LDA space, shape (n, C-1)."""
+        self._check_fitted()
         samples = _as_samples(images)
         if samples.shape[1] != self.projection_.shape[0]:
             raise ValueError(f"images must have {self.projection_.shape[0]} pixels, got {samples.shape[1]}")
@@ -122,18 +151,37 @@ class PcaLda:
     def distances(self, probes: np.ndarray, gallery: np.ndarray, metric: str = "l2") -> np.ndarray:
         """Eq. (1) distance matrix (n_probes, n_gallery) between two image sets."""
         check_choice(metric, "metric", METRICS)
-        return weighted_sq_distances(self.transform(probes), self.transform(gallery),
+        return _weighted_sq_distances(self.transform(probes), self.transform(gallery),
                                      self.metric_weights(metric))
 
     def metric_weights(self, metric: str) -> np.ndarray:
         check_choice(metric, "metric", METRICS)
+        self._check_fitted()
         if metric == "l2":
             return np.ones_like(self.eigenvalues_)
         return self.eigenvalues_ ** SOFT_L2_POWER
 
 
+    def _check_fitted(self) -> None:
+        if not hasattr(self, "projection_"):
+            raise ValueError("the PcaLda must be fitted before it transforms images or gives metric weights")
+
+
 def weighted_sq_distances(a: np.ndarray, b: np.ndarray, weights: np.ndarray) -> np.ndarray:
-    """sum_i w_i (a_i - b_i)^2 for all pairs, by the expanded square (eq. 1)."""
+    """sum_i w_i (a_i - b_i)^2 for all pairs, by the expanded square (eq. 1).
+
+    ``a`` ``(n, k)`` and ``b`` ``(m, k)`` hold points as rows; ``weights`` ``(k,)`` are non-negative.
+    """
+    a = as_finite_array(a, "a", ndim=2)
+    b = as_finite_array(b, "b", shape=(None, a.shape[1]))
+    weights = as_finite_array(weights, "weights", shape=(a.shape[1],))
+    if np.any(weights < 0):
+        raise ValueError("weights must be non-negative (a negative weight gives no distance)")
+    return _weighted_sq_distances(a, b, weights)
+
+
+def _weighted_sq_distances(a: np.ndarray, b: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """:func:`weighted_sq_distances` on validated arrays (the experiment's inner call)."""
     aw = a * weights
     sq = np.sum(aw * a, axis=1)[:, None] + np.sum(b * b * weights, axis=1)[None, :] - 2.0 * aw @ b.T
     return np.maximum(sq, 0.0)

@@ -101,8 +101,7 @@ def generate_face_population(
     nuisance = check_positive(nuisance, "nuisance", allow_zero=True)
     difficulty_spread = check_positive(difficulty_spread, "difficulty_spread", allow_zero=True)
     noise_sd = check_positive(noise_sd, "noise_sd", allow_zero=True)
-    if len(shape) != 2 or min(shape) < 8:
-        raise ValueError(f"shape must be (rows, cols) with both >= 8, got {shape}")
+    _check_image_shape(shape, minimum=8)
     gen = make_rng(rng)
     rows, cols = int(shape[0]), int(shape[1])
     n_img = n_subjects * images_per_subject
@@ -161,9 +160,17 @@ def generate_face_population(
                           images_per_subject=images_per_subject)
 
 
+def _check_image_shape(shape: object, *, minimum: int) -> tuple[int, int]:
+    """An image size (rows, cols) of ints, each at least ``minimum`` (a float would be truncated)."""
+    if isinstance(shape, (str, bytes)) or not hasattr(shape, "__len__") or len(shape) != 2:
+        raise ValueError(f"shape must be a pair (rows, cols), got {shape!r}")
+    return (check_positive_int(shape[0], "shape[0]", minimum=minimum),
+            check_positive_int(shape[1], "shape[1]", minimum=minimum))
+
+
 def elliptical_mask(shape: tuple[int, int]) -> np.ndarray:
-    """Boolean elliptical face mask (Sec. 2 step 3), inscribed in the image frame."""
-    rows, cols = shape
+    """Boolean elliptical face mask (Sec. 2 step 3), inscribed in the image frame of ``shape`` (rows, cols)."""
+    rows, cols = _check_image_shape(shape, minimum=1)
     yy = (np.arange(rows) - (rows - 1) / 2) / (rows / 2)
     xx = (np.arange(cols) - (cols - 1) / 2) / (cols / 2)
     return (yy[:, None] ** 2 + xx[None, :] ** 2) <= 1.0
@@ -195,6 +202,8 @@ def preprocess_images(images: np.ndarray) -> np.ndarray:
     """
     images = as_finite_array(images, "images", ndim=3)
     mask = elliptical_mask(images.shape[1:])
+    if mask.sum() < 2:  # one pixel has no spread to standardise
+        raise ValueError(f"images must have at least 2 pixels inside the elliptical mask, got shape {images.shape}")
     inside = images[:, mask]
     ranks = np.argsort(np.argsort(inside, axis=1), axis=1).astype(float)
     equalised = (ranks + 0.5) / inside.shape[1]

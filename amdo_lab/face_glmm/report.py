@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pandas as pd
+from matplotlib.axes import Axes
 
 from amdo_lab.common import PALETTE
 from amdo_lab.face_glmm.glmm import GlmmResult
@@ -30,8 +31,40 @@ _MARKERS = {"l2": "s", "soft_l2": "o"}
 _LINES = {"fixed": "-", "e90": "--"}
 
 
+# Levels of the paper's factors that the findings and Fig. 2 compare (they must all be in the fit).
+_COMPARED_LEVELS = {"U": ("none", "reflection"), "M": ("l2", "soft_l2"), "D": ("fixed", "e90"), "F": ("no", "yes")}
+
+
+def _check_result(result: object, name: str = "result", *, compared: bool = False, drawn: bool = False) -> None:
+    """A :class:`GlmmResult` with the paper's factors U, M, D and F.
+
+    ``compared``: the levels the findings compare are present; ``drawn``: every level has a colour,
+    marker or line style in the figures (a level without one would be dropped from the plot).
+    """
+    if not isinstance(result, GlmmResult):
+        raise TypeError(f"{name} must be a GlmmResult (from fit_binomial_glmm), got {type(result).__name__}")
+    levels = result.design.levels
+    missing = [factor for factor in _COMPARED_LEVELS if levels.get(factor) is None]
+    if missing:
+        raise ValueError(f"{name} must be a fit with the paper's factors U, M, D and F (e.g. PAPER_FORMULA); "
+                         f"it lacks {missing}")
+    for factor, wanted in _COMPARED_LEVELS.items() if compared else ():
+        absent = [level for level in wanted if level not in levels[factor]]
+        if absent:
+            raise ValueError(f"{name} factor {factor!r} lacks the level(s) {absent} that are compared")
+    if drawn:
+        styles = {"U": SUPPLEMENT_COLOURS, "M": _MARKERS, "D": _LINES, "F": {"no": None, "yes": None}}
+        for factor, known in styles.items():
+            unknown = [level for level in levels[factor] if level not in known]
+            if unknown:
+                raise ValueError(f"{name} factor {factor!r} has level(s) {unknown} the figures cannot draw; "
+                                 f"known: {list(known)}")
+
+
 def table2_comparison(result: GlmmResult) -> pd.DataFrame:
     """Paper's Table 2 next to our Wald F tests (denominator d.f. taken as infinite)."""
+    if not isinstance(result, GlmmResult):
+        raise TypeError(f"result must be a GlmmResult (from fit_binomial_glmm), got {type(result).__name__}")
     ours = result.tests.reindex(PAPER_TABLE2.index)
     return pd.DataFrame({"df": PAPER_TABLE2["df"], "F paper": PAPER_TABLE2["F"], "p paper": PAPER_TABLE2["p_value"],
                          "F ours": ours["F"].round(1), "p ours": ours["p_value"].map(lambda p: f"{p:.2g}")})
@@ -39,6 +72,7 @@ def table2_comparison(result: GlmmResult) -> pd.DataFrame:
 
 def cell_predictions(result: GlmmResult, ci: float | None = None) -> pd.DataFrame:
     """Predicted rank-1 probability of every U x M x D x F cell (typical probe)."""
+    _check_result(result)
     levels = result.design.levels
     grid = pd.MultiIndex.from_product([levels["U"], levels["M"], levels["D"], levels["F"]],
                                       names=["U", "M", "D", "F"]).to_frame(index=False)
@@ -51,7 +85,17 @@ def _marg(result, **levels):
 
 
 def findings(result: GlmmResult, size_result: GlmmResult | None = None) -> pd.DataFrame:
-    """The paper's qualitative findings (Sec. 6), each evaluated on our fit."""
+    """The paper's qualitative findings (Sec. 6), each evaluated on our fit.
+
+    ``size_result``, when given, is a fit with image-size (S) terms, such as one of ``SIZE_FORMULA``.
+    """
+    _check_result(result, compared=True)
+    if size_result is not None:
+        if not isinstance(size_result, GlmmResult):
+            raise TypeError(f"size_result must be a GlmmResult, got {type(size_result).__name__}")
+        if not any("S" in term.split(":") for term in size_result.tests.index):
+            # with no S term, "all p > 0.05" would hold vacuously
+            raise ValueError("size_result must be a fit with image-size (S) terms, e.g. of SIZE_FORMULA")
     m = lambda **kw: _marg(result, **kw)  # noqa: E731
     u_levels = result.design.levels["U"]
     u_marg = {u: m(U=u) for u in u_levels}
@@ -90,6 +134,9 @@ def _draw(ax, x, p, colours, marker, filled, linestyle):
 
 def plot_figure1(result: GlmmResult, ax) -> None:
     """Fig. 1: predicted rank-1 probability against the training supplement."""
+    _check_result(result, drawn=True)
+    if not isinstance(ax, Axes):
+        raise TypeError(f"ax must be a matplotlib Axes, got {type(ax).__name__}")
     cells = cell_predictions(result)
     order = ["none", "reflection", "noise", "shift"]
     order = [u for u in order if u in result.design.levels["U"]]
@@ -103,7 +150,14 @@ def plot_figure1(result: GlmmResult, ax) -> None:
 
 
 def plot_figure2(result: GlmmResult, axes) -> None:
-    """Fig. 2: metric (left), inclusion (centre) and PCA dimension (right), averaged over supplements."""
+    """Fig. 2: metric (left), inclusion (centre) and PCA dimension (right), averaged over supplements.
+
+    ``axes`` holds three matplotlib Axes (e.g. from ``plt.subplots(1, 3)``).
+    """
+    _check_result(result, compared=True, drawn=True)
+    axes = list(np.ravel(axes)) if isinstance(axes, (list, tuple, np.ndarray)) else [axes]
+    if len(axes) != 3 or not all(isinstance(ax, Axes) for ax in axes):
+        raise ValueError(f"axes must be three matplotlib Axes, got {len(axes)} object(s)")
     black = PALETTE["black"]
     panels = [("M", ["l2", "soft_l2"], ["F", "D"]), ("F", ["no", "yes"], ["M", "D"]),
               ("D", ["fixed", "e90"], ["M", "F"])]

@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+import numbers
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
 from scipy.special import expit
 
-from amdo_lab.common import make_rng
+from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng
 from amdo_lab.face_glmm.design import build_design, group_indices, parse_formula
 
 __all__ = ["simulate_binomial_glmm", "RecoverySummary", "summarise_recovery", "recovery_study"]
@@ -16,17 +18,19 @@ __all__ = ["simulate_binomial_glmm", "RecoverySummary", "summarise_recovery", "r
 
 def simulate_binomial_glmm(table: pd.DataFrame, fixed: str, coefficients: np.ndarray,
                            variances: dict, trials: int, rng) -> np.ndarray:
-    """Draw Y ~ Bin(trials, expit(X beta + sum_k b_k)), b_k ~ N(0, variances[k]) per level."""
+    """Draw Y ~ Bin(trials, expit(X beta + sum_k b_k)), b_k ~ N(0, variances[k]) per level.
+
+    ``coefficients`` has one finite entry per design column; ``variances`` maps grouping terms to
+    finite non-negative variances; ``trials`` is a positive int.
+    """
+    trials = check_positive_int(trials, "trials")
+    _check_variances(variances)
     gen = make_rng(rng)
     _, terms = parse_formula(fixed)
     x = build_design(table, terms).matrix
-    coefficients = np.asarray(coefficients, dtype=float)
-    if coefficients.shape != (x.shape[1],):
-        raise ValueError(f"coefficients must have shape ({x.shape[1]},), got {coefficients.shape}")
+    coefficients = as_finite_array(coefficients, "coefficients", shape=(x.shape[1],))
     eta = x @ coefficients
     for term, variance in variances.items():
-        if variance < 0:
-            raise ValueError(f"variances[{term!r}] must be >= 0, got {variance}")
         idx = group_indices(table, term)
         eta = eta + np.sqrt(variance) * gen.standard_normal(idx.max() + 1)[idx]
     return gen.binomial(trials, expit(eta))
@@ -40,9 +44,21 @@ class RecoverySummary:
 
 
 def summarise_recovery(true: pd.Series, estimates: np.ndarray, ses: np.ndarray, level: float = 0.95) -> RecoverySummary:
-    """Per-coefficient bias, |bias| / |true| and the share of intervals covering the truth."""
+    """Per-coefficient bias, |bias| / |true| and the share of intervals covering the truth.
+
+    ``true`` is a finite Series of p coefficients; ``estimates`` and ``ses`` are ``(n_replicates, p)``,
+    ``ses`` non-negative; ``level`` is in (0, 1).
+    """
     from scipy import stats
 
+    if not isinstance(true, pd.Series):
+        raise TypeError(f"true must be a pandas Series of coefficients, got {type(true).__name__}")
+    as_finite_array(true.to_numpy(), "true")
+    estimates = as_finite_array(estimates, "estimates", shape=(None, len(true)))
+    ses = as_finite_array(ses, "ses", shape=estimates.shape)
+    if np.any(ses < 0):
+        raise ValueError("ses must be non-negative")
+    _check_level(level)
     z = stats.norm.ppf(0.5 + level / 2)
     covered = np.abs(estimates - true.to_numpy()) <= z * ses
     mean = estimates.mean(axis=0)
@@ -61,8 +77,19 @@ def recovery_study(table: pd.DataFrame, fixed: str, coefficients: pd.Series, var
     from amdo_lab.common import spawn_rngs
     from amdo_lab.face_glmm.glmm import fit_binomial_glmm
 
-    if not isinstance(rng, int):
-        raise TypeError("rng must be an int seed for recovery_study")
+    # Everything is checked before the first (slow) refit.
+    if isinstance(rng, bool) or not isinstance(rng, numbers.Integral):
+        raise TypeError(f"rng must be an int seed for recovery_study, got {type(rng).__name__}")
+    if not isinstance(table, pd.DataFrame):
+        raise TypeError(f"table must be a pandas DataFrame, got {type(table).__name__}")
+    if not isinstance(coefficients, pd.Series):
+        raise TypeError(f"coefficients must be a pandas Series (named like the fit's), got {type(coefficients).__name__}")
+    _check_variances(variances)
+    if not variances:
+        raise ValueError("variances must name at least one grouping term (the refits need a random effect)")
+    n_replicates = check_positive_int(n_replicates, "n_replicates")
+    check_positive_int(trials, "trials")
+    _check_level(level)
     estimates, ses, components = [], [], []
     for gen in spawn_rngs(rng, n_replicates):
         sim = table.assign(Y=simulate_binomial_glmm(table, fixed, coefficients.to_numpy(), variances, trials, gen))
@@ -71,3 +98,15 @@ def recovery_study(table: pd.DataFrame, fixed: str, coefficients: pd.Series, var
         ses.append(np.sqrt(np.diag(fit.covariance.to_numpy())))
         components.append(fit.variance_components)
     return summarise_recovery(coefficients, np.array(estimates), np.array(ses), level), pd.DataFrame(components)
+
+
+def _check_variances(variances: object) -> None:
+    if not isinstance(variances, Mapping):
+        raise TypeError(f"variances must map grouping terms to variances, got {type(variances).__name__}")
+    for term, variance in variances.items():
+        check_positive(variance, f"variances[{term!r}]", allow_zero=True)
+
+
+def _check_level(level: object) -> None:
+    if not check_positive(level, "level") < 1:
+        raise ValueError(f"level must be in (0, 1), got {level}")

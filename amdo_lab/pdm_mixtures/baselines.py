@@ -5,7 +5,15 @@ from __future__ import annotations
 import numpy as np
 
 from amdo_lab.common import as_finite_array, check_positive_int, procrustes_align
-from amdo_lab.pdm_mixtures.pdm import align_to_reference, fit_modes, fit_pdm, generalized_procrustes, reconstruct
+from amdo_lab.pdm_mixtures.pdm import (
+    _align_to_reference,
+    _check_point_set_sizes,
+    _check_variance_fraction,
+    _fit_modes,
+    _reconstruct,
+    fit_pdm,
+    generalized_procrustes,
+)
 
 __all__ = [
     "SingleCartesianPDMClassifier",
@@ -18,7 +26,31 @@ __all__ = [
 
 
 def _check(shapes: object) -> np.ndarray:
-    return as_finite_array(shapes, "shapes", shape=(None, 13, None, 2))
+    shapes = as_finite_array(shapes, "shapes", shape=(None, 13, None, 2))
+    _check_point_set_sizes(shapes.reshape(len(shapes), -1, 2), "shapes")
+    return shapes
+
+
+def _check_labels(labels: object, n_shapes: int) -> np.ndarray:
+    """One class label per shape; NaN is refused (it matches no class, so its shape would be dropped)."""
+    labels = np.asarray(labels)
+    if labels.shape != (n_shapes,):
+        raise ValueError(f"labels must have shape ({n_shapes},) (one per shape), got {labels.shape}")
+    if labels.dtype.kind == "f" and np.isnan(labels).any():
+        raise ValueError("labels must not contain NaN (every shape needs a class)")
+    return labels
+
+
+def _check_fitted(classifier: object) -> None:
+    if not hasattr(classifier, "classes_"):
+        raise ValueError(f"the {type(classifier).__name__} must be fitted before it scores or predicts shapes")
+
+
+def _check_landmarks(shapes: np.ndarray, n_points: int) -> None:
+    """``shapes`` have as many landmarks (``n_points`` in all) as the training shapes."""
+    if shapes.shape[1] * shapes.shape[2] != n_points:
+        raise ValueError(f"shapes must have {n_points // shapes.shape[1]} landmarks per limb (as in training), "
+                         f"got {shapes.shape[2]}")
 
 
 class SingleCartesianPDMClassifier:
@@ -26,31 +58,34 @@ class SingleCartesianPDMClassifier:
     PPCA log-likelihood (in-model Mahalanobis + isotropic residual)."""
 
     def __init__(self, variance_fraction: float = 0.95) -> None:
-        self.variance_fraction = variance_fraction
+        self.variance_fraction = _check_variance_fraction(variance_fraction)
 
     def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "SingleCartesianPDMClassifier":
         shapes = _check(shapes)
         aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
         vectors = aligned.reshape(len(shapes), -1)
-        labels = np.asarray(labels)
+        labels = _check_labels(labels, len(shapes))
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
         self.models_ = [fit_pdm(vectors[labels == c], variance_fraction=self.variance_fraction) for c in self.classes_]
         return self
 
     def log_likelihoods(self, shapes: np.ndarray) -> np.ndarray:
+        _check_fitted(self)
         shapes = _check(shapes)
-        vectors = align_to_reference(shapes.reshape(len(shapes), -1, 2), self.reference_).reshape(len(shapes), -1)
+        _check_landmarks(shapes, len(self.reference_))
+        vectors = _align_to_reference(shapes.reshape(len(shapes), -1, 2), self.reference_).reshape(len(shapes), -1)
         d = vectors.shape[1]
         out = np.empty((len(vectors), len(self.models_)))
         for j, model in enumerate(self.models_):
-            gamma = fit_modes(model, vectors)
-            residual = np.sum((vectors - reconstruct(model, gamma)) ** 2, axis=1)
+            gamma = _fit_modes(model, vectors)
+            residual = np.sum((vectors - _reconstruct(model, gamma)) ** 2, axis=1)
             out[:, j] = -0.5 * (np.sum(gamma**2 / model.variances, axis=1) + residual / model.residual_variance
                                 + np.sum(np.log(model.variances)) + (d - model.n_modes) * np.log(model.residual_variance))
         return out
 
     def predict(self, shapes: np.ndarray) -> np.ndarray:
-        return np.asarray(self.classes_)[np.argmax(self.log_likelihoods(shapes), axis=1)]
+        scores = self.log_likelihoods(shapes)  # validates first
+        return np.asarray(self.classes_)[np.argmax(scores, axis=1)]
 
 
 class NearestProcrustesMeanClassifier:
@@ -58,14 +93,16 @@ class NearestProcrustesMeanClassifier:
 
     def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "NearestProcrustesMeanClassifier":
         shapes = _check(shapes)
-        labels = np.asarray(labels)
+        labels = _check_labels(labels, len(shapes))
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
         self.means_ = [generalized_procrustes(shapes[labels == c].reshape(-1, shapes.shape[1] * shapes.shape[2], 2))[1]
                        for c in self.classes_]
         return self
 
     def distances(self, shapes: np.ndarray) -> np.ndarray:
+        _check_fitted(self)
         shapes = _check(shapes)
+        _check_landmarks(shapes, len(self.means_[0]))
         flat = shapes.reshape(len(shapes), -1, 2)
         # Align each class mean onto the test shape; normalise by the test shape's size.
         sizes = np.sqrt(np.sum((flat - flat.mean(axis=1, keepdims=True)) ** 2, axis=(1, 2)))
@@ -73,7 +110,8 @@ class NearestProcrustesMeanClassifier:
                          for points, size in zip(flat, sizes)])
 
     def predict(self, shapes: np.ndarray) -> np.ndarray:
-        return np.asarray(self.classes_)[np.argmin(self.distances(shapes), axis=1)]
+        distances = self.distances(shapes)  # validates first
+        return np.asarray(self.classes_)[np.argmin(distances, axis=1)]
 
 
 class SklearnGMMClassifier:
@@ -91,7 +129,7 @@ class SklearnGMMClassifier:
         shapes = _check(shapes)
         aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
         vectors = aligned.reshape(len(shapes), -1)
-        labels = np.asarray(labels)
+        labels = _check_labels(labels, len(shapes))
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
         self.models_ = [
             GaussianMixture(self.n_components, covariance_type=self.covariance_type, reg_covar=1e-6,
@@ -101,23 +139,36 @@ class SklearnGMMClassifier:
         return self
 
     def predict(self, shapes: np.ndarray) -> np.ndarray:
+        _check_fitted(self)
         shapes = _check(shapes)
-        vectors = align_to_reference(shapes.reshape(len(shapes), -1, 2), self.reference_).reshape(len(shapes), -1)
+        _check_landmarks(shapes, len(self.reference_))
+        vectors = _align_to_reference(shapes.reshape(len(shapes), -1, 2), self.reference_).reshape(len(shapes), -1)
         scores = np.stack([m.score_samples(vectors) for m in self.models_], axis=1)
         return np.asarray(self.classes_)[np.argmax(scores, axis=1)]
 
 
 def pairwise_distances(vectors: np.ndarray) -> np.ndarray:
-    """Euclidean distance matrix of the rows of ``vectors``."""
+    """Euclidean distance matrix of the rows of ``vectors`` ``(n, d)``."""
     from scipy.spatial.distance import cdist
 
+    vectors = as_finite_array(vectors, "vectors", ndim=2)
     return cdist(vectors, vectors)
 
 
 def classical_mds(distances: np.ndarray, n_dims: int = 3) -> np.ndarray:
     """Classical (Torgerson) MDS: eigenvectors of the double-centred squared distances, scaled by
-    the square roots of their eigenvalues. Signs are fixed so each axis's largest entry is positive."""
+    the square roots of their eigenvalues. Signs are fixed so each axis's largest entry is positive.
+
+    ``distances`` is a square ``(n, n)`` matrix of non-negative distances; 1 <= ``n_dims`` <= n."""
+    distances = as_finite_array(distances, "distances", ndim=2)
     n = distances.shape[0]
+    if distances.shape != (n, n):
+        raise ValueError(f"distances must be a square (n, n) matrix, got shape {distances.shape}")
+    if np.any(distances < 0):
+        raise ValueError("distances must be non-negative")
+    n_dims = check_positive_int(n_dims, "n_dims")
+    if n_dims > n:
+        raise ValueError(f"n_dims must be at most the number of points {n}, got {n_dims}")
     centring = np.eye(n) - 1.0 / n
     gram = -0.5 * centring @ (distances**2) @ centring
     values, vectors = np.linalg.eigh(gram)
@@ -127,7 +178,13 @@ def classical_mds(distances: np.ndarray, n_dims: int = 3) -> np.ndarray:
 
 
 def pca_embedding(vectors: np.ndarray, n_dims: int = 3) -> np.ndarray:
-    """Projection of centred ``vectors`` on their leading principal axes (sign-fixed as above)."""
+    """Projection of centred ``vectors`` ``(n, d)`` on their leading principal axes (sign-fixed as
+    above); 1 <= ``n_dims`` <= min(n, d)."""
+    vectors = as_finite_array(vectors, "vectors", ndim=2)
+    n_dims = check_positive_int(n_dims, "n_dims")
+    if n_dims > min(vectors.shape):
+        raise ValueError(f"n_dims must be at most min(n, d) = {min(vectors.shape)} for vectors of shape "
+                         f"{vectors.shape}, got {n_dims}")
     centred = vectors - vectors.mean(axis=0)
     _, _, vt = np.linalg.svd(centred, full_matrices=False)
     coords = centred @ vt[:n_dims].T

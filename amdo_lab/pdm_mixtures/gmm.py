@@ -26,8 +26,26 @@ class GaussianMixtureResult:
 def gaussian_log_density(points: np.ndarray, means: np.ndarray, covariances: np.ndarray) -> np.ndarray:
     """Log of eq. 6 for every point and component: ``(T, K)``.
 
-    Uses a Cholesky factor per component, so ``covariances`` must be positive definite.
+    Parameters
+    ----------
+    points : (T, d) array_like
+        Points as rows.
+    means : (K, d) array_like
+        Component means.
+    covariances : (K, d, d) array_like
+        Component covariances; each must be positive definite (a Cholesky factor is used).
     """
+    points = as_finite_array(points, "points", ndim=2)
+    means = as_finite_array(means, "means", shape=(None, points.shape[1]))
+    covariances = as_finite_array(covariances, "covariances", shape=(len(means), points.shape[1], points.shape[1]))
+    try:
+        return _gaussian_log_density(points, means, covariances)
+    except np.linalg.LinAlgError:  # raised by the Cholesky factorisation only
+        raise ValueError("covariances must be positive definite (every (d, d) matrix)") from None
+
+
+def _gaussian_log_density(points: np.ndarray, means: np.ndarray, covariances: np.ndarray) -> np.ndarray:
+    """:func:`gaussian_log_density` on validated arrays (the EM loop's inner call)."""
     n_dim = points.shape[1]
     chol = np.linalg.cholesky(covariances)  # (K, d, d)
     diff = points[None, :, :] - means[:, None, :]  # (K, T, d)
@@ -79,6 +97,10 @@ def fit_gaussian_mixture(
         raise ValueError(f"X must have at least n_components={k} rows, got {t}")
     means = as_finite_array(means_init, "means_init", shape=(k, d))
     covariances = as_finite_array(covariances_init, "covariances_init", shape=(k, d, d))
+    try:
+        np.linalg.cholesky(covariances)
+    except np.linalg.LinAlgError:
+        raise ValueError("covariances_init must be positive definite (every (d, d) matrix)") from None
     if weights_init is None:
         weights = np.full(k, 1.0 / k)
     else:
@@ -88,7 +110,7 @@ def fit_gaussian_mixture(
     history = []
     for _ in range(n_iter):
         # E-step (eq. 4), in log space for stability.
-        log_joint = gaussian_log_density(points, means, covariances) + np.log(weights)
+        log_joint = _gaussian_log_density(points, means, covariances) + np.log(weights)
         log_norm = np.logaddexp.reduce(log_joint, axis=1)
         responsibilities = np.exp(log_joint - log_norm[:, None])
         history.append(float(np.mean(log_norm)))

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive_int, procrustes_align
+from amdo_lab.common import as_finite_array, check_positive, check_positive_int, procrustes_align
 
 __all__ = [
     "PointDistributionModel",
@@ -34,12 +34,53 @@ class PointDistributionModel:
         return int(self.modes.shape[1])
 
 
+def _check_variance_fraction(value: object) -> float:
+    fraction = check_positive(value, "variance_fraction")
+    if fraction > 1:
+        raise ValueError(f"variance_fraction must be in (0, 1], got {fraction}")
+    return fraction
+
+
+def _check_model(model: object) -> PointDistributionModel:
+    if not isinstance(model, PointDistributionModel):
+        raise TypeError(f"model must be a PointDistributionModel, got {type(model).__name__}")
+    return model
+
+
 def pdm_from_moments(
     mean: np.ndarray, covariance: np.ndarray, *, variance_fraction: float = 0.95, max_modes: int | None = None,
     min_residual_variance: float = 1e-12,
 ) -> PointDistributionModel:
     """Build a PDM from a mean and covariance: keep the leading eigenmodes of ``covariance``
-    (``Sigma phi = alpha phi``) that explain ``variance_fraction`` of the variance."""
+    (``Sigma phi = alpha phi``) that explain ``variance_fraction`` of the variance.
+
+    Parameters
+    ----------
+    mean : (D,) array_like
+        Mean long-vector.
+    covariance : (D, D) array_like
+        Covariance matrix, D >= 2 (one mode is kept and at least one discarded).
+    variance_fraction : float
+        Fraction of the variance to keep, in (0, 1].
+    max_modes : int, optional
+        Upper bound on the number of modes (at most D - 1 are kept in any case).
+    min_residual_variance : float
+        Non-negative floor of the residual variance.
+    """
+    covariance = as_finite_array(covariance, "covariance", ndim=2)
+    if covariance.shape[0] != covariance.shape[1] or covariance.shape[0] < 2:
+        raise ValueError(f"covariance must be a square (D, D) matrix with D >= 2, got shape {covariance.shape}")
+    mean = as_finite_array(mean, "mean", shape=(covariance.shape[0],))
+    variance_fraction = _check_variance_fraction(variance_fraction)
+    if max_modes is not None:
+        max_modes = check_positive_int(max_modes, "max_modes")
+    min_residual_variance = check_positive(min_residual_variance, "min_residual_variance", allow_zero=True)
+    return _pdm_from_moments(mean, covariance, variance_fraction, max_modes, min_residual_variance)
+
+
+def _pdm_from_moments(mean: np.ndarray, covariance: np.ndarray, variance_fraction: float = 0.95,
+                      max_modes: int | None = None, min_residual_variance: float = 1e-12) -> PointDistributionModel:
+    """:func:`pdm_from_moments` on validated input (called for every mixture component)."""
     eigenvalues, eigenvectors = np.linalg.eigh(covariance)
     order = np.argsort(eigenvalues)[::-1]
     eigenvalues = np.clip(eigenvalues[order], 0.0, None)  # round-off negatives of a PSD matrix
@@ -56,16 +97,22 @@ def fit_pdm(long_vectors: np.ndarray, *, variance_fraction: float = 0.95, max_mo
     """PDM of a training set ``(T, D)``: mean ``Y``, covariance of eq. 1 (1/T), leading eigenmodes.
 
     At most ``T - 1`` modes are kept (the rank of eq. 1), so the residual variance is positive.
+    ``variance_fraction`` is in (0, 1]; ``max_modes``, when given, is a positive int.
     """
     vectors = as_finite_array(long_vectors, "long_vectors", ndim=2)
     t = vectors.shape[0]
     if t < 3:
         raise ValueError(f"long_vectors needs at least 3 training examples for a covariance, got {t}")
+    if vectors.shape[1] < 2:
+        raise ValueError(f"long_vectors needs at least 2 columns (one mode kept, one discarded), got {vectors.shape[1]}")
+    variance_fraction = _check_variance_fraction(variance_fraction)
+    if max_modes is not None:
+        max_modes = check_positive_int(max_modes, "max_modes")
     mean = vectors.mean(axis=0)
     centred = vectors - mean
     covariance = centred.T @ centred / t  # eq. 1
     cap = t - 1 if max_modes is None else min(max_modes, t - 1)
-    return pdm_from_moments(mean, covariance, variance_fraction=variance_fraction, max_modes=cap)
+    return _pdm_from_moments(mean, covariance, variance_fraction=variance_fraction, max_modes=cap)
 
 
 def fit_modes(model: PointDistributionModel, observed: np.ndarray, *, clamp: bool = True) -> np.ndarray:
@@ -73,8 +120,18 @@ def fit_modes(model: PointDistributionModel, observed: np.ndarray, *, clamp: boo
 
     The paper prints ``1/2 (Phi + Phi^T)(X_o - Y)``, which is not even defined for a non-square
     Phi; for orthonormal modes the least-squares solution is ``Phi^T (X_o - Y)``. With ``clamp``,
-    each coefficient is limited to ``+-3 sqrt(alpha_k)`` (Sec. 4).
+    each coefficient is limited to ``+-3 sqrt(alpha_k)`` (Sec. 4). ``observed`` is ``(n, D)``
+    (or one ``(D,)`` vector).
     """
+    model = _check_model(model)
+    observed = as_finite_array(observed, "observed")
+    if observed.ndim not in (1, 2) or observed.shape[-1] != len(model.mean):
+        raise ValueError(f"observed must have shape (n, {len(model.mean)}) like the model mean, got {observed.shape}")
+    return _fit_modes(model, observed, clamp=clamp)
+
+
+def _fit_modes(model: PointDistributionModel, observed: np.ndarray, *, clamp: bool = True) -> np.ndarray:
+    """:func:`fit_modes` on validated input (the recogniser's inner call)."""
     gamma = (observed - model.mean) @ model.modes
     if clamp:
         bound = 3.0 * np.sqrt(model.variances)
@@ -83,14 +140,39 @@ def fit_modes(model: PointDistributionModel, observed: np.ndarray, *, clamp: boo
 
 
 def reconstruct(model: PointDistributionModel, gamma: np.ndarray) -> np.ndarray:
-    """Model instance ``X_hat = Y + Phi gamma``."""
+    """Model instance ``X_hat = Y + Phi gamma`` for rows of ``gamma`` ``(n, M)`` (or one ``(M,)``)."""
+    model = _check_model(model)
+    gamma = as_finite_array(gamma, "gamma")
+    if gamma.ndim not in (1, 2) or gamma.shape[-1] != model.n_modes:
+        raise ValueError(f"gamma must have shape (n, {model.n_modes}) (one coefficient per mode), got {gamma.shape}")
+    return _reconstruct(model, gamma)
+
+
+def _reconstruct(model: PointDistributionModel, gamma: np.ndarray) -> np.ndarray:
+    """:func:`reconstruct` on validated input."""
     return model.mean + gamma @ model.modes.T
 
 
 def normalise_shape(points: np.ndarray) -> np.ndarray:
-    """Centre a point set ``(L, 2)`` and scale it to unit centroid size."""
+    """Centre a point set ``(L, 2)`` and scale it to unit centroid size (its points must not coincide)."""
+    points = as_finite_array(points, "points", shape=(None, 2))
+    if np.all(points == points[0]):
+        raise ValueError("points must not all coincide (their centroid size is zero)")
+    return _normalise_shape(points)
+
+
+def _normalise_shape(points: np.ndarray) -> np.ndarray:
     centred = points - points.mean(axis=0)
     return centred / np.sqrt(np.sum(centred**2))
+
+
+def _check_point_set_sizes(point_sets: np.ndarray, name: str) -> None:
+    """Refuse point sets whose points all coincide: they have no size to normalise or align."""
+    # compared exactly: a centroid size computed from such a set is round-off, not always zero
+    coincident = np.all(point_sets == point_sets[:, :1], axis=(1, 2))
+    if np.any(coincident):
+        raise ValueError(f"{name} must not contain a point set whose points all coincide "
+                         f"(zero centroid size at index {int(np.argmax(coincident))})")
 
 
 def generalized_procrustes(point_sets: np.ndarray, *, n_iter: int = 5) -> tuple[np.ndarray, np.ndarray]:
@@ -101,16 +183,26 @@ def generalized_procrustes(point_sets: np.ndarray, *, n_iter: int = 5) -> tuple[
     """
     sets = as_finite_array(point_sets, "point_sets", shape=(None, None, 2))
     check_positive_int(n_iter, "n_iter")
-    reference = normalise_shape(sets[0])
+    _check_point_set_sizes(sets, "point_sets")
+    reference = _normalise_shape(sets[0])
     aligned = sets
     for _ in range(n_iter):
-        aligned = align_to_reference(sets, reference)
-        new_reference = normalise_shape(aligned.mean(axis=0))
+        aligned = _align_to_reference(sets, reference)
+        new_reference = _normalise_shape(aligned.mean(axis=0))
         reference = procrustes_align(new_reference, reference).aligned
-        reference = normalise_shape(reference)
-    return align_to_reference(sets, reference), reference
+        reference = _normalise_shape(reference)
+    return _align_to_reference(sets, reference), reference
 
 
 def align_to_reference(point_sets: np.ndarray, reference: np.ndarray) -> np.ndarray:
-    """Similarity-align every ``(L, 2)`` set in ``point_sets`` onto ``reference`` (Procrustes)."""
+    """Similarity-align every ``(L, 2)`` set in ``point_sets`` ``(T, L, 2)`` onto ``reference`` ``(L, 2)``
+    (Procrustes)."""
+    sets = as_finite_array(point_sets, "point_sets", shape=(None, None, 2))
+    reference = as_finite_array(reference, "reference", shape=(sets.shape[1], 2))
+    _check_point_set_sizes(sets, "point_sets")
+    return _align_to_reference(sets, reference)
+
+
+def _align_to_reference(point_sets: np.ndarray, reference: np.ndarray) -> np.ndarray:
+    """:func:`align_to_reference` on validated arrays."""
     return np.stack([procrustes_align(points, reference).aligned for points in point_sets])

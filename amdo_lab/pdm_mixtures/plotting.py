@@ -5,13 +5,17 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.axes import Axes
 
+from amdo_lab.common import as_finite_array
+
 __all__ = ["draw_shape"]
 
 
 def draw_shape(ax: Axes, shape: np.ndarray, *, color: str = "black", linewidth: float = 1.5,
                alpha: float = 1.0, label: str | None = None) -> None:
     """Draw a ``(13, m, 2)`` shape as 13 polylines on ``ax`` (equal aspect, no ticks)."""
-    shape = np.asarray(shape, dtype=float)
+    if not isinstance(ax, Axes):
+        raise TypeError(f"ax must be a matplotlib Axes, got {type(ax).__name__}")
+    shape = as_finite_array(shape, "shape", shape=(13, None, 2))
     for k, stroke in enumerate(shape):
         ax.plot(stroke[:, 0], stroke[:, 1], color=color, lw=linewidth, alpha=alpha,
                 label=label if k == 0 else None)

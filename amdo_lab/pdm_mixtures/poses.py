@@ -18,7 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import apply_similarity_2d, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int, make_rng
+from amdo_lab.common.geometry import _apply_similarity_2d
 
 __all__ = [
     "LIMB_NAMES",
@@ -100,6 +101,7 @@ JITTER_SCALE = np.array([0.8, 0.8, 0.6, 1.4, 1.4, 1.4, 1.4, 1.0, 1.0, 0.8, 1.0, 
 
 def pose_modes(name: str) -> dict[str, tuple[float, ...]]:
     """The articulation modes of pose ``name`` (a single mode for poses outside ``POSE_MODES``)."""
+    check_choice(name, "name", POSES)
     return POSE_MODES.get(name, {name: POSES[name]})
 
 
@@ -139,8 +141,19 @@ def _check_classes(classes: object) -> tuple[str, ...]:
 def skeleton_strokes(directions_deg: np.ndarray, lengths: np.ndarray, landmarks_per_limb: int) -> np.ndarray:
     """Landmark strokes ``(n, 13, m, 2)`` of skeletons with limb directions and lengths ``(n, 13)``.
 
-    Limbs are chained proximal-to-distal (``LIMB_PARENTS``); the pelvis is at the origin.
+    Limbs are chained proximal-to-distal (``LIMB_PARENTS``); the pelvis is at the origin. Directions
+    are in degrees, lengths positive, and ``landmarks_per_limb`` >= 2.
     """
+    directions_deg = as_finite_array(directions_deg, "directions_deg", shape=(None, len(LIMB_PARENTS)))
+    lengths = as_finite_array(lengths, "lengths", shape=directions_deg.shape)
+    if np.any(lengths <= 0):
+        raise ValueError("lengths must be positive")
+    landmarks_per_limb = check_positive_int(landmarks_per_limb, "landmarks_per_limb", minimum=2)
+    return _skeleton_strokes(directions_deg, lengths, landmarks_per_limb)
+
+
+def _skeleton_strokes(directions_deg: np.ndarray, lengths: np.ndarray, landmarks_per_limb: int) -> np.ndarray:
+    """:func:`skeleton_strokes` on validated input."""
     angles = np.deg2rad(directions_deg)
     vectors = lengths[..., None] * np.stack([np.sin(angles), -np.cos(angles)], axis=-1)  # (n,13,2)
     starts = np.zeros_like(vectors)
@@ -206,14 +219,14 @@ def generate_pose_dataset(
         base[rows] = np.array(list(options.values()), dtype=float)[picks]
     directions = base + joint_jitter_deg * JITTER_SCALE * generator.standard_normal((n, 13))
     lengths = MEAN_LENGTHS * np.exp(length_jitter * generator.standard_normal((n, 13)))
-    strokes = skeleton_strokes(directions, lengths, landmarks_per_limb)
+    strokes = _skeleton_strokes(directions, lengths, landmarks_per_limb)
     strokes = strokes + noise * generator.standard_normal(strokes.shape)
     scales = generator.uniform(0.8, 1.25, n)
     rotations = np.deg2rad(generator.uniform(-max_rotation_deg, max_rotation_deg, n))
     translations = generator.uniform(-1.0, 1.0, (n, 2))
     shapes = np.empty_like(strokes)
-    for i in range(n):  # one similarity per example
-        shapes[i] = apply_similarity_2d(strokes[i].reshape(-1, 2), scales[i], rotations[i], translations[i]).reshape(
+    for i in range(n):  # one similarity per example; all finite by construction, so unchecked
+        shapes[i] = _apply_similarity_2d(strokes[i].reshape(-1, 2), scales[i], rotations[i], translations[i]).reshape(
             strokes.shape[1:]
         )
     return PoseDataset(shapes, labels, names, modes.astype(str), lengths * scales[:, None], scales, rotations, translations)

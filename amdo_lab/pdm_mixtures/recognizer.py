@@ -10,14 +10,15 @@ from amdo_lab.common import as_finite_array, check_choice, check_positive, check
 from amdo_lab.pdm_mixtures.gmm import fit_gaussian_mixture
 from amdo_lab.pdm_mixtures.pdm import (
     PointDistributionModel,
-    align_to_reference,
-    fit_modes,
+    _align_to_reference,
+    _check_point_set_sizes,
+    _fit_modes,
+    _pdm_from_moments,
+    _reconstruct,
     fit_pdm,
     generalized_procrustes,
-    pdm_from_moments,
-    reconstruct,
 )
-from amdo_lab.pdm_mixtures.representation import centred_limbs, polar_shape_vector, wrap_angle
+from amdo_lab.pdm_mixtures.representation import _centred_limbs, _polar_shape_vector, _wrap_angle
 
 __all__ = [
     "ArticulatedShapeRecognizer",
@@ -39,12 +40,41 @@ def hamming_distance(label_strings: np.ndarray, dictionary: np.ndarray) -> np.nd
 
     Eq. 17 as printed sums a Kronecker delta of *equal* labels, which counts matches; a Hamming
     distance counts mismatches, ``sum_i (1 - delta(l_i, lambda_i))``, which is what we compute.
+    Labels are integers (limb-label indices).
     """
+    strings = as_finite_array(label_strings, "label_strings", ndim=2, dtype=int)
+    dictionary = as_finite_array(dictionary, "dictionary", shape=(None, strings.shape[1]), dtype=int)
+    return _hamming_distance(strings, dictionary)
+
+
+def _hamming_distance(label_strings: np.ndarray, dictionary: np.ndarray) -> np.ndarray:
     return np.sum(label_strings[:, None, :] != dictionary[None, :, :], axis=2)
 
 
 def label_string_log_prob(hamming: np.ndarray, n_limbs: int, error_probability: float) -> np.ndarray:
-    """ln P(L | Lambda) = ln K_p - k_p H with K_p = (1 - p)^K, k_p = ln((1 - p) / p) (eq. 18)."""
+    """ln P(L | Lambda) = ln K_p - k_p H with K_p = (1 - p)^K, k_p = ln((1 - p) / p) (eq. 18).
+
+    Parameters
+    ----------
+    hamming : array_like of int
+        Hamming distances H, each in [0, n_limbs].
+    n_limbs : int
+        Number of limbs K (positive).
+    error_probability : float
+        Label error probability p, in (0, 1).
+    """
+    n_limbs = check_positive_int(n_limbs, "n_limbs")
+    p = check_positive(error_probability, "error_probability")
+    if not p < 1:
+        raise ValueError(f"error_probability must be in (0, 1), got {p}")
+    distances = as_finite_array(hamming, "hamming", dtype=int)
+    if np.any((distances < 0) | (distances > n_limbs)):
+        raise ValueError(f"hamming must hold distances in [0, n_limbs={n_limbs}], "
+                         f"got {distances.min()}..{distances.max()}")
+    return _label_string_log_prob(distances, n_limbs, p)
+
+
+def _label_string_log_prob(hamming: np.ndarray, n_limbs: int, error_probability: float) -> np.ndarray:
     p = error_probability
     return n_limbs * np.log1p(-p) - np.log((1 - p) / p) * hamming
 
@@ -73,16 +103,26 @@ class PolarPDM:
 
     def fit(self, deviation: np.ndarray) -> np.ndarray:
         """Clamped least-squares modal fit of every block (eq. 12), reconstructed: ``(n, 3K)``."""
-        return np.concatenate([reconstruct(pdm, fit_modes(pdm, deviation[:, block]))
-                               for pdm, block in zip(self.pdms, self.blocks)], axis=1)
+        return self._fit(self._check_deviation(deviation))
 
     def log_density(self, deviation: np.ndarray) -> np.ndarray:
         """``ln p(S | Phi, Gamma*)``: the sum over blocks of each PDM's Gaussian (PPCA) density."""
+        return self._log_density(self._check_deviation(deviation))
+
+    def _check_deviation(self, deviation: object) -> np.ndarray:
+        width = max(block.stop for block in self.blocks)
+        return as_finite_array(deviation, "deviation", shape=(None, width))
+
+    def _fit(self, deviation: np.ndarray) -> np.ndarray:
+        return np.concatenate([_reconstruct(pdm, _fit_modes(pdm, deviation[:, block]))
+                               for pdm, block in zip(self.pdms, self.blocks)], axis=1)
+
+    def _log_density(self, deviation: np.ndarray) -> np.ndarray:
         total = np.zeros(deviation.shape[0])
         for pdm, block in zip(self.pdms, self.blocks):
             data = deviation[:, block]
-            gamma = fit_modes(pdm, data)
-            total += _ppca_log_density(pdm, data, gamma, reconstruct(pdm, gamma))
+            gamma = _fit_modes(pdm, data)
+            total += _ppca_log_density(pdm, data, gamma, _reconstruct(pdm, gamma))
         return total
 
 
@@ -128,6 +168,22 @@ class AlignmentTrace:
 
     model_shapes: np.ndarray
     centre_rms: np.ndarray
+
+
+def _check_class_names(classes: object) -> tuple:
+    """The recogniser's ``classes``: a non-empty sequence of distinct class names."""
+    if isinstance(classes, str) or not hasattr(classes, "__iter__"):
+        raise TypeError(f"classes must be a sequence of class names, got {classes!r}")
+    names = tuple(classes)
+    if not names:
+        raise ValueError("classes must name at least one class, got an empty sequence")
+    try:
+        distinct = len(set(names))
+    except TypeError:
+        raise TypeError(f"classes must hold hashable class names, got {names!r}") from None
+    if distinct != len(names):
+        raise ValueError(f"classes must not repeat a name, got {names}")
+    return names
 
 
 def _circular_mean(angles: np.ndarray) -> np.ndarray:
@@ -213,13 +269,14 @@ class ArticulatedShapeRecognizer:
         self.em_iterations = check_positive_int(em_iterations, "em_iterations")
         self.polar_model = check_choice(polar_model, "polar_model", ("block", "joint"))
         self.limb_likelihood = check_choice(limb_likelihood, "limb_likelihood", ("gaussian", "residual"))
-        self.classes = None if classes is None else tuple(classes)
+        self.classes = None if classes is None else _check_class_names(classes)
 
     # ------------------------------------------------------------------ validation
     def _check_shapes(self, shapes: object, name: str = "shapes") -> np.ndarray:
         array = as_finite_array(shapes, name, shape=(None, N_LIMBS, None, 2))
         if array.shape[2] < 2:
             raise ValueError(f"{name} must have at least 2 landmarks per limb, got {array.shape[2]}")
+        _check_point_set_sizes(array.reshape(len(array), -1, 2), name)
         if hasattr(self, "landmarks_per_limb_") and array.shape[2] != self.landmarks_per_limb_:
             raise ValueError(
                 f"{name} must have {self.landmarks_per_limb_} landmarks per limb (as in training), got {array.shape[2]}"
@@ -237,6 +294,8 @@ class ArticulatedShapeRecognizer:
         labels = np.asarray(labels)
         if labels.shape != (shapes.shape[0],):
             raise ValueError(f"labels must have shape ({shapes.shape[0]},), got {labels.shape}")
+        if labels.dtype.kind == "f" and np.isnan(labels).any():
+            raise ValueError("labels must not contain NaN (every shape needs a class)")
         present = tuple(dict.fromkeys(labels.tolist()))
         if self.classes is not None:
             unknown = sorted(set(present) - set(self.classes))
@@ -274,7 +333,7 @@ class ArticulatedShapeRecognizer:
         return self
 
     def _fit_limb_layer(self, aligned: np.ndarray) -> None:
-        limbs = centred_limbs(aligned)  # (n, K, 2m)
+        limbs = _centred_limbs(aligned)  # (n, K, 2m)
         self.limb_models_: list[list[PointDistributionModel]] = []
         self.limb_weights_ = np.empty((N_LIMBS, self.n_limb_labels))
         self.limb_noise_ = np.empty(N_LIMBS)
@@ -288,7 +347,7 @@ class ArticulatedShapeRecognizer:
                 covariances_init=np.repeat(spread[None], self.n_limb_labels, axis=0),
                 n_iter=self.em_iterations, reg_covar=reg,
             )
-            models = [pdm_from_moments(m, c, variance_fraction=self.variance_fraction)
+            models = [_pdm_from_moments(m, c, variance_fraction=self.variance_fraction)
                       for m, c in zip(mixture.means, mixture.covariances)]
             self.limb_models_.append(models)
             self.limb_weights_[k] = mixture.weights
@@ -301,15 +360,15 @@ class ArticulatedShapeRecognizer:
 
         The class-conditional density of a label is its PDM's Gaussian (``limb_likelihood=
         "gaussian"``) or the isotropic residual of the clamped fit (``"residual"``, eq. 16)."""
-        limbs = centred_limbs(aligned)
+        limbs = _centred_limbs(aligned)
         log_lik = np.empty((aligned.shape[0], N_LIMBS, self.n_limb_labels))
         for k in range(N_LIMBS):
             data = limbs[:, k]
             if self.limb_likelihood == "gaussian":
                 densities = []
                 for model in self.limb_models_[k]:
-                    gamma = fit_modes(model, data)
-                    densities.append(_ppca_log_density(model, data, gamma, reconstruct(model, gamma)))
+                    gamma = _fit_modes(model, data)
+                    densities.append(_ppca_log_density(model, data, gamma, _reconstruct(model, gamma)))
                 log_lik[:, k] = np.stack(densities, axis=1)
             else:
                 errors = np.stack([_fit_error(mdl, data) for mdl in self.limb_models_[k]], axis=1)
@@ -321,7 +380,7 @@ class ArticulatedShapeRecognizer:
         """Per class, a mixture of polar PDMs learnt by EM (Sec. 4, eqs. 2-8) on S relative to the
         class's circular mean angles; EM starts from a seeded k-means++ partition. Returns each
         class's training responsibilities ``(T_c, M)``."""
-        vectors = polar_shape_vector(aligned)
+        vectors = _polar_shape_vector(aligned)
         blocks = _polar_blocks(self.polar_model)
         rng = make_rng(self.shape_seed)
         self.angle_means_ = []
@@ -350,26 +409,26 @@ class ArticulatedShapeRecognizer:
     def _deviation(vectors: np.ndarray, angle_mean: np.ndarray) -> np.ndarray:
         """S relative to the class's circular mean angles (wrapped), so the PDM never sees a flip."""
         out = vectors.copy()
-        out[:, :N_LIMBS] = wrap_angle(vectors[:, :N_LIMBS] - angle_mean)
+        out[:, :N_LIMBS] = _wrap_angle(vectors[:, :N_LIMBS] - angle_mean)
         return out
 
     def _component_log_likelihoods(self, deviation: np.ndarray, j: int) -> tuple[np.ndarray, np.ndarray]:
         """``ln pi_m + ln p(S | Phi_m, Gamma_m*)`` for every component m of class j, ``(n, M)``, and
         the clamped modal fits ``(M, n, 3K)`` (in deviation coordinates)."""
-        scores = np.stack([np.log(weight) + model.log_density(deviation)
+        scores = np.stack([np.log(weight) + model._log_density(deviation)
                            for model, weight in zip(self.shape_models_[j], self.shape_weights_[j])], axis=1)
-        fits = np.stack([model.fit(deviation) for model in self.shape_models_[j]])
+        fits = np.stack([model._fit(deviation) for model in self.shape_models_[j]])
         return scores, fits
 
     def _shape_terms(self, aligned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Polar-PDM log-likelihoods ``(n, C, M)`` (without the mixing weights) and model fits
         ``(C, M, n, 3K)`` with the angles put back in absolute terms."""
-        vectors = polar_shape_vector(aligned)
+        vectors = _polar_shape_vector(aligned)
         log_lik, fits = [], []
         for j, angle_mean in enumerate(self.angle_means_):
             scores, component_fits = self._component_log_likelihoods(self._deviation(vectors, angle_mean), j)
             log_lik.append(scores - np.log(self.shape_weights_[j]))
-            component_fits[..., :N_LIMBS] = wrap_angle(component_fits[..., :N_LIMBS] + angle_mean)
+            component_fits[..., :N_LIMBS] = _wrap_angle(component_fits[..., :N_LIMBS] + angle_mean)
             fits.append(component_fits)
         return np.stack(log_lik, axis=1), np.stack(fits)
 
@@ -382,16 +441,17 @@ class ArticulatedShapeRecognizer:
 
     def _string_log_prob(self, label_strings: np.ndarray) -> np.ndarray:
         """Eq. 18's ``ln P(L | Lambda_wm)`` for every dictionary string: ``(n, C, M)``."""
-        hamming = hamming_distance(label_strings, self.dictionary_.reshape(-1, N_LIMBS))
-        return label_string_log_prob(hamming, N_LIMBS, self.label_error_probability).reshape(
+        hamming = _hamming_distance(label_strings, self.dictionary_.reshape(-1, N_LIMBS))
+        return _label_string_log_prob(hamming, N_LIMBS, self.label_error_probability).reshape(
             len(label_strings), *self.dictionary_.shape[:2])
 
     # ------------------------------------------------------------------ recognition
     def align(self, shapes: np.ndarray) -> np.ndarray:
         """Procrustes-align shapes onto the training reference (removes the global similarity)."""
+        self._check_fitted()
         shapes = self._check_shapes(shapes)
         flat = shapes.reshape(shapes.shape[0], -1, 2)
-        return align_to_reference(flat, self.reference_).reshape(shapes.shape)
+        return _align_to_reference(flat, self.reference_).reshape(shapes.shape)
 
     def recognise(self, shapes: np.ndarray) -> RecognitionTrace:
         """Run the hierarchical EM (eqs. 9-18) and return the full per-iteration trace."""
@@ -449,25 +509,25 @@ class ArticulatedShapeRecognizer:
         j = self.classes_.index(class_name)
         angle_mean = self.angle_means_[j]
         # Use the class's mixture component that best explains the shape as first posed.
-        start = self._deviation(polar_shape_vector(self.align(shape[None])), angle_mean)
+        start = self._deviation(_polar_shape_vector(self.align(shape[None])), angle_mean)
         best = int(np.argmax(self._component_log_likelihoods(start, j)[0][0]))
         model, labels = self.shape_models_[j][best], self.dictionary_[j, best]
         data_centres = shape.mean(axis=1)
         model_vector = model.mean.copy()
-        model_vector[:N_LIMBS] = wrap_angle(model_vector[:N_LIMBS] + angle_mean)
+        model_vector[:N_LIMBS] = _wrap_angle(model_vector[:N_LIMBS] + angle_mean)
         drawn, misfit = [], []
         for _ in range(n_iter):
             model_centres = model_vector[N_LIMBS:].reshape(N_LIMBS, 2)
             pose = procrustes_align(model_centres, data_centres)
             # The data mapped into the model frame (inverse of the pose), limbs included.
             shape_in_model = ((shape - pose.translation) @ pose.rotation) / pose.scale
-            limbs_in_model = centred_limbs(shape_in_model[None])[0]
-            model_shape = self.model_limbs(model_vector, labels, None if not drawn else limbs_in_model)
+            limbs_in_model = _centred_limbs(shape_in_model[None])[0]
+            model_shape = self._model_limbs(model_vector, labels, None if not drawn else limbs_in_model)
             drawn.append(pose.scale * model_shape @ pose.rotation.T + pose.translation)
             misfit.append(pose.rms_error)
-            deviation = self._deviation(polar_shape_vector(shape_in_model[None]), angle_mean)
-            model_vector = model.fit(deviation)[0]
-            model_vector[:N_LIMBS] = wrap_angle(model_vector[:N_LIMBS] + angle_mean)
+            deviation = self._deviation(_polar_shape_vector(shape_in_model[None]), angle_mean)
+            model_vector = model._fit(deviation)[0]
+            model_vector[:N_LIMBS] = _wrap_angle(model_vector[:N_LIMBS] + angle_mean)
         return AlignmentTrace(np.stack(drawn), np.array(misfit))
 
     def predict_proba(self, shapes: np.ndarray) -> np.ndarray:
@@ -481,10 +541,25 @@ class ArticulatedShapeRecognizer:
 
     def model_limbs(self, polar_vector: np.ndarray, label_string: np.ndarray,
                     observed_limbs: np.ndarray | None = None) -> np.ndarray:
-        """Draw a model shape ``(K, m, 2)`` at the limb centres of a polar vector S.
+        """Draw a model shape ``(K, m, 2)`` at the limb centres of a polar vector S ``(3K,)``.
 
-        Without ``observed_limbs`` each limb is its label's mean stroke; with centred observed limb
-        vectors ``(K, 2m)`` each limb is its label's clamped PDM fit to them (eq. 15)."""
+        ``label_string`` ``(K,)`` holds one limb label (0 .. n_limb_labels - 1) per limb. Without
+        ``observed_limbs`` each limb is its label's mean stroke; with centred observed limb vectors
+        ``(K, 2m)`` each limb is its label's clamped PDM fit to them (eq. 15)."""
+        self._check_fitted()
+        polar_vector = as_finite_array(polar_vector, "polar_vector", shape=(3 * N_LIMBS,))
+        label_string = as_finite_array(label_string, "label_string", shape=(N_LIMBS,), dtype=int)
+        if np.any((label_string < 0) | (label_string >= self.n_limb_labels)):
+            raise ValueError(f"label_string must hold limb labels in 0..{self.n_limb_labels - 1}, "
+                             f"got {label_string.min()}..{label_string.max()}")
+        if observed_limbs is not None:
+            observed_limbs = as_finite_array(observed_limbs, "observed_limbs",
+                                             shape=(N_LIMBS, 2 * self.landmarks_per_limb_))
+        return self._model_limbs(polar_vector, label_string, observed_limbs)
+
+    def _model_limbs(self, polar_vector: np.ndarray, label_string: np.ndarray,
+                     observed_limbs: np.ndarray | None = None) -> np.ndarray:
+        """:meth:`model_limbs` on validated input (the alignment loop's inner call)."""
         centres = polar_vector[N_LIMBS:].reshape(N_LIMBS, 2)
         strokes = []
         for k in range(N_LIMBS):
@@ -492,7 +567,7 @@ class ArticulatedShapeRecognizer:
             if observed_limbs is None:
                 strokes.append(model.mean)
             else:
-                strokes.append(reconstruct(model, fit_modes(model, observed_limbs[k][None]))[0])
+                strokes.append(_reconstruct(model, _fit_modes(model, observed_limbs[k][None]))[0])
         return np.stack(strokes).reshape(N_LIMBS, -1, 2) + centres[:, None, :]
 
 
@@ -561,7 +636,7 @@ def _fit_polar_mixture(data: np.ndarray, n_components: int, blocks: tuple[slice,
     for mean, cov, weight in zip(mixture.means / scale, mixture.covariances / np.outer(scale, scale), mixture.weights):
         cap = max(1, int(round(weight * len(data))) - 1)
         models.append(PolarPDM(blocks, tuple(
-            pdm_from_moments(mean[block], cov[block, block], variance_fraction=variance_fraction, max_modes=cap)
+            _pdm_from_moments(mean[block], cov[block, block], variance_fraction=variance_fraction, max_modes=cap)
             for block in blocks)))
     return models, np.clip(mixture.weights, 1e-12, None), mixture.responsibilities
 
@@ -627,14 +702,14 @@ def held_out_log_likelihood(
         held = folds == fold
         models, weights, _ = _fit_polar_mixture(vectors[~held], n_components, blocks, rng, em_iterations,
                                                 variance_fraction, ridge=shape_ridge)
-        scores = np.stack([np.log(w) + model.log_density(vectors[held]) for model, w in zip(models, weights)], axis=1)
+        scores = np.stack([np.log(w) + model._log_density(vectors[held]) for model, w in zip(models, weights)], axis=1)
         total += float(np.logaddexp.reduce(scores, axis=1).sum())
     return total / t
 
 
 def _fit_error(model: PointDistributionModel, data: np.ndarray) -> np.ndarray:
     """Squared residual of the clamped least-squares modal fit, per row."""
-    return np.sum((data - reconstruct(model, fit_modes(model, data))) ** 2, axis=1)
+    return np.sum((data - _reconstruct(model, _fit_modes(model, data))) ** 2, axis=1)
 
 
 def _farthest_point_init(data: np.ndarray, n_components: int) -> np.ndarray:
