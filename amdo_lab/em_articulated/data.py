@@ -8,7 +8,7 @@ import numpy as np
 
 from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng
 
-from amdo_lab.em_articulated.hand import HandModel, TextureBinding
+from amdo_lab.em_articulated.hand import HandModel, TextureBinding, check_hand
 
 __all__ = ["RegistrationProblem", "make_registration_problem", "perturb_pose", "visible_points",
            "make_tracking_sequence", "TrackingSequence", "joint_rmse_deg", "SkinTexture", "make_skin_texture",
@@ -48,7 +48,7 @@ def perturb_pose(hand: HandModel, theta: np.ndarray, joint_error_deg: float, rng
     resort). Sign patterns that make two digits cross are redrawn: a start pose with the index
     lying inside the middle finger is not a pose a tracker could have produced.
     """
-    _check_hand(hand)
+    check_hand(hand)
     theta = hand.check_theta(theta, "theta")
     joint_error_deg = check_positive(joint_error_deg, "joint_error_deg", allow_zero=True)
     palm_rotation_deg = check_positive(palm_rotation_deg, "palm_rotation_deg", allow_zero=True)
@@ -76,7 +76,7 @@ def perturb_pose(hand: HandModel, theta: np.ndarray, joint_error_deg: float, rng
 
 def random_pose(hand: HandModel, rng: np.random.Generator | int) -> np.ndarray:
     """A natural pose: rest pose, small spreads and moderate flexions, digits not crossing."""
-    _check_hand(hand)
+    check_hand(hand)
     rng = make_rng(rng)
     limits = hand.joint_limits()
     flexion = ~np.isin(np.arange(6, 27), (6, 8) + _FINGER_ABDUCTION)
@@ -95,16 +95,12 @@ def random_pose(hand: HandModel, rng: np.random.Generator | int) -> np.ndarray:
 
 def visible_points(hand: HandModel, points: np.ndarray, theta: np.ndarray, camera: np.ndarray) -> np.ndarray:
     """Boolean mask of points whose surface normal faces ``camera`` (back-face culling)."""
-    _check_hand(hand)
+    check_hand(hand)
     points = as_finite_array(points, "points", ndim=2, shape=(None, 3))
     camera = as_finite_array(camera, "camera", ndim=1, shape=(3,))
     normals = hand.surface_normals(points, theta)
     return np.sum(normals * (camera - points), axis=1) > 0
 
-
-def _check_hand(hand: object) -> None:
-    if not isinstance(hand, HandModel):
-        raise TypeError(f"hand must be a HandModel, got {type(hand).__name__}")
 
 
 #: Share of the skin's features a stereo detector finds again in a new view. Interest points

@@ -429,3 +429,10 @@ class TextureBinding:
         world_p = np.einsum("nij,nj->ni", frames[self.part_p, :3, :3], self.local_p) + frames[self.part_p, :3, 3]
         world_r = np.einsum("nij,nj->ni", frames[self.part_r, :3, :3], self.local_r) + frames[self.part_r, :3, 3]
         return world_p, world_r
+
+
+def check_hand(hand: object) -> HandModel:
+    """``hand`` itself, or a ``TypeError`` when it is not a :class:`HandModel`."""
+    if not isinstance(hand, HandModel):
+        raise TypeError(f"hand must be a HandModel, got {type(hand).__name__}")
+    return hand

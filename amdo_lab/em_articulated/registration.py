@@ -11,7 +11,7 @@ from threadpoolctl import threadpool_limits
 
 from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
 
-from amdo_lab.em_articulated.hand import HandModel, TextureBinding
+from amdo_lab.em_articulated.hand import HandModel, TextureBinding, check_hand
 
 __all__ = ["EMResult", "register_em", "e_step_statistics_kdtree", "dof_lever_arms", "PAPER_SETTINGS",
            "OUR_SETTINGS", "fit_surface", "softassign_register", "PAPER_C", "e_step_statistics",
@@ -145,8 +145,7 @@ def dof_lever_arms(hand: HandModel, binding: TextureBinding, theta: np.ndarray) 
     by much less than σ while σ is large, so its estimate there is dominated by the blur of the
     targets G_i (eq. 20) rather than by the data.
     """
-    if not isinstance(hand, HandModel):
-        raise TypeError(f"hand must be a HandModel, got {type(hand).__name__}")
+    check_hand(hand)
     if not isinstance(binding, TextureBinding):
         raise TypeError(f"binding must be a TextureBinding (HandModel.texture_binding), got {type(binding).__name__}")
     _, jac = hand.texture_jacobian(binding, hand.check_theta(theta, "theta"))
@@ -276,8 +275,7 @@ def _m_step(hand: HandModel, binding: TextureBinding, theta: np.ndarray, weights
 
 def _check_common(hand: HandModel, model_points: object, data_points: object, theta_init: object,
                   sigma_max: object, sigma_min: object) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, float]:
-    if not isinstance(hand, HandModel):
-        raise TypeError(f"hand must be a HandModel, got {type(hand).__name__}")
+    check_hand(hand)
     model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3))
     data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3))
     theta = hand.check_theta(theta_init, "theta_init", within_limits=True)
@@ -392,8 +390,7 @@ def fit_known_correspondences(model_points: object, matched_points: object, hand
     The noise floor of point registration: no assignment can do better than the true one.
     ``matched_points`` (N, 3) are the observations of ``model_points`` (N, 3) at the unknown pose.
     """
-    if not isinstance(hand, HandModel):
-        raise TypeError(f"hand must be a HandModel, got {type(hand).__name__}")
+    check_hand(hand)
     model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3))
     matched = as_finite_array(matched_points, "matched_points", ndim=2, shape=(len(model), 3))
     theta = hand.check_theta(theta_init, "theta_init", within_limits=True)
@@ -424,8 +421,7 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
     probabilities) multiply β_j. With ``epsilon_mm`` each step uses only the points within ε of
     the current surface.
     """
-    if not isinstance(hand, HandModel):
-        raise TypeError(f"hand must be a HandModel, got {type(hand).__name__}")
+    check_hand(hand)
     data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3))
     if len(data) == 0:
         raise ValueError("data_points must be non-empty")

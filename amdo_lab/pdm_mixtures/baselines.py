@@ -6,6 +6,7 @@ import numpy as np
 
 from amdo_lab.common import as_finite_array, check_positive_int, procrustes_align
 from amdo_lab.pdm_mixtures.pdm import (
+    _check_labels,
     _align_to_reference,
     _check_point_set_sizes,
     _check_variance_fraction,
@@ -29,16 +30,6 @@ def _check(shapes: object) -> np.ndarray:
     shapes = as_finite_array(shapes, "shapes", shape=(None, 13, None, 2))
     _check_point_set_sizes(shapes.reshape(len(shapes), -1, 2), "shapes")
     return shapes
-
-
-def _check_labels(labels: object, n_shapes: int) -> np.ndarray:
-    """One class label per shape; NaN is refused (it matches no class, so its shape would be dropped)."""
-    labels = np.asarray(labels)
-    if labels.shape != (n_shapes,):
-        raise ValueError(f"labels must have shape ({n_shapes},) (one per shape), got {labels.shape}")
-    if labels.dtype.kind == "f" and np.isnan(labels).any():
-        raise ValueError("labels must not contain NaN (every shape needs a class)")
-    return labels
 
 
 def _check_fitted(classifier: object) -> None:

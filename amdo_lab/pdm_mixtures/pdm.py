@@ -175,6 +175,16 @@ def _check_point_set_sizes(point_sets: np.ndarray, name: str) -> None:
                          f"(zero centroid size at index {int(np.argmax(coincident))})")
 
 
+def _check_labels(labels: object, n_shapes: int) -> np.ndarray:
+    """One class label per shape; NaN is refused (it matches no class, so its shape would be dropped)."""
+    labels = np.asarray(labels)
+    if labels.shape != (n_shapes,):
+        raise ValueError(f"labels must have shape ({n_shapes},) (one per shape), got {labels.shape}")
+    if labels.dtype.kind == "f" and np.isnan(labels).any():
+        raise ValueError("labels must not contain NaN (every shape needs a class)")
+    return labels
+
+
 def generalized_procrustes(point_sets: np.ndarray, *, n_iter: int = 5) -> tuple[np.ndarray, np.ndarray]:
     """Align ``(T, L, 2)`` point sets to their common mean by iterated similarity Procrustes.
 

@@ -11,6 +11,7 @@ from amdo_lab.pdm_mixtures.gmm import fit_gaussian_mixture
 from amdo_lab.pdm_mixtures.pdm import (
     PointDistributionModel,
     _align_to_reference,
+    _check_labels,
     _check_point_set_sizes,
     _fit_modes,
     _pdm_from_moments,
@@ -291,11 +292,7 @@ class ArticulatedShapeRecognizer:
     def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "ArticulatedShapeRecognizer":
         """Learn the limb mixtures, the class polar-PDM mixtures and the label dictionary."""
         shapes = self._check_shapes(shapes)
-        labels = np.asarray(labels)
-        if labels.shape != (shapes.shape[0],):
-            raise ValueError(f"labels must have shape ({shapes.shape[0]},), got {labels.shape}")
-        if labels.dtype.kind == "f" and np.isnan(labels).any():
-            raise ValueError("labels must not contain NaN (every shape needs a class)")
+        labels = _check_labels(labels, shapes.shape[0])
         present = tuple(dict.fromkeys(labels.tolist()))
         if self.classes is not None:
             unknown = sorted(set(present) - set(self.classes))
