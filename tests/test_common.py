@@ -268,3 +268,23 @@ def test_probe_can_be_disabled(monkeypatch):
         assert not render3d.probe_3d_rendering().ok
     finally:
         render3d.probe_3d_rendering.cache_clear()
+
+
+def test_one_blas_thread_limits_blas_and_restores_it():
+    from threadpoolctl import threadpool_info, threadpool_limits
+
+    from amdo_lab.common import one_blas_thread
+
+    def blas_threads() -> list[int]:
+        return [pool["num_threads"] for pool in threadpool_info() if pool["user_api"] == "blas"]
+
+    assert blas_threads(), "numpy's BLAS should be visible to threadpoolctl"
+    with threadpool_limits(2, user_api="blas"):  # a known starting point, even where the environment says 1
+        before = blas_threads()
+        assert before == [2] * len(before)
+        with one_blas_thread():
+            assert blas_threads() == [1] * len(before)
+            with one_blas_thread():  # nested use, as register_em inside a limited caller
+                assert blas_threads() == [1] * len(before)
+            assert blas_threads() == [1] * len(before)
+        assert blas_threads() == before

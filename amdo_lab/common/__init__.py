@@ -1,4 +1,4 @@
-"""The shared floor of AMDO Lab: plotting, random generators, geometry and input validation.
+"""The shared floor of AMDO Lab: plotting, random generators, geometry, input validation and BLAS threads.
 
 Every chapter subpackage imports from here; nothing here imports a chapter.
 """
@@ -16,6 +16,7 @@ from amdo_lab.common.geometry import (
 )
 from amdo_lab.common.plotting import PALETTE, savefig, use_style
 from amdo_lab.common.rng import make_rng, spawn_rngs
+from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.common.validation import (
     as_finite_array,
     check_choice,
@@ -32,6 +33,7 @@ __all__ = [
     "check_positive",
     "check_positive_int",
     "make_rng",
+    "one_blas_thread",
     "procrustes_align",
     "rigid_transform",
     "rotation_2d",

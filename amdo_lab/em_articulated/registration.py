@@ -7,9 +7,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 from scipy.special import logsumexp
-from threadpoolctl import threadpool_limits
 
 from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
+from amdo_lab.common.threads import one_blas_thread
 
 from amdo_lab.em_articulated.hand import HandModel, TextureBinding, check_hand
 
@@ -355,7 +355,7 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
     history = []
     sigma = sigma_max
     inlier_prob = np.zeros(data.shape[0])
-    with threadpool_limits(1):  # small dense algebra: BLAS threads only contend
+    with one_blas_thread():  # small dense algebra: BLAS threads only contend
         for level in range(n_levels):
             free = np.ones(hand.n_dof, bool)
             if release_ratio is not None:
@@ -394,7 +394,7 @@ def fit_known_correspondences(model_points: object, matched_points: object, hand
     model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3))
     matched = as_finite_array(matched_points, "matched_points", ndim=2, shape=(len(model), 3))
     theta = hand.check_theta(theta_init, "theta_init", within_limits=True)
-    with threadpool_limits(1):
+    with one_blas_thread():
         binding = hand.texture_binding(model, theta, a)
         return _m_step(hand, binding, theta, np.ones(len(model)), matched, check_positive_int(n_steps, "n_steps"), 1e-3)
 
@@ -447,7 +447,7 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
         squared = dist**2 if epsilon_mm is None else np.minimum(dist**2, epsilon_mm**2)
         return float(np.sum(w * squared))
 
-    with threadpool_limits(1):
+    with one_blas_thread():
         dist, jac = hand.surface_distance_jacobian(data, theta)
         current = cost(dist)
         for _ in range(n_steps):

@@ -11,9 +11,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
-from threadpoolctl import threadpool_limits
 
 from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng
+from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.face_glmm.pcalda import METRICS, PcaLda, _pca_basis, _weighted_sq_distances
 from amdo_lab.face_glmm.population import (
     STANDARD_SHAPE,
@@ -135,7 +135,7 @@ def run_factorial_experiment(design: FactorialDesign, rng: int | np.random.Gener
         image size S) with the inclusion flag F ("yes"/"no"), the PCA dimension used
         (``k``) and Y = number of galleries (of ``design.n_galleries``) with a rank-1 match.
     """
-    with threadpool_limits(1):  # small matrices: threads only contend on a shared machine
+    with one_blas_thread():  # small matrices: threads only contend on a shared machine
         return _run(design, rng)
 
 

@@ -22,9 +22,9 @@ import scipy.sparse as sp
 from scipy import stats
 from scipy.special import expit, log_expit, xlogy
 
-from threadpoolctl import threadpool_limits
 
 from amdo_lab.common import as_finite_array, check_positive
+from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.face_glmm.design import DesignMatrix, build_design, group_indices, parse_formula
 
 __all__ = ["GlmmResult", "fit_binomial_glmm", "binomial_deviance"]
@@ -312,7 +312,7 @@ def fit_binomial_glmm(
     BLAS is limited to one thread during the fit: the matrices are small (n x 20,
     300 x 300) and multi-threaded BLAS on a shared machine was 40x slower here.
     """
-    with threadpool_limits(1):
+    with one_blas_thread():
         return _fit(table, fixed, random, trials, start_sd)
 
 
