@@ -323,6 +323,42 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
         :func:`e_step_statistics_kdtree`). At a σ where the 4σ balls hold more than 15 % of all
         pairs, "kdtree" uses the dense E-step instead: there it is faster and not truncated.
     """
+    setup = _em_setup(hand, model_points, data_points, theta_init, sigma_max, sigma_min, n_levels,
+                      iterations_per_level, tol, outlier_c, sigma_mode, targets, a, gauss_newton_steps, damping,
+                      chunk, release_ratio, e_step)
+    theta, inlier_prob, history = _em_levels(setup, setup.theta_init, setup.sigmas)
+    return EMResult(theta, inlier_prob, history, hand.transform_texture(setup.binding, theta))
+
+
+@dataclass(frozen=True)
+class _EMSetup:
+    """Validated inputs and settings of :func:`register_em`, shared with :func:`refine_digits`."""
+
+    hand: HandModel
+    data: np.ndarray
+    theta_init: np.ndarray
+    binding: TextureBinding
+    sigmas: np.ndarray  # the annealing schedule, largest first
+    sigma_min: float
+    lever: np.ndarray  # dof_lever_arms at theta_init (release_ratio)
+    log_c: float  # log of the constant c of eq. (17)
+    iterations_per_level: int
+    tol: float
+    sigma_mode: str
+    targets: str
+    gauss_newton_steps: int
+    damping: float
+    chunk: int
+    release_ratio: float | None
+    e_step: str
+
+
+def _em_setup(hand: HandModel, model_points: object, data_points: object, theta_init: object,
+              sigma_max: float = 20.0, sigma_min: float = 3.0, n_levels: int = 5, iterations_per_level: int = 10,
+              tol: float = DEFAULT_TOL, outlier_c: float | None = None, sigma_mode: str = "anneal",
+              targets: str = "paper", a: float = 2.0, gauss_newton_steps: int = 2, damping: float = 1e-3,
+              chunk: int = 256, release_ratio: float | None = None, e_step: str = "dense") -> _EMSetup:
+    """Check :func:`register_em`'s arguments (same names, same defaults) and bind the texture at ``theta_init``."""
     model, data, theta, sigma_max, sigma_min = _check_common(hand, model_points, data_points,
                                                              theta_init, sigma_max, sigma_min)
     if model.shape[0] == 0 or data.shape[0] == 0:
@@ -339,48 +375,57 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
     c = PAPER_C if outlier_c is None else check_positive(outlier_c, "outlier_c")
     if release_ratio is not None:
         release_ratio = check_positive(release_ratio, "release_ratio")
-    data_pairs = _ClosePairs(data) if e_step == "kdtree" else None
-    self_pairs = _ClosePairs(None) if e_step == "kdtree" else None
+    binding = hand.texture_binding(model, theta, a)
+    return _EMSetup(hand, data, theta, binding, np.geomspace(sigma_max, sigma_min, n_levels), sigma_min,
+                    dof_lever_arms(hand, binding, theta), float(np.log(c)), iterations_per_level, tol, sigma_mode,
+                    targets, gauss_newton_steps, damping, chunk, release_ratio, e_step)
+
+
+def _em_levels(setup: _EMSetup, theta: np.ndarray, sigmas: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The EM of :func:`register_em` from pose ``theta`` through the σ levels ``sigmas``.
+
+    Returns the pose, the inlier probabilities Σ_i α_ij of the last E-step and the history rows.
+    """
+    hand, data, binding = setup.hand, setup.data, setup.binding
+    data_pairs = _ClosePairs(data) if setup.e_step == "kdtree" else None
+    self_pairs = _ClosePairs(None) if setup.e_step == "kdtree" else None
 
     def statistics(points: np.ndarray, observed: np.ndarray, sigma: float, log_c: float, pairs=None) -> tuple:
         radius = _KDTREE_RADIUS_SIGMAS * sigma
-        if e_step == "kdtree" and pairs.pair_fraction(points, radius) <= _DENSE_PAIR_FRACTION:
+        if setup.e_step == "kdtree" and pairs.pair_fraction(points, radius) <= _DENSE_PAIR_FRACTION:
             # truncated at 4σ, as e_step_statistics_kdtree
             return _statistics_from_pairs(*pairs(points, radius), observed, len(points), sigma, log_c)
-        return _dense_statistics(points, observed, sigma, log_c, chunk, "single")
+        return _dense_statistics(points, observed, sigma, log_c, setup.chunk, "single")
 
-    binding = hand.texture_binding(model, theta, a)
-    sigmas = np.geomspace(sigma_max, sigma_min, n_levels)
-    lever = dof_lever_arms(hand, binding, theta)
     history = []
-    sigma = sigma_max
+    sigma = sigmas[0]
     inlier_prob = np.zeros(data.shape[0])
     with threadpool_limits(1):  # small dense algebra: BLAS threads only contend
-        for level in range(n_levels):
+        for level_sigma in sigmas:
             free = np.ones(hand.n_dof, bool)
-            if release_ratio is not None:
-                free &= lever >= release_ratio * sigmas[level]
-            for _ in range(iterations_per_level):
-                if sigma_mode != "estimate":
-                    sigma = sigmas[level]
-                log_c = np.log(c) + (3 * np.log(sigma / sigma_min) if sigma_mode == "scaled" else 0.0)
+            if setup.release_ratio is not None:
+                free &= setup.lever >= setup.release_ratio * level_sigma
+            for _ in range(setup.iterations_per_level):
+                if setup.sigma_mode != "estimate":
+                    sigma = level_sigma
+                log_c = setup.log_c + (3 * np.log(sigma / setup.sigma_min) if setup.sigma_mode == "scaled" else 0.0)
                 moved, jac = hand.texture_jacobian(binding, theta)  # the M-step's first linearisation too
                 weights, weighted, inlier_prob, energy = statistics(moved, data, sigma, log_c, data_pairs)
                 history.append((sigma, energy))
                 goal = weighted / np.maximum(weights, 1e-300)[:, None]
-                if targets == "debiased":
+                if setup.targets == "debiased":
                     self_weights, self_weighted, _, _ = statistics(moved, moved, sigma, log_c, self_pairs)
                     goal = moved + goal - self_weighted / np.maximum(self_weights, 1e-300)[:, None]
-                new_theta = _m_step(hand, binding, theta, weights, goal, gauss_newton_steps, damping, free,
+                new_theta = _m_step(hand, binding, theta, weights, goal, setup.gauss_newton_steps, setup.damping, free,
                                     start=(moved, jac))
                 change = float(np.max(np.abs(new_theta - theta)))
                 theta = new_theta
-                if sigma_mode == "estimate":
+                if setup.sigma_mode == "estimate":
                     _, _, _, new_energy = statistics(hand.transform_texture(binding, theta), data, sigma, log_c, data_pairs)
                     sigma = max(np.sqrt(new_energy / max(3 * weights.sum(), 1e-12)), 1e-3)
-                if change <= tol:
+                if change <= setup.tol:
                     break
-    return EMResult(theta, inlier_prob, np.array(history), hand.transform_texture(binding, theta))
+    return theta, inlier_prob, np.array(history)
 
 
 def fit_known_correspondences(model_points: object, matched_points: object, hand: HandModel, theta_init: object,
