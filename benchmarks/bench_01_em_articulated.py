@@ -9,8 +9,9 @@ problem and its lenient reading ours followed by the per-digit re-seeding search
 pycpd's, the 100-frame tracking run (and one frame at the issue's point counts), and rigid CPD on the
 same points. --tracking-ablation adds the held-out comparison that chose the tracker's EM settings.
 
-Default run is short (--trials 5, about 2 minutes). The issue's protocol is 100 seeded trials per
-level (about 21 minutes on 2 cores; add --frames 0 to skip the tracking run):
+Default run is short (--trials 5, about 3 minutes). The issue's protocol is 100 seeded trials per
+level (about 21 minutes on 2 cores, plus about 19 for the two ours+digits rows at about 5.6 s per
+trial; add --frames 0 to skip the tracking run):
     .venv/bin/python benchmarks/bench_01_em_articulated.py --trials 100
 """
 
