@@ -2,9 +2,11 @@
 
 import numpy as np
 import pytest
+from scipy.special import logsumexp
 
 from amdo_lab.common import make_rng
 from amdo_lab.em_articulated import (
+    OUR_SETTINGS,
     PAPER_C,
     HandModel,
     e_step_statistics,
@@ -16,10 +18,13 @@ from amdo_lab.em_articulated import (
     make_tracking_sequence,
     perturb_pose,
     random_pose,
+    refine_digits,
     register_em,
+    run_registration_trials,
     softassign_register,
     track_sequence,
 )
+from amdo_lab.em_articulated.registration import _DIGIT_DOFS, _digit_starts, _robust_log_likelihood
 
 
 @pytest.fixture(scope="module")
@@ -525,3 +530,127 @@ def test_loop_settings_reject_bad_input(hand):
         track_sequence([], hand, theta)
     with pytest.raises(ValueError, match="max_texture"):
         track_sequence([points, points], hand, theta, max_texture=0)
+
+
+# ---------------------------------------------------------------- per-digit search (beyond the paper)
+# the issue's 2 mm read as 2 mm RMS in 3-D on the data only (texture exact), at 300 points for speed
+_LENIENT = dict(joint_error_deg=20.0, noise_mm=2.0 / np.sqrt(3), texture_noise_mm=0.0, outlier_ratio=1.0,
+                n_model=300, n_data=300)
+
+
+def _worst_finger_deg(theta, theta_true):
+    return float(np.degrees(np.max(np.abs(theta[6:] - theta_true[6:]))))
+
+
+def test_digit_search_frees_a_finger_the_em_leaves_on_its_neighbour(hand):
+    # seed 15: the annealed EM ends with the ring and little fingers up to 22 and 27 degrees off
+    case = make_registration_problem(hand, 15, **_LENIENT)
+    em = register_em(case.model_points, case.data_points, hand, case.theta_init, **OUR_SETTINGS)
+    assert _worst_finger_deg(em.theta, case.theta_true) > 15
+    args = (case.model_points, case.data_points, hand, case.theta_init, em.theta)
+    rerun = refine_digits(*args, max_passes=0, **OUR_SETTINGS)  # the EM's last levels again, no re-seeding
+    assert _worst_finger_deg(rerun.theta, case.theta_true) > 15 and rerun.accepted == ()
+    search = refine_digits(*args, **OUR_SETTINGS)
+    assert _worst_finger_deg(search.theta, case.theta_true) < 10
+    assert search.accepted and all(gain > 1.0 for _, gain in search.accepted)
+    assert search.log_likelihood > rerun.log_likelihood
+    assert search.inlier_prob.shape == (len(case.data_points),)
+
+
+def _log_likelihood_reference(hand, model_points, theta_init, theta, data, sigma):
+    moved = hand.move_texture(model_points, theta_init, theta)
+    log_kernel = -np.sum((data[:, None, :] - moved[None]) ** 2, axis=2) / (2 * sigma**2)
+    return float(np.sum(logsumexp(np.column_stack([log_kernel, np.full(len(data), np.log(PAPER_C))]), axis=1)))
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_digit_search_never_lowers_the_criterion(hand, seed):
+    case = make_registration_problem(hand, seed, joint_error_deg=20.0, noise_mm=2.0, outlier_ratio=1.0,
+                                     n_model=150, n_data=150)
+    settings = dict(OUR_SETTINGS, iterations_per_level=3)
+    # from the start pose itself (far from converged) and from a finger bent onto the limit
+    bent = case.theta_init.copy()
+    bent[16:19] = hand.joint_limits()[16:19, 1]
+    for theta in (case.theta_init, bent):
+        search = refine_digits(case.model_points, case.data_points, hand, case.theta_init, theta,
+                               search_levels=1, min_gain=0.0, max_passes=1, **settings)
+        before = _log_likelihood_reference(hand, case.model_points, case.theta_init, theta, case.data_points, 3.0)
+        after = _log_likelihood_reference(hand, case.model_points, case.theta_init, search.theta, case.data_points, 3.0)
+        assert search.start_log_likelihood == pytest.approx(before, rel=1e-9)
+        assert search.log_likelihood == pytest.approx(after, rel=1e-9)
+        assert after >= before
+        gains = [gain for _, gain in search.accepted]
+        assert all(gain > 0 for gain in gains)
+
+
+def test_digit_search_keeps_an_exact_fit(hand):
+    theta = hand.rest_pose()
+    texture = hand.sample_surface(theta, 200, 0)
+    search = refine_digits(texture, texture, hand, theta, theta, search_levels=1, **OUR_SETTINGS)
+    assert search.accepted == ()
+    assert np.degrees(np.max(np.abs(search.theta - theta))) < 1.0
+    assert search.log_likelihood >= search.start_log_likelihood
+
+
+def test_robust_log_likelihood_matches_a_logsumexp_reference():
+    rng = np.random.default_rng(0)
+    model, data = rng.normal(0, 20, (40, 3)), rng.normal(0, 20, (70, 3)) + 500.0  # far from the origin: centring
+    sigma, log_c = 3.0, np.log(PAPER_C)
+    log_kernel = -np.sum((data[:, None] - model[None]) ** 2, axis=2) / (2 * sigma**2)
+    per_point = logsumexp(np.column_stack([log_kernel, np.full(len(data), log_c)]), axis=1)
+    value, inlier_prob = _robust_log_likelihood(model, data, sigma, log_c, chunk=16)
+    assert value == pytest.approx(float(per_point.sum()), rel=1e-10)
+    np.testing.assert_allclose(inlier_prob, np.exp(logsumexp(log_kernel, axis=1) - per_point), rtol=1e-9, atol=1e-300)
+
+
+def test_digit_starts_move_one_digit_within_the_limits(hand):
+    # the digits' DOF groups cover the 21 joint angles once, and each moves only its own digit's parts
+    assert np.array_equal(np.sort(np.concatenate(_DIGIT_DOFS)), np.arange(6, 27))
+    for digit, dofs in enumerate(_DIGIT_DOFS):
+        moved_parts = np.flatnonzero(hand._dof_moves_part[dofs].any(axis=0))
+        np.testing.assert_array_equal(moved_parts, np.arange(1 + 3 * digit, 4 + 3 * digit))
+    limits = hand.joint_limits()
+    theta = hand.rest_pose()
+    theta[11] = limits[11, 1]  # index abduction at its limit: the move beyond it is dropped
+    for digit, dofs in enumerate(_DIGIT_DOFS):
+        starts = _digit_starts(hand, theta, digit, np.radians(20.0), np.radians(25.0))
+        other = np.setdiff1d(np.arange(27), dofs)
+        assert 1 <= len(starts) <= 7
+        np.testing.assert_array_equal(starts[:, other], np.broadcast_to(theta[other], (len(starts), len(other))))
+        assert np.all((starts >= limits[:, 0]) & (starts <= limits[:, 1]))
+        assert np.all(np.max(np.abs(starts - theta), axis=1) > 1e-3)
+    assert len(_digit_starts(hand, theta, 1, np.radians(20.0), np.radians(25.0))) == 6
+
+
+@pytest.mark.parametrize("changes, error, match", [
+    (dict(theta=np.zeros(5)), ValueError, "theta must have shape"),
+    (dict(theta=np.full(27, 3.0)), ValueError, "theta must lie within"),
+    (dict(search_levels=0), ValueError, "search_levels"),
+    (dict(search_levels=6), ValueError, "search_levels must be at most n_levels"),
+    (dict(search_levels=1.5), TypeError, "search_levels"),
+    (dict(abduction_step_deg=0.0), ValueError, "abduction_step_deg"),
+    (dict(flexion_step_deg="25"), TypeError, "flexion_step_deg"),
+    (dict(max_passes=-1), ValueError, "max_passes"),
+    (dict(min_gain=-1.0), ValueError, "min_gain"),
+    (dict(targets="mean"), ValueError, "targets"),
+    (dict(hand="hand"), TypeError, "hand must be a HandModel"),
+    (dict(spread=3), TypeError, "spread"),
+])
+def test_digit_search_rejects_bad_input(hand, changes, error, match):
+    theta = hand.rest_pose()
+    points = hand.sample_surface(theta, 30, 0)
+    args = dict(model_points=points, data_points=points, hand=hand, theta_init=theta, theta=theta)
+    args.update(changes)
+    with pytest.raises(error, match=match):
+        refine_digits(**args)
+
+
+def test_trials_run_the_digit_search_only_when_asked(hand):
+    problem = dict(joint_error_deg=10.0, n_model=100, n_data=100)
+    settings = dict(OUR_SETTINGS, iterations_per_level=2)
+    plain = run_registration_trials(hand, 0, 1, problem=problem, em_settings=settings, surface_steps=0)
+    rerun = run_registration_trials(hand, 0, 1, problem=problem, em_settings=settings, surface_steps=0,
+                                    digit_search=dict(max_passes=0))
+    assert np.isfinite(rerun.rmse_deg).all() and rerun.rmse_deg[0] != plain.rmse_deg[0]
+    with pytest.raises(TypeError, match="spread"):
+        run_registration_trials(hand, 0, 1, problem=problem, em_settings=settings, digit_search=dict(spread=1))

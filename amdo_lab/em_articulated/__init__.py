@@ -30,6 +30,8 @@ from amdo_lab.em_articulated.registration import (
     e_step_statistics,
     e_step_statistics_kdtree,
     fit_surface,
+    DigitSearchResult,
+    refine_digits,
     register_em,
     softassign_register,
 )
@@ -40,6 +42,7 @@ __all__ = [
     "SurfaceFitResult", "TextureBinding", "TrackingResult", "TrackingSequence", "dof_lever_arms",
     "e_step_statistics", "e_step_statistics_kdtree",
     "fit_surface", "joint_rmse_deg", "make_registration_problem", "make_tracking_sequence",
+    "DigitSearchResult", "refine_digits",
     "perturb_pose", "random_pose", "register_em", "softassign_register", "track_sequence", "TRACKING_SETTINGS",
     "visible_points",
 ]

@@ -11,7 +11,7 @@ from amdo_lab.common import check_positive_int, spawn_rngs
 
 from amdo_lab.em_articulated.data import joint_rmse_deg, make_registration_problem
 from amdo_lab.em_articulated.hand import HandModel
-from amdo_lab.em_articulated.registration import fit_known_correspondences, fit_surface, register_em
+from amdo_lab.em_articulated.registration import fit_known_correspondences, fit_surface, refine_digits, register_em
 
 __all__ = ["TrialSummary", "run_registration_trials", "SUCCESS_DEG"]
 
@@ -52,19 +52,27 @@ class TrialSummary:
 
 def run_registration_trials(hand: HandModel, seed: int, n_trials: int, *, problem: dict | None = None,
                             em_settings: dict | None = None, surface_steps: int = 10,
-                            epsilon_mm: float = 5.0) -> TrialSummary:
+                            epsilon_mm: float = 5.0, digit_search: dict | None = None) -> TrialSummary:
     """Draw ``n_trials`` problems (:func:`make_registration_problem` with ``problem``), run
     :func:`register_em` with ``em_settings`` then :func:`fit_surface` (Sec. 3.4) on the points
-    within ``epsilon_mm`` of the surface, weighted by the EM inlier probabilities."""
+    within ``epsilon_mm`` of the surface, weighted by the EM inlier probabilities.
+
+    ``digit_search`` (default None: none) runs :func:`refine_digits` between the two, with these
+    keyword arguments and the same ``em_settings``; the surface fit then uses its inlier probabilities.
+    """
     n_trials = check_positive_int(n_trials, "n_trials")
     rmse, worst, seconds, oracle, oracle_worst = [], [], [], [], []
     for rng in spawn_rngs(seed, n_trials):
         case = make_registration_problem(hand, rng, **(problem or {}))
         start = time.perf_counter()
         em = register_em(case.model_points, case.data_points, hand, case.theta_init, **(em_settings or {}))
-        theta = em.theta
+        theta, inlier_prob = em.theta, em.inlier_prob
+        if digit_search is not None:
+            search = refine_digits(case.model_points, case.data_points, hand, case.theta_init, theta,
+                                   **digit_search, **(em_settings or {}))
+            theta, inlier_prob = search.theta, search.inlier_prob
         if surface_steps:
-            theta = fit_surface(case.data_points, hand, theta, weights=em.inlier_prob, n_steps=surface_steps,
+            theta = fit_surface(case.data_points, hand, theta, weights=inlier_prob, n_steps=surface_steps,
                                 epsilon_mm=epsilon_mm).theta
         seconds.append(time.perf_counter() - start)
         model_index, data_index = case.true_matches()

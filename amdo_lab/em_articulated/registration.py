@@ -11,11 +11,12 @@ from scipy.special import logsumexp
 from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
 from amdo_lab.common.threads import one_blas_thread
 
-from amdo_lab.em_articulated.hand import HandModel, TextureBinding, check_hand
+from amdo_lab.em_articulated.hand import FINGERS, HandModel, TextureBinding, check_hand
 
 __all__ = ["EMResult", "register_em", "e_step_statistics_kdtree", "dof_lever_arms", "PAPER_SETTINGS",
            "OUR_SETTINGS", "fit_surface", "softassign_register", "PAPER_C", "e_step_statistics",
-           "SurfaceFitResult", "SoftAssignResult", "fit_known_correspondences"]
+           "SurfaceFitResult", "SoftAssignResult", "fit_known_correspondences", "refine_digits",
+           "DigitSearchResult"]
 
 #: Outlier constant of eq. (18) with n v << V.
 PAPER_C = 3.0 * np.sqrt(np.pi / 2.0)
@@ -323,6 +324,42 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
         :func:`e_step_statistics_kdtree`). At a σ where the 4σ balls hold more than 15 % of all
         pairs, "kdtree" uses the dense E-step instead: there it is faster and not truncated.
     """
+    setup = _em_setup(hand, model_points, data_points, theta_init, sigma_max, sigma_min, n_levels,
+                      iterations_per_level, tol, outlier_c, sigma_mode, targets, a, gauss_newton_steps, damping,
+                      chunk, release_ratio, e_step)
+    theta, inlier_prob, history = _em_levels(setup, setup.theta_init, setup.sigmas)
+    return EMResult(theta, inlier_prob, history, hand.transform_texture(setup.binding, theta))
+
+
+@dataclass(frozen=True)
+class _EMSetup:
+    """Validated inputs and settings of :func:`register_em`, shared with :func:`refine_digits`."""
+
+    hand: HandModel
+    data: np.ndarray
+    theta_init: np.ndarray
+    binding: TextureBinding
+    sigmas: np.ndarray  # the annealing schedule, largest first
+    sigma_min: float
+    lever: np.ndarray  # dof_lever_arms at theta_init (release_ratio)
+    log_c: float  # log of the constant c of eq. (17)
+    iterations_per_level: int
+    tol: float
+    sigma_mode: str
+    targets: str
+    gauss_newton_steps: int
+    damping: float
+    chunk: int
+    release_ratio: float | None
+    e_step: str
+
+
+def _em_setup(hand: HandModel, model_points: object, data_points: object, theta_init: object,
+              sigma_max: float = 20.0, sigma_min: float = 3.0, n_levels: int = 5, iterations_per_level: int = 10,
+              tol: float = DEFAULT_TOL, outlier_c: float | None = None, sigma_mode: str = "anneal",
+              targets: str = "paper", a: float = 2.0, gauss_newton_steps: int = 2, damping: float = 1e-3,
+              chunk: int = 256, release_ratio: float | None = None, e_step: str = "dense") -> _EMSetup:
+    """Check :func:`register_em`'s arguments (same names, same defaults) and bind the texture at ``theta_init``."""
     model, data, theta, sigma_max, sigma_min = _check_common(hand, model_points, data_points,
                                                              theta_init, sigma_max, sigma_min)
     if model.shape[0] == 0 or data.shape[0] == 0:
@@ -339,48 +376,203 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
     c = PAPER_C if outlier_c is None else check_positive(outlier_c, "outlier_c")
     if release_ratio is not None:
         release_ratio = check_positive(release_ratio, "release_ratio")
-    data_pairs = _ClosePairs(data) if e_step == "kdtree" else None
-    self_pairs = _ClosePairs(None) if e_step == "kdtree" else None
+    binding = hand.texture_binding(model, theta, a)
+    return _EMSetup(hand, data, theta, binding, np.geomspace(sigma_max, sigma_min, n_levels), sigma_min,
+                    dof_lever_arms(hand, binding, theta), float(np.log(c)), iterations_per_level, tol, sigma_mode,
+                    targets, gauss_newton_steps, damping, chunk, release_ratio, e_step)
+
+
+def _em_levels(setup: _EMSetup, theta: np.ndarray, sigmas: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The EM of :func:`register_em` from pose ``theta`` through the σ levels ``sigmas``.
+
+    Returns the pose, the inlier probabilities Σ_i α_ij of the last E-step and the history rows.
+    """
+    hand, data, binding = setup.hand, setup.data, setup.binding
+    data_pairs = _ClosePairs(data) if setup.e_step == "kdtree" else None
+    self_pairs = _ClosePairs(None) if setup.e_step == "kdtree" else None
 
     def statistics(points: np.ndarray, observed: np.ndarray, sigma: float, log_c: float, pairs=None) -> tuple:
         radius = _KDTREE_RADIUS_SIGMAS * sigma
-        if e_step == "kdtree" and pairs.pair_fraction(points, radius) <= _DENSE_PAIR_FRACTION:
+        if setup.e_step == "kdtree" and pairs.pair_fraction(points, radius) <= _DENSE_PAIR_FRACTION:
             # truncated at 4σ, as e_step_statistics_kdtree
             return _statistics_from_pairs(*pairs(points, radius), observed, len(points), sigma, log_c)
-        return _dense_statistics(points, observed, sigma, log_c, chunk, "single")
+        return _dense_statistics(points, observed, sigma, log_c, setup.chunk, "single")
 
-    binding = hand.texture_binding(model, theta, a)
-    sigmas = np.geomspace(sigma_max, sigma_min, n_levels)
-    lever = dof_lever_arms(hand, binding, theta)
     history = []
-    sigma = sigma_max
+    sigma = sigmas[0]
     inlier_prob = np.zeros(data.shape[0])
     with one_blas_thread():  # small dense algebra: BLAS threads only contend
-        for level in range(n_levels):
+        for level_sigma in sigmas:
             free = np.ones(hand.n_dof, bool)
-            if release_ratio is not None:
-                free &= lever >= release_ratio * sigmas[level]
-            for _ in range(iterations_per_level):
-                if sigma_mode != "estimate":
-                    sigma = sigmas[level]
-                log_c = np.log(c) + (3 * np.log(sigma / sigma_min) if sigma_mode == "scaled" else 0.0)
+            if setup.release_ratio is not None:
+                free &= setup.lever >= setup.release_ratio * level_sigma
+            for _ in range(setup.iterations_per_level):
+                if setup.sigma_mode != "estimate":
+                    sigma = level_sigma
+                log_c = setup.log_c + (3 * np.log(sigma / setup.sigma_min) if setup.sigma_mode == "scaled" else 0.0)
                 moved, jac = hand.texture_jacobian(binding, theta)  # the M-step's first linearisation too
                 weights, weighted, inlier_prob, energy = statistics(moved, data, sigma, log_c, data_pairs)
                 history.append((sigma, energy))
                 goal = weighted / np.maximum(weights, 1e-300)[:, None]
-                if targets == "debiased":
+                if setup.targets == "debiased":
                     self_weights, self_weighted, _, _ = statistics(moved, moved, sigma, log_c, self_pairs)
                     goal = moved + goal - self_weighted / np.maximum(self_weights, 1e-300)[:, None]
-                new_theta = _m_step(hand, binding, theta, weights, goal, gauss_newton_steps, damping, free,
+                new_theta = _m_step(hand, binding, theta, weights, goal, setup.gauss_newton_steps, setup.damping, free,
                                     start=(moved, jac))
                 change = float(np.max(np.abs(new_theta - theta)))
                 theta = new_theta
-                if sigma_mode == "estimate":
+                if setup.sigma_mode == "estimate":
                     _, _, _, new_energy = statistics(hand.transform_texture(binding, theta), data, sigma, log_c, data_pairs)
                     sigma = max(np.sqrt(new_energy / max(3 * weights.sum(), 1e-12)), 1e-3)
-                if change <= tol:
+                if change <= setup.tol:
                     break
-    return EMResult(theta, inlier_prob, np.array(history), hand.transform_texture(binding, theta))
+    return theta, inlier_prob, np.array(history)
+
+
+#: Each digit's DOFs in the layout of :class:`HandModel` (thumb, index, middle, ring, little), and of
+#: those the one that swings the digit sideways (abduction at the knuckle) and the ones that curl it.
+_DIGIT_DOFS = (np.arange(6, 11), np.arange(11, 15), np.arange(15, 19), np.arange(19, 23), np.arange(23, 27))
+_DIGIT_ABDUCTION = (6, 11, 15, 19, 23)
+_DIGIT_FLEXION = (np.array([7, 9, 10]), np.array([12, 13, 14]), np.array([16, 17, 18]), np.array([20, 21, 22]),
+                  np.array([24, 25, 26]))
+
+
+@dataclass(frozen=True)
+class DigitSearchResult:
+    """Result of :func:`refine_digits`.
+
+    theta : (27,) refined pose; inlier_prob : (M,) Σ_i α_ij per data point at that pose and σ_min;
+    log_likelihood : the criterion at ``theta``; start_log_likelihood : the criterion at the pose
+    the search started from; accepted : (digit name, gain of the criterion) per accepted move, in order.
+    """
+
+    theta: np.ndarray
+    inlier_prob: np.ndarray
+    log_likelihood: float
+    start_log_likelihood: float
+    accepted: tuple[tuple[str, float], ...]
+
+
+def _robust_log_likelihood(model_points: np.ndarray, data_points: np.ndarray, sigma: float, log_c: float,
+                           chunk: int = 256) -> tuple[float, np.ndarray]:
+    """Σ_j log(c + Σ_i exp(-||Y_j - X_i||²/2σ²)) and the inlier probabilities Σ_i α_ij of eq. (17).
+
+    The log-likelihood of the data under eq. (17)'s mixture (equal weights, a uniform outlier class)
+    up to a constant, so values at the same σ and c can be compared between poses. Streamed over data
+    chunks in the log domain, with the largest term of each sum factored out.
+    """
+    centre = data_points.mean(axis=0)  # centred coordinates keep the expanded squared distance accurate
+    model, data = model_points - centre, data_points - centre
+    model_sq = np.einsum("ij,ij->i", model, model)
+    total = 0.0
+    inlier_prob = np.empty(len(data))
+    for start in range(0, len(data), chunk):
+        block = data[start:start + chunk]
+        squared = np.einsum("ij,ij->i", block, block)[:, None] + model_sq[None, :] - 2.0 * block @ model.T
+        log_kernel = -np.maximum(squared, 0.0) / (2.0 * sigma**2)
+        top = np.maximum(log_kernel.max(axis=1), log_c)
+        kernel_sum = np.exp(log_kernel - top[:, None]).sum(axis=1)
+        normaliser = kernel_sum + np.exp(log_c - top)
+        total += float(np.sum(top + np.log(normaliser)))
+        inlier_prob[start:start + chunk] = kernel_sum / normaliser
+    return total, inlier_prob
+
+
+def _digit_starts(hand: HandModel, theta: np.ndarray, digit: int, abduction_step: float,
+                  flexion_step: float) -> np.ndarray:
+    """Alternative starts (K, 27) that differ from ``theta`` in one digit's joint angles only.
+
+    The digit at its rest pose; swung sideways by ± ``abduction_step`` (towards either neighbour);
+    its knuckle flexed by ± ``flexion_step``; all its flexion joints by ± ``flexion_step``. Clipped to
+    the joint limits; a start the clip brings back onto ``theta`` is dropped.
+    """
+    dofs, abduction, flexion = _DIGIT_DOFS[digit], _DIGIT_ABDUCTION[digit], _DIGIT_FLEXION[digit]
+    shifts = np.zeros((7, hand.n_dof))
+    shifts[0, dofs] = hand.rest_pose()[dofs] - theta[dofs]
+    shifts[1:3, abduction] = [-abduction_step, abduction_step]
+    shifts[3:5, flexion[0]] = [-flexion_step, flexion_step]
+    shifts[5, flexion], shifts[6, flexion] = -flexion_step, flexion_step
+    limits = hand.joint_limits()
+    starts = np.clip(theta + shifts, limits[:, 0], limits[:, 1])
+    return starts[np.max(np.abs(starts - theta), axis=1) > 1e-3]
+
+
+def refine_digits(model_points: object, data_points: object, hand: HandModel, theta_init: object, theta: object,
+                  *, search_levels: int = 2, abduction_step_deg: float = 20.0, flexion_step_deg: float = 25.0,
+                  max_passes: int = 2, min_gain: float = 1.0, **em_settings) -> DigitSearchResult:
+    """Re-seed one digit at a time from the pose ``theta`` :func:`register_em` converged to (beyond the paper).
+
+    The annealed EM can end with a finger on its neighbour's points, a local optimum it does not
+    leave at small σ. This search first re-runs the last ``search_levels`` σ levels of the EM from
+    ``theta``; then, for each digit (thumb, index, middle, ring, little) in turn, it restarts those
+    levels from a few poses that differ from the current one in that digit's joint angles only
+    (the digit's rest pose, its abduction ± ``abduction_step_deg``, its knuckle
+    flexion and its whole curl ± ``flexion_step_deg``), the rest of the hand where it is. The best of
+    a digit's restarts replaces the current pose when it raises the criterion by more than
+    ``min_gain``; passes over the five digits repeat, up to ``max_passes``, while some restart is
+    accepted.
+
+    The criterion uses the data only (no ground truth): the log-likelihood of the data under the
+    mixture of eq. (17) at σ_min, Σ_j log(c + Σ_i exp(-||Y_j - T(X_i, Θ)||²/2σ_min²)). The pose
+    returned never has a lower criterion than ``theta``. Not part of Dewaele et al. (2006).
+
+    Parameters
+    ----------
+    model_points, data_points, hand, theta_init : as for :func:`register_em` (the texture at
+        ``theta_init``, and the data).
+    theta : (27,) pose to refine, inside the joint limits (e.g. ``register_em(...).theta``).
+    search_levels : how many of the EM's last σ levels each restart runs (1 to ``n_levels``).
+    abduction_step_deg, flexion_step_deg : sizes of the digit moves, degrees (> 0).
+    max_passes : most passes over the five digits (0: only the re-run from ``theta``).
+    min_gain : smallest rise of the criterion that accepts a restart (≥ 0): a margin against
+        moves that only fit the noise.
+    **em_settings : keyword arguments of :func:`register_em` (``sigma_max``, ``sigma_min``,
+        ``n_levels``, ``targets``, ``e_step``, ...), e.g. ``**OUR_SETTINGS``; the same as the EM that
+        produced ``theta``, so the restarts are that EM's last levels.
+
+    Returns
+    -------
+    DigitSearchResult
+    """
+    setup = _em_setup(hand, model_points, data_points, theta_init, **em_settings)
+    theta = hand.check_theta(theta, "theta", within_limits=True)
+    search_levels = check_positive_int(search_levels, "search_levels")
+    if search_levels > len(setup.sigmas):
+        raise ValueError(f"search_levels must be at most n_levels ({len(setup.sigmas)}), got {search_levels}")
+    abduction_step = np.radians(check_positive(abduction_step_deg, "abduction_step_deg"))
+    flexion_step = np.radians(check_positive(flexion_step_deg, "flexion_step_deg"))
+    max_passes = check_positive_int(max_passes, "max_passes", minimum=0)
+    min_gain = check_positive(min_gain, "min_gain", allow_zero=True)
+    sigmas = setup.sigmas[-search_levels:]
+
+    def criterion(pose: np.ndarray) -> tuple[float, np.ndarray]:
+        with one_blas_thread():
+            return _robust_log_likelihood(setup.hand.transform_texture(setup.binding, pose), setup.data,
+                                          setup.sigma_min, setup.log_c)
+
+    def restart(start: np.ndarray) -> tuple[np.ndarray, float, np.ndarray]:
+        pose = _em_levels(setup, start, sigmas)[0]
+        return (pose, *criterion(pose))
+
+    best, inlier_prob = criterion(theta)
+    start_log_likelihood = best
+    polished, polished_value, polished_prob = restart(theta)
+    if polished_value >= best:  # the re-run only finishes the EM's convergence: no margin needed
+        theta, best, inlier_prob = polished, polished_value, polished_prob
+    accepted = []
+    for _ in range(max_passes):
+        changed = False
+        for digit, name in enumerate(FINGERS):
+            restarts = [restart(start) for start in _digit_starts(hand, theta, digit, abduction_step, flexion_step)]
+            if not restarts:
+                continue
+            pose, value, prob = max(restarts, key=lambda result: result[1])
+            if value > best + min_gain:
+                accepted.append((name, value - best))
+                theta, best, inlier_prob, changed = pose, value, prob, True
+        if not changed:
+            break
+    return DigitSearchResult(theta, inlier_prob, best, start_log_likelihood, tuple(accepted))
 
 
 def fit_known_correspondences(model_points: object, matched_points: object, hand: HandModel, theta_init: object,
