@@ -8,10 +8,10 @@ import numpy as np
 
 from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng
 
-from amdo_lab.em_articulated.hand import HandModel, TextureBinding, check_hand
+from amdo_lab.em_articulated.hand import SIDEWAYS_DOFS, HandModel, TextureBinding, check_hand
 
 __all__ = ["RegistrationProblem", "make_registration_problem", "perturb_pose", "visible_points",
-           "make_tracking_sequence", "TrackingSequence", "joint_rmse_deg", "SkinTexture", "make_skin_texture",
+           "make_tracking_sequence", "TrackingSequence", "joint_rmse_deg", "worst_joint_deg", "SkinTexture", "make_skin_texture",
            "random_pose", "DEFAULT_REPEATABILITY"]
 
 _ARTICULATION = slice(6, 27)
@@ -24,11 +24,19 @@ def joint_rmse_deg(theta_est: np.ndarray, theta_true: np.ndarray) -> float:
     return float(np.degrees(np.sqrt(np.mean((theta_est[_ARTICULATION] - theta_true[_ARTICULATION]) ** 2))))
 
 
+def worst_joint_deg(theta_est: np.ndarray, theta_true: np.ndarray) -> float:
+    """Largest error over the 21 finger/thumb joint angles, in degrees (a trial succeeds when it is
+    below :data:`SUCCESS_DEG`)."""
+    theta_est = as_finite_array(theta_est, "theta_est", ndim=1, shape=(27,))
+    theta_true = as_finite_array(theta_true, "theta_true", ndim=1, shape=(27,))
+    return float(np.degrees(np.max(np.abs(theta_est[_ARTICULATION] - theta_true[_ARTICULATION]))))
+
+
 #: Poses whose digits overlap by more than this (mm) are physically impossible and are redrawn.
 MIN_DIGIT_CLEARANCE_MM = -2.0
 _MAX_DRAWS = 200
-#: Abduction DOFs of the index, middle, ring and little fingers.
-_FINGER_ABDUCTION = (11, 15, 19, 23)
+#: Sideways DOFs of the thumb, and the abduction DOFs of the index, middle, ring and little fingers.
+_THUMB_SIDEWAYS, _FINGER_ABDUCTION = SIDEWAYS_DOFS[:2], SIDEWAYS_DOFS[2:]
 
 
 def _first_valid(hand: HandModel, draw, what: str) -> np.ndarray:
@@ -79,12 +87,12 @@ def random_pose(hand: HandModel, rng: np.random.Generator | int) -> np.ndarray:
     check_hand(hand)
     rng = make_rng(rng)
     limits = hand.joint_limits()
-    flexion = ~np.isin(np.arange(6, 27), (6, 8) + _FINGER_ABDUCTION)
+    flexion = ~np.isin(np.arange(6, 27), SIDEWAYS_DOFS)
 
     def draw() -> np.ndarray:
         theta = hand.rest_pose()
         theta[6:] += np.where(flexion, rng.uniform(-0.1, 0.6, size=21), 0.0)
-        theta[[6, 8]] += rng.uniform(-0.2, 0.2, size=2)
+        theta[list(_THUMB_SIDEWAYS)] += rng.uniform(-0.2, 0.2, size=2)
         # fingers fan out together (index and little most), plus a little independent jitter
         fan = rng.uniform(0.0, 0.15) * np.array([-1.0, -1 / 3, 1 / 3, 1.0])
         theta[list(_FINGER_ABDUCTION)] += fan + rng.uniform(-0.03, 0.03, size=4)

@@ -9,7 +9,7 @@ import numpy as np
 
 from amdo_lab.common import check_positive_int, spawn_rngs
 
-from amdo_lab.em_articulated.data import joint_rmse_deg, make_registration_problem
+from amdo_lab.em_articulated.data import joint_rmse_deg, make_registration_problem, worst_joint_deg
 from amdo_lab.em_articulated.hand import HandModel
 from amdo_lab.em_articulated.registration import fit_known_correspondences, fit_surface, refine_digits, register_em
 
@@ -80,15 +80,11 @@ def run_registration_trials(hand: HandModel, seed: int, n_trials: int, *, proble
             floor = fit_known_correspondences(case.model_points[model_index], case.data_points[data_index],
                                               hand, case.theta_init)
             oracle.append(joint_rmse_deg(floor, case.theta_true))
-            oracle_worst.append(_worst_joint_deg(floor, case.theta_true))
+            oracle_worst.append(worst_joint_deg(floor, case.theta_true))
         else:
             oracle.append(np.nan)
             oracle_worst.append(np.nan)
         rmse.append(joint_rmse_deg(theta, case.theta_true))
-        worst.append(_worst_joint_deg(theta, case.theta_true))
+        worst.append(worst_joint_deg(theta, case.theta_true))
     return TrialSummary(np.array(rmse), np.array(worst), np.array(seconds), np.array(oracle), np.array(oracle_worst))
 
-
-def _worst_joint_deg(theta: np.ndarray, theta_true: np.ndarray) -> float:
-    """Largest error over the 21 finger/thumb joints, degrees."""
-    return float(np.degrees(np.max(np.abs(theta[6:] - theta_true[6:]))))

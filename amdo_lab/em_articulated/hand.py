@@ -17,6 +17,13 @@ __all__ = ["HandModel", "PART_NAMES"]
 
 FINGERS = ("thumb", "index", "middle", "ring", "little")
 PART_NAMES = ("palm",) + tuple(f"{f}_{k}" for f in FINGERS for k in (1, 2, 3))
+#: Each digit's DOFs (thumb, index, middle, ring, little) in the layout :class:`HandModel` builds
+#: (checked there): the thumb's five, then four per finger.
+DIGIT_DOFS: tuple[tuple[int, ...], ...] = tuple(tuple(range(start, stop)) for start, stop in
+                                                ((6, 11), (11, 15), (15, 19), (19, 23), (23, 27)))
+#: The digit DOFs that swing a digit sideways (rotations about the palm normal): the thumb's two and
+#: each finger's knuckle abduction. Every other digit DOF flexes.
+SIDEWAYS_DOFS: tuple[int, ...] = (6, 8, 11, 15, 19, 23)
 
 # Phalanx lengths (mm), roughly an adult hand (proximal, middle, distal).
 _PHALANX_LENGTHS = {
@@ -122,6 +129,9 @@ class HandModel:
         for part in parts:
             for k, axis in zip(part.dofs, part.axes):
                 joint_axes[k] = axis
+        assert all(tuple(k for part in parts[1 + 3 * digit:4 + 3 * digit] for k in part.dofs) == DIGIT_DOFS[digit]
+                   for digit in range(len(FINGERS)))
+        assert tuple(np.flatnonzero(np.all(joint_axes[6:] == _Z, axis=1)) + 6) == SIDEWAYS_DOFS
         skew_axes = skew(joint_axes)
         self._joint_axes, self._skew, self._skew2 = joint_axes, skew_axes, skew_axes @ skew_axes
         self._centres = np.array([part.centre for part in parts])

@@ -11,7 +11,7 @@ from scipy.special import logsumexp
 from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
 from amdo_lab.common.threads import one_blas_thread
 
-from amdo_lab.em_articulated.hand import FINGERS, HandModel, TextureBinding, check_hand
+from amdo_lab.em_articulated.hand import DIGIT_DOFS, FINGERS, SIDEWAYS_DOFS, HandModel, TextureBinding, check_hand
 
 __all__ = ["EMResult", "register_em", "e_step_statistics_kdtree", "dof_lever_arms", "PAPER_SETTINGS",
            "OUR_SETTINGS", "fit_surface", "softassign_register", "PAPER_C", "e_step_statistics",
@@ -429,12 +429,11 @@ def _em_levels(setup: _EMSetup, theta: np.ndarray, sigmas: np.ndarray) -> tuple[
     return theta, inlier_prob, np.array(history)
 
 
-#: Each digit's DOFs in the layout of :class:`HandModel` (thumb, index, middle, ring, little), and of
-#: those the one that swings the digit sideways (abduction at the knuckle) and the ones that curl it.
-_DIGIT_DOFS = (np.arange(6, 11), np.arange(11, 15), np.arange(15, 19), np.arange(19, 23), np.arange(23, 27))
-_DIGIT_ABDUCTION = (6, 11, 15, 19, 23)
-_DIGIT_FLEXION = (np.array([7, 9, 10]), np.array([12, 13, 14]), np.array([16, 17, 18]), np.array([20, 21, 22]),
-                  np.array([24, 25, 26]))
+#: Per digit (thumb, index, middle, ring, little): its DOFs, the one that swings it sideways at the
+#: knuckle, and the ones that curl it.
+_DIGIT_DOFS = tuple(np.array(dofs) for dofs in DIGIT_DOFS)
+_DIGIT_ABDUCTION = tuple(dofs[0] for dofs in DIGIT_DOFS)
+_DIGIT_FLEXION = tuple(np.setdiff1d(dofs, SIDEWAYS_DOFS) for dofs in DIGIT_DOFS)
 
 
 @dataclass(frozen=True)
