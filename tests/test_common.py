@@ -19,7 +19,9 @@ from amdo_lab.common import (  # noqa: E402
     check_positive,
     check_positive_int,
     make_rng,
+    paired_comparison,
     procrustes_align,
+    rate_interval,
     rigid_transform,
     rotation_2d,
     rotation_matrix,
@@ -288,3 +290,57 @@ def test_one_blas_thread_limits_blas_and_restores_it():
                 assert blas_threads() == [1] * len(before)
             assert blas_threads() == [1] * len(before)
         assert blas_threads() == before
+
+
+def _wilson_by_hand(successes: int, trials: int, z: float) -> tuple[float, float]:
+    """Wilson (1927) score interval written out, independent of statsmodels."""
+    rate = successes / trials
+    centre = (rate + z ** 2 / (2 * trials)) / (1 + z ** 2 / trials)
+    half = z * np.sqrt(rate * (1 - rate) / trials + z ** 2 / (4 * trials ** 2)) / (1 + z ** 2 / trials)
+    return centre - half, centre + half
+
+
+@pytest.mark.parametrize("successes, trials", [(93, 100), (0, 20), (20, 20), (1108, 1200), (1, 3)])
+def test_rate_interval_is_wilsons(successes, trials):
+    from scipy.stats import norm
+
+    outcomes = np.arange(trials) < successes
+    interval = rate_interval(outcomes, confidence=0.9)
+    low, high = _wilson_by_hand(successes, trials, norm.ppf(0.95))
+    assert (interval.successes, interval.trials) == (successes, trials)
+    assert interval.low == pytest.approx(low, abs=1e-12) and interval.high == pytest.approx(high, abs=1e-12)
+    assert 0 <= interval.low <= interval.rate <= interval.high <= 1
+    assert interval.contains(interval.rate) and not interval.contains(interval.high + 1e-9)
+
+
+def test_rate_interval_narrows_with_more_items():
+    widths = [rate_interval(np.arange(n) < 0.9 * n).high - rate_interval(np.arange(n) < 0.9 * n).low
+              for n in (20, 100, 1000)]
+    assert widths[0] > widths[1] > widths[2]
+
+
+def test_paired_comparison_counts_and_matches_the_exact_binomial_test():
+    from scipy.stats import binomtest
+
+    first = np.array([True] * 50 + [True] * 12 + [False] * 3 + [False] * 35)
+    second = np.array([True] * 50 + [False] * 12 + [True] * 3 + [False] * 35)
+    result = paired_comparison(first, second)
+    assert (result.only_first, result.only_second, result.both, result.neither) == (12, 3, 50, 35)
+    assert result.p_value == pytest.approx(binomtest(3, 15, 0.5).pvalue, rel=1e-12)
+    assert result.difference == pytest.approx(first.mean() - second.mean())
+    assert paired_comparison(second, first).p_value == pytest.approx(result.p_value)
+    assert paired_comparison(first, first).p_value == 1.0  # no discordant item
+
+
+@pytest.mark.parametrize("call, error, message", [
+    (lambda: rate_interval(np.array([1, 0, 1])), TypeError, "outcomes must be a boolean"),
+    (lambda: rate_interval(np.array([], dtype=bool)), ValueError, "non-empty 1-D"),
+    (lambda: rate_interval(np.ones((2, 2), dtype=bool)), ValueError, "non-empty 1-D"),
+    (lambda: rate_interval(np.ones(3, dtype=bool), confidence=1.0), ValueError, "confidence"),
+    (lambda: rate_interval(np.ones(3, dtype=bool), confidence=np.nan), ValueError, "confidence"),
+    (lambda: paired_comparison(np.ones(3, dtype=bool), np.ones(4, dtype=bool)), ValueError, "same items"),
+    (lambda: paired_comparison(np.ones(3, dtype=bool), np.ones(3)), TypeError, "second must be a boolean"),
+])
+def test_rate_checks_refuse_bad_input(call, error, message):
+    with pytest.raises(error, match=message):
+        call()

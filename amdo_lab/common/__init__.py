@@ -1,4 +1,5 @@
-"""The shared floor of AMDO Lab: plotting, random generators, geometry, input validation and BLAS threads.
+"""The shared floor of AMDO Lab: plotting, random generators, geometry, input validation, BLAS threads
+and the uncertainty of rates.
 
 Every chapter subpackage imports from here; nothing here imports a chapter.
 """
@@ -16,6 +17,7 @@ from amdo_lab.common.geometry import (
 )
 from amdo_lab.common.plotting import PALETTE, savefig, use_style
 from amdo_lab.common.rng import make_rng, spawn_rngs
+from amdo_lab.common.stats import PairedComparison, RateInterval, paired_comparison, rate_interval
 from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.common.validation import (
     as_finite_array,
@@ -26,6 +28,8 @@ from amdo_lab.common.validation import (
 
 __all__ = [
     "PALETTE",
+    "PairedComparison",
+    "RateInterval",
     "apply_rigid",
     "apply_similarity_2d",
     "as_finite_array",
@@ -34,7 +38,9 @@ __all__ = [
     "check_positive_int",
     "make_rng",
     "one_blas_thread",
+    "paired_comparison",
     "procrustes_align",
+    "rate_interval",
     "rigid_transform",
     "rotation_2d",
     "rotation_matrix",
