@@ -9,6 +9,7 @@ from amdo_lab.em_articulated import (
     OUR_SETTINGS,
     PAPER_C,
     HandModel,
+    TrialSummary,
     e_step_statistics,
     fit_known_correspondences,
     fit_surface,
@@ -654,3 +655,11 @@ def test_trials_run_the_digit_search_only_when_asked(hand):
     assert np.isfinite(rerun.rmse_deg).all() and rerun.rmse_deg[0] != plain.rmse_deg[0]
     with pytest.raises(TypeError, match="spread"):
         run_registration_trials(hand, 0, 1, problem=problem, em_settings=settings, digit_search=dict(spread=1))
+
+
+def test_trial_summary_success_interval_counts_the_successful_trials():
+    errors = np.array([2.0, 9.9, 10.0, 25.0, 4.0])  # success means every joint strictly within SUCCESS_DEG
+    summary = TrialSummary(errors / 2, errors, np.ones(5), errors / 3, errors / 3)
+    interval = summary.success_interval(0.9)
+    assert (interval.successes, interval.trials) == (3, 5) and interval.rate == summary.success_rate
+    assert interval.low < 0.6 < interval.high and interval.confidence == 0.9
