@@ -7,7 +7,8 @@ per trial, for the paper's EM settings and ours (bias-corrected targets), and fo
 problem and its lenient reading ours followed by the per-digit re-seeding search (refine_digits,
 "ours+digits", beyond the paper); then the E-step against
 pycpd's, the 100-frame tracking run (and one frame at the issue's point counts), and rigid CPD on the
-same points. --tracking-ablation adds the held-out comparison that chose the tracker's EM settings.
+same points. --tracking-ablation adds the held-out comparison that chose the tracker's EM settings;
+--floors prints only the noise floor of every condition (fast: no EM).
 
 Default run is short (--trials 5, about 3 minutes). The issue's protocol is 100 seeded trials per
 level (about 21 minutes on 2 cores, plus about 19 for the two ours+digits rows at about 5.6 s per
@@ -24,12 +25,13 @@ import numpy as np
 from pycpd import RigidRegistration
 from threadpoolctl import threadpool_limits
 
-from amdo_lab.common import spawn_rngs
+from amdo_lab.common import rate_interval, spawn_rngs
 from amdo_lab.em_articulated import (
     OUR_SETTINGS,
     PAPER_C,
     PAPER_SETTINGS,
     TRACKING_SETTINGS,
+    SUCCESS_DEG,
     HandModel,
     e_step_statistics,
     e_step_statistics_kdtree,
@@ -37,6 +39,7 @@ from amdo_lab.em_articulated import (
     joint_rmse_deg,
     make_registration_problem,
     make_tracking_sequence,
+    noise_floor_trials,
     register_em,
     run_registration_trials,
     track_sequence,
@@ -88,6 +91,21 @@ def registration_rows(hand: HandModel, trials: int, seed: int, name: str, proble
         print(f"{name:40s} {label:11s} {summary.median_rmse_deg:11.2f} {summary.success_rate:8.2f} "
               f"{f'[{interval.low:.2f}, {interval.high:.2f}]':>13s} "
               f"{floor} {summary.oracle_success_rate:13.2f} {np.median(summary.seconds):8.2f}", flush=True)
+
+
+def floor_table(hand: HandModel, trials: int) -> None:
+    """The noise floor alone, per condition and on the registration table's problems (same seeds):
+    least squares with the true matches from the start pose. No EM runs, so 100 trials take seconds
+    per condition. Where the floor's success interval lies below 90 %, the done-when's success rate is
+    out of reach for any registration that estimates the pose from these points' matches."""
+    print(f"{'condition':40s} {'floor median RMSE':>17s} {'floor success':>13s} {'95 % interval':>13s}")
+    for k, (name, problem) in enumerate(conditions()):
+        if problem.get("repeatability") == 0.0:
+            continue  # textureless: no true matches, no floor
+        rmse, worst = noise_floor_trials(hand, 1000 + k, trials, problem=problem)
+        interval = rate_interval(worst < SUCCESS_DEG)
+        print(f"{name:40s} {np.median(rmse):17.2f} {interval.rate:13.2f} "
+              f"{f'[{interval.low:.2f}, {interval.high:.2f}]':>13s}", flush=True)
 
 
 def _per_call_ms(function, repeats: int = 10, rounds: int = 5) -> float:
@@ -228,8 +246,13 @@ def main() -> None:
     parser.add_argument("--frames", type=int, default=100, help="tracking sequence length (0: skip)")
     parser.add_argument("--tracking-ablation", action="store_true",
                         help="also compare EM iterations per sigma level on four held-out sequences (about 5 min)")
+    parser.add_argument("--floors", action="store_true",
+                        help="only the noise floor (fit with the true matches) per condition; 100 trials in about 3 min")
     args = parser.parse_args()
     hand = HandModel()
+    if args.floors:
+        floor_table(hand, args.trials)
+        return
     print(f"trials per condition: {args.trials}; success = every finger joint within 10 deg; "
           f"floor = fit with the true matches\n")
     registration_table(hand, args.trials)

@@ -17,6 +17,7 @@ from amdo_lab.em_articulated import (
     joint_rmse_deg,
     make_registration_problem,
     make_tracking_sequence,
+    noise_floor_trials,
     perturb_pose,
     random_pose,
     refine_digits,
@@ -663,3 +664,15 @@ def test_trial_summary_success_interval_counts_the_successful_trials():
     interval = summary.success_interval(0.9)
     assert (interval.successes, interval.trials) == (3, 5) and interval.rate == summary.success_rate
     assert interval.low < 0.6 < interval.high and interval.confidence == 0.9
+
+
+def test_noise_floor_trials_are_the_trial_runners_floors_without_the_em(hand):
+    problem = dict(joint_error_deg=10.0, n_model=100, n_data=100)
+    settings = dict(OUR_SETTINGS, iterations_per_level=1)
+    trials = run_registration_trials(hand, 3, 2, problem=problem, em_settings=settings, surface_steps=0)
+    rmse, worst = noise_floor_trials(hand, 3, 2, problem=problem)
+    np.testing.assert_array_equal(rmse, trials.oracle_rmse_deg)
+    np.testing.assert_array_equal(worst, trials.oracle_max_error_deg)
+    assert np.all(worst >= rmse)
+    textureless, _ = noise_floor_trials(hand, 3, 1, problem=dict(problem, repeatability=0.0))
+    assert np.isnan(textureless).all()  # no feature seen twice: no true matches, no floor

@@ -17,7 +17,7 @@ from amdo_lab.em_articulated.data import (
     random_pose,
     visible_points,
 )
-from amdo_lab.em_articulated.experiments import SUCCESS_DEG, TrialSummary, run_registration_trials
+from amdo_lab.em_articulated.experiments import SUCCESS_DEG, TrialSummary, noise_floor_trials, run_registration_trials
 from amdo_lab.em_articulated.hand import PART_NAMES, HandModel, TextureBinding
 from amdo_lab.em_articulated.registration import (
     OUR_SETTINGS,
@@ -39,7 +39,7 @@ from amdo_lab.em_articulated.registration import (
 from amdo_lab.em_articulated.tracking import TRACKING_SETTINGS, TrackingResult, track_sequence
 
 __all__ = [
-    "OUR_SETTINGS", "fit_known_correspondences", "SkinTexture", "make_skin_texture", "DEFAULT_REPEATABILITY", "SUCCESS_DEG", "TrialSummary", "run_registration_trials", "PAPER_C", "PAPER_SETTINGS", "PART_NAMES", "EMResult", "HandModel", "RegistrationProblem", "SoftAssignResult",
+    "OUR_SETTINGS", "fit_known_correspondences", "SkinTexture", "make_skin_texture", "DEFAULT_REPEATABILITY", "SUCCESS_DEG", "TrialSummary", "noise_floor_trials", "run_registration_trials", "PAPER_C", "PAPER_SETTINGS", "PART_NAMES", "EMResult", "HandModel", "RegistrationProblem", "SoftAssignResult",
     "SurfaceFitResult", "TextureBinding", "TrackingResult", "TrackingSequence", "dof_lever_arms",
     "e_step_statistics", "e_step_statistics_kdtree",
     "fit_surface", "joint_rmse_deg", "worst_joint_deg", "make_registration_problem", "make_tracking_sequence",

@@ -9,7 +9,8 @@ import numpy as np
 
 from amdo_lab.common import RateInterval, check_positive_int, rate_interval, spawn_rngs
 
-from amdo_lab.em_articulated.data import joint_rmse_deg, make_registration_problem, worst_joint_deg
+from amdo_lab.em_articulated.data import (RegistrationProblem, joint_rmse_deg, make_registration_problem,
+                                          worst_joint_deg)
 from amdo_lab.em_articulated.hand import HandModel
 from amdo_lab.em_articulated.registration import fit_known_correspondences, fit_surface, refine_digits, register_em
 
@@ -54,6 +55,28 @@ class TrialSummary:
         return float(np.mean(finite < SUCCESS_DEG)) if finite.size else float("nan")
 
 
+def _floor_errors(hand: HandModel, case: RegistrationProblem) -> tuple[float, float]:
+    """Joint RMSE and worst joint (degrees) of the fit with the true matches; NaN without shared features."""
+    model_index, data_index = case.true_matches()
+    if not len(model_index):
+        return np.nan, np.nan
+    floor = fit_known_correspondences(case.model_points[model_index], case.data_points[data_index], hand,
+                                      case.theta_init)
+    return joint_rmse_deg(floor, case.theta_true), worst_joint_deg(floor, case.theta_true)
+
+
+def noise_floor_trials(hand: HandModel, seed: int, n_trials: int, *,
+                       problem: dict | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The noise floor alone: per-trial joint RMSE and worst joint (degrees) of the least-squares fit
+    with the true matches (:func:`fit_known_correspondences`) from the start pose, on the same
+    problems as :func:`run_registration_trials` with the same ``seed`` (its ``oracle_*`` fields), but
+    without running the EM. NaN for trials without shared features."""
+    n_trials = check_positive_int(n_trials, "n_trials")
+    errors = [_floor_errors(hand, make_registration_problem(hand, rng, **(problem or {})))
+              for rng in spawn_rngs(seed, n_trials)]
+    return np.array([e[0] for e in errors]), np.array([e[1] for e in errors])
+
+
 def run_registration_trials(hand: HandModel, seed: int, n_trials: int, *, problem: dict | None = None,
                             em_settings: dict | None = None, surface_steps: int = 10,
                             epsilon_mm: float = 5.0, digit_search: dict | None = None) -> TrialSummary:
@@ -79,15 +102,9 @@ def run_registration_trials(hand: HandModel, seed: int, n_trials: int, *, proble
             theta = fit_surface(case.data_points, hand, theta, weights=inlier_prob, n_steps=surface_steps,
                                 epsilon_mm=epsilon_mm).theta
         seconds.append(time.perf_counter() - start)
-        model_index, data_index = case.true_matches()
-        if len(model_index):
-            floor = fit_known_correspondences(case.model_points[model_index], case.data_points[data_index],
-                                              hand, case.theta_init)
-            oracle.append(joint_rmse_deg(floor, case.theta_true))
-            oracle_worst.append(worst_joint_deg(floor, case.theta_true))
-        else:
-            oracle.append(np.nan)
-            oracle_worst.append(np.nan)
+        floor_rmse, floor_worst = _floor_errors(hand, case)
+        oracle.append(floor_rmse)
+        oracle_worst.append(floor_worst)
         rmse.append(joint_rmse_deg(theta, case.theta_true))
         worst.append(worst_joint_deg(theta, case.theta_true))
     return TrialSummary(np.array(rmse), np.array(worst), np.array(seconds), np.array(oracle), np.array(oracle_worst))
