@@ -338,6 +338,8 @@ def test_paired_comparison_counts_and_matches_the_exact_binomial_test():
     (lambda: rate_interval(np.ones((2, 2), dtype=bool)), ValueError, "non-empty 1-D"),
     (lambda: rate_interval(np.ones(3, dtype=bool), confidence=1.0), ValueError, "confidence"),
     (lambda: rate_interval(np.ones(3, dtype=bool), confidence=np.nan), ValueError, "confidence"),
+    (lambda: rate_interval(np.ones(3, dtype=bool), confidence="95 %"), TypeError, "confidence"),
+    (lambda: rate_interval(np.ones(3, dtype=bool), confidence=True), TypeError, "confidence"),
     (lambda: paired_comparison(np.ones(3, dtype=bool), np.ones(4, dtype=bool)), ValueError, "same items"),
     (lambda: paired_comparison(np.ones(3, dtype=bool), np.ones(3)), TypeError, "second must be a boolean"),
 ])

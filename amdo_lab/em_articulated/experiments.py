@@ -45,7 +45,7 @@ class TrialSummary:
         return float(np.mean(self.max_error_deg < SUCCESS_DEG))
 
     def success_interval(self, confidence: float = 0.95) -> RateInterval:
-        """:attr:`success_rate` with its Wilson interval (100 trials leave about ±6 points at 95 %)."""
+        """:attr:`success_rate` with its Wilson interval (at 100 trials, about ±6 points around 90 %)."""
         return rate_interval(self.max_error_deg < SUCCESS_DEG, confidence)
 
     @property
