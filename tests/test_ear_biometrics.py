@@ -440,6 +440,9 @@ def test_closed_set_protocol(small_database):
     assert result.correct + result.rejected <= 1 + 1e-12
     self_match = eb.closed_set(eb.EarMatcher(), [t for t in templates[0::2] for _ in range(2)], np.repeat(ids[0::2], 2))
     assert self_match.rank1 == 1.0 and self_match.correct == 1.0  # an image is found as itself
+    assert result.recognised.dtype == bool
+    assert result.recognised.tolist() == [decided == truth for decided, truth in zip(result.decided, result.truth)]
+    assert self_match.recognised.all()
     hog_ranks, hog_sep = eb.hog_closed_set(images, ids)
     assert hog_ranks.shape == (6,) and 0 <= hog_sep.auc <= 1
     full = eb.EarMatcher()

@@ -3,8 +3,8 @@
 The chapters compare rates against a paper's number and against baselines on the same items.
 A rate from n items carries a binomial uncertainty (for n = 100, a 95 % interval of about ±6 points
 around a rate of 90 %, ±10 around 50 %), and two methods scored on the same items must be compared
-pairwise: the items both get right or both get wrong say nothing about which is better. Both computations are statsmodels'; this module only
-checks the input and returns small result objects.
+pairwise: the items both get right or both get wrong say nothing about which is better. Both
+computations are statsmodels'; this module only checks the input and returns small result objects.
 """
 
 from __future__ import annotations

@@ -74,8 +74,13 @@ class ClosedSetResult:
     separation: Separation  # of the step-4 distance (mean |delta sum d|)
 
     @property
+    def recognised(self) -> np.ndarray:
+        """(n_queries,) bool: the paper's rule named the true subject."""
+        return np.asarray(self.decided == self.truth, dtype=bool)
+
+    @property
     def correct(self) -> float:
-        return float(np.mean(self.decided == self.truth))
+        return float(np.mean(self.recognised))
 
     @property
     def rejected(self) -> float:

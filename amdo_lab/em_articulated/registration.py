@@ -101,6 +101,13 @@ def e_step_statistics(model_points: object, data_points: object, sigma: float,
 def _dense_statistics(model_points: np.ndarray, data_points: np.ndarray, sigma: float, log_c: float,
                       chunk: int, precision: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """:func:`e_step_statistics` on validated (N, 3) and (M, 3) arrays (the EM loop's inner call)."""
+    return _dense_pass(model_points, data_points, sigma, log_c, chunk, precision)[:4]
+
+
+def _dense_pass(model_points: np.ndarray, data_points: np.ndarray, sigma: float, log_c: float, chunk: int,
+                precision: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, float]:
+    """:func:`_dense_statistics` plus the data's log-likelihood under eq. (17)'s mixture,
+    Σ_j log(c + Σ_i exp(-||Y_j - X_i||²/2σ²)): Σ_j (top_j + log normaliser_j), from the same pass."""
     dtype = np.float32 if precision == "single" else np.float64
     n_model, n_data = model_points.shape[0], data_points.shape[0]
     centre = data_points.mean(axis=0)  # centred coordinates keep the expanded squared distance accurate
@@ -121,6 +128,7 @@ def _dense_statistics(model_points: np.ndarray, data_points: np.ndarray, sigma: 
     sums = np.zeros((n_model, 4))
     inlier_prob = np.empty(n_data)
     weighted_log_kernel = 0.0  # Σ_ij α_ij log kernel_ji
+    log_likelihood = 0.0
     for start in range(0, n_data, chunk):
         rows = slice(start, start + chunk)
         log_kernel = data_aug[rows] @ model_aug.T  # (rows, N)
@@ -131,12 +139,14 @@ def _dense_statistics(model_points: np.ndarray, data_points: np.ndarray, sigma: 
         row_sum = block_kernel.sum(axis=1, dtype=np.float64)
         normaliser = row_sum + np.exp(log_c - top)  # ≥ 1: the largest term is exp(0)
         inlier_prob[rows] = row_sum / normaliser
+        log_likelihood += float(np.sum(top + np.log(normaliser)))
         sums += block_kernel.T @ (data_one[rows] / normaliser[:, None].astype(dtype))
         shifted_sums = np.einsum("ji,ji->j", block_kernel, block_shifted, dtype=np.float64)
         weighted_log_kernel += float(np.sum(shifted_sums / normaliser) + top @ inlier_prob[rows])
     weights = sums[:, 3]
     weighted_data = sums[:, :3] + weights[:, None] * centre
-    return weights, weighted_data, inlier_prob, max(-2 * sigma**2 * weighted_log_kernel, 0.0)  # a sum of squares: no round-off below 0
+    energy = max(-2 * sigma**2 * weighted_log_kernel, 0.0)  # a sum of squares: no round-off below 0
+    return weights, weighted_data, inlier_prob, energy, log_likelihood
 
 
 def dof_lever_arms(hand: HandModel, binding: TextureBinding, theta: np.ndarray) -> np.ndarray:
@@ -457,24 +467,11 @@ def _robust_log_likelihood(model_points: np.ndarray, data_points: np.ndarray, si
     """Σ_j log(c + Σ_i exp(-||Y_j - X_i||²/2σ²)) and the inlier probabilities Σ_i α_ij of eq. (17).
 
     The log-likelihood of the data under eq. (17)'s mixture (equal weights, a uniform outlier class)
-    up to a constant, so values at the same σ and c can be compared between poses. Streamed over data
-    chunks in the log domain, with the largest term of each sum factored out.
+    up to a constant, so values at the same σ and c can be compared between poses. It is a by-product
+    of the dense E-step's pass (double precision: the search compares values that differ by ~1).
     """
-    centre = data_points.mean(axis=0)  # centred coordinates keep the expanded squared distance accurate
-    model, data = model_points - centre, data_points - centre
-    model_sq = np.einsum("ij,ij->i", model, model)
-    total = 0.0
-    inlier_prob = np.empty(len(data))
-    for start in range(0, len(data), chunk):
-        block = data[start:start + chunk]
-        squared = np.einsum("ij,ij->i", block, block)[:, None] + model_sq[None, :] - 2.0 * block @ model.T
-        log_kernel = -np.maximum(squared, 0.0) / (2.0 * sigma**2)
-        top = np.maximum(log_kernel.max(axis=1), log_c)
-        kernel_sum = np.exp(log_kernel - top[:, None]).sum(axis=1)
-        normaliser = kernel_sum + np.exp(log_c - top)
-        total += float(np.sum(top + np.log(normaliser)))
-        inlier_prob[start:start + chunk] = kernel_sum / normaliser
-    return total, inlier_prob
+    _, _, inlier_prob, _, log_likelihood = _dense_pass(model_points, data_points, sigma, log_c, chunk, "double")
+    return log_likelihood, inlier_prob
 
 
 def _digit_starts(hand: HandModel, theta: np.ndarray, digit: int, abduction_step: float,
