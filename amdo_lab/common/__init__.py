@@ -1,9 +1,10 @@
-"""The shared floor of AMDO Lab: plotting, random generators, geometry, input validation, BLAS threads
-and the uncertainty of rates.
+"""The shared floor of AMDO Lab: plotting, random generators, geometry, input validation, BLAS threads,
+the uncertainty of rates and the check of the exercises.
 
 Every chapter subpackage imports from here; nothing here imports a chapter.
 """
 
+from amdo_lab.common.exercises import check_answer
 from amdo_lab.common.geometry import (
     apply_rigid,
     apply_similarity_2d,
@@ -33,6 +34,7 @@ __all__ = [
     "apply_rigid",
     "apply_similarity_2d",
     "as_finite_array",
+    "check_answer",
     "check_choice",
     "check_positive",
     "check_positive_int",

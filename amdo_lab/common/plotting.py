@@ -37,7 +37,7 @@ def use_style() -> None:
     plt.style.use(str(STYLE_PATH))
 
 
-def savefig(fig: Figure, name: str) -> Path | None:
+def savefig(fig: Figure, name: str) -> None:
     """Write ``fig`` as ``<AMDO_FIG_DIR>/<name>.png`` when the variable is set; else do nothing.
 
     Parameters
@@ -50,8 +50,9 @@ def savefig(fig: Figure, name: str) -> Path | None:
 
     Returns
     -------
-    pathlib.Path or None
-        The written file, or ``None`` when saving is switched off.
+    None
+        Nothing, so a figure cell that ends with this call shows no output value (a returned path
+        would print the reader's own machine path in the book).
     """
     if not isinstance(fig, Figure):
         raise TypeError(f"fig must be a matplotlib Figure, got {type(fig).__name__}")
@@ -61,8 +62,7 @@ def savefig(fig: Figure, name: str) -> Path | None:
         )
     directory = os.environ.get(FIG_DIR_VARIABLE)
     if not directory:
-        return None
+        return
     path = Path(directory) / (name if name.endswith(".png") else f"{name}.png")
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path)
-    return path
