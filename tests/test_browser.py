@@ -1,0 +1,285 @@
+"""The HTML book opened in a real browser (headless Chromium driven by Selenium).
+
+The site is built from the committed, executed notebooks (nothing is executed) into a temporary
+folder, served on 127.0.0.1 (the search page needs http), and every page is opened. On each page:
+MathJax finished, left no raw TeX and no error; every image loaded; every sidebar and
+previous/next link leads to a page of the book; cells tagged ``hide-input``/``hide-cell`` are
+collapsed; the browser console has no error; nothing is loaded from outside the book; the text
+shows no machine path and no words about how the book was made. The search page finds a word of
+each chapter's title on that chapter's page.
+
+A machine without Chromium, its driver or Selenium skips these tests with the command that
+installs them; under CI (``CI=true``) a missing browser is a failure instead.
+"""
+
+from __future__ import annotations
+
+import functools
+import http.server
+import os
+import re
+import threading
+import time
+from pathlib import Path
+from urllib.parse import quote, urlsplit
+
+import pytest
+
+from amdo_lab.book import build_site
+from amdo_lab.chapters import available_chapters
+from amdo_lab.environment import BROWSER_INSTALL_COMMAND, find_browser
+
+INSTALL_HINT = (
+    f"install Chromium and its driver ({BROWSER_INSTALL_COMMAND}) and Selenium "
+    "(pip install -r environment.txt)"
+)
+CHROMIUM_FLAGS = (
+    "--headless", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--disable-quic",
+    "--no-first-run", "--disable-background-networking", "--disable-component-update",
+    "--disable-sync", "--window-size=1280,900",
+)
+PAGE_TIMEOUT_S = 60
+# Same patterns as ../shared/tools/check_notebooks.py (LEAK and PROCESS): the book speaks about
+# the methods, never about the machine it was built on or how it was made.
+MACHINE_PATH = re.compile(r"(/root/|/home/|/tmp/|/work/|/Users/|[A-Z]:\\Users\\)")
+PROCESS_WORDS = re.compile(
+    r"\b(the issue|this issue|issue's|target missed|(?:our|the) (?:speed |accuracy )?target"
+    r"(?! (?:image|shape|point|set|frame|pose|cloud|distribution|sequence|domain))|"
+    r"previous version|earlier version|previous default|for honesty|done[- ]when)\b",
+    re.IGNORECASE,
+)
+RAW_TEX = re.compile(r"(\$[^$\n]+\$|\\begin\{|\\\(|\\\[|\\frac\b|\\mathbf\b)")
+
+
+def _missing_browser() -> str | None:
+    """Why the browser test cannot run here, or None when it can."""
+    try:
+        import selenium  # noqa: F401
+    except ImportError:
+        return "Selenium is not installed: " + INSTALL_HINT
+    browser = find_browser()
+    if browser.binary is None:
+        return "Chromium is not installed: " + INSTALL_HINT
+    if browser.driver is None:
+        return "chromedriver is not installed: " + INSTALL_HINT
+    return None
+
+
+@pytest.fixture(scope="module")
+def site(tmp_path_factory):
+    """The book built from the committed notebooks, served over http on 127.0.0.1."""
+    reason = _missing_browser()
+    if reason is not None:
+        if os.environ.get("CI", "").lower() == "true":
+            pytest.fail(f"CI must run the browser test, but {reason}")
+        pytest.skip(reason)
+    build_dir = tmp_path_factory.mktemp("book-build")
+    index = build_site(build_dir)
+    site_dir = index.parent
+    handler = functools.partial(_QuietHandler, directory=str(site_dir))
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    try:
+        yield site_dir, f"http://127.0.0.1:{server.server_address[1]}/"
+    finally:
+        server.shutdown()
+        server.server_close()
+
+
+class _QuietHandler(http.server.SimpleHTTPRequestHandler):
+    def log_message(self, format, *args):  # noqa: A002 (signature of the base class)
+        pass
+
+
+@pytest.fixture(scope="module")
+def browser(site, tmp_path_factory):
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+
+    found = find_browser()
+    options = webdriver.ChromeOptions()
+    options.binary_location = found.binary
+    for flag in CHROMIUM_FLAGS:
+        options.add_argument(flag)
+    options.add_argument(f"--user-data-dir={tmp_path_factory.mktemp('chromium-profile')}")
+    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    # An explicit driver path: Selenium Manager is never asked to download a driver.
+    service = Service(executable_path=found.driver)
+    driver = webdriver.Chrome(options=options, service=service)
+    driver.set_page_load_timeout(PAGE_TIMEOUT_S)
+    driver.set_script_timeout(PAGE_TIMEOUT_S)
+    try:
+        yield driver
+    finally:
+        driver.quit()
+
+
+# Runs in the page once it has loaded: waits for MathJax and the images, then reports.
+_INSPECT_PAGE = r"""
+const done = arguments[arguments.length - 1];
+(async () => {
+  const math = document.querySelectorAll('.math, div.math, span.math').length;
+  let mathjax = 'absent';
+  if (window.MathJax && MathJax.startup && MathJax.startup.promise) {
+    await MathJax.startup.promise;
+    mathjax = 'finished';
+  } else if (window.MathJax) {
+    mathjax = 'not started';
+  }
+  const images = Array.from(document.images);
+  images.forEach(img => { img.loading = 'eager'; });
+  await Promise.all(images.map(img => img.complete ? null :
+      new Promise(resolve => { img.onload = img.onerror = resolve; })));
+  const article = document.querySelector('article') || document.body;
+  const prose = article.cloneNode(true);
+  prose.querySelectorAll('pre, code, script, style, mjx-container, .highlight, .output')
+       .forEach(node => node.remove());
+  const absolute = (url) => new URL(url, document.baseURI).href;
+  done({
+    math: math,
+    mathjax: mathjax,
+    typeset: document.querySelectorAll('mjx-container').length,
+    mathErrors: Array.from(document.querySelectorAll('mjx-merror, mjx-container [data-mjx-error]'))
+        .map(node => node.getAttribute('data-mjx-error') || node.textContent).slice(0, 5),
+    undefinedMacros: Array.from(document.querySelectorAll('mjx-container mjx-mtext[style*="red"]'))
+        .map(node => node.textContent).slice(0, 5),
+    prose: prose.textContent,
+    text: document.body.textContent,
+    brokenImages: images.filter(img => !(img.complete && img.naturalWidth > 0))
+        .map(img => img.getAttribute('src')),
+    nImages: images.length,
+    sidebar: Array.from(document.querySelectorAll('nav.bd-docs-nav a')).map(a => a.href),
+    prevNext: Array.from(document.querySelectorAll('.prev-next-area a')).map(a => a.href),
+    resources: performance.getEntriesByType('resource').map(entry => entry.name),
+    domResources: Array.from(document.querySelectorAll(
+        'script[src], link[rel="stylesheet"][href], link[rel="preload"][href], img[src], ' +
+        'link[rel="icon"][href], source[src], iframe[src]'))
+        .map(node => absolute(node.getAttribute('src') || node.getAttribute('href'))),
+    openHidden: Array.from(document.querySelectorAll('details.hide, details.toggle-details'))
+        .filter(node => node.open).length,
+    hidden: document.querySelectorAll('details.hide').length,
+  });
+})().catch(error => done({fatal: String(error)}));
+"""
+
+
+def _pages(site_dir: Path) -> list[str]:
+    return sorted(path.name for path in site_dir.glob("*.html"))
+
+
+def _console_errors(driver) -> list[str]:
+    return [entry["message"] for entry in driver.get_log("browser") if entry["level"] == "SEVERE"]
+
+
+def _inspect(driver, url: str) -> dict:
+    driver.get(url)
+    report = driver.execute_async_script(_INSPECT_PAGE)
+    assert "fatal" not in report, f"{url}: the page script failed: {report.get('fatal')}"
+    report["console"] = _console_errors(driver)
+    return report
+
+
+def test_every_page_renders_offline_with_working_math_images_and_links(site, browser):
+    site_dir, base = site
+    pages = _pages(site_dir)
+    chapters = [chapter.slug + ".html" for chapter in available_chapters()]
+    assert set(chapters) <= set(pages), f"chapters without a page: {set(chapters) - set(pages)}"
+    problems = []
+    for page in pages:
+        report = _inspect(browser, base + page)
+        problems += _page_problems(page, report, base, pages, chapters)
+    assert not problems, "\n".join(problems)
+
+
+def _page_problems(page, report, base, pages, chapters) -> list[str]:
+    problems = []
+
+    def say(message):
+        problems.append(f"{page}: {message}")
+
+    if report["math"] and report["mathjax"] != "finished":
+        say(f"{report['math']} equations but MathJax is {report['mathjax']}")
+    if report["math"] and not report["typeset"]:
+        say("equations were not typeset")
+    if report["mathErrors"]:
+        say(f"MathJax errors: {report['mathErrors']}")
+    if report["undefinedMacros"]:
+        say(f"undefined TeX macros: {report['undefinedMacros']}")
+    raw = RAW_TEX.search(report["prose"])
+    if raw:
+        context = report["prose"][max(0, raw.start() - 60): raw.end() + 60].replace("\n", " ")
+        say(f"raw TeX left in the text: {raw.group(0)!r} in ...{context}...")
+    if report["brokenImages"]:
+        say(f"{len(report['brokenImages'])} of {report['nImages']} images did not load: "
+            f"{report['brokenImages'][:3]}")
+    for link in report["sidebar"] + report["prevNext"]:
+        target = urlsplit(link)
+        if not link.startswith(base) or target.path.lstrip("/") not in pages:
+            say(f"link {link} does not lead to a page of the book")
+    if page in chapters or page == "index.html":
+        sidebar_pages = {urlsplit(link).path.lstrip("/") for link in report["sidebar"]}
+        missing = set(chapters) - sidebar_pages - {page}
+        if missing:
+            say(f"the sidebar misses {sorted(missing)}")
+        if not report["prevNext"]:
+            say("no previous/next link")
+    outside = sorted({url for url in report["resources"] + report["domResources"]
+                      if not url.startswith(base) and not url.startswith("data:")})
+    if outside:
+        say(f"loads {len(outside)} resource(s) from outside the book: {outside[:3]}")
+    if report["console"]:
+        say(f"console errors: {report['console'][:3]}")
+    if report["openHidden"]:
+        say(f"{report['openHidden']} hidden cell(s) are open on load")
+    leak = MACHINE_PATH.search(report["text"])
+    if leak:
+        say(f"shows a machine path: {report['text'][max(0, leak.start() - 40): leak.end() + 40]!r}")
+    process = sorted({match.group(0) for match in PROCESS_WORDS.finditer(report["text"])})
+    if process:
+        say(f"speaks about how the book was made: {process}")
+    return problems
+
+
+def _search_word(title: str) -> str:
+    """The longest word of a chapter title: specific enough to find that chapter."""
+    return max(re.findall(r"[A-Za-z]+", title), key=len).lower()
+
+
+def test_search_finds_a_word_of_each_chapter(site, browser):
+    _, base = site
+    problems = []
+    for chapter in available_chapters():
+        word = _search_word(chapter.title)
+        browser.get(f"{base}search.html?q={quote(word)}")
+        found = _wait_for_search(browser)
+        if f"{chapter.slug}.html" not in {urlsplit(link).path.lstrip("/") for link in found}:
+            problems.append(f"searching {word!r} does not list {chapter.slug}.html (found {found})")
+        errors = _console_errors(browser)
+        if errors:
+            problems.append(f"search for {word!r}: console errors {errors[:3]}")
+    assert not problems, "\n".join(problems)
+
+
+def _wait_for_search(driver, timeout_s: float = PAGE_TIMEOUT_S) -> list[str]:
+    """Links listed once the search page says it finished (Sphinx fills #search-results)."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        state = driver.execute_script(
+            "const box = document.getElementById('search-results');"
+            "if (!box) return null;"
+            "const summary = box.querySelector('.search-summary, p');"
+            "return {summary: summary ? summary.textContent : '',"
+            "        links: Array.from(box.querySelectorAll('ul a')).map(a => a.href)};"
+        )
+        if state and state["summary"].strip() and "Searching" not in state["summary"]:
+            return state["links"]
+        time.sleep(0.2)
+    raise AssertionError("the search page did not finish within the time limit")
+
+
+def test_solutions_are_collapsed_in_the_introduction(site, browser):
+    _, base = site
+    report = _inspect(browser, base + "00_introduction.html")
+    assert report["hidden"] >= 1, "the warm-up exercise's solution is not a collapsed cell"
+    assert report["openHidden"] == 0
