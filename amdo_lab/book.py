@@ -228,7 +228,7 @@ def build_site(
     landing = (SITE_CONFIG_DIR / "index.md").read_text(encoding="utf-8")
     if CHAPTERS_MARKER not in landing:
         raise SiteError(f"book/index.md lacks the line {CHAPTERS_MARKER} where the chapters go")
-    landing = landing.replace(CHAPTERS_MARKER, _chapter_table(rows))
+    landing = landing.replace(CHAPTERS_MARKER, _chapter_list(rows))
     (staging / "index.md").write_text(landing, encoding="utf-8")
 
     site_dir = build_dir / "book"
@@ -257,17 +257,19 @@ def _format_run_time(seconds: float | None) -> str:
     return f"{seconds / 60:.1f} min"
 
 
-def _chapter_table(rows: Sequence[tuple[Chapter, float | None]]) -> str:
-    lines = [
-        "| # | chapter | paper | run time |",
-        "|---|---|---|---|",
-    ]
+def _chapter_list(rows: Sequence[tuple[Chapter, float | None]]) -> str:
+    """The landing page's list of chapters (title, summary, paper, run time) and the toctree."""
+    lines = []
     for chapter, seconds in rows:
-        cell = f"[{_escape_cell(chapter.title)}]({chapter.notebook})<br>{_escape_cell(chapter.summary)}"
-        lines.append(
-            f"| {chapter.number} | {cell} | {_escape_cell(chapter.paper)} | {_format_run_time(seconds)} |"
-        )
-    lines.append("")
+        lines += [
+            f"### {chapter.number} · [{chapter.title}]({chapter.notebook})",
+            "",
+            chapter.summary,
+            "",
+        ]
+        details = [] if chapter.paper in ("", "—") else [f"*Paper:* {chapter.paper}"]
+        details.append(f"*Run time:* {_format_run_time(seconds)}")
+        lines += [" · ".join(details), ""]
     lines.append(
         "The run time is how long the chapter took to execute from top to bottom when its "
         "outputs were last produced."
@@ -278,5 +280,3 @@ def _chapter_table(rows: Sequence[tuple[Chapter, float | None]]) -> str:
     return "\n".join(lines + toctree) + "\n"
 
 
-def _escape_cell(text: str) -> str:
-    return text.replace("|", "\\|")

@@ -37,7 +37,7 @@ CHAPTERS: tuple[Chapter, ...] = (
     Chapter(
         0,
         "00_introduction.ipynb",
-        "Introduction: how to use the workbook",
+        "Introduction: how to read AMDO Lab",
         "The reading map of the chapters (what each needs and which chapter teaches it), the notation they share, "
         "how exercises are checked, a warm-up exercise on Procrustes alignment, and the plotting helpers in 2-D and 3-D.",
         "—",
