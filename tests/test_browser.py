@@ -127,23 +127,38 @@ const done = arguments[arguments.length - 1];
   } else if (window.MathJax) {
     mathjax = 'not started';
   }
+  // MathJax's own record of each formula: its TeX source and the tree it built. An error box
+  // (merror) is a TeX syntax error; a red mtext is an undefined macro (the noundefined package).
+  function mathProblems(kind) {
+    if (mathjax !== 'finished') return [];
+    const found = [];
+    for (const item of MathJax.startup.document.math) {
+      let bad = false;
+      item.root.walkTree(node => {
+        if (kind === 'error' && node.isKind('merror')) bad = true;
+        if (kind === 'undefined' && node.isKind('mtext') &&
+            node.attributes.get('mathcolor') === 'red') bad = true;
+      });
+      if (bad) found.push(String(item.math).slice(0, 80));
+    }
+    return found.slice(0, 5);
+  }
   const images = Array.from(document.images);
   images.forEach(img => { img.loading = 'eager'; });
   await Promise.all(images.map(img => img.complete ? null :
       new Promise(resolve => { img.onload = img.onerror = resolve; })));
   const article = document.querySelector('article') || document.body;
   const prose = article.cloneNode(true);
-  prose.querySelectorAll('pre, code, script, style, mjx-container, .highlight, .output')
+  prose.querySelectorAll('pre, code, script, style, mjx-container, .highlight')
        .forEach(node => node.remove());
   const absolute = (url) => new URL(url, document.baseURI).href;
   done({
     math: math,
     mathjax: mathjax,
     typeset: document.querySelectorAll('mjx-container').length,
-    mathErrors: Array.from(document.querySelectorAll('mjx-merror, mjx-container [data-mjx-error]'))
-        .map(node => node.getAttribute('data-mjx-error') || node.textContent).slice(0, 5),
-    undefinedMacros: Array.from(document.querySelectorAll('mjx-container mjx-mtext[style*="red"]'))
-        .map(node => node.textContent).slice(0, 5),
+    mathErrors: mathProblems('error'),
+    errorBoxes: document.querySelectorAll('mjx-merror').length,
+    undefinedMacros: mathProblems('undefined'),
     prose: prose.textContent,
     text: document.body.textContent,
     brokenImages: images.filter(img => !(img.complete && img.naturalWidth > 0))
@@ -202,8 +217,8 @@ def _page_problems(page, report, base, pages, chapters) -> list[str]:
         say(f"{report['math']} equations but MathJax is {report['mathjax']}")
     if report["math"] and not report["typeset"]:
         say("equations were not typeset")
-    if report["mathErrors"]:
-        say(f"MathJax errors: {report['mathErrors']}")
+    if report["mathErrors"] or report["errorBoxes"]:
+        say(f"{report['errorBoxes']} MathJax error(s): {report['mathErrors']}")
     if report["undefinedMacros"]:
         say(f"undefined TeX macros: {report['undefinedMacros']}")
     raw = RAW_TEX.search(report["prose"])
