@@ -48,7 +48,9 @@ PROCESS_WORDS = re.compile(
     r"previous version|earlier version|previous default|for honesty|done[- ]when)\b",
     re.IGNORECASE,
 )
-RAW_TEX = re.compile(r"(\$[^$\n]+\$|\\begin\{|\\\(|\\\[|\\frac\b|\\mathbf\b)")
+# TeX that MathJax did not typeset. Inline $...$ follows the usual rule (no space inside the
+# dollars, no digit after the closing one), so a price such as "$5 and $10" is not TeX.
+RAW_TEX = re.compile(r"(\$[^\s$][^$\n]*?(?<=\S)\$(?!\d)|\\begin\{|\\\(|\\\[|\\frac\b|\\mathbf\b)")
 
 
 def _missing_browser() -> str | None:
