@@ -4,9 +4,10 @@ The site is built from the committed, executed notebooks (nothing is executed) i
 folder, served on 127.0.0.1 (the search page needs http), and every page is opened. On each page:
 MathJax finished, left no raw TeX and no error; every image loaded; every sidebar and
 previous/next link leads to a page of the book; cells tagged ``hide-input``/``hide-cell`` are
-collapsed; the browser console has no error; nothing is loaded from outside the book; the text
-shows no machine path and no words about how the book was made. The search page finds a word of
-each chapter's title on that chapter's page.
+collapsed; each chapter's download button leads to its notebook; the browser console has no
+error; nothing is loaded from outside the book; the text shows no machine path and no words about
+how the book was made. The search page finds a word of each chapter's title on that chapter's
+page.
 
 A machine without Chromium, its driver or Selenium skips these tests with the command that
 installs them; under CI (``CI=true``) a missing browser is a failure instead.
@@ -168,6 +169,7 @@ const done = arguments[arguments.length - 1];
     nImages: images.length,
     sidebar: Array.from(document.querySelectorAll('nav.bd-docs-nav a')).map(a => a.href),
     prevNext: Array.from(document.querySelectorAll('.prev-next-area a')).map(a => a.href),
+    downloads: Array.from(document.querySelectorAll('a[href*="_sources/"]')).map(a => a.href),
     resources: performance.getEntriesByType('resource').map(entry => entry.name),
     domResources: Array.from(document.querySelectorAll(
         'script[src], link[rel="stylesheet"][href], link[rel="preload"][href], img[src], ' +
@@ -197,65 +199,104 @@ def _inspect(driver, url: str) -> dict:
     return report
 
 
-def test_every_page_renders_offline_with_working_math_images_and_links(site, browser):
+@pytest.fixture(scope="module")
+def reports(site, browser):
+    """What the browser saw on every page of the book, opened once: {page name: report}."""
     site_dir, base = site
     pages = _pages(site_dir)
     chapters = [chapter.slug + ".html" for chapter in available_chapters()]
     assert set(chapters) <= set(pages), f"chapters without a page: {set(chapters) - set(pages)}"
+    return {page: _inspect(browser, base + page) for page in pages}
+
+
+def _chapter_pages() -> list[str]:
+    return [chapter.slug + ".html" for chapter in available_chapters()]
+
+
+def _assert_none(problems: list[str]) -> None:
+    assert not problems, f"{len(problems)} problem(s):\n" + "\n".join(problems)
+
+
+def test_equations_are_typeset_with_no_raw_tex_and_no_error(reports):
     problems = []
-    for page in pages:
-        report = _inspect(browser, base + page)
-        problems += _page_problems(page, report, base, pages, chapters)
-    assert not problems, "\n".join(problems)
+    for page, report in reports.items():
+        if report["math"] and report["mathjax"] != "finished":
+            problems.append(f"{page}: {report['math']} equations but MathJax is {report['mathjax']}")
+        elif report["math"] and not report["typeset"]:
+            problems.append(f"{page}: equations were not typeset")
+        if report["mathErrors"] or report["errorBoxes"]:
+            problems.append(f"{page}: {report['errorBoxes']} MathJax error(s): {report['mathErrors']}")
+        if report["undefinedMacros"]:
+            problems.append(f"{page}: undefined TeX macros: {report['undefinedMacros']}")
+        for raw in list(RAW_TEX.finditer(report["prose"]))[:3]:
+            context = report["prose"][max(0, raw.start() - 60): raw.end() + 60].replace("\n", " ")
+            problems.append(f"{page}: raw TeX {raw.group(0)!r} in ...{context}...")
+    _assert_none(problems)
 
 
-def _page_problems(page, report, base, pages, chapters) -> list[str]:
+def test_every_image_loads(reports):
+    _assert_none([
+        f"{page}: {len(report['brokenImages'])} of {report['nImages']} images did not load: "
+        f"{report['brokenImages'][:3]}"
+        for page, report in reports.items() if report["brokenImages"]
+    ])
+
+
+def test_sidebar_previous_next_and_download_links_lead_into_the_book(site, reports):
+    site_dir, base = site
+    pages, chapters = set(reports), _chapter_pages()
     problems = []
+    for page, report in reports.items():
+        for link in report["sidebar"] + report["prevNext"]:
+            if not link.startswith(base) or urlsplit(link).path.lstrip("/") not in pages:
+                problems.append(f"{page}: link {link} does not lead to a page of the book")
+        if page in chapters or page == "index.html":
+            listed = {urlsplit(link).path.lstrip("/") for link in report["sidebar"]}
+            missing = set(chapters) - listed - {page}
+            if missing:
+                problems.append(f"{page}: the sidebar misses {sorted(missing)}")
+            if not report["prevNext"]:
+                problems.append(f"{page}: no previous/next link")
+        if page in chapters:
+            notebook = page.replace(".html", ".ipynb")
+            targets = [urlsplit(link).path.lstrip("/") for link in report["downloads"]]
+            if f"_sources/{notebook}" not in targets or not (site_dir / "_sources" / notebook).exists():
+                problems.append(f"{page}: no working download link for {notebook} (found {targets})")
+    _assert_none(problems)
 
-    def say(message):
-        problems.append(f"{page}: {message}")
 
-    if report["math"] and report["mathjax"] != "finished":
-        say(f"{report['math']} equations but MathJax is {report['mathjax']}")
-    if report["math"] and not report["typeset"]:
-        say("equations were not typeset")
-    if report["mathErrors"] or report["errorBoxes"]:
-        say(f"{report['errorBoxes']} MathJax error(s): {report['mathErrors']}")
-    if report["undefinedMacros"]:
-        say(f"undefined TeX macros: {report['undefinedMacros']}")
-    raw = RAW_TEX.search(report["prose"])
-    if raw:
-        context = report["prose"][max(0, raw.start() - 60): raw.end() + 60].replace("\n", " ")
-        say(f"raw TeX left in the text: {raw.group(0)!r} in ...{context}...")
-    if report["brokenImages"]:
-        say(f"{len(report['brokenImages'])} of {report['nImages']} images did not load: "
-            f"{report['brokenImages'][:3]}")
-    for link in report["sidebar"] + report["prevNext"]:
-        target = urlsplit(link)
-        if not link.startswith(base) or target.path.lstrip("/") not in pages:
-            say(f"link {link} does not lead to a page of the book")
-    if page in chapters or page == "index.html":
-        sidebar_pages = {urlsplit(link).path.lstrip("/") for link in report["sidebar"]}
-        missing = set(chapters) - sidebar_pages - {page}
-        if missing:
-            say(f"the sidebar misses {sorted(missing)}")
-        if not report["prevNext"]:
-            say("no previous/next link")
-    outside = sorted({url for url in report["resources"] + report["domResources"]
-                      if not url.startswith(base) and not url.startswith("data:")})
-    if outside:
-        say(f"loads {len(outside)} resource(s) from outside the book: {outside[:3]}")
-    if report["console"]:
-        say(f"console errors: {report['console'][:3]}")
-    if report["openHidden"]:
-        say(f"{report['openHidden']} hidden cell(s) are open on load")
-    leak = MACHINE_PATH.search(report["text"])
-    if leak:
-        say(f"shows a machine path: {report['text'][max(0, leak.start() - 40): leak.end() + 40]!r}")
-    process = sorted({match.group(0) for match in PROCESS_WORDS.finditer(report["text"])})
-    if process:
-        say(f"speaks about how the book was made: {process}")
-    return problems
+def test_nothing_is_loaded_from_outside_the_book_and_the_console_is_clean(site, reports):
+    _, base = site
+    problems = []
+    for page, report in reports.items():
+        outside = sorted({url for url in report["resources"] + report["domResources"]
+                          if not url.startswith(base) and not url.startswith("data:")})
+        if outside:
+            problems.append(f"{page}: loads {len(outside)} resource(s) from outside the book: "
+                            f"{outside[:3]}")
+        if report["console"]:
+            problems.append(f"{page}: console errors: {report['console'][:3]}")
+    _assert_none(problems)
+
+
+def test_hidden_cells_are_folded(reports):
+    _assert_none([f"{page}: {report['openHidden']} hidden cell(s) are open on load"
+                  for page, report in reports.items() if report["openHidden"]])
+    # chapter 0's warm-up solution is the example every chapter follows
+    assert reports["00_introduction.html"]["hidden"] >= 1, "chapter 0's solution is not folded"
+
+
+def test_no_page_shows_a_machine_path_or_how_the_book_was_made(reports):
+    problems = []
+    for page, report in reports.items():
+        leak = MACHINE_PATH.search(report["text"])
+        if leak:
+            context = report["text"][max(0, leak.start() - 40): leak.end() + 40]
+            problems.append(f"{page}: shows a machine path: {context!r}")
+        words = sorted({match.group(0) for match in PROCESS_WORDS.finditer(report["text"])})
+        if words:
+            problems.append(f"{page}: speaks about how the book was made: {words}")
+    _assert_none(problems)
 
 
 def _search_word(title: str) -> str:
@@ -293,10 +334,3 @@ def _wait_for_search(driver, timeout_s: float = PAGE_TIMEOUT_S) -> list[str]:
             return state["links"]
         time.sleep(0.2)
     raise AssertionError("the search page did not finish within the time limit")
-
-
-def test_solutions_are_collapsed_in_the_introduction(site, browser):
-    _, base = site
-    report = _inspect(browser, base + "00_introduction.html")
-    assert report["hidden"] >= 1, "the warm-up exercise's solution is not a collapsed cell"
-    assert report["openHidden"] == 0
