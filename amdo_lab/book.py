@@ -20,7 +20,7 @@ import shutil
 import subprocess
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from datetime import datetime
 from pathlib import Path
 
@@ -126,7 +126,7 @@ def render_figures(chapter: Chapter, build_dir: Path = BUILD_DIR) -> list[Path]:
     return sorted(figure_dir.glob("*.png"))
 
 
-def chapter_run_seconds(notebook) -> float | None:
+def chapter_run_seconds(notebook: Mapping) -> float | None:
     """How long the executed ``notebook`` took to run, in seconds, or None when unknown.
 
     The value recorded by :func:`execute_chapter` wins; otherwise the span of the per-cell
@@ -222,7 +222,8 @@ def build_site(
     staging.mkdir(parents=True)
     rows = []
     for chapter, path in sources:
-        shutil.copy2(path, staging / chapter.notebook)
+        # a fresh copy (new modification time): sphinx re-reads every chapter, whichever source won
+        shutil.copyfile(path, staging / chapter.notebook)
         seconds = chapter_run_seconds(nbformat.read(path, as_version=4))
         rows.append((chapter, seconds))
     landing = (SITE_CONFIG_DIR / "index.md").read_text(encoding="utf-8")
@@ -235,7 +236,7 @@ def build_site(
     doctrees = build_dir / "site-doctrees"
     command = [
         sys.executable, "-m", "sphinx", "-b", "html", "-c", str(SITE_CONFIG_DIR),
-        "-d", str(doctrees), "--keep-going", str(staging), str(site_dir),
+        "-d", str(doctrees), str(staging), str(site_dir),
     ]
     if quiet:
         command.insert(3, "-q")
