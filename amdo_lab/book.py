@@ -203,13 +203,29 @@ def _site_sources(executed_dir: Path | None) -> list[tuple[Chapter, Path]]:
 
 
 def build_site(
-    build_dir: Path = BUILD_DIR, *, executed_dir: Path | None = None, quiet: bool = True,
+    build_dir: Path = BUILD_DIR,
+    *,
+    executed_dir: Path | None = None,
+    quiet: bool = True,
+    warnings_as_errors: bool = False,
 ) -> Path:
     """Build the HTML book from executed notebooks with sphinx-build; return ``index.html``.
 
     Nothing is executed: each available chapter is rendered from its saved outputs (the copy in
     ``executed_dir`` when it is newer than ``notebooks/``, else the committed notebook).
     The sources are staged in ``build/site-src/`` and the site is written to ``build/book/``.
+
+    Parameters
+    ----------
+    build_dir : pathlib.Path
+        Output root (``site-src/``, ``site-doctrees/``, ``book/``).
+    executed_dir : pathlib.Path, optional
+        Folder of freshly executed notebooks that win over ``notebooks/`` when newer.
+    quiet : bool
+        Only warnings and errors from sphinx-build (printed to stderr).
+    warnings_as_errors : bool
+        Fail on any sphinx warning (a broken equation or cross reference, an unknown cell
+        output); the tests build this way.
     """
     import nbformat
 
@@ -240,11 +256,14 @@ def build_site(
     ]
     if quiet:
         command.insert(3, "-q")
+    if warnings_as_errors:
+        command.insert(3, "-W")
     completed = subprocess.run(command, capture_output=quiet, text=True)
     if completed.returncode != 0:
         details = (completed.stderr or "").strip().splitlines() if quiet else []
-        last = details[-1] if details else f"exit status {completed.returncode}"
-        raise SiteError(f"sphinx-build failed: {last}")
+        problems = [line for line in details if "WARNING" in line or "ERROR" in line]
+        shown = problems[:10] or details[-1:] or [f"exit status {completed.returncode}"]
+        raise SiteError("sphinx-build failed: " + "\n".join(shown))
     if quiet and completed.stderr.strip():
         print(completed.stderr.strip(), file=sys.stderr)
     return site_dir / "index.html"

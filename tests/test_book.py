@@ -10,7 +10,7 @@ import nbformat
 import pytest
 
 from amdo_lab import chapters as chapter_registry
-from amdo_lab.book import BookError, build_book, chapter_run_seconds
+from amdo_lab.book import BookError, SiteError, build_book, build_site, chapter_run_seconds
 from amdo_lab.chapters import CHAPTERS, NOTEBOOK_DIR, Chapter, available_chapters, find_chapter
 
 # The words of ../shared/tools/check_notebooks.py's PROCESS check: the landing page speaks about
@@ -123,3 +123,13 @@ def test_build_writes_an_offline_site_and_stops_at_a_failing_chapter(tiny_chapte
         build_book([good, bad], build_dir, progress=False)
     assert (build_dir / "executed" / good.notebook).exists()  # what was executed stays
     assert (site / "00_good.html").exists()
+
+
+def test_a_broken_equation_reference_fails_the_strict_site_build(tiny_chapters):
+    good, _, build_dir = tiny_chapters
+    notebook = nbformat.read(good.path, as_version=4)
+    notebook.cells[0].source += "\n\nSee equation {eq}`no-such-label`."
+    nbformat.write(notebook, good.path)
+    build_site(build_dir)  # a reader's build still writes the site
+    with pytest.raises(SiteError, match=r"sphinx-build failed: .*no-such-label"):
+        build_site(build_dir, warnings_as_errors=True)

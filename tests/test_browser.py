@@ -77,7 +77,7 @@ def site(tmp_path_factory):
             pytest.fail(f"CI must run the browser test, but {reason}")
         pytest.skip(reason)
     build_dir = tmp_path_factory.mktemp("book-build")
-    index = build_site(build_dir)
+    index = build_site(build_dir, warnings_as_errors=True)  # a broken reference fails here
     site_dir = index.parent
     handler = functools.partial(_QuietHandler, directory=str(site_dir))
     server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
