@@ -10,8 +10,7 @@ from amdo_lab.pdm_mixtures.pdm import (
     _align_to_reference,
     _check_point_set_sizes,
     _check_variance_fraction,
-    _fit_modes,
-    _reconstruct,
+    _ppca_log_density,
     fit_pdm,
     generalized_procrustes,
 )
@@ -46,7 +45,7 @@ def _check_landmarks(shapes: np.ndarray, n_points: int) -> None:
 
 class SingleCartesianPDMClassifier:
     """One Cartesian PDM per class on Procrustes-aligned landmark long-vectors; class = highest
-    PPCA log-likelihood (in-model Mahalanobis + isotropic residual)."""
+    PPCA log-likelihood (:func:`~amdo_lab.pdm_mixtures.pdm.ppca_log_density`)."""
 
     def __init__(self, variance_fraction: float = 0.95) -> None:
         self.variance_fraction = _check_variance_fraction(variance_fraction)
@@ -65,14 +64,7 @@ class SingleCartesianPDMClassifier:
         shapes = _check(shapes)
         _check_landmarks(shapes, len(self.reference_))
         vectors = _align_to_reference(shapes.reshape(len(shapes), -1, 2), self.reference_).reshape(len(shapes), -1)
-        d = vectors.shape[1]
-        out = np.empty((len(vectors), len(self.models_)))
-        for j, model in enumerate(self.models_):
-            gamma = _fit_modes(model, vectors)
-            residual = np.sum((vectors - _reconstruct(model, gamma)) ** 2, axis=1)
-            out[:, j] = -0.5 * (np.sum(gamma**2 / model.variances, axis=1) + residual / model.residual_variance
-                                + np.sum(np.log(model.variances)) + (d - model.n_modes) * np.log(model.residual_variance))
-        return out
+        return np.stack([_ppca_log_density(model, vectors) for model in self.models_], axis=1)
 
     def predict(self, shapes: np.ndarray) -> np.ndarray:
         scores = self.log_likelihoods(shapes)  # validates first

@@ -44,8 +44,24 @@ def gaussian_log_density(points: np.ndarray, means: np.ndarray, covariances: np.
         raise ValueError("covariances must be positive definite (every (d, d) matrix)") from None
 
 
+def _gaussian_log_density_reference(points: np.ndarray, means: np.ndarray, covariances: np.ndarray) -> np.ndarray:
+    """Eq. 6 as printed, one component at a time: the reference path of :func:`_gaussian_log_density`.
+
+    ``ln p(X_t | Y_w, Sigma_w) = -1/2 [ d ln(2 pi) + ln|Sigma_w| + (X_t - Y_w)^T Sigma_w^-1 (X_t - Y_w) ]``
+    (the paper's ``(2 pi)^L`` is ``(2 pi)^(d/2)`` for long vectors of ``d = 2L`` coordinates).
+    """
+    n_dim = points.shape[1]
+    out = np.empty((len(points), len(means)))
+    for w, (mean, covariance) in enumerate(zip(means, covariances)):
+        diff = points - mean  # X_t - Y_w
+        mahalanobis = np.sum(diff @ np.linalg.inv(covariance) * diff, axis=1)
+        out[:, w] = -0.5 * (n_dim * np.log(2 * np.pi) + np.linalg.slogdet(covariance)[1] + mahalanobis)
+    return out
+
+
 def _gaussian_log_density(points: np.ndarray, means: np.ndarray, covariances: np.ndarray) -> np.ndarray:
-    """:func:`gaussian_log_density` on validated arrays (the EM loop's inner call)."""
+    """:func:`gaussian_log_density` on validated arrays (the EM loop's inner call): eq. 6 for all
+    components at once through Cholesky factors, with no explicit inverse."""
     n_dim = points.shape[1]
     chol = np.linalg.cholesky(covariances)  # (K, d, d)
     diff = points[None, :, :] - means[:, None, :]  # (K, T, d)
@@ -109,16 +125,20 @@ def fit_gaussian_mixture(
             raise ValueError("weights_init must be positive and sum to 1")
     history = []
     for _ in range(n_iter):
-        # E-step (eq. 4), in log space for stability.
+        # E-step (eq. 4): P(t in w | X_t) = pi_w p(X_t | w) / sum_w' pi_w' p(X_t | w'), in log space.
         log_joint = _gaussian_log_density(points, means, covariances) + np.log(weights)
         log_norm = np.logaddexp.reduce(log_joint, axis=1)
         responsibilities = np.exp(log_joint - log_norm[:, None])
         history.append(float(np.mean(log_norm)))
-        # M-step (eqs. 5, 7, 8).
+        # M-step. Eq. 5: pi_w = (1/T) sum_t P(t in w | X_t).
         counts = responsibilities.sum(axis=0) + 10 * np.finfo(float).eps
         weights = counts / t
+        # Eq. 7, normalised: Y_w = sum_t P(t in w | X_t) X_t / sum_t P(t in w | X_t).
         means = (responsibilities.T @ points) / counts[:, None]
+        # Eq. 8, normalised and about the new mean Y_w.
         diff = points[None, :, :] - means[:, None, :]
-        covariances = np.einsum("tk,kti,ktj->kij", responsibilities, diff, diff) / counts[:, None, None]
+        # sum_t P(t in w) (X_t - Y_w)(X_t - Y_w)^T, one matrix product per component
+        covariances = np.stack([(responsibilities[:, j, None] * diff[j]).T @ diff[j] for j in range(k)])
+        covariances = covariances / counts[:, None, None]
         covariances = covariances + reg_covar * np.eye(d)
     return GaussianMixtureResult(weights, means, covariances, responsibilities, np.asarray(history))

@@ -15,6 +15,7 @@ from amdo_lab.pdm_mixtures.pdm import (
     _check_point_set_sizes,
     _fit_modes,
     _pdm_from_moments,
+    _ppca_log_density,
     _reconstruct,
     fit_pdm,
     generalized_procrustes,
@@ -49,7 +50,18 @@ def hamming_distance(label_strings: np.ndarray, dictionary: np.ndarray) -> np.nd
 
 
 def _hamming_distance(label_strings: np.ndarray, dictionary: np.ndarray) -> np.ndarray:
+    """Fast path of :func:`_hamming_distance_reference`: all pairs at once by broadcasting."""
     return np.sum(label_strings[:, None, :] != dictionary[None, :, :], axis=2)
+
+
+def _hamming_distance_reference(label_strings: np.ndarray, dictionary: np.ndarray) -> np.ndarray:
+    """Eq. 17 read as a distance, one pair at a time: ``H(L, Lambda) = sum_i (1 - delta(l_i, lambda_i))``."""
+    distances = np.zeros((len(label_strings), len(dictionary)), dtype=int)
+    for a, string in enumerate(label_strings):
+        for b, item in enumerate(dictionary):
+            for label, permitted in zip(string, item):
+                distances[a, b] += 1 - int(label == permitted)  # 1 - Kronecker delta, eq. 17
+    return distances
 
 
 def label_string_log_prob(hamming: np.ndarray, n_limbs: int, error_probability: float) -> np.ndarray:
@@ -77,7 +89,9 @@ def label_string_log_prob(hamming: np.ndarray, n_limbs: int, error_probability: 
 
 def _label_string_log_prob(hamming: np.ndarray, n_limbs: int, error_probability: float) -> np.ndarray:
     p = error_probability
-    return n_limbs * np.log1p(-p) - np.log((1 - p) / p) * hamming
+    log_k_p = n_limbs * np.log1p(-p)  # ln K_p = K ln(1 - p), eq. 18
+    k_p = np.log((1 - p) / p)  # k_p = ln((1 - p) / p), eq. 18
+    return log_k_p - k_p * hamming
 
 
 @dataclass(frozen=True)
@@ -122,8 +136,7 @@ class PolarPDM:
         total = np.zeros(deviation.shape[0])
         for pdm, block in zip(self.pdms, self.blocks):
             data = deviation[:, block]
-            gamma = _fit_modes(pdm, data)
-            total += _ppca_log_density(pdm, data, gamma, _reconstruct(pdm, gamma))
+            total += _ppca_log_density(pdm, data)
         return total
 
 
@@ -362,11 +375,7 @@ class ArticulatedShapeRecognizer:
         for k in range(N_LIMBS):
             data = limbs[:, k]
             if self.limb_likelihood == "gaussian":
-                densities = []
-                for model in self.limb_models_[k]:
-                    gamma = _fit_modes(model, data)
-                    densities.append(_ppca_log_density(model, data, gamma, _reconstruct(model, gamma)))
-                log_lik[:, k] = np.stack(densities, axis=1)
+                log_lik[:, k] = np.stack([_ppca_log_density(model, data) for model in self.limb_models_[k]], axis=1)
             else:
                 errors = np.stack([_fit_error(mdl, data) for mdl in self.limb_models_[k]], axis=1)
                 log_lik[:, k] = -errors / (2 * self.limb_noise_[k])
@@ -484,6 +493,14 @@ class ArticulatedShapeRecognizer:
         return RecognitionTrace(np.stack(history_post), np.stack(history_labels), np.stack(history_fit),
                                 len(history_post))
 
+    def limb_label_posteriors(self, shapes: np.ndarray, *, log: bool = False) -> np.ndarray:
+        """Label posteriors ``P(lambda | z_k)`` of every limb of every shape, ``(n, K, n_limb_labels)``
+        (eqs. 9-10: each label's PDM fitted to the limb, Bayes' rule with the label's mixing weight).
+        With ``log=True`` their logarithms (exact where the posteriors underflow to 0)."""
+        self._check_fitted()
+        log_posteriors = self._limb_log_posteriors(self.align(shapes))
+        return log_posteriors if log else np.exp(log_posteriors)
+
     def score_components(self, shapes: np.ndarray) -> ScoreComponents:
         """The separate terms of the first-iteration class score (for ablations)."""
         self._check_fitted()
@@ -566,18 +583,6 @@ class ArticulatedShapeRecognizer:
             else:
                 strokes.append(_reconstruct(model, _fit_modes(model, observed_limbs[k][None]))[0])
         return np.stack(strokes).reshape(N_LIMBS, -1, 2) + centres[:, None, :]
-
-
-def _ppca_log_density(model: PointDistributionModel, data: np.ndarray, gamma: np.ndarray,
-                      fitted: np.ndarray) -> np.ndarray:
-    """Gaussian (PPCA) log-density of rows of ``data`` under a PDM: in-model Mahalanobis term on
-    ``gamma`` plus an isotropic residual with the discarded-eigenvalue variance."""
-    d, m = data.shape[1], model.n_modes
-    residual = np.sum((data - fitted) ** 2, axis=1)
-    return -0.5 * (
-        np.sum(gamma**2 / model.variances, axis=1) + residual / model.residual_variance
-        + np.sum(np.log(model.variances)) + (d - m) * np.log(model.residual_variance) + d * np.log(2 * np.pi)
-    )
 
 
 def _kmeans_partition(data: np.ndarray, n_clusters: int, rng: np.random.Generator, n_iter: int = 10) -> np.ndarray:
