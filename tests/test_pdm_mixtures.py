@@ -694,3 +694,22 @@ def test_mode_separation_trial_is_deterministic_and_validates():
         pm.mode_separation_trial(-0.5, 3)
     with pytest.raises(ValueError, match="n_train"):
         pm.mode_separation_trial(1.0, 3, n_train=2)
+
+
+def test_batched_mixture_em_equals_one_run_at_a_time():
+    from amdo_lab.pdm_mixtures.gmm import _fit_gaussian_mixtures_batch
+
+    rng = make_rng(12)
+    points = np.stack([np.concatenate([rng.standard_normal((25, 3)), rng.standard_normal((25, 3)) + 3.0])
+                       for _ in range(4)])
+    means = points[:, [0, 30]]
+    covariances = np.repeat(np.eye(3)[None, None], 4, axis=0).repeat(2, axis=1)
+    ridges = np.array([0.0, 1e-3, 1e-2, 0.1])
+    weights, fitted_means, fitted_covariances, responsibilities = _fit_gaussian_mixtures_batch(
+        points, means, covariances, 15, ridges)
+    for b in range(4):
+        one = pm.fit_gaussian_mixture(points[b], 2, means_init=means[b], covariances_init=covariances[b],
+                                      n_iter=15, reg_covar=ridges[b])
+        assert np.allclose(weights[b], one.weights) and np.allclose(fitted_means[b], one.means)
+        assert np.allclose(fitted_covariances[b], one.covariances)
+        assert np.allclose(responsibilities[b], one.responsibilities)

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import as_finite_array, check_positive, check_positive_int, spawn_rngs
+from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.pdm_mixtures.baselines import SingleCartesianPDMClassifier
 from amdo_lab.pdm_mixtures.poses import TABLE1_CLASSES, generate_pose_dataset
 from amdo_lab.pdm_mixtures.recognizer import ArticulatedShapeRecognizer
@@ -67,6 +68,7 @@ def mode_separation_trial(separation: float, seed: int, *, n_train: int = 20, n_
     test = generate_pose_dataset(classes, n_test, test_rng, mode_separation=separation)
     models = (ArticulatedShapeRecognizer(n_shape_components=2), ArticulatedShapeRecognizer(n_shape_components=1),
               SingleCartesianPDMClassifier())
-    correct = {name: model.fit(train.shapes, train.labels).predict(test.shapes) == test.labels
-               for name, model in zip(SEPARATION_MODELS, models)}
+    with one_blas_thread():  # small matrices: BLAS threads only contend on a shared machine
+        correct = {name: model.fit(train.shapes, train.labels).predict(test.shapes) == test.labels
+                   for name, model in zip(SEPARATION_MODELS, models)}
     return SeparationTrial(separation, seed, correct)

@@ -7,7 +7,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int, make_rng, procrustes_align
-from amdo_lab.pdm_mixtures.gmm import fit_gaussian_mixture
+from amdo_lab.common.threads import one_blas_thread
+from amdo_lab.pdm_mixtures.gmm import _fit_gaussian_mixtures_batch, fit_gaussian_mixture
 from amdo_lab.pdm_mixtures.pdm import (
     PointDistributionModel,
     _align_to_reference,
@@ -304,6 +305,10 @@ class ArticulatedShapeRecognizer:
     # ------------------------------------------------------------------ training
     def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "ArticulatedShapeRecognizer":
         """Learn the limb mixtures, the class polar-PDM mixtures and the label dictionary."""
+        with one_blas_thread():  # small matrices: BLAS threads only contend on a shared machine
+            return self._fit(shapes, labels)
+
+    def _fit(self, shapes: np.ndarray, labels: np.ndarray) -> "ArticulatedShapeRecognizer":
         shapes = self._check_shapes(shapes)
         labels = _check_labels(labels, shapes.shape[0])
         present = tuple(dict.fromkeys(labels.tolist()))
@@ -343,27 +348,26 @@ class ArticulatedShapeRecognizer:
         return self
 
     def _fit_limb_layer(self, aligned: np.ndarray) -> None:
-        limbs = _centred_limbs(aligned)  # (n, K, 2m)
+        """One Gaussian mixture per limb by EM (eqs. 2-8), all 13 limbs in one batched loop (each
+        limb's run is :func:`fit_gaussian_mixture` from a farthest-point start and its pooled
+        covariance); each component becomes a limb-label PDM."""
+        limbs = np.swapaxes(_centred_limbs(aligned), 0, 1)  # (K, n, 2m)
+        d = limbs.shape[2]
+        starts = np.stack([data[_farthest_point_init(data, self.n_limb_labels)] for data in limbs])
+        spreads = np.stack([np.cov(data.T, bias=True) + 1e-6 * np.eye(d) for data in limbs])
+        ridges = 1e-3 * np.trace(spreads, axis1=1, axis2=2) / d
+        weights, means, covariances, _ = _fit_gaussian_mixtures_batch(
+            limbs, starts, np.repeat(spreads[:, None], self.n_limb_labels, axis=1), self.em_iterations, ridges)
         self.limb_models_: list[list[PointDistributionModel]] = []
-        self.limb_weights_ = np.empty((N_LIMBS, self.n_limb_labels))
+        self.limb_weights_ = weights
         self.limb_noise_ = np.empty(N_LIMBS)
         for k in range(N_LIMBS):
-            data = limbs[:, k]
-            init = _farthest_point_init(data, self.n_limb_labels)
-            spread = np.cov(data.T, bias=True) + 1e-6 * np.eye(data.shape[1])
-            reg = 1e-3 * float(np.trace(spread)) / data.shape[1]
-            mixture = fit_gaussian_mixture(
-                data, self.n_limb_labels, means_init=data[init],
-                covariances_init=np.repeat(spread[None], self.n_limb_labels, axis=0),
-                n_iter=self.em_iterations, reg_covar=reg,
-            )
             models = [_pdm_from_moments(m, c, variance_fraction=self.variance_fraction)
-                      for m, c in zip(mixture.means, mixture.covariances)]
+                      for m, c in zip(means[k], covariances[k])]
             self.limb_models_.append(models)
-            self.limb_weights_[k] = mixture.weights
             # Isotropic residual variance of eq. 16, from each example's best-fitting label.
-            errors = np.stack([_fit_error(mdl, data) for mdl in models], axis=1)
-            self.limb_noise_[k] = max(float(errors.min(axis=1).mean()) / data.shape[1], 1e-12)
+            errors = np.stack([_fit_error(mdl, limbs[k]) for mdl in models], axis=1)
+            self.limb_noise_[k] = max(float(errors.min(axis=1).mean()) / d, 1e-12)
 
     def _limb_log_posteriors(self, aligned: np.ndarray) -> np.ndarray:
         """log P(lambda | z_k) for every shape, limb and label (eqs. 4, 9, 10): ``(n, K, labels)``.
@@ -461,6 +465,10 @@ class ArticulatedShapeRecognizer:
 
     def recognise(self, shapes: np.ndarray) -> RecognitionTrace:
         """Run the hierarchical EM (eqs. 9-18) and return the full per-iteration trace."""
+        with one_blas_thread():
+            return self._recognise(shapes)
+
+    def _recognise(self, shapes: np.ndarray) -> RecognitionTrace:
         self._check_fitted()
         aligned = self.align(shapes)
         limb_log_post = self._limb_log_posteriors(aligned)  # (n, K, labels)
