@@ -713,3 +713,25 @@ def test_batched_mixture_em_equals_one_run_at_a_time():
         assert np.allclose(weights[b], one.weights) and np.allclose(fitted_means[b], one.means)
         assert np.allclose(fitted_covariances[b], one.covariances)
         assert np.allclose(responsibilities[b], one.responsibilities)
+
+
+def test_nearest_mean_distances_equal_the_procrustes_loop(small_problem):
+    train, test, _ = small_problem
+    classifier = pm.NearestProcrustesMeanClassifier().fit(train.shapes, train.labels)
+    assert np.allclose(classifier.distances(test.shapes[:20]), classifier._distances_loop(test.shapes[:20]))
+
+
+def test_draw_shape_draws_one_collection_and_validates():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots()
+    pm.draw_shape(ax, generate_pose_dataset(("boxing",), 1, 0).shapes[0], label="boxing")
+    assert len(ax.collections) == 1 and ax.get_legend_handles_labels()[1] == ["boxing"]
+    with pytest.raises(ValueError, match="shape"):
+        pm.draw_shape(ax, np.zeros((12, 6, 2)))
+    with pytest.raises(TypeError, match="ax"):
+        pm.draw_shape("axes", np.zeros((13, 6, 2)))
+    plt.close(fig)

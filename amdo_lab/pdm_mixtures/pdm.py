@@ -82,7 +82,7 @@ def pdm_from_moments(
 def _pdm_from_moments(mean: np.ndarray, covariance: np.ndarray, variance_fraction: float = 0.95,
                       max_modes: int | None = None, min_residual_variance: float = 1e-12) -> PointDistributionModel:
     """:func:`pdm_from_moments` on validated input (called for every mixture component)."""
-    eigenvalues, eigenvectors = np.linalg.eigh(covariance)
+    eigenvalues, eigenvectors = np.linalg.eigh(covariance)  # Sigma phi_i = alpha_i phi_i (Sec. 2)
     order = np.argsort(eigenvalues)[::-1]
     eigenvalues = np.clip(eigenvalues[order], 0.0, None)  # round-off negatives of a PSD matrix
     eigenvectors = eigenvectors[:, order]
@@ -109,7 +109,7 @@ def fit_pdm(long_vectors: np.ndarray, *, variance_fraction: float = 0.95, max_mo
     variance_fraction = _check_variance_fraction(variance_fraction)
     if max_modes is not None:
         max_modes = check_positive_int(max_modes, "max_modes")
-    mean = vectors.mean(axis=0)
+    mean = vectors.mean(axis=0)  # Y = (1/T) sum_t X_t
     centred = vectors - mean
     covariance = centred.T @ centred / t  # eq. 1
     cap = t - 1 if max_modes is None else min(max_modes, t - 1)
@@ -133,8 +133,8 @@ def fit_modes(model: PointDistributionModel, observed: np.ndarray, *, clamp: boo
 
 def _fit_modes(model: PointDistributionModel, observed: np.ndarray, *, clamp: bool = True) -> np.ndarray:
     """:func:`fit_modes` on validated input (the recogniser's inner call)."""
-    gamma = (observed - model.mean) @ model.modes
-    if clamp:
+    gamma = (observed - model.mean) @ model.modes  # gamma = Phi^T (X_o - Y), least squares (Sec. 2)
+    if clamp:  # -3 sqrt(alpha_k) <= gamma_k <= 3 sqrt(alpha_k) (Sec. 4)
         bound = 3.0 * np.sqrt(model.variances)
         gamma = np.clip(gamma, -bound, bound)
     return gamma
@@ -151,7 +151,7 @@ def reconstruct(model: PointDistributionModel, gamma: np.ndarray) -> np.ndarray:
 
 def _reconstruct(model: PointDistributionModel, gamma: np.ndarray) -> np.ndarray:
     """:func:`reconstruct` on validated input."""
-    return model.mean + gamma @ model.modes.T
+    return model.mean + gamma @ model.modes.T  # X_hat = Y + Phi gamma (Sec. 2)
 
 
 def ppca_log_density(model: PointDistributionModel, observed: np.ndarray) -> np.ndarray:
