@@ -2,7 +2,7 @@
 recogniser, two of its ablations, and the baselines (single Cartesian PDM, nearest Procrustes mean,
 scikit-learn GaussianMixture), all on the same data.
 
-Goal from the issue: train on 20 x 14 shapes and recognise 1,200 in under 10 s on one core.
+Speed goal: train on 20 x 14 shapes and recognise 1,200 in under 10 s on one core.
 
     .venv/bin/python benchmarks/bench_02_pdm_mixtures.py [--setting 14-poses|table1] [--train-per-class 20]
                                                          [--n-test 1200] [--seed 2004]

@@ -3,7 +3,7 @@
 The recogniser's settings that Al-Shaher & Hancock do not fix (mixture components per class, the
 shape-level EM ridge, EM restarts, PDM modes kept, limb labels per limb, the label-error
 probability p of eq. 18) are compared one at a time with the single Cartesian PDM and the nearest
-Procrustes mean. Every seed draws a fresh training set (20 shapes per class, the issue's protocol;
+Procrustes mean. Every seed draws a fresh training set (20 shapes per class, as in the chapter;
 ``--train-per-class 40`` gives the paper's count if each class's two articulation modes are read as
 two of its "poses" with 20 examples each) and a validation set (100 per class) with
 ``spawn_rngs(seed, 2)``; the notebook's test set comes from
