@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 from matplotlib.axes import Axes
+from matplotlib.collections import LineCollection
 
 from amdo_lab.common import as_finite_array
 
@@ -16,8 +17,8 @@ def draw_shape(ax: Axes, shape: np.ndarray, *, color: str = "black", linewidth: 
     if not isinstance(ax, Axes):
         raise TypeError(f"ax must be a matplotlib Axes, got {type(ax).__name__}")
     shape = as_finite_array(shape, "shape", shape=(13, None, 2))
-    for k, stroke in enumerate(shape):
-        ax.plot(stroke[:, 0], stroke[:, 1], color=color, lw=linewidth, alpha=alpha,
-                label=label if k == 0 else None)
+    # one collection of 13 polylines: drawing a training set is then one artist per shape
+    ax.add_collection(LineCollection(list(shape), colors=color, linewidths=linewidth, alpha=alpha, label=label))
+    ax.autoscale_view()
     ax.set_aspect("equal")
     ax.axis("off")
