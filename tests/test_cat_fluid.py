@@ -600,3 +600,18 @@ def test_regridding_switched_off_lets_a_large_deformation_fold():
     assert free.n_regrids == 0 and free.history[:, 2].min() <= 0  # without regridding the map folds
     with pytest.raises(ValueError, match="regrid_threshold"):
         cf.register_fluid(disc, band, "cat", n_iter=1, regrid_threshold=-0.1)
+
+
+@pytest.mark.parametrize("call, error, message", [
+    (lambda: cf.stencil_matrix(np.zeros((2, 18)), (4,)), ValueError, "shape"),
+    (lambda: cf.stencil_matrix(np.zeros((3, 18)), (4, 4)), ValueError, "stencil"),
+    (lambda: cf.solve_stencil_reference(cf.fluid_stencil(), np.zeros((3, 4, 4))), ValueError, "force"),
+    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 0.0, sweeps=1, omega=1.0), ValueError, "mu"),
+    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 5.0, sweeps=-1, omega=1.0), ValueError, "sweeps"),
+    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 5.0, sweeps=1, omega=-1.0), ValueError, "omega"),
+    (lambda: cf.polynomial_test_fields(-1.0, 5.0), ValueError, "lam"),
+    (lambda: cf.grey_level_table({}, {}, scale=0.0), ValueError, "scale"),
+])
+def test_reference_paths_and_helpers_reject_bad_input(call, error, message):
+    with pytest.raises(error, match=message):
+        call()

@@ -46,6 +46,11 @@ def grey_level_table(pairs: Mapping[str, RegistrationPair], deformed: Mapping[st
     Returns
     -------
     DataFrame, rows the pairs, columns (label, "mean" or "sd").
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, Table 1.
     """
     scale = check_positive(scale, "scale")
     missing = sorted(set(deformed) - set(pairs))

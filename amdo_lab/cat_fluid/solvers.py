@@ -104,6 +104,11 @@ def symbol_eigenvalues(symbol: object, rows: object, cols: object) -> np.ndarray
     ``symbol`` is a (2, 2, H, W//2+1) array from :func:`stencil_symbol`, :func:`cat_symbol` or
     :func:`finite_difference_symbol`; ``rows`` and ``cols`` index its last two axes, e.g. a path
     through frequency space (row k is the frequency 2π fftfreq(H)[k]).
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, Sec. 4, eq. (15): the symbol of its stencil.
     """
     symbol = as_finite_array(symbol, "symbol", shape=(2, 2, None, None))
     rows, cols = np.asarray(rows, dtype=int), np.asarray(cols, dtype=int)
@@ -119,6 +124,11 @@ def stencil_matrix(stencil: object, shape: tuple[int, int]) -> sp.csr_matrix:
     Row ``i * H * W + n`` is force component i at pixel n (row-major), column ``c * H * W + m``
     velocity component c at pixel m: the reference, pixel by pixel, for :func:`apply_stencil`
     and for the Fourier solve.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, eq. (15).
     """
     blocks = stencil_blocks(stencil)
     h, w = _check_shape(shape)
@@ -141,6 +151,11 @@ def solve_stencil_reference(stencil: object, force: object) -> np.ndarray:
     The uniform velocities are the null space of a consistent stencil; as in the fast path the
     mean of F is removed and the zero-mean solution returned (least squares, minimum norm).
     Dense: use it on small grids only (a 32 x 32 grid is a 2048 x 2048 system).
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, eq. (15) solved for the velocity.
     """
     force = as_finite_array(force, "force", shape=(2, None, None))
     h, w = force.shape[1:]
@@ -278,6 +293,11 @@ def sor_reference(force: object, lam: float, mu: float, *, sweeps: int, omega: f
     Same four-colour order (colour (row parity, column parity), then component), periodic, from
     zero: a plain Python loop, for small images. Within one colour no pixel is a neighbour of
     another, so this loop and the vectorised :func:`sor_solve` give the same numbers.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, Sec. 5, eq. (17) and its SOR solver (their reference [2]).
     """
     force = as_finite_array(force, "force", shape=(2, None, None))
     lam, mu = check_moduli(lam, mu, require_positive_mu=True)
