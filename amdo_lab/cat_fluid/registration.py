@@ -96,6 +96,7 @@ def _determinant(displacement: np.ndarray) -> np.ndarray:
 
 
 def _force(deformed_template: np.ndarray, study: np.ndarray) -> np.ndarray:
+    # eq. (18): F = -(I1 - I2) ∇I1, ∇ by central differences (one-sided at the border)
     return -(deformed_template - study)[None] * np.stack(np.gradient(deformed_template), axis=0)
 
 
@@ -106,7 +107,8 @@ def external_force(deformed_template: object, study: object) -> np.ndarray:
 
 
 def _update(displacement: np.ndarray, velocity: np.ndarray, dt: float) -> np.ndarray:
-    jac = _jacobian(displacement)
+    jac = _jacobian(displacement)  # J[i, j] = ∂u_i/∂x_j, our reading of (∇u)ᵀ in eq. (16)
+    # eq. (16): u_i <- u_i + Δt (v_i - Σ_j J[i, j] v_j), for i = 1, 2 at every pixel
     return displacement + dt * (velocity - np.einsum("ijhw,jhw->ihw", jac, velocity))
 
 
@@ -251,7 +253,8 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
     max_step : largest displacement change per iteration, pixels.
     backtrack : reject a step that does not decrease the SSD and halve the bound (else Christensen's
         fixed bound, every step accepted).
-    regrid_threshold : regrid when min det(I - ∇u) of the segment falls below it, in (0, 1).
+    regrid_threshold : regrid when min det(I - ∇u) of the segment falls below it, in [0, 1); 0 never
+        regrids (the map may then fold: det ≤ 0).
     sor_sweeps, sor_omega : SOR sweeps per solve (the paper: 250) and relaxation factor (default
         :func:`~amdo_lab.cat_fluid.solvers.default_omega`).
     sor_warm_start : start each SOR solve from the previous iteration's velocity (default) or from
@@ -265,9 +268,9 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
             raise TypeError(f"{flag_name} must be a bool, got {type(flag).__name__}")
     n_iter = check_positive_int(DEFAULT_ITERATIONS[method] if n_iter is None else n_iter, "n_iter")
     step_bound = check_positive(max_step, "max_step")
-    regrid_threshold = check_positive(regrid_threshold, "regrid_threshold")
+    regrid_threshold = check_positive(regrid_threshold, "regrid_threshold", allow_zero=True)
     if regrid_threshold >= 1:
-        raise ValueError(f"regrid_threshold must be in (0, 1), got {regrid_threshold}")
+        raise ValueError(f"regrid_threshold must be in [0, 1), got {regrid_threshold}")
     sor_sweeps = check_positive_int(sor_sweeps, "sor_sweeps")
     if sor_omega is not None and not 0 < check_positive(sor_omega, "sor_omega") < 2:
         raise ValueError(f"sor_omega must be in (0, 2) for SOR to converge, got {sor_omega}")
@@ -308,7 +311,7 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
                 break
         total_det = float(_determinant(total).min())
         segment_det = total_det if regrids == 0 else float(_determinant(segment).min())
-        if taken and segment_det < regrid_threshold:
+        if regrid_threshold > 0 and taken and segment_det < regrid_threshold:  # 0: never regrid
             previous, segment, regrids = total, np.zeros_like(segment), regrids + 1
         history.append((float(np.mean(np.abs(warped - study))), time.perf_counter() - start, total_det, taken))
     return FluidResult(warped, total, np.array(history), regrids, method)
