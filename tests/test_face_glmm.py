@@ -1,5 +1,8 @@
 """Tests for Chapter 5 (amdo_lab.face_glmm): population, PCA+LDA, experiment, GLMM."""
 
+import dataclasses
+import sys
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -7,6 +10,7 @@ import scipy.linalg
 
 from amdo_lab.common import make_rng
 from amdo_lab.face_glmm import (
+    FactorialDesign,
     PAPER_FORMULA,
     PcaLda,
     build_design,
@@ -298,6 +302,60 @@ def test_experiment_cache_round_trip(tmp_path):
     second, hit_second = load_or_run_experiment(design, 1, tmp_path)
     assert (hit_first, hit_second) == (False, True)
     pd.testing.assert_frame_equal(first, second)
+
+
+def _edited_copy_of_population(tmp_path, name):
+    """Import a copy of population.py in which one generator constant is changed."""
+    import importlib.util
+    import inspect
+
+    from amdo_lab.face_glmm import population as original
+    source = inspect.getsource(original)
+    edited = source.replace("eye_dx = 0.36 + 0.04", "eye_dx = 0.37 + 0.04")
+    assert edited != source  # the constant is there to edit
+    path = tmp_path / f"{name}.py"
+    path.write_text(edited)
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module  # dataclasses look their module up while the class is built
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_cache_key_changes_when_a_generator_constant_is_edited(tmp_path):
+    from amdo_lab.face_glmm import RESULT_MODULES, experiment_cache_key, reduced_design
+    design = reduced_design()
+    key = experiment_cache_key(design, 1)
+    assert key == experiment_cache_key(design, 1, RESULT_MODULES)
+    assert key != experiment_cache_key(design, 2)  # the seed
+    assert key != experiment_cache_key(dataclasses.replace(design, nuisance=0.9), 1)
+    edited = _edited_copy_of_population(tmp_path, "population_edited")
+    modules = tuple(edited if name.endswith(".population") else name for name in RESULT_MODULES)
+    assert experiment_cache_key(design, 1, modules) != key
+
+
+def test_cache_reruns_after_a_generator_edit(tmp_path, monkeypatch):
+    from amdo_lab.face_glmm import RESULT_MODULES, cache, load_or_run_experiment
+    design = FactorialDesign(n_subjects=16, n_training_sets=1, n_train_subjects=8, n_galleries=3,
+                             supplements=("none",), shape=(16, 14))
+    _, first_hit = load_or_run_experiment(design, 1, tmp_path)
+    edited = _edited_copy_of_population(tmp_path, "population_edited_again")
+    monkeypatch.setattr(cache, "RESULT_MODULES",
+                        tuple(edited if name.endswith(".population") else name for name in RESULT_MODULES))
+    _, after_edit_hit = load_or_run_experiment(design, 1, tmp_path)
+    _, again_hit = load_or_run_experiment(design, 1, tmp_path)
+    assert (first_hit, after_edit_hit, again_hit) == (False, False, True)
+    assert len(list(tmp_path.glob("face_glmm_experiment_*.pkl"))) == 2
+
+
+def test_cache_key_bad_inputs():
+    from amdo_lab.face_glmm import experiment_cache_key, reduced_design
+    with pytest.raises(TypeError, match="design"):
+        experiment_cache_key({"n_subjects": 8}, 1)
+    with pytest.raises(TypeError, match="seed"):
+        experiment_cache_key(reduced_design(), 1.5)
+    with pytest.raises(TypeError, match="modules"):
+        experiment_cache_key(reduced_design(), 1, (3,))
 
 
 def test_agrees_with_statsmodels_bayes_mixed_glm_on_a_small_table():

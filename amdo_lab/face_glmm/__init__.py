@@ -42,7 +42,7 @@ from amdo_lab.face_glmm.simulate import (
     simulate_binomial_glmm,
     summarise_recovery,
 )
-from amdo_lab.face_glmm.cache import load_or_run_experiment
+from amdo_lab.face_glmm.cache import RESULT_MODULES, experiment_cache_key, load_or_run_experiment
 from amdo_lab.face_glmm.report import (
     PAPER_NUMBERS,
     PAPER_TABLE2,
@@ -55,7 +55,7 @@ from amdo_lab.face_glmm.report import (
 
 __all__ = [
     "PAPER_FORMULA", "SIZE_FORMULA", "SMALL_SHAPE", "STANDARD_SHAPE", "SUPPLEMENTS",
-    "DesignMatrix", "FacePopulation", "FactorialDesign", "GlmmResult", "PcaLda", "RecoverySummary",
+    "RESULT_MODULES", "DesignMatrix", "FacePopulation", "experiment_cache_key", "FactorialDesign", "GlmmResult", "PcaLda", "RecoverySummary",
     "binomial_deviance", "build_design", "downsample_by_two", "e90_dimension", "elliptical_mask",
     "fit_binomial_glmm", "fit_gee_exchangeable", "fit_naive_logistic", "fit_with_lme4",
     "generate_face_population", "group_indices", "lme4_available", "load_or_run_experiment",
