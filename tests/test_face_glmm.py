@@ -253,6 +253,42 @@ def test_agrees_with_lme4(simulated):
         assert ours.variance_components[term] == pytest.approx(theirs["variance_components"][term], abs=1e-3)
 
 
+@pytest.mark.parametrize("random", [("t", "p", "t:p"), ("p",), ("t", "p", "t:p", "t:U")],
+                         ids=["nested-in-t:p", "one-term", "general-crossed"])
+def test_fast_laplace_deviance_equals_dense_reference(random):
+    """The Schur-complement fast path equals the plain dense penalised IRLS + Laplace deviance."""
+    from amdo_lab.face_glmm.glmm import _laplace_deviance_reference, _setup
+    table = _crossed_table(3, 10)
+    table["Y"] = simulate_binomial_glmm(table, "Y ~ M * D + U", TRUE_BETA, {"t": 0.1, "p": 1.0, "t:p": 0.3}, 30, 5)
+    problem, start = _setup(table, "Y ~ M * D + U", random, 30)
+    assert (problem.rest_of_big is not None) == (random == ("t", "p", "t:p"))
+    theta = np.array([0.3, 0.9, 0.5, 0.2][: len(random)])
+    beta, _, _, value, _, _ = problem.solve(theta, *start)
+    groups = [problem_groups for problem_groups in (pd.factorize(
+        pd.MultiIndex.from_frame(table[term.split(":")].astype(str)), sort=True)[0] for term in random)]
+    z = np.hstack([np.eye(g.max() + 1)[g] for g in groups])
+    lam = np.concatenate([np.full(g.max() + 1, sd) for g, sd in zip(groups, theta)])
+    ref_beta, _, ref_value, _ = _laplace_deviance_reference(problem.y, problem.trials, problem.x, z, lam)
+    assert value == pytest.approx(ref_value, rel=1e-10)
+    np.testing.assert_allclose(beta, ref_beta, atol=1e-8)
+
+
+def test_laplace_deviance_is_the_fitted_objective(simulated):
+    from amdo_lab.face_glmm import laplace_deviance
+    table, _ = simulated
+    fit = fit_binomial_glmm(table, "Y ~ M * D + U", ["t", "p", "t:p"], 30)
+    sds = np.sqrt([fit.variance_components[k] for k in ("t", "p", "t:p")])
+    values = laplace_deviance(table, "Y ~ M * D + U", ["t", "p", "t:p"], [sds, sds * [1, 1.2, 1], sds * [1, 1, 0.8]], 30)
+    assert values[0] == pytest.approx(fit.deviance, rel=1e-9)
+    assert np.all(values[1:] > values[0])
+    with pytest.raises(ValueError, match="sd must have 3 columns"):
+        laplace_deviance(table, "Y ~ M * D + U", ["t", "p", "t:p"], [1.0, 1.0], 30)
+    with pytest.raises(ValueError, match="sd must be non-negative"):
+        laplace_deviance(table, "Y ~ M * D + U", ["t", "p", "t:p"], [1.0, -1.0, 1.0], 30)
+    with pytest.raises(TypeError, match="table"):
+        laplace_deviance(table.to_numpy(), "Y ~ M * D + U", ["t", "p", "t:p"], [1.0, 1.0, 1.0], 30)
+
+
 def test_marginal_prediction_averages_logits(simulated):
     from scipy.special import logit
     table, _ = simulated

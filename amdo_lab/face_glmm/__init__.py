@@ -25,7 +25,7 @@ from amdo_lab.face_glmm.experiment import (
     reduced_design,
     run_factorial_experiment,
 )
-from amdo_lab.face_glmm.glmm import GlmmResult, binomial_deviance, fit_binomial_glmm
+from amdo_lab.face_glmm.glmm import GlmmResult, binomial_deviance, fit_binomial_glmm, laplace_deviance
 from amdo_lab.face_glmm.pcalda import PcaLda, e90_dimension, pca_basis, weighted_sq_distances
 from amdo_lab.face_glmm.population import (
     SMALL_SHAPE,
@@ -57,7 +57,7 @@ __all__ = [
     "PAPER_FORMULA", "SIZE_FORMULA", "SMALL_SHAPE", "STANDARD_SHAPE", "SUPPLEMENTS",
     "RESULT_MODULES", "DesignMatrix", "FacePopulation", "experiment_cache_key", "FactorialDesign", "GlmmResult", "PcaLda", "RecoverySummary",
     "binomial_deviance", "build_design", "downsample_by_two", "e90_dimension", "elliptical_mask",
-    "fit_binomial_glmm", "fit_gee_exchangeable", "fit_naive_logistic", "fit_with_lme4",
+    "fit_binomial_glmm", "laplace_deviance", "fit_gee_exchangeable", "fit_naive_logistic", "fit_with_lme4",
     "generate_face_population", "group_indices", "lme4_available", "load_or_run_experiment",
     "make_supplement", "paper_design", "parse_formula", "pca_basis", "preprocess_images",
     "reduced_design", "run_factorial_experiment", "simulate_binomial_glmm", "summarise_recovery",
