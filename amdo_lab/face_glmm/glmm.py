@@ -626,9 +626,9 @@ def _fit(table, fixed, random, trials, start_sd) -> GlmmResult:
         return value
 
     theta0 = np.full(len(random), float(start_sd))
-    opt = scipy.optimize.minimize(objective, theta0, method="L-BFGS-B",
+    opt = scipy.optimize.minimize(objective, theta0, method="L-BFGS-B", jac="3-point",
                                   bounds=[(0.0, None)] * len(random),
-                                  options={"ftol": 1e-12, "gtol": 1e-7, "eps": 1e-6, "maxiter": 200})
+                                  options={"ftol": 1e-12, "gtol": 1e-7, "maxiter": 200})
     theta = np.asarray(opt.x)
     beta, ur, ub, value, schur, _ = problem.solve(theta, state["beta"], state["u_rest"], state["u_big"])
     nr = problem.q_rest
