@@ -253,15 +253,16 @@ def test_agrees_with_lme4(simulated):
         assert ours.variance_components[term] == pytest.approx(theirs["variance_components"][term], abs=1e-3)
 
 
-@pytest.mark.parametrize("random", [("t", "p", "t:p"), ("p",), ("t", "p", "t:p", "t:U")],
-                         ids=["nested-in-t:p", "one-term", "general-crossed"])
+@pytest.mark.parametrize("random", [("t", "p", "t:p"), ("p",), ("t", "p", "t:p", "t:U"), ("t", "p", "t:p", "t:S")],
+                         ids=["nested-in-t:p", "one-term", "function-of-cells", "row-level"])
 def test_fast_laplace_deviance_equals_dense_reference(random):
     """The Schur-complement fast path equals the plain dense penalised IRLS + Laplace deviance."""
     from amdo_lab.face_glmm.glmm import _laplace_deviance_reference, _setup
-    table = _crossed_table(3, 10)
+    table = pd.concat([_crossed_table(3, 10).assign(S=s) for s in ("a", "b")], ignore_index=True)
     table["Y"] = simulate_binomial_glmm(table, "Y ~ M * D + U", TRUE_BETA, {"t": 0.1, "p": 1.0, "t:p": 0.3}, 30, 5)
     problem, start = _setup(table, "Y ~ M * D + U", random, 30)
     assert (problem.rest_of_big is not None) == (random == ("t", "p", "t:p"))
+    assert problem.sum_over_cells == (random != ("t", "p", "t:p", "t:S"))
     theta = np.array([0.3, 0.9, 0.5, 0.2][: len(random)])
     beta, _, _, value, _, _ = problem.solve(theta, *start)
     groups = [problem_groups for problem_groups in (pd.factorize(
@@ -338,6 +339,26 @@ def test_experiment_cache_round_trip(tmp_path):
     second, hit_second = load_or_run_experiment(design, 1, tmp_path)
     assert (hit_first, hit_second) == (False, True)
     pd.testing.assert_frame_equal(first, second)
+
+
+def test_experiment_draws_recompute_one_row_of_the_table(reduced_table):
+    """One row of the table (t=0, no supplement, L2, fixed, standard) recomputed from the draws."""
+    from amdo_lab.face_glmm import experiment_draws
+    design = reduced_design()
+    draws = experiment_draws(design, 11)
+    n = design.n_subjects
+    faces = preprocess_images(draws.population.images).reshape(n, 4, -1)
+    subjects = draws.training_sets[0]
+    model = PcaLda("fixed").fit(faces[subjects, 1:].reshape(-1, faces.shape[-1]), np.repeat(subjects, 3))
+    dist = model.distances(faces[:, 0], faces[:, 1:].reshape(-1, faces.shape[-1]), "l2").reshape(n, n, 3)
+    rows = reduced_table[(reduced_table.t == 0) & (reduced_table.U == "none") & (reduced_table.M == "l2")
+                         & (reduced_table.D == "fixed") & (reduced_table.S == "standard")].set_index("p")
+    for probe in range(n):
+        in_gallery = dist[probe][np.arange(n), draws.gallery_choice]          # gallery x subject
+        y = int(np.sum(np.argmin(in_gallery, axis=1) == probe))
+        assert y == rows.loc[probe, "Y"]
+    with pytest.raises(TypeError, match="design"):
+        experiment_draws({"n_subjects": 8}, 0)
 
 
 def _edited_copy_of_population(tmp_path, name):

@@ -357,19 +357,36 @@ class _CrossedProblem:
         self.x_unique = x[first_row]
         self.saturated = float(np.sum(xlogy(y, y / trials) + xlogy(trials - y, (trials - y) / trials)))
         r = self.x_unique.shape[0]
-        all_rest = np.concatenate(self.rest_cols) if self.rest else np.zeros(0, dtype=int)
         n_rest = len(self.rest)
         q_rest = max(self.q_rest, 1)
-        # Pair tables over stacked copies of the rows (one copy per rest term, or per pair of terms);
-        # the row weights are tiled the same number of times.
-        pairs_a = [a for a in self.rest_cols for _ in self.rest_cols]
-        pairs_b = [b for _ in self.rest_cols for b in self.rest_cols]
-        empty = np.zeros(0, dtype=int)
-        self.rest_rest = _PairSums(np.concatenate(pairs_a) if n_rest else empty, q_rest,
-                                   np.concatenate(pairs_b) if n_rest else empty, q_rest)
-        self.rest_big = _PairSums(all_rest, q_rest, np.tile(self.g_big, n_rest), self.q_big)
-        self.rest_x = _PairSums(all_rest, q_rest, np.tile(self.x_row, n_rest), r)
+        # Cells: the distinct (big level, X row) pairs. Every block is a sum over cells whenever each
+        # rest term is a function of the cell (t:U:M:D is: t from t:p, U, M, D from the X row).
         self.big_x = _PairSums(self.g_big, self.q_big, self.x_row, r)
+        cell_of_row = self.big_x.pair_of_row
+        n_cells = self.big_x.rows.size
+        self.cell_cols = []
+        for cols in self.rest_cols:
+            per_cell = np.zeros(n_cells, dtype=np.int64)
+            per_cell[cell_of_row] = cols
+            if not np.array_equal(per_cell[cell_of_row], cols):
+                self.cell_cols = None
+                break
+            self.cell_cols.append(per_cell)
+        self.sum_over_cells = self.cell_cols is not None
+        # units: the things the general pair tables sum over (cells when possible, else rows)
+        unit_cols = self.cell_cols if self.sum_over_cells else self.rest_cols
+        unit_big = self.big_x.rows if self.sum_over_cells else self.g_big
+        unit_x = self.big_x.cols if self.sum_over_cells else self.x_row
+        # Pair tables over stacked copies of the units (one copy per rest term, or per pair of
+        # terms); the unit weights are tiled the same number of times.
+        empty = np.zeros(0, dtype=int)
+        all_rest = np.concatenate(unit_cols) if n_rest else empty
+        self.rest_rest = _PairSums(np.concatenate([a for a in unit_cols for _ in unit_cols]) if n_rest else empty,
+                                   q_rest,
+                                   np.concatenate([b for _ in unit_cols for b in unit_cols]) if n_rest else empty,
+                                   q_rest)
+        self.rest_big = _PairSums(all_rest, q_rest, np.tile(unit_big, n_rest), self.q_big)
+        self.rest_x = _PairSums(all_rest, q_rest, np.tile(unit_x, n_rest), r)
         self.all_rest = all_rest
         self.n_rest = n_rest
         # When every other term is nested in the big one (t and p in t:p: each t:p cell has one t and
@@ -422,7 +439,7 @@ class _CrossedProblem:
         lam_r, lam_b = theta[self.rest_term_of_col], theta[self.big]
         x_u, n_x = self.x_unique, self.x_unique.shape[0]
         nested = self.rest_of_big is not None
-        if nested:  # one pass over the rows: sums per (big level, distinct X row) cell
+        if nested or self.sum_over_cells:  # one pass over the rows: sums per (big level, X row) cell
             cell_w, cell_wz = self.big_x.sums(w), self.big_x.sums(wz)
             x_w = np.bincount(self.big_x.cols, cell_w, minlength=n_x)
             x_wz = np.bincount(self.big_x.cols, cell_wz, minlength=n_x)
@@ -448,12 +465,14 @@ class _CrossedProblem:
             rest_x = self.rest_of_big @ big_x                            # Z_r'WX = R' Z_b'WX
             rest_wz = self.rest_sums(big_wz)
         else:
-            w_k = self._tile(w, self.n_rest)
+            units_w, units_wz = (cell_w, cell_wz) if self.sum_over_cells else (w, wz)
+            w_k = self._tile(units_w, self.n_rest)
             rest_rest = np.zeros(self.rest_rest.shape)
-            rest_rest[self.rest_rest.rows, self.rest_rest.cols] = self.rest_rest.sums(self._tile(w, self.n_rest**2))
+            rest_rest[self.rest_rest.rows, self.rest_rest.cols] = self.rest_rest.sums(
+                self._tile(units_w, self.n_rest**2))
             rest_big = self.rest_big.sparse(w_k)
             rest_x = self.rest_x.sparse(w_k) @ x_u
-            rest_wz = np.bincount(self.all_rest, self._tile(wz, self.n_rest), minlength=self.q_rest)
+            rest_wz = np.bincount(self.all_rest, self._tile(units_wz, self.n_rest), minlength=self.q_rest)
             a_rb = _SparseCoupling(sp.diags(lam_r * lam_b) @ rest_big)
         a_rr = lam_r[:, None] * rest_rest * lam_r[None, :] + np.eye(self.q_rest)
         a_rx = lam_r[:, None] * rest_x
@@ -626,8 +645,12 @@ def _fit(table, fixed, random, trials, start_sd) -> GlmmResult:
         return value
 
     theta0 = np.full(len(random), float(start_sd))
-    opt = scipy.optimize.minimize(objective, theta0, method="L-BFGS-B", jac="3-point",
-                                  bounds=[(0.0, None)] * len(random),
+    bounds = [(0.0, None)] * len(random)
+    # Two stages: cheap forward-difference gradients to get close, then central differences to
+    # polish (a forward difference with step h biases the optimum by about h / 2).
+    rough = scipy.optimize.minimize(objective, theta0, method="L-BFGS-B", bounds=bounds,
+                                    options={"ftol": 1e-10, "gtol": 1e-5, "eps": 1e-6, "maxiter": 200})
+    opt = scipy.optimize.minimize(objective, rough.x, method="L-BFGS-B", jac="3-point", bounds=bounds,
                                   options={"ftol": 1e-12, "gtol": 1e-7, "maxiter": 200})
     theta = np.asarray(opt.x)
     beta, ur, ub, value, schur, _ = problem.solve(theta, state["beta"], state["u_rest"], state["u_big"])
