@@ -67,6 +67,24 @@ def test_same_subject_images_are_closer_than_others(population):
     assert d[same].mean() < 0.8 * d[other].mean()
 
 
+def test_power_law_texture_spreads_the_pca_spectrum():
+    """texture_slope adds f^-s texture: many more eigenvectors hold 90 % of the energy (E90)."""
+    from amdo_lab.face_glmm import e90_dimension, pca_basis
+
+    def e90_of(pop):
+        images = preprocess_images(pop.images).reshape(48, 4, -1)[:, 1:].reshape(144, -1)
+        return e90_dimension(pca_basis(images).eigenvalues)
+
+    smooth = generate_face_population(48, 4, 2, shape=(40, 36))
+    textured = generate_face_population(48, 4, 2, shape=(40, 36), texture_slope=2.0, texture_amplitude=0.7)
+    np.testing.assert_array_equal(smooth.difficulty, textured.difficulty)  # drawn after everything else
+    assert e90_of(textured) > 2.5 * e90_of(smooth)
+    with pytest.raises(ValueError, match="texture_slope"):
+        generate_face_population(8, 2, 0, texture_slope=-1.0)
+    with pytest.raises(ValueError, match="texture_amplitude"):
+        generate_face_population(8, 2, 0, texture_slope=2.0, texture_amplitude=-0.1)
+
+
 def test_preprocessing_masks_equalises_and_standardises(population):
     out = preprocess_images(population.images)
     mask = elliptical_mask(out.shape[1:])

@@ -334,6 +334,9 @@ class _CrossedProblem:
       Schur complement, and its coupling to the other terms is a sparse matrix;
     - the remaining terms and the fixed effects form a small dense system (q_rest + p unknowns);
     - X has few distinct rows (factor codings), so X'WX and Z'WX are sums over those rows.
+    The sums run over the smallest units that carry them: the big levels when every other term is
+    nested in the big one (t, p in t:p: ``_NestedCoupling``); the (big level, distinct X row) cells
+    when every other term is a function of the cell (t:U:M:D); the rows otherwise.
     Cost per IRLS step: a few passes over the n rows plus O(q_big p^2 + (q_rest + p)^3).
     """
 
