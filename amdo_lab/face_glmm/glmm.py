@@ -637,7 +637,7 @@ def _fit(table, fixed, random, trials, start_sd) -> GlmmResult:
     random = _check_random_terms(random)
     start_sd = check_positive(start_sd, "start_sd", allow_zero=True)  # L-BFGS-B would clip a negative one silently
     problem, (beta0, u_rest0, u_big0) = _setup(table, fixed, random, trials)
-    design, x = problem.design, problem.x
+    design = problem.design
     y = problem.y
     state = {"beta": beta0, "u_rest": u_rest0, "u_big": u_big0, "iters": 0}
 
