@@ -9,16 +9,16 @@ glmer only), the lme4/ours ratio, the largest |coefficient difference|, the larg
 variance-component difference, and the Laplace deviance of both estimates evaluated by our code
 (the lower one is the better optimum of the same objective). One BLAS thread each.
 
-Run:  OMP_NUM_THREADS=1 .venv/bin/python benchmarks/bench_05_face_glmm.py [--tables chapter crossed]
-      [--no-lme4] [--repeats 3]
+Run:  .venv/bin/python benchmarks/bench_05_face_glmm.py [--tables chapter crossed] [--no-lme4]
+      [--repeats 3] [--json PATH]
 """
 
 from __future__ import annotations
 
-import argparse
-import os
 import time
 from pathlib import Path
+
+from _harness import Benchmark  # first: pins BLAS threads before numpy is imported
 
 
 def _crossed_table(seed: int):
@@ -49,12 +49,10 @@ def _time_ours(table, formula, random, repeats):
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--tables", nargs="+", choices=("chapter", "crossed"), default=["chapter", "crossed"])
-    parser.add_argument("--no-lme4", action="store_true", help="time our fitter only")
-    parser.add_argument("--repeats", type=int, default=3, help="our fit is timed this many times (best kept)")
-    args = parser.parse_args()
-    os.environ.setdefault("OMP_NUM_THREADS", "1")
+    bench = Benchmark(__doc__, repeats=3)
+    bench.parser.add_argument("--tables", nargs="+", choices=("chapter", "crossed"), default=["chapter", "crossed"])
+    bench.parser.add_argument("--no-lme4", action="store_true", help="time our fitter only")
+    args = bench.parse()
 
     import numpy as np
 
@@ -62,9 +60,10 @@ def main() -> None:
 
     random = ["t", "p", "t:p"]
     use_lme4 = not args.no_lme4 and fg.lme4_available()
-    print("seconds: wall clock / CPU (user + system); ratio = lme4 / ours, on CPU seconds")
-    print(f"{'table':<9}{'rows':>8}{'t:p cells':>10}{'ours s':>13}{'lme4 s':>13}{'ratio':>7}"
-          f"{'max|dcoef|':>12}{'max rel dvar':>13}{'dev ours':>14}{'dev lme4':>14}")
+    report = bench.table("table", "rows", "t:p cells", "ours s", "lme4 s", "ratio", "max|dcoef|", "max rel dvar",
+                         "dev ours", "dev lme4",
+                         title="seconds: wall clock / CPU (user + system), ours the best of --repeats; "
+                               "ratio = lme4 / ours, on CPU seconds")
     for name in args.tables:
         if name == "chapter":
             # the chapter's own cache (build/, keyed on the code), so the table is the chapter's
@@ -74,7 +73,7 @@ def main() -> None:
             table, formula = _crossed_table(7)
         fit, ours_s, ours_cpu = _time_ours(table, formula, random, args.repeats)
         cells = int(fg.group_indices(table, "t:p").max() + 1)
-        line = f"{name:<9}{len(table):>8,}{cells:>10,}{f'{ours_s:.2f}/{ours_cpu:.2f}':>13}"
+        line = [name, len(table), cells, f"{ours_s:.2f}/{ours_cpu:.2f}"]
         if use_lme4:
             peer = fg.fit_with_lme4(table, formula, random, 30)
             coef = np.max(np.abs(fit.coefficients.to_numpy() - peer["coefficients"].to_numpy()))
@@ -83,11 +82,13 @@ def main() -> None:
                    [np.sqrt(peer["variance_components"][k]) for k in random]]
             dev_ours, dev_lme4 = fg.laplace_deviance(table, formula, random, sds, 30)
             lme4_s = f"{peer['seconds']:.2f}/{peer['cpu_seconds']:.2f}"
-            line += (f"{lme4_s:>13}{peer['cpu_seconds'] / ours_cpu:>7.1f}{coef:>12.1e}{rel:>13.1e}"
-                     f"{dev_ours:>14.4f}{dev_lme4:>14.4f}")
+            line += [lme4_s, round(peer["cpu_seconds"] / ours_cpu, 1), f"{coef:.1e}", f"{rel:.1e}",
+                     round(float(dev_ours), 4), round(float(dev_lme4), 4)]
         else:
-            line += f"{'(lme4 not run)':>20}"
-        print(line, flush=True)
+            line += ["(lme4 not run)"] + [""] * 5
+        report.add(*line)
+        print(f"table {name} done", flush=True)
+    bench.finish()
 
 
 if __name__ == "__main__":
