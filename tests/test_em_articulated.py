@@ -779,3 +779,16 @@ def test_per_step_schedule_runs_one_iteration_per_falling_sigma(hand):
     assert len(levels.history) == 50
     with pytest.raises(ValueError, match="schedule"):
         register_em(case.model_points, case.data_points, hand, case.theta_init, schedule="fast")
+
+
+def test_bend_sequence_keeps_the_palm_still_and_the_camera_selects_the_points(hand):
+    above = make_tracking_sequence(hand, 3, n_frames=4, motion="bend")
+    side = make_tracking_sequence(hand, 3, n_frames=4, motion="bend", camera=np.array([500.0, 40.0, 100.0]))
+    turn = make_tracking_sequence(hand, 3, n_frames=4)
+    assert np.all(above.poses[:, 4] == above.poses[0, 4]) and np.ptp(turn.poses[:, 4]) > 0.1
+    np.testing.assert_array_equal(above.poses, side.poses)  # same motion, different view
+    assert not np.array_equal(above.frames[1], side.frames[1])
+    with pytest.raises(ValueError, match="motion"):
+        make_tracking_sequence(hand, 3, n_frames=4, motion="wave")
+    with pytest.raises(ValueError, match="camera"):
+        make_tracking_sequence(hand, 3, n_frames=4, camera=np.zeros(2))
