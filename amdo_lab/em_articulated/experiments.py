@@ -141,6 +141,23 @@ def objective_check(hand: HandModel, seed: int, n_trials: int, *, problem: dict 
 
     If the EM's pose scores higher than the floor pose and the climb from the floor ends as far
     from the truth as the EM, the objective (not the optimizer) sets the error.
+
+    Parameters
+    ----------
+    hand : HandModel
+    seed : seed of the trials' random streams (:func:`amdo_lab.common.spawn_rngs`).
+    n_trials : number of seeded problems (≥ 1).
+    problem : keyword arguments of :func:`make_registration_problem`.
+    em_settings : keyword arguments of :func:`register_em`; the objective is taken at their
+        ``sigma_min`` (3 mm by default).
+
+    Returns
+    -------
+    ObjectiveCheck
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eqs. (9), (17)-(18) (the objective).
     """
     n_trials = check_positive_int(n_trials, "n_trials")
     settings = em_settings or {}
