@@ -377,7 +377,7 @@ def test_grey_level_difference_in_a_mask():
     image, reference = np.arange(16.0).reshape(4, 4), np.zeros((4, 4))
     mask = image >= 8
     assert cf.grey_level_difference(image, reference, mask) == (pytest.approx(11.5), pytest.approx(np.std(np.arange(8.0, 16))))
-    with pytest.raises(ValueError, match="mask"):
+    with pytest.raises(TypeError, match="mask must be a boolean array"):
         cf.grey_level_difference(image, reference, mask.astype(int))
     with pytest.raises(ValueError, match="at least one pixel"):
         cf.grey_level_difference(image, reference, np.zeros((4, 4), bool))
@@ -388,10 +388,11 @@ def test_grey_level_difference_in_a_mask():
 def test_displacement_measures_validate_the_mask():
     zero, one = np.zeros((2, 4, 4)), np.ones((2, 4, 4))
     assert cf.displacement_rmse(zero, one, np.eye(4, dtype=bool)) == pytest.approx(np.sqrt(2))
-    for bad, message in [(np.eye(4), "boolean"), (np.ones((3, 3), bool), "shape"), (np.zeros((4, 4), bool), "at least one")]:
-        with pytest.raises(ValueError, match=message):
+    for bad, error, message in [(np.eye(4), TypeError, "boolean"), (np.ones((3, 3), bool), ValueError, "shape"),
+                                (np.zeros((4, 4), bool), ValueError, "at least one")]:
+        with pytest.raises(error, match=message):
             cf.displacement_rmse(zero, one, bad)
-        with pytest.raises(ValueError, match=message):
+        with pytest.raises(error, match=message):
             cf.inverse_consistency_error(zero, one, bad)
 
 
@@ -485,7 +486,7 @@ def test_pairs_are_deterministic_and_their_warps_unfolded():
 def test_data_helpers_validate_their_inputs():
     with pytest.raises(ValueError, match="seed"):
         cf.make_pair("B", seed=-1)
-    with pytest.raises(ValueError, match="support"):
+    with pytest.raises(TypeError, match="support must be a boolean array"):
         cf.smooth_warp((16, 16), 0, support=np.ones((16, 16)))
     with pytest.raises(ValueError, match="support"):
         cf.smooth_warp((16, 16), 0, support=np.zeros((16, 16), bool))

@@ -368,7 +368,7 @@ _REJECTED = [
     (lambda: check_bool(None, "verbose"), TypeError, "verbose must be True or False"),
     (lambda: check_in_range(0.0, "p", 0, 1), ValueError, r"p must be in \(0, 1\), got 0.0"),
     (lambda: check_in_range(1.0, "p", 0, 1, closed="left"), ValueError, r"p must be in \[0, 1\)"),
-    (lambda: check_in_range(float("nan"), "p", 0, 1), ValueError, r"p must be in \(0, 1\), got nan"),
+    (lambda: check_in_range(float("nan"), "p", 0, 1), ValueError, r"p must be finite, got nan"),
     (lambda: check_in_range(True, "p", 0, 1), TypeError, "p must be a real number, got bool"),
     (lambda: check_in_range("0.5", "p", 0, 1), TypeError, "p must be a real number, got str"),
     (lambda: as_bool_mask(np.ones(3), "mask"), TypeError, "mask must be a boolean array, got dtype float64"),

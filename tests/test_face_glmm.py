@@ -551,7 +551,7 @@ def fitted(simulated, population, reduced_table):
 @pytest.mark.parametrize("call, error, message", [
     (lambda f: f.fit.predict(f.cell, ci=1.5), ValueError, r"ci must be in \(0, 1\)"),
     (lambda f: f.fit.predict(f.cell, ci=np.nan), ValueError, "ci must be finite"),
-    (lambda f: f.fit.predict(f.cell, ci=0.0), ValueError, "ci must be positive"),
+    (lambda f: f.fit.predict(f.cell, ci=0.0), ValueError, r"ci must be in \(0, 1\), got 0.0"),
     (lambda f: f.fit.predict(f.cell.to_numpy()), TypeError, "newdata must be a pandas DataFrame"),
     (lambda f: f.fit.predict(f.cell.iloc[:0]), ValueError, "newdata must have at least one row"),
     (lambda f: f.fit.predict_marginal(pd.DataFrame({"M": ["l2"]}), ci=2.0), ValueError, r"ci must be in \(0, 1\)"),

@@ -472,7 +472,7 @@ _EYES = np.stack([np.eye(2)] * 2)
     (lambda: fit_gaussian_mixture(np.ones((6, 2), bool), 2, means_init=np.zeros((2, 2)), covariances_init=_EYES),
      TypeError, "X must be a numeric array"),
     # point distribution models
-    (lambda: fit_pdm(_VECTORS, variance_fraction=0.0), ValueError, "variance_fraction must be positive"),
+    (lambda: fit_pdm(_VECTORS, variance_fraction=0.0), ValueError, r"variance_fraction must be in \(0, 1\], got 0.0"),
     (lambda: fit_pdm(_VECTORS, variance_fraction=1.5), ValueError, r"variance_fraction must be in \(0, 1\]"),
     (lambda: fit_pdm(_VECTORS, variance_fraction=np.nan), ValueError, "variance_fraction must be finite"),
     (lambda: fit_pdm(_VECTORS, max_modes=0), ValueError, "max_modes must be at least 1"),
@@ -520,7 +520,7 @@ _EYES = np.stack([np.eye(2)] * 2)
     (lambda: hamming_distance(np.zeros(13, int), np.ones((3, 13), int)), ValueError, "label_strings must have 2 dimensions"),
     (lambda: hamming_distance(np.full((2, 13), np.nan), np.ones((3, 13))), ValueError, "label_strings must be finite"),
     (lambda: hamming_distance(np.full((2, 13), 0.5), np.ones((3, 13))), ValueError, "label_strings must hold whole numbers"),
-    (lambda: label_string_log_prob(np.array([1]), 13, 0.0), ValueError, "error_probability must be positive"),
+    (lambda: label_string_log_prob(np.array([1]), 13, 0.0), ValueError, r"error_probability must be in \(0, 1\), got 0.0"),
     (lambda: label_string_log_prob(np.array([1]), 13, 1.0), ValueError, r"error_probability must be in \(0, 1\)"),
     (lambda: label_string_log_prob(np.array([1]), 13, np.nan), ValueError, "error_probability must be finite"),
     (lambda: label_string_log_prob(np.array([1]), 0, 0.2), ValueError, "n_limbs must be at least 1"),

@@ -14,7 +14,15 @@ import numpy as np
 
 from amdo_lab.cat_fluid.solvers import SOLVERS, cat_symbol, finite_difference_symbol, solve_symbol, sor_solve
 from amdo_lab.cat_fluid.stencil import check_moduli
-from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
+from amdo_lab.common import (
+    as_bool_mask,
+    as_finite_array,
+    check_bool,
+    check_choice,
+    check_in_range,
+    check_positive,
+    check_positive_int,
+)
 
 __all__ = ["FluidResult", "HISTORY_COLUMNS", "register_fluid", "warp_image", "external_force",
            "material_update", "displacement_jacobian", "jacobian_determinant", "compose_displacements",
@@ -156,9 +164,7 @@ def grey_level_difference(image: object, reference: object, mask: object | None 
 
 def _check_mask(mask: object, shape: tuple[int, ...]) -> np.ndarray:
     """A boolean mask of ``shape`` with at least one pixel (an empty mean would be NaN)."""
-    mask = np.asarray(mask)
-    if mask.dtype != bool or mask.shape != tuple(shape):
-        raise ValueError(f"mask must be a boolean array of shape {tuple(shape)}, got {mask.dtype} {mask.shape}")
+    mask = as_bool_mask(mask, "mask", shape=shape)
     if not mask.any():
         raise ValueError("mask must select at least one pixel, got an all-False mask")
     return mask
@@ -263,17 +269,14 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
     template, study = _check_images(template, study)
     check_choice(method, "method", SOLVERS)
     lam, mu = check_moduli(lam, mu, require_positive_mu=True)
-    for flag, flag_name in ((backtrack, "backtrack"), (sor_warm_start, "sor_warm_start")):
-        if not isinstance(flag, bool):
-            raise TypeError(f"{flag_name} must be a bool, got {type(flag).__name__}")
+    check_bool(backtrack, "backtrack")
+    check_bool(sor_warm_start, "sor_warm_start")
     n_iter = check_positive_int(DEFAULT_ITERATIONS[method] if n_iter is None else n_iter, "n_iter")
     step_bound = check_positive(max_step, "max_step")
-    regrid_threshold = check_positive(regrid_threshold, "regrid_threshold", allow_zero=True)
-    if regrid_threshold >= 1:
-        raise ValueError(f"regrid_threshold must be in [0, 1), got {regrid_threshold}")
+    regrid_threshold = check_in_range(regrid_threshold, "regrid_threshold", 0, 1, closed="left")
     sor_sweeps = check_positive_int(sor_sweeps, "sor_sweeps")
-    if sor_omega is not None and not 0 < check_positive(sor_omega, "sor_omega") < 2:
-        raise ValueError(f"sor_omega must be in (0, 2) for SOR to converge, got {sor_omega}")
+    if sor_omega is not None:
+        check_in_range(sor_omega, "sor_omega", 0, 2)  # SOR converges for 0 < omega < 2 only
     if method == "sor" and (template.shape[0] % 2 or template.shape[1] % 2):
         raise ValueError(f"method='sor' needs even image sizes (four-colour ordering), got {template.shape}")
     start = time.perf_counter()

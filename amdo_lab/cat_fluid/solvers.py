@@ -24,7 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from amdo_lab.cat_fluid.stencil import NEIGHBOUR_OFFSETS, check_moduli, fluid_stencil, stencil_blocks
-from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
+from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive, check_positive_int
 
 __all__ = ["SOLVERS", "stencil_symbol", "cat_symbol", "finite_difference_symbol", "apply_finite_difference",
            "solve_symbol", "sor_solve", "solve_velocity", "default_omega", "SOR_ORDERINGS", "symbol_eigenvalues",
@@ -222,9 +222,8 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, sweeps: int = 250, om
     sweeps = check_positive_int(sweeps, "sweeps", minimum=0)
     check_choice(ordering, "ordering", SOR_ORDERINGS)
     h, w = force.shape[1:]
-    omega = default_omega((h, w)) if omega is None else check_positive(omega, "omega")
-    if omega >= 2:
-        raise ValueError(f"omega must be in (0, 2) for SOR to converge, got {omega}")
+    # SOR converges for 0 < omega < 2 only
+    omega = default_omega((h, w)) if omega is None else check_in_range(omega, "omega", 0, 2)
     if h % 2 or w % 2:
         raise ValueError(f"SOR's four-colour ordering needs even image sizes, got {(h, w)}")
     start = np.zeros_like(force) if initial is None else as_finite_array(initial, "initial", shape=force.shape)

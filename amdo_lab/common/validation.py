@@ -161,9 +161,11 @@ def check_in_range(
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
     number = float(value)
+    if not np.isfinite(number):
+        raise ValueError(f"{name} must be finite, got {number}")
     left_ok = number >= low if closed in ("left", "both") else number > low
     right_ok = number <= high if closed in ("right", "both") else number < high
-    if not (np.isfinite(number) and left_ok and right_ok):
+    if not (left_ok and right_ok):
         opening = "[" if closed in ("left", "both") else "("
         ending = "]" if closed in ("right", "both") else ")"
         raise ValueError(f"{name} must be in {opening}{low:g}, {high:g}{ending}, got {number}")

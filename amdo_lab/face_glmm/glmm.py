@@ -28,7 +28,7 @@ from scipy import stats
 from scipy.special import expit, xlogy
 
 
-from amdo_lab.common import as_finite_array, check_positive
+from amdo_lab.common import as_finite_array, check_in_range, check_positive
 from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.face_glmm.design import DesignMatrix, build_design, group_indices, parse_formula
 
@@ -121,8 +121,8 @@ def _check_frame(frame: object, name: str) -> None:
 
 def _check_ci(ci: object) -> None:
     """A Wald interval level strictly between 0 and 1 (or None for no interval)."""
-    if ci is not None and not check_positive(ci, "ci") < 1:
-        raise ValueError(f"ci must be in (0, 1), got {ci}")
+    if ci is not None:
+        check_in_range(ci, "ci", 0, 1)
 
 
 def _response_counts(table: pd.DataFrame, response: str, trials: int) -> np.ndarray:

@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.axes import Axes
 
-from amdo_lab.common import PALETTE
+from amdo_lab.common import PALETTE, check_axes
 from amdo_lab.face_glmm.glmm import GlmmResult
 
 __all__ = ["PAPER_TABLE2", "PAPER_NUMBERS", "table2_comparison", "cell_predictions", "findings",
@@ -135,8 +135,7 @@ def _draw(ax, x, p, colours, marker, filled, linestyle):
 def plot_figure1(result: GlmmResult, ax) -> None:
     """Fig. 1: predicted rank-1 probability against the training supplement."""
     _check_result(result, drawn=True)
-    if not isinstance(ax, Axes):
-        raise TypeError(f"ax must be a matplotlib Axes, got {type(ax).__name__}")
+    check_axes(ax)
     cells = cell_predictions(result)
     order = ["none", "reflection", "noise", "shift"]
     order = [u for u in order if u in result.design.levels["U"]]

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive, check_positive_int, procrustes_align
+from amdo_lab.common import as_finite_array, check_in_range, check_positive, check_positive_int, procrustes_align
 
 __all__ = [
     "PointDistributionModel",
@@ -36,10 +36,7 @@ class PointDistributionModel:
 
 
 def _check_variance_fraction(value: object) -> float:
-    fraction = check_positive(value, "variance_fraction")
-    if fraction > 1:
-        raise ValueError(f"variance_fraction must be in (0, 1], got {fraction}")
-    return fraction
+    return check_in_range(value, "variance_fraction", 0, 1, closed="right")
 
 
 def _check_model(model: object) -> PointDistributionModel:

@@ -6,7 +6,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int, make_rng, procrustes_align
+from amdo_lab.common import (
+    as_finite_array,
+    check_choice,
+    check_in_range,
+    check_positive,
+    check_positive_int,
+    make_rng,
+    procrustes_align,
+)
 from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.pdm_mixtures.gmm import _fit_gaussian_mixtures_batch, fit_gaussian_mixture
 from amdo_lab.pdm_mixtures.pdm import (
@@ -78,9 +86,7 @@ def label_string_log_prob(hamming: np.ndarray, n_limbs: int, error_probability: 
         Label error probability p, in (0, 1).
     """
     n_limbs = check_positive_int(n_limbs, "n_limbs")
-    p = check_positive(error_probability, "error_probability")
-    if not p < 1:
-        raise ValueError(f"error_probability must be in (0, 1), got {p}")
+    p = check_in_range(error_probability, "error_probability", 0, 1)
     distances = as_finite_array(hamming, "hamming", dtype=int)
     if np.any((distances < 0) | (distances > n_limbs)):
         raise ValueError(f"hamming must hold distances in [0, n_limbs={n_limbs}], "
@@ -273,13 +279,8 @@ class ArticulatedShapeRecognizer:
         self.shape_seed = int(shape_seed)
         self.shape_ridge = check_positive(shape_ridge, "shape_ridge")
         self.em_restarts = check_positive_int(em_restarts, "em_restarts")
-        p = check_positive(label_error_probability, "label_error_probability")
-        if not p < 0.5:
-            raise ValueError(f"label_error_probability must be in (0, 0.5), got {p}")
-        self.label_error_probability = p
-        self.variance_fraction = check_positive(variance_fraction, "variance_fraction")
-        if self.variance_fraction > 1:
-            raise ValueError(f"variance_fraction must be in (0, 1], got {variance_fraction}")
+        self.label_error_probability = check_in_range(label_error_probability, "label_error_probability", 0, 0.5)
+        self.variance_fraction = check_in_range(variance_fraction, "variance_fraction", 0, 1, closed="right")
         self.max_iter = check_positive_int(max_iter, "max_iter")
         self.em_iterations = check_positive_int(em_iterations, "em_iterations")
         self.polar_model = check_choice(polar_model, "polar_model", ("block", "joint"))
@@ -694,9 +695,7 @@ def held_out_log_likelihood(
     n_components = check_positive_int(n_components, "n_components")
     shape_ridge = check_positive(shape_ridge, "shape_ridge")
     n_folds = check_positive_int(n_folds, "n_folds", minimum=2)
-    variance_fraction = check_positive(variance_fraction, "variance_fraction")
-    if variance_fraction > 1:
-        raise ValueError(f"variance_fraction must be in (0, 1], got {variance_fraction}")
+    variance_fraction = check_in_range(variance_fraction, "variance_fraction", 0, 1, closed="right")
     em_iterations = check_positive_int(em_iterations, "em_iterations")
     blocks = _polar_blocks(check_choice(polar_model, "polar_model", ("block", "joint")))
     t = len(vectors)
