@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import platform
 import statistics
@@ -151,25 +152,27 @@ class Benchmark:
         }
         if self.args is not None and self.args.json is not None:
             self.args.json.parent.mkdir(parents=True, exist_ok=True)
-            self.args.json.write_text(json.dumps(record, indent=1) + "\n", encoding="utf-8")
+            self.args.json.write_text(json.dumps(record, indent=1, allow_nan=False) + "\n", encoding="utf-8")
             print(f"wrote {self.args.json}")
         return record
 
 
 def _plain(value: Any) -> Any:
-    """numpy scalars and paths as plain Python values, so the record is valid JSON."""
+    """numpy scalars and paths as plain Python values, NaN and inf as null: the record is strict JSON."""
     if isinstance(value, Path):
         return str(value)
     if hasattr(value, "item") and callable(value.item) and getattr(value, "shape", None) == ():
-        return value.item()
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
     if isinstance(value, (list, tuple)):
         return [_plain(v) for v in value]
     return value
 
 
 def _format(value: Any) -> str:
+    if value is None:  # NaN or inf on the way in: a peer that could not run, a floor that does not exist
+        return "n/a"
     if isinstance(value, float):
-        if value != value:  # NaN: a peer that could not run
-            return "n/a"
         return f"{value:.3g}" if abs(value) < 0.01 or abs(value) >= 1e5 else f"{value:.3f}".rstrip("0").rstrip(".")
     return str(value)

@@ -40,9 +40,11 @@ def test_benchmark_writes_json(tmp_path, capsys):
     args = bench.parse(["--json", str(tmp_path / "out.json"), "--repeats", "2"])
     assert args.seed == 7 and args.repeats == 2
     bench.table("method", "seconds").add("ours", 1.5)
+    bench.tables[0].add("peer", float("nan"))
     bench.note("one note")
     bench.finish()
     record = json.loads((tmp_path / "out.json").read_text())
-    assert record["tables"][0]["rows"] == [["ours", 1.5]] and record["arguments"]["seed"] == 7
+    assert record["tables"][0]["rows"] == [["ours", 1.5], ["peer", None]]  # strict JSON: NaN is null
+    assert record["arguments"]["seed"] == 7
     assert record["notes"] == ["one note"] and record["machine"]["threads"]["OMP_NUM_THREADS"]
     assert "one note" in capsys.readouterr().out
