@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive_int, procrustes_align
+from amdo_lab.common import as_finite_array, check_positive_int, make_rng, procrustes_align
 from amdo_lab.pdm_mixtures.pdm import (
     _check_labels,
     _align_to_reference,
@@ -117,12 +117,19 @@ def _procrustes_rms(source: np.ndarray, targets: np.ndarray) -> np.ndarray:
 
 class SklearnGMMClassifier:
     """One scikit-learn ``GaussianMixture`` per class on aligned flat landmark vectors (a peer
-    library baseline); class = highest ``score_samples``."""
+    library baseline); class = highest ``score_samples``.
 
-    def __init__(self, n_components: int = 2, covariance_type: str = "diag", seed: int = 0) -> None:
+    ``rng`` (keyword-only, no default) seeds each mixture's k-means start: an int seed is passed to
+    scikit-learn as its ``random_state``; a ``numpy.random.Generator`` gives each class's mixture an
+    int seed drawn from it (scikit-learn does not take a Generator).
+    """
+
+    def __init__(self, n_components: int = 2, covariance_type: str = "diag", *,
+                 rng: int | np.random.Generator) -> None:
         self.n_components = check_positive_int(n_components, "n_components")
         self.covariance_type = covariance_type
-        self.seed = seed
+        make_rng(rng, "rng")  # refuse a bad seed now
+        self.rng = rng
 
     def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "SklearnGMMClassifier":
         from sklearn.mixture import GaussianMixture
@@ -132,10 +139,15 @@ class SklearnGMMClassifier:
         vectors = aligned.reshape(len(shapes), -1)
         labels = _check_labels(labels, len(shapes))
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
+        generator = make_rng(self.rng, "rng")
+        if isinstance(self.rng, np.random.Generator):  # scikit-learn takes an int seed, not a Generator
+            seeds = [int(generator.integers(2**31 - 1)) for _ in self.classes_]
+        else:
+            seeds = [int(self.rng)] * len(self.classes_)
         self.models_ = [
             GaussianMixture(self.n_components, covariance_type=self.covariance_type, reg_covar=1e-6,
-                            random_state=self.seed).fit(vectors[labels == c])
-            for c in self.classes_
+                            random_state=seed).fit(vectors[labels == c])
+            for c, seed in zip(self.classes_, seeds)
         ]
         return self
 

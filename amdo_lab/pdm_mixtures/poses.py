@@ -168,8 +168,8 @@ def _skeleton_strokes(directions_deg: np.ndarray, lengths: np.ndarray, landmarks
 def generate_pose_dataset(
     classes: tuple[str, ...] | list[str],
     n_per_class: int,
-    rng: int | np.random.Generator,
     *,
+    rng: int | np.random.Generator,
     noise: float = 0.01,
     joint_jitter_deg: float = 10.0,
     length_jitter: float = 0.06,
@@ -186,7 +186,7 @@ def generate_pose_dataset(
     n_per_class : int
         Examples per class (>= 1).
     rng : int or numpy.random.Generator
-        Seed or generator (via ``make_rng``).
+        Seed or generator of every draw (keyword-only, no default; via ``make_rng``).
     noise : float
         Std of isotropic landmark noise, in units of the skeleton (height about 1.7) before scaling.
     joint_jitter_deg : float
@@ -211,7 +211,7 @@ def generate_pose_dataset(
     length_jitter = check_positive(length_jitter, "length_jitter", allow_zero=True)
     max_rotation_deg = check_positive(max_rotation_deg, "max_rotation_deg", allow_zero=True)
     mode_separation = check_positive(mode_separation, "mode_separation", allow_zero=True)
-    generator = make_rng(rng)
+    generator = make_rng(rng, "rng")
     n = n_per_class * len(names)
     labels = np.repeat(np.array(names), n_per_class)
     # Every example picks one of its class's articulation modes with equal probability.

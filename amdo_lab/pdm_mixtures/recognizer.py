@@ -227,8 +227,9 @@ class ArticulatedShapeRecognizer:
     n_shape_components : int
         Polar-PDM mixture components learnt by EM for each class (1 gives one polar PDM per class).
         Each component has its own permissible label string in the class's dictionary.
-    shape_seed : int
-        Seed of the k-means++ initialisation of the shape-level EM.
+    rng : int or numpy.random.Generator
+        Seed or generator of the k-means++ starts of the shape-level EM (keyword-only, no default;
+        an int seed gives the same starts at every ``fit``).
     shape_ridge : float
         Ridge added to every shape-level EM covariance (eq. 8), as a multiple of the mean variance
         of the block-scaled S (positive; the paper leaves it open, default 1e-3). It also sets the
@@ -259,9 +260,9 @@ class ArticulatedShapeRecognizer:
     def __init__(
         self,
         *,
+        rng: int | np.random.Generator,
         n_limb_labels: int = 4,
         n_shape_components: int = 2,
-        shape_seed: int = 0,
         shape_ridge: float = 1e-3,
         em_restarts: int = 1,
         label_error_probability: float = 0.2,
@@ -274,9 +275,8 @@ class ArticulatedShapeRecognizer:
     ) -> None:
         self.n_limb_labels = check_positive_int(n_limb_labels, "n_limb_labels")
         self.n_shape_components = check_positive_int(n_shape_components, "n_shape_components")
-        if isinstance(shape_seed, bool) or not isinstance(shape_seed, (int, np.integer)):
-            raise TypeError(f"shape_seed must be an int, got {shape_seed!r}")
-        self.shape_seed = int(shape_seed)
+        make_rng(rng, "rng")  # refuse a bad seed now; the generator is made in fit
+        self.rng = rng
         self.shape_ridge = check_positive(shape_ridge, "shape_ridge")
         self.em_restarts = check_positive_int(em_restarts, "em_restarts")
         self.label_error_probability = check_in_range(label_error_probability, "label_error_probability", 0, 0.5)
@@ -393,7 +393,7 @@ class ArticulatedShapeRecognizer:
         class's training responsibilities ``(T_c, M)``."""
         vectors = _polar_shape_vector(aligned)
         blocks = _polar_blocks(self.polar_model)
-        rng = make_rng(self.shape_seed)
+        rng = make_rng(self.rng, "rng")
         self.angle_means_ = []
         self.shape_models_: list[list[PolarPDM]] = []
         self.shape_weights_: list[np.ndarray] = []
@@ -661,7 +661,7 @@ def held_out_log_likelihood(
     variance_fraction: float = 0.95,
     em_iterations: int = 30,
     polar_model: str = "block",
-    seed: int = 0,
+    rng: int | np.random.Generator,
 ) -> float:
     """Mean held-out log-density of one class's polar vectors under a mixture of polar PDMs.
 
@@ -683,8 +683,8 @@ def held_out_log_likelihood(
         Number of folds (at least 2); every training split needs ``3 * n_components`` rows.
     variance_fraction, em_iterations, polar_model
         As for ``ArticulatedShapeRecognizer``.
-    seed : int
-        Seed of the fold split and of the k-means++ starts.
+    rng : int or numpy.random.Generator
+        Seed or generator of the fold split and of the k-means++ starts (keyword-only, no default).
 
     Returns
     -------
@@ -703,7 +703,7 @@ def held_out_log_likelihood(
     if smallest_split < MIN_PER_CLASS * n_components:
         raise ValueError(f"polar_vectors needs at least {MIN_PER_CLASS * n_components} rows outside every fold "
                          f"(n_components={n_components}, n_folds={n_folds}), got {smallest_split} of {t}")
-    rng = make_rng(seed)
+    rng = make_rng(rng, "rng")
     folds = np.empty(t, dtype=int)
     folds[rng.permutation(t)] = np.arange(t) % n_folds
     total = 0.0
