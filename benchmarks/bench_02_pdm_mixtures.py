@@ -61,9 +61,9 @@ def speed_and_rates(bench, args) -> None:
     test = pm.generate_pose_dataset(classes, per_class, rng=test_rng)
     test_shapes, test_labels = test.shapes[: args.n_test], test.labels[: args.n_test]
     models = {
-        "hierarchical PDM mixture (ours)": lambda: pm.ArticulatedShapeRecognizer(rng=0),
-        "ours, joint polar PDM": lambda: pm.ArticulatedShapeRecognizer(rng=0, polar_model="joint"),
-        "ours, 1 polar PDM per class": lambda: pm.ArticulatedShapeRecognizer(rng=0, n_shape_components=1),
+        "hierarchical PDM mixture (ours)": lambda: pm.ArticulatedShapeRecogniser(rng=0),
+        "ours, joint polar PDM": lambda: pm.ArticulatedShapeRecogniser(rng=0, polar_model="joint"),
+        "ours, 1 polar PDM per class": lambda: pm.ArticulatedShapeRecogniser(rng=0, n_shape_components=1),
         "single Cartesian PDM": pm.SingleCartesianPDMClassifier,
         "nearest Procrustes mean": pm.NearestProcrustesMeanClassifier,
         "sklearn GaussianMixture": lambda: pm.SklearnGMMClassifier(rng=0),

@@ -35,8 +35,8 @@ VARIANTS = {
     "shape ridge 3e-3": dict(shape_ridge=3e-3),
     "shape ridge 1e-2": dict(shape_ridge=1e-2),
     "shape ridge 1e-1": dict(shape_ridge=1e-1),
-    "5 EM restarts": dict(em_restarts=5),
-    "shape ridge 1e-2, 5 EM restarts": dict(shape_ridge=1e-2, em_restarts=5),
+    "5 EM restarts": dict(n_restarts=5),
+    "shape ridge 1e-2, 5 EM restarts": dict(shape_ridge=1e-2, n_restarts=5),
     "variance fraction 0.90": dict(variance_fraction=0.90),
     "variance fraction 0.98": dict(variance_fraction=0.98),
     "3 limb labels": dict(n_limb_labels=3),
@@ -57,7 +57,7 @@ def held_out_study(bench: Benchmark) -> None:
                 "M=2, ridge 1e-2": dict(n_components=2, shape_ridge=1e-2),
                 "M=2, ridge 1e-1": dict(n_components=2, shape_ridge=1e-1)}
     train = pm.generate_pose_dataset(pm.TABLE1_CLASSES, 20, rng=_spawn(2004, 4)[0])
-    recogniser = pm.ArticulatedShapeRecognizer(rng=0).fit(train.shapes, train.labels)
+    recogniser = pm.ArticulatedShapeRecogniser(rng=0).fit(train.shapes, train.labels)
     polar = pm.polar_shape_vector(recogniser.align(train.shapes))
     table = bench.table("class", *settings, "preferred",
                         title="held-out log-likelihood, nats per shape (5 folds, the notebook's training set)")
@@ -78,7 +78,7 @@ def em_restarts_study(bench: Benchmark, n_starts: int = 12) -> None:
     from amdo_lab.common import spawn_rngs as _spawn
 
     train = pm.generate_pose_dataset(pm.TABLE1_CLASSES, 20, rng=_spawn(2004, 4)[0])
-    recogniser = pm.ArticulatedShapeRecognizer(rng=0).fit(train.shapes, train.labels)
+    recogniser = pm.ArticulatedShapeRecogniser(rng=0).fit(train.shapes, train.labels)
 
     def run_em(scaled: np.ndarray, partition: np.ndarray) -> pm.GaussianMixtureResult:
         pooled = np.cov(scaled.T, bias=True)
@@ -141,7 +141,7 @@ def main() -> None:
         fit_rng, check_rng = spawn_rngs(seed, 2)
         fit_set = pm.generate_pose_dataset(pm.TABLE1_CLASSES, args.train_per_class, rng=fit_rng)
         check_set = pm.generate_pose_dataset(pm.TABLE1_CLASSES, args.per_class, rng=check_rng)
-        models = {name: pm.ArticulatedShapeRecognizer(rng=0, **options) for name, options in variants.items()}
+        models = {name: pm.ArticulatedShapeRecogniser(rng=0, **options) for name, options in variants.items()}
         models |= {name: getattr(pm, class_name)(**options) for name, (class_name, options) in BASELINES.items()}
         for name, model in models.items():
             predicted = model.fit(fit_set.shapes, fit_set.labels).predict(check_set.shapes)

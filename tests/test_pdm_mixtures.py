@@ -13,7 +13,7 @@ from amdo_lab.pdm_mixtures import (
     POSE_MODES,
     POSES,
     TABLE1_CLASSES,
-    ArticulatedShapeRecognizer,
+    ArticulatedShapeRecogniser,
     NearestProcrustesMeanClassifier,
     classical_mds,
     fit_gaussian_mixture,
@@ -40,7 +40,7 @@ def small_problem():
     train_rng, test_rng = spawn_rngs(7, 2)
     train = generate_pose_dataset(TABLE1_CLASSES, 12, rng=train_rng)
     test = generate_pose_dataset(TABLE1_CLASSES, 30, rng=test_rng)
-    recogniser = ArticulatedShapeRecognizer(rng=0).fit(train.shapes, train.labels)
+    recogniser = ArticulatedShapeRecogniser(rng=0).fit(train.shapes, train.labels)
     return train, test, recogniser
 
 
@@ -203,9 +203,9 @@ def test_recogniser_is_similarity_invariant(small_problem):
 def test_recognition_trace_iterates_and_converges(small_problem):
     _, test, recogniser = small_problem
     trace = recogniser.recognise(test.shapes)
-    assert 1 <= trace.n_iterations <= recogniser.max_iter
-    assert trace.posteriors.shape == (trace.n_iterations, len(test.shapes), 6)
-    if trace.n_iterations < recogniser.max_iter:
+    assert 1 <= trace.n_iter <= recogniser.max_iter
+    assert trace.posteriors.shape == (trace.n_iter, len(test.shapes), 6)
+    if trace.n_iter < recogniser.max_iter:
         # Converged: refining labels with the final winner changes nothing.
         best = trace.posteriors[-1].argmax(axis=1)
         assert best.shape == (len(test.shapes),)
@@ -234,21 +234,21 @@ def test_bad_input_raises_clear_errors(small_problem):
     with pytest.raises(ValueError, match="finite"):
         recogniser.predict(bad)
     with pytest.raises(ValueError, match="no training examples"):
-        ArticulatedShapeRecognizer(rng=0, classes=TABLE1_CLASSES).fit(train.shapes[train.labels != "boxing"],
+        ArticulatedShapeRecogniser(rng=0, classes=TABLE1_CLASSES).fit(train.shapes[train.labels != "boxing"],
                                                                train.labels[train.labels != "boxing"])
     with pytest.raises(ValueError, match="not in classes"):
-        ArticulatedShapeRecognizer(rng=0, classes=TABLE1_CLASSES[:5]).fit(train.shapes, train.labels)
+        ArticulatedShapeRecogniser(rng=0, classes=TABLE1_CLASSES[:5]).fit(train.shapes, train.labels)
     keep = np.r_[np.flatnonzero(train.labels != "kicking"), np.flatnonzero(train.labels == "kicking")[:2]]
     with pytest.raises(ValueError, match="at least 6 training examples"):
-        ArticulatedShapeRecognizer(rng=0).fit(train.shapes[keep], train.labels[keep])
+        ArticulatedShapeRecogniser(rng=0).fit(train.shapes[keep], train.labels[keep])
     with pytest.raises(ValueError, match="at least 3 training examples"):
-        ArticulatedShapeRecognizer(rng=0, n_shape_components=1).fit(train.shapes[keep], train.labels[keep])
+        ArticulatedShapeRecogniser(rng=0, n_shape_components=1).fit(train.shapes[keep], train.labels[keep])
     with pytest.raises(ValueError, match="n_shape_components"):
-        ArticulatedShapeRecognizer(rng=0, n_shape_components=0)
+        ArticulatedShapeRecogniser(rng=0, n_shape_components=0)
     with pytest.raises(ValueError, match="labels"):
-        ArticulatedShapeRecognizer(rng=0).fit(train.shapes, train.labels[:-1])
+        ArticulatedShapeRecogniser(rng=0).fit(train.shapes, train.labels[:-1])
     with pytest.raises(ValueError, match="fitted"):
-        ArticulatedShapeRecognizer(rng=0).predict(test.shapes)
+        ArticulatedShapeRecogniser(rng=0).predict(test.shapes)
     with pytest.raises(ValueError, match="n_components"):
         fit_gaussian_mixture(np.zeros((2, 2)), 3, means_init=np.zeros((3, 2)), covariances_init=np.zeros((3, 2, 2)))
 
@@ -283,7 +283,7 @@ def test_dictionary_has_one_string_per_class_component(small_problem):
     assert recogniser.dictionary_.shape == (6, 2, 13)
     assert recogniser.dictionary_.min() >= 0 and recogniser.dictionary_.max() < recogniser.n_limb_labels
     # With one component the string is the per-limb majority MAP label of the class.
-    single = ArticulatedShapeRecognizer(rng=0, n_shape_components=1).fit(train.shapes, train.labels)
+    single = ArticulatedShapeRecogniser(rng=0, n_shape_components=1).fit(train.shapes, train.labels)
     j = single.classes_.index("boxing")
     labels = single.training_label_strings_[train.labels == "boxing"]
     majority = [np.bincount(labels[:, k], minlength=single.n_limb_labels).argmax() for k in range(13)]
@@ -292,7 +292,7 @@ def test_dictionary_has_one_string_per_class_component(small_problem):
 
 def test_block_polar_pdm_models_angles_and_centres_separately(small_problem):
     train, _, recogniser = small_problem
-    single = ArticulatedShapeRecognizer(rng=0, n_shape_components=1).fit(train.shapes, train.labels)
+    single = ArticulatedShapeRecogniser(rng=0, n_shape_components=1).fit(train.shapes, train.labels)
     j = single.classes_.index("stretching")
     model = single.shape_models_[j][0]
     assert [b.stop - b.start for b in model.blocks] == [13, 26]
@@ -302,7 +302,7 @@ def test_block_polar_pdm_models_angles_and_centres_separately(small_problem):
     top = np.sort(np.linalg.eigvalsh(angle_cov))[::-1][: model.pdms[0].n_modes]
     np.testing.assert_allclose(model.pdms[0].variances, top, rtol=1e-10)
     # The log-density is the sum of the two blocks' densities; a joint model has one block.
-    joint = ArticulatedShapeRecognizer(rng=0, n_shape_components=1, polar_model="joint").fit(train.shapes, train.labels)
+    joint = ArticulatedShapeRecogniser(rng=0, n_shape_components=1, polar_model="joint").fit(train.shapes, train.labels)
     assert len(joint.shape_models_[j][0].pdms) == 1
     fitted = model.fit(deviation)
     assert fitted.shape == deviation.shape
@@ -311,14 +311,14 @@ def test_block_polar_pdm_models_angles_and_centres_separately(small_problem):
 
 def test_limb_likelihood_options_give_label_posteriors(small_problem):
     train, test, recogniser = small_problem
-    residual = ArticulatedShapeRecognizer(rng=0, limb_likelihood="residual").fit(train.shapes, train.labels)
+    residual = ArticulatedShapeRecogniser(rng=0, limb_likelihood="residual").fit(train.shapes, train.labels)
     for model in (recogniser, residual):
         posteriors = np.exp(model._limb_log_posteriors(model.align(test.shapes[:5])))
         np.testing.assert_allclose(posteriors.sum(axis=2), 1.0)
     with pytest.raises(ValueError, match="limb_likelihood"):
-        ArticulatedShapeRecognizer(rng=0, limb_likelihood="hamming")
+        ArticulatedShapeRecogniser(rng=0, limb_likelihood="hamming")
     with pytest.raises(ValueError, match="polar_model"):
-        ArticulatedShapeRecognizer(rng=0, polar_model="cartesian")
+        ArticulatedShapeRecogniser(rng=0, polar_model="cartesian")
 
 
 def test_shape_level_mixture_separates_articulation_modes(small_problem):
@@ -341,15 +341,15 @@ def test_shape_level_mixture_separates_articulation_modes(small_problem):
 
 def test_single_component_is_one_polar_pdm_per_class(small_problem):
     train, test, _ = small_problem
-    single = ArticulatedShapeRecognizer(rng=0, n_shape_components=1).fit(train.shapes, train.labels)
+    single = ArticulatedShapeRecogniser(rng=0, n_shape_components=1).fit(train.shapes, train.labels)
     vectors = _polar(single.align(train.shapes))
     j = single.classes_.index("kicking")
     deviation = single._deviation(vectors[train.labels == "kicking"], single.angle_means_[j])
     np.testing.assert_allclose(single.shape_models_[j][0].mean, deviation.mean(axis=0), atol=1e-12)
     np.testing.assert_allclose(single.shape_weights_[j], [1.0])
-    again = ArticulatedShapeRecognizer(rng=0).fit(train.shapes, train.labels)  # the seeded EM is reproducible
+    again = ArticulatedShapeRecogniser(rng=0).fit(train.shapes, train.labels)  # the seeded EM is reproducible
     np.testing.assert_array_equal(again.predict_proba(test.shapes[:10]),
-                                  ArticulatedShapeRecognizer(rng=0).fit(train.shapes, train.labels).predict_proba(test.shapes[:10]))
+                                  ArticulatedShapeRecogniser(rng=0).fit(train.shapes, train.labels).predict_proba(test.shapes[:10]))
 
 
 def test_generator_rejects_bad_parameters():
@@ -364,7 +364,7 @@ def test_generator_rejects_bad_parameters():
 
 
 def test_polar_mixture_components_are_weighted_moments_in_original_units():
-    from amdo_lab.pdm_mixtures.recognizer import _fit_polar_mixture, _polar_blocks
+    from amdo_lab.pdm_mixtures.recogniser import _fit_polar_mixture, _polar_blocks
 
     rng = make_rng(3)
     # Two clusters; angles (radians) and centres (small units) on very different scales.
@@ -380,24 +380,24 @@ def test_polar_mixture_components_are_weighted_moments_in_original_units():
 
 
 # ---------------------------------------------------------------- open choices: ridge, restarts, held-out likelihood
-def test_shape_ridge_and_em_restarts_validate_and_default_to_the_previous_recogniser(small_problem):
+def test_shape_ridge_and_n_restarts_validate_and_default_to_the_previous_recogniser(small_problem):
     train, test, recogniser = small_problem
     for bad in (0.0, -1e-3, float("nan")):
         with pytest.raises(ValueError, match="shape_ridge"):
-            ArticulatedShapeRecognizer(rng=0, shape_ridge=bad)
+            ArticulatedShapeRecogniser(rng=0, shape_ridge=bad)
     with pytest.raises(TypeError, match="shape_ridge"):
-        ArticulatedShapeRecognizer(rng=0, shape_ridge="1e-3")
-    with pytest.raises(ValueError, match="em_restarts"):
-        ArticulatedShapeRecognizer(rng=0, em_restarts=0)
-    with pytest.raises(TypeError, match="em_restarts"):
-        ArticulatedShapeRecognizer(rng=0, em_restarts=2.0)
-    explicit = ArticulatedShapeRecognizer(rng=0, shape_ridge=1e-3, em_restarts=1).fit(train.shapes, train.labels)
+        ArticulatedShapeRecogniser(rng=0, shape_ridge="1e-3")
+    with pytest.raises(ValueError, match="n_restarts"):
+        ArticulatedShapeRecogniser(rng=0, n_restarts=0)
+    with pytest.raises(TypeError, match="n_restarts"):
+        ArticulatedShapeRecogniser(rng=0, n_restarts=2.0)
+    explicit = ArticulatedShapeRecogniser(rng=0, shape_ridge=1e-3, n_restarts=1).fit(train.shapes, train.labels)
     np.testing.assert_array_equal(explicit.predict_proba(test.shapes[:20]), recogniser.predict_proba(test.shapes[:20]))
 
 
 def test_larger_shape_ridge_raises_the_component_residual_variance(small_problem):
     train, _, recogniser = small_problem
-    wide = ArticulatedShapeRecognizer(rng=0, shape_ridge=1e-1).fit(train.shapes, train.labels)
+    wide = ArticulatedShapeRecogniser(rng=0, shape_ridge=1e-1).fit(train.shapes, train.labels)
     for narrow_components, wide_components in zip(recogniser.shape_models_, wide.shape_models_):
         narrow_floor = min(c.pdms[1].residual_variance for c in narrow_components)
         wide_floor = min(c.pdms[1].residual_variance for c in wide_components)
@@ -405,7 +405,7 @@ def test_larger_shape_ridge_raises_the_component_residual_variance(small_problem
 
 
 def test_em_restarts_keep_the_start_with_the_highest_training_likelihood(monkeypatch):
-    from amdo_lab.pdm_mixtures import recognizer as module
+    from amdo_lab.pdm_mixtures import recogniser as module
 
     rng = make_rng(5)
     data = np.concatenate([rng.standard_normal((12, 39)), rng.standard_normal((12, 39)) + 1.5])
@@ -539,9 +539,9 @@ _EYES = np.stack([np.eye(2)] * 2)
     (lambda: pm.SingleCartesianPDMClassifier(variance_fraction=np.nan), ValueError, "variance_fraction must be finite"),
     (lambda: pm.SingleCartesianPDMClassifier(variance_fraction=2.0), ValueError, "variance_fraction must be in"),
     # recogniser settings
-    (lambda: ArticulatedShapeRecognizer(rng=0, classes="boxing"), TypeError, "classes must be a sequence of class names"),
-    (lambda: ArticulatedShapeRecognizer(rng=0, classes=()), ValueError, "classes must name at least one class"),
-    (lambda: ArticulatedShapeRecognizer(rng=0, classes=("boxing", "boxing")), ValueError, "classes must not repeat a name"),
+    (lambda: ArticulatedShapeRecogniser(rng=0, classes="boxing"), TypeError, "classes must be a sequence of class names"),
+    (lambda: ArticulatedShapeRecogniser(rng=0, classes=()), ValueError, "classes must name at least one class"),
+    (lambda: ArticulatedShapeRecogniser(rng=0, classes=("boxing", "boxing")), ValueError, "classes must not repeat a name"),
 ])
 def test_public_functions_reject_bad_input(call, error, message):
     with pytest.raises(error, match=message):
@@ -587,9 +587,9 @@ def _make(cls):
     (lambda f: f.recogniser.shape_models_[0][0].fit(np.full((2, 39), np.nan)), ValueError, "deviation must be finite"),
     (lambda f: f.recogniser.shape_models_[0][0].log_density(np.zeros((2, 10))), ValueError,
      r"deviation must have shape \(n, 39\)"),
-    (lambda f: ArticulatedShapeRecognizer(rng=0).align(f.test.shapes), ValueError, "must be fitted"),
-    (lambda f: ArticulatedShapeRecognizer(rng=0).model_limbs(f.vector, f.labels), ValueError, "must be fitted"),
-    (lambda f: ArticulatedShapeRecognizer(rng=0).fit(f.train.shapes, f.nan_labels), ValueError, "labels must not contain NaN"),
+    (lambda f: ArticulatedShapeRecogniser(rng=0).align(f.test.shapes), ValueError, "must be fitted"),
+    (lambda f: ArticulatedShapeRecogniser(rng=0).model_limbs(f.vector, f.labels), ValueError, "must be fitted"),
+    (lambda f: ArticulatedShapeRecogniser(rng=0).fit(f.train.shapes, f.nan_labels), ValueError, "labels must not contain NaN"),
     *[case for cls in _BASELINES for case in (
         (lambda f, cls=cls: _make(cls).fit(f.train.shapes, f.train.labels[:-1]), ValueError, r"labels must have shape \(72,\)"),
         (lambda f, cls=cls: _make(cls).fit(f.train.shapes, f.nan_labels), ValueError, "labels must not contain NaN"),
@@ -653,7 +653,7 @@ def test_single_cartesian_pdm_scores_with_the_one_ppca_density(small_problem):
 def test_reference_paths_equal_fast_paths():
     from amdo_lab.pdm_mixtures.gmm import _gaussian_log_density, _gaussian_log_density_reference
     from amdo_lab.pdm_mixtures.pdm import _align_to_reference, _align_to_reference_loop
-    from amdo_lab.pdm_mixtures.recognizer import _hamming_distance, _hamming_distance_reference
+    from amdo_lab.pdm_mixtures.recogniser import _hamming_distance, _hamming_distance_reference
 
     rng = make_rng(8)
     points, means = rng.standard_normal((30, 4)), rng.standard_normal((3, 4))
@@ -743,7 +743,7 @@ def test_draw_shape_draws_one_collection_and_validates():
 # ---------------------------------------------------------------- the rng convention
 _DRAWING = {
     "generate_pose_dataset": (generate_pose_dataset, lambda rng: generate_pose_dataset(TABLE1_CLASSES, 2, rng=rng)),
-    "ArticulatedShapeRecognizer": (ArticulatedShapeRecognizer, lambda rng: ArticulatedShapeRecognizer(rng=rng)),
+    "ArticulatedShapeRecogniser": (ArticulatedShapeRecogniser, lambda rng: ArticulatedShapeRecogniser(rng=rng)),
     "SklearnGMMClassifier": (pm.SklearnGMMClassifier, lambda rng: pm.SklearnGMMClassifier(rng=rng)),
     "held_out_log_likelihood": (pm.held_out_log_likelihood,
                                 lambda rng: pm.held_out_log_likelihood(np.zeros((12, 39)), 1, rng=rng)),

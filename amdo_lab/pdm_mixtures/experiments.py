@@ -16,7 +16,7 @@ from amdo_lab.common import check_positive, check_positive_int, make_rng, spawn_
 from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.pdm_mixtures.baselines import SingleCartesianPDMClassifier
 from amdo_lab.pdm_mixtures.poses import TABLE1_CLASSES, generate_pose_dataset
-from amdo_lab.pdm_mixtures.recognizer import ArticulatedShapeRecognizer
+from amdo_lab.pdm_mixtures.recogniser import ArticulatedShapeRecogniser
 
 __all__ = ["SEPARATION_MODELS", "SeparationTrial", "mode_separation_trial"]
 
@@ -66,7 +66,7 @@ def mode_separation_trial(separation: float, *, rng: int | np.random.Generator, 
     train_rng, test_rng = spawn_rngs(make_rng(rng, "rng"), 2)
     train = generate_pose_dataset(classes, n_train, rng=train_rng, mode_separation=separation)
     test = generate_pose_dataset(classes, n_test, rng=test_rng, mode_separation=separation)
-    models = (ArticulatedShapeRecognizer(rng=0, n_shape_components=2), ArticulatedShapeRecognizer(rng=0, n_shape_components=1),
+    models = (ArticulatedShapeRecogniser(rng=0, n_shape_components=2), ArticulatedShapeRecogniser(rng=0, n_shape_components=1),
               SingleCartesianPDMClassifier())
     with one_blas_thread():  # small matrices: BLAS threads only contend on a shared machine
         correct = {name: model.fit(train.shapes, train.labels).predict(test.shapes) == test.labels

@@ -120,7 +120,7 @@ class PoseDataset:
     modes: np.ndarray
     limb_lengths: np.ndarray
     scales: np.ndarray
-    rotations: np.ndarray
+    rotations_rad: np.ndarray
     translations: np.ndarray
 
 

@@ -32,7 +32,7 @@ from amdo_lab.pdm_mixtures.pdm import (
 from amdo_lab.pdm_mixtures.representation import _centred_limbs, _polar_shape_vector, _wrap_angle
 
 __all__ = [
-    "ArticulatedShapeRecognizer",
+    "ArticulatedShapeRecogniser",
     "PolarPDM",
     "RecognitionTrace",
     "ScoreComponents",
@@ -156,7 +156,7 @@ class RecognitionTrace:
     posteriors: np.ndarray
     label_strings: np.ndarray
     reconstructions: np.ndarray
-    n_iterations: int
+    n_iter: int
 
 
 @dataclass(frozen=True)
@@ -217,7 +217,7 @@ def _polar_blocks(polar_model: str) -> tuple[slice, ...]:
     return (slice(0, 3 * N_LIMBS),)
 
 
-class ArticulatedShapeRecognizer:
+class ArticulatedShapeRecogniser:
     """Two-layer recogniser: limb PDM mixtures + label dictionary + per-class mixtures of polar PDMs.
 
     Parameters
@@ -234,7 +234,7 @@ class ArticulatedShapeRecognizer:
         Ridge added to every shape-level EM covariance (eq. 8), as a multiple of the mean variance
         of the block-scaled S (positive; the paper leaves it open, default 1e-3). It also sets the
         smallest eigenvalues a component PDM can have, hence its residual variance.
-    em_restarts : int
+    n_restarts : int
         Seeded k-means++ starts of each class's shape-level EM; the run with the highest final
         training log-likelihood (eq. 3) is kept (default 1, a single start).
     label_error_probability : float
@@ -243,7 +243,7 @@ class ArticulatedShapeRecognizer:
         Variance kept by each PDM's eigenmodes.
     max_iter : int
         Maximum number of limb-layer / shape-layer iterations.
-    em_iterations : int
+    n_em_iter : int
         Iterations of every EM fit (eqs. 2-8).
     polar_model : {"block", "joint"}
         ``"block"``: separate PDMs for the angle rows and the centre rows of S (Sec. 4: the first K
@@ -264,11 +264,11 @@ class ArticulatedShapeRecognizer:
         n_limb_labels: int = 4,
         n_shape_components: int = 2,
         shape_ridge: float = 1e-3,
-        em_restarts: int = 1,
+        n_restarts: int = 1,
         label_error_probability: float = 0.2,
         variance_fraction: float = 0.95,
         max_iter: int = 10,
-        em_iterations: int = 30,
+        n_em_iter: int = 30,
         polar_model: str = "block",
         limb_likelihood: str = "gaussian",
         classes: tuple[str, ...] | None = None,
@@ -278,11 +278,11 @@ class ArticulatedShapeRecognizer:
         make_rng(rng, "rng")  # refuse a bad seed now; the generator is made in fit
         self.rng = rng
         self.shape_ridge = check_positive(shape_ridge, "shape_ridge")
-        self.em_restarts = check_positive_int(em_restarts, "em_restarts")
+        self.n_restarts = check_positive_int(n_restarts, "n_restarts")
         self.label_error_probability = check_in_range(label_error_probability, "label_error_probability", 0, 0.5)
         self.variance_fraction = check_in_range(variance_fraction, "variance_fraction", 0, 1, closed="right")
         self.max_iter = check_positive_int(max_iter, "max_iter")
-        self.em_iterations = check_positive_int(em_iterations, "em_iterations")
+        self.n_em_iter = check_positive_int(n_em_iter, "n_em_iter")
         self.polar_model = check_choice(polar_model, "polar_model", ("block", "joint"))
         self.limb_likelihood = check_choice(limb_likelihood, "limb_likelihood", ("gaussian", "residual"))
         self.classes = None if classes is None else _check_class_names(classes)
@@ -304,12 +304,12 @@ class ArticulatedShapeRecognizer:
             raise ValueError("the recogniser must be fitted before recognising or aligning shapes")
 
     # ------------------------------------------------------------------ training
-    def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "ArticulatedShapeRecognizer":
+    def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "ArticulatedShapeRecogniser":
         """Learn the limb mixtures, the class polar-PDM mixtures and the label dictionary."""
         with one_blas_thread():  # small matrices: BLAS threads only contend on a shared machine
             return self._fit(shapes, labels)
 
-    def _fit(self, shapes: np.ndarray, labels: np.ndarray) -> "ArticulatedShapeRecognizer":
+    def _fit(self, shapes: np.ndarray, labels: np.ndarray) -> "ArticulatedShapeRecogniser":
         shapes = self._check_shapes(shapes)
         labels = _check_labels(labels, shapes.shape[0])
         present = tuple(dict.fromkeys(labels.tolist()))
@@ -358,7 +358,7 @@ class ArticulatedShapeRecognizer:
         spreads = np.stack([np.cov(data.T, bias=True) + 1e-6 * np.eye(d) for data in limbs])
         ridges = 1e-3 * np.trace(spreads, axis1=1, axis2=2) / d
         weights, means, covariances, _ = _fit_gaussian_mixtures_batch(
-            limbs, starts, np.repeat(spreads[:, None], self.n_limb_labels, axis=1), self.em_iterations, ridges)
+            limbs, starts, np.repeat(spreads[:, None], self.n_limb_labels, axis=1), self.n_em_iter, ridges)
         self.limb_models_: list[list[PointDistributionModel]] = []
         self.limb_weights_ = weights
         self.limb_noise_ = np.empty(N_LIMBS)
@@ -404,8 +404,8 @@ class ArticulatedShapeRecognizer:
             self.angle_means_.append(angle_mean)
             deviation = self._deviation(class_vectors, angle_mean)
             models, weights, resp = _fit_polar_mixture(deviation, self.n_shape_components, blocks, rng,
-                                                       self.em_iterations, self.variance_fraction,
-                                                       ridge=self.shape_ridge, n_restarts=self.em_restarts)
+                                                       self.n_em_iter, self.variance_fraction,
+                                                       ridge=self.shape_ridge, n_restarts=self.n_restarts)
             self.shape_models_.append(models)
             self.shape_weights_.append(weights)
             responsibilities.append(resp)
@@ -659,7 +659,7 @@ def held_out_log_likelihood(
     shape_ridge: float = 1e-3,
     n_folds: int = 5,
     variance_fraction: float = 0.95,
-    em_iterations: int = 30,
+    n_em_iter: int = 30,
     polar_model: str = "block",
     rng: int | np.random.Generator,
 ) -> float:
@@ -678,11 +678,11 @@ def held_out_log_likelihood(
     n_components : int
         Mixture components M.
     shape_ridge : float
-        Positive EM ridge, as ``ArticulatedShapeRecognizer(shape_ridge=...)``.
+        Positive EM ridge, as ``ArticulatedShapeRecogniser(shape_ridge=...)``.
     n_folds : int
         Number of folds (at least 2); every training split needs ``3 * n_components`` rows.
-    variance_fraction, em_iterations, polar_model
-        As for ``ArticulatedShapeRecognizer``.
+    variance_fraction, n_em_iter, polar_model
+        As for ``ArticulatedShapeRecogniser``.
     rng : int or numpy.random.Generator
         Seed or generator of the fold split and of the k-means++ starts (keyword-only, no default).
 
@@ -696,7 +696,7 @@ def held_out_log_likelihood(
     shape_ridge = check_positive(shape_ridge, "shape_ridge")
     n_folds = check_positive_int(n_folds, "n_folds", minimum=2)
     variance_fraction = check_in_range(variance_fraction, "variance_fraction", 0, 1, closed="right")
-    em_iterations = check_positive_int(em_iterations, "em_iterations")
+    n_em_iter = check_positive_int(n_em_iter, "n_em_iter")
     blocks = _polar_blocks(check_choice(polar_model, "polar_model", ("block", "joint")))
     t = len(vectors)
     smallest_split = t - -(-t // n_folds)
@@ -709,7 +709,7 @@ def held_out_log_likelihood(
     total = 0.0
     for fold in range(n_folds):
         held = folds == fold
-        models, weights, _ = _fit_polar_mixture(vectors[~held], n_components, blocks, rng, em_iterations,
+        models, weights, _ = _fit_polar_mixture(vectors[~held], n_components, blocks, rng, n_em_iter,
                                                 variance_fraction, ridge=shape_ridge)
         scores = np.stack([np.log(w) + model._log_density(vectors[held]) for model, w in zip(models, weights)], axis=1)
         total += float(np.logaddexp.reduce(scores, axis=1).sum())
