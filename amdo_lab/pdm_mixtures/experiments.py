@@ -25,15 +25,41 @@ SEPARATION_MODELS: tuple[str, ...] = ("mixture of PDMs", "single polar PDM", "si
 
 @dataclass(frozen=True)
 class SeparationTrial:
-    """One seeded draw at one separation (``rng`` as given to :func:`mode_separation_trial`): ``correct`` maps each name in ``SEPARATION_MODELS`` to a boolean
-    array ``(n_test,)`` saying which test shapes it recognised."""
+    """The outcome of one seeded draw at one mode separation.
+
+    Parameters
+    ----------
+    separation : float
+        The mode separation factor ``s`` (non-negative) the data were drawn with.
+    rng : int or numpy.random.Generator
+        The ``rng`` given to :func:`mode_separation_trial`.
+    correct : dict of str to numpy.ndarray
+        Each name in ``SEPARATION_MODELS`` to a boolean array ``(n_test * len(classes),)`` saying
+        which test shapes it recognised.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4 (mixtures of PDMs).
+    """
 
     separation: float
     rng: int | np.random.Generator
     correct: dict[str, np.ndarray]
 
     def rate(self, model: str) -> float:
-        """Fraction of the test shapes that ``model`` recognised."""
+        """Fraction of the test shapes that one model recognised.
+
+        Parameters
+        ----------
+        model : str
+            A name in ``SEPARATION_MODELS``.
+
+        Returns
+        -------
+        float
+            The recognition rate, in [0, 1].
+        """
         return float(np.mean(self.correct[model]))
 
 
@@ -54,6 +80,11 @@ def mode_separation_trial(separation: float, *, rng: int | np.random.Generator, 
         Training and test shapes per class.
     classes : tuple of str
         Pose classes (the six of Table 1 by default).
+
+    Returns
+    -------
+    SeparationTrial
+        Which test shapes each of the three models recognised.
 
     References
     ----------

@@ -47,11 +47,27 @@ MIN_PER_CLASS = 3
 
 
 def hamming_distance(label_strings: np.ndarray, dictionary: np.ndarray) -> np.ndarray:
-    """Number of mismatching limb labels between strings ``(n, K)`` and dictionary items ``(C, K)``.
+    """Hamming distance: the number of mismatching limb labels between label strings and dictionary items.
 
     Eq. 17 as printed sums a Kronecker delta of *equal* labels, which counts matches; a Hamming
     distance counts mismatches, ``sum_i (1 - delta(l_i, lambda_i))``, which is what we compute.
-    Labels are integers (limb-label indices).
+
+    Parameters
+    ----------
+    label_strings : (n, K) array_like of int
+        Limb-label indices of ``n`` shapes.
+    dictionary : (C, K) array_like of int
+        Permissible label strings.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n, C)`` int distances, each in [0, K].
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 6, eq. 17 (read as a distance).
     """
     strings = as_finite_array(label_strings, "label_strings", ndim=2, dtype=int)
     dictionary = as_finite_array(dictionary, "dictionary", shape=(None, strings.shape[1]), dtype=int)
@@ -84,6 +100,16 @@ def label_string_log_prob(hamming: np.ndarray, n_limbs: int, error_probability: 
         Number of limbs K (positive).
     error_probability : float
         Label error probability p, in (0, 1).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``ln P(L | Lambda)`` in nats, the shape of ``hamming``.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 6, eq. 18.
     """
     n_limbs = check_positive_int(n_limbs, "n_limbs")
     p = check_in_range(error_probability, "error_probability", 0, 1)
@@ -108,7 +134,18 @@ class PolarPDM:
     With ``polar_model="block"`` (our default) the K angle rows and the 2K centre rows of S each get
     their own PDM, so the angle eigenvalues alpha_k that clamp the angle parameters come from the
     covariance of the angles alone, as Sec. 4 describes; with ``"joint"`` one PDM spans all 3K rows.
-    ``blocks`` are the slices of S each PDM in ``pdms`` models.
+
+    Parameters
+    ----------
+    blocks : tuple of slice
+        The rows of S each PDM models (angles ``0:K`` and centres ``K:3K``, or all ``0:3K``).
+    pdms : tuple of PointDistributionModel
+        One PDM per block, in deviation coordinates (angles relative to the class's circular mean).
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4 (the polar PDM of S) and Sec. 5, eq. 12 (its clamped fit).
     """
 
     blocks: tuple[slice, ...]
@@ -121,14 +158,38 @@ class PolarPDM:
 
     @property
     def n_modes(self) -> int:
+        """Total number of kept eigenmodes over the blocks."""
         return sum(pdm.n_modes for pdm in self.pdms)
 
     def fit(self, deviation: np.ndarray) -> np.ndarray:
-        """Clamped least-squares modal fit of every block (eq. 12), reconstructed: ``(n, 3K)``."""
+        """Clamped least-squares modal fit of every block (eq. 12), reconstructed.
+
+        Parameters
+        ----------
+        deviation : (n, 3K) array_like
+            Polar vectors S with angles relative to the class's circular mean (radians, wrapped).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n, 3K)``: each block's model instance ``Y + Phi gamma`` with ``gamma`` clamped to
+            ``+-3 sqrt(alpha_k)``.
+        """
         return self._fit(self._check_deviation(deviation))
 
     def log_density(self, deviation: np.ndarray) -> np.ndarray:
-        """``ln p(S | Phi, Gamma*)``: the sum over blocks of each PDM's Gaussian (PPCA) density."""
+        """``ln p(S | Phi, Gamma*)``: the sum over blocks of each PDM's Gaussian (PPCA) density.
+
+        Parameters
+        ----------
+        deviation : (n, 3K) array_like
+            Polar vectors S with angles relative to the class's circular mean (radians, wrapped).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n,)`` log-densities in nats.
+        """
         return self._log_density(self._check_deviation(deviation))
 
     def _check_deviation(self, deviation: object) -> np.ndarray:
@@ -149,9 +210,24 @@ class PolarPDM:
 
 @dataclass(frozen=True)
 class RecognitionTrace:
-    """Per-iteration record of recognition: ``posteriors (n_iter, n, C)``, ``label_strings
-    (n_iter, n, K)``, ``reconstructions (n_iter, n, 3K)`` (posterior-weighted polar model fit),
-    and the number of iterations run."""
+    """Per-iteration record of hierarchical recognition.
+
+    Parameters
+    ----------
+    posteriors : (n_iter, n, C) numpy.ndarray
+        Class posteriors ``P(w | shape)`` (eq. 13's argument), columns in ``classes_`` order.
+    label_strings : (n_iter, n, K) numpy.ndarray
+        Limb labels in use at each iteration (eq. 10 at the first, eq. 14 later).
+    reconstructions : (n_iter, n, 3K) numpy.ndarray
+        Posterior-weighted polar model fits S (eq. 12), angles in radians.
+    n_iter : int
+        Number of iterations run, at most the recogniser's ``max_iter``.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Secs. 5-6, eqs. 9-18.
+    """
 
     posteriors: np.ndarray
     label_strings: np.ndarray
@@ -161,10 +237,26 @@ class RecognitionTrace:
 
 @dataclass(frozen=True)
 class ScoreComponents:
-    """The terms of the first-iteration score of every class ``w`` and mixture component ``m``,
-    each ``(n, C, M)``: limb gates ``sum_k ln P(lambda_k^wm | z_k)`` (eq. 11), ``ln P(L | Lambda_wm)``
-    for the MAP labels (eq. 18) and the polar-PDM log-likelihood ``ln p(S | Phi_wm, Gamma_wm*)``;
-    plus the mixing weights ``log_weights (C, M)`` and ``class_log_prior (C,)``."""
+    """The terms of the first-iteration score of every class ``w`` and mixture component ``m``.
+
+    Parameters
+    ----------
+    limb_gate : (n, C, M) numpy.ndarray
+        Limb gates ``sum_k ln P(lambda_k^wm | z_k)`` (eq. 11).
+    label_string : (n, C, M) numpy.ndarray
+        ``ln P(L | Lambda_wm)`` of the MAP labels (eq. 18).
+    shape : (n, C, M) numpy.ndarray
+        Polar-PDM log-likelihoods ``ln p(S | Phi_wm, Gamma_wm*)``.
+    log_weights : (C, M) numpy.ndarray
+        Log mixing weights ``ln pi_wm``.
+    class_log_prior : (C,) numpy.ndarray
+        Log class priors ``ln P(w)`` (training frequencies).
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Secs. 5-6, eqs. 11 and 18.
+    """
 
     limb_gate: np.ndarray
     label_string: np.ndarray
@@ -173,8 +265,18 @@ class ScoreComponents:
     class_log_prior: np.ndarray
 
     def class_scores(self, *terms: str) -> np.ndarray:
-        """Class log-scores ``(n, C)`` from a subset of the terms (``"limb_gate"``, ``"label_string"``,
-        ``"shape"``): ``ln P(w) + ln sum_m pi_wm exp(sum of the chosen terms)``."""
+        """Class log-scores from a subset of the terms.
+
+        Parameters
+        ----------
+        *terms : str
+            One or more of ``"limb_gate"``, ``"label_string"``, ``"shape"``.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n, C)``: ``ln P(w) + ln sum_m pi_wm exp(sum of the chosen terms)``, in nats.
+        """
         unknown = [t for t in terms if t not in ("limb_gate", "label_string", "shape")]
         if unknown or not terms:
             raise ValueError(f"terms must be some of 'limb_gate', 'label_string', 'shape', got {terms}")
@@ -184,8 +286,21 @@ class ScoreComponents:
 
 @dataclass(frozen=True)
 class AlignmentTrace:
-    """Model instances ``(n_iter, K, m, 2)`` drawn in the test shape's frame, one per iteration of
-    the alternating pose / modal fit, and the RMS limb-centre misfit per iteration."""
+    """Record of the iterative alignment of one class model to one shape.
+
+    Parameters
+    ----------
+    model_shapes : (n_iter, K, m, 2) numpy.ndarray
+        Model instances drawn in the test shape's frame, one per iteration of the alternating
+        pose / modal fit.
+    centre_rms : (n_iter,) numpy.ndarray
+        RMS misfit of the posed model limb centres to the shape's, per iteration, in the shape's units.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 5, eqs. 12 and 15.
+    """
 
     model_shapes: np.ndarray
     centre_rms: np.ndarray
@@ -222,14 +337,14 @@ class ArticulatedShapeRecogniser:
 
     Parameters
     ----------
-    n_limb_labels : int
-        Mixture components (limb labels) learnt by EM for each of the 13 limbs.
-    n_shape_components : int
-        Polar-PDM mixture components learnt by EM for each class (1 gives one polar PDM per class).
-        Each component has its own permissible label string in the class's dictionary.
     rng : int or numpy.random.Generator
         Seed or generator of the k-means++ starts of the shape-level EM (keyword-only, no default;
         an int seed gives the same starts at every ``fit``).
+    n_limb_labels : int
+        Mixture components (limb labels) learnt by EM for each of the 13 limbs (positive).
+    n_shape_components : int
+        Polar-PDM mixture components learnt by EM for each class (1 gives one polar PDM per class).
+        Each component has its own permissible label string in the class's dictionary.
     shape_ridge : float
         Ridge added to every shape-level EM covariance (eq. 8), as a multiple of the mean variance
         of the block-scaled S (positive; the paper leaves it open, default 1e-3). It also sets the
@@ -240,11 +355,12 @@ class ArticulatedShapeRecogniser:
     label_error_probability : float
         p of eq. 18, in (0, 0.5).
     variance_fraction : float
-        Variance kept by each PDM's eigenmodes.
+        Fraction of the variance kept by each PDM's eigenmodes, in (0, 1].
     max_iter : int
-        Maximum number of limb-layer / shape-layer iterations.
+        Upper bound on the recognition iterations (class scores, eq. 13, then relabelling, eq. 14);
+        the loop stops earlier once the limb labels no longer change. Positive.
     n_em_iter : int
-        Iterations of every EM fit (eqs. 2-8).
+        Fixed number of iterations of every EM fit (eqs. 2-8), positive.
     polar_model : {"block", "joint"}
         ``"block"``: separate PDMs for the angle rows and the centre rows of S (Sec. 4: the first K
         rows of Gamma are the angles, constrained by the eigenvalues of the angle covariance);
@@ -255,6 +371,11 @@ class ArticulatedShapeRecogniser:
         ``"residual"``, the isotropic fit residual alone (eq. 16), the paper's "in practice" choice.
     classes : sequence of str, optional
         The expected class names; then every one must have training examples.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Secs. 4-6, eqs. 2-18.
     """
 
     def __init__(
@@ -305,7 +426,20 @@ class ArticulatedShapeRecogniser:
 
     # ------------------------------------------------------------------ training
     def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "ArticulatedShapeRecogniser":
-        """Learn the limb mixtures, the class polar-PDM mixtures and the label dictionary."""
+        """Learn the limb mixtures, the class polar-PDM mixtures and the label dictionary.
+
+        Parameters
+        ----------
+        shapes : (T, 13, m, 2) array_like
+            Training shapes, ``m >= 2`` landmarks per limb; no shape may have all its landmarks coincide.
+        labels : (T,) array_like
+            Class name of every training shape; every class needs ``3 * n_shape_components`` shapes.
+
+        Returns
+        -------
+        ArticulatedShapeRecogniser
+            This recogniser, fitted.
+        """
         with one_blas_thread():  # small matrices: BLAS threads only contend on a shared machine
             return self._fit(shapes, labels)
 
@@ -458,14 +592,37 @@ class ArticulatedShapeRecogniser:
 
     # ------------------------------------------------------------------ recognition
     def align(self, shapes: np.ndarray) -> np.ndarray:
-        """Procrustes-align shapes onto the training reference (removes the global similarity)."""
+        """Procrustes-align shapes onto the training reference (removes the global similarity).
+
+        Parameters
+        ----------
+        shapes : (n, 13, m, 2) array_like
+            Articulated shapes, with as many landmarks per limb (``m``) as the training shapes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n, 13, m, 2)`` aligned shapes, in the reference's frame (unit centroid size).
+        """
         self._check_fitted()
         shapes = self._check_shapes(shapes)
         flat = shapes.reshape(shapes.shape[0], -1, 2)
         return _align_to_reference(flat, self.reference_).reshape(shapes.shape)
 
     def recognise(self, shapes: np.ndarray) -> RecognitionTrace:
-        """Run the hierarchical EM (eqs. 9-18) and return the full per-iteration trace."""
+        """Run the hierarchical EM (eqs. 9-18) and return the full per-iteration trace.
+
+        Parameters
+        ----------
+        shapes : (n, 13, m, 2) array_like
+            Articulated shapes, with as many landmarks per limb (``m``) as the training shapes.
+
+        Returns
+        -------
+        RecognitionTrace
+            Class posteriors, limb labels and model fits of every iteration until the labels stop
+            changing (at most ``max_iter``).
+        """
         with one_blas_thread():
             return self._recognise(shapes)
 
@@ -503,15 +660,39 @@ class ArticulatedShapeRecogniser:
                                 len(history_post))
 
     def limb_label_posteriors(self, shapes: np.ndarray, *, log: bool = False) -> np.ndarray:
-        """Label posteriors ``P(lambda | z_k)`` of every limb of every shape, ``(n, K, n_limb_labels)``
-        (eqs. 9-10: each label's PDM fitted to the limb, Bayes' rule with the label's mixing weight).
-        With ``log=True`` their logarithms (exact where the posteriors underflow to 0)."""
+        """Label posteriors ``P(lambda | z_k)`` of every limb of every shape (eqs. 9-10).
+
+        Each label's PDM is fitted to the limb and Bayes' rule applied with the label's mixing weight.
+
+        Parameters
+        ----------
+        shapes : (n, 13, m, 2) array_like
+            Articulated shapes, with as many landmarks per limb (``m``) as the training shapes.
+        log : bool
+            Return the logarithms instead (exact where the posteriors underflow to 0).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n, K, n_limb_labels)`` posteriors (rows sum to 1), or their logarithms.
+        """
         self._check_fitted()
         log_posteriors = self._limb_log_posteriors(self.align(shapes))
         return log_posteriors if log else np.exp(log_posteriors)
 
     def score_components(self, shapes: np.ndarray) -> ScoreComponents:
-        """The separate terms of the first-iteration class score (for ablations)."""
+        """The separate terms of the first-iteration class score (for ablations).
+
+        Parameters
+        ----------
+        shapes : (n, 13, m, 2) array_like
+            Articulated shapes, with as many landmarks per limb (``m``) as the training shapes.
+
+        Returns
+        -------
+        ScoreComponents
+            The limb gates, label-string and polar-PDM terms, weights and priors.
+        """
         self._check_fitted()
         aligned = self.align(shapes)
         limb_log_post = self._limb_log_posteriors(aligned)
@@ -520,10 +701,27 @@ class ArticulatedShapeRecogniser:
                                shape_log_lik, np.log(np.stack(self.shape_weights_)), self.class_log_prior_)
 
     def iterative_alignment(self, shape: np.ndarray, class_name: str, n_iter: int = 4) -> AlignmentTrace:
-        """Fit class ``class_name``'s polar PDM to one shape ``(13, m, 2)`` by alternating a
-        similarity pose fit of the model's limb centres (Procrustes) with the clamped modal fit
-        (eq. 12) in the model frame; iteration 1 is the mean shape posed onto the data, later
-        iterations also fit each limb's dictionary-label PDM to the data limb (eq. 15)."""
+        """Fit one class's polar PDM to one shape, alternating a pose fit with the modal fit.
+
+        Each iteration poses the model's limb centres onto the shape's (similarity Procrustes), then
+        refits the clamped modes (eq. 12) in the model frame; iteration 1 is the mean shape posed
+        onto the data, later iterations also fit each limb's dictionary-label PDM to the data limb
+        (eq. 15). The class's mixture component that best explains the shape is used.
+
+        Parameters
+        ----------
+        shape : (13, m, 2) array_like
+            One articulated shape.
+        class_name : str
+            A name in ``classes_``.
+        n_iter : int
+            Fixed number of iterations (positive; default 4).
+
+        Returns
+        -------
+        AlignmentTrace
+            The posed model shape and the limb-centre RMS misfit of every iteration.
+        """
         self._check_fitted()
         if class_name not in self.classes_:
             raise ValueError(f"class_name must be one of {self.classes_}, got {class_name!r}")
@@ -554,21 +752,55 @@ class ArticulatedShapeRecogniser:
         return AlignmentTrace(np.stack(drawn), np.array(misfit))
 
     def predict_proba(self, shapes: np.ndarray) -> np.ndarray:
-        """Class posteriors ``(n, C)`` at convergence, columns in ``classes_`` order."""
+        """Class posteriors at the last iteration of :meth:`recognise`.
+
+        Parameters
+        ----------
+        shapes : (n, 13, m, 2) array_like
+            Articulated shapes, with as many landmarks per limb (``m``) as the training shapes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n, C)`` posteriors (rows sum to 1), columns in ``classes_`` order.
+        """
         return self.recognise(shapes).posteriors[-1]
 
     def predict(self, shapes: np.ndarray) -> np.ndarray:
-        """MAP class names (eq. 13)."""
+        """MAP class names (eq. 13).
+
+        Parameters
+        ----------
+        shapes : (n, 13, m, 2) array_like
+            Articulated shapes, with as many landmarks per limb (``m``) as the training shapes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n,)`` class names from ``classes_``.
+        """
         proba = self.predict_proba(shapes)
         return np.asarray(self.classes_)[np.argmax(proba, axis=1)]
 
     def model_limbs(self, polar_vector: np.ndarray, label_string: np.ndarray,
                     observed_limbs: np.ndarray | None = None) -> np.ndarray:
-        """Draw a model shape ``(K, m, 2)`` at the limb centres of a polar vector S ``(3K,)``.
+        """Draw a model shape at the limb centres of a polar vector S.
 
-        ``label_string`` ``(K,)`` holds one limb label (0 .. n_limb_labels - 1) per limb. Without
-        ``observed_limbs`` each limb is its label's mean stroke; with centred observed limb vectors
-        ``(K, 2m)`` each limb is its label's clamped PDM fit to them (eq. 15)."""
+        Parameters
+        ----------
+        polar_vector : (3K,) array_like
+            Polar vector S: K angles (radians, unused here), then the 2K limb centres.
+        label_string : (K,) array_like of int
+            One limb label in 0 .. n_limb_labels - 1 per limb.
+        observed_limbs : (K, 2m) array_like, optional
+            Centred observed limb vectors; when given each limb is its label's clamped PDM fit to
+            them (eq. 15), otherwise its label's mean stroke.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(K, m, 2)`` limb strokes placed at the centres of S.
+        """
         self._check_fitted()
         polar_vector = as_finite_array(polar_vector, "polar_vector", shape=(3 * N_LIMBS,))
         label_string = as_finite_array(label_string, "label_string", shape=(N_LIMBS,), dtype=int)
@@ -690,6 +922,11 @@ def held_out_log_likelihood(
     -------
     float
         Held-out log-density summed over the folds, divided by T (nats per shape).
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4, eqs. 2-8 (the mixture it scores); the criterion is ours.
     """
     vectors = as_finite_array(polar_vectors, "polar_vectors", shape=(None, 3 * N_LIMBS))
     n_components = check_positive_int(n_components, "n_components")
