@@ -773,3 +773,13 @@ def test_sklearn_baseline_takes_a_generator(fitted):
     again = pm.SklearnGMMClassifier(rng=make_rng(5)).fit(fitted.train.shapes, fitted.train.labels)
     np.testing.assert_array_equal(first.predict(fitted.test.shapes), again.predict(fitted.test.shapes))
     assert np.mean(first.predict(fitted.test.shapes) == fitted.test.labels) > 0.5
+
+
+def test_docstring_examples_run_as_printed():
+    import doctest
+
+    from amdo_lab.pdm_mixtures import pdm, poses, recogniser
+
+    for module in (poses, pdm, recogniser):
+        result = doctest.testmod(module, optionflags=doctest.NORMALIZE_WHITESPACE)
+        assert result.failed == 0 and result.attempted > 0, module.__name__
