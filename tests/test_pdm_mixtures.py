@@ -5,6 +5,7 @@ import warnings
 
 import numpy as np
 import pytest
+from sklearn.exceptions import NotFittedError
 
 import amdo_lab.pdm_mixtures as pm
 from amdo_lab.common import make_rng, procrustes_align, rotation_2d, spawn_rngs
@@ -244,10 +245,10 @@ def test_bad_input_raises_clear_errors(small_problem):
     with pytest.raises(ValueError, match="at least 3 training examples"):
         ArticulatedShapeRecogniser(rng=0, n_shape_components=1).fit(train.shapes[keep], train.labels[keep])
     with pytest.raises(ValueError, match="n_shape_components"):
-        ArticulatedShapeRecogniser(rng=0, n_shape_components=0)
+        ArticulatedShapeRecogniser(rng=0, n_shape_components=0).fit(train.shapes, train.labels)
     with pytest.raises(ValueError, match="labels"):
         ArticulatedShapeRecogniser(rng=0).fit(train.shapes, train.labels[:-1])
-    with pytest.raises(ValueError, match="fitted"):
+    with pytest.raises(NotFittedError, match="not fitted"):
         ArticulatedShapeRecogniser(rng=0).predict(test.shapes)
     with pytest.raises(ValueError, match="n_components"):
         fit_gaussian_mixture(np.zeros((2, 2)), 3, means_init=np.zeros((3, 2)), covariances_init=np.zeros((3, 2, 2)))
@@ -304,7 +305,7 @@ def test_block_polar_pdm_models_angles_and_centres_separately(small_problem):
     # The log-density is the sum of the two blocks' densities; a joint model has one block.
     joint = ArticulatedShapeRecogniser(rng=0, n_shape_components=1, polar_model="joint").fit(train.shapes, train.labels)
     assert len(joint.shape_models_[j][0].pdms) == 1
-    fitted = model.fit(deviation)
+    fitted = model.project(deviation)
     assert fitted.shape == deviation.shape
     assert np.all(np.isfinite(model.log_density(deviation)))
 
@@ -316,9 +317,9 @@ def test_limb_likelihood_options_give_label_posteriors(small_problem):
         posteriors = np.exp(model._limb_log_posteriors(model.align(test.shapes[:5])))
         np.testing.assert_allclose(posteriors.sum(axis=2), 1.0)
     with pytest.raises(ValueError, match="limb_likelihood"):
-        ArticulatedShapeRecogniser(rng=0, limb_likelihood="hamming")
+        ArticulatedShapeRecogniser(rng=0, limb_likelihood="hamming").fit(train.shapes, train.labels)
     with pytest.raises(ValueError, match="polar_model"):
-        ArticulatedShapeRecogniser(rng=0, polar_model="cartesian")
+        ArticulatedShapeRecogniser(rng=0, polar_model="cartesian").fit(train.shapes, train.labels)
 
 
 def test_shape_level_mixture_separates_articulation_modes(small_problem):
@@ -384,13 +385,13 @@ def test_shape_ridge_and_n_restarts_validate_and_default_to_the_previous_recogni
     train, test, recogniser = small_problem
     for bad in (0.0, -1e-3, float("nan")):
         with pytest.raises(ValueError, match="shape_ridge"):
-            ArticulatedShapeRecogniser(rng=0, shape_ridge=bad)
+            ArticulatedShapeRecogniser(rng=0, shape_ridge=bad).fit(train.shapes, train.labels)
     with pytest.raises(TypeError, match="shape_ridge"):
-        ArticulatedShapeRecogniser(rng=0, shape_ridge="1e-3")
+        ArticulatedShapeRecogniser(rng=0, shape_ridge="1e-3").fit(train.shapes, train.labels)
     with pytest.raises(ValueError, match="n_restarts"):
-        ArticulatedShapeRecogniser(rng=0, n_restarts=0)
+        ArticulatedShapeRecogniser(rng=0, n_restarts=0).fit(train.shapes, train.labels)
     with pytest.raises(TypeError, match="n_restarts"):
-        ArticulatedShapeRecogniser(rng=0, n_restarts=2.0)
+        ArticulatedShapeRecogniser(rng=0, n_restarts=2.0).fit(train.shapes, train.labels)
     explicit = ArticulatedShapeRecogniser(rng=0, shape_ridge=1e-3, n_restarts=1).fit(train.shapes, train.labels)
     np.testing.assert_array_equal(explicit.predict_proba(test.shapes[:20]), recogniser.predict_proba(test.shapes[:20]))
 
@@ -455,6 +456,7 @@ _RNG = make_rng(21)
 _VECTORS = _RNG.standard_normal((10, 4))
 _PDM = fit_pdm(_VECTORS)
 _SHAPES = generate_pose_dataset(TABLE1_CLASSES[:1], 2, rng=0).shapes
+_TWO_BOXING = np.array(["boxing", "boxing"])
 _EYES = np.stack([np.eye(2)] * 2)
 
 
@@ -536,12 +538,12 @@ _EYES = np.stack([np.eye(2)] * 2)
     (lambda: pm.pca_embedding(_VECTORS, 5), ValueError, r"n_dims must be at most min\(n, d\) = 4"),
     (lambda: pm.pca_embedding(_VECTORS, 2.5), TypeError, "n_dims must be an int"),
     (lambda: pm.pca_embedding(np.full((3, 3), np.nan)), ValueError, "vectors must be finite"),
-    (lambda: pm.SingleCartesianPDMClassifier(variance_fraction=np.nan), ValueError, "variance_fraction must be finite"),
-    (lambda: pm.SingleCartesianPDMClassifier(variance_fraction=2.0), ValueError, "variance_fraction must be in"),
+    (lambda: pm.SingleCartesianPDMClassifier(variance_fraction=np.nan).fit(_SHAPES, _TWO_BOXING), ValueError, "variance_fraction must be finite"),
+    (lambda: pm.SingleCartesianPDMClassifier(variance_fraction=2.0).fit(_SHAPES, _TWO_BOXING), ValueError, "variance_fraction must be in"),
     # recogniser settings
-    (lambda: ArticulatedShapeRecogniser(rng=0, classes="boxing"), TypeError, "classes must be a sequence of class names"),
-    (lambda: ArticulatedShapeRecogniser(rng=0, classes=()), ValueError, "classes must name at least one class"),
-    (lambda: ArticulatedShapeRecogniser(rng=0, classes=("boxing", "boxing")), ValueError, "classes must not repeat a name"),
+    (lambda: ArticulatedShapeRecogniser(rng=0, classes="boxing").fit(_SHAPES, _TWO_BOXING), TypeError, "classes must be a sequence of class names"),
+    (lambda: ArticulatedShapeRecogniser(rng=0, classes=()).fit(_SHAPES, _TWO_BOXING), ValueError, "classes must name at least one class"),
+    (lambda: ArticulatedShapeRecogniser(rng=0, classes=("boxing", "boxing")).fit(_SHAPES, _TWO_BOXING), ValueError, "classes must not repeat a name"),
 ])
 def test_public_functions_reject_bad_input(call, error, message):
     with pytest.raises(error, match=message):
@@ -584,16 +586,16 @@ def _make(cls):
     (lambda f: f.recogniser.model_limbs(f.vector, f.labels[:5]), ValueError, r"label_string must have shape \(13,\)"),
     (lambda f: f.recogniser.model_limbs(f.vector, f.labels, np.zeros((13, 5))), ValueError,
      r"observed_limbs must have shape \(13, 12\)"),
-    (lambda f: f.recogniser.shape_models_[0][0].fit(np.full((2, 39), np.nan)), ValueError, "deviation must be finite"),
+    (lambda f: f.recogniser.shape_models_[0][0].project(np.full((2, 39), np.nan)), ValueError, "deviation must be finite"),
     (lambda f: f.recogniser.shape_models_[0][0].log_density(np.zeros((2, 10))), ValueError,
      r"deviation must have shape \(n, 39\)"),
-    (lambda f: ArticulatedShapeRecogniser(rng=0).align(f.test.shapes), ValueError, "must be fitted"),
-    (lambda f: ArticulatedShapeRecogniser(rng=0).model_limbs(f.vector, f.labels), ValueError, "must be fitted"),
+    (lambda f: ArticulatedShapeRecogniser(rng=0).align(f.test.shapes), NotFittedError, "is not fitted yet"),
+    (lambda f: ArticulatedShapeRecogniser(rng=0).model_limbs(f.vector, f.labels), NotFittedError, "is not fitted yet"),
     (lambda f: ArticulatedShapeRecogniser(rng=0).fit(f.train.shapes, f.nan_labels), ValueError, "labels must not contain NaN"),
     *[case for cls in _BASELINES for case in (
         (lambda f, cls=cls: _make(cls).fit(f.train.shapes, f.train.labels[:-1]), ValueError, r"labels must have shape \(72,\)"),
         (lambda f, cls=cls: _make(cls).fit(f.train.shapes, f.nan_labels), ValueError, "labels must not contain NaN"),
-        (lambda f, cls=cls: _make(cls).predict(f.test.shapes), ValueError, "must be fitted"),
+        (lambda f, cls=cls: _make(cls).predict(f.test.shapes), NotFittedError, "is not fitted yet"),
         (lambda f, cls=cls: f.baselines[cls].predict(f.test.shapes[:, :, :4]), ValueError, "6 landmarks per limb"),
     )],
     *[(lambda f, cls=cls: f.baselines[cls].predict(np.r_[np.ones((1, 13, 6, 2)), f.test.shapes[:1]]), ValueError,
@@ -743,8 +745,10 @@ def test_draw_shape_draws_one_collection_and_validates():
 # ---------------------------------------------------------------- the rng convention
 _DRAWING = {
     "generate_pose_dataset": (generate_pose_dataset, lambda rng: generate_pose_dataset(TABLE1_CLASSES, 2, rng=rng)),
-    "ArticulatedShapeRecogniser": (ArticulatedShapeRecogniser, lambda rng: ArticulatedShapeRecogniser(rng=rng)),
-    "SklearnGMMClassifier": (pm.SklearnGMMClassifier, lambda rng: pm.SklearnGMMClassifier(rng=rng)),
+    "ArticulatedShapeRecogniser": (ArticulatedShapeRecogniser,  # estimators check their settings in fit
+                                   lambda rng: ArticulatedShapeRecogniser(rng=rng).fit(_SHAPES, _TWO_BOXING)),
+    "SklearnGMMClassifier": (pm.SklearnGMMClassifier,
+                             lambda rng: pm.SklearnGMMClassifier(rng=rng).fit(_SHAPES, _TWO_BOXING)),
     "held_out_log_likelihood": (pm.held_out_log_likelihood,
                                 lambda rng: pm.held_out_log_likelihood(np.zeros((12, 39)), 1, rng=rng)),
     "mode_separation_trial": (pm.mode_separation_trial, lambda rng: pm.mode_separation_trial(1.0, rng=rng)),
@@ -783,3 +787,35 @@ def test_docstring_examples_run_as_printed():
     for module in (poses, pdm, recogniser):
         result = doctest.testmod(module, optionflags=doctest.NORMALIZE_WHITESPACE)
         assert result.failed == 0 and result.attempted > 0, module.__name__
+
+
+# ---------------------------------------------------------------- scikit-learn's estimator contract
+def test_estimators_store_settings_as_given_learn_underscored_attributes_and_fit_returns_self(fitted):
+    import inspect
+
+    cases = [
+        (ArticulatedShapeRecogniser, dict(rng=make_rng(0), n_limb_labels=np.int64(4), classes=list(TABLE1_CLASSES))),
+        (pm.SingleCartesianPDMClassifier, dict(variance_fraction=0.9)),
+        (NearestProcrustesMeanClassifier, {}),
+        (pm.SklearnGMMClassifier, dict(n_components=2, rng=0)),
+    ]
+    for cls, settings in cases:
+        model = cls(**settings)
+        for name, value in settings.items():
+            assert getattr(model, name) is value, (cls.__name__, name)
+        assert model.fit(fitted.train.shapes, fitted.train.labels) is model
+        parameters = inspect.signature(cls).parameters
+        assert all(name in parameters or name.endswith("_") for name in vars(model)), cls.__name__
+    unchecked = ArticulatedShapeRecogniser(rng=0, n_limb_labels=0)  # settings are checked by fit
+    with pytest.raises(ValueError, match="n_limb_labels"):
+        unchecked.fit(fitted.train.shapes, fitted.train.labels)
+    with pytest.raises(ValueError, match="covariance_type"):
+        pm.SklearnGMMClassifier(covariance_type="diagonal", rng=0).fit(fitted.train.shapes, fitted.train.labels)
+
+
+def test_a_refit_forgets_the_previous_fit(small_problem):
+    train, test, _ = small_problem
+    model = ArticulatedShapeRecogniser(rng=0, n_shape_components=1).fit(train.shapes, train.labels)
+    fewer = train.shapes[:, :, :4]  # 4 landmarks per limb instead of 6: accepted by a fresh fit
+    model.fit(fewer, train.labels)
+    assert model.landmarks_per_limb_ == 4 and model.predict(test.shapes[:3, :, :4]).shape == (3,)

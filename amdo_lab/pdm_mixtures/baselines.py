@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive_int, make_rng, procrustes_align
+from amdo_lab.common import as_finite_array, check_choice, check_fitted, check_positive_int, make_rng, procrustes_align
 from amdo_lab.pdm_mixtures.pdm import (
     _check_labels,
     _align_to_reference,
@@ -29,11 +29,6 @@ def _check(shapes: object) -> np.ndarray:
     shapes = as_finite_array(shapes, "shapes", shape=(None, 13, None, 2))
     _check_point_set_sizes(shapes.reshape(len(shapes), -1, 2), "shapes")
     return shapes
-
-
-def _check_fitted(classifier: object) -> None:
-    if not hasattr(classifier, "classes_"):
-        raise ValueError(f"the {type(classifier).__name__} must be fitted before it scores or predicts shapes")
 
 
 def _check_landmarks(shapes: np.ndarray, n_points: int) -> None:
@@ -61,7 +56,7 @@ class SingleCartesianPDMClassifier:
     """
 
     def __init__(self, variance_fraction: float = 0.95) -> None:
-        self.variance_fraction = _check_variance_fraction(variance_fraction)
+        self.variance_fraction = variance_fraction  # stored as given; fit validates it
 
     def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "SingleCartesianPDMClassifier":
         """Align the training shapes (generalised Procrustes) and fit one PDM per class (eq. 1).
@@ -78,6 +73,7 @@ class SingleCartesianPDMClassifier:
         SingleCartesianPDMClassifier
             This classifier, fitted.
         """
+        _check_variance_fraction(self.variance_fraction)
         shapes = _check(shapes)
         aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
         vectors = aligned.reshape(len(shapes), -1)
@@ -99,7 +95,7 @@ class SingleCartesianPDMClassifier:
         numpy.ndarray
             ``(n, C)`` log-densities in nats, columns in ``classes_`` order.
         """
-        _check_fitted(self)
+        check_fitted(self, "classes_")
         shapes = _check(shapes)
         _check_landmarks(shapes, len(self.reference_))
         vectors = _align_to_reference(shapes.reshape(len(shapes), -1, 2), self.reference_).reshape(len(shapes), -1)
@@ -170,7 +166,7 @@ class NearestProcrustesMeanClassifier:
             ``(n, C)`` RMS residuals divided by each shape's centroid size (dimensionless),
             columns in ``classes_`` order.
         """
-        _check_fitted(self)
+        check_fitted(self, "classes_")
         shapes = _check(shapes)
         _check_landmarks(shapes, len(self.means_[0]))
         flat = shapes.reshape(len(shapes), -1, 2)
@@ -238,9 +234,9 @@ class SklearnGMMClassifier:
 
     def __init__(self, n_components: int = 2, covariance_type: str = "diag", *,
                  rng: int | np.random.Generator) -> None:
-        self.n_components = check_positive_int(n_components, "n_components")
+        # Stored as given (scikit-learn's contract); fit validates them.
+        self.n_components = n_components
         self.covariance_type = covariance_type
-        make_rng(rng, "rng")  # refuse a bad seed now
         self.rng = rng
 
     def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "SklearnGMMClassifier":
@@ -260,12 +256,14 @@ class SklearnGMMClassifier:
         """
         from sklearn.mixture import GaussianMixture
 
+        check_positive_int(self.n_components, "n_components")
+        check_choice(self.covariance_type, "covariance_type", ("diag", "full", "tied", "spherical"))
+        generator = make_rng(self.rng, "rng")
         shapes = _check(shapes)
         aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
         vectors = aligned.reshape(len(shapes), -1)
         labels = _check_labels(labels, len(shapes))
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
-        generator = make_rng(self.rng, "rng")
         if isinstance(self.rng, np.random.Generator):  # scikit-learn takes an int seed, not a Generator
             seeds = [int(generator.integers(2**31 - 1)) for _ in self.classes_]
         else:
@@ -290,7 +288,7 @@ class SklearnGMMClassifier:
         numpy.ndarray
             ``(n,)`` class names from ``classes_``.
         """
-        _check_fitted(self)
+        check_fitted(self, "classes_")
         shapes = _check(shapes)
         _check_landmarks(shapes, len(self.reference_))
         vectors = _align_to_reference(shapes.reshape(len(shapes), -1, 2), self.reference_).reshape(len(shapes), -1)

@@ -9,6 +9,7 @@ import numpy as np
 from amdo_lab.common import (
     as_finite_array,
     check_choice,
+    check_fitted,
     check_in_range,
     check_positive,
     check_positive_int,
@@ -166,8 +167,8 @@ class PolarPDM:
         """Total number of kept eigenmodes over the blocks."""
         return sum(pdm.n_modes for pdm in self.pdms)
 
-    def fit(self, deviation: np.ndarray) -> np.ndarray:
-        """Clamped least-squares modal fit of every block (eq. 12), reconstructed.
+    def project(self, deviation: np.ndarray) -> np.ndarray:
+        """Project polar vectors onto the model: the clamped modal fit of every block (eq. 12), reconstructed.
 
         Parameters
         ----------
@@ -180,7 +181,7 @@ class PolarPDM:
             ``(n, 3K)``: each block's model instance ``Y + Phi gamma`` with ``gamma`` clamped to
             ``+-3 sqrt(alpha_k)``.
         """
-        return self._fit(self._check_deviation(deviation))
+        return self._project(self._check_deviation(deviation))
 
     def log_density(self, deviation: np.ndarray) -> np.ndarray:
         """``ln p(S | Phi, Gamma*)``: the sum over blocks of each PDM's Gaussian (PPCA) density.
@@ -201,7 +202,7 @@ class PolarPDM:
         width = max(block.stop for block in self.blocks)
         return as_finite_array(deviation, "deviation", shape=(None, width))
 
-    def _fit(self, deviation: np.ndarray) -> np.ndarray:
+    def _project(self, deviation: np.ndarray) -> np.ndarray:
         return np.concatenate([_reconstruct(pdm, _fit_modes(pdm, deviation[:, block]))
                                for pdm, block in zip(self.pdms, self.blocks)], axis=1)
 
@@ -340,6 +341,10 @@ def _polar_blocks(polar_model: str) -> tuple[slice, ...]:
 class ArticulatedShapeRecogniser:
     """Two-layer recogniser: limb PDM mixtures + label dictionary + per-class mixtures of polar PDMs.
 
+    Follows scikit-learn's estimator contract: the settings are stored as given and checked by
+    :meth:`fit`, which returns the recogniser; learned attributes end with an underscore; using it
+    unfitted raises ``sklearn.exceptions.NotFittedError``.
+
     Parameters
     ----------
     rng : int or numpy.random.Generator
@@ -410,19 +415,35 @@ class ArticulatedShapeRecogniser:
         limb_likelihood: str = "gaussian",
         classes: tuple[str, ...] | None = None,
     ) -> None:
-        self.n_limb_labels = check_positive_int(n_limb_labels, "n_limb_labels")
-        self.n_shape_components = check_positive_int(n_shape_components, "n_shape_components")
-        make_rng(rng, "rng")  # refuse a bad seed now; the generator is made in fit
+        # Stored as given (scikit-learn's contract); fit validates them.
+        self.n_limb_labels = n_limb_labels
+        self.n_shape_components = n_shape_components
         self.rng = rng
-        self.shape_ridge = check_positive(shape_ridge, "shape_ridge")
-        self.n_restarts = check_positive_int(n_restarts, "n_restarts")
-        self.label_error_probability = check_in_range(label_error_probability, "label_error_probability", 0, 0.5)
-        self.variance_fraction = check_in_range(variance_fraction, "variance_fraction", 0, 1, closed="right")
-        self.max_iter = check_positive_int(max_iter, "max_iter")
-        self.n_em_iter = check_positive_int(n_em_iter, "n_em_iter")
-        self.polar_model = check_choice(polar_model, "polar_model", ("block", "joint"))
-        self.limb_likelihood = check_choice(limb_likelihood, "limb_likelihood", ("gaussian", "residual"))
-        self.classes = None if classes is None else _check_class_names(classes)
+        self.shape_ridge = shape_ridge
+        self.n_restarts = n_restarts
+        self.label_error_probability = label_error_probability
+        self.variance_fraction = variance_fraction
+        self.max_iter = max_iter
+        self.n_em_iter = n_em_iter
+        self.polar_model = polar_model
+        self.limb_likelihood = limb_likelihood
+        self.classes = classes
+
+    def _check_params(self) -> tuple | None:
+        """Validate the settings given to ``__init__`` (called by :meth:`fit`); returns ``classes``
+        as a tuple (or None)."""
+        make_rng(self.rng, "rng")
+        check_positive_int(self.n_limb_labels, "n_limb_labels")
+        check_positive_int(self.n_shape_components, "n_shape_components")
+        check_positive(self.shape_ridge, "shape_ridge")
+        check_positive_int(self.n_restarts, "n_restarts")
+        check_in_range(self.label_error_probability, "label_error_probability", 0, 0.5)
+        check_in_range(self.variance_fraction, "variance_fraction", 0, 1, closed="right")
+        check_positive_int(self.max_iter, "max_iter")
+        check_positive_int(self.n_em_iter, "n_em_iter")
+        check_choice(self.polar_model, "polar_model", ("block", "joint"))
+        check_choice(self.limb_likelihood, "limb_likelihood", ("gaussian", "residual"))
+        return None if self.classes is None else _check_class_names(self.classes)
 
     # ------------------------------------------------------------------ validation
     def _check_shapes(self, shapes: object, name: str = "shapes") -> np.ndarray:
@@ -435,10 +456,6 @@ class ArticulatedShapeRecogniser:
                 f"{name} must have {self.landmarks_per_limb_} landmarks per limb (as in training), got {array.shape[2]}"
             )
         return array
-
-    def _check_fitted(self) -> None:
-        if not hasattr(self, "classes_"):
-            raise ValueError("the recogniser must be fitted before recognising or aligning shapes")
 
     # ------------------------------------------------------------------ training
     def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "ArticulatedShapeRecogniser":
@@ -460,17 +477,20 @@ class ArticulatedShapeRecogniser:
             return self._fit(shapes, labels)
 
     def _fit(self, shapes: np.ndarray, labels: np.ndarray) -> "ArticulatedShapeRecogniser":
+        expected_classes = self._check_params()
+        for learned in [name for name in vars(self) if name.endswith("_")]:
+            delattr(self, learned)  # a refit starts afresh (the landmark count may change)
         shapes = self._check_shapes(shapes)
         labels = _check_labels(labels, shapes.shape[0])
         present = tuple(dict.fromkeys(labels.tolist()))
-        if self.classes is not None:
-            unknown = sorted(set(present) - set(self.classes))
+        if expected_classes is not None:
+            unknown = sorted(set(present) - set(expected_classes))
             if unknown:
-                raise ValueError(f"labels contains class name(s) {unknown} not in classes={self.classes}")
-            empty = [c for c in self.classes if c not in present]
+                raise ValueError(f"labels contains class name(s) {unknown} not in classes={expected_classes}")
+            empty = [c for c in expected_classes if c not in present]
             if empty:
                 raise ValueError(f"class(es) {empty} have no training examples")
-            present = self.classes
+            present = expected_classes
         counts = {c: int(np.sum(labels == c)) for c in present}
         needed = MIN_PER_CLASS * self.n_shape_components
         few = {c: k for c, k in counts.items() if k < needed}
@@ -578,7 +598,7 @@ class ArticulatedShapeRecogniser:
         the clamped modal fits ``(M, n, 3K)`` (in deviation coordinates)."""
         scores = np.stack([np.log(weight) + model._log_density(deviation)
                            for model, weight in zip(self.shape_models_[j], self.shape_weights_[j])], axis=1)
-        fits = np.stack([model._fit(deviation) for model in self.shape_models_[j]])
+        fits = np.stack([model._project(deviation) for model in self.shape_models_[j]])
         return scores, fits
 
     def _shape_terms(self, aligned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -620,7 +640,7 @@ class ArticulatedShapeRecogniser:
         numpy.ndarray
             ``(n, 13, m, 2)`` aligned shapes, in the reference's frame (unit centroid size).
         """
-        self._check_fitted()
+        check_fitted(self, "classes_")
         shapes = self._check_shapes(shapes)
         flat = shapes.reshape(shapes.shape[0], -1, 2)
         return _align_to_reference(flat, self.reference_).reshape(shapes.shape)
@@ -643,7 +663,7 @@ class ArticulatedShapeRecogniser:
             return self._recognise(shapes)
 
     def _recognise(self, shapes: np.ndarray) -> RecognitionTrace:
-        self._check_fitted()
+        check_fitted(self, "classes_")
         aligned = self.align(shapes)
         limb_log_post = self._limb_log_posteriors(aligned)  # (n, K, labels)
         shape_log_lik, fits = self._shape_terms(aligned)  # (n, C, M), (C, M, n, 3K)
@@ -692,7 +712,7 @@ class ArticulatedShapeRecogniser:
         numpy.ndarray
             ``(n, K, n_limb_labels)`` posteriors (rows sum to 1), or their logarithms.
         """
-        self._check_fitted()
+        check_fitted(self, "classes_")
         log_posteriors = self._limb_log_posteriors(self.align(shapes))
         return log_posteriors if log else np.exp(log_posteriors)
 
@@ -709,7 +729,7 @@ class ArticulatedShapeRecogniser:
         ScoreComponents
             The limb gates, label-string and polar-PDM terms, weights and priors.
         """
-        self._check_fitted()
+        check_fitted(self, "classes_")
         aligned = self.align(shapes)
         limb_log_post = self._limb_log_posteriors(aligned)
         shape_log_lik, _ = self._shape_terms(aligned)
@@ -738,7 +758,7 @@ class ArticulatedShapeRecogniser:
         AlignmentTrace
             The posed model shape and the limb-centre RMS misfit of every iteration.
         """
-        self._check_fitted()
+        check_fitted(self, "classes_")
         if class_name not in self.classes_:
             raise ValueError(f"class_name must be one of {self.classes_}, got {class_name!r}")
         n_iter = check_positive_int(n_iter, "n_iter")
@@ -763,7 +783,7 @@ class ArticulatedShapeRecogniser:
             drawn.append(pose.scale * model_shape @ pose.rotation.T + pose.translation)
             misfit.append(pose.rms_error)
             deviation = self._deviation(_polar_shape_vector(shape_in_model[None]), angle_mean)
-            model_vector = model._fit(deviation)[0]
+            model_vector = model._project(deviation)[0]
             model_vector[:N_LIMBS] = _wrap_angle(model_vector[:N_LIMBS] + angle_mean)
         return AlignmentTrace(np.stack(drawn), np.array(misfit))
 
@@ -817,7 +837,7 @@ class ArticulatedShapeRecogniser:
         numpy.ndarray
             ``(K, m, 2)`` limb strokes placed at the centres of S.
         """
-        self._check_fitted()
+        check_fitted(self, "classes_")
         polar_vector = as_finite_array(polar_vector, "polar_vector", shape=(3 * N_LIMBS,))
         label_string = as_finite_array(label_string, "label_string", shape=(N_LIMBS,), dtype=int)
         if np.any((label_string < 0) | (label_string >= self.n_limb_labels)):
