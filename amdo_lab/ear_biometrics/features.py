@@ -150,6 +150,11 @@ def _image_axes_matrix(spread: np.ndarray) -> np.ndarray:
     return np.array([[0.0, 1.0 / spread[1]], [-1.0 / spread[0], 0.0]])
 
 
+def check_normalisation_mode(mode: object, name: str = "mode") -> str:
+    """One of :data:`NORMALISATION_MODES`."""
+    return check_choice(mode, name, NORMALISATION_MODES)
+
+
 def normalise_coordinates(contours: object, mode: str = "principal") -> Normalisation:
     """Eq. (6): translate the centroid of the contour pixels to the origin and divide by the spread.
 
@@ -437,7 +442,8 @@ def _skeleton(array: np.ndarray) -> np.ndarray:
 
 def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *, mode: str = "principal",
                     min_gap: float = 0.0, crossings: str = "pixels", polyline_smoothing: int = 2,
-                    band: float = 0.0, spur_length: int = 0, skeleton: np.ndarray | None = None) -> CircleFeatures:
+                    band: float = 0.0, spur_length: int = 0, skeleton: np.ndarray | None = None,
+                    normalisation: Normalisation | None = None) -> CircleFeatures:
     """First feature vector V, eq. (7).
 
     Circles of radius r_m = m * step (m = 1..n_circles) in *normalised* units (eq. 6) are centred on
@@ -458,6 +464,10 @@ def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *,
 
     sum d is the perimeter of the polygon through the intersections taken counter-clockwise, closed
     so that it does not depend on a start angle (0 for fewer than two intersections).
+
+    ``normalisation`` replaces eq. 6 on the contour pixels by a given frame (for instance the ear
+    silhouette's, :func:`amdo_lab.ear_biometrics.frame.silhouette_normalisation`); ``mode`` is then
+    not used.
     """
     array = as_contour_image(contours)
     n_circles = check_positive_int(n_circles, "n_circles")
@@ -467,7 +477,12 @@ def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *,
     polyline_smoothing = check_positive_int(polyline_smoothing, "polyline_smoothing", minimum=0)
     band = check_positive(band, "band", allow_zero=True)
     spur_length = check_positive_int(spur_length, "spur_length", minimum=0)
-    norm = normalise_coordinates(array, mode)
+    if normalisation is None:
+        norm = normalise_coordinates(array, mode)
+    elif isinstance(normalisation, Normalisation):
+        norm = normalisation
+    else:
+        raise TypeError(f"normalisation must be a Normalisation or None, got {type(normalisation).__name__}")
     radii = step * np.arange(1, n_circles + 1)
     if crossings == "pixels":
         rows, theta = _pixel_crossings(array, norm, radii, min_gap)
@@ -545,7 +560,8 @@ def _cluster_centres(mask: np.ndarray) -> np.ndarray:
 
 def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, *, mode: str = "principal",
                       min_gap: float = 0.0, crossings: str = "pixels", polyline_smoothing: int = 2,
-                      band: float = 0.0, spur_length: int = 0) -> TopologyFeatures:
+                      band: float = 0.0, spur_length: int = 0,
+                      normalisation: Normalisation | None = None) -> TopologyFeatures:
     """Second feature vector F, eq. (9).
 
     The contour image is thinned (``skimage.morphology.skeletonize``); skeleton pixels with
@@ -558,7 +574,7 @@ def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, 
     full_skeleton = _skeleton(array)
     circles = circle_features(array, n_circles, step, mode=mode, min_gap=min_gap, crossings=crossings,
                               polyline_smoothing=polyline_smoothing, band=band, spur_length=spur_length,
-                              skeleton=full_skeleton)
+                              skeleton=full_skeleton, normalisation=normalisation)
     norm = circles.normalisation
     # Work inside the contours' bounding box (plus a 1-pixel margin): same result, less to scan.
     rows, cols = np.flatnonzero(array.any(axis=1)), np.flatnonzero(array.any(axis=0))

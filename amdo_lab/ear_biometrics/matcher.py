@@ -20,6 +20,16 @@ from amdo_lab.ear_biometrics.features import (
     detect_contours,
     topology_features,
 )
+from amdo_lab.ear_biometrics.frame import (
+    CANONICAL_SPREAD,
+    CanonicalFrame,
+    check_frame_source,
+    check_spread_fraction,
+    frame_normalisation,
+    moment_frame,
+    silhouette,
+    to_canonical,
+)
 
 
 @dataclass(frozen=True)
@@ -82,6 +92,63 @@ def _topology_similarity(query: TopologyFeatures, reference: TopologyFeatures, c
     return matched / max(len(query.contours), len(reference.contours), 1)
 
 
+POINT_DISTANCE_CAP = 0.5
+"""Largest distance (normalised units) one characteristic point can add to :func:`point_distance`:
+a point with no partner nearby (a contour break, a spur) costs at most this much."""
+
+RANKINGS = ("points", "triples")
+
+
+def characteristic_points(features: TopologyFeatures) -> np.ndarray:
+    """All characteristic points of F (eq. 9): endings, bifurcations and circle crossings of every
+    contour, normalised (x, y), as one (n, 2) array."""
+    if not isinstance(features, TopologyFeatures):
+        raise TypeError(f"features must be TopologyFeatures (from topology_features), got {type(features).__name__}")
+    return _points(features)
+
+
+def _points(features: TopologyFeatures) -> np.ndarray:
+    parts = [c.points for c in features.contours]
+    return np.vstack(parts) if parts else np.zeros((0, 2))
+
+
+def point_distance(query: TopologyFeatures, reference: TopologyFeatures, cap: float = POINT_DISTANCE_CAP) -> float:
+    """Steps 8-9 read as a distance: do the stored points of F lie at the same coordinates?
+
+    Plain-numpy reference: for every characteristic point (eq. 9) of one image, the distance to
+    the nearest one of the other image, capped at ``cap``; the mean over the query's points and the
+    mean over the reference's points are averaged (symmetric, a chamfer distance). 0 = the same
+    points; ``cap`` when one image has no point. Unlike steps 7-8 read literally (the triples
+    (N_E, N_B, N_I) must match exactly before coordinates are compared), one extra or missing point
+    changes the distance by at most ``cap`` / n.
+    """
+    for features, name in ((query, "query"), (reference, "reference")):
+        if not isinstance(features, TopologyFeatures):
+            raise TypeError(f"{name} must be TopologyFeatures (from topology_features), got {type(features).__name__}")
+    cap = check_positive(cap, "cap")
+    a, b = _points(query), _points(reference)
+    if len(a) == 0 or len(b) == 0:
+        return cap
+    gaps = np.linalg.norm(a[:, None, :] - b[None, :, :], axis=2)  # (n_query, n_reference)
+    return 0.5 * (np.minimum(gaps.min(axis=1), cap).mean() + np.minimum(gaps.min(axis=0), cap).mean())
+
+
+def _point_distances(query: np.ndarray, stacked: np.ndarray, starts: np.ndarray, cap: float) -> np.ndarray:
+    """:func:`point_distance` from one query's points to every enrolled template at once.
+
+    ``stacked`` holds the points of all templates one after the other, template t from row
+    ``starts[t]`` (every template has at least one point); the per-template minima and means are
+    segment reductions (``np.minimum.reduceat`` / ``np.add.reduceat``) over the same gap matrix."""
+    n_templates = len(starts)
+    if len(query) == 0:
+        return np.full(n_templates, cap)
+    gaps = np.minimum(np.linalg.norm(query[:, None, :] - stacked[None, :, :], axis=2), cap)
+    counts = np.diff(np.r_[starts, len(stacked)])
+    query_side = np.minimum.reduceat(gaps, starts, axis=1).mean(axis=0)  # each query point's nearest, per template
+    reference_side = np.add.reduceat(gaps.min(axis=0), starts) / counts
+    return 0.5 * (query_side + reference_side)
+
+
 @dataclass
 class EarMatcher:
     """Choraś's classifier (Sec. 5).
@@ -121,6 +188,10 @@ class EarMatcher:
     polyline_smoothing: int = 4
     band: float = 6.0
     spur_length: int = 8
+    frame: str = "silhouette"
+    canonical_spread: float = CANONICAL_SPREAD
+    origin: str = "frame"
+    ranking: str = "points"
     _ids: list = field(default_factory=list, init=False, repr=False)
     _templates: list = field(default_factory=list, init=False, repr=False)
 
@@ -145,20 +216,51 @@ class EarMatcher:
         check_positive_int(self.polyline_smoothing, "polyline_smoothing", minimum=0)
         check_positive(self.band, "band", allow_zero=True)
         check_positive_int(self.spur_length, "spur_length", minimum=0)
+        check_frame_source(self.frame, "frame")
+        check_spread_fraction(self.canonical_spread, "canonical_spread")
+        check_choice(self.origin, "origin", ("frame", "contours"))
+        check_choice(self.ranking, "ranking", RANKINGS)
 
-    def extract(self, image: object) -> EarTemplate:
-        """Features of one image: contours (eqs. 1-5), clean-up, V and F."""
-        grey = as_grey_image(image)  # validates; 8-bit input keeps the detector's fast uint8 path
+    def canonical_frame(self, image: object) -> CanonicalFrame | None:
+        """The similarity that brings ``image`` into its canonical frame (None for ``frame="image"``).
+
+        ``"silhouette"``: second and third moments of :func:`silhouette`; ``"contours"``: of the
+        cleaned contours detected in the image as given."""
+        grey = as_grey_image(image)
+        if self.frame == "image":
+            return None
+        mask = silhouette(grey) if self.frame == "silhouette" else self._contours(self._input(image, grey))
+        if np.count_nonzero(mask) < 3:
+            raise ValueError("image has no contour (blank, constant or too smooth image): no ear silhouette")
+        return moment_frame(mask, grey.shape, self.canonical_spread)
+
+    def _input(self, image: object, grey: np.ndarray) -> np.ndarray:
+        """8-bit input keeps the detector's fast uint8 path; anything else is used as float."""
+        return np.asarray(image) if np.asarray(image).dtype == np.uint8 else grey
+
+    def _contours(self, image: np.ndarray) -> np.ndarray:
+        """Step 1: optional smoothing, contours (eqs. 1-5) and the clean-up."""
         if self.smoothing > 0:  # image normalisation step before contour detection (Fig. 3)
-            grey = cv2.GaussianBlur(grey, (0, 0), self.smoothing)
-        elif np.asarray(image).dtype == np.uint8:
-            grey = np.asarray(image)
-        contours = clean_contours(detect_contours(grey, self.k, self.window), self.min_component_size, self.closing)
+            image = cv2.GaussianBlur(np.asarray(image, float), (0, 0), self.smoothing)
+        contours = clean_contours(detect_contours(image, self.k, self.window), self.min_component_size, self.closing)
         if not contours.any():
             raise ValueError("image has no contour (blank, constant or too smooth image)")
-        topology = topology_features(contours, self.n_circles, self.step, mode=self.mode, min_gap=self.min_gap,
-                                     crossings=self.crossings, polyline_smoothing=self.polyline_smoothing,
-                                     band=self.band, spur_length=self.spur_length)
+        return contours
+
+    def extract(self, image: object) -> EarTemplate:
+        """Features of one image: canonical frame (unless ``frame="image"``), contours (eqs. 1-5),
+        clean-up, V and F."""
+        grey = as_grey_image(image)  # validates
+        work, normalisation = self._input(image, grey), None
+        if self.frame != "image":
+            frame = self.canonical_frame(image)
+            work = to_canonical(work, frame)
+            if self.origin == "frame":
+                normalisation = frame_normalisation(frame, grey.shape, self.mode, self.canonical_spread)
+        topology = topology_features(self._contours(work), self.n_circles, self.step, mode=self.mode,
+                                     min_gap=self.min_gap, crossings=self.crossings,
+                                     polyline_smoothing=self.polyline_smoothing, band=self.band,
+                                     spur_length=self.spur_length, normalisation=normalisation)
         return EarTemplate(topology.circles, topology)
 
     def enroll(self, subject_id: object, image: object) -> EarTemplate:
@@ -179,6 +281,11 @@ class EarMatcher:
         self._templates.append(template)
         self._counts = np.array([t.circles.counts for t in self._templates])
         self._sums = np.array([t.circles.distance_sums for t in self._templates])
+        points = [_points(t.topology) for t in self._templates]
+        # a template without points gets one far away (at distance >= cap from everything)
+        points = [p if len(p) else np.full((1, 2), 1e6) for p in points]
+        self._points = np.vstack(points)
+        self._point_starts = np.cumsum([0] + [len(p) for p in points[:-1]])
         return template
 
     @property
@@ -212,9 +319,15 @@ class EarMatcher:
         sum_gap = np.abs(self._sums - query.circles.distance_sums).mean(axis=1)
         scores = sum_gap + violations.astype(float)  # ranking for CMC: count violations cost 1 each
         gate = (violations <= self.max_count_violations) & (sum_gap < self.distance_threshold)
+        if self.ranking == "points":  # steps 6-9 as a distance between the points of F
+            scores = _point_distances(_points(query.topology), self._points, self._point_starts, POINT_DISTANCE_CAP)
         candidates = np.flatnonzero(gate)
         if len(candidates) == 0:
             return IdentificationResult(None, (), np.zeros(0), scores, "no reference passed steps 2-4")
+        if self.ranking == "points":
+            candidates = candidates[np.argsort(scores[candidates], kind="stable")][:shortlist]
+            return IdentificationResult(self._ids[candidates[0]], tuple(self._ids[i] for i in candidates),
+                                        scores[candidates], scores)
         candidates = candidates[np.argsort(sum_gap[candidates])][:shortlist]
         topo = np.array([_topology_similarity(query.topology, self._templates[i].topology, _COORDINATE_TOLERANCE)
                          for i in candidates])
