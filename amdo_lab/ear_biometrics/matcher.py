@@ -26,9 +26,9 @@ from amdo_lab.ear_biometrics.frame import (
     check_frame_source,
     check_spread_fraction,
     frame_normalisation,
-    moment_frame,
-    silhouette,
-    to_canonical,
+    _moment_frame_fast,
+    _silhouette,
+    _to_canonical,
 )
 
 
@@ -169,6 +169,20 @@ class EarMatcher:
     merging runs less than ``min_gap`` pixels of arc apart (``min_gap=0`` is the literal count).
     Pixel settings are for 256 x 256 images (the database default); they were chosen on development
     seeds, not on the notebook's data.
+
+    Invariance (beyond the paper's text). ``frame="silhouette"`` (default) resamples the image into
+    the canonical frame of its silhouette (:func:`~amdo_lab.ear_biometrics.frame.moment_frame`:
+    centroid, principal axis with its sign fixed by the third moment, spread scaled to
+    ``canonical_spread`` of the side) *before* step 1, so a rotated, rescaled or shifted copy is
+    detected at the same place, orientation and size; ``"contours"`` takes that frame from the
+    contour pixels of the given image instead; ``"image"`` detects in the image as given (the
+    paper's pipeline). With a canonical frame, ``origin="frame"`` (default) takes eq. 6's centroid
+    and spreads from the silhouette's moments; ``"contours"`` from the contour pixels (eq. 6 as
+    printed, in the reading ``mode``). ``ranking="points"`` (default) ranks by
+    :func:`point_distance` between the characteristic points of F (steps 8-9 read as a distance);
+    ``"triples"`` is the literal steps 7-9 (exact triples, then coordinates) combined with the
+    distance-sum difference. Either way, the decision (``subject_id``) is the best-ranked template
+    among those that pass steps 2-4.
     """
 
     k: float = 8.0
@@ -229,10 +243,10 @@ class EarMatcher:
         grey = as_grey_image(image)
         if self.frame == "image":
             return None
-        mask = silhouette(grey) if self.frame == "silhouette" else self._contours(self._input(image, grey))
+        mask = _silhouette(self._input(image, grey)) if self.frame == "silhouette" else self._contours(self._input(image, grey))
         if np.count_nonzero(mask) < 3:
             raise ValueError("image has no contour (blank, constant or too smooth image): no ear silhouette")
-        return moment_frame(mask, grey.shape, self.canonical_spread)
+        return _moment_frame_fast(mask, grey.shape, self.canonical_spread)
 
     def _input(self, image: object, grey: np.ndarray) -> np.ndarray:
         """8-bit input keeps the detector's fast uint8 path; anything else is used as float."""
@@ -254,7 +268,7 @@ class EarMatcher:
         work, normalisation = self._input(image, grey), None
         if self.frame != "image":
             frame = self.canonical_frame(image)
-            work = to_canonical(work, frame)
+            work = _to_canonical(work, frame)
             if self.origin == "frame":
                 normalisation = frame_normalisation(frame, grey.shape, self.mode, self.canonical_spread)
         topology = topology_features(self._contours(work), self.n_circles, self.step, mode=self.mode,
