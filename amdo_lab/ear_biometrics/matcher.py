@@ -142,10 +142,12 @@ def _point_distances(query: np.ndarray, stacked: np.ndarray, starts: np.ndarray,
     n_templates = len(starts)
     if len(query) == 0:
         return np.full(n_templates, cap)
-    gaps = np.minimum(np.linalg.norm(query[:, None, :] - stacked[None, :, :], axis=2), cap)
+    # squared gaps: the square root is monotone, so it is taken after the minima (fewer roots)
+    squared = ((query[:, None, :] - stacked[None, :, :]) ** 2).sum(axis=2)
     counts = np.diff(np.r_[starts, len(stacked)])
-    query_side = np.minimum.reduceat(gaps, starts, axis=1).mean(axis=0)  # each query point's nearest, per template
-    reference_side = np.add.reduceat(gaps.min(axis=0), starts) / counts
+    nearest_to_query = np.sqrt(np.minimum.reduceat(squared, starts, axis=1))  # (n_query, n_templates)
+    query_side = np.minimum(nearest_to_query, cap).mean(axis=0)
+    reference_side = np.add.reduceat(np.minimum(np.sqrt(squared.min(axis=0)), cap), starts) / counts
     return 0.5 * (query_side + reference_side)
 
 
