@@ -747,3 +747,21 @@ def test_similarity_copies_of_enrolled_images_are_identified(small_database):
 def test_canonical_frame_functions_reject_bad_input(small_database, call, error, message):
     with pytest.raises(error, match=message):
         call(small_database.images[0])
+
+
+def test_reference_of_eqs_6_and_7_equals_the_vectorised_path(clean_ear_contours):
+    """The plain-numpy, one-circle-at-a-time reading equals circle_features with the literal
+    settings (image axes, pixel runs, no gap merging), on an ear and on a rotated "+" with a ring."""
+    toy = np.zeros((101, 101), np.uint8)
+    toy[50, 10:91] = 1
+    toy[10:91, 50] = 1
+    cv2.circle(toy, (50, 50), 28, 1, 1)
+    rotated = cv2.warpAffine(toy, cv2.getRotationMatrix2D((50, 50), 30, 1.0), (101, 101), flags=cv2.INTER_NEAREST)
+    for contours in (clean_ear_contours, toy > 0, rotated > 0):
+        reference = eb.circle_features_reference(contours, 6, 0.3)
+        fast = eb.circle_features(contours, 6, 0.3, mode="axes", crossings="pixels", min_gap=0.0)
+        assert np.array_equal(reference.counts, fast.counts)
+        np.testing.assert_allclose(reference.distance_sums, fast.distance_sums, atol=1e-9)
+        np.testing.assert_allclose(reference.normalisation.matrix, fast.normalisation.matrix)
+    with pytest.raises(ValueError, match="no contour"):
+        eb.circle_features_reference(np.zeros((9, 9), bool))

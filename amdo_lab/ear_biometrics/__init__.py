@@ -15,6 +15,7 @@ from amdo_lab.ear_biometrics.features import (
     as_grey_image,
     canny_contours,
     circle_features,
+    circle_features_reference,
     clean_contours,
     crossing_number,
     detect_contours,

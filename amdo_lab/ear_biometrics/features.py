@@ -496,6 +496,58 @@ def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *,
     return CircleFeatures(radii, counts, sums, points, norm)
 
 
+def circle_features_reference(contours: object, n_circles: int = 8, step: float = 0.25) -> CircleFeatures:
+    """Eqs. (6)-(7) written out in plain numpy, one circle at a time: the reading to open beside the
+    paper. Literal eq. 6 (the image axes, ``mode="axes"``) and the literal count (every run of contour
+    pixels met along a sampled circle is one intersection, ``crossings="pixels"``, ``min_gap=0``);
+    :func:`circle_features` with those settings is the vectorised path and is tested equal to this.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 3 (eq. 6) and Sec. 4 (eq. 7).
+    """
+    array = as_contour_image(contours)
+    n_circles = check_positive_int(n_circles, "n_circles")
+    step = check_positive(step, "step")
+    rows_cols = np.argwhere(array).astype(float)
+    # eq. 6: the centroid (I, J) becomes the origin; each axis is divided by its standard deviation
+    centroid = rows_cols.mean(axis=0)  # (I, J)
+    sigma = rows_cols.std(axis=0)  # (sigma_i, sigma_j)
+    norm = Normalisation(centroid, sigma, _image_axes_matrix(sigma))  # x = (j - J)/sigma_j, y = -(i - I)/sigma_i
+    radii = step * np.arange(1, n_circles + 1)  # r_m = m * alpha, normalised units
+    n_samples = int(8 * np.ceil(4 * np.pi * radii[-1] * sigma.max() / 8)) + 8  # >= 2 samples per pixel
+    angles = 2 * np.pi * np.arange(n_samples) / n_samples
+    counts, sums, points = [], [], []
+    for r in radii:
+        # the circle of radius r around the centroid, back in pixels (inverse of eq. 6)
+        circle_xy = r * np.c_[np.cos(angles), np.sin(angles)]
+        pixel = np.round(norm.to_pixels(circle_xy)).astype(int)
+        inside = np.all((pixel >= 0) & (pixel < array.shape), axis=1)
+        on_contour = np.zeros(n_samples, bool)
+        on_contour[inside] = array[pixel[inside, 0], pixel[inside, 1]]
+        # l_r (eq. 7): runs of consecutive samples on contour pixels, the circle read as closed
+        if on_contour.all():
+            middles = np.array([0.0])
+        else:
+            start = np.argmin(on_contour)  # begin on a sample off the contour: no run wraps around
+            rolled = np.roll(on_contour, -start)
+            edges = np.diff(np.r_[0, rolled.astype(int), 0])
+            first, last = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
+            middles = ((first + last) / 2 + start) % n_samples
+        middles = np.sort(middles)
+        crossing_xy = r * np.c_[np.cos(2 * np.pi * middles / n_samples), np.sin(2 * np.pi * middles / n_samples)]
+        # sum d (eq. 7): distances between neighbouring intersections, counter-clockwise, closed
+        if len(crossing_xy) > 1:
+            chords = np.linalg.norm(np.roll(crossing_xy, -1, axis=0) - crossing_xy, axis=1)
+            sums.append(chords.sum())
+        else:
+            sums.append(0.0)
+        counts.append(len(crossing_xy))
+        points.append(crossing_xy)
+    return CircleFeatures(radii, np.array(counts), np.array(sums), tuple(points), norm)
+
+
 def crossing_number(skeleton: np.ndarray) -> np.ndarray:
     """8-connected crossing number N_c = 1/2 sum_k |p_{k+1} - p_k| over the 8 neighbours in cyclic
     order (Fig. 7), evaluated on every pixel of a 2-D boolean ``skeleton`` (0 off the skeleton)."""
