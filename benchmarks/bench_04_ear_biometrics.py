@@ -30,7 +30,6 @@ for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 import argparse  # noqa: E402
 import time  # noqa: E402
 
-import cv2  # noqa: E402
 import numpy as np  # noqa: E402
 
 from amdo_lab import ear_biometrics as eb  # noqa: E402
@@ -46,16 +45,6 @@ PIPELINES = {
 }
 
 
-def random_similarity(image: np.ndarray, rng: np.random.Generator, max_rotation: float = 25.0,
-                      scales: tuple[float, float] = (0.85, 1.15), max_shift: float = 8.0) -> np.ndarray:
-    """The image turned about its centre, rescaled and shifted (bilinear, border replicated)."""
-    height, width = image.shape
-    matrix = cv2.getRotationMatrix2D((width / 2, height / 2), rng.uniform(-max_rotation, max_rotation),
-                                     rng.uniform(*scales))
-    matrix[:, 2] += rng.uniform(-max_shift, max_shift, 2)
-    return cv2.warpAffine(image, matrix, (width, height), flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
-
-
 def similarity_study(subjects: list[int], seeds: list[int]) -> None:
     """Rank-1 and strict-rule identification of similarity-transformed copies of enrolled images."""
     print(f"{'pipeline':54s} {'subjects':>8s} {'rank-1':>7s} {'95 % interval':>15s} {'strict rule':>11s}")
@@ -63,7 +52,7 @@ def similarity_study(subjects: list[int], seeds: list[int]) -> None:
         database = eb.generate_ear_database(n_subjects, 2, "easy", seed)
         gallery, ids = database.images[0::2], database.subject_ids[0::2]
         rng = make_rng(seed + 1)
-        copies = [random_similarity(image, rng) for image in gallery]
+        copies = [eb.similarity_copy(image, rng=rng) for image in gallery]
         for name, settings in PIPELINES.items():
             matcher = eb.EarMatcher(**settings)
             for subject, image in zip(ids, gallery):

@@ -721,8 +721,7 @@ def test_similarity_copies_of_enrolled_images_are_identified(small_database):
         matcher.enroll(subject, image)
     rng = make_rng(123)
     for image, subject in zip(images[0::2], ids[0::2]):
-        copy, _ = _similarity(image, rng.uniform(-25, 25), rng.uniform(0.85, 1.15), rng.uniform(-8, 8, 2))
-        result = matcher.identify(copy)
+        result = matcher.identify(eb.similarity_copy(image, rng=rng))
         assert np.argmin(result.scores) == list(ids[0::2]).index(subject)
 
 
@@ -739,6 +738,9 @@ def test_similarity_copies_of_enrolled_images_are_identified(small_database):
     (lambda im: eb.point_distance(eb.EarMatcher().extract(im).circles, None), TypeError,
      "query must be TopologyFeatures"),
     (lambda im: eb.characteristic_points(im), TypeError, "features must be TopologyFeatures"),
+    (lambda im: eb.similarity_copy(im, rng=0, scale_range=(1.2, 0.9)), ValueError, "scale_range must be"),
+    (lambda im: eb.similarity_copy(im, rng=0, max_shift=-1), ValueError, "max_shift must be non-negative"),
+    (lambda im: eb.similarity_copy(im, rng=0, rotation_deg=np.nan), ValueError, "rotation_deg must be finite"),
     (lambda im: eb.EarMatcher(frame="affine"), ValueError, "frame must be one of"),
     (lambda im: eb.EarMatcher(origin="centre"), ValueError, "origin must be one of"),
     (lambda im: eb.EarMatcher(ranking="votes"), ValueError, "ranking must be one of"),
@@ -765,3 +767,12 @@ def test_reference_of_eqs_6_and_7_equals_the_vectorised_path(clean_ear_contours)
         np.testing.assert_allclose(reference.normalisation.matrix, fast.normalisation.matrix)
     with pytest.raises(ValueError, match="no contour"):
         eb.circle_features_reference(np.zeros((9, 9), bool))
+
+
+def test_similarity_copy_is_seeded_and_exact_for_a_quarter_turn():
+    image = np.zeros((64, 64), np.uint8)
+    image[10:20, 30:34] = 200
+    turned = eb.similarity_copy(image, rng=1, rotation_deg=90.0, scale_range=(1.0, 1.0), max_shift=0.0)
+    np.testing.assert_array_equal(turned, np.rot90(image))  # +90 degrees = counter-clockwise as displayed
+    np.testing.assert_array_equal(eb.similarity_copy(image, rng=5), eb.similarity_copy(image, rng=5))
+    assert eb.similarity_copy(image.astype(float), rng=5).dtype == float

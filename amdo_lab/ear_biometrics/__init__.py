@@ -32,6 +32,7 @@ from amdo_lab.ear_biometrics.frame import (
     frame_normalisation,
     moment_frame,
     silhouette,
+    similarity_copy,
     to_canonical,
 )
 from amdo_lab.ear_biometrics.matcher import (
