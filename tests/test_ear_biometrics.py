@@ -776,3 +776,22 @@ def test_similarity_copy_is_seeded_and_exact_for_a_quarter_turn():
     np.testing.assert_array_equal(turned, np.rot90(image))  # +90 degrees = counter-clockwise as displayed
     np.testing.assert_array_equal(eb.similarity_copy(image, rng=5), eb.similarity_copy(image, rng=5))
     assert eb.similarity_copy(image.astype(float), rng=5).dtype == float
+
+
+def test_matcher_exposes_the_image_and_contours_its_features_come_from(small_database):
+    image = small_database.images[0]
+    literal = eb.EarMatcher(frame="image")
+    assert literal.canonical_frame(image) is None
+    np.testing.assert_array_equal(literal.canonical_image(image), image)
+    matcher = eb.EarMatcher()
+    canonical = matcher.canonical_image(image)
+    assert canonical.dtype == np.uint8 and canonical.shape == image.shape
+    contours = matcher.contour_image(image)
+    from amdo_lab.ear_biometrics.frame import frame_normalisation
+
+    norm = frame_normalisation(matcher.canonical_frame(image), image.shape)
+    direct = eb.topology_features(contours, crossings="polyline", band=6.0, spur_length=8, polyline_smoothing=4,
+                                  normalisation=norm)
+    template = matcher.extract(image)
+    np.testing.assert_array_equal(template.circles.counts, direct.circles.counts)
+    np.testing.assert_allclose(eb.characteristic_points(template.topology), eb.characteristic_points(direct))

@@ -14,6 +14,7 @@ from amdo_lab.ear_biometrics.features import (
     CROSSING_READINGS,
     NORMALISATION_MODES,
     CircleFeatures,
+    Normalisation,
     TopologyFeatures,
     as_grey_image,
     clean_contours,
@@ -263,9 +264,18 @@ class EarMatcher:
             raise ValueError("image has no contour (blank, constant or too smooth image)")
         return contours
 
-    def extract(self, image: object) -> EarTemplate:
-        """Features of one image: canonical frame (unless ``frame="image"``), contours (eqs. 1-5),
-        clean-up, V and F."""
+    def canonical_image(self, image: object) -> np.ndarray:
+        """The image that step 1 sees: resampled into the canonical frame, or as given for
+        ``frame="image"`` (8-bit input stays 8-bit)."""
+        return self._prepare(image)[0]
+
+    def contour_image(self, image: object) -> np.ndarray:
+        """Step 1 as the matcher runs it: the cleaned contours (boolean) that V and F are computed from,
+        in the canonical image unless ``frame="image"``."""
+        return self._contours(self._prepare(image)[0])
+
+    def _prepare(self, image: object) -> tuple[np.ndarray, Normalisation | None]:
+        """Validated input, in the canonical frame when asked, and the frame's eq. 6 (or None)."""
         grey = as_grey_image(image)  # validates
         work, normalisation = self._input(image, grey), None
         if self.frame != "image":
@@ -273,6 +283,12 @@ class EarMatcher:
             work = _to_canonical(work, frame)
             if self.origin == "frame":
                 normalisation = frame_normalisation(frame, grey.shape, self.mode, self.canonical_spread)
+        return work, normalisation
+
+    def extract(self, image: object) -> EarTemplate:
+        """Features of one image: canonical frame (unless ``frame="image"``), contours (eqs. 1-5),
+        clean-up, V and F."""
+        work, normalisation = self._prepare(image)
         topology = topology_features(self._contours(work), self.n_circles, self.step, mode=self.mode,
                                      min_gap=self.min_gap, crossings=self.crossings,
                                      polyline_smoothing=self.polyline_smoothing, band=self.band,
