@@ -621,6 +621,8 @@ def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, 
     8-connected skeleton component that reaches inside the outermost circle is one contour; the
     circle intersections of V are assigned to the nearest skeleton component. Contours are listed
     from the outermost (largest normalised radius) inwards, the paper's tracing order.
+    ``normalisation`` replaces eq. 6 on the contour pixels by a given frame, as in
+    :func:`circle_features`.
     """
     array = as_contour_image(contours)
     full_skeleton = _skeleton(array)
