@@ -244,12 +244,14 @@ class EarMatcher:
         ``"silhouette"``: second and third moments of :func:`silhouette`; ``"contours"``: of the
         cleaned contours detected in the image as given."""
         grey = as_grey_image(image)
-        if self.frame == "image":
-            return None
-        mask = _silhouette(self._input(image, grey)) if self.frame == "silhouette" else self._contours(self._input(image, grey))
+        return None if self.frame == "image" else self._frame_of(self._input(image, grey))
+
+    def _frame_of(self, work: np.ndarray) -> CanonicalFrame:
+        """:meth:`canonical_frame` of validated input (8-bit or float)."""
+        mask = _silhouette(work) if self.frame == "silhouette" else self._contours(work)
         if np.count_nonzero(mask) < 3:
             raise ValueError("image has no contour (blank, constant or too smooth image): no ear silhouette")
-        return _moment_frame_fast(mask, grey.shape, self.canonical_spread)
+        return _moment_frame_fast(mask, work.shape, self.canonical_spread)
 
     def _input(self, image: object, grey: np.ndarray) -> np.ndarray:
         """8-bit input keeps the detector's fast uint8 path; anything else is used as float."""
@@ -279,7 +281,7 @@ class EarMatcher:
         grey = as_grey_image(image)  # validates
         work, normalisation = self._input(image, grey), None
         if self.frame != "image":
-            frame = self.canonical_frame(image)
+            frame = self._frame_of(work)
             work = _to_canonical(work, frame)
             if self.origin == "frame":
                 normalisation = frame_normalisation(frame, grey.shape, self.mode, self.canonical_spread)
