@@ -77,9 +77,10 @@ CHAPTERS: tuple[Chapter, ...] = (
         4,
         "04_ear_geometric_features.ipynb",
         "Geometric ear-biometric features and matching",
-        "Detects ear contours, extracts concentric-circle and contour-topology features, and identifies people from "
-        "synthetic ear images; shows how recognition depends on contours detected consistently between captures, "
-        "next to a HOG baseline.",
+        "Choraś's concentric-circle and contour-topology ear features, built on a toy and made invariant to "
+        "rotation, scale and translation by a silhouette-moment frame applied before contour detection: copies "
+        "turned by any angle are identified, far ahead of a HOG baseline, while the paper's strict decision rule "
+        "stays short of error-free on synthetic ears.",
         "M. Choraś. Ear Biometrics Based on Geometrical Method of Feature Extraction. "
         "AMDO 2004, LNCS 3179, pp. 51-61.",
     ),
