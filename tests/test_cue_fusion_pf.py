@@ -211,11 +211,12 @@ def test_printed_sigmas_make_the_fusion_edge_only(sequence, space):
     np.testing.assert_allclose(fused, colour_log + edge_log)
 
 
-def test_calibrated_sigma_is_what_the_calibration_gives():
+@pytest.mark.parametrize("cue", ["color", "structure"])
+def test_calibrated_sigma_is_what_the_calibration_gives(cue):
     sequences = [cf.make_head_sequence("fusion", seed) for seed in range(100, 105)]
-    at_truth, at_prior = cf.calibration_distances(sequences, "color", rng=0)
+    at_truth, at_prior = cf.calibration_distances(sequences, cue, rng=0)
     result = cf.calibrate_sigma(at_truth, at_prior)
-    assert result.sigma == pytest.approx(cf.CALIBRATED_SIGMAS["color"], rel=0.01)
+    assert result.sigma == pytest.approx(cf.CALIBRATED_SIGMAS[cue], rel=0.01)
     assert result.scores.max() > 0 > result.scores[0]
     with pytest.raises(ValueError, match="grid"):
         cf.calibrate_sigma(at_truth, at_prior, grid=[0.1, -1.0])
@@ -267,3 +268,59 @@ def test_camshift_peer_tracks_the_calm_frames(sequence):
     assert np.mean(cf.ellipse_iou(result.ellipses, sequence.true_ellipses[:25]) > 0.5) > 0.9
     with pytest.raises(ValueError, match="init"):
         cf.track_camshift(sequence.frames[:2], [10, 10, 0, 5, 0])
+
+
+# --- structure, eq. (12) ------------------------------------------------------------------------
+
+def test_integral_image_and_haar_features_match_scikit_image():
+    from skimage.feature import haar_like_feature
+    from skimage.transform import integral_image as skimage_integral
+
+    from amdo_lab.cue_fusion_pf import structure as st
+
+    image = make_rng(5).normal(size=(20, 16))
+    integral = st.integral_image(image)
+    assert integral.shape == (21, 17)
+    np.testing.assert_allclose(integral[1:, 1:], skimage_integral(image))
+    assert integral[7, 9] == pytest.approx(image[:7, :9].sum())
+    every = st.haar_features((16, 20))
+    from skimage.feature import haar_like_feature_coord
+    for kind in ("type-2-x", "type-2-y", "type-3-x", "type-3-y", "type-4"):
+        coords, types = haar_like_feature_coord(16, 20, kind)
+        pick = np.arange(0, len(coords), 37)  # every 37th feature of the kind, in scikit-image's order
+        theirs = haar_like_feature(skimage_integral(image), 0, 0, 16, 20, feature_type=types[pick],
+                                   feature_coord=coords[pick])
+        mine = every.subset(np.flatnonzero(every.types == kind)[pick]).values(integral[None])[0]
+        np.testing.assert_allclose(mine, theirs, atol=1e-9)
+    assert len(st.haar_features((16, 20), n_features=400, rng=6)) == 400
+    with pytest.raises(ValueError, match="rng"):
+        st.haar_features((16, 20), n_features=10)
+
+
+@pytest.fixture(scope="module")
+def cascade():
+    from amdo_lab.cue_fusion_pf import structure as st
+    return st.load_or_train_cascade()
+
+
+def test_cascade_accepts_held_out_heads_and_rejects_background(cascade):
+    from amdo_lab.cue_fusion_pf import structure as st
+
+    held_out = st.make_training_set(99, n_scenes=10)
+    for view, patches in held_out.positives.items():
+        assert np.mean(cascade.stages_passed_patches(patches) == cascade.n_stages) >= 0.85, view
+    assert np.mean(cascade.stages_passed_patches(held_out.negatives) == cascade.n_stages) <= 0.01
+    assert cascade.training_seconds < 60
+
+
+def test_structure_likelihood_peaks_at_the_head(sequence, space, cascade):
+    from amdo_lab.cue_fusion_pf import structure as st
+
+    likelihood = st.StructureLikelihood(space, cascade)
+    states = np.stack([sequence.truth[40], sequence.truth[40] + [15, 0, 0]])  # on the lighting frames
+    distance = likelihood.distance(sequence.frames[40], states)
+    assert distance[0] == 0.0 and distance[1] > 0.5
+    with pytest.raises(ValueError, match="sigma"):
+        st.StructureLikelihood(space, cascade, sigma=-1.0)
+    with pytest.raises(ValueError, match="boxes"):
+        cascade.stages_passed(sequence.frames[0], np.array([[0.0, 0.0, 0.0, 5.0]]))

@@ -1,8 +1,9 @@
-"""Chapter 6: a particle filter fusing colour and edge cues (Li & Chaumette, AMDO 2004).
+"""Chapter 6: a particle filter fusing colour, edge and structure cues (Li & Chaumette, AMDO 2004).
 
-Shape space and B-spline contour (eqs. 1-3), AR(2) dynamics (eqs. 4-5), colour (eqs. 7-11) and
-edge (eqs. 13-14) likelihoods fused in the log domain (eq. 6), the filter of Fig. 1, seeded head
-sequences with ground truth, and OpenCV's CamShift as a peer.
+Shape space and B-spline contour (eqs. 1-3), AR(2) dynamics (eqs. 4-5), colour (eqs. 7-11),
+structure (eq. 12: a two-level boosted Haar cascade trained here) and edge (eqs. 13-14)
+likelihoods fused in the log domain (eq. 6), the filter of Fig. 1, seeded head sequences with
+ground truth, and OpenCV's CamShift as a peer.
 """
 
 from amdo_lab.cue_fusion_pf.data import HEAD_AXES, SEQUENCE_KINDS, HeadSequence, ellipse_iou, make_head_sequence
@@ -21,6 +22,15 @@ from amdo_lab.cue_fusion_pf.likelihoods import (
 )
 from amdo_lab.cue_fusion_pf.peers import track_camshift
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace, bspline_basis, ellipse_points
+from amdo_lab.cue_fusion_pf.structure import (
+    BoostedCascade,
+    StructureLikelihood,
+    haar_features,
+    integral_image,
+    load_or_train_cascade,
+    make_training_set,
+    train_cascade,
+)
 from amdo_lab.cue_fusion_pf.tracker import (
     CALIBRATED_SIGMAS,
     CUES,
@@ -33,10 +43,11 @@ from amdo_lab.cue_fusion_pf.tracker import (
 )
 
 __all__ = [
-    "ARDynamics", "CALIBRATED_SIGMAS", "CUES", "CalibrationResult", "ColorLikelihood", "EdgeLikelihood",
-    "HEAD_AXES", "HeadSequence", "PAPER_SIGMAS", "SEQUENCE_KINDS", "STATIONARY_STD", "ShapeSpace",
+    "ARDynamics", "BoostedCascade", "CALIBRATED_SIGMAS", "CUES", "CalibrationResult", "ColorLikelihood", "EdgeLikelihood",
+    "HEAD_AXES", "HeadSequence", "PAPER_SIGMAS", "SEQUENCE_KINDS", "STATIONARY_STD", "ShapeSpace", "StructureLikelihood",
     "TrackResult", "ar2_coefficients", "ar2_stationary_variance", "bhattacharyya", "bspline_basis",
     "calibrate_sigma", "calibration_distances", "default_dynamics", "edge_line_likelihood", "ellipse_iou", "ellipse_points",
-    "fused_log_likelihood", "kernel_histogram", "make_head_sequence", "simulate_measurement_lines",
-    "systematic_resample", "track", "track_camshift",
+    "fused_log_likelihood", "haar_features", "integral_image", "kernel_histogram", "load_or_train_cascade",
+    "make_head_sequence", "make_training_set", "simulate_measurement_lines", "systematic_resample", "track",
+    "track_camshift", "train_cascade",
 ]

@@ -107,7 +107,8 @@ def _window(image: np.ndarray, cx: float, cy: float, half_width: float, top: flo
     return image[y0:y1, x0:x1], xs - cx, ys - cy
 
 
-def _draw_head(image: np.ndarray, cx: float, cy: float, scale: float) -> None:
+def _draw_head(image: np.ndarray, cx: float, cy: float, scale: float, yaw: float = 0.0) -> None:
+    """A head over shoulders; ``yaw`` in radians turns it (0 frontal, ±π/4 half profiles, π the back)."""
     a, b = HEAD_AXES[0] * scale, HEAD_AXES[1] * scale
     window, dx, dy = _window(image, cx, cy, 2.2 * a, -1.1 * b, 4.0 * b)
     # shirt and shoulders below the chin
@@ -117,10 +118,19 @@ def _draw_head(image: np.ndarray, cx: float, cy: float, scale: float) -> None:
     radius = np.sqrt((dx / a) ** 2 + (dy / b) ** 2)
     shading = 1.0 - 0.18 * np.clip(radius, 0, 1) ** 2  # brighter in the middle of the face
     window += (head * shading)[..., None].astype(np.float32) * SKIN.astype(np.float32) - head[..., None].astype(np.float32) * window
-    hair = head * np.clip((-dy / b - 0.35) * 6.0, 0.0, 1.0)  # hair on the top of the head
+    facing = np.cos(yaw)
+    # hair on the top, and on the side turned away (all of the head seen from the back)
+    side = np.sin(yaw) * dx / a
+    hair_line = -0.35 + 1.6 * np.clip(-side - 0.2 * facing, 0.0, None) + 1.4 * np.clip(-facing, 0.0, None)
+    hair = head * np.clip((-dy / b - 0.35 + hair_line + 0.35) * 6.0, 0.0, 1.0) if yaw else head * np.clip((-dy / b - 0.35) * 6.0, 0.0, 1.0)
     _paint(window, hair, HAIR)
-    for ex, ey, ea, eb, colour in ((-0.38, -0.05, 0.12, 0.07, (40, 30, 30)), (0.38, -0.05, 0.12, 0.07, (40, 30, 30)),
-                                   (0.0, 0.5, 0.3, 0.06, (140, 60, 60))):  # eyes and mouth
+    if facing <= 0.2:
+        return
+    shift = np.sin(yaw) * 0.45
+    features = [(-0.38 * facing + shift, -0.05, 0.12 * max(facing, 0.3), 0.07, (40, 30, 30)),
+                (0.38 * facing + shift, -0.05, 0.12 * max(facing, 0.3), 0.07, (40, 30, 30)),
+                (shift, 0.5, 0.3 * facing, 0.06, (140, 60, 60))]  # eyes and mouth
+    for ex, ey, ea, eb, colour in features:
         feature, fx, fy = _window(image, cx + ex * a, cy + ey * b, ea * a + 2, -eb * b - 2, eb * b + 2)
         _paint(feature, _coverage(fx, fy, ea * a, eb * b), np.array(colour, np.float32))
 

@@ -12,12 +12,13 @@ from amdo_lab.common import as_finite_array, check_choice, check_positive, check
 from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
 from amdo_lab.cue_fusion_pf.likelihoods import PAPER_SIGMAS, ColorLikelihood, EdgeLikelihood
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
+from amdo_lab.cue_fusion_pf.structure import StructureLikelihood, load_or_train_cascade
 
 __all__ = ["CALIBRATED_SIGMAS", "CUES", "TrackResult", "calibration_distances", "default_dynamics", "systematic_resample", "track"]
 
-CUES = ("color", "edge", "oracle")
-#: σ_c chosen by :func:`calibrate_sigma` on held-out "fusion" seeds (seeds 100-104, rng=0, every 4th frame; the tests re-run it).
-CALIBRATED_SIGMAS = {"color": 0.066}
+CUES = ("color", "edge", "structure", "oracle")
+#: σ_c and σ_s chosen by :func:`calibrate_sigma` on held-out "fusion" seeds (seeds 100-104, rng=0, every 4th frame; the tests re-run it).
+CALIBRATED_SIGMAS = {"color": 0.066, "structure": 0.238}
 FRAME_PERIOD = 1.0 / 25.0
 #: Our choices for what the paper does not state: stationary std of (t_x, t_y, s) and of the AR(2).
 STATIONARY_STD = (100.0, 100.0, 0.1)
@@ -115,6 +116,8 @@ def build_cues(cues: Sequence[str], space: ShapeSpace, first_frame: np.ndarray, 
         if name == "color":
             built[name] = ColorLikelihood(space, first_frame, start, bins=params["bins"], sigma=sigmas["color"],
                                           stride=params["stride"])
+        elif name == "structure":
+            built[name] = StructureLikelihood(space, load_or_train_cascade(), sigma=sigmas["structure"])
         elif name == "edge":
             built[name] = EdgeLikelihood(space, n_lines=params["n_lines"], half_length=params["half_length"],
                                          p0=params["p0"], sigma_e=params["sigma_e"], threshold=params["threshold"])
@@ -132,10 +135,10 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
     init : the contour at frame 0, an ellipse ``(cx, cy, a, b, angle)`` (semi-axes, a along x at
         angle 0, radians) or (J, 2) B-spline control points.
     rng : seed or generator (the only source of randomness).
-    cues : any of ``"color"``, ``"edge"`` and ``"oracle"`` (the latter needs ``oracle=``, a callable
+    cues : any of ``"color"``, ``"edge"``, ``"structure"`` and ``"oracle"`` (the latter needs ``oracle=``, a callable
         ``(t, states) -> (N,)`` log-likelihood, e.g. ``HeadSequence.oracle_log_likelihood``).
     n_particles : N_w.
-    sigmas : ``"calibrated"`` (:data:`CALIBRATED_SIGMAS`), ``"paper"`` (Table 1: σ_c = 5) or a dict.
+    sigmas : ``"calibrated"`` (:data:`CALIBRATED_SIGMAS`), ``"paper"`` (Table 1: σ_c = 5, σ_s = √15) or a dict.
     **params : bins, stride (colour); n_lines, half_length, p0, sigma_e, threshold (edges); beta,
         stationary_std, printed_order (dynamics); init_spread (std of the initial particles).
 
@@ -219,9 +222,9 @@ def calibration_distances(sequences: Sequence, cue: str, *, rng: int | np.random
 
     Returns
     -------
-    (T,) distances at the truth and (T, n_samples) at the prior samples (for colour, 1 - ρ).
+    (T,) distances at the truth and (T, n_samples) at the prior samples (for colour 1 - ρ, for structure 1 - n_s/N_s).
     """
-    check_choice(cue, "cue", ("color",))
+    check_choice(cue, "cue", ("color", "structure"))
     n_samples = check_positive_int(n_samples, "n_samples", minimum=2)
     frame_step = check_positive_int(frame_step, "frame_step")
     options = {**_PARAMS, **params}
@@ -230,7 +233,7 @@ def calibration_distances(sequences: Sequence, cue: str, *, rng: int | np.random
     for sequence in sequences:
         init = sequence.true_ellipses[0]
         space, start = _shape_space_of(init, sequence.frames.shape[1:3])
-        likelihood = build_cues([cue], space, sequence.frames[0], start, {"color": 1.0}, options)[cue]
+        likelihood = build_cues([cue], space, sequence.frames[0], start, {"color": 1.0, "structure": 1.0}, options)[cue]
         dynamics = default_dynamics(start, beta=options["beta"], stationary_std=options["stationary_std"])
         for t in range(2, len(sequence.frames), frame_step):
             previous = np.repeat(sequence.truth[t - 1][None], n_samples, axis=0)
