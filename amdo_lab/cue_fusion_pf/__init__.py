@@ -6,7 +6,7 @@ likelihoods fused in the log domain (eq. 6), the filter of Fig. 1, seeded head s
 ground truth, and OpenCV's CamShift as a peer.
 """
 
-from amdo_lab.cue_fusion_pf.data import HEAD_AXES, SEQUENCE_KINDS, HeadSequence, ellipse_iou, make_head_sequence
+from amdo_lab.cue_fusion_pf.data import HEAD_AXES, SEQUENCE_KINDS, HeadSequence, ellipse_iou, head_views, make_head_sequence
 from amdo_lab.cue_fusion_pf.dynamics import ARDynamics, ar2_coefficients, ar2_stationary_variance
 from amdo_lab.cue_fusion_pf.likelihoods import (
     PAPER_SIGMAS,
@@ -47,7 +47,7 @@ __all__ = [
     "HEAD_AXES", "HeadSequence", "PAPER_SIGMAS", "SEQUENCE_KINDS", "STATIONARY_STD", "ShapeSpace", "StructureLikelihood",
     "TrackResult", "ar2_coefficients", "ar2_stationary_variance", "bhattacharyya", "bspline_basis",
     "calibrate_sigma", "calibration_distances", "default_dynamics", "edge_line_likelihood", "ellipse_iou", "ellipse_points",
-    "fused_log_likelihood", "haar_features", "integral_image", "kernel_histogram", "load_or_train_cascade",
+    "fused_log_likelihood", "haar_features", "head_views", "integral_image", "kernel_histogram", "load_or_train_cascade",
     "make_head_sequence", "make_training_set", "simulate_measurement_lines", "systematic_resample", "track",
     "track_camshift", "train_cascade",
 ]

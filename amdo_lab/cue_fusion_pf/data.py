@@ -14,11 +14,11 @@ import numpy as np
 
 from amdo_lab.common import as_finite_array, check_choice, make_rng
 
-__all__ = ["HEAD_AXES", "HeadSequence", "SEQUENCE_KINDS", "ellipse_iou", "make_head_sequence"]
+__all__ = ["HEAD_AXES", "HeadSequence", "SEQUENCE_KINDS", "ellipse_iou", "head_views", "make_head_sequence"]
 
 #: Semi-axes (a along x, b along y) of the head at scale s = 0, in pixels.
 HEAD_AXES = (20.0, 26.0)
-SEQUENCE_KINDS = ("fusion", "edges")
+SEQUENCE_KINDS = ("fusion", "edges", "twin")
 FRAME_RATE = 25.0
 SKIN = np.array([214.0, 158.0, 126.0])
 HAIR = np.array([62.0, 42.0, 30.0])
@@ -141,6 +141,10 @@ def _trajectory(kind: str, rng: np.random.Generator, n_frames: int, width: int, 
     cx = width / 2 + 0.16 * width * np.sin(2 * np.pi * t / 120 + phase[0]) + 3 * np.sin(2 * np.pi * t / 17 + phase[1])
     cy = height / 2 + 8 * np.sin(2 * np.pi * t / 70 + phase[2])
     scale = 0.07 * np.sin(2 * np.pi * t / 90 + phase[1])
+    if kind == "twin":  # straight across the frame, meeting a twin coming the other way
+        cx = np.linspace(0.27 * width, 0.73 * width, n_frames)
+        cy = np.full(n_frames, height / 2.0)
+        scale = np.zeros(n_frames)
     if kind == "fusion":  # agile jumps: 14 to 18 px per frame for two frames, back and forth
         jumps = np.zeros((n_frames, 2))
         direction = rng.choice([-1.0, 1.0])
@@ -161,7 +165,9 @@ def make_head_sequence(kind: str, rng: int | np.random.Generator, *, noise_std: 
     ----------
     kind : ``"fusion"`` (128 frames: calm 0-28; colour cast and darkening on 29-80; a skin-coloured
         hand crossing the face on 81-103; three jumps of about 30 px in two frames on 104-127) or
-        ``"edges"`` (100 frames: the camera loses focus and contrast on 40-79, so edges vanish).
+        ``"edges"`` (100 frames: the camera loses focus and contrast on 40-79, so edges vanish) or
+        ``"twin"`` (80 frames: the head crosses an identical head walking the other way, in front of
+        it, on frames 30-49).
     rng : seed or generator.
     noise_std : standard deviation of the camera noise, grey levels.
 
@@ -174,18 +180,22 @@ def make_head_sequence(kind: str, rng: int | np.random.Generator, *, noise_std: 
     if noise_std < 0 or not np.isfinite(noise_std):
         raise ValueError(f"noise_std must be finite and non-negative, got {noise_std}")
     width, height = 256, 192
-    n_frames = 128 if kind == "fusion" else 100
+    n_frames = {"fusion": 128, "edges": 100, "twin": 80}[kind]
     background = _background(generator, height, width)
     truth = _trajectory(kind, generator, n_frames, width, height)
     if kind == "fusion":
         segments = {"calm": (0, 29), "lighting": (29, 81), "distractor": (81, 104), "agile": (104, n_frames)}
-    else:
+    elif kind == "edges":
         segments = {"sharp": (0, 40), "weak edges": (40, 80), "sharp again": (80, n_frames)}
+    else:
+        segments = {"apart": (0, 30), "crossing": (30, 50), "after": (50, n_frames)}
     frames = np.empty((n_frames, height, width, 3), np.uint8)
     for t in range(n_frames):
         image = background.copy()
         cx, cy, s = truth[t]
         _draw_head(image, cx, cy, 1.0 + s)
+        if kind == "twin":  # the twin walks the other way, in front
+            _draw_head(image, width - cx, cy, 1.0 + s)
         if kind == "fusion" and 81 <= t < 104:  # a hand crosses in front of the face
             progress = (t - 81) / 22.0
             hx = cx - 70 + 140 * progress
@@ -195,7 +205,7 @@ def make_head_sequence(kind: str, rng: int | np.random.Generator, *, noise_std: 
             strength = np.clip(min(t - 28, 81 - t) / 4.0, 0.0, 1.0)
             gain = 1.0 + strength * (np.array([0.45, 0.62, 1.05]) - 1.0)
             image *= gain.astype(np.float32)
-        elif 40 <= t < 80:  # defocus and low contrast: the edges fade
+        elif kind == "edges" and 40 <= t < 80:  # defocus and low contrast: the edges fade
             import cv2
             image = cv2.GaussianBlur(image.astype(np.float32), (0, 0), 3.5)
             image = 0.45 * image + 0.55 * image.mean(axis=(0, 1))
@@ -245,3 +255,25 @@ def _inside(ellipse: np.ndarray, gx: np.ndarray, gy: np.ndarray) -> np.ndarray:
     u = (gx - cx) * c + (gy - cy) * s
     v = -(gx - cx) * s + (gy - cy) * c
     return (u / a) ** 2 + (v / b) ** 2 <= 1.0
+
+
+def head_views(yaws: np.ndarray, *, rng: int | np.random.Generator, noise_std: float = 5.0) -> tuple[np.ndarray, np.ndarray]:
+    """One 256×192 frame per yaw (radians; 0 frontal, ±π/4 half profiles, π the back) and the true states.
+
+    Each frame has its own office background and a head at a random place and scale.
+
+    Returns
+    -------
+    frames : (n, 192, 256, 3) uint8; states : (n, 3) ``(cx, cy, s)``.
+    """
+    yaws = as_finite_array(yaws, "yaws", ndim=1)
+    generator = make_rng(rng)
+    frames, states = [], []
+    for yaw in yaws:
+        image = _background(generator, 192, 256)
+        state = np.array([generator.uniform(70, 186), generator.uniform(70, 110), generator.uniform(-0.1, 0.1)])
+        _draw_head(image, state[0], state[1], 1.0 + state[2], float(yaw))
+        image += noise_std * generator.standard_normal(image.shape, dtype=np.float32)
+        frames.append(np.clip(image + 0.5, 0, 255).astype(np.uint8))
+        states.append(state)
+    return np.array(frames), np.array(states)
