@@ -7,7 +7,13 @@ success rate, the pooled rate with its Wilson interval, median centre error on t
 and milliseconds per frame; then the paired Wilcoxon test of all three cues against each single
 cue on per-seed success, and the oracle filter's centre error (same filter, true likelihood).
 
-Run:  OMP_NUM_THREADS=1 .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --seeds 20
+Peers on the same frames: cv2.CamShift, cv2.TrackerMIL (not seedable: its runs vary a little), and our
+three-cue likelihood inside the generic pfilter package (linear weights exp(log L - max log L), numpy's
+global generator seeded per run). ``--lighting`` instead measures Fig. 3: colour-only success on the
+lighting frames against the size of the colour cast.
+
+Run:  OMP_NUM_THREADS=1 .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --seeds 20        (~25 min)
+      OMP_NUM_THREADS=1 .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --lighting --seeds 5
 """
 
 from __future__ import annotations
@@ -24,7 +30,12 @@ def main() -> None:
     parser.add_argument("--particles", type=int, default=300, help="N_w (default 300)")
     parser.add_argument("--sigmas", choices=("calibrated", "paper"), default="calibrated")
     parser.add_argument("--subsets", default="all", help="'all' (7 subsets) or e.g. 'color+edge,structure'")
+    parser.add_argument("--no-slow-peers", action="store_true", help="skip TrackerMIL and pfilter")
+    parser.add_argument("--lighting", action="store_true", help="Fig. 3: colour only against the cast strength")
     args = parser.parse_args()
+    if args.lighting:
+        lighting_sweep(args)
+        return
 
     import numpy as np
     from scipy.stats import wilcoxon
@@ -37,7 +48,8 @@ def main() -> None:
         subsets = [c for r in (1, 2, 3) for c in itertools.combinations(cues, r)]
     else:
         subsets = [tuple(s.split("+")) for s in args.subsets.split(",")]
-    names = ["+".join(s) for s in subsets] + ["camshift", "oracle"]
+    slow_peers = [] if args.no_slow_peers else ["mil", "pfilter (3 cues)"]
+    names = ["+".join(s) for s in subsets] + ["camshift"] + slow_peers + ["oracle"]
     success = {name: [] for name in names}
     errors = {name: [] for name in names}
     ms = {name: [] for name in names}
@@ -49,6 +61,10 @@ def main() -> None:
         runs = {"+".join(s): cf.track(sequence.frames, init, rng=10_000 + seed, cues=s, n_particles=args.particles,
                                       sigmas=args.sigmas) for s in subsets}
         runs["camshift"] = cf.track_camshift(sequence.frames, init)
+        if slow_peers:
+            runs["mil"] = cf.track_mil(sequence.frames, init)
+            runs["pfilter (3 cues)"] = cf.track_pfilter(sequence.frames, init, seed=10_000 + seed, cues=cues,
+                                                        n_particles=args.particles, sigmas=args.sigmas)
         runs["oracle"] = cf.track(sequence.frames, init, rng=10_000 + seed, cues=("oracle",),
                                   n_particles=args.particles, oracle=sequence.oracle_log_likelihood)
         for name, result in runs.items():
@@ -77,8 +93,32 @@ def main() -> None:
     if best in success:
         ratio = np.median(ms["camshift"]) / np.median(ms[best])
         print(f"\nCamShift / three cues, time per frame: {ratio:.3f}")
+        if slow_peers:
+            print(f"pfilter / ours, same three-cue likelihood, time per frame: "
+                  f"{np.median(ms['pfilter (3 cues)']) / np.median(ms[best]):.2f}")
         print(f"oracle median centre error {np.nanmedian(errors['oracle']):.2f} px; "
               f"three cues {np.nanmedian(errors[best]):.2f} px (bound 2 x oracle + 2 = {2 * np.nanmedian(errors['oracle']) + 2:.2f})")
+
+
+def lighting_sweep(args) -> None:
+    """Fig. 3: share of the lighting frames (29-80) tracked by colour alone, against the cast strength."""
+    import numpy as np
+
+    from amdo_lab import cue_fusion_pf as cf
+    from amdo_lab.common import rate_interval
+
+    print(f"{'cast strength':>14}{'colour only, lighting frames [95% Wilson]':>46}{'three cues':>14}")
+    for strength in (0.0, 0.25, 0.5, 0.75, 1.0):
+        colour, three = [], []
+        for seed in range(args.first_seed, args.first_seed + args.seeds):
+            sequence = cf.make_head_sequence("fusion", seed, cast_strength=strength)
+            start, stop = sequence.segments["lighting"]
+            for cues, store in ((("color",), colour), (("color", "edge", "structure"), three)):
+                result = cf.track(sequence.frames[:stop], sequence.true_ellipses[0], rng=10_000 + seed, cues=cues,
+                                  n_particles=args.particles, sigmas=args.sigmas)
+                store.append(cf.ellipse_iou(result.ellipses[start:], sequence.true_ellipses[start:stop]) >= 0.5)
+        c, t = rate_interval(np.concatenate(colour)), rate_interval(np.concatenate(three))
+        print(f"{strength:>14.2f}{c.rate:>26.3f} [{c.low:.3f}, {c.high:.3f}]{t.rate:>14.3f}", flush=True)
 
 
 if __name__ == "__main__":

@@ -3,7 +3,7 @@
 Shape space and B-spline contour (eqs. 1-3), AR(2) dynamics (eqs. 4-5), colour (eqs. 7-11),
 structure (eq. 12: a two-level boosted Haar cascade trained here) and edge (eqs. 13-14)
 likelihoods fused in the log domain (eq. 6), the filter of Fig. 1, seeded head sequences with
-ground truth, and OpenCV's CamShift as a peer.
+ground truth, and OpenCV's CamShift and TrackerMIL as peers.
 """
 
 from amdo_lab.cue_fusion_pf.data import HEAD_AXES, SEQUENCE_KINDS, HeadSequence, ellipse_iou, head_views, make_head_sequence
@@ -20,7 +20,7 @@ from amdo_lab.cue_fusion_pf.likelihoods import (
     kernel_histogram,
     simulate_measurement_lines,
 )
-from amdo_lab.cue_fusion_pf.peers import track_camshift
+from amdo_lab.cue_fusion_pf.peers import track_camshift, track_mil, track_pfilter
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace, bspline_basis, ellipse_points
 from amdo_lab.cue_fusion_pf.structure import (
     BoostedCascade,
@@ -49,5 +49,5 @@ __all__ = [
     "calibrate_sigma", "calibration_distances", "default_dynamics", "edge_line_likelihood", "ellipse_iou", "ellipse_points",
     "fused_log_likelihood", "haar_features", "head_views", "integral_image", "kernel_histogram", "load_or_train_cascade",
     "make_head_sequence", "make_training_set", "simulate_measurement_lines", "systematic_resample", "track",
-    "track_camshift", "train_cascade",
+    "track_camshift", "track_mil", "track_pfilter", "train_cascade",
 ]

@@ -158,7 +158,8 @@ def _trajectory(kind: str, rng: np.random.Generator, n_frames: int, width: int, 
     return np.stack([cx, cy, scale], axis=1)
 
 
-def make_head_sequence(kind: str, rng: int | np.random.Generator, *, noise_std: float = 5.0) -> HeadSequence:
+def make_head_sequence(kind: str, rng: int | np.random.Generator, *, noise_std: float = 5.0,
+                       cast_strength: float = 1.0) -> HeadSequence:
     """A seeded 256×192 RGB head sequence at 25 fps with its ground truth.
 
     Parameters
@@ -170,6 +171,8 @@ def make_head_sequence(kind: str, rng: int | np.random.Generator, *, noise_std: 
         it, on frames 30-49).
     rng : seed or generator.
     noise_std : standard deviation of the camera noise, grey levels.
+    cast_strength : size of the "fusion" kind's lighting change, 0 (none) to 1 (channel gains
+        0.45, 0.62, 1.05); values in between scale the gains' departure from 1.
 
     Returns
     -------
@@ -179,6 +182,8 @@ def make_head_sequence(kind: str, rng: int | np.random.Generator, *, noise_std: 
     generator = make_rng(rng)
     if noise_std < 0 or not np.isfinite(noise_std):
         raise ValueError(f"noise_std must be finite and non-negative, got {noise_std}")
+    if not 0.0 <= cast_strength <= 1.5:
+        raise ValueError(f"cast_strength must be in [0, 1.5], got {cast_strength}")
     width, height = 256, 192
     n_frames = {"fusion": 128, "edges": 100, "twin": 80}[kind]
     background = _background(generator, height, width)
@@ -202,7 +207,7 @@ def make_head_sequence(kind: str, rng: int | np.random.Generator, *, noise_std: 
             window, dx, dy = _window(image, hx, cy + 10, 16.0, -20.0, 20.0)
             _paint(window, _coverage(dx, dy, 13.0, 17.0, softness=5.0), SKIN * 0.97)
         if kind == "fusion":  # colour cast and darkening ramping in over 29-33 and out over 77-80
-            strength = np.clip(min(t - 28, 81 - t) / 4.0, 0.0, 1.0)
+            strength = cast_strength * np.clip(min(t - 28, 81 - t) / 4.0, 0.0, 1.0)
             gain = 1.0 + strength * (np.array([0.45, 0.62, 1.05]) - 1.0)
             image *= gain.astype(np.float32)
         elif kind == "edges" and 40 <= t < 80:  # defocus and low contrast: the edges fade

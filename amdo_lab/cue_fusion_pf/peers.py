@@ -1,4 +1,5 @@
-"""Peers on the same frames: OpenCV's CamShift (mean shift on a colour back-projection, ref. [13])."""
+"""Peers on the same frames: OpenCV's CamShift (mean shift on a colour back-projection, ref. [13]) and TrackerMIL,
+and our likelihood inside the generic particle filter of the ``pfilter`` package."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ import numpy as np
 from amdo_lab.common import as_finite_array, check_positive_int
 from amdo_lab.cue_fusion_pf.tracker import TrackResult, _check_frames
 
-__all__ = ["track_camshift"]
+__all__ = ["track_camshift", "track_mil", "track_pfilter"]
 
 
 def track_camshift(frames: np.ndarray, init: np.ndarray, *, hue_bins: int = 32) -> TrackResult:
@@ -59,3 +60,103 @@ def track_camshift(frames: np.ndarray, init: np.ndarray, *, hue_bins: int = 32) 
     states = np.column_stack([ellipses[:, :2], scale])
     return TrackResult(states, ellipses, ellipses[:, :2].copy(), np.full(len(frames), np.nan), seconds,
                        states[:, None, :], np.ones((len(frames), 1)))
+
+
+def track_mil(frames: np.ndarray, init: np.ndarray) -> TrackResult:
+    """Track with OpenCV's ``cv2.TrackerMIL`` (online multiple-instance boosting on Haar features).
+
+    MIL tracks a box of fixed size; the ellipse returned is the one inscribed in the box. MIL draws
+    its training samples from a generator inside OpenCV that ``cv2.setRNGSeed`` does not reach, so
+    two runs on the same frames can differ by a few pixels (this is why the chapter's notebook, whose
+    outputs are compared run to run, leaves it to the benchmark).
+
+    Parameters
+    ----------
+    frames : (T, H, W, 3) uint8 RGB.
+    init : initial ellipse ``(cx, cy, a, b, angle)``; MIL starts from its bounding box.
+    """
+    frames = _check_frames(frames)
+    init = as_finite_array(init, "init", shape=(5,))
+    if init[2] <= 0 or init[3] <= 0:
+        raise ValueError(f"init ellipse axes must be positive, got a={init[2]}, b={init[3]}")
+    began = time.perf_counter()
+    cx, cy, a, b, _ = init
+    tracker = cv2.TrackerMIL_create()
+    tracker.init(cv2.cvtColor(frames[0], cv2.COLOR_RGB2BGR), (int(round(cx - a)), int(round(cy - b)), int(round(2 * a)), int(round(2 * b))))
+    ellipses = np.empty((len(frames), 5))
+    ellipses[0] = init
+    for k in range(1, len(frames)):
+        found, (x, y, w, h) = tracker.update(cv2.cvtColor(frames[k], cv2.COLOR_RGB2BGR))
+        ellipses[k] = (x + w / 2.0, y + h / 2.0, w / 2.0, h / 2.0, 0.0) if found else ellipses[k - 1]
+    seconds = time.perf_counter() - began
+    states = np.column_stack([ellipses[:, :2], np.maximum(ellipses[:, 2], ellipses[:, 3]) / max(a, b) - 1.0])
+    return TrackResult(states, ellipses, ellipses[:, :2].copy(), np.full(len(frames), np.nan), seconds,
+                       states[:, None, :], np.ones((len(frames), 1)))
+
+
+def track_pfilter(frames: np.ndarray, init: np.ndarray, *, seed: int, cues=("color", "edge"), n_particles: int = 300,
+                  sigmas="calibrated") -> TrackResult:
+    """Our likelihoods and AR(2) dynamics inside the generic ``pfilter.ParticleFilter`` (a peer).
+
+    pfilter works with *linear* weights, which it multiplies into the previous weights, and draws
+    from numpy's global generator. So the fused log-likelihood of eq. (6) is scaled before it is
+    handed over: ``exp(log L - max log L)`` (the largest weight is 1, none overflows), and the
+    global generator is seeded with ``seed`` (``numpy.random.seed``). A particle is the 6-vector
+    ``(X_k, X_{k-1})`` so that the second-order dynamics fit pfilter's first-order interface.
+
+    Parameters
+    ----------
+    frames, init, cues, n_particles, sigmas : as for :func:`track`.
+    seed : int seed of numpy's global generator (pfilter cannot take a Generator).
+
+    Notes
+    -----
+    Needs the ``pfilter`` package (pip install pfilter).
+    """
+    from pfilter import ParticleFilter, systematic_resample as pfilter_systematic
+
+    from amdo_lab.cue_fusion_pf.tracker import (
+        _PARAMS, CALIBRATED_SIGMAS, _shape_space_of, build_cues, default_dynamics,
+    )
+    from amdo_lab.cue_fusion_pf.likelihoods import PAPER_SIGMAS
+
+    frames = _check_frames(frames)
+    n_particles = check_positive_int(n_particles, "n_particles", minimum=2)
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"seed must be a non-negative int (pfilter uses numpy's global generator), got {seed!r}")
+    space, start = _shape_space_of(init, frames.shape[1:3])
+    sigma_table = {"calibrated": CALIBRATED_SIGMAS, "paper": PAPER_SIGMAS}[sigmas] if isinstance(sigmas, str) else sigmas
+    cue_objects = build_cues(cues, space, frames[0], start, sigma_table, _PARAMS)
+    dynamics = default_dynamics(start)
+    spread = np.asarray(_PARAMS["init_spread"])
+    np.random.seed(seed)
+
+    def prior(n):
+        first = start + spread * np.random.standard_normal((n, 3))
+        return np.hstack([first, first])  # at rest: X_{k-1} = X_k
+
+    def move(particles, **_):  # eq. (5) without its noise; the old X_k becomes X_{k-1}
+        new = dynamics.propagate(particles[:, :3], particles[:, 3:], np.zeros((len(particles), 3)))
+        return np.hstack([new, particles[:, :3]])
+
+    def add_noise(particles, **_):
+        particles = particles.copy()
+        particles[:, :3] += dynamics.step_std * np.random.standard_normal((len(particles), 3))
+        return particles
+
+    def observe(particles, frame=None, **_):  # the fused log-likelihood, eq. (6)
+        return sum(cue.log_likelihood(frame, particles[:, :3]) for cue in cue_objects.values())[:, None]
+
+    def weigh(log_likelihoods, _observed, **_):
+        return np.exp(log_likelihoods[:, 0] - log_likelihoods[:, 0].max())
+
+    pf = ParticleFilter(prior_fn=prior, observe_fn=observe, n_particles=n_particles, dynamics_fn=move,
+                        noise_fn=add_noise, weight_fn=weigh, resample_fn=pfilter_systematic)
+    began = time.perf_counter()
+    states, ess = np.empty((len(frames), 3)), np.empty(len(frames))
+    for k, frame in enumerate(frames):
+        pf.update(np.zeros(1), frame=frame)
+        states[k], ess[k] = pf.mean_state[:3], pf.n_eff * n_particles
+    seconds = time.perf_counter() - began
+    ellipses = space.ellipses(states)
+    return TrackResult(states, ellipses, ellipses[:, :2].copy(), ess, seconds, states[:, None, :], np.ones((len(frames), 1)))
