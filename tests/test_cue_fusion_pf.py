@@ -195,6 +195,8 @@ def test_edge_bad_input(space):
             cf.EdgeLikelihood(space, p0=p0)
     with pytest.raises(ValueError, match="sigma_e"):
         cf.EdgeLikelihood(space, sigma_e=-1.0)
+    with pytest.raises(ValueError, match="states"):
+        cf.EdgeLikelihood(space).log_likelihood(np.zeros((20, 20, 3), np.uint8), np.zeros((4, 4)))
 
 
 def test_printed_sigmas_make_the_fusion_edge_only(sequence, space):

@@ -252,7 +252,7 @@ class EdgeLikelihood:
         ``cv2.remap`` (the same bilinear interpolation with 1/32-pixel weights, several times faster).
         """
         grey = self.grey(frame)
-        states = np.atleast_2d(np.asarray(states, float))
+        states = np.atleast_2d(self.shape_space._check_states(states))
         if reference:
             scale = 1.0 + states[:, 2]
             centres = states[:, None, :2] + scale[:, None, None] * self._points  # (N, N_e, 2)

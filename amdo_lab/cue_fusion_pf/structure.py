@@ -288,7 +288,7 @@ class BoostedCascade:
         return self.stages_passed_patches(normalised_patches(np.asarray(image), boxes, self.window))
 
 
-def _train_cascade_level(features, all_values_fn, positives, negative_pool, *, n_stages, n_negatives,
+def _train_cascade_level(features, positives, negative_pool, *, n_stages, n_negatives,
                          max_stumps, min_detection, max_false_positive, rng):
     """Stages trained one after the other; each stage's negatives are pool windows the cascade still accepts."""
     pos_integrals = integral_image(positives)
@@ -328,7 +328,7 @@ def train_cascade(training: TrainingSet, *, rng: int | np.random.Generator, firs
     everyone = np.concatenate(list(training.positives.values()))
     options = dict(n_negatives=n_negatives, max_stumps=max_stumps, min_detection=min_detection,
                    max_false_positive=max_false_positive, rng=generator)
-    first = _train_cascade_level(features, None, everyone, training.negatives, n_stages=first_stages, **options)
+    first = _train_cascade_level(features, everyone, training.negatives, n_stages=first_stages, **options)
     # the negatives that reach level 2
     pool = training.negatives
     integrals = integral_image(pool)
@@ -340,7 +340,7 @@ def train_cascade(training: TrainingSet, *, rng: int | np.random.Generator, firs
     for view, positives in training.positives.items():
         others = [p for name, p in training.positives.items() if name != view]
         hard = np.concatenate([pool[keep], training.near_misses, *others])
-        second[view] = _train_cascade_level(features, None, positives, hard, n_stages=second_stages, **options)
+        second[view] = _train_cascade_level(features, positives, hard, n_stages=second_stages, **options)
     return BoostedCascade(first, second, WINDOW, time.perf_counter() - began)
 
 
