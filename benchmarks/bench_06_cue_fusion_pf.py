@@ -13,7 +13,7 @@ global generator seeded per run). ``--lighting`` instead measures Fig. 3: colour
 lighting frames against the size of the colour cast.
 
 Run:  OMP_NUM_THREADS=1 .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --seeds 20        (~25 min)
-      OMP_NUM_THREADS=1 .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --lighting --seeds 5
+      OMP_NUM_THREADS=1 .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --lighting --seeds 4 [--bins 8]
 """
 
 from __future__ import annotations
@@ -30,6 +30,7 @@ def main() -> None:
     parser.add_argument("--particles", type=int, default=300, help="N_w (default 300)")
     parser.add_argument("--sigmas", choices=("calibrated", "paper"), default="calibrated")
     parser.add_argument("--subsets", default="all", help="'all' (7 subsets) or e.g. 'color+edge,structure'")
+    parser.add_argument("--bins", type=int, default=32, help="colour histogram bins per channel (default 32, Table 1)")
     parser.add_argument("--no-slow-peers", action="store_true", help="skip TrackerMIL and pfilter")
     parser.add_argument("--lighting", action="store_true", help="Fig. 3: colour only against the cast strength")
     args = parser.parse_args()
@@ -59,7 +60,7 @@ def main() -> None:
         sequence = cf.make_head_sequence("fusion", seed)
         init = sequence.true_ellipses[0]
         runs = {"+".join(s): cf.track(sequence.frames, init, rng=10_000 + seed, cues=s, n_particles=args.particles,
-                                      sigmas=args.sigmas) for s in subsets}
+                                      sigmas=args.sigmas, bins=args.bins) for s in subsets}
         runs["camshift"] = cf.track_camshift(sequence.frames, init)
         if slow_peers:
             runs["mil"] = cf.track_mil(sequence.frames, init)
@@ -107,6 +108,7 @@ def lighting_sweep(args) -> None:
     from amdo_lab import cue_fusion_pf as cf
     from amdo_lab.common import rate_interval
 
+    print(f"{args.bins}^3 RGB bins, sigma_c = {args.sigmas}")
     print(f"{'cast strength':>14}{'colour only, lighting frames [95% Wilson]':>46}{'three cues':>14}")
     for strength in (0.0, 0.25, 0.5, 0.75, 1.0):
         colour, three = [], []
@@ -115,7 +117,7 @@ def lighting_sweep(args) -> None:
             start, stop = sequence.segments["lighting"]
             for cues, store in ((("color",), colour), (("color", "edge", "structure"), three)):
                 result = cf.track(sequence.frames[:stop], sequence.true_ellipses[0], rng=10_000 + seed, cues=cues,
-                                  n_particles=args.particles, sigmas=args.sigmas)
+                                  n_particles=args.particles, sigmas=args.sigmas, bins=args.bins)
                 store.append(cf.ellipse_iou(result.ellipses[start:], sequence.true_ellipses[start:stop]) >= 0.5)
         c, t = rate_interval(np.concatenate(colour)), rate_interval(np.concatenate(three))
         print(f"{strength:>14.2f}{c.rate:>26.3f} [{c.low:.3f}, {c.high:.3f}]{t.rate:>14.3f}", flush=True)
