@@ -31,6 +31,7 @@ def main() -> None:
     parser.add_argument("--sigmas", choices=("calibrated", "paper"), default="calibrated")
     parser.add_argument("--subsets", default="all", help="'all' (7 subsets) or e.g. 'color+edge,structure'")
     parser.add_argument("--bins", type=int, default=32, help="colour histogram bins per channel (default 32, Table 1)")
+    parser.add_argument("--printed-ar2", action="store_true", help="eq. (4) as printed (unstable) in our filter")
     parser.add_argument("--no-slow-peers", action="store_true", help="skip TrackerMIL and pfilter")
     parser.add_argument("--lighting", action="store_true", help="Fig. 3: colour only against the cast strength")
     args = parser.parse_args()
@@ -59,8 +60,17 @@ def main() -> None:
     for seed in range(args.first_seed, args.first_seed + args.seeds):
         sequence = cf.make_head_sequence("fusion", seed)
         init = sequence.true_ellipses[0]
-        runs = {"+".join(s): cf.track(sequence.frames, init, rng=10_000 + seed, cues=s, n_particles=args.particles,
-                                      sigmas=args.sigmas, bins=args.bins) for s in subsets}
+        runs = {}
+        for subset in subsets:
+            try:
+                runs["+".join(subset)] = cf.track(sequence.frames, init, rng=10_000 + seed, cues=subset,
+                                                  n_particles=args.particles, sigmas=args.sigmas, bins=args.bins,
+                                                  printed_order=args.printed_ar2)
+            except RuntimeError as error:  # a diverging filter (eq. 4 as printed) counts as lost on every frame
+                print(f"seed {seed}, {'+'.join(subset)}: {error}")
+                lost = np.full((len(sequence.frames), 5), [0.0, 0.0, 1.0, 1.0, 0.0])
+                runs["+".join(subset)] = cf.TrackResult(lost[:, :3], lost, lost[:, :2], np.ones(len(lost)), 0.0,
+                                                        lost[:, None, :3], np.ones((len(lost), 1)))
         runs["camshift"] = cf.track_camshift(sequence.frames, init)
         if slow_peers:
             runs["mil"] = cf.track_mil(sequence.frames, init)

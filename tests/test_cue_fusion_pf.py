@@ -363,3 +363,10 @@ def test_track_accepts_control_points(sequence, space):
     assert np.all(cf.ellipse_iou(result.ellipses, sequence.true_ellipses[:5]) > 0.8)
     with pytest.raises(ValueError, match="init"):
         cf.track(sequence.frames[:2], control[:, :1], rng=0)
+
+
+def test_track_with_printed_eq4_diverges(sequence):
+    """The filter with eq. (4) as printed throws its particles away within about a second of video."""
+    with pytest.raises(RuntimeError, match="diverged"):
+        cf.track(sequence.frames[:60], sequence.true_ellipses[0], rng=1, cues=("color",), n_particles=50,
+                 printed_order=True)

@@ -20,6 +20,8 @@ CUES = ("color", "edge", "structure", "oracle")
 #: σ_c and σ_s chosen by :func:`calibrate_sigma` on held-out "fusion" seeds (seeds 100-104, rng=0, every 4th frame; the tests re-run it).
 CALIBRATED_SIGMAS = {"color": 0.066, "structure": 0.238}
 FRAME_PERIOD = 1.0 / 25.0
+#: Particles smaller than this fraction of the template get weight 0 (not a contour any more).
+MIN_SCALE = 0.1
 #: Our choices for what the paper does not state: stationary std of (t_x, t_y, s) and of the AR(2).
 STATIONARY_STD = (100.0, 100.0, 0.1)
 _PARAMS = {"bins": 32, "stride": 2.0, "n_lines": 40, "half_length": 12, "p0": 0.2, "sigma_e": float(np.sqrt(2.0)),
@@ -191,17 +193,22 @@ def _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles
     for k in range(n_frames):
         if k > 0:  # 2. sampling from the transition prior, eq. (5); particles carry X_k and X_{k-1}
             current, previous = dynamics.step(current, previous, rng=generator), current
-        # 3a. weights: eq. (6) in the log domain
-        log_weights = np.zeros(n_particles)
+        # 3a. weights: eq. (6) in the log domain, on the particles that are a contour at all
+        valid = np.all(np.isfinite(current), axis=1) & (current[:, 2] > MIN_SCALE - 1.0)
+        if not valid.any():
+            raise RuntimeError(f"the filter diverged at frame {k}: no particle has a finite state of positive size "
+                               "(unstable dynamics?)")
+        log_weights = np.full(n_particles, -np.inf)
+        log_weights[valid] = 0.0
         for cue in cue_objects.values():
-            log_weights += cue.log_likelihood(frames[k], current)
+            log_weights[valid] += cue.log_likelihood(frames[k], current[valid])
         if oracle is not None:
-            log_weights += oracle(k, current)
+            log_weights[valid] += oracle(k, current[valid])
         # 3b. normalise (subtract the maximum first: exp of -1e4 would underflow to 0/0)
         weights = np.exp(log_weights - log_weights.max())
         weights /= weights.sum()
         # 4. output: the weighted mean
-        states[k] = weights @ current
+        states[k] = weights[valid] @ current[valid]
         ess[k] = 1.0 / np.sum(weights**2)
         all_particles[k], all_weights[k] = current, weights
         # 5. selection
