@@ -360,7 +360,7 @@ def test_cast_strength_scales_the_lighting_change():
 def test_track_accepts_control_points(sequence, space):
     control = space.control_points(sequence.truth[0])[0]
     result = cf.track(sequence.frames[:5], control, rng=0, cues=("color",), n_particles=50)
-    assert np.all(cf.ellipse_iou(result.ellipses, sequence.true_ellipses[:5]) > 0.8)
+    assert np.all(cf.ellipse_iou(result.ellipses, sequence.true_ellipses[:5]) > 0.6)
     with pytest.raises(ValueError, match="init"):
         cf.track(sequence.frames[:2], control[:, :1], rng=0)
 

@@ -20,8 +20,8 @@ CUES = ("color", "edge", "structure", "oracle")
 #: σ_c and σ_s chosen by :func:`calibrate_sigma` on held-out "fusion" seeds (seeds 100-104, rng=0, every 4th frame; the tests re-run it).
 CALIBRATED_SIGMAS = {"color": 0.066, "structure": 0.238}
 FRAME_PERIOD = 1.0 / 25.0
-#: Particles smaller than this fraction of the template get weight 0 (not a contour any more).
-MIN_SCALE = 0.1
+#: Particles smaller or larger than these multiples of the template get weight 0 (not a head on the frame).
+MIN_SCALE, MAX_SCALE = 0.1, 10.0
 #: Our choices for what the paper does not state: stationary std of (t_x, t_y, s) and of the AR(2).
 STATIONARY_STD = (100.0, 100.0, 0.1)
 _PARAMS = {"bins": 32, "stride": 2.0, "n_lines": 40, "half_length": 12, "p0": 0.2, "sigma_e": float(np.sqrt(2.0)),
@@ -194,9 +194,9 @@ def _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles
         if k > 0:  # 2. sampling from the transition prior, eq. (5); particles carry X_k and X_{k-1}
             current, previous = dynamics.step(current, previous, rng=generator), current
         # 3a. weights: eq. (6) in the log domain, on the particles that are a contour at all
-        valid = np.all(np.isfinite(current), axis=1) & (current[:, 2] > MIN_SCALE - 1.0)
+        valid = np.all(np.isfinite(current), axis=1) & (current[:, 2] > MIN_SCALE - 1.0) & (current[:, 2] < MAX_SCALE - 1.0)
         if not valid.any():
-            raise RuntimeError(f"the filter diverged at frame {k}: no particle has a finite state of positive size "
+            raise RuntimeError(f"the filter diverged at frame {k}: no particle has a finite state of a plausible size "
                                "(unstable dynamics?)")
         log_weights = np.full(n_particles, -np.inf)
         log_weights[valid] = 0.0
