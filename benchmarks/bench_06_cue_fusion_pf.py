@@ -101,7 +101,7 @@ def main() -> None:
                 other = np.array([s.mean() for s in success[single]])
                 p = wilcoxon(ours, other, alternative="greater", zero_method="zsplit").pvalue if np.any(ours != other) else 1.0
                 print(f"  {single:<10} median difference {np.median(ours - other):+.3f}  one-sided p = {p:.2g}")
-    if best in success:
+    if best in success and np.median(ms[best]) > 0:  # a diverged run has no time
         ratio = np.median(ms["camshift"]) / np.median(ms[best])
         print(f"\nCamShift / three cues, time per frame: {ratio:.3f}")
         if slow_peers:
