@@ -5,13 +5,22 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.amdo-installed
 NBVAL  := --nbval --nbval-sanitize-with tests/nbval_sanitize.cfg
-EGL_PACKAGES := libegl1 libegl-mesa0
+EGL_PACKAGES     := libegl1 libegl-mesa0
+BROWSER_PACKAGES := chromium chromium-driver
+R_PACKAGES       := r-base-core r-cran-lme4
 
-.PHONY: book test lab figures check-env setup egl clean
+.PHONY: book site test lab figures check-env setup system-packages egl clean
 
+# Execute every chapter, then build the HTML book into build/book/.
 book: $(STAMP)
 	$(PY) -m amdo_lab build
 
+# The HTML book alone, from the executed notebooks as they are (nothing is executed).
+site: $(STAMP)
+	$(PY) -m amdo_lab site
+
+# Unit tests, nbval over every notebook, and the book in a headless browser
+# (tests/test_browser.py builds the site from the committed notebooks).
 test: $(STAMP)
 	$(PY) -m pytest tests notebooks $(NBVAL)
 
@@ -32,10 +41,32 @@ $(STAMP): environment.txt pyproject.toml
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -r environment.txt
-	@$(MAKE) --no-print-directory egl
+	@$(MAKE) --no-print-directory system-packages
 	@touch $(STAMP)
 
-# Off-screen 3-D needs EGL. Install it when missing and we are root; otherwise say how.
+# System packages, installed with apt-get when missing and we are root; otherwise the command
+# is printed and the workbook runs without them:
+#   EGL       off-screen 3-D figures (without it they fall back to matplotlib)
+#   Chromium  and its driver: the browser test of the book (skipped without them, except in CI)
+#   R + lme4  chapter 5's cross-check of our GLMM fit (skipped without them)
+system-packages:
+	@missing=""; \
+	ldconfig -p 2>/dev/null | grep -q 'libEGL\.so\.1' || missing="$$missing $(EGL_PACKAGES)"; \
+	{ command -v chromium || command -v chromium-browser; } >/dev/null 2>&1 || missing="$$missing chromium"; \
+	command -v chromedriver >/dev/null 2>&1 || missing="$$missing chromium-driver"; \
+	Rscript -e 'suppressMessages(library(lme4))' >/dev/null 2>&1 || missing="$$missing $(R_PACKAGES)"; \
+	if [ -z "$$missing" ]; then \
+	  echo "system packages found: EGL, Chromium and chromedriver, R with lme4"; \
+	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
+	  echo "installing system packages:$$missing"; \
+	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing; \
+	else \
+	  echo "missing system packages:$$missing (3-D figures fall back to matplotlib; the browser"; \
+	  echo "and lme4 tests are skipped). To install them run:"; \
+	  echo "  sudo apt-get update && sudo apt-get install -y$$missing"; \
+	fi
+
+# Kept for the README's troubleshooting: EGL alone.
 egl:
 	@if ldconfig -p 2>/dev/null | grep -q 'libEGL\.so\.1'; then \
 	  echo "EGL found: 3-D figures render off-screen"; \

@@ -1,4 +1,4 @@
-"""Command line of the workbook: ``python -m amdo_lab build | figures | execute | check-env``."""
+"""Command line of the workbook: ``python -m amdo_lab build | site | figures | execute | check-env``."""
 
 from __future__ import annotations
 
@@ -12,16 +12,19 @@ from amdo_lab.chapters import available_chapters, find_chapter
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m amdo_lab", description=__doc__)
     commands = parser.add_subparsers(dest="command", required=True)
-    build = commands.add_parser("build", help="execute the chapters and write build/book/index.html")
+    build = commands.add_parser("build", help="execute the chapters, then build the HTML book in build/book/")
     build.add_argument("--chapter", type=int, action="append", help="only this chapter (repeatable)")
     build.add_argument("--write-back", action="store_true",
                        help="also store the fresh outputs in notebooks/ (for developers)")
     build.add_argument("--no-progress", action="store_true", help="no progress bars")
+    site = commands.add_parser(
+        "site", help="build the HTML book from the executed notebooks, without running them")
+    site.add_argument("--verbose", action="store_true", help="show sphinx-build's progress")
     figures = commands.add_parser("figures", help="execute chapters and save their figures as PNG")
     figures.add_argument("--chapter", type=int, action="append", help="only this chapter (repeatable)")
     execute = commands.add_parser("execute", help="re-run notebooks in place (refresh committed outputs)")
     execute.add_argument("--chapter", type=int, action="append", help="only this chapter (repeatable)")
-    commands.add_parser("check-env", help="check packages, EGL and off-screen 3-D rendering")
+    commands.add_parser("check-env", help="check packages, EGL, the browser and off-screen 3-D rendering")
     return parser
 
 
@@ -40,12 +43,22 @@ def main(argv: list[str] | None = None) -> int:
         print("\n".join(report.lines))
         print("environment ready" if report.ok else "environment NOT ready: see the FAIL lines")
         return 0 if report.ok else 1
+    if args.command == "site":
+        from amdo_lab.book import BUILD_DIR, BookError, build_site
+
+        try:
+            index = build_site(executed_dir=BUILD_DIR / "executed", quiet=not args.verbose)
+        except BookError as error:
+            print(f"error: {error}", file=sys.stderr)
+            return 1
+        print(f"The book is ready: open {Path(index).resolve()}")
+        return 0
     try:
         chapters = _select(args.chapter)
     except ValueError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2
-    from amdo_lab.book import BookError, build_book, execute_chapter, render_figures
+    from amdo_lab.book import BookError, SiteError, build_book, execute_chapter, render_figures
 
     try:
         if args.command == "build":
@@ -62,9 +75,13 @@ def main(argv: list[str] | None = None) -> int:
             for chapter in chapters:
                 nbformat.write(execute_chapter(chapter), chapter.path)
                 print(f"chapter {chapter.number}: {chapter.notebook} re-executed in place")
+    except SiteError as error:
+        print(f"\nerror: {error}", file=sys.stderr)
+        return 1
     except BookError as error:
         print(f"\nerror: {error}", file=sys.stderr)
-        print("chapters built before this one are still in build/book/", file=sys.stderr)
+        print("chapters executed before this one are in build/executed/; "
+              "`python -m amdo_lab site` builds the book from what is there", file=sys.stderr)
         return 1
     return 0
 

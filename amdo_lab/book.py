@@ -1,34 +1,44 @@
-"""Execute the chapter notebooks headless and write the static, offline HTML book.
+"""Execute the chapter notebooks headless and build the book, a Sphinx site, from them.
 
 ``python -m amdo_lab build`` (what ``make book`` runs) executes every chapter in order with a
 progress bar, saves every figure as PNG under ``build/figures/<chapter>/`` (through
-``AMDO_FIG_DIR``), converts each executed notebook to HTML whose equations are typeset by a local
-copy of MathJax (from the ``jupyter-server-mathjax`` package, no CDN), and writes
-``build/book/index.html``. A chapter that fails stops the build with the chapter, the cell and the
-error; chapters already built stay in place.
+``AMDO_FIG_DIR``), keeps the executed notebooks in ``build/executed/`` and then builds the site
+into ``build/book/``. ``python -m amdo_lab site`` (``make site``) builds the same site from the
+executed notebooks as they are, without running them.
+
+The site itself is ordinary Sphinx: ``book/conf.py`` (MyST-NB, the Book theme, a local MathJax)
+and ``book/index.md`` (the landing page, whose chapter table is filled in here from
+:data:`amdo_lab.chapters.CHAPTERS`). A chapter that fails to execute stops the build with the
+chapter, the cell and the error.
 """
 
 from __future__ import annotations
 
-import html
-import json
 import os
 import re
 import shutil
+import subprocess
+import sys
 import time
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Mapping, Sequence
+from datetime import datetime
 from pathlib import Path
 
 from amdo_lab.chapters import CHAPTERS, Chapter
 from amdo_lab.common.plotting import FIG_DIR_VARIABLE
 
-__all__ = ["BookError", "build_book", "execute_chapter", "render_figures"]
+__all__ = [
+    "BookError", "SiteError", "build_book", "build_site", "chapter_run_seconds", "execute_chapter",
+    "render_figures",
+]
 
 ROOT = Path(__file__).resolve().parent.parent
 BUILD_DIR = ROOT / "build"
-MATHJAX_CONFIG = "TeX-AMS-MML_HTMLorMML-full,Safe"
+SITE_CONFIG_DIR = ROOT / "book"
 CELL_TIMEOUT_S = 900
+#: Where a notebook records how long its last full execution took (seconds, wall clock).
+RUN_TIME_KEY = "run_seconds"
+CHAPTERS_MARKER = "<!-- chapters -->"
 _ANSI_ESCAPE = re.compile(r"\x1b\[[0-9;]*m")
 
 
@@ -36,15 +46,15 @@ class BookError(RuntimeError):
     """A chapter failed to execute; the message names the chapter, the cell and the error."""
 
 
-@dataclass(frozen=True)
-class ChapterRun:
-    chapter: Chapter
-    seconds: float
-    n_figures: int
+class SiteError(BookError):
+    """sphinx-build could not build the site; the message gives its last line of error."""
 
 
 def execute_chapter(chapter: Chapter, *, figure_dir: Path | None = None, progress: bool = True):
     """Execute ``chapter``'s notebook in a fresh kernel and return the executed notebook node.
+
+    The wall-clock run time is stored in the notebook's metadata (``amdo_lab.run_seconds``) so the
+    landing page can show it even when the site is built later from the saved notebook.
 
     Parameters
     ----------
@@ -89,6 +99,7 @@ def execute_chapter(chapter: Chapter, *, figure_dir: Path | None = None, progres
     if figure_dir is not None:
         figure_dir.mkdir(parents=True, exist_ok=True)
         os.environ[FIG_DIR_VARIABLE] = str(figure_dir)
+    start = time.perf_counter()
     try:
         client.execute()
     except CellExecutionError as error:
@@ -104,6 +115,7 @@ def execute_chapter(chapter: Chapter, *, figure_dir: Path | None = None, progres
                 os.environ.pop(FIG_DIR_VARIABLE, None)
             else:
                 os.environ[FIG_DIR_VARIABLE] = previous
+    notebook.metadata.setdefault("amdo_lab", {})[RUN_TIME_KEY] = round(time.perf_counter() - start, 1)
     return notebook
 
 
@@ -114,6 +126,30 @@ def render_figures(chapter: Chapter, build_dir: Path = BUILD_DIR) -> list[Path]:
     return sorted(figure_dir.glob("*.png"))
 
 
+def chapter_run_seconds(notebook: Mapping) -> float | None:
+    """How long the executed ``notebook`` took to run, in seconds, or None when unknown.
+
+    The value recorded by :func:`execute_chapter` wins; otherwise the span of the per-cell
+    execution timestamps that Jupyter clients store (first cell started to last cell replied).
+    """
+    recorded = notebook.get("metadata", {}).get("amdo_lab", {}).get(RUN_TIME_KEY)
+    if isinstance(recorded, (int, float)):
+        return float(recorded)
+    starts, ends = [], []
+    for cell in notebook.get("cells", []):
+        timing = cell.get("metadata", {}).get("execution", {})
+        if "iopub.execute_input" in timing and "shell.execute_reply" in timing:
+            starts.append(_timestamp(timing["iopub.execute_input"]))
+            ends.append(_timestamp(timing["shell.execute_reply"]))
+    if not starts:
+        return None
+    return max(ends) - min(starts)
+
+
+def _timestamp(text: str) -> float:
+    return datetime.fromisoformat(text.replace("Z", "+00:00")).timestamp()
+
+
 def build_book(
     chapters: Sequence[Chapter] | None = None,
     build_dir: Path = BUILD_DIR,
@@ -121,15 +157,16 @@ def build_book(
     progress: bool = True,
     write_back: bool = False,
 ) -> Path:
-    """Execute ``chapters`` and write the HTML book; return the path of ``index.html``.
+    """Execute ``chapters``, then build the site from the executed notebooks; return ``index.html``.
 
     Parameters
     ----------
     chapters : sequence of Chapter, optional
-        Chapters to (re)build, in order; by default every chapter whose notebook exists.
-        Chapters built before and not named here stay listed.
+        Chapters to (re)execute, in order; by default every chapter whose notebook exists.
+        The site always holds every available chapter: those not executed now come from
+        ``build/executed/`` when that copy is newer than the notebook, else from ``notebooks/``.
     build_dir : pathlib.Path
-        Output root: ``book/`` (HTML), ``figures/<slug>/`` (PNG) and ``executed/`` (notebooks).
+        Output root: ``book/`` (the site), ``figures/<slug>/`` (PNG), ``executed/`` (notebooks).
     write_back : bool
         Also overwrite the notebooks in ``notebooks/`` with the fresh outputs (for developers
         refreshing the committed outputs).
@@ -138,110 +175,128 @@ def build_book(
 
     if chapters is None:
         chapters = [chapter for chapter in CHAPTERS if chapter.path.exists()]
-    book_dir = build_dir / "book"
     executed_dir = build_dir / "executed"
-    book_dir.mkdir(parents=True, exist_ok=True)
     executed_dir.mkdir(parents=True, exist_ok=True)
-    _install_mathjax(book_dir)
-    timings = _load_timings(book_dir)
     for chapter in chapters:
-        start = time.perf_counter()
         figure_dir = build_dir / "figures" / chapter.slug
         if figure_dir.exists():
             shutil.rmtree(figure_dir)
         notebook = execute_chapter(chapter, figure_dir=figure_dir, progress=progress)
-        seconds = time.perf_counter() - start
         nbformat.write(notebook, executed_dir / chapter.notebook)
         if write_back:
             nbformat.write(notebook, chapter.path)
-        (book_dir / f"{chapter.slug}.html").write_text(_to_html(notebook), encoding="utf-8")
-        timings[chapter.slug] = {
-            "seconds": round(seconds, 1),
-            "figures": len(list(figure_dir.glob("*.png"))),
-        }
-        _save_timings(book_dir, timings)
-        _write_index(book_dir, timings)
-    _write_index(book_dir, timings)
-    return book_dir / "index.html"
+    return build_site(build_dir, executed_dir=executed_dir)
 
 
-def _install_mathjax(book_dir: Path) -> None:
-    """Copy MathJax 2 from the installed jupyter-server-mathjax package next to the pages."""
-    target = book_dir / "mathjax"
-    if (target / "MathJax.js").exists():
-        return
-    import jupyter_server_mathjax
-
-    source = Path(jupyter_server_mathjax.__file__).parent / "static"
-    if not (source / "MathJax.js").exists():
-        raise BookError("jupyter-server-mathjax is installed without its MathJax files; reinstall it")
-    shutil.copytree(source, target, dirs_exist_ok=True)
-
-
-def _to_html(notebook) -> str:
-    from nbconvert import HTMLExporter
-
-    exporter = HTMLExporter(template_name="lab")
-    exporter.mathjax_url = f"mathjax/MathJax.js?config={MATHJAX_CONFIG}"
-    # No page of the book may reach the network: widget and diagram scripts are not used.
-    exporter.require_js_url = ""
-    exporter.jquery_url = ""
-    exporter.mermaid_js_url = ""
-    body, _ = exporter.from_notebook_node(notebook)
-    return body
-
-
-def _load_timings(book_dir: Path) -> dict:
-    path = book_dir / "chapters.json"
-    return json.loads(path.read_text()) if path.exists() else {}
-
-
-def _save_timings(book_dir: Path, timings: dict) -> None:
-    (book_dir / "chapters.json").write_text(json.dumps(timings, indent=1, sort_keys=True))
-
-
-def _write_index(book_dir: Path, timings: dict) -> None:
-    rows = []
+def _site_sources(executed_dir: Path | None) -> list[tuple[Chapter, Path]]:
+    sources = []
     for chapter in CHAPTERS:
-        built = chapter.slug in timings and (book_dir / f"{chapter.slug}.html").exists()
-        title = html.escape(chapter.title)
-        if built:
-            link = f'<a href="{chapter.slug}.html">{title}</a>'
-        elif chapter.path.exists():
-            link = f"{title} (not built yet: run <code>make book</code>)"
-        else:
-            link = f"{title} (in preparation)"
-        run = f"{timings[chapter.slug]['seconds']:.0f} s" if built else "—"
-        figures = str(timings[chapter.slug]["figures"]) if built else "—"
-        rows.append(
-            f"<tr><td>{chapter.number}</td><td>{link}<br><small>{html.escape(chapter.summary)}"
-            f"</small></td><td><small>{html.escape(chapter.paper)}</small></td>"
-            f"<td>{run}</td><td>{figures}</td></tr>"
-        )
-    page = _INDEX_TEMPLATE.format(rows="\n".join(rows))
-    (book_dir / "index.html").write_text(page, encoding="utf-8")
+        if not chapter.path.exists():
+            continue
+        path = chapter.path
+        if executed_dir is not None:
+            fresh = executed_dir / chapter.notebook
+            if fresh.exists() and fresh.stat().st_mtime >= chapter.path.stat().st_mtime:
+                path = fresh
+        sources.append((chapter, path))
+    return sources
 
 
-_INDEX_TEMPLATE = """<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8">
-<title>AMDO Lab</title>
-<style>
-body {{ font-family: system-ui, sans-serif; max-width: 70em; margin: 2em auto; padding: 0 1em;
-       color: #222; }}
-table {{ border-collapse: collapse; width: 100%; }}
-td, th {{ border-bottom: 1px solid #ddd; padding: 0.5em; text-align: left; vertical-align: top; }}
-th {{ background: #f4f4f4; }}
-small {{ color: #555; }}
-</style></head>
-<body>
-<h1>AMDO Lab</h1>
-<p>A workbook on registering, modelling and recognising articulated and deformable objects.
-Each chapter implements one published method step by step with the <code>amdo_lab</code> package,
-reproduces the paper's figures and tables, and goes beyond the paper. Figures are also saved as
-PNG files under <code>build/figures/&lt;chapter&gt;/</code>.</p>
-<table>
-<tr><th>#</th><th>Chapter</th><th>Paper</th><th>Run time</th><th>Figures</th></tr>
-{rows}
-</table>
-</body></html>
-"""
+def build_site(
+    build_dir: Path = BUILD_DIR,
+    *,
+    executed_dir: Path | None = None,
+    quiet: bool = True,
+    warnings_as_errors: bool = False,
+) -> Path:
+    """Build the HTML book from executed notebooks with sphinx-build; return ``index.html``.
+
+    Nothing is executed: each available chapter is rendered from its saved outputs (the copy in
+    ``executed_dir`` when it is newer than ``notebooks/``, else the committed notebook).
+    The sources are staged in ``build/site-src/`` and the site is written to ``build/book/``.
+
+    Parameters
+    ----------
+    build_dir : pathlib.Path
+        Output root (``site-src/``, ``site-doctrees/``, ``book/``).
+    executed_dir : pathlib.Path, optional
+        Folder of freshly executed notebooks that win over ``notebooks/`` when newer.
+    quiet : bool
+        Only warnings and errors from sphinx-build (printed to stderr).
+    warnings_as_errors : bool
+        Fail on any sphinx warning (a broken equation or cross reference, an unknown cell
+        output); the tests build this way.
+    """
+    import nbformat
+
+    sources = _site_sources(executed_dir)
+    if not sources:
+        raise SiteError("no chapter notebook found in notebooks/")
+    staging = build_dir / "site-src"
+    if staging.exists():
+        shutil.rmtree(staging)
+    staging.mkdir(parents=True)
+    rows = []
+    for chapter, path in sources:
+        # a fresh copy (new modification time): sphinx re-reads every chapter, whichever source won
+        shutil.copyfile(path, staging / chapter.notebook)
+        seconds = chapter_run_seconds(nbformat.read(path, as_version=4))
+        rows.append((chapter, seconds))
+    landing = (SITE_CONFIG_DIR / "index.md").read_text(encoding="utf-8")
+    if CHAPTERS_MARKER not in landing:
+        raise SiteError(f"book/index.md lacks the line {CHAPTERS_MARKER} where the chapters go")
+    landing = landing.replace(CHAPTERS_MARKER, _chapter_list(rows))
+    (staging / "index.md").write_text(landing, encoding="utf-8")
+
+    site_dir = build_dir / "book"
+    doctrees = build_dir / "site-doctrees"
+    command = [
+        sys.executable, "-m", "sphinx", "-b", "html", "-c", str(SITE_CONFIG_DIR),
+        "-d", str(doctrees), str(staging), str(site_dir),
+    ]
+    if quiet:
+        command.insert(3, "-q")
+    if warnings_as_errors:
+        command.insert(3, "-W")
+    completed = subprocess.run(command, capture_output=quiet, text=True)
+    if completed.returncode != 0:
+        details = (completed.stderr or "").strip().splitlines() if quiet else []
+        problems = [line for line in details if "WARNING" in line or "ERROR" in line]
+        shown = problems[:10] or details[-1:] or [f"exit status {completed.returncode}"]
+        raise SiteError("sphinx-build failed: " + "\n".join(shown))
+    if quiet and completed.stderr.strip():
+        print(completed.stderr.strip(), file=sys.stderr)
+    return site_dir / "index.html"
+
+
+def _format_run_time(seconds: float | None) -> str:
+    if seconds is None:
+        return "—"
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    return f"{seconds / 60:.1f} min"
+
+
+def _chapter_list(rows: Sequence[tuple[Chapter, float | None]]) -> str:
+    """The landing page's list of chapters (title, summary, paper, run time) and the toctree."""
+    lines = []
+    for chapter, seconds in rows:
+        lines += [
+            f"### {chapter.number} · [{chapter.title}]({chapter.notebook})",
+            "",
+            chapter.summary,
+            "",
+        ]
+        details = [] if chapter.paper in ("", "—") else [f"*Paper:* {chapter.paper}"]
+        details.append(f"*Run time:* {_format_run_time(seconds)}")
+        lines += [" · ".join(details), ""]
+    lines.append(
+        "The run time is how long the chapter took to execute from top to bottom when its "
+        "outputs were last produced."
+    )
+    toctree = ["", "```{toctree}", ":hidden:", ":maxdepth: 2", ":caption: Chapters", ""]
+    toctree += [chapter.slug for chapter, _ in rows]
+    toctree.append("```")
+    return "\n".join(lines + toctree) + "\n"
+
+

@@ -6,12 +6,18 @@ import ctypes.util
 import importlib.metadata
 import importlib.util
 import os
+import re
+import shutil
+import subprocess
 import sys
 from dataclasses import dataclass
 
 from amdo_lab.common.render3d import probe_3d_rendering
 
-__all__ = ["EGL_INSTALL_COMMAND", "REQUIRED_MODULES", "EnvironmentReport", "check_environment"]
+__all__ = [
+    "BROWSER_INSTALL_COMMAND", "EGL_INSTALL_COMMAND", "REQUIRED_MODULES", "Browser",
+    "EnvironmentReport", "check_environment", "find_browser",
+]
 
 #: Module name and the pip requirement that provides it.
 REQUIRED_MODULES: tuple[tuple[str, str], ...] = (
@@ -27,13 +33,49 @@ REQUIRED_MODULES: tuple[tuple[str, str], ...] = (
     ("pyvista", "pyvista"),
     ("vtk", "vtk"),
     ("nbclient", "nbclient"),
-    ("nbconvert", "nbconvert"),
     ("nbval", "nbval"),
-    ("jupyter_server_mathjax", "jupyter-server-mathjax"),
     ("tqdm", "tqdm"),
+    ("sphinx", "sphinx"),
+    ("myst_nb", "myst-nb"),
+    ("sphinx_book_theme", "sphinx-book-theme"),
+    ("sphinx_copybutton", "sphinx-copybutton"),
+    ("sphinx_togglebutton", "sphinx-togglebutton"),
+    ("sphinx-mathjax-offline", "sphinx-mathjax-offline"),
+    ("selenium", "selenium"),
 )
 
 EGL_INSTALL_COMMAND = "sudo apt-get update && sudo apt-get install -y libegl1 libegl-mesa0"
+BROWSER_INSTALL_COMMAND = "sudo apt-get update && sudo apt-get install -y chromium chromium-driver"
+BROWSER_NAMES = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
+DRIVER_NAMES = ("chromedriver",)
+
+
+@dataclass(frozen=True)
+class Browser:
+    """The headless browser the book's browser test drives (None fields: not found)."""
+
+    binary: str | None
+    driver: str | None
+    version: str
+
+    @property
+    def ok(self) -> bool:
+        return self.binary is not None and self.driver is not None
+
+
+def find_browser() -> Browser:
+    """Find Chromium (or Chrome) and chromedriver on the PATH, with the browser's version."""
+    binary = next((path for path in map(shutil.which, BROWSER_NAMES) if path), None)
+    driver = next((path for path in map(shutil.which, DRIVER_NAMES) if path), None)
+    version = ""
+    if binary is not None:
+        try:
+            completed = subprocess.run([binary, "--version"], capture_output=True, text=True, timeout=30)
+            found = re.search(r"\d+(\.\d+)+", completed.stdout)
+            version = found.group(0) if found else ""
+        except (OSError, subprocess.SubprocessError):
+            version = ""
+    return Browser(binary, driver, version)
 
 
 @dataclass(frozen=True)
@@ -44,7 +86,7 @@ class EnvironmentReport:
 
 
 def check_environment(probe_3d: bool = True) -> EnvironmentReport:
-    """Check Python, the required packages, EGL and off-screen 3-D rendering."""
+    """Check Python, the required packages, EGL, the browser and off-screen 3-D rendering."""
     lines = []
     ok = True
     version = sys.version_info
@@ -68,6 +110,17 @@ def check_environment(probe_3d: bool = True) -> EnvironmentReport:
     lines.append(
         f"[{'ok' if egl else 'warn'}] EGL library: {egl or 'missing; install it with: ' + EGL_INSTALL_COMMAND}"
     )
+    browser = find_browser()
+    if browser.ok:
+        name = os.path.basename(browser.binary)
+        lines.append(f"[ok] browser for the book's test: {name} {browser.version} with chromedriver")
+    else:
+        missing = " and ".join(
+            what for what, path in (("Chromium", browser.binary), ("chromedriver", browser.driver))
+            if path is None
+        )
+        lines.append(f"[warn] {missing} missing: the book's browser test is skipped; install with: "
+                     f"{BROWSER_INSTALL_COMMAND}")
     lines.append(f"[ok] VTK_DEFAULT_OPENGL_WINDOW={os.environ.get('VTK_DEFAULT_OPENGL_WINDOW', '(unset)')}")
     rendering = False
     if probe_3d:

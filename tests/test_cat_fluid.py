@@ -377,7 +377,7 @@ def test_grey_level_difference_in_a_mask():
     image, reference = np.arange(16.0).reshape(4, 4), np.zeros((4, 4))
     mask = image >= 8
     assert cf.grey_level_difference(image, reference, mask) == (pytest.approx(11.5), pytest.approx(np.std(np.arange(8.0, 16))))
-    with pytest.raises(ValueError, match="mask"):
+    with pytest.raises(TypeError, match="mask must be a boolean array"):
         cf.grey_level_difference(image, reference, mask.astype(int))
     with pytest.raises(ValueError, match="at least one pixel"):
         cf.grey_level_difference(image, reference, np.zeros((4, 4), bool))
@@ -388,10 +388,11 @@ def test_grey_level_difference_in_a_mask():
 def test_displacement_measures_validate_the_mask():
     zero, one = np.zeros((2, 4, 4)), np.ones((2, 4, 4))
     assert cf.displacement_rmse(zero, one, np.eye(4, dtype=bool)) == pytest.approx(np.sqrt(2))
-    for bad, message in [(np.eye(4), "boolean"), (np.ones((3, 3), bool), "shape"), (np.zeros((4, 4), bool), "at least one")]:
-        with pytest.raises(ValueError, match=message):
+    for bad, error, message in [(np.eye(4), TypeError, "boolean"), (np.ones((3, 3), bool), ValueError, "shape"),
+                                (np.zeros((4, 4), bool), ValueError, "at least one")]:
+        with pytest.raises(error, match=message):
             cf.displacement_rmse(zero, one, bad)
-        with pytest.raises(ValueError, match=message):
+        with pytest.raises(error, match=message):
             cf.inverse_consistency_error(zero, one, bad)
 
 
@@ -485,7 +486,7 @@ def test_pairs_are_deterministic_and_their_warps_unfolded():
 def test_data_helpers_validate_their_inputs():
     with pytest.raises(ValueError, match="seed"):
         cf.make_pair("B", seed=-1)
-    with pytest.raises(ValueError, match="support"):
+    with pytest.raises(TypeError, match="support must be a boolean array"):
         cf.smooth_warp((16, 16), 0, support=np.ones((16, 16)))
     with pytest.raises(ValueError, match="support"):
         cf.smooth_warp((16, 16), 0, support=np.zeros((16, 16), bool))
@@ -516,3 +517,102 @@ def test_sor_cold_start_differs_from_the_warm_start_and_checks_its_flag():
     assert cold.residuals[-1] < cold.residuals[0]
     with pytest.raises(TypeError, match="sor_warm_start"):
         cf.register_fluid(template, study, method="sor", n_iter=1, sor_warm_start="no")
+
+
+# --- reference paths beside the fast ones, and the chapter's helpers ---------------------------
+
+def test_stencil_matrix_is_apply_stencil_pixel_by_pixel():
+    """Eq. (15) at every pixel: the sparse matrix (reference) equals the rolled sum (fast path)."""
+    stencil = cf.fluid_stencil(LAM, MU)
+    velocity = make_rng(1).normal(size=(2, 6, 8))
+    by_matrix = (cf.stencil_matrix(stencil, (6, 8)) @ velocity.ravel()).reshape(2, 6, 8)
+    np.testing.assert_allclose(by_matrix, cf.apply_stencil(stencil, velocity), atol=1e-12)
+
+
+@pytest.mark.parametrize("shape", [(8, 8), (6, 10)])
+def test_dense_reference_solve_equals_the_fourier_solve(shape):
+    force = make_rng(2).normal(size=(2,) + shape)
+    reference = cf.solve_stencil_reference(cf.fluid_stencil(LAM, MU), force)
+    np.testing.assert_allclose(reference, cf.solve_velocity(force, "cat", LAM, MU), atol=1e-10)
+
+
+@pytest.mark.parametrize("ordering_sweeps, omega", [(1, 1.0), (4, 1.7)])
+def test_pixel_loop_sor_equals_the_vectorised_four_colour_sor(ordering_sweeps, omega):
+    force = make_rng(3).normal(size=(2, 8, 6))
+    loop = cf.sor_reference(force, LAM, MU, sweeps=ordering_sweeps, omega=omega)
+    np.testing.assert_allclose(loop, cf.sor_solve(force, LAM, MU, sweeps=ordering_sweeps, omega=omega), atol=1e-12)
+
+
+def test_symbol_eigenvalues_along_a_path():
+    symbol = cf.cat_symbol((16, 16), LAM, MU)
+    k = np.arange(9)
+    eigen = cf.symbol_eigenvalues(symbol, np.zeros_like(k), k)
+    assert eigen.shape == (9, 2) and np.all(eigen[:, 0] <= eigen[:, 1])
+    np.testing.assert_allclose(eigen[0], 0.0, atol=1e-12)  # the uniform velocity costs no stress
+    # along x2 the two waves are shear (μ) and compression (λ + 2μ): ratio (λ + 2μ)/μ
+    np.testing.assert_allclose(eigen[1:, 0] / eigen[1:, 1], (LAM + 2 * MU) / MU)
+    with pytest.raises(ValueError, match="rows and cols"):
+        cf.symbol_eigenvalues(symbol, [0, 1], [0])
+    with pytest.raises(ValueError, match="symbol"):
+        cf.symbol_eigenvalues(np.zeros((3, 2, 4, 3)), [0], [0])
+
+
+def test_stencil_grid_lays_out_one_block():
+    stencil = cf.fluid_stencil(LAM, MU)
+    grid = cf.stencil_grid(stencil, 0, 0)
+    assert grid[1, 1] == stencil[0, 0] and grid[2, 1] == stencil[0, 4]  # neighbour (1, 0) is column 5
+    np.testing.assert_allclose(cf.stencil_grid(stencil, 1, 1), cf.stencil_grid(stencil, 0, 0).T)
+    with pytest.raises(ValueError, match="row"):
+        cf.stencil_grid(stencil, 2, 0)
+
+
+def test_consistency_errors_of_the_derived_and_printed_stencils():
+    derived = cf.consistency_errors(cf.fluid_stencil(LAM, MU), LAM, MU)
+    printed = cf.consistency_errors(cf.printed_stencil(LAM, MU), LAM, MU)
+    assert len(derived) == len(cf.polynomial_test_fields(LAM, MU)) + 1 == 13
+    assert max(derived.values()) < 1e-12
+    assert sum(error > 1e-9 for error in printed.values()) == 9
+    with pytest.raises(ValueError, match="stencil"):
+        cf.consistency_errors(np.zeros((2, 17)))
+
+
+def test_table1_helpers():
+    paper = cf.paper_table1()
+    assert paper.loc["A", ("paper SOR", "mean")] == 10.9 and paper.shape == (3, 4)
+    pair = cf.make_pair("C")
+    table = cf.grey_level_table({"C": pair}, {"C": {"none": pair.template, "truth": cf.warp_image(pair.template, pair.true_displacement)}})
+    assert table.loc["C", ("truth", "mean")] < 1e-9 < table.loc["C", ("none", "mean")]
+    masked = cf.grey_level_table({"C": pair}, {"C": {"none": pair.template}}, masked=True)
+    assert masked.loc["C", ("none", "mean")] > table.loc["C", ("none", "mean")]  # background dilutes the mean
+    assert cf.mean_sd_strings(paper).loc["B", "paper CAT"] == "6.80 / 13.80"
+    with pytest.raises(ValueError, match="deformed"):
+        cf.grey_level_table({"C": pair}, {"A": {"none": pair.template}})
+    row = cf.accuracy_row(pair, pair.template, np.zeros_like(pair.true_displacement))
+    assert row["min det"] == 1.0 and row["folded %"] == 0.0 and np.isnan(row["inverse consistency px"])
+
+
+def test_regridding_switched_off_lets_a_large_deformation_fold():
+    rows, cols = np.indices((32, 32), dtype=float) - 15.5
+    disc = (np.hypot(rows, cols) < 8).astype(float)
+    band = ((np.abs(rows) < 3) & (np.abs(cols) < 14)).astype(float)
+    kept = cf.register_fluid(disc, band, "cat", n_iter=60)
+    free = cf.register_fluid(disc, band, "cat", n_iter=60, regrid_threshold=0.0)
+    assert kept.n_regrids > 0 and kept.history[:, 2].min() > 0
+    assert free.n_regrids == 0 and free.history[:, 2].min() <= 0  # without regridding the map folds
+    with pytest.raises(ValueError, match="regrid_threshold"):
+        cf.register_fluid(disc, band, "cat", n_iter=1, regrid_threshold=-0.1)
+
+
+@pytest.mark.parametrize("call, error, message", [
+    (lambda: cf.stencil_matrix(np.zeros((2, 18)), (4,)), ValueError, "shape"),
+    (lambda: cf.stencil_matrix(np.zeros((3, 18)), (4, 4)), ValueError, "stencil"),
+    (lambda: cf.solve_stencil_reference(cf.fluid_stencil(), np.zeros((3, 4, 4))), ValueError, "force"),
+    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 0.0, sweeps=1, omega=1.0), ValueError, "mu"),
+    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 5.0, sweeps=-1, omega=1.0), ValueError, "sweeps"),
+    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 5.0, sweeps=1, omega=-1.0), ValueError, "omega"),
+    (lambda: cf.polynomial_test_fields(-1.0, 5.0), ValueError, "lam"),
+    (lambda: cf.grey_level_table({}, {}, scale=0.0), ValueError, "scale"),
+])
+def test_reference_paths_and_helpers_reject_bad_input(call, error, message):
+    with pytest.raises(error, match=message):
+        call()

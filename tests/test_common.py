@@ -15,7 +15,13 @@ from amdo_lab.common import (  # noqa: E402
     apply_rigid,
     apply_similarity_2d,
     as_finite_array,
+    as_bool_mask,
+    as_image_pair,
+    check_axes,
+    check_bool,
     check_choice,
+    check_fitted,
+    check_in_range,
     check_positive,
     check_positive_int,
     make_rng,
@@ -347,3 +353,64 @@ def test_paired_comparison_counts_and_matches_the_exact_binomial_test():
 def test_rate_checks_refuse_bad_input(call, error, message):
     with pytest.raises(error, match=message):
         call()
+
+
+# --- compound checks: one table of (call, error type, message) ----------------------------------
+def _axes():
+    fig, ax = plt.subplots()
+    plt.close(fig)
+    return ax
+
+
+_REJECTED = [
+    (lambda: check_bool("yes", "verbose"), TypeError, "verbose must be True or False, got str"),
+    (lambda: check_bool(1, "verbose"), TypeError, "verbose must be True or False, got int"),
+    (lambda: check_bool(None, "verbose"), TypeError, "verbose must be True or False"),
+    (lambda: check_in_range(0.0, "p", 0, 1), ValueError, r"p must be in \(0, 1\), got 0.0"),
+    (lambda: check_in_range(1.0, "p", 0, 1, closed="left"), ValueError, r"p must be in \[0, 1\)"),
+    (lambda: check_in_range(float("nan"), "p", 0, 1), ValueError, r"p must be finite, got nan"),
+    (lambda: check_in_range(True, "p", 0, 1), TypeError, "p must be a real number, got bool"),
+    (lambda: check_in_range("0.5", "p", 0, 1), TypeError, "p must be a real number, got str"),
+    (lambda: as_bool_mask(np.ones(3), "mask"), TypeError, "mask must be a boolean array, got dtype float64"),
+    (lambda: as_bool_mask(np.ones((2, 2), bool), "mask", shape=(3, 3)), ValueError, r"mask must have shape \(3, 3\)"),
+    (lambda: as_bool_mask(np.ones(0, bool), "mask"), ValueError, "mask must not be empty"),
+    (lambda: as_image_pair(np.ones((2, 2)), np.ones((2, 3))), ValueError,
+     r"template and study must have the same shape, got \(2, 2\) and \(2, 3\)"),
+    (lambda: as_image_pair(np.ones((2, 2)), [[1.0, np.nan], [0, 0]]), ValueError, "study must be finite"),
+    (lambda: check_axes("not axes"), TypeError, "ax must be a matplotlib Axes, got str"),
+    (lambda: make_rng(-1, "rng"), ValueError, "rng must be non-negative, got -1"),
+    (lambda: make_rng(1.5, "rng"), TypeError, "rng must be a non-negative int or a numpy.random.Generator"),
+]
+
+
+@pytest.mark.parametrize(("call", "error", "message"), _REJECTED)
+def test_compound_checks_refuse_by_name(call, error, message):
+    with pytest.raises(error, match=message):
+        call()
+
+
+def test_compound_checks_accept_and_copy():
+    assert check_bool(np.bool_(True), "flag") is True
+    assert check_in_range(1.0, "p", 0, 1, closed="right") == 1.0
+    mask = np.array([True, False])
+    copied = as_bool_mask(mask, "mask")
+    copied[0] = False
+    assert mask[0]  # the caller's array is not modified
+    a, b = as_image_pair([[1, 2]], [[3, 4]])
+    assert a.dtype == float and b.shape == (1, 2)
+    ax = _axes()
+    assert check_axes(ax) is ax
+
+
+def test_check_fitted_raises_sklearns_error():
+    from sklearn.exceptions import NotFittedError
+
+    class Model:
+        coef_ = None
+
+    with pytest.raises(NotFittedError, match=r"Model is not fitted yet.*missing coef_"):
+        check_fitted(Model(), "coef_")
+    fitted = Model()
+    fitted.coef_ = np.zeros(2)
+    assert check_fitted(fitted, ["coef_"]) is None
+    assert issubclass(NotFittedError, ValueError)  # callers catching ValueError still catch it

@@ -10,7 +10,12 @@ from amdo_lab.em_articulated import (
     PAPER_C,
     HandModel,
     TrialSummary,
+    e_step_reference,
     e_step_statistics,
+    m_step_targets,
+    robust_log_likelihood,
+    register_em_reference,
+    climb_objective,
     fit_known_correspondences,
     fit_surface,
     make_skin_texture,
@@ -676,3 +681,114 @@ def test_noise_floor_trials_are_the_trial_runners_floors_without_the_em(hand):
     assert np.all(worst >= rmse)
     textureless, _ = noise_floor_trials(hand, 3, 1, problem=dict(problem, repeatability=0.0))
     assert np.isnan(textureless).all()  # no feature seen twice: no true matches, no floor
+
+
+def test_e_step_reference_equals_the_streamed_e_step():
+    rng = np.random.default_rng(3)
+    model, data = rng.normal(0, 15, (60, 3)), rng.normal(0, 15, (90, 3))
+    alpha = e_step_reference(model, data, 4.0)
+    # eq. (17): each column sums to the data point's inlier probability, below 1
+    assert np.all(alpha.sum(axis=0) < 1.0) and np.all(alpha >= 0)
+    weights, weighted, inlier, energy = e_step_statistics(model, data, 4.0, np.log(PAPER_C), chunk=32,
+                                                          precision="double")
+    np.testing.assert_allclose(alpha.sum(axis=1), weights, rtol=1e-10, atol=1e-14)
+    np.testing.assert_allclose(alpha @ data, weighted, rtol=1e-9, atol=1e-10)
+    np.testing.assert_allclose(alpha.sum(axis=0), inlier, rtol=1e-10, atol=1e-14)
+    sq = np.sum((model[:, None] - data[None]) ** 2, axis=2)
+    assert np.sum(alpha * sq) == pytest.approx(energy, rel=1e-9)
+
+
+def test_e_step_reference_single_exact_match_is_one_over_one_plus_c():
+    alpha = e_step_reference(np.zeros((1, 3)), np.zeros((1, 3)), 2.0)
+    assert alpha[0, 0] == pytest.approx(1 / (1 + 3 * np.sqrt(np.pi / 2)))
+
+
+def test_m_step_targets_are_weighted_means():
+    data = np.array([[0.0, 0, 0], [10.0, 0, 0], [0, 0, 5.0]])
+    alpha = np.array([[0.5, 0.5, 0.0], [0.0, 0.0, 0.0], [0.1, 0.0, 0.3]])
+    lam, targets = m_step_targets(alpha, data)
+    np.testing.assert_allclose(lam, [1.0, 0.0, 0.4])
+    np.testing.assert_allclose(targets[0], [5.0, 0, 0])
+    np.testing.assert_allclose(targets[2], [0, 0, 3.75])
+    assert np.all(targets[1] == 0)  # no weight: target unused
+
+
+@pytest.mark.parametrize("call, error, match", [
+    (lambda: e_step_reference(np.zeros((2, 2)), np.zeros((2, 3)), 1.0), ValueError, "model_points"),
+    (lambda: e_step_reference(np.zeros((2, 3)), np.zeros((2, 3)), -1.0), ValueError, "sigma"),
+    (lambda: e_step_reference(np.zeros((2, 3)), np.zeros((2, 3)), 1.0, c=0.0), ValueError, "c"),
+    (lambda: m_step_targets(np.zeros((2, 4)), np.zeros((3, 3))), ValueError, "alpha"),
+    (lambda: robust_log_likelihood(np.zeros((2, 3)), np.full((2, 3), np.nan), 1.0), ValueError, "data_points"),
+])
+def test_reference_paths_reject_bad_input(call, error, match):
+    with pytest.raises(error, match=match):
+        call()
+
+
+def test_public_robust_log_likelihood_matches_logsumexp():
+    rng = np.random.default_rng(1)
+    model, data = rng.normal(0, 20, (30, 3)), rng.normal(0, 20, (50, 3))
+    log_kernel = -np.sum((data[:, None] - model[None]) ** 2, axis=2) / (2 * 3.0**2)
+    expected = logsumexp(np.column_stack([log_kernel, np.full(len(data), np.log(PAPER_C))]), axis=1).sum()
+    assert robust_log_likelihood(model, data, 3.0) == pytest.approx(expected, rel=1e-10)
+
+
+@pytest.mark.parametrize("targets", ["paper", "debiased"])
+def test_register_em_reference_equals_the_fast_em(hand, targets):
+    case = make_registration_problem(hand, 4, joint_error_deg=10.0, noise_mm=1.0, outlier_ratio=0.5,
+                                     n_model=120, n_data=120)
+    settings = dict(sigma_max=12.0, sigma_min=3.0, n_levels=3, iterations_per_level=4, targets=targets)
+    reference = register_em_reference(case.model_points, case.data_points, hand, case.theta_init, **settings)
+    fast = register_em(case.model_points, case.data_points, hand, case.theta_init, e_step="dense", **settings)
+    assert np.max(np.abs(reference - fast.theta)) < 1e-4  # the fast path exponentiates in single precision
+    assert joint_rmse_deg(reference, case.theta_init) > 1.0  # the EM moved: the comparison is not trivial
+
+
+def test_climb_objective_never_lowers_the_objective(hand):
+    case = make_registration_problem(hand, 8, joint_error_deg=10.0, noise_mm=2.0, outlier_ratio=1.0,
+                                     n_model=150, n_data=150)
+    binding = hand.texture_binding(case.model_points, case.theta_init)
+
+    def objective(theta):
+        return robust_log_likelihood(hand.transform_texture(binding, theta), case.data_points, 3.0)
+
+    climbed = climb_objective(case.model_points, case.data_points, hand, case.theta_init, case.theta_true, 3.0)
+    assert objective(climbed) >= objective(case.theta_true) - 1e-6
+    with pytest.raises(ValueError, match="sigma"):
+        climb_objective(case.model_points, case.data_points, hand, case.theta_init, case.theta_true, 0.0)
+
+
+def test_objective_check_fields_agree_with_their_definitions(hand):
+    from amdo_lab.em_articulated import objective_check
+    problem = dict(joint_error_deg=10.0, noise_mm=2.0, outlier_ratio=1.0, n_model=150, n_data=150)
+    check = objective_check(hand, 5, 2, problem=problem, em_settings=OUR_SETTINGS)
+    assert check.em_rmse_deg.shape == (2,) and check.sigma == OUR_SETTINGS["sigma_min"]
+    # the climb starts at the floor pose and only goes up
+    assert np.all(check.climbed_log_likelihood >= check.floor_log_likelihood - 1e-6)
+    with pytest.raises(ValueError, match="n_trials"):
+        objective_check(hand, 5, 0, problem=problem)
+
+
+def test_per_step_schedule_runs_one_iteration_per_falling_sigma(hand):
+    case = make_registration_problem(hand, 6, joint_error_deg=10.0, noise_mm=1.0, outlier_ratio=1.0,
+                                     n_model=150, n_data=150)
+    settings = dict(sigma_max=20.0, sigma_min=3.0, n_levels=5, iterations_per_level=10, tol=0.0)
+    per_step = register_em(case.model_points, case.data_points, hand, case.theta_init, schedule="per-step", **settings)
+    levels = register_em(case.model_points, case.data_points, hand, case.theta_init, **settings)
+    np.testing.assert_allclose(per_step.history[:, 0], np.r_[np.geomspace(20.0, 3.0, 5)[:4], np.full(10, 3.0)])
+    assert len(levels.history) == 50
+    with pytest.raises(ValueError, match="schedule"):
+        register_em(case.model_points, case.data_points, hand, case.theta_init, schedule="fast")
+
+
+def test_bend_sequence_keeps_the_palm_still_and_the_camera_selects_the_points(hand):
+    above = make_tracking_sequence(hand, 3, n_frames=4, motion="bend")
+    side = make_tracking_sequence(hand, 3, n_frames=4, motion="bend", camera=np.array([500.0, 40.0, 100.0]))
+    turn = make_tracking_sequence(hand, 3, n_frames=4)
+    assert np.all(above.poses[:, 4] == above.poses[0, 4]) and np.ptp(turn.poses[:, 4]) > 0.1
+    np.testing.assert_array_equal(above.poses, side.poses)  # same motion, different view
+    assert not np.array_equal(above.frames[1], side.frames[1])
+    with pytest.raises(ValueError, match="motion"):
+        make_tracking_sequence(hand, 3, n_frames=4, motion="wave")
+    with pytest.raises(ValueError, match="camera"):
+        make_tracking_sequence(hand, 3, n_frames=4, camera=np.zeros(2))

@@ -1,5 +1,8 @@
 """Tests for Chapter 5 (amdo_lab.face_glmm): population, PCA+LDA, experiment, GLMM."""
 
+import dataclasses
+import sys
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -7,6 +10,7 @@ import scipy.linalg
 
 from amdo_lab.common import make_rng
 from amdo_lab.face_glmm import (
+    FactorialDesign,
     PAPER_FORMULA,
     PcaLda,
     build_design,
@@ -61,6 +65,24 @@ def test_same_subject_images_are_closer_than_others(population):
     np.fill_diagonal(same, False)
     other = population.labels[:, None] != population.labels[None]
     assert d[same].mean() < 0.8 * d[other].mean()
+
+
+def test_power_law_texture_spreads_the_pca_spectrum():
+    """texture_slope adds f^-s texture: many more eigenvectors hold 90 % of the energy (E90)."""
+    from amdo_lab.face_glmm import e90_dimension, pca_basis
+
+    def e90_of(pop):
+        images = preprocess_images(pop.images).reshape(48, 4, -1)[:, 1:].reshape(144, -1)
+        return e90_dimension(pca_basis(images).eigenvalues)
+
+    smooth = generate_face_population(48, 4, 2, shape=(40, 36))
+    textured = generate_face_population(48, 4, 2, shape=(40, 36), texture_slope=2.0, texture_amplitude=0.7)
+    np.testing.assert_array_equal(smooth.difficulty, textured.difficulty)  # drawn after everything else
+    assert e90_of(textured) > 2.5 * e90_of(smooth)
+    with pytest.raises(ValueError, match="texture_slope"):
+        generate_face_population(8, 2, 0, texture_slope=-1.0)
+    with pytest.raises(ValueError, match="texture_amplitude"):
+        generate_face_population(8, 2, 0, texture_slope=2.0, texture_amplitude=-0.1)
 
 
 def test_preprocessing_masks_equalises_and_standardises(population):
@@ -249,6 +271,43 @@ def test_agrees_with_lme4(simulated):
         assert ours.variance_components[term] == pytest.approx(theirs["variance_components"][term], abs=1e-3)
 
 
+@pytest.mark.parametrize("random", [("t", "p", "t:p"), ("p",), ("t", "p", "t:p", "t:U"), ("t", "p", "t:p", "t:S")],
+                         ids=["nested-in-t:p", "one-term", "function-of-cells", "row-level"])
+def test_fast_laplace_deviance_equals_dense_reference(random):
+    """The Schur-complement fast path equals the plain dense penalised IRLS + Laplace deviance."""
+    from amdo_lab.face_glmm.glmm import _laplace_deviance_reference, _setup
+    table = pd.concat([_crossed_table(3, 10).assign(S=s) for s in ("a", "b")], ignore_index=True)
+    table["Y"] = simulate_binomial_glmm(table, "Y ~ M * D + U", TRUE_BETA, {"t": 0.1, "p": 1.0, "t:p": 0.3}, 30, 5)
+    problem, start = _setup(table, "Y ~ M * D + U", random, 30)
+    assert (problem.rest_of_big is not None) == (random == ("t", "p", "t:p"))
+    assert problem.sum_over_cells == (random != ("t", "p", "t:p", "t:S"))
+    theta = np.array([0.3, 0.9, 0.5, 0.2][: len(random)])
+    beta, _, _, value, _, _ = problem.solve(theta, *start)
+    groups = [problem_groups for problem_groups in (pd.factorize(
+        pd.MultiIndex.from_frame(table[term.split(":")].astype(str)), sort=True)[0] for term in random)]
+    z = np.hstack([np.eye(g.max() + 1)[g] for g in groups])
+    lam = np.concatenate([np.full(g.max() + 1, sd) for g, sd in zip(groups, theta)])
+    ref_beta, _, ref_value, _ = _laplace_deviance_reference(problem.y, problem.trials, problem.x, z, lam)
+    assert value == pytest.approx(ref_value, rel=1e-10)
+    np.testing.assert_allclose(beta, ref_beta, atol=1e-8)
+
+
+def test_laplace_deviance_is_the_fitted_objective(simulated):
+    from amdo_lab.face_glmm import laplace_deviance
+    table, _ = simulated
+    fit = fit_binomial_glmm(table, "Y ~ M * D + U", ["t", "p", "t:p"], 30)
+    sds = np.sqrt([fit.variance_components[k] for k in ("t", "p", "t:p")])
+    values = laplace_deviance(table, "Y ~ M * D + U", ["t", "p", "t:p"], [sds, sds * [1, 1.2, 1], sds * [1, 1, 0.8]], 30)
+    assert values[0] == pytest.approx(fit.deviance, rel=1e-9)
+    assert np.all(values[1:] > values[0])
+    with pytest.raises(ValueError, match="sd must have 3 columns"):
+        laplace_deviance(table, "Y ~ M * D + U", ["t", "p", "t:p"], [1.0, 1.0], 30)
+    with pytest.raises(ValueError, match="sd must be non-negative"):
+        laplace_deviance(table, "Y ~ M * D + U", ["t", "p", "t:p"], [1.0, -1.0, 1.0], 30)
+    with pytest.raises(TypeError, match="table"):
+        laplace_deviance(table.to_numpy(), "Y ~ M * D + U", ["t", "p", "t:p"], [1.0, 1.0, 1.0], 30)
+
+
 def test_marginal_prediction_averages_logits(simulated):
     from scipy.special import logit
     table, _ = simulated
@@ -298,6 +357,80 @@ def test_experiment_cache_round_trip(tmp_path):
     second, hit_second = load_or_run_experiment(design, 1, tmp_path)
     assert (hit_first, hit_second) == (False, True)
     pd.testing.assert_frame_equal(first, second)
+
+
+def test_experiment_draws_recompute_one_row_of_the_table(reduced_table):
+    """One row of the table (t=0, no supplement, L2, fixed, standard) recomputed from the draws."""
+    from amdo_lab.face_glmm import experiment_draws
+    design = reduced_design()
+    draws = experiment_draws(design, 11)
+    n = design.n_subjects
+    faces = preprocess_images(draws.population.images).reshape(n, 4, -1)
+    subjects = draws.training_sets[0]
+    model = PcaLda("fixed").fit(faces[subjects, 1:].reshape(-1, faces.shape[-1]), np.repeat(subjects, 3))
+    dist = model.distances(faces[:, 0], faces[:, 1:].reshape(-1, faces.shape[-1]), "l2").reshape(n, n, 3)
+    rows = reduced_table[(reduced_table.t == 0) & (reduced_table.U == "none") & (reduced_table.M == "l2")
+                         & (reduced_table.D == "fixed") & (reduced_table.S == "standard")].set_index("p")
+    for probe in range(n):
+        in_gallery = dist[probe][np.arange(n), draws.gallery_choice]          # gallery x subject
+        y = int(np.sum(np.argmin(in_gallery, axis=1) == probe))
+        assert y == rows.loc[probe, "Y"]
+    with pytest.raises(TypeError, match="design"):
+        experiment_draws({"n_subjects": 8}, 0)
+
+
+def _edited_copy_of_population(tmp_path, name):
+    """Import a copy of population.py in which one generator constant is changed."""
+    import importlib.util
+    import inspect
+
+    from amdo_lab.face_glmm import population as original
+    source = inspect.getsource(original)
+    edited = source.replace("eye_dx = 0.36 + 0.04", "eye_dx = 0.37 + 0.04")
+    assert edited != source  # the constant is there to edit
+    path = tmp_path / f"{name}.py"
+    path.write_text(edited)
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module  # dataclasses look their module up while the class is built
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_cache_key_changes_when_a_generator_constant_is_edited(tmp_path):
+    from amdo_lab.face_glmm import RESULT_MODULES, experiment_cache_key, reduced_design
+    design = reduced_design()
+    key = experiment_cache_key(design, 1)
+    assert key == experiment_cache_key(design, 1, RESULT_MODULES)
+    assert key != experiment_cache_key(design, 2)  # the seed
+    assert key != experiment_cache_key(dataclasses.replace(design, nuisance=0.9), 1)
+    edited = _edited_copy_of_population(tmp_path, "population_edited")
+    modules = tuple(edited if name.endswith(".population") else name for name in RESULT_MODULES)
+    assert experiment_cache_key(design, 1, modules) != key
+
+
+def test_cache_reruns_after_a_generator_edit(tmp_path, monkeypatch):
+    from amdo_lab.face_glmm import RESULT_MODULES, cache, load_or_run_experiment
+    design = FactorialDesign(n_subjects=16, n_training_sets=1, n_train_subjects=8, n_galleries=3,
+                             supplements=("none",), shape=(16, 14))
+    _, first_hit = load_or_run_experiment(design, 1, tmp_path)
+    edited = _edited_copy_of_population(tmp_path, "population_edited_again")
+    monkeypatch.setattr(cache, "RESULT_MODULES",
+                        tuple(edited if name.endswith(".population") else name for name in RESULT_MODULES))
+    _, after_edit_hit = load_or_run_experiment(design, 1, tmp_path)
+    _, again_hit = load_or_run_experiment(design, 1, tmp_path)
+    assert (first_hit, after_edit_hit, again_hit) == (False, False, True)
+    assert len(list(tmp_path.glob("face_glmm_experiment_*.pkl"))) == 2
+
+
+def test_cache_key_bad_inputs():
+    from amdo_lab.face_glmm import experiment_cache_key, reduced_design
+    with pytest.raises(TypeError, match="design"):
+        experiment_cache_key({"n_subjects": 8}, 1)
+    with pytest.raises(TypeError, match="seed"):
+        experiment_cache_key(reduced_design(), 1.5)
+    with pytest.raises(TypeError, match="modules"):
+        experiment_cache_key(reduced_design(), 1, (3,))
 
 
 def test_agrees_with_statsmodels_bayes_mixed_glm_on_a_small_table():
@@ -418,7 +551,7 @@ def fitted(simulated, population, reduced_table):
 @pytest.mark.parametrize("call, error, message", [
     (lambda f: f.fit.predict(f.cell, ci=1.5), ValueError, r"ci must be in \(0, 1\)"),
     (lambda f: f.fit.predict(f.cell, ci=np.nan), ValueError, "ci must be finite"),
-    (lambda f: f.fit.predict(f.cell, ci=0.0), ValueError, "ci must be positive"),
+    (lambda f: f.fit.predict(f.cell, ci=0.0), ValueError, r"ci must be in \(0, 1\), got 0.0"),
     (lambda f: f.fit.predict(f.cell.to_numpy()), TypeError, "newdata must be a pandas DataFrame"),
     (lambda f: f.fit.predict(f.cell.iloc[:0]), ValueError, "newdata must have at least one row"),
     (lambda f: f.fit.predict_marginal(pd.DataFrame({"M": ["l2"]}), ci=2.0), ValueError, r"ci must be in \(0, 1\)"),

@@ -472,7 +472,7 @@ _EYES = np.stack([np.eye(2)] * 2)
     (lambda: fit_gaussian_mixture(np.ones((6, 2), bool), 2, means_init=np.zeros((2, 2)), covariances_init=_EYES),
      TypeError, "X must be a numeric array"),
     # point distribution models
-    (lambda: fit_pdm(_VECTORS, variance_fraction=0.0), ValueError, "variance_fraction must be positive"),
+    (lambda: fit_pdm(_VECTORS, variance_fraction=0.0), ValueError, r"variance_fraction must be in \(0, 1\], got 0.0"),
     (lambda: fit_pdm(_VECTORS, variance_fraction=1.5), ValueError, r"variance_fraction must be in \(0, 1\]"),
     (lambda: fit_pdm(_VECTORS, variance_fraction=np.nan), ValueError, "variance_fraction must be finite"),
     (lambda: fit_pdm(_VECTORS, max_modes=0), ValueError, "max_modes must be at least 1"),
@@ -520,7 +520,7 @@ _EYES = np.stack([np.eye(2)] * 2)
     (lambda: hamming_distance(np.zeros(13, int), np.ones((3, 13), int)), ValueError, "label_strings must have 2 dimensions"),
     (lambda: hamming_distance(np.full((2, 13), np.nan), np.ones((3, 13))), ValueError, "label_strings must be finite"),
     (lambda: hamming_distance(np.full((2, 13), 0.5), np.ones((3, 13))), ValueError, "label_strings must hold whole numbers"),
-    (lambda: label_string_log_prob(np.array([1]), 13, 0.0), ValueError, "error_probability must be positive"),
+    (lambda: label_string_log_prob(np.array([1]), 13, 0.0), ValueError, r"error_probability must be in \(0, 1\), got 0.0"),
     (lambda: label_string_log_prob(np.array([1]), 13, 1.0), ValueError, r"error_probability must be in \(0, 1\)"),
     (lambda: label_string_log_prob(np.array([1]), 13, np.nan), ValueError, "error_probability must be finite"),
     (lambda: label_string_log_prob(np.array([1]), 0, 0.2), ValueError, "n_limbs must be at least 1"),
@@ -604,3 +604,134 @@ _BASELINES = (pm.SingleCartesianPDMClassifier, NearestProcrustesMeanClassifier, 
 def test_fitted_models_reject_bad_input(fitted, call, error, message):
     with pytest.raises(error, match=message):
         call(fitted)
+
+
+# ---------------------------------------------------------------- mode separation, reference paths
+def test_mode_separation_default_is_unchanged_and_zero_merges_the_modes():
+    default = generate_pose_dataset(TABLE1_CLASSES, 6, 11)
+    explicit = generate_pose_dataset(TABLE1_CLASSES, 6, 11, mode_separation=1.0)
+    assert np.array_equal(default.shapes, explicit.shapes)
+    still = dict(noise=0.0, joint_jitter_deg=0.0, length_jitter=0.0, max_rotation_deg=0.0)
+    merged = generate_pose_dataset(("boxing",), 8, 3, mode_separation=0.0, **still)
+    assert len(set(merged.modes)) == 2  # both modes drawn, yet they coincide
+    normalised = np.stack([pm.normalise_shape(s.reshape(-1, 2)) for s in merged.shapes])
+    assert np.allclose(normalised, normalised[0], atol=1e-12)
+    spread = {level: np.ptp(pm.limb_angles(pm.limb_centres(generate_pose_dataset(
+        ("boxing",), 8, 3, mode_separation=level, **still).shapes))[:, 3]) for level in (1.0, 1.5)}
+    assert spread[1.5] > spread[1.0] > 0.1  # the left upper arm's two modes move apart
+    with pytest.raises(ValueError, match="mode_separation"):
+        generate_pose_dataset(TABLE1_CLASSES, 2, 0, mode_separation=-1.0)
+
+
+def test_ppca_log_density_is_the_gaussian_of_the_pdm_covariance():
+    rng = make_rng(4)
+    data = rng.standard_normal((40, 6)) @ rng.standard_normal((6, 6))
+    model = pm.fit_pdm(data, variance_fraction=0.8)
+    phi = model.modes
+    covariance = phi @ np.diag(model.variances) @ phi.T + model.residual_variance * (np.eye(6) - phi @ phi.T)
+    inside = model.mean + 0.5 * (rng.standard_normal((5, model.n_modes)) * np.sqrt(model.variances)) @ phi.T \
+        + 0.01 * rng.standard_normal((5, 6))
+    expected = pm.gaussian_log_density(inside, model.mean[None], covariance[None])[:, 0]
+    assert np.allclose(pm.ppca_log_density(model, inside), expected)
+    with pytest.raises(ValueError, match="observed"):
+        pm.ppca_log_density(model, np.zeros((2, 5)))
+    with pytest.raises(TypeError, match="model"):
+        pm.ppca_log_density("pdm", inside)
+
+
+def test_single_cartesian_pdm_scores_with_the_one_ppca_density(small_problem):
+    train, test, _ = small_problem
+    classifier = pm.SingleCartesianPDMClassifier().fit(train.shapes, train.labels)
+    vectors = pm.align_to_reference(test.shapes[:5].reshape(5, -1, 2), classifier.reference_).reshape(5, -1)
+    expected = np.stack([pm.ppca_log_density(m, vectors) for m in classifier.models_], axis=1)
+    assert np.allclose(classifier.log_likelihoods(test.shapes[:5]), expected)
+
+
+def test_reference_paths_equal_fast_paths():
+    from amdo_lab.pdm_mixtures.gmm import _gaussian_log_density, _gaussian_log_density_reference
+    from amdo_lab.pdm_mixtures.pdm import _align_to_reference, _align_to_reference_loop
+    from amdo_lab.pdm_mixtures.recognizer import _hamming_distance, _hamming_distance_reference
+
+    rng = make_rng(8)
+    points, means = rng.standard_normal((30, 4)), rng.standard_normal((3, 4))
+    factors = rng.standard_normal((3, 4, 4))
+    covariances = factors @ np.swapaxes(factors, 1, 2) + 0.1 * np.eye(4)
+    assert np.allclose(_gaussian_log_density(points, means, covariances),
+                       _gaussian_log_density_reference(points, means, covariances))
+    strings, dictionary = rng.integers(0, 4, (7, 13)), rng.integers(0, 4, (5, 13))
+    assert np.array_equal(_hamming_distance(strings, dictionary), _hamming_distance_reference(strings, dictionary))
+    sets = generate_pose_dataset(TABLE1_CLASSES, 3, 5).shapes.reshape(18, -1, 2)
+    reference = pm.normalise_shape(sets[0])
+    assert np.allclose(_align_to_reference(sets, reference), _align_to_reference_loop(sets, reference), atol=1e-12)
+
+
+def test_limb_label_posteriors_are_distributions(small_problem):
+    _, test, recogniser = small_problem
+    posteriors = recogniser.limb_label_posteriors(test.shapes[:4])
+    assert posteriors.shape == (4, 13, recogniser.n_limb_labels)
+    assert np.allclose(posteriors.sum(axis=2), 1.0)
+    gates = recogniser.score_components(test.shapes[:4]).limb_gate
+    log_posteriors = recogniser.limb_label_posteriors(test.shapes[:4], log=True)
+    assert np.allclose(np.exp(log_posteriors), posteriors)
+    n_classes, n_components, _ = recogniser.dictionary_.shape
+    for c in range(n_classes):
+        for m in range(n_components):
+            string = recogniser.dictionary_[c, m]
+            assert np.allclose(log_posteriors[:, np.arange(13), string].sum(axis=1), gates[:, c, m])
+    with pytest.raises(ValueError, match="shapes"):
+        recogniser.limb_label_posteriors(np.zeros((2, 12, 6, 2)))
+
+
+def test_mode_separation_trial_is_deterministic_and_validates():
+    first = pm.mode_separation_trial(1.5, 3, n_train=6, n_test=2, classes=("boxing", "stretching"))
+    again = pm.mode_separation_trial(1.5, 3, n_train=6, n_test=2, classes=("boxing", "stretching"))
+    assert set(first.correct) == set(pm.SEPARATION_MODELS)
+    for name in pm.SEPARATION_MODELS:
+        assert first.correct[name].shape == (4,) and first.correct[name].dtype == bool
+        assert np.array_equal(first.correct[name], again.correct[name])
+        assert 0.0 <= first.rate(name) <= 1.0
+    with pytest.raises(ValueError, match="separation"):
+        pm.mode_separation_trial(-0.5, 3)
+    with pytest.raises(ValueError, match="n_train"):
+        pm.mode_separation_trial(1.0, 3, n_train=2)
+
+
+def test_batched_mixture_em_equals_one_run_at_a_time():
+    from amdo_lab.pdm_mixtures.gmm import _fit_gaussian_mixtures_batch
+
+    rng = make_rng(12)
+    points = np.stack([np.concatenate([rng.standard_normal((25, 3)), rng.standard_normal((25, 3)) + 3.0])
+                       for _ in range(4)])
+    means = points[:, [0, 30]]
+    covariances = np.repeat(np.eye(3)[None, None], 4, axis=0).repeat(2, axis=1)
+    ridges = np.array([0.0, 1e-3, 1e-2, 0.1])
+    weights, fitted_means, fitted_covariances, responsibilities = _fit_gaussian_mixtures_batch(
+        points, means, covariances, 15, ridges)
+    for b in range(4):
+        one = pm.fit_gaussian_mixture(points[b], 2, means_init=means[b], covariances_init=covariances[b],
+                                      n_iter=15, reg_covar=ridges[b])
+        assert np.allclose(weights[b], one.weights) and np.allclose(fitted_means[b], one.means)
+        assert np.allclose(fitted_covariances[b], one.covariances)
+        assert np.allclose(responsibilities[b], one.responsibilities)
+
+
+def test_nearest_mean_distances_equal_the_procrustes_loop(small_problem):
+    train, test, _ = small_problem
+    classifier = pm.NearestProcrustesMeanClassifier().fit(train.shapes, train.labels)
+    assert np.allclose(classifier.distances(test.shapes[:20]), classifier._distances_loop(test.shapes[:20]))
+
+
+def test_draw_shape_draws_one_collection_and_validates():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots()
+    pm.draw_shape(ax, generate_pose_dataset(("boxing",), 1, 0).shapes[0], label="boxing")
+    assert len(ax.collections) == 1 and ax.get_legend_handles_labels()[1] == ["boxing"]
+    with pytest.raises(ValueError, match="shape"):
+        pm.draw_shape(ax, np.zeros((12, 6, 2)))
+    with pytest.raises(TypeError, match="ax"):
+        pm.draw_shape("axes", np.zeros((13, 6, 2)))
+    plt.close(fig)

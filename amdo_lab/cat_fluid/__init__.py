@@ -17,24 +17,32 @@ from amdo_lab.cat_fluid.registration import (
     register_fluid,
     warp_image,
 )
+from amdo_lab.cat_fluid.reporting import PAPER_TABLE1, accuracy_row, grey_level_table, mean_sd_strings, paper_table1
 from amdo_lab.cat_fluid.solvers import (
     SOLVERS,
     SOR_ORDERINGS,
     apply_finite_difference,
     cat_symbol,
     finite_difference_symbol,
+    solve_stencil_reference,
     solve_velocity,
+    sor_reference,
     sor_solve,
+    stencil_matrix,
     stencil_symbol,
+    symbol_eigenvalues,
 )
 from amdo_lab.cat_fluid.stencil import (
     NEIGHBOUR_OFFSETS,
     apply_stencil,
+    consistency_errors,
     fluid_stencil,
+    polynomial_test_fields,
     printed_stencil,
     rotate_stencil,
     stencil_at_origin,
     stencil_blocks,
+    stencil_grid,
 )
 
 __all__ = [
@@ -45,4 +53,7 @@ __all__ = [
     "jacobian_determinant", "load_dipy_image", "make_pair", "material_update", "printed_stencil",
     "register_dipy", "register_fluid", "rotate_stencil", "smooth_warp", "solve_velocity", "sor_solve", "stencil_at_origin",
     "stencil_blocks", "stencil_symbol", "warp_image",
+    "PAPER_TABLE1", "accuracy_row", "consistency_errors", "grey_level_table", "mean_sd_strings", "paper_table1",
+    "polynomial_test_fields", "solve_stencil_reference", "sor_reference", "stencil_grid", "stencil_matrix",
+    "symbol_eigenvalues",
 ]

@@ -16,7 +16,7 @@ import numpy as np
 from scipy.ndimage import binary_fill_holes, gaussian_filter
 
 from amdo_lab.cat_fluid.registration import warp_image
-from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_bool_mask, as_finite_array, check_choice, check_positive, check_positive_int, make_rng
 
 __all__ = ["PAIR_NAMES", "DIPY_IMAGES", "BLOB_CENTRE_FRACTION", "BLOB_SD", "BLOB_HEIGHT", "RegistrationPair", "load_dipy_image", "smooth_warp", "foreground_mask",
            "make_pair"]
@@ -59,9 +59,7 @@ def smooth_warp(shape: tuple[int, int], rng: np.random.Generator | int, *, ampli
     amplitude = check_positive(amplitude, "amplitude")
     smoothness = check_positive(smoothness, "smoothness")
     if support is not None:
-        support = np.asarray(support)
-        if support.dtype != bool or support.shape != shape:
-            raise ValueError(f"support must be a boolean array of shape {shape}, got {support.dtype} {support.shape}")
+        support = as_bool_mask(support, "support", shape=shape)
         if not support.any():
             raise ValueError("support must contain at least one pixel, got an all-False mask")
     field = np.stack([gaussian_filter(rng.normal(size=shape), smoothness, mode="wrap") for _ in range(2)])

@@ -14,7 +14,15 @@ import numpy as np
 
 from amdo_lab.cat_fluid.solvers import SOLVERS, cat_symbol, finite_difference_symbol, solve_symbol, sor_solve
 from amdo_lab.cat_fluid.stencil import check_moduli
-from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
+from amdo_lab.common import (
+    as_bool_mask,
+    as_finite_array,
+    check_bool,
+    check_choice,
+    check_in_range,
+    check_positive,
+    check_positive_int,
+)
 
 __all__ = ["FluidResult", "HISTORY_COLUMNS", "register_fluid", "warp_image", "external_force",
            "material_update", "displacement_jacobian", "jacobian_determinant", "compose_displacements",
@@ -96,6 +104,7 @@ def _determinant(displacement: np.ndarray) -> np.ndarray:
 
 
 def _force(deformed_template: np.ndarray, study: np.ndarray) -> np.ndarray:
+    # eq. (18): F = -(I1 - I2) ∇I1, ∇ by central differences (one-sided at the border)
     return -(deformed_template - study)[None] * np.stack(np.gradient(deformed_template), axis=0)
 
 
@@ -106,7 +115,8 @@ def external_force(deformed_template: object, study: object) -> np.ndarray:
 
 
 def _update(displacement: np.ndarray, velocity: np.ndarray, dt: float) -> np.ndarray:
-    jac = _jacobian(displacement)
+    jac = _jacobian(displacement)  # J[i, j] = ∂u_i/∂x_j, our reading of (∇u)ᵀ in eq. (16)
+    # eq. (16): u_i <- u_i + Δt (v_i - Σ_j J[i, j] v_j), for i = 1, 2 at every pixel
     return displacement + dt * (velocity - np.einsum("ijhw,jhw->ihw", jac, velocity))
 
 
@@ -154,9 +164,7 @@ def grey_level_difference(image: object, reference: object, mask: object | None 
 
 def _check_mask(mask: object, shape: tuple[int, ...]) -> np.ndarray:
     """A boolean mask of ``shape`` with at least one pixel (an empty mean would be NaN)."""
-    mask = np.asarray(mask)
-    if mask.dtype != bool or mask.shape != tuple(shape):
-        raise ValueError(f"mask must be a boolean array of shape {tuple(shape)}, got {mask.dtype} {mask.shape}")
+    mask = as_bool_mask(mask, "mask", shape=shape)
     if not mask.any():
         raise ValueError("mask must select at least one pixel, got an all-False mask")
     return mask
@@ -251,7 +259,8 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
     max_step : largest displacement change per iteration, pixels.
     backtrack : reject a step that does not decrease the SSD and halve the bound (else Christensen's
         fixed bound, every step accepted).
-    regrid_threshold : regrid when min det(I - ∇u) of the segment falls below it, in (0, 1).
+    regrid_threshold : regrid when min det(I - ∇u) of the segment falls below it, in [0, 1); 0 never
+        regrids (the map may then fold: det ≤ 0).
     sor_sweeps, sor_omega : SOR sweeps per solve (the paper: 250) and relaxation factor (default
         :func:`~amdo_lab.cat_fluid.solvers.default_omega`).
     sor_warm_start : start each SOR solve from the previous iteration's velocity (default) or from
@@ -260,17 +269,14 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
     template, study = _check_images(template, study)
     check_choice(method, "method", SOLVERS)
     lam, mu = check_moduli(lam, mu, require_positive_mu=True)
-    for flag, flag_name in ((backtrack, "backtrack"), (sor_warm_start, "sor_warm_start")):
-        if not isinstance(flag, bool):
-            raise TypeError(f"{flag_name} must be a bool, got {type(flag).__name__}")
+    check_bool(backtrack, "backtrack")
+    check_bool(sor_warm_start, "sor_warm_start")
     n_iter = check_positive_int(DEFAULT_ITERATIONS[method] if n_iter is None else n_iter, "n_iter")
     step_bound = check_positive(max_step, "max_step")
-    regrid_threshold = check_positive(regrid_threshold, "regrid_threshold")
-    if regrid_threshold >= 1:
-        raise ValueError(f"regrid_threshold must be in (0, 1), got {regrid_threshold}")
+    regrid_threshold = check_in_range(regrid_threshold, "regrid_threshold", 0, 1, closed="left")
     sor_sweeps = check_positive_int(sor_sweeps, "sor_sweeps")
-    if sor_omega is not None and not 0 < check_positive(sor_omega, "sor_omega") < 2:
-        raise ValueError(f"sor_omega must be in (0, 2) for SOR to converge, got {sor_omega}")
+    if sor_omega is not None:
+        check_in_range(sor_omega, "sor_omega", 0, 2)  # SOR converges for 0 < omega < 2 only
     if method == "sor" and (template.shape[0] % 2 or template.shape[1] % 2):
         raise ValueError(f"method='sor' needs even image sizes (four-colour ordering), got {template.shape}")
     start = time.perf_counter()
@@ -308,7 +314,7 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
                 break
         total_det = float(_determinant(total).min())
         segment_det = total_det if regrids == 0 else float(_determinant(segment).min())
-        if taken and segment_det < regrid_threshold:
+        if regrid_threshold > 0 and taken and segment_det < regrid_threshold:  # 0: never regrid
             previous, segment, regrids = total, np.zeros_like(segment), regrids + 1
         history.append((float(np.mean(np.abs(warped - study))), time.perf_counter() - start, total_det, taken))
     return FluidResult(warped, total, np.array(history), regrids, method)

@@ -21,12 +21,14 @@ system solved is L v = F, as printed in eq. (17) and eq. (15) (negative centre c
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
 
 from amdo_lab.cat_fluid.stencil import NEIGHBOUR_OFFSETS, check_moduli, fluid_stencil, stencil_blocks
-from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
+from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive, check_positive_int
 
 __all__ = ["SOLVERS", "stencil_symbol", "cat_symbol", "finite_difference_symbol", "apply_finite_difference",
-           "solve_symbol", "sor_solve", "solve_velocity", "default_omega", "SOR_ORDERINGS"]
+           "solve_symbol", "sor_solve", "solve_velocity", "default_omega", "SOR_ORDERINGS", "symbol_eigenvalues",
+           "stencil_matrix", "solve_stencil_reference", "sor_reference"]
 
 SOLVERS = ("cat", "sor", "fft")
 SOR_ORDERINGS = ("four-colour", "red-black", "red-black-together")
@@ -96,6 +98,73 @@ def apply_finite_difference(velocity: object, lam: float, mu: float) -> np.ndarr
     return out
 
 
+def symbol_eigenvalues(symbol: object, rows: object, cols: object) -> np.ndarray:
+    """Eigenvalues (ascending) of the 2x2 symbol at the frequencies ``(rows[k], cols[k])``, shape (n, 2).
+
+    ``symbol`` is a (2, 2, H, W//2+1) array from :func:`stencil_symbol`, :func:`cat_symbol` or
+    :func:`finite_difference_symbol`; ``rows`` and ``cols`` index its last two axes, e.g. a path
+    through frequency space (row k is the frequency 2π fftfreq(H)[k]).
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, Sec. 4, eq. (15): the symbol of its stencil.
+    """
+    symbol = as_finite_array(symbol, "symbol", shape=(2, 2, None, None))
+    rows, cols = np.asarray(rows, dtype=int), np.asarray(cols, dtype=int)
+    if rows.shape != cols.shape or rows.ndim != 1:
+        raise ValueError(f"rows and cols must be 1-D of the same length, got shapes {rows.shape} and {cols.shape}")
+    matrices = np.moveaxis(symbol[:, :, rows, cols], -1, 0)  # (n, 2, 2): one matrix per frequency
+    return np.linalg.eigvalsh(matrices)
+
+
+def stencil_matrix(stencil: object, shape: tuple[int, int]) -> sp.csr_matrix:
+    """The stencil of eq. (15) as a sparse (2 H W, 2 H W) matrix on an (H, W) grid, periodic.
+
+    Row ``i * H * W + n`` is force component i at pixel n (row-major), column ``c * H * W + m``
+    velocity component c at pixel m: the reference, pixel by pixel, for :func:`apply_stencil`
+    and for the Fourier solve.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, eq. (15).
+    """
+    blocks = stencil_blocks(stencil)
+    h, w = _check_shape(shape)
+    pixel = np.arange(h * w).reshape(h, w)
+    rows, cols, values = [], [], []
+    for block, (d0, d1) in zip(blocks, NEIGHBOUR_OFFSETS):
+        neighbour = np.roll(pixel, (-d0, -d1), axis=(0, 1)).ravel()  # the pixel at x + d, periodic
+        for i in range(2):
+            for c in range(2):
+                rows.append(i * h * w + pixel.ravel())
+                cols.append(c * h * w + neighbour)
+                values.append(np.full(h * w, block[i, c]))
+    return sp.csr_matrix((np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))),
+                         shape=(2 * h * w, 2 * h * w))
+
+
+def solve_stencil_reference(stencil: object, force: object) -> np.ndarray:
+    """Solve K v = F (eq. 15 at every pixel) with a dense solver: the reference for the FFT path.
+
+    The uniform velocities are the null space of a consistent stencil; as in the fast path the
+    mean of F is removed and the zero-mean solution returned (least squares, minimum norm).
+    Dense: use it on small grids only (a 32 x 32 grid is a 2048 x 2048 system).
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, eq. (15) solved for the velocity.
+    """
+    force = as_finite_array(force, "force", shape=(2, None, None))
+    h, w = force.shape[1:]
+    matrix = stencil_matrix(stencil, (h, w)).toarray()
+    rhs = (force - force.mean(axis=(1, 2), keepdims=True)).ravel()
+    velocity = np.linalg.lstsq(matrix, rhs, rcond=None)[0].reshape(2, h, w)
+    return velocity - velocity.mean(axis=(1, 2), keepdims=True)
+
+
 def solve_symbol(symbol: np.ndarray, force: np.ndarray) -> np.ndarray:
     """Solve symbol(ω) v̂(ω) = F̂(ω) frequency by frequency (2x2 Cramer's rule); v̂(0) = 0."""
     shape = force.shape[1:]
@@ -153,9 +222,8 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, sweeps: int = 250, om
     sweeps = check_positive_int(sweeps, "sweeps", minimum=0)
     check_choice(ordering, "ordering", SOR_ORDERINGS)
     h, w = force.shape[1:]
-    omega = default_omega((h, w)) if omega is None else check_positive(omega, "omega")
-    if omega >= 2:
-        raise ValueError(f"omega must be in (0, 2) for SOR to converge, got {omega}")
+    # SOR converges for 0 < omega < 2 only
+    omega = default_omega((h, w)) if omega is None else check_in_range(omega, "omega", 0, 2)
     if h % 2 or w % 2:
         raise ValueError(f"SOR's four-colour ordering needs even image sizes, got {(h, w)}")
     start = np.zeros_like(force) if initial is None else as_finite_array(initial, "initial", shape=force.shape)
@@ -216,6 +284,46 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, sweeps: int = 250, om
             for s in (0, 1):
                 velocity[comp, r::2, s::2] = pad[comp][r][s][1:-1, 1:-1]
     return velocity - velocity.mean(axis=(1, 2), keepdims=True)
+
+
+def sor_reference(force: object, lam: float, mu: float, *, sweeps: int, omega: float) -> np.ndarray:
+    """Pixel-by-pixel SOR on the finite-difference eq. (17), the readable twin of :func:`sor_solve`.
+
+    Same four-colour order (colour (row parity, column parity), then component), periodic, from
+    zero: a plain Python loop, for small images. Within one colour no pixel is a neighbour of
+    another, so this loop and the vectorised :func:`sor_solve` give the same numbers.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, Sec. 5, eq. (17) and its SOR solver (their reference [2]).
+    """
+    force = as_finite_array(force, "force", shape=(2, None, None))
+    lam, mu = check_moduli(lam, mu, require_positive_mu=True)
+    sweeps = check_positive_int(sweeps, "sweeps", minimum=0)
+    omega = check_positive(omega, "omega")
+    h, w = force.shape[1:]
+    force = force - force.mean(axis=(1, 2), keepdims=True)
+    v = np.zeros_like(force)
+    centre = -(2 * lam + 6 * mu)  # eq. (17) discretised: coefficient of v_i at the pixel itself
+    for _ in range(sweeps):
+        for r in (0, 1):
+            for s in (0, 1):
+                for i in (0, 1):
+                    along = (1, 0) if i == 0 else (0, 1)  # component i's own axis
+                    across = (along[1], along[0])
+                    for a in range(r, h, 2):
+                        for b in range(s, w, 2):
+                            def at(comp: int, d0: int, d1: int) -> float:
+                                return v[comp, (a + d0) % h, (b + d1) % w]
+                            # off-centre part of μΔv_i + (λ+μ)∂_i(∇·v), eq. (17)
+                            off = ((lam + 2 * mu) * (at(i, *along) + at(i, -along[0], -along[1]))
+                                   + mu * (at(i, *across) + at(i, -across[0], -across[1]))
+                                   + (lam + mu) * 0.25 * (at(1 - i, 1, 1) - at(1 - i, 1, -1)
+                                                          - at(1 - i, -1, 1) + at(1 - i, -1, -1)))
+                            gauss_seidel = (force[i, a, b] - off) / centre
+                            v[i, a, b] = (1 - omega) * v[i, a, b] + omega * gauss_seidel
+    return v - v.mean(axis=(1, 2), keepdims=True)
 
 
 def solve_velocity(force: object, method: str = "cat", lam: float = 1.0, mu: float = 5.0,

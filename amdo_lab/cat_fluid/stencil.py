@@ -28,7 +28,8 @@ import numpy as np
 from amdo_lab.common import as_finite_array, check_positive
 
 __all__ = ["NEIGHBOUR_OFFSETS", "check_moduli", "fluid_stencil", "printed_stencil", "apply_stencil",
-           "stencil_at_origin", "rotate_stencil", "stencil_blocks"]
+           "stencil_at_origin", "rotate_stencil", "stencil_blocks", "stencil_grid", "polynomial_test_fields",
+           "consistency_errors"]
 
 #: (axis-0, axis-1) offsets of the 9 neighbours behind the 18 columns (two components each):
 #: our reading of the paper's "00, 01, ..., -1-1" sequence in eq. (15). The printed k values fix
@@ -168,3 +169,84 @@ def rotate_stencil(stencil: object) -> np.ndarray:
         source = tuple(int(x) for x in rotation.T @ np.array(d))
         rotated[p] = rotation @ blocks[index[source]] @ rotation.T
     return rotated.transpose(1, 0, 2).reshape(2, 18)
+
+
+def stencil_grid(stencil: object, row: int, component: int) -> np.ndarray:
+    """One block of the stencil laid out as the 3 x 3 neighbourhood it acts on.
+
+    ``grid[d0 + 1, d1 + 1]`` is the coefficient by which velocity ``component`` at the neighbour
+    (d0, d1) enters force component ``row`` (eq. 15, column 2 p + component).
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, eq. (15).
+    """
+    blocks = stencil_blocks(stencil)
+    for value, name in ((row, "row"), (component, "component")):
+        if value not in (0, 1):
+            raise ValueError(f"{name} must be 0 or 1, got {value!r}")
+    grid = np.zeros((3, 3))
+    for block, (d0, d1) in zip(blocks, NEIGHBOUR_OFFSETS):
+        grid[d0 + 1, d1 + 1] = block[row, component]
+    return grid
+
+
+# The test fields of the consistency check: name -> v(x1, x2). Constants and linear fields have
+# no second derivatives, so any consistent stencil must give them zero force.
+_LOW_ORDER_FIELDS: dict[str, Callable[[float, float], tuple[float, float]]] = {
+    "v=(1, 0)": lambda a, b: (1.0, 0.0), "v=(0, 1)": lambda a, b: (0.0, 1.0),
+    "v=(x1, 0)": lambda a, b: (a, 0.0), "v=(x2, 0)": lambda a, b: (b, 0.0),
+    "v=(0, x1)": lambda a, b: (0.0, a), "v=(0, x2)": lambda a, b: (0.0, b),
+}
+_QUADRATIC_FIELDS: dict[str, Callable[[float, float], tuple[float, float]]] = {
+    "v=(x1², 0)": lambda a, b: (a * a, 0.0), "v=(x2², 0)": lambda a, b: (b * b, 0.0),
+    "v=(x1x2, 0)": lambda a, b: (a * b, 0.0), "v=(0, x2²)": lambda a, b: (0.0, b * b),
+    "v=(0, x1²)": lambda a, b: (0.0, a * a), "v=(0, x1x2)": lambda a, b: (0.0, a * b),
+}
+
+
+def _continuous_force(name: str, lam: float, mu: float) -> tuple[float, float]:
+    """μΔv + (λ+μ)∇(∇·v) (left side of eq. 17) of a quadratic test field, worked out by hand."""
+    return {"v=(x1², 0)": (2 * lam + 4 * mu, 0.0),  # μ·2 + (λ+μ)·∂1(2 x1)
+            "v=(x2², 0)": (2 * mu, 0.0),             # divergence-free: only μΔv
+            "v=(x1x2, 0)": (0.0, lam + mu),          # ∇·v = x2, so (λ+μ)∇x2
+            "v=(0, x2²)": (0.0, 2 * lam + 4 * mu),
+            "v=(0, x1²)": (0.0, 2 * mu),
+            "v=(0, x1x2)": (lam + mu, 0.0)}[name]
+
+
+def polynomial_test_fields(lam: float = 1.0, mu: float = 5.0) -> list[tuple[str, Callable[[float, float], tuple[float, float]], tuple[float, float]]]:
+    """The velocity fields a consistent stencil must get exactly right, with the force it must give.
+
+    Returns (name, v(x1, x2), expected force at the origin): constants and linear fields (force 0)
+    and the six quadratic fields (force μΔv + (λ+μ)∇(∇·v), the left side of eq. 17).
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, eqs. (15) and (17).
+    """
+    lam, mu = check_moduli(lam, mu)
+    return ([(name, field, (0.0, 0.0)) for name, field in _LOW_ORDER_FIELDS.items()]
+            + [(name, field, _continuous_force(name, lam, mu)) for name, field in _QUADRATIC_FIELDS.items()])
+
+
+def consistency_errors(stencil: object, lam: float = 1.0, mu: float = 5.0) -> dict[str, float]:
+    """Largest |stencil force - expected force| for each test field, and for the quarter turn.
+
+    Keys are "<field> → <expected force>" and "quarter turn leaves it unchanged"; a stencil that
+    discretises μΔv + (λ+μ)∇(∇·v) with Lamé constants ``lam``, ``mu`` scores 0 on all of them.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, eqs. (15) and (17).
+    """
+    stencil = as_finite_array(stencil, "stencil", shape=(2, 18))
+    errors = {}
+    for name, field, expected in polynomial_test_fields(lam, mu):
+        label = f"{name} → ({expected[0]:g}, {expected[1]:g})"
+        errors[label] = float(np.abs(stencil_at_origin(stencil, field) - np.array(expected)).max())
+    errors["quarter turn leaves it unchanged"] = float(np.abs(rotate_stencil(stencil) - stencil).max())
+    return errors

@@ -21,8 +21,14 @@ from amdo_lab.common.rng import make_rng, spawn_rngs
 from amdo_lab.common.stats import PairedComparison, RateInterval, paired_comparison, rate_interval
 from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.common.validation import (
+    as_bool_mask,
     as_finite_array,
+    as_image_pair,
+    check_axes,
+    check_bool,
     check_choice,
+    check_fitted,
+    check_in_range,
     check_positive,
     check_positive_int,
 )
@@ -33,9 +39,15 @@ __all__ = [
     "RateInterval",
     "apply_rigid",
     "apply_similarity_2d",
+    "as_bool_mask",
     "as_finite_array",
+    "as_image_pair",
     "check_answer",
+    "check_axes",
+    "check_bool",
     "check_choice",
+    "check_fitted",
+    "check_in_range",
     "check_positive",
     "check_positive_int",
     "make_rng",

@@ -9,7 +9,7 @@ import numpy as np
 __all__ = ["make_rng", "spawn_rngs"]
 
 
-def make_rng(seed: int | np.random.Generator) -> np.random.Generator:
+def make_rng(seed: int | np.random.Generator, name: str = "seed") -> np.random.Generator:
     """Return a ``numpy.random.Generator`` for an explicit integer seed.
 
     Parameters
@@ -17,6 +17,9 @@ def make_rng(seed: int | np.random.Generator) -> np.random.Generator:
     seed : int or numpy.random.Generator
         A non-negative integer seed, or a generator, which is returned as it is (so functions can
         accept either). ``None`` is refused: every random draw in the workbook is reproducible.
+    name : str
+        The caller's argument name, used in error messages (a function's ``rng`` argument passes
+        ``"rng"``).
 
     Returns
     -------
@@ -27,10 +30,10 @@ def make_rng(seed: int | np.random.Generator) -> np.random.Generator:
         return seed
     if isinstance(seed, bool) or not isinstance(seed, numbers.Integral):
         raise TypeError(
-            f"seed must be a non-negative int or a numpy.random.Generator, got {type(seed).__name__}"
+            f"{name} must be a non-negative int or a numpy.random.Generator, got {type(seed).__name__}"
         )
     if seed < 0:
-        raise ValueError(f"seed must be non-negative, got {seed}")
+        raise ValueError(f"{name} must be non-negative, got {seed}")
     return np.random.default_rng(int(seed))
 
 

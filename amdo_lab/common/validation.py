@@ -10,7 +10,18 @@ from collections.abc import Iterable, Sequence
 
 import numpy as np
 
-__all__ = ["as_finite_array", "check_choice", "check_positive", "check_positive_int"]
+__all__ = [
+    "as_bool_mask",
+    "as_finite_array",
+    "as_image_pair",
+    "check_axes",
+    "check_bool",
+    "check_choice",
+    "check_fitted",
+    "check_in_range",
+    "check_positive",
+    "check_positive_int",
+]
 
 
 def as_finite_array(
@@ -116,3 +127,99 @@ def check_choice(value: object, name: str, choices: Iterable[object]) -> object:
         listed = ", ".join(repr(option) for option in options)
         raise ValueError(f"{name} must be one of {listed}; got {value!r}")
     return value
+
+
+def check_bool(value: object, name: str) -> bool:
+    """Return ``value`` after checking it is a ``bool`` (``'yes'``, ``1`` or ``None`` are refused)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} must be True or False, got {type(value).__name__}")
+    return bool(value)
+
+
+def check_in_range(
+    value: object,
+    name: str,
+    low: float,
+    high: float,
+    *,
+    closed: str = "neither",
+) -> float:
+    """Return ``value`` as a float after checking ``low < value < high`` (ends per ``closed``).
+
+    Parameters
+    ----------
+    value : real number
+        The user's input.
+    name : str
+        The argument's name, used in error messages.
+    low, high : float
+        The interval's ends.
+    closed : {"neither", "left", "right", "both"}
+        Which ends belong to the interval: ``"neither"`` is the open interval, e.g. a probability
+        that must not be 0 or 1.
+    """
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
+    number = float(value)
+    if not np.isfinite(number):
+        raise ValueError(f"{name} must be finite, got {number}")
+    left_ok = number >= low if closed in ("left", "both") else number > low
+    right_ok = number <= high if closed in ("right", "both") else number < high
+    if not (left_ok and right_ok):
+        opening = "[" if closed in ("left", "both") else "("
+        ending = "]" if closed in ("right", "both") else ")"
+        raise ValueError(f"{name} must be in {opening}{low:g}, {high:g}{ending}, got {number}")
+    return number
+
+
+def as_bool_mask(value: object, name: str, *, shape: Sequence[int] | None = None) -> np.ndarray:
+    """Return a copy of ``value`` as a boolean array, after checking its dtype and shape.
+
+    Numbers are refused rather than thresholded: 0/1 floats passed as a mask are often a mistake
+    (a probability map, an image) that a silent cast would hide.
+    """
+    array = np.asarray(value)
+    if array.dtype != bool:
+        raise TypeError(f"{name} must be a boolean array, got dtype {array.dtype}")
+    if shape is not None and array.shape != tuple(shape):
+        raise ValueError(f"{name} must have shape {tuple(shape)}, got {array.shape}")
+    if array.size == 0:
+        raise ValueError(f"{name} must not be empty, got shape {array.shape}")
+    return array.copy()
+
+
+def as_image_pair(
+    first: object, second: object, names: tuple[str, str] = ("template", "study"), *, ndim: int = 2
+) -> tuple[np.ndarray, np.ndarray]:
+    """Two finite float images of one shape (e.g. a registration's template and study)."""
+    a = as_finite_array(first, names[0], ndim=ndim)
+    b = as_finite_array(second, names[1], ndim=ndim)
+    if a.shape != b.shape:
+        raise ValueError(f"{names[0]} and {names[1]} must have the same shape, got {a.shape} and {b.shape}")
+    return a, b
+
+
+def check_axes(ax: object, name: str = "ax") -> object:
+    """Return ``ax`` after checking it is a matplotlib ``Axes``."""
+    from matplotlib.axes import Axes  # here, not at the top: validation must not need matplotlib
+
+    if not isinstance(ax, Axes):
+        raise TypeError(f"{name} must be a matplotlib Axes, got {type(ax).__name__}")
+    return ax
+
+
+def check_fitted(estimator: object, attributes: str | Sequence[str]) -> None:
+    """Raise scikit-learn's ``NotFittedError`` when ``estimator`` lacks the learned ``attributes``.
+
+    Learned attributes end with an underscore (scikit-learn's convention), so an estimator is
+    fitted when they exist. ``NotFittedError`` subclasses ``ValueError``.
+    """
+    from sklearn.exceptions import NotFittedError
+
+    wanted = [attributes] if isinstance(attributes, str) else list(attributes)
+    missing = [a for a in wanted if getattr(estimator, a, None) is None]
+    if missing:
+        raise NotFittedError(
+            f"this {type(estimator).__name__} is not fitted yet: call fit(...) before using it "
+            f"(missing {', '.join(missing)})"
+        )

@@ -17,7 +17,7 @@ from amdo_lab.em_articulated.data import (
     random_pose,
     visible_points,
 )
-from amdo_lab.em_articulated.experiments import SUCCESS_DEG, TrialSummary, noise_floor_trials, run_registration_trials
+from amdo_lab.em_articulated.experiments import SUCCESS_DEG, ObjectiveCheck, objective_check, TrialSummary, noise_floor_trials, run_registration_trials
 from amdo_lab.em_articulated.hand import PART_NAMES, HandModel, TextureBinding
 from amdo_lab.em_articulated.registration import (
     OUR_SETTINGS,
@@ -30,6 +30,11 @@ from amdo_lab.em_articulated.registration import (
     dof_lever_arms,
     e_step_statistics,
     e_step_statistics_kdtree,
+    e_step_reference,
+    m_step_targets,
+    robust_log_likelihood,
+    register_em_reference,
+    climb_objective,
     fit_surface,
     DigitSearchResult,
     refine_digits,
@@ -41,7 +46,8 @@ from amdo_lab.em_articulated.tracking import TRACKING_SETTINGS, TrackingResult, 
 __all__ = [
     "OUR_SETTINGS", "fit_known_correspondences", "SkinTexture", "make_skin_texture", "DEFAULT_REPEATABILITY", "SUCCESS_DEG", "TrialSummary", "noise_floor_trials", "run_registration_trials", "PAPER_C", "PAPER_SETTINGS", "PART_NAMES", "EMResult", "HandModel", "RegistrationProblem", "SoftAssignResult",
     "SurfaceFitResult", "TextureBinding", "TrackingResult", "TrackingSequence", "dof_lever_arms",
-    "e_step_statistics", "e_step_statistics_kdtree",
+    "e_step_statistics", "e_step_statistics_kdtree", "e_step_reference", "m_step_targets",
+    "robust_log_likelihood", "register_em_reference", "climb_objective", "ObjectiveCheck", "objective_check",
     "fit_surface", "joint_rmse_deg", "worst_joint_deg", "make_registration_problem", "make_tracking_sequence",
     "DigitSearchResult", "refine_digits",
     "perturb_pose", "random_pose", "register_em", "softassign_register", "track_sequence", "TRACKING_SETTINGS",

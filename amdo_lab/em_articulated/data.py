@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int, make_rng
 
 from amdo_lab.em_articulated.hand import SIDEWAYS_DOFS, HandModel, TextureBinding, check_hand
 
@@ -260,8 +260,13 @@ class TrackingSequence:
 
 def make_tracking_sequence(hand: HandModel, rng: np.random.Generator | int, *, n_frames: int = 100,
                            fps: float = 20.0, n_features: int = 1500, noise_mm: float = 2.0,
-                           n_clutter: int = 150, repeatability: float = DEFAULT_REPEATABILITY) -> TrackingSequence:
+                           n_clutter: int = 150, repeatability: float = DEFAULT_REPEATABILITY,
+                           motion: str = "turn", camera: object = None) -> TrackingSequence:
     """A hand turning about an axis parallel to the image plane while bending its fingers (Fig. 3).
+
+    ``motion="turn"`` (default) is that sequence; ``motion="bend"`` keeps the palm still and only
+    bends and stretches the fingers, the paper's other two sequences, which it shows from two
+    viewpoints: ``camera`` (3,) is the camera centre in mm (default 500 mm above the hand).
 
     The skin carries ``n_features`` features (:func:`make_skin_texture`); each frame a camera
     500 mm above the hand detects ``repeatability`` of those facing it (about 500-700 points),
@@ -270,6 +275,8 @@ def make_tracking_sequence(hand: HandModel, rng: np.random.Generator | int, *, n
     """
     rng = make_rng(rng)
     n_frames = check_positive_int(n_frames, "n_frames", minimum=2)
+    check_choice(motion, "motion", ("turn", "bend"))
+    camera = _CAMERA if camera is None else as_finite_array(camera, "camera", ndim=1, shape=(3,))
     noise_mm = check_positive(noise_mm, "noise_mm", allow_zero=True)
     repeatability = check_positive(repeatability, "repeatability")
     if repeatability > 1:
@@ -278,7 +285,8 @@ def make_tracking_sequence(hand: HandModel, rng: np.random.Generator | int, *, n
     base = hand.rest_pose()
     poses = np.repeat(base[None], n_frames, axis=0)
     phase = 2 * np.pi * time / (n_frames / fps)
-    poses[:, 4] = 0.6 * np.sin(phase)  # turn about the hand's long axis (parallel to the image)
+    if motion == "turn":
+        poses[:, 4] = 0.6 * np.sin(phase)  # turn about the hand's long axis (parallel to the image)
     bend = 0.5 * (1 - np.cos(phase))  # 0 -> 1 -> 0
     for f in range(4):
         poses[:, 12 + 4 * f] = 0.1 + 1.0 * bend
@@ -289,7 +297,7 @@ def make_tracking_sequence(hand: HandModel, rng: np.random.Generator | int, *, n
     frames, masks = [], []
     for pose in poses:
         features = skin.positions(hand, pose)
-        facing = np.flatnonzero(visible_points(hand, features, pose, _CAMERA))
+        facing = np.flatnonzero(visible_points(hand, features, pose, camera))
         surface, _ = _observe(features, facing, int(round(repeatability * len(facing))), noise_mm, rng)
         # forearm: a cylinder of radius 30 mm along -y below the wrist, front half only
         angle = rng.uniform(0, np.pi, size=n_clutter)

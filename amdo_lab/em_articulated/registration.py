@@ -16,7 +16,8 @@ from amdo_lab.em_articulated.hand import DIGIT_DOFS, FINGERS, SIDEWAYS_DOFS, Han
 __all__ = ["EMResult", "register_em", "e_step_statistics_kdtree", "dof_lever_arms", "PAPER_SETTINGS",
            "OUR_SETTINGS", "fit_surface", "softassign_register", "PAPER_C", "e_step_statistics",
            "SurfaceFitResult", "SoftAssignResult", "fit_known_correspondences", "refine_digits",
-           "DigitSearchResult"]
+           "DigitSearchResult", "e_step_reference", "m_step_targets", "robust_log_likelihood",
+           "register_em_reference", "climb_objective"]
 
 #: Outlier constant of eq. (18) with n v << V.
 PAPER_C = 3.0 * np.sqrt(np.pi / 2.0)
@@ -66,6 +67,82 @@ def _check_e_step_inputs(model_points: object, data_points: object, sigma: objec
     if np.isnan(log_c) or log_c == np.inf:  # -inf is allowed: no outlier class (c = 0)
         raise ValueError(f"log_c must be a number or -inf (c = 0), got {log_c}")
     return model, data, sigma, float(log_c)
+
+
+def e_step_reference(model_points: object, data_points: object, sigma: float, c: float = PAPER_C) -> np.ndarray:
+    """Posterior α_ij that data point Y_j copies texture point T(X_i) (eq. 17), as a full matrix.
+
+    The readable path: every pair at once in plain numpy, memory O(N·M). The EM itself uses the
+    streamed, log-domain :func:`e_step_statistics` (and its k-d tree variant), which return sums of
+    these α and are tested equal to them.
+
+    Parameters
+    ----------
+    model_points : (N, 3) moved texture points T(X_i, Θ), mm.
+    data_points : (M, 3) data points Y_j, mm.
+    sigma : σ of the Gaussian of eq. (6), mm (> 0).
+    c : the outlier constant of eq. (18) (> 0); 3√(π/2) by default.
+
+    Returns
+    -------
+    alpha : (N, M) array; column j sums to the inlier probability of Y_j, below 1.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eqs. (17)-(18).
+    """
+    model, data, sigma, _ = _check_e_step_inputs(model_points, data_points, sigma, 0.0)
+    c = check_positive(c, "c")
+    # ||Y_j - T(X_i)||² for every pair (i, j)
+    sq_dist = np.sum((model[:, None, :] - data[None, :, :]) ** 2, axis=2)
+    # numerator of eq. (17): the Gaussian of eq. (6) without its normalisation (it cancels into c)
+    kernel = np.exp(-sq_dist / (2.0 * sigma**2))
+    # denominator of eq. (17): Σ_k over the texture points, plus c for the outlier class (eq. 18)
+    return kernel / (kernel.sum(axis=0, keepdims=True) + c)
+
+
+def m_step_targets(alpha: object, data_points: object) -> tuple[np.ndarray, np.ndarray]:
+    """Weights λ_i and targets G_i of eq. (20) from the posteriors α_ij of eq. (17).
+
+    λ_i = Σ_j α_ij, G_i = Σ_j α_ij Y_j / λ_i. A texture point with λ_i = 0 gets G_i = 0 (it has no
+    weight in eq. 20, so its target is never used).
+
+    Parameters
+    ----------
+    alpha : (N, M) posteriors, e.g. :func:`e_step_reference`.
+    data_points : (M, 3) data points Y_j.
+
+    Returns
+    -------
+    lam : (N,) weights λ_i; targets : (N, 3) centres of gravity G_i.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eq. (20).
+    """
+    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3))
+    alpha = as_finite_array(alpha, "alpha", ndim=2, shape=(None, len(data)))
+    lam = alpha.sum(axis=1)  # λ_i = Σ_j α_ij
+    targets = (alpha @ data) / np.maximum(lam, 1e-300)[:, None]  # G_i = Σ_j α_ij Y_j / λ_i
+    return lam, targets
+
+
+def robust_log_likelihood(model_points: object, data_points: object, sigma: float, c: float = PAPER_C) -> float:
+    """The objective the EM climbs at one σ: Σ_j log(c + Σ_i exp(-||Y_j - T(X_i)||²/2σ²)).
+
+    Up to a constant that depends on σ only, this is the log-likelihood of the data under the
+    mixture of eq. (9) (the Gaussian's normalisation and the priors v/V factor out into c, eq. 18),
+    so values at the same σ and c compare poses. Computed by the streamed pass of
+    :func:`e_step_statistics` in double precision (log domain: no underflow far from the hand).
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eqs. (9), (17)-(18).
+    """
+    model, data, sigma, _ = _check_e_step_inputs(model_points, data_points, sigma, 0.0)
+    log_c = float(np.log(check_positive(c, "c")))
+    with one_blas_thread():
+        return _dense_pass(model, data, sigma, log_c, 256, "double")[4]
 
 
 def e_step_statistics(model_points: object, data_points: object, sigma: float,
@@ -269,16 +346,19 @@ def _m_step(hand: HandModel, binding: TextureBinding, theta: np.ndarray, weights
     free = np.ones(hand.n_dof, bool) if free is None else free
     if not np.any(active):
         return theta
-    sqrt_w = np.sqrt(weights[active])[:, None]
+    sqrt_w = np.sqrt(weights[active])[:, None]  # √λ_i: eq. (20) as an ordinary least-squares problem
     for step_index in range(n_steps):
+        # T(X_i, Θ) and its derivative in each θ_k: ω_k × (T(X_i) - o_k) for a joint of axis ω_k
+        # through o_k (blended over the two parts of eq. 3), a unit vector for a palm translation
         moved, jac = start if step_index == 0 and start is not None else hand.texture_jacobian(binding, theta)
-        residual = (sqrt_w * (targets[active] - moved[active])).ravel()
+        residual = (sqrt_w * (targets[active] - moved[active])).ravel()  # √λ_i (G_i - T(X_i, Θ))
         jac_w = (sqrt_w[:, :, None] * jac[active][:, :, free]).reshape(-1, int(free.sum()))
+        # Gauss-Newton normal equations (JᵀJ + damping) ΔΘ = Jᵀ r, a little Levenberg damping for stability
         normal = jac_w.T @ jac_w
         normal += damping * np.diag(np.diag(normal) + 1e-6)
         step = np.zeros(hand.n_dof)
         step[free] = np.linalg.solve(normal, jac_w.T @ residual)
-        theta = np.clip(theta + step, limits[:, 0], limits[:, 1])
+        theta = np.clip(theta + step, limits[:, 0], limits[:, 1])  # projected onto the joint limits
         if np.max(np.abs(step)) < 1e-6:
             break
     return theta
@@ -302,7 +382,7 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
                 iterations_per_level: int = 10, tol: float = DEFAULT_TOL, outlier_c: float | None = None,
                 sigma_mode: str = "anneal", targets: str = "paper", a: float = 2.0,
                 gauss_newton_steps: int = 2, damping: float = 1e-3, chunk: int = 256,
-                release_ratio: float | None = None, e_step: str = "dense") -> EMResult:
+                release_ratio: float | None = None, e_step: str = "dense", schedule: str = "levels") -> EMResult:
     """Robust EM alignment of texture points X_i (at ``theta_init``) to data Y_j (Sec. 3).
 
     At each of ``n_levels`` geometric σ levels from ``sigma_max`` to ``sigma_min`` (Sec. 3.3),
@@ -333,12 +413,58 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
     e_step : "dense" (every pair, streamed in chunks) or "kdtree" (pairs within 4σ only,
         :func:`e_step_statistics_kdtree`). At a σ where the 4σ balls hold more than 15 % of all
         pairs, "kdtree" uses the dense E-step instead: there it is faster and not truncated.
+    schedule : "levels" (our reading of Sec. 3.3, the default): at each σ level, E- and M-steps
+        alternate until Θ stops changing. "per-step" (the paper's text read literally,
+        σ_{q+1} = κσ_q at every iteration q): one iteration at each σ above ``sigma_min``, then
+        iterations at ``sigma_min`` until Θ stops changing (at most ``iterations_per_level``).
     """
     setup = _em_setup(hand, model_points, data_points, theta_init, sigma_max, sigma_min, n_levels,
                       iterations_per_level, tol, outlier_c, sigma_mode, targets, a, gauss_newton_steps, damping,
-                      chunk, release_ratio, e_step)
+                      chunk, release_ratio, e_step, schedule)
     theta, inlier_prob, history = _em_levels(setup, setup.theta_init, setup.sigmas)
     return EMResult(theta, inlier_prob, history, hand.transform_texture(setup.binding, theta))
+
+
+def register_em_reference(model_points: object, data_points: object, hand: HandModel, theta_init: object,
+                          sigma_max: float = 20.0, sigma_min: float = 3.0, *, n_levels: int = 5,
+                          iterations_per_level: int = 10, tol: float = DEFAULT_TOL, targets: str = "paper",
+                          a: float = 2.0, gauss_newton_steps: int = 2, damping: float = 1e-3) -> np.ndarray:
+    """The annealed EM of Sec. 3.1-3.3 written out plainly: the readable path of :func:`register_em`.
+
+    Dense α matrices (:func:`e_step_reference`), so memory is O(N·M): for reading and for the tests,
+    which check that :func:`register_em` (streamed E-step, ``e_step="dense"``) reaches the same pose.
+    ``targets="debiased"`` is our correction of the large-σ blur (see :func:`register_em`).
+
+    Returns
+    -------
+    theta : (27,) the estimated pose.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, ECCV 2006, Sec. 3.3 and eqs. (17), (20).
+    """
+    model, data, theta, sigma_max, sigma_min = _check_common(hand, model_points, data_points, theta_init,
+                                                             sigma_max, sigma_min)
+    n_levels = check_positive_int(n_levels, "n_levels")
+    iterations_per_level = check_positive_int(iterations_per_level, "iterations_per_level")
+    check_choice(targets, "targets", ("paper", "debiased"))
+    binding = hand.texture_binding(model, theta, a)  # eq. (3): the texture's blend weights, fixed at Θ_init
+    with one_blas_thread():
+        # Sec. 3.3: σ falls geometrically from the largest motion σ_max to the noise level σ_min
+        for sigma in np.geomspace(sigma_max, sigma_min, n_levels):
+            for _ in range(iterations_per_level):
+                moved = hand.transform_texture(binding, theta)  # T(X_i, Θ^q)
+                alpha = e_step_reference(moved, data, sigma)  # E-step, eq. (17)
+                lam, goal = m_step_targets(alpha, data)  # λ_i, G_i of eq. (20)
+                if targets == "debiased":  # ours: subtract the texture's own blur B_i
+                    _, blurred = m_step_targets(e_step_reference(moved, moved, sigma), moved)
+                    goal = moved + goal - blurred
+                # M-step: minimise E(Θ) = Σ_i λ_i ||T(X_i, Θ) - G_i||² (eq. 20) by Gauss-Newton
+                new_theta = _m_step(hand, binding, theta, lam, goal, gauss_newton_steps, damping)
+                change, theta = float(np.max(np.abs(new_theta - theta))), new_theta
+                if change <= tol:  # the paper's stopping rule: Θ no longer changes
+                    break
+    return theta
 
 
 @dataclass(frozen=True)
@@ -362,13 +488,15 @@ class _EMSetup:
     chunk: int
     release_ratio: float | None
     e_step: str
+    schedule: str = "levels"
 
 
 def _em_setup(hand: HandModel, model_points: object, data_points: object, theta_init: object,
               sigma_max: float = 20.0, sigma_min: float = 3.0, n_levels: int = 5, iterations_per_level: int = 10,
               tol: float = DEFAULT_TOL, outlier_c: float | None = None, sigma_mode: str = "anneal",
               targets: str = "paper", a: float = 2.0, gauss_newton_steps: int = 2, damping: float = 1e-3,
-              chunk: int = 256, release_ratio: float | None = None, e_step: str = "dense") -> _EMSetup:
+              chunk: int = 256, release_ratio: float | None = None, e_step: str = "dense",
+              schedule: str = "levels") -> _EMSetup:
     """Check :func:`register_em`'s arguments (same names, same defaults) and bind the texture at ``theta_init``."""
     model, data, theta, sigma_max, sigma_min = _check_common(hand, model_points, data_points,
                                                              theta_init, sigma_max, sigma_min)
@@ -380,6 +508,7 @@ def _em_setup(hand: HandModel, model_points: object, data_points: object, theta_
     check_choice(sigma_mode, "sigma_mode", ("anneal", "scaled", "estimate"))
     check_choice(targets, "targets", ("paper", "debiased"))
     check_choice(e_step, "e_step", ("dense", "kdtree"))
+    check_choice(schedule, "schedule", ("levels", "per-step"))
     chunk = check_positive_int(chunk, "chunk")
     gauss_newton_steps = check_positive_int(gauss_newton_steps, "gauss_newton_steps")
     damping = check_positive(damping, "damping", allow_zero=True)
@@ -389,7 +518,7 @@ def _em_setup(hand: HandModel, model_points: object, data_points: object, theta_
     binding = hand.texture_binding(model, theta, a)
     return _EMSetup(hand, data, theta, binding, np.geomspace(sigma_max, sigma_min, n_levels), sigma_min,
                     dof_lever_arms(hand, binding, theta), float(np.log(c)), iterations_per_level, tol, sigma_mode,
-                    targets, gauss_newton_steps, damping, chunk, release_ratio, e_step)
+                    targets, gauss_newton_steps, damping, chunk, release_ratio, e_step, schedule)
 
 
 def _em_levels(setup: _EMSetup, theta: np.ndarray, sigmas: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -412,11 +541,13 @@ def _em_levels(setup: _EMSetup, theta: np.ndarray, sigmas: np.ndarray) -> tuple[
     sigma = sigmas[0]
     inlier_prob = np.zeros(data.shape[0])
     with one_blas_thread():  # small dense algebra: BLAS threads only contend
-        for level_sigma in sigmas:
+        for level, level_sigma in enumerate(sigmas):
+            # per-step schedule: σ falls after every iteration until it reaches the last level
+            n_iterations = 1 if setup.schedule == "per-step" and level < len(sigmas) - 1 else setup.iterations_per_level
             free = np.ones(hand.n_dof, bool)
             if setup.release_ratio is not None:
                 free &= setup.lever >= setup.release_ratio * level_sigma
-            for _ in range(setup.iterations_per_level):
+            for _ in range(n_iterations):
                 if setup.sigma_mode != "estimate":
                     sigma = level_sigma
                 log_c = setup.log_c + (3 * np.log(sigma / setup.sigma_min) if setup.sigma_mode == "scaled" else 0.0)
@@ -437,6 +568,32 @@ def _em_levels(setup: _EMSetup, theta: np.ndarray, sigmas: np.ndarray) -> tuple[
                 if change <= setup.tol:
                     break
     return theta, inlier_prob, np.array(history)
+
+
+def climb_objective(model_points: object, data_points: object, hand: HandModel, theta_init: object,
+                    theta_start: object, sigma: float = 3.0, *, max_iterations: int = 60,
+                    tol: float = 1e-5) -> np.ndarray:
+    """The plain EM at one fixed σ from ``theta_start``: a climb of :func:`robust_log_likelihood`.
+
+    With the paper's targets G_i and σ held fixed, every EM iteration raises the data's
+    log-likelihood under eq. (9)'s mixture (the EM property, Sec. 3.2), so the pose returned is the
+    local maximum of that objective nearest ``theta_start``. The texture is bound at
+    ``theta_init``, where it was observed, as in :func:`register_em`. Used to ask where the
+    objective itself puts its maximum, e.g. started from the pose fitted with the true matches.
+
+    Returns
+    -------
+    theta : (27,) pose at the local maximum (or after ``max_iterations`` iterations).
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eqs. (9), (17), (20).
+    """
+    setup = _em_setup(hand, model_points, data_points, theta_init, sigma_max=2.0 * check_positive(sigma, "sigma"),
+                      sigma_min=sigma, n_levels=1, iterations_per_level=check_positive_int(max_iterations, "max_iterations"),
+                      tol=tol, targets="paper", e_step="dense")
+    start = hand.check_theta(theta_start, "theta_start", within_limits=True)
+    return _em_levels(setup, start, np.array([sigma]))[0]
 
 
 #: Per digit (thumb, index, middle, ring, little): its DOFs, the one that swings it sideways at the

@@ -19,13 +19,15 @@ from amdo_lab.face_glmm.design import (
 )
 from amdo_lab.face_glmm.experiment import (
     SUPPLEMENTS,
+    ExperimentDraws,
     FactorialDesign,
+    experiment_draws,
     make_supplement,
     paper_design,
     reduced_design,
     run_factorial_experiment,
 )
-from amdo_lab.face_glmm.glmm import GlmmResult, binomial_deviance, fit_binomial_glmm
+from amdo_lab.face_glmm.glmm import GlmmResult, binomial_deviance, fit_binomial_glmm, laplace_deviance
 from amdo_lab.face_glmm.pcalda import PcaLda, e90_dimension, pca_basis, weighted_sq_distances
 from amdo_lab.face_glmm.population import (
     SMALL_SHAPE,
@@ -42,7 +44,7 @@ from amdo_lab.face_glmm.simulate import (
     simulate_binomial_glmm,
     summarise_recovery,
 )
-from amdo_lab.face_glmm.cache import load_or_run_experiment
+from amdo_lab.face_glmm.cache import RESULT_MODULES, experiment_cache_key, load_or_run_experiment
 from amdo_lab.face_glmm.report import (
     PAPER_NUMBERS,
     PAPER_TABLE2,
@@ -55,9 +57,9 @@ from amdo_lab.face_glmm.report import (
 
 __all__ = [
     "PAPER_FORMULA", "SIZE_FORMULA", "SMALL_SHAPE", "STANDARD_SHAPE", "SUPPLEMENTS",
-    "DesignMatrix", "FacePopulation", "FactorialDesign", "GlmmResult", "PcaLda", "RecoverySummary",
+    "RESULT_MODULES", "ExperimentDraws", "experiment_draws", "DesignMatrix", "FacePopulation", "experiment_cache_key", "FactorialDesign", "GlmmResult", "PcaLda", "RecoverySummary",
     "binomial_deviance", "build_design", "downsample_by_two", "e90_dimension", "elliptical_mask",
-    "fit_binomial_glmm", "fit_gee_exchangeable", "fit_naive_logistic", "fit_with_lme4",
+    "fit_binomial_glmm", "laplace_deviance", "fit_gee_exchangeable", "fit_naive_logistic", "fit_with_lme4",
     "generate_face_population", "group_indices", "lme4_available", "load_or_run_experiment",
     "make_supplement", "paper_design", "parse_formula", "pca_basis", "preprocess_images",
     "reduced_design", "run_factorial_experiment", "simulate_binomial_glmm", "summarise_recovery",

@@ -1,27 +1,71 @@
-"""Cache the factorial experiment's table under build/ (git-ignored); recompute when absent."""
+"""Cache the factorial experiment's table under build/ (git-ignored); recompute when absent.
+
+The file name carries a key that hashes everything the table depends on: the design, the seed
+and the source code of the modules that generate the faces and run the recogniser. Editing any of
+them (a generator constant, a preprocessing step, a distance) gives a new key, so the experiment
+is run again instead of an old table being returned.
+"""
 
 from __future__ import annotations
 
 import hashlib
+import importlib
+import inspect
 import os
 from pathlib import Path
+from types import ModuleType
 
 import pandas as pd
 
 from amdo_lab.face_glmm.experiment import FactorialDesign, run_factorial_experiment
 
-__all__ = ["load_or_run_experiment"]
+__all__ = ["load_or_run_experiment", "experiment_cache_key", "RESULT_MODULES"]
+
+#: The modules whose code determines the experiment's table: the driver, the face generator
+#: with its preprocessing, and the PCA+LDA recogniser.
+RESULT_MODULES = ("amdo_lab.face_glmm.experiment", "amdo_lab.face_glmm.population",
+                  "amdo_lab.face_glmm.pcalda")
+
+
+def _module_source(module: str | ModuleType) -> str:
+    """The source text of a module given as an object or a dotted name."""
+    if isinstance(module, str):
+        module = importlib.import_module(module)
+    if not isinstance(module, ModuleType):
+        raise TypeError(f"modules must hold modules or dotted module names, got {type(module).__name__}")
+    return inspect.getsource(module)
+
+
+def experiment_cache_key(design: FactorialDesign, seed: int,
+                         modules: tuple[str | ModuleType, ...] = RESULT_MODULES) -> str:
+    """A 16-hex-digit key hashing the design, the seed and the source of ``modules``.
+
+    Parameters
+    ----------
+    design : FactorialDesign
+    seed : int
+    modules : sequence of modules or dotted names
+        Whose source text enters the key (default :data:`RESULT_MODULES`); the order matters.
+    """
+    _check_design_and_seed(design, seed)
+    digest = hashlib.sha256()
+    digest.update(repr((design, sorted(design.population_kwargs.items()), seed)).encode())
+    for module in modules:
+        digest.update(b"\0module\0")
+        digest.update(_module_source(module).encode())
+    return digest.hexdigest()[:16]
 
 
 def load_or_run_experiment(design: FactorialDesign, seed: int, cache_dir: str | Path) -> tuple[pd.DataFrame, bool]:
-    """Return (table, loaded_from_cache). The cache key hashes the design and the seed."""
-    if not isinstance(design, FactorialDesign):
-        raise TypeError(f"design must be a FactorialDesign, got {type(design).__name__}")
-    if not isinstance(seed, int) or isinstance(seed, bool):
-        raise TypeError(f"seed must be an int, got {type(seed).__name__}")
+    """Return ``(table, loaded_from_cache)`` for :func:`run_factorial_experiment` ``(design, seed)``.
+
+    The table is read from ``cache_dir`` when a file with the same :func:`experiment_cache_key`
+    exists, and otherwise computed and written there.
+    """
+    _check_design_and_seed(design, seed)
     if not isinstance(cache_dir, (str, os.PathLike)):
         raise TypeError(f"cache_dir must be a path (str or pathlib.Path), got {type(cache_dir).__name__}")
-    key = hashlib.sha1(repr((design, sorted(design.population_kwargs.items()), seed)).encode()).hexdigest()[:12]
+    key = experiment_cache_key(design, seed, RESULT_MODULES)
     path = Path(cache_dir) / f"face_glmm_experiment_{key}.pkl"
     if path.exists():
         return pd.read_pickle(path), True
@@ -29,3 +73,10 @@ def load_or_run_experiment(design: FactorialDesign, seed: int, cache_dir: str | 
     path.parent.mkdir(parents=True, exist_ok=True)
     table.to_pickle(path)
     return table, False
+
+
+def _check_design_and_seed(design: object, seed: object) -> None:
+    if not isinstance(design, FactorialDesign):
+        raise TypeError(f"design must be a FactorialDesign, got {type(design).__name__}")
+    if not isinstance(seed, int) or isinstance(seed, bool):
+        raise TypeError(f"seed must be an int, got {type(seed).__name__}")

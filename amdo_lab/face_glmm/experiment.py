@@ -24,8 +24,8 @@ from amdo_lab.face_glmm.population import (
     preprocess_images,
 )
 
-__all__ = ["FactorialDesign", "SUPPLEMENTS", "run_factorial_experiment", "make_supplement",
-           "paper_design", "reduced_design"]
+__all__ = ["FactorialDesign", "SUPPLEMENTS", "ExperimentDraws", "experiment_draws", "run_factorial_experiment",
+           "make_supplement", "paper_design", "reduced_design"]
 
 SUPPLEMENTS = ("none", "shift", "reflection", "noise")
 DIMENSIONS = ("fixed", "e90")
@@ -120,6 +120,47 @@ def _rank1_counts(distance: np.ndarray, gallery_choice: np.ndarray) -> np.ndarra
     return np.sum(nearest == np.arange(distance.shape[0])[:, None], axis=1)
 
 
+@dataclass(frozen=True)
+class ExperimentDraws:
+    """Every random draw of one factorial experiment, made before any recogniser runs.
+
+    Attributes
+    ----------
+    population : FacePopulation
+        ``n_subjects`` x 4 raw images; image 0 of each subject is its probe, images 1-3 its candidates.
+    training_sets : ndarray of int, shape (n_training_sets, n_train_subjects)
+        The subjects whose three candidate images train each training set.
+    gallery_choice : ndarray of int, shape (n_galleries, n_subjects)
+        Which candidate (0, 1 or 2) stands for each subject in each gallery.
+    noise_rngs : list of numpy.random.Generator
+        One per (training set, image size), for the noise supplement.
+    """
+
+    population: object
+    training_sets: np.ndarray
+    gallery_choice: np.ndarray
+    noise_rngs: list
+
+
+def experiment_draws(design: FactorialDesign, rng: int | np.random.Generator) -> ExperimentDraws:
+    """The population, training sets and galleries that :func:`run_factorial_experiment` uses.
+
+    Same seed, same draws: the chapter uses it to recompute one row of the table by hand.
+    """
+    if not isinstance(design, FactorialDesign):
+        raise TypeError(f"design must be a FactorialDesign, got {type(design).__name__}")
+    gen = make_rng(rng)
+    pop_rng, split_rng, gallery_rng, noise_seed = gen.spawn(4)
+    pop = generate_face_population(design.n_subjects, 4, pop_rng, shape=design.shape,
+                                   nuisance=design.nuisance, **design.population_kwargs)
+    n = design.n_subjects
+    training_sets = np.stack([split_rng.permutation(n)[: design.n_train_subjects]
+                              for _ in range(design.n_training_sets)])
+    gallery_choice = gallery_rng.integers(0, 3, size=(design.n_galleries, n))
+    noise_rngs = noise_seed.spawn(design.n_training_sets * len(SIZES))
+    return ExperimentDraws(pop, training_sets, gallery_choice, noise_rngs)
+
+
 def run_factorial_experiment(design: FactorialDesign, rng: int | np.random.Generator) -> pd.DataFrame:
     """Run the balanced factorial experiment and return the response table.
 
@@ -140,19 +181,12 @@ def run_factorial_experiment(design: FactorialDesign, rng: int | np.random.Gener
 
 
 def _run(design: FactorialDesign, rng) -> pd.DataFrame:
-    if not isinstance(design, FactorialDesign):
-        raise TypeError(f"design must be a FactorialDesign, got {type(design).__name__}")
-    gen = make_rng(rng)
-    pop_rng, split_rng, gallery_rng, noise_seed = gen.spawn(4)
-    pop = generate_face_population(design.n_subjects, 4, pop_rng, shape=design.shape,
-                                   nuisance=design.nuisance, **design.population_kwargs)
+    draws = experiment_draws(design, rng)
+    pop, training_sets, gallery_choice, noise_rngs = (draws.population, draws.training_sets,
+                                                      draws.gallery_choice, draws.noise_rngs)
     n = design.n_subjects
     sized = {"standard": preprocess_images(pop.images),
              "small": preprocess_images(downsample_by_two(pop.images))}
-    training_sets = np.stack([split_rng.permutation(n)[: design.n_train_subjects]
-                              for _ in range(design.n_training_sets)])
-    gallery_choice = gallery_rng.integers(0, 3, size=(design.n_galleries, n))
-    noise_rngs = noise_seed.spawn(design.n_training_sets * len(SIZES))
 
     blocks = []
     for si, size in enumerate(SIZES):

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
+from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive_int
 
 __all__ = ["PcaLda", "PcaBasis", "pca_basis", "e90_dimension", "fisher_basis", "METRICS"]
 
@@ -48,8 +48,7 @@ def e90_dimension(eigenvalues: np.ndarray, energy: float = 0.90) -> int:
     eigenvalues = as_finite_array(eigenvalues, "eigenvalues", ndim=1)
     if np.any(eigenvalues < 0) or eigenvalues.sum() <= 0:
         raise ValueError("eigenvalues must be non-negative with a positive sum")
-    if check_positive(energy, "energy") > 1:
-        raise ValueError(f"energy must be in (0, 1], got {energy}")
+    check_in_range(energy, "energy", 0, 1, closed="right")
     return _e90_dimension(eigenvalues, energy)
 
 

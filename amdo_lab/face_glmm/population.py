@@ -73,6 +73,8 @@ def generate_face_population(
     nuisance: float = 1.0,
     difficulty_spread: float = 0.25,
     noise_sd: float = 0.05,
+    texture_slope: float | None = None,
+    texture_amplitude: float = 0.5,
 ) -> FacePopulation:
     """Draw a seeded synthetic face population.
 
@@ -91,6 +93,14 @@ def generate_face_population(
         Standard deviation of log difficulty across subjects.
     noise_sd : float
         Pixel noise standard deviation (face contrast is about 1).
+    texture_slope : float or None
+        None (default): identity texture is the 6 x 6 low-frequency cosine basis only, whose image
+        power spectrum falls about as f^-4.5. A number s adds a Gaussian random texture with power
+        spectrum f^-s at every frequency (real faces, e.g. scikit-image's ``lfw_subset``, fall about
+        as f^-2.3): one per subject (mostly left-right symmetric) plus a weaker one per image.
+    texture_amplitude : float
+        Standard deviation of that subject texture (the per-image one is half of it, times the
+        image's nuisance scale); used only when ``texture_slope`` is given.
 
     Returns
     -------
@@ -156,8 +166,28 @@ def generate_face_population(
     illumination = illum[:, 0, None, None] * x + illum[:, 1, None, None] * y
     images = face * (1.0 + 0.5 * texture + illumination) - 0.8 * eyes - 0.3 * nose - 0.6 * mouth
     images = images + noise_sd * gen.standard_normal(images.shape)
+    if texture_slope is not None:  # drawn last, so the default population is unchanged
+        texture_slope = check_positive(texture_slope, "texture_slope")
+        texture_amplitude = check_positive(texture_amplitude, "texture_amplitude", allow_zero=True)
+        identity = _power_law_field(gen, n_subjects, (rows, cols), texture_slope)
+        identity = symmetric * (identity + identity[:, :, ::-1]) / 2 + (1 - symmetric) * identity
+        per_image = _power_law_field(gen, n_img, (rows, cols), texture_slope)
+        images = images + face * texture_amplitude * (identity[labels] + 0.5 * col(scale) * per_image)
     return FacePopulation(images=images, labels=labels, difficulty=difficulty,
                           images_per_subject=images_per_subject)
+
+
+def _power_law_field(gen: np.random.Generator, n: int, shape: tuple[int, int], slope: float) -> np.ndarray:
+    """``n`` Gaussian random images of unit standard deviation with power spectrum ~ f^-slope.
+
+    White noise filtered in the Fourier domain by amplitude (f^2 + f_0^2)^(-slope/4), with f_0 one
+    cycle per image so that the mean level stays finite.
+    """
+    rows, cols = shape
+    fy, fx = np.fft.fftfreq(rows)[:, None], np.fft.fftfreq(cols)[None, :]
+    amplitude = (fy**2 + fx**2 + (1.0 / max(rows, cols)) ** 2) ** (-slope / 4)
+    field = np.fft.ifft2(np.fft.fft2(gen.standard_normal((n, rows, cols))) * amplitude).real
+    return field / field.std(axis=(1, 2), keepdims=True)
 
 
 def _check_image_shape(shape: object, *, minimum: int) -> tuple[int, int]:

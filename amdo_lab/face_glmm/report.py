@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.axes import Axes
 
-from amdo_lab.common import PALETTE
+from amdo_lab.common import PALETTE, check_axes
 from amdo_lab.face_glmm.glmm import GlmmResult
 
 __all__ = ["PAPER_TABLE2", "PAPER_NUMBERS", "table2_comparison", "cell_predictions", "findings",
@@ -135,8 +135,7 @@ def _draw(ax, x, p, colours, marker, filled, linestyle):
 def plot_figure1(result: GlmmResult, ax) -> None:
     """Fig. 1: predicted rank-1 probability against the training supplement."""
     _check_result(result, drawn=True)
-    if not isinstance(ax, Axes):
-        raise TypeError(f"ax must be a matplotlib Axes, got {type(ax).__name__}")
+    check_axes(ax)
     cells = cell_predictions(result)
     order = ["none", "reflection", "noise", "shift"]
     order = [u for u in order if u in result.design.levels["U"]]
@@ -146,7 +145,26 @@ def plot_figure1(result: GlmmResult, ax) -> None:
               _LINES[d])
     ax.set_xticks(np.arange(len(order)), order)
     ax.set_xlabel("training supplement")
-    ax.set_ylabel("predicted P(rank 1)")
+    ax.set_ylabel("predicted P(rank 1), typical probe")
+    ax.legend(handles=_figure1_legend(order), loc="center left", bbox_to_anchor=(1.02, 0.5), fontsize=8,
+              frameon=False)
+
+
+def _figure1_legend(supplements) -> list:
+    """Legend entries for the paper's encoding: colour, marker, fill and line style."""
+    from matplotlib.lines import Line2D
+
+    grey = "0.3"
+    handles = [Line2D([], [], marker="o", linestyle="", color=SUPPLEMENT_COLOURS[u], label=f"supplement: {u}")
+               for u in supplements]
+    handles += [Line2D([], [], marker=_MARKERS["l2"], linestyle="", color=grey, label="metric: L2"),
+                Line2D([], [], marker=_MARKERS["soft_l2"], linestyle="", color=grey, label="metric: soft L2"),
+                Line2D([], [], marker="o", linestyle="", color=grey, label="probe in training"),
+                Line2D([], [], marker="o", linestyle="", color=grey, markerfacecolor="white",
+                       label="probe not in training"),
+                Line2D([], [], linestyle=_LINES["fixed"], color="0.55", label="114 PCA dims"),
+                Line2D([], [], linestyle=_LINES["e90"], color="0.55", label="E90 PCA dims")]
+    return handles
 
 
 def plot_figure2(result: GlmmResult, axes) -> None:

@@ -10,7 +10,7 @@ import numpy as np
 import pandas as pd
 from scipy.special import expit
 
-from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_in_range, check_positive, check_positive_int, make_rng
 from amdo_lab.face_glmm.design import build_design, group_indices, parse_formula
 
 __all__ = ["simulate_binomial_glmm", "RecoverySummary", "summarise_recovery", "recovery_study"]
@@ -108,5 +108,4 @@ def _check_variances(variances: object) -> None:
 
 
 def _check_level(level: object) -> None:
-    if not check_positive(level, "level") < 1:
-        raise ValueError(f"level must be in (0, 1), got {level}")
+    check_in_range(level, "level", 0, 1)

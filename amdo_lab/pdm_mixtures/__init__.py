@@ -12,6 +12,7 @@ from amdo_lab.pdm_mixtures.pdm import (
     generalized_procrustes,
     normalise_shape,
     pdm_from_moments,
+    ppca_log_density,
     reconstruct,
 )
 from amdo_lab.pdm_mixtures.poses import (
@@ -53,3 +54,4 @@ from amdo_lab.pdm_mixtures.baselines import (
     pca_embedding,
 )
 from amdo_lab.pdm_mixtures.plotting import draw_shape
+from amdo_lab.pdm_mixtures.experiments import SEPARATION_MODELS, SeparationTrial, mode_separation_trial

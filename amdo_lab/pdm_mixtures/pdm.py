@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive, check_positive_int, procrustes_align
+from amdo_lab.common import as_finite_array, check_in_range, check_positive, check_positive_int, procrustes_align
 
 __all__ = [
     "PointDistributionModel",
@@ -14,6 +14,7 @@ __all__ = [
     "pdm_from_moments",
     "fit_modes",
     "reconstruct",
+    "ppca_log_density",
     "generalized_procrustes",
     "normalise_shape",
 ]
@@ -35,10 +36,7 @@ class PointDistributionModel:
 
 
 def _check_variance_fraction(value: object) -> float:
-    fraction = check_positive(value, "variance_fraction")
-    if fraction > 1:
-        raise ValueError(f"variance_fraction must be in (0, 1], got {fraction}")
-    return fraction
+    return check_in_range(value, "variance_fraction", 0, 1, closed="right")
 
 
 def _check_model(model: object) -> PointDistributionModel:
@@ -81,7 +79,7 @@ def pdm_from_moments(
 def _pdm_from_moments(mean: np.ndarray, covariance: np.ndarray, variance_fraction: float = 0.95,
                       max_modes: int | None = None, min_residual_variance: float = 1e-12) -> PointDistributionModel:
     """:func:`pdm_from_moments` on validated input (called for every mixture component)."""
-    eigenvalues, eigenvectors = np.linalg.eigh(covariance)
+    eigenvalues, eigenvectors = np.linalg.eigh(covariance)  # Sigma phi_i = alpha_i phi_i (Sec. 2)
     order = np.argsort(eigenvalues)[::-1]
     eigenvalues = np.clip(eigenvalues[order], 0.0, None)  # round-off negatives of a PSD matrix
     eigenvectors = eigenvectors[:, order]
@@ -108,7 +106,7 @@ def fit_pdm(long_vectors: np.ndarray, *, variance_fraction: float = 0.95, max_mo
     variance_fraction = _check_variance_fraction(variance_fraction)
     if max_modes is not None:
         max_modes = check_positive_int(max_modes, "max_modes")
-    mean = vectors.mean(axis=0)
+    mean = vectors.mean(axis=0)  # Y = (1/T) sum_t X_t
     centred = vectors - mean
     covariance = centred.T @ centred / t  # eq. 1
     cap = t - 1 if max_modes is None else min(max_modes, t - 1)
@@ -132,8 +130,8 @@ def fit_modes(model: PointDistributionModel, observed: np.ndarray, *, clamp: boo
 
 def _fit_modes(model: PointDistributionModel, observed: np.ndarray, *, clamp: bool = True) -> np.ndarray:
     """:func:`fit_modes` on validated input (the recogniser's inner call)."""
-    gamma = (observed - model.mean) @ model.modes
-    if clamp:
+    gamma = (observed - model.mean) @ model.modes  # gamma = Phi^T (X_o - Y), least squares (Sec. 2)
+    if clamp:  # -3 sqrt(alpha_k) <= gamma_k <= 3 sqrt(alpha_k) (Sec. 4)
         bound = 3.0 * np.sqrt(model.variances)
         gamma = np.clip(gamma, -bound, bound)
     return gamma
@@ -150,7 +148,41 @@ def reconstruct(model: PointDistributionModel, gamma: np.ndarray) -> np.ndarray:
 
 def _reconstruct(model: PointDistributionModel, gamma: np.ndarray) -> np.ndarray:
     """:func:`reconstruct` on validated input."""
-    return model.mean + gamma @ model.modes.T
+    return model.mean + gamma @ model.modes.T  # X_hat = Y + Phi gamma (Sec. 2)
+
+
+def ppca_log_density(model: PointDistributionModel, observed: np.ndarray) -> np.ndarray:
+    """Gaussian log-density of rows of ``observed`` ``(n, D)`` under a PDM (probabilistic PCA).
+
+    The PDM keeps M eigenmodes with variances ``alpha_k`` and replaces the D - M discarded
+    eigenvalues by their mean ``sigma^2`` (``residual_variance``). With the clamped least-squares
+    coefficients ``gamma = Phi^T (X_o - Y)`` and residual ``r = X_o - Y - Phi gamma``,
+
+        ln p = -1/2 [ sum_k gamma_k^2 / alpha_k + |r|^2 / sigma^2
+                      + sum_k ln alpha_k + (D - M) ln sigma^2 + D ln(2 pi) ].
+
+    Without the clamp this is eq. 6 with the covariance ``Phi diag(alpha) Phi^T + sigma^2 (I - Phi Phi^T)``;
+    the residual term alone is the paper's isotropic alignment error (eq. 16). This is the one
+    density used for limb labels, polar PDMs and the single Cartesian PDM baseline.
+
+    References
+    ----------
+    Al-Shaher & Hancock, AMDO 2004, eqs. 6 and 16; Tipping & Bishop, JRSS B 61 (1999).
+    """
+    model = _check_model(model)
+    observed = as_finite_array(observed, "observed", shape=(None, len(model.mean)))
+    return _ppca_log_density(model, observed)
+
+
+def _ppca_log_density(model: PointDistributionModel, observed: np.ndarray) -> np.ndarray:
+    """:func:`ppca_log_density` on validated input (the recogniser's inner call)."""
+    d, m = observed.shape[1], model.n_modes
+    gamma = _fit_modes(model, observed)  # clamped to +-3 sqrt(alpha_k)
+    residual = np.sum((observed - _reconstruct(model, gamma)) ** 2, axis=1)  # |r|^2, eq. 16
+    return -0.5 * (
+        np.sum(gamma**2 / model.variances, axis=1) + residual / model.residual_variance
+        + np.sum(np.log(model.variances)) + (d - m) * np.log(model.residual_variance) + d * np.log(2 * np.pi)
+    )
 
 
 def normalise_shape(points: np.ndarray) -> np.ndarray:
@@ -214,5 +246,22 @@ def align_to_reference(point_sets: np.ndarray, reference: np.ndarray) -> np.ndar
 
 
 def _align_to_reference(point_sets: np.ndarray, reference: np.ndarray) -> np.ndarray:
-    """:func:`align_to_reference` on validated arrays."""
+    """:func:`align_to_reference` on validated arrays: the closed form of 2-D similarity
+    Procrustes, all sets at once (fast path of :func:`_align_to_reference_loop`).
+
+    Written as complex numbers ``z = x + iy`` with centred source ``z`` and target ``y``, the best
+    ``s R`` is the complex factor ``a = sum conj(z_i) y_i / sum |z_i|^2`` (a least-squares fit of
+    ``y ~ a z``), and ``|a|``, ``arg a`` are the scale and the rotation angle.
+    """
+    source = point_sets[..., 0] + 1j * point_sets[..., 1]  # (T, L)
+    target = reference[:, 0] + 1j * reference[:, 1]  # (L,)
+    source_centred = source - source.mean(axis=1, keepdims=True)
+    target_mean = target.mean()
+    factor = (np.conj(source_centred) @ (target - target_mean)) / np.sum(np.abs(source_centred) ** 2, axis=1)
+    aligned = factor[:, None] * source_centred + target_mean
+    return np.stack([aligned.real, aligned.imag], axis=-1)
+
+
+def _align_to_reference_loop(point_sets: np.ndarray, reference: np.ndarray) -> np.ndarray:
+    """Reference path of :func:`_align_to_reference`: one SVD Procrustes fit per set (Umeyama)."""
     return np.stack([procrustes_align(points, reference).aligned for points in point_sets])

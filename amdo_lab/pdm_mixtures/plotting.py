@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 from matplotlib.axes import Axes
+from matplotlib.collections import LineCollection
 
-from amdo_lab.common import as_finite_array
+from amdo_lab.common import as_finite_array, check_axes
 
 __all__ = ["draw_shape"]
 
@@ -13,11 +14,10 @@ __all__ = ["draw_shape"]
 def draw_shape(ax: Axes, shape: np.ndarray, *, color: str = "black", linewidth: float = 1.5,
                alpha: float = 1.0, label: str | None = None) -> None:
     """Draw a ``(13, m, 2)`` shape as 13 polylines on ``ax`` (equal aspect, no ticks)."""
-    if not isinstance(ax, Axes):
-        raise TypeError(f"ax must be a matplotlib Axes, got {type(ax).__name__}")
+    check_axes(ax)
     shape = as_finite_array(shape, "shape", shape=(13, None, 2))
-    for k, stroke in enumerate(shape):
-        ax.plot(stroke[:, 0], stroke[:, 1], color=color, lw=linewidth, alpha=alpha,
-                label=label if k == 0 else None)
+    # one collection of 13 polylines: drawing a training set is then one artist per shape
+    ax.add_collection(LineCollection(list(shape), colors=color, linewidths=linewidth, alpha=alpha, label=label))
+    ax.autoscale_view()
     ax.set_aspect("equal")
     ax.axis("off")

@@ -175,6 +175,7 @@ def generate_pose_dataset(
     length_jitter: float = 0.06,
     landmarks_per_limb: int = 6,
     max_rotation_deg: float = 15.0,
+    mode_separation: float = 1.0,
 ) -> PoseDataset:
     """Draw ``n_per_class`` articulated shapes of each pose in ``classes``.
 
@@ -197,6 +198,10 @@ def generate_pose_dataset(
         Landmarks per stroke (>= 2).
     max_rotation_deg : float
         Global rotation drawn uniformly in +-this; scale in [0.8, 1.25]; translation in [-1, 1]^2.
+    mode_separation : float
+        Non-negative factor on each class's articulation modes about their mean direction vector:
+        0 merges a class's modes into one, 1 (default) keeps ``POSE_MODES`` as written, 2 doubles
+        the angular distance between the modes. Classes with one mode are unaffected.
     """
     names = _check_classes(classes)
     n_per_class = check_positive_int(n_per_class, "n_per_class")
@@ -205,6 +210,7 @@ def generate_pose_dataset(
     joint_jitter_deg = check_positive(joint_jitter_deg, "joint_jitter_deg", allow_zero=True)
     length_jitter = check_positive(length_jitter, "length_jitter", allow_zero=True)
     max_rotation_deg = check_positive(max_rotation_deg, "max_rotation_deg", allow_zero=True)
+    mode_separation = check_positive(mode_separation, "mode_separation", allow_zero=True)
     generator = make_rng(rng)
     n = n_per_class * len(names)
     labels = np.repeat(np.array(names), n_per_class)
@@ -216,7 +222,10 @@ def generate_pose_dataset(
         options = pose_modes(c)
         picks = generator.integers(0, len(options), len(rows))
         modes[rows] = np.array(list(options), dtype=object)[picks]
-        base[rows] = np.array(list(options.values()), dtype=float)[picks]
+        mode_directions = np.array(list(options.values()), dtype=float)  # (n_modes, 13)
+        # mode + (s - 1)(mode - centre) = centre + s (mode - centre); exactly the mode when s = 1
+        mode_directions = mode_directions + (mode_separation - 1.0) * (mode_directions - mode_directions.mean(axis=0))
+        base[rows] = mode_directions[picks]
     directions = base + joint_jitter_deg * JITTER_SCALE * generator.standard_normal((n, 13))
     lengths = MEAN_LENGTHS * np.exp(length_jitter * generator.standard_normal((n, 13)))
     strokes = _skeleton_strokes(directions, lengths, landmarks_per_limb)

@@ -6,8 +6,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int, make_rng, procrustes_align
-from amdo_lab.pdm_mixtures.gmm import fit_gaussian_mixture
+from amdo_lab.common import (
+    as_finite_array,
+    check_choice,
+    check_in_range,
+    check_positive,
+    check_positive_int,
+    make_rng,
+    procrustes_align,
+)
+from amdo_lab.common.threads import one_blas_thread
+from amdo_lab.pdm_mixtures.gmm import _fit_gaussian_mixtures_batch, fit_gaussian_mixture
 from amdo_lab.pdm_mixtures.pdm import (
     PointDistributionModel,
     _align_to_reference,
@@ -15,6 +24,7 @@ from amdo_lab.pdm_mixtures.pdm import (
     _check_point_set_sizes,
     _fit_modes,
     _pdm_from_moments,
+    _ppca_log_density,
     _reconstruct,
     fit_pdm,
     generalized_procrustes,
@@ -49,7 +59,18 @@ def hamming_distance(label_strings: np.ndarray, dictionary: np.ndarray) -> np.nd
 
 
 def _hamming_distance(label_strings: np.ndarray, dictionary: np.ndarray) -> np.ndarray:
+    """Fast path of :func:`_hamming_distance_reference`: all pairs at once by broadcasting."""
     return np.sum(label_strings[:, None, :] != dictionary[None, :, :], axis=2)
+
+
+def _hamming_distance_reference(label_strings: np.ndarray, dictionary: np.ndarray) -> np.ndarray:
+    """Eq. 17 read as a distance, one pair at a time: ``H(L, Lambda) = sum_i (1 - delta(l_i, lambda_i))``."""
+    distances = np.zeros((len(label_strings), len(dictionary)), dtype=int)
+    for a, string in enumerate(label_strings):
+        for b, item in enumerate(dictionary):
+            for label, permitted in zip(string, item):
+                distances[a, b] += 1 - int(label == permitted)  # 1 - Kronecker delta, eq. 17
+    return distances
 
 
 def label_string_log_prob(hamming: np.ndarray, n_limbs: int, error_probability: float) -> np.ndarray:
@@ -65,9 +86,7 @@ def label_string_log_prob(hamming: np.ndarray, n_limbs: int, error_probability: 
         Label error probability p, in (0, 1).
     """
     n_limbs = check_positive_int(n_limbs, "n_limbs")
-    p = check_positive(error_probability, "error_probability")
-    if not p < 1:
-        raise ValueError(f"error_probability must be in (0, 1), got {p}")
+    p = check_in_range(error_probability, "error_probability", 0, 1)
     distances = as_finite_array(hamming, "hamming", dtype=int)
     if np.any((distances < 0) | (distances > n_limbs)):
         raise ValueError(f"hamming must hold distances in [0, n_limbs={n_limbs}], "
@@ -77,7 +96,9 @@ def label_string_log_prob(hamming: np.ndarray, n_limbs: int, error_probability: 
 
 def _label_string_log_prob(hamming: np.ndarray, n_limbs: int, error_probability: float) -> np.ndarray:
     p = error_probability
-    return n_limbs * np.log1p(-p) - np.log((1 - p) / p) * hamming
+    log_k_p = n_limbs * np.log1p(-p)  # ln K_p = K ln(1 - p), eq. 18
+    k_p = np.log((1 - p) / p)  # k_p = ln((1 - p) / p), eq. 18
+    return log_k_p - k_p * hamming
 
 
 @dataclass(frozen=True)
@@ -122,8 +143,7 @@ class PolarPDM:
         total = np.zeros(deviation.shape[0])
         for pdm, block in zip(self.pdms, self.blocks):
             data = deviation[:, block]
-            gamma = _fit_modes(pdm, data)
-            total += _ppca_log_density(pdm, data, gamma, _reconstruct(pdm, gamma))
+            total += _ppca_log_density(pdm, data)
         return total
 
 
@@ -259,13 +279,8 @@ class ArticulatedShapeRecognizer:
         self.shape_seed = int(shape_seed)
         self.shape_ridge = check_positive(shape_ridge, "shape_ridge")
         self.em_restarts = check_positive_int(em_restarts, "em_restarts")
-        p = check_positive(label_error_probability, "label_error_probability")
-        if not p < 0.5:
-            raise ValueError(f"label_error_probability must be in (0, 0.5), got {p}")
-        self.label_error_probability = p
-        self.variance_fraction = check_positive(variance_fraction, "variance_fraction")
-        if self.variance_fraction > 1:
-            raise ValueError(f"variance_fraction must be in (0, 1], got {variance_fraction}")
+        self.label_error_probability = check_in_range(label_error_probability, "label_error_probability", 0, 0.5)
+        self.variance_fraction = check_in_range(variance_fraction, "variance_fraction", 0, 1, closed="right")
         self.max_iter = check_positive_int(max_iter, "max_iter")
         self.em_iterations = check_positive_int(em_iterations, "em_iterations")
         self.polar_model = check_choice(polar_model, "polar_model", ("block", "joint"))
@@ -291,6 +306,10 @@ class ArticulatedShapeRecognizer:
     # ------------------------------------------------------------------ training
     def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "ArticulatedShapeRecognizer":
         """Learn the limb mixtures, the class polar-PDM mixtures and the label dictionary."""
+        with one_blas_thread():  # small matrices: BLAS threads only contend on a shared machine
+            return self._fit(shapes, labels)
+
+    def _fit(self, shapes: np.ndarray, labels: np.ndarray) -> "ArticulatedShapeRecognizer":
         shapes = self._check_shapes(shapes)
         labels = _check_labels(labels, shapes.shape[0])
         present = tuple(dict.fromkeys(labels.tolist()))
@@ -330,27 +349,26 @@ class ArticulatedShapeRecognizer:
         return self
 
     def _fit_limb_layer(self, aligned: np.ndarray) -> None:
-        limbs = _centred_limbs(aligned)  # (n, K, 2m)
+        """One Gaussian mixture per limb by EM (eqs. 2-8), all 13 limbs in one batched loop (each
+        limb's run is :func:`fit_gaussian_mixture` from a farthest-point start and its pooled
+        covariance); each component becomes a limb-label PDM."""
+        limbs = np.swapaxes(_centred_limbs(aligned), 0, 1)  # (K, n, 2m)
+        d = limbs.shape[2]
+        starts = np.stack([data[_farthest_point_init(data, self.n_limb_labels)] for data in limbs])
+        spreads = np.stack([np.cov(data.T, bias=True) + 1e-6 * np.eye(d) for data in limbs])
+        ridges = 1e-3 * np.trace(spreads, axis1=1, axis2=2) / d
+        weights, means, covariances, _ = _fit_gaussian_mixtures_batch(
+            limbs, starts, np.repeat(spreads[:, None], self.n_limb_labels, axis=1), self.em_iterations, ridges)
         self.limb_models_: list[list[PointDistributionModel]] = []
-        self.limb_weights_ = np.empty((N_LIMBS, self.n_limb_labels))
+        self.limb_weights_ = weights
         self.limb_noise_ = np.empty(N_LIMBS)
         for k in range(N_LIMBS):
-            data = limbs[:, k]
-            init = _farthest_point_init(data, self.n_limb_labels)
-            spread = np.cov(data.T, bias=True) + 1e-6 * np.eye(data.shape[1])
-            reg = 1e-3 * float(np.trace(spread)) / data.shape[1]
-            mixture = fit_gaussian_mixture(
-                data, self.n_limb_labels, means_init=data[init],
-                covariances_init=np.repeat(spread[None], self.n_limb_labels, axis=0),
-                n_iter=self.em_iterations, reg_covar=reg,
-            )
             models = [_pdm_from_moments(m, c, variance_fraction=self.variance_fraction)
-                      for m, c in zip(mixture.means, mixture.covariances)]
+                      for m, c in zip(means[k], covariances[k])]
             self.limb_models_.append(models)
-            self.limb_weights_[k] = mixture.weights
             # Isotropic residual variance of eq. 16, from each example's best-fitting label.
-            errors = np.stack([_fit_error(mdl, data) for mdl in models], axis=1)
-            self.limb_noise_[k] = max(float(errors.min(axis=1).mean()) / data.shape[1], 1e-12)
+            errors = np.stack([_fit_error(mdl, limbs[k]) for mdl in models], axis=1)
+            self.limb_noise_[k] = max(float(errors.min(axis=1).mean()) / d, 1e-12)
 
     def _limb_log_posteriors(self, aligned: np.ndarray) -> np.ndarray:
         """log P(lambda | z_k) for every shape, limb and label (eqs. 4, 9, 10): ``(n, K, labels)``.
@@ -362,11 +380,7 @@ class ArticulatedShapeRecognizer:
         for k in range(N_LIMBS):
             data = limbs[:, k]
             if self.limb_likelihood == "gaussian":
-                densities = []
-                for model in self.limb_models_[k]:
-                    gamma = _fit_modes(model, data)
-                    densities.append(_ppca_log_density(model, data, gamma, _reconstruct(model, gamma)))
-                log_lik[:, k] = np.stack(densities, axis=1)
+                log_lik[:, k] = np.stack([_ppca_log_density(model, data) for model in self.limb_models_[k]], axis=1)
             else:
                 errors = np.stack([_fit_error(mdl, data) for mdl in self.limb_models_[k]], axis=1)
                 log_lik[:, k] = -errors / (2 * self.limb_noise_[k])
@@ -452,6 +466,10 @@ class ArticulatedShapeRecognizer:
 
     def recognise(self, shapes: np.ndarray) -> RecognitionTrace:
         """Run the hierarchical EM (eqs. 9-18) and return the full per-iteration trace."""
+        with one_blas_thread():
+            return self._recognise(shapes)
+
+    def _recognise(self, shapes: np.ndarray) -> RecognitionTrace:
         self._check_fitted()
         aligned = self.align(shapes)
         limb_log_post = self._limb_log_posteriors(aligned)  # (n, K, labels)
@@ -483,6 +501,14 @@ class ArticulatedShapeRecognizer:
             label_strings = refined
         return RecognitionTrace(np.stack(history_post), np.stack(history_labels), np.stack(history_fit),
                                 len(history_post))
+
+    def limb_label_posteriors(self, shapes: np.ndarray, *, log: bool = False) -> np.ndarray:
+        """Label posteriors ``P(lambda | z_k)`` of every limb of every shape, ``(n, K, n_limb_labels)``
+        (eqs. 9-10: each label's PDM fitted to the limb, Bayes' rule with the label's mixing weight).
+        With ``log=True`` their logarithms (exact where the posteriors underflow to 0)."""
+        self._check_fitted()
+        log_posteriors = self._limb_log_posteriors(self.align(shapes))
+        return log_posteriors if log else np.exp(log_posteriors)
 
     def score_components(self, shapes: np.ndarray) -> ScoreComponents:
         """The separate terms of the first-iteration class score (for ablations)."""
@@ -566,18 +592,6 @@ class ArticulatedShapeRecognizer:
             else:
                 strokes.append(_reconstruct(model, _fit_modes(model, observed_limbs[k][None]))[0])
         return np.stack(strokes).reshape(N_LIMBS, -1, 2) + centres[:, None, :]
-
-
-def _ppca_log_density(model: PointDistributionModel, data: np.ndarray, gamma: np.ndarray,
-                      fitted: np.ndarray) -> np.ndarray:
-    """Gaussian (PPCA) log-density of rows of ``data`` under a PDM: in-model Mahalanobis term on
-    ``gamma`` plus an isotropic residual with the discarded-eigenvalue variance."""
-    d, m = data.shape[1], model.n_modes
-    residual = np.sum((data - fitted) ** 2, axis=1)
-    return -0.5 * (
-        np.sum(gamma**2 / model.variances, axis=1) + residual / model.residual_variance
-        + np.sum(np.log(model.variances)) + (d - m) * np.log(model.residual_variance) + d * np.log(2 * np.pi)
-    )
 
 
 def _kmeans_partition(data: np.ndarray, n_clusters: int, rng: np.random.Generator, n_iter: int = 10) -> np.ndarray:
@@ -681,9 +695,7 @@ def held_out_log_likelihood(
     n_components = check_positive_int(n_components, "n_components")
     shape_ridge = check_positive(shape_ridge, "shape_ridge")
     n_folds = check_positive_int(n_folds, "n_folds", minimum=2)
-    variance_fraction = check_positive(variance_fraction, "variance_fraction")
-    if variance_fraction > 1:
-        raise ValueError(f"variance_fraction must be in (0, 1], got {variance_fraction}")
+    variance_fraction = check_in_range(variance_fraction, "variance_fraction", 0, 1, closed="right")
     em_iterations = check_positive_int(em_iterations, "em_iterations")
     blocks = _polar_blocks(check_choice(polar_model, "polar_model", ("block", "joint")))
     t = len(vectors)
