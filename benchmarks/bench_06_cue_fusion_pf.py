@@ -55,7 +55,7 @@ def main() -> None:
     success = {name: [] for name in names}
     errors = {name: [] for name in names}
     ms = {name: [] for name in names}
-    cf.load_or_train_cascade()  # train (or load) before timing
+    cf.load_or_train_cascade(cf.CASCADE_SEED)  # train (or load) before timing
     began = time.perf_counter()
     for seed in range(args.first_seed, args.first_seed + args.seeds):
         sequence = cf.make_head_sequence("fusion", seed)
@@ -74,7 +74,7 @@ def main() -> None:
         runs["camshift"] = cf.track_camshift(sequence.frames, init)
         if slow_peers:
             runs["mil"] = cf.track_mil(sequence.frames, init)
-            runs["pfilter (3 cues)"] = cf.track_pfilter(sequence.frames, init, seed=10_000 + seed, cues=cues,
+            runs["pfilter (3 cues)"] = cf.track_pfilter(sequence.frames, init, rng=10_000 + seed, cues=cues,
                                                         n_particles=args.particles, sigmas=args.sigmas)
         runs["oracle"] = cf.track(sequence.frames, init, rng=10_000 + seed, cues=("oracle",),
                                   n_particles=args.particles, oracle=sequence.oracle_log_likelihood)

@@ -302,7 +302,7 @@ def test_integral_image_and_haar_features_match_scikit_image():
 @pytest.fixture(scope="module")
 def cascade():
     from amdo_lab.cue_fusion_pf import structure as st
-    return st.load_or_train_cascade()
+    return st.load_or_train_cascade(st.CASCADE_SEED)
 
 
 def test_cascade_accepts_held_out_heads_and_rejects_background(cascade):
@@ -339,12 +339,12 @@ def test_mil_peer_tracks_the_calm_frames(sequence):
 
 def test_pfilter_peer_runs_our_likelihood(sequence):
     pytest.importorskip("pfilter")
-    first = cf.track_pfilter(sequence.frames[:15], sequence.true_ellipses[0], seed=3, n_particles=100)
-    second = cf.track_pfilter(sequence.frames[:15], sequence.true_ellipses[0], seed=3, n_particles=100)
+    first = cf.track_pfilter(sequence.frames[:15], sequence.true_ellipses[0], rng=3, n_particles=100)
+    second = cf.track_pfilter(sequence.frames[:15], sequence.true_ellipses[0], rng=3, n_particles=100)
     np.testing.assert_array_equal(first.states, second.states)  # seeded through numpy's global generator
     assert np.all(cf.ellipse_iou(first.ellipses, sequence.true_ellipses[:15]) > 0.5)
-    with pytest.raises(ValueError, match="seed"):
-        cf.track_pfilter(sequence.frames[:2], sequence.true_ellipses[0], seed=-1)
+    with pytest.raises(ValueError, match="rng"):
+        cf.track_pfilter(sequence.frames[:2], sequence.true_ellipses[0], rng=-1)
 
 
 def test_cast_strength_scales_the_lighting_change():

@@ -23,6 +23,7 @@ from amdo_lab.cue_fusion_pf.likelihoods import (
 from amdo_lab.cue_fusion_pf.peers import track_camshift, track_mil, track_pfilter
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace, bspline_basis, ellipse_points
 from amdo_lab.cue_fusion_pf.structure import (
+    CASCADE_SEED,
     BoostedCascade,
     StructureLikelihood,
     haar_features,
@@ -43,7 +44,7 @@ from amdo_lab.cue_fusion_pf.tracker import (
 )
 
 __all__ = [
-    "ARDynamics", "BoostedCascade", "CALIBRATED_SIGMAS", "CUES", "CalibrationResult", "ColorLikelihood", "EdgeLikelihood",
+    "ARDynamics", "BoostedCascade", "CALIBRATED_SIGMAS", "CASCADE_SEED", "CUES", "CalibrationResult", "ColorLikelihood", "EdgeLikelihood",
     "HEAD_AXES", "HeadSequence", "PAPER_SIGMAS", "SEQUENCE_KINDS", "STATIONARY_STD", "ShapeSpace", "StructureLikelihood",
     "TrackResult", "ar2_coefficients", "ar2_stationary_variance", "bhattacharyya", "bspline_basis",
     "calibrate_sigma", "calibration_distances", "default_dynamics", "edge_line_likelihood", "ellipse_iou", "ellipse_points",

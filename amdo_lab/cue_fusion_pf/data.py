@@ -179,7 +179,7 @@ def make_head_sequence(kind: str, rng: int | np.random.Generator, *, noise_std: 
     HeadSequence
     """
     kind = check_choice(kind, "kind", SEQUENCE_KINDS)
-    generator = make_rng(rng)
+    generator = make_rng(rng, "rng")
     if noise_std < 0 or not np.isfinite(noise_std):
         raise ValueError(f"noise_std must be finite and non-negative, got {noise_std}")
     if not 0.0 <= cast_strength <= 1.5:
@@ -276,7 +276,7 @@ def head_views(yaws: np.ndarray, *, rng: int | np.random.Generator, noise_std: f
     frames : (n, 192, 256, 3) uint8; states : (n, 3) ``(cx, cy, s)``.
     """
     yaws = as_finite_array(yaws, "yaws", ndim=1)
-    generator = make_rng(rng)
+    generator = make_rng(rng, "rng")
     frames, states = [], []
     for yaw in yaws:
         image = _background(generator, 192, 256)

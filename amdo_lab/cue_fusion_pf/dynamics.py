@@ -115,11 +115,11 @@ class ARDynamics:
     def step(self, previous: np.ndarray, before: np.ndarray, *, rng: int | np.random.Generator) -> np.ndarray:
         """Sample ``X_k`` given ``X_{k-1}`` (previous) and ``X_{k-2}`` (before), each (N, d)."""
         previous = np.asarray(previous, float)
-        return self.propagate(previous, before, make_rng(rng).standard_normal(previous.shape))
+        return self.propagate(previous, before, make_rng(rng, "rng").standard_normal(previous.shape))
 
     def simulate(self, n_steps: int, start: np.ndarray, *, rng: int | np.random.Generator) -> np.ndarray:
         """(n_steps, d) trajectory starting at rest at ``start``."""
-        generator = make_rng(rng)
+        generator = make_rng(rng, "rng")
         path = [np.asarray(start, float), np.asarray(start, float)]
         for _ in range(n_steps - 2):
             path.append(self.step(path[-1][None], path[-2][None], rng=generator)[0])

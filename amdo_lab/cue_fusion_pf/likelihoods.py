@@ -189,7 +189,7 @@ def simulate_measurement_lines(n_lines: int, *, half_length: float, p0: float, c
     Each line spans ``[-half_length, half_length]``; clutter is Poisson with density λ per pixel,
     uniform; the true edge (at offset 0) is detected with probability 1 - P0, at a N(0, σ_e²) offset.
     """
-    generator = make_rng(rng)
+    generator = make_rng(rng, "rng")
     n_lines = check_positive_int(n_lines, "n_lines")
     counts = generator.poisson(clutter_density * 2.0 * half_length, n_lines)
     clutter = generator.uniform(-half_length, half_length, counts.sum())

@@ -8,7 +8,7 @@ import time
 import cv2
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive_int
+from amdo_lab.common import as_finite_array, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf.tracker import TrackResult, _check_frames
 
 __all__ = ["track_camshift", "track_mil", "track_pfilter"]
@@ -94,20 +94,20 @@ def track_mil(frames: np.ndarray, init: np.ndarray) -> TrackResult:
                        states[:, None, :], np.ones((len(frames), 1)))
 
 
-def track_pfilter(frames: np.ndarray, init: np.ndarray, *, seed: int, cues=("color", "edge"), n_particles: int = 300,
-                  sigmas="calibrated") -> TrackResult:
+def track_pfilter(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generator, cues=("color", "edge"),
+                  n_particles: int = 300, sigmas="calibrated") -> TrackResult:
     """Our likelihoods and AR(2) dynamics inside the generic ``pfilter.ParticleFilter`` (a peer).
 
     pfilter works with *linear* weights, which it multiplies into the previous weights, and draws
     from numpy's global generator. So the fused log-likelihood of eq. (6) is scaled before it is
     handed over: ``exp(log L - max log L)`` (the largest weight is 1, none overflows), and the
-    global generator is seeded with ``seed`` (``numpy.random.seed``). A particle is the 6-vector
+    global generator is seeded with an integer drawn from ``rng`` (``numpy.random.seed``). A particle is the 6-vector
     ``(X_k, X_{k-1})`` so that the second-order dynamics fit pfilter's first-order interface.
 
     Parameters
     ----------
     frames, init, cues, n_particles, sigmas : as for :func:`track`.
-    seed : int seed of numpy's global generator (pfilter cannot take a Generator).
+    rng : seed or generator; it seeds numpy's global generator, which pfilter draws from.
 
     Notes
     -----
@@ -122,14 +122,13 @@ def track_pfilter(frames: np.ndarray, init: np.ndarray, *, seed: int, cues=("col
 
     frames = _check_frames(frames)
     n_particles = check_positive_int(n_particles, "n_particles", minimum=2)
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise ValueError(f"seed must be a non-negative int (pfilter uses numpy's global generator), got {seed!r}")
+    global_seed = int(make_rng(rng, "rng").integers(2**32 - 1))
     space, start = _shape_space_of(init, frames.shape[1:3])
     sigma_table = {"calibrated": CALIBRATED_SIGMAS, "paper": PAPER_SIGMAS}[sigmas] if isinstance(sigmas, str) else sigmas
     cue_objects = build_cues(cues, space, frames[0], start, sigma_table, _PARAMS)
     dynamics = default_dynamics(start)
     spread = np.asarray(_PARAMS["init_spread"])
-    np.random.seed(seed)
+    np.random.seed(global_seed)
 
     def prior(n):
         first = start + spread * np.random.standard_normal((n, 3))

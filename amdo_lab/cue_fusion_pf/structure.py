@@ -22,12 +22,14 @@ from amdo_lab.cue_fusion_pf import data as _data
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 
 __all__ = ["BoostedCascade", "HaarFeatures", "StructureLikelihood", "TrainingSet", "haar_features",
-           "integral_image", "load_or_train_cascade", "make_training_set", "normalised_patches", "train_cascade"]
+           "CASCADE_SEED", "integral_image", "load_or_train_cascade", "make_training_set", "normalised_patches", "train_cascade"]
 
 #: Detector window (width, height) in pixels: the head's bounding box keeps its 20:26 aspect.
 WINDOW = (16, 20)
 VIEWS = {"frontal": 0.0, "half-left": -0.7, "half-right": 0.7}
 CACHE = Path(__file__).resolve().parents[2] / "build" / "cue_fusion_pf"
+#: Seed of the package's cascade (the one the tracker and the chapter use).
+CASCADE_SEED = 2004
 
 
 def integral_image(images: np.ndarray) -> np.ndarray:
@@ -81,7 +83,7 @@ def haar_features(window: tuple[int, int] = WINDOW, *, n_features: int | None = 
     if n_features is not None:
         if rng is None:
             raise ValueError("rng is needed to draw a random subset of features")
-        features = features.subset(np.sort(make_rng(rng).choice(len(features), n_features, replace=False)))
+        features = features.subset(np.sort(make_rng(rng, "rng").choice(len(features), n_features, replace=False)))
     return features
 
 
@@ -142,7 +144,7 @@ def make_training_set(rng: int | np.random.Generator, *, n_scenes: int = 40, per
     the same aspect anywhere in the scene, plus boxes displaced from the head by 40 % or more of
     its size or scaled by 0.6 or 1.6 (a detector of "a head here", not "a head somewhere").
     """
-    generator = make_rng(rng)
+    generator = make_rng(rng, "rng")
     height, width = 192, 256
     positives = {view: [] for view in VIEWS}
     negatives, near_misses = [], []
@@ -320,7 +322,7 @@ def train_cascade(training: TrainingSet, *, rng: int | np.random.Generator, firs
     size, and on the other views' heads. N_s = first_stages + second_stages (25 by
     default, as Table 1) unless the negative pool runs out first.
     """
-    generator = make_rng(rng)
+    generator = make_rng(rng, "rng")
     first_stages = check_positive_int(first_stages, "first_stages")
     second_stages = check_positive_int(second_stages, "second_stages")
     began = time.perf_counter()
@@ -344,10 +346,31 @@ def train_cascade(training: TrainingSet, *, rng: int | np.random.Generator, firs
     return BoostedCascade(first, second, WINDOW, time.perf_counter() - began)
 
 
-def load_or_train_cascade(*, seed: int = 2004, cache: bool = True) -> BoostedCascade:
-    """The package's cascade: trained from ``seed`` (training set and features), cached under build/."""
+def load_or_train_cascade(rng: int, *, cache: bool = True) -> BoostedCascade:
+    """The cascade trained from the integer seed ``rng``, read from (or written to) a cache under build/.
+
+    Parameters
+    ----------
+    rng : int
+        Seed of the training set (``rng``) and of the training (``rng + 1``); an int, because it
+        names the cache file. The package's cascade is ``CASCADE_SEED``.
+    cache : bool
+        Read and write ``build/cue_fusion_pf/cascade_<rng>.pkl``.
+
+    Returns
+    -------
+    BoostedCascade
+        The trained two-level cascade (the same for the same seed: training is deterministic).
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
+    """
     import pickle
 
+    if isinstance(rng, bool) or not isinstance(rng, (int, np.integer)) or rng < 0:
+        raise TypeError(f"rng must be a non-negative int (it names the cache file), got {rng!r}")
+    seed = int(rng)
     path = CACHE / f"cascade_{seed}.pkl"
     if cache and path.exists():
         with open(path, "rb") as handle:

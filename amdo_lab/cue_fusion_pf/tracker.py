@@ -12,7 +12,7 @@ from amdo_lab.common import as_finite_array, check_choice, check_positive, check
 from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
 from amdo_lab.cue_fusion_pf.likelihoods import PAPER_SIGMAS, ColorLikelihood, EdgeLikelihood
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
-from amdo_lab.cue_fusion_pf.structure import StructureLikelihood, load_or_train_cascade
+from amdo_lab.cue_fusion_pf.structure import CASCADE_SEED, StructureLikelihood, load_or_train_cascade
 
 __all__ = ["CALIBRATED_SIGMAS", "CUES", "TrackResult", "calibration_distances", "default_dynamics", "systematic_resample", "track"]
 
@@ -119,7 +119,7 @@ def build_cues(cues: Sequence[str], space: ShapeSpace, first_frame: np.ndarray, 
             built[name] = ColorLikelihood(space, first_frame, start, bins=params["bins"], sigma=sigmas["color"],
                                           stride=params["stride"])
         elif name == "structure":
-            built[name] = StructureLikelihood(space, load_or_train_cascade(), sigma=sigmas["structure"])
+            built[name] = StructureLikelihood(space, load_or_train_cascade(CASCADE_SEED), sigma=sigmas["structure"])
         elif name == "edge":
             built[name] = EdgeLikelihood(space, n_lines=params["n_lines"], half_length=params["half_length"],
                                          p0=params["p0"], sigma_e=params["sigma_e"], threshold=params["threshold"])
@@ -172,7 +172,7 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
         raise TypeError(f"sigmas must be 'calibrated', 'paper' or a dict, got {type(sigmas).__name__}")
     if "oracle" in cues and not callable(options["oracle"]):
         raise ValueError("cues include 'oracle' but no oracle=callable(t, states) was given")
-    generator = make_rng(rng)
+    generator = make_rng(rng, "rng")
     space, start = _shape_space_of(init, frames.shape[1:3])
     cue_objects = build_cues(cues, space, frames[0], start, sigma_table, options)
     dynamics = default_dynamics(start, beta=options["beta"], stationary_std=options["stationary_std"],
@@ -235,7 +235,7 @@ def calibration_distances(sequences: Sequence, cue: str, *, rng: int | np.random
     n_samples = check_positive_int(n_samples, "n_samples", minimum=2)
     frame_step = check_positive_int(frame_step, "frame_step")
     options = {**_PARAMS, **params}
-    generator = make_rng(rng)
+    generator = make_rng(rng, "rng")
     at_truth, at_prior = [], []
     for sequence in sequences:
         init = sequence.true_ellipses[0]
