@@ -31,13 +31,24 @@ _CLUTTER_COLOURS = np.array([[40, 60, 110], [150, 150, 160], [30, 90, 60], [190,
 class HeadSequence:
     """A rendered sequence and its ground truth.
 
-    Attributes
+    Parameters
     ----------
-    frames : (T, H, W, 3) uint8 RGB.
-    truth : (T, 3) true states ``(cx, cy, s)``: centre in pixels, relative scale.
-    true_ellipses : (T, 5) ``(cx, cy, a, b, angle)``.
-    segments : ordered ``{name: (start, stop)}`` frame ranges (stop excluded).
-    kind : the generator's kind.
+    frames : numpy.ndarray
+        (T, H, W, 3) uint8 RGB.
+    truth : numpy.ndarray
+        (T, 3) true states ``(cx, cy, s)``: centre in pixels, relative scale.
+    true_ellipses : numpy.ndarray
+        (T, 5) ``(cx, cy, a, b, angle)``.
+    segments : dict
+        Ordered ``{name: (start, stop)}`` frame ranges (stop excluded).
+    kind : str
+        The generator's kind.
+    oracle_std : tuple of float
+        Standard deviations of the oracle likelihood: centre (px) and scale.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 4 (the head sequences this one imitates).
     """
 
     frames: np.ndarray
@@ -48,14 +59,33 @@ class HeadSequence:
     oracle_std: tuple[float, float] = field(default=(2.0, 0.02))
 
     def oracle_log_likelihood(self, t: int, states: np.ndarray) -> np.ndarray:
-        """A likelihood that knows the truth: Gaussian on the centre (2 px) and the scale (0.02)."""
+        """A likelihood that knows the truth: Gaussian on the centre (2 px) and the scale (0.02).
+
+        Parameters
+        ----------
+        t : int
+            Frame index.
+        states : numpy.ndarray
+            (N, 3) or (3,) states.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N,) log-likelihoods (0 at the truth).
+        """
         states = np.atleast_2d(np.asarray(states, float))
         centre_sd, scale_sd = self.oracle_std
         squared = np.sum((states[:, :2] - self.truth[t, :2]) ** 2, axis=1) / centre_sd**2
         return -0.5 * (squared + (states[:, 2] - self.truth[t, 2]) ** 2 / scale_sd**2)
 
     def segment_of_frames(self) -> np.ndarray:
-        """(T,) name of the segment each frame belongs to."""
+        """The name of the segment each frame belongs to.
+
+        Returns
+        -------
+        numpy.ndarray
+            (T,) segment names (object array).
+        """
         names = np.empty(len(self.frames), dtype=object)
         for name, (start, stop) in self.segments.items():
             names[start:stop] = name
@@ -169,14 +199,21 @@ def make_head_sequence(kind: str, rng: int | np.random.Generator, *, noise_std: 
         ``"edges"`` (100 frames: the camera loses focus and contrast on 40-79, so edges vanish) or
         ``"twin"`` (80 frames: the head crosses an identical head walking the other way, in front of
         it, on frames 30-49).
-    rng : seed or generator.
-    noise_std : standard deviation of the camera noise, grey levels.
+    rng : int or numpy.random.Generator
+        Source of the background, the motion and the noise.
+    noise_std : float
+        Standard deviation of the camera noise, grey levels.
     cast_strength : size of the "fusion" kind's lighting change, 0 (none) to 1 (channel gains
         0.45, 0.62, 1.05); values in between scale the gains' departure from 1.
 
     Returns
     -------
     HeadSequence
+        Frames, truth, ellipses and segments.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 4 and Figs. 2-5.
     """
     kind = check_choice(kind, "kind", SEQUENCE_KINDS)
     generator = make_rng(rng, "rng")
@@ -227,12 +264,19 @@ def ellipse_iou(first: np.ndarray, second: np.ndarray, *, step: float = 0.5) -> 
 
     Parameters
     ----------
-    first, second : (5,) or (T, 5) ellipses (semi-axes a along x at angle 0, angle in radians).
-    step : grid spacing in pixels of the count of the intersection (its error is about step / min axis).
+    first, second : numpy.ndarray
+        (5,) or (T, 5) ellipses (semi-axes a along x at angle 0, angle in radians).
+    step : float
+        Grid spacing in pixels for counting the intersection (its error is about step / min axis).
 
     Returns
     -------
-    float or (T,) array in [0, 1].
+    float or numpy.ndarray
+        IoU in [0, 1], one per row.
+
+    References
+    ----------
+    The success criterion of this chapter (IoU >= 0.5); the paper shows its results as figures.
     """
     first = as_finite_array(first, "first")
     second = as_finite_array(second, "second")
@@ -271,9 +315,23 @@ def head_views(yaws: np.ndarray, *, rng: int | np.random.Generator, noise_std: f
 
     Each frame has its own office background and a head at a random place and scale.
 
+    Parameters
+    ----------
+    yaws : array_like
+        (n,) head yaw angles in radians.
+    rng : int or numpy.random.Generator
+        Source of the backgrounds, positions and noise.
+    noise_std : float
+        Camera noise, grey levels.
+
     Returns
     -------
-    frames : (n, 192, 256, 3) uint8; states : (n, 3) ``(cx, cy, s)``.
+    tuple of numpy.ndarray
+        (n, 192, 256, 3) uint8 frames and (n, 3) true states ``(cx, cy, s)``.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Fig. 4 (the structure cue as the head turns).
     """
     yaws = as_finite_array(yaws, "yaws", ndim=1)
     generator = make_rng(rng, "rng")

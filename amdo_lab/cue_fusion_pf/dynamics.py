@@ -27,13 +27,17 @@ def ar2_coefficients(beta: float, omega: float, tau: float) -> tuple[float, floa
 
     Parameters
     ----------
-    beta : damping coefficient β in 1/s (β >= 0; the paper: 2 for translation, 10 for deformation).
-    omega : oscillation frequency ω in rad/s (the paper: 0).
-    tau : sampling period τ in s (our choice: 1/25 s, a 25 fps camera; the paper does not give it).
+    beta : float
+        Damping coefficient β in 1/s, β >= 0 (the paper: 2 for translation, 10 for deformation).
+    omega : float
+        Oscillation frequency ω in rad/s (the paper: 0).
+    tau : float
+        Sampling period τ in s, > 0 (ours: 1/25 s, a 25 fps camera; the paper does not give it).
 
     Returns
     -------
-    (a1, a0, b0) as printed: a1 = -exp(-2βτ), a0 = 2 exp(-βτ) cos(ωτ), b0 the unit-variance gain.
+    tuple of float
+        (a1, a0, b0) as printed: a1 = -exp(-2βτ), a0 = 2 exp(-βτ) cos(ωτ), b0 the unit-variance gain.
 
     References
     ----------
@@ -50,7 +54,24 @@ def ar2_coefficients(beta: float, omega: float, tau: float) -> tuple[float, floa
 
 
 def ar2_stationary_variance(first_lag: float, second_lag: float, gain: float) -> float:
-    """Stationary variance of ``x_k = first_lag x_{k-1} + second_lag x_{k-2} + gain ν`` (inf if unstable)."""
+    """Stationary variance of ``x_k = first_lag x_{k-1} + second_lag x_{k-2} + gain ν``.
+
+    Parameters
+    ----------
+    first_lag, second_lag : float
+        Weights of x_{k-1} and x_{k-2}.
+    gain : float
+        Gain of the unit-variance noise ν.
+
+    Returns
+    -------
+    float
+        The variance (Yule-Walker), or inf when a root has modulus >= 1.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eq. (4): with the corrected order, b0 gives unit variance.
+    """
     roots = np.roots([1.0, -first_lag, -second_lag])
     if np.max(np.abs(roots)) >= 1.0:
         return float("inf")
@@ -63,14 +84,21 @@ class ARDynamics:
 
     Parameters
     ----------
-    beta : (d,) damping per component, 1/s (head: 2, 2 for translation and 10 for scale).
-    omega : (d,) oscillation frequency per component, rad/s (the paper: 0).
-    tau : sampling period in s.
-    stationary_std : (d,) stationary standard deviation of each component (pixels, or relative
-        scale); the paper does not state it. The per-frame noise is ``b0 * stationary_std``.
-    mean : (d,) the state X̄ the process returns to.
-    printed_order : use eq. (4) exactly as printed (a1 on x_{k-1}, a0 on x_{k-2}).
-    allow_unstable : accept a model whose recursion has a root of modulus >= 1.
+    beta : array_like
+        (d,) damping per component, 1/s, >= 0 (head: 2, 2 for translation and 10 for scale).
+    omega : array_like
+        (d,) oscillation frequency per component, rad/s (the paper: 0).
+    tau : float
+        Sampling period in s, > 0.
+    stationary_std : array_like
+        (d,) stationary standard deviation of each component (pixels, or relative scale), > 0;
+        the paper does not state it. The per-frame noise is ``b0 * stationary_std``.
+    mean : array_like
+        (d,) the state X̄ the process returns to.
+    printed_order : bool
+        Use eq. (4) exactly as printed (a1 on x_{k-1}, a0 on x_{k-2}).
+    allow_unstable : bool
+        Accept a model whose recursion has a root of modulus >= 1 (else ValueError).
 
     References
     ----------
@@ -104,21 +132,68 @@ class ARDynamics:
         return self.b0 * self.stationary_std
 
     def spectral_radius(self) -> float:
-        """Largest modulus of the roots of ``z² - first_lag z - second_lag`` over the components."""
+        """Largest modulus of the roots of ``z² - first_lag z - second_lag`` over the components.
+
+        Returns
+        -------
+        float
+            Below 1 for a stable model (1.85 for eq. 4 as printed at β = 2, τ = 1/25 s).
+        """
         return float(max(np.max(np.abs(np.roots([1.0, -f, -s]))) for f, s in zip(self.first_lag, self.second_lag)))
 
     def propagate(self, previous: np.ndarray, before: np.ndarray, noise: np.ndarray) -> np.ndarray:
-        """Eq. (5) for given standard-normal ``noise`` (N, d): the new states (N, d)."""
+        """Eq. (5) for given standard-normal noise.
+
+        Parameters
+        ----------
+        previous, before : numpy.ndarray
+            (N, d) states X_{k-1} and X_{k-2}.
+        noise : numpy.ndarray
+            (N, d) standard-normal draws ν.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N, d) states X_k.
+        """
         return (self.mean + self.first_lag * (previous - self.mean) + self.second_lag * (before - self.mean)
                 + self.step_std * noise)
 
     def step(self, previous: np.ndarray, before: np.ndarray, *, rng: int | np.random.Generator) -> np.ndarray:
-        """Sample ``X_k`` given ``X_{k-1}`` (previous) and ``X_{k-2}`` (before), each (N, d)."""
+        """Sample ``X_k`` given ``X_{k-1}`` and ``X_{k-2}``.
+
+        Parameters
+        ----------
+        previous, before : numpy.ndarray
+            (N, d) states X_{k-1} and X_{k-2}.
+        rng : int or numpy.random.Generator
+            Source of the noise.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N, d) sampled states X_k.
+        """
         previous = np.asarray(previous, float)
         return self.propagate(previous, before, make_rng(rng, "rng").standard_normal(previous.shape))
 
     def simulate(self, n_steps: int, start: np.ndarray, *, rng: int | np.random.Generator) -> np.ndarray:
-        """(n_steps, d) trajectory starting at rest at ``start``."""
+        """A trajectory of the process starting at rest at ``start``.
+
+        Parameters
+        ----------
+        n_steps : int
+            Length of the trajectory.
+        start : numpy.ndarray
+            (d,) initial state (X_0 = X_{-1}).
+        rng : int or numpy.random.Generator
+            Source of the noise.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n_steps, d) states.
+        """
         generator = make_rng(rng, "rng")
         path = [np.asarray(start, float), np.asarray(start, float)]
         for _ in range(n_steps - 2):

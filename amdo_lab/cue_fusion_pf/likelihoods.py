@@ -59,9 +59,19 @@ def kernel_histogram(frame: np.ndarray, ellipse: np.ndarray, bins: int = 32) -> 
     its bin, r being its normalised elliptical radius (eq. 7 with the profile 1 - r²: eq. 8 feeds
     the squared norm to K, which we read as the Epanechnikov profile, as in Comaniciu et al.).
 
+    Parameters
+    ----------
+    frame : numpy.ndarray
+        (H, W, 3) uint8 RGB image.
+    ellipse : numpy.ndarray
+        (5,) ellipse ``(cx, cy, a, b, angle)``.
+    bins : int
+        Bins per channel; must divide 256.
+
     Returns
     -------
-    (bins³,) histogram summing to 1 (all zeros if no pixel of the ellipse lies in the frame).
+    numpy.ndarray
+        (bins³,) histogram summing to 1 (all zeros if no pixel of the ellipse lies in the frame).
 
     References
     ----------
@@ -84,7 +94,22 @@ def kernel_histogram(frame: np.ndarray, ellipse: np.ndarray, bins: int = 32) -> 
 
 
 def bhattacharyya(p: np.ndarray, q: np.ndarray) -> np.ndarray:
-    """Eq. (10): ρ = Σ_u sqrt(p_u q_u), along the last axis."""
+    """Eq. (10): ρ = Σ_u sqrt(p_u q_u), along the last axis.
+
+    Parameters
+    ----------
+    p, q : numpy.ndarray
+        Histograms (summing to 1 along the last axis).
+
+    Returns
+    -------
+    numpy.ndarray or float
+        The Bhattacharyya coefficient, in [0, 1].
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eq. (10).
+    """
     return np.sum(np.sqrt(np.asarray(p) * np.asarray(q)), axis=-1)
 
 
@@ -93,12 +118,17 @@ class ColorLikelihood:
 
     Parameters
     ----------
-    shape_space : maps states to ellipses.
-    reference_frame, reference_state : the target histogram q̂ is taken from this frame inside the
-        state's ellipse (the paper uses a face detector for it; we use the initial state).
-    bins : bins per channel (32 for the head, Table 1); must divide 256.
-    sigma : σ_c.
-    stride : spacing of the sample grid in pixels at scale 1 (see Notes).
+    shape_space : ShapeSpace
+        Maps states to ellipses.
+    reference_frame, reference_state : numpy.ndarray
+        The model histogram q̂ is taken from this (H, W, 3) frame inside this (3,) state's ellipse
+        (the paper uses a face detector for it; we use the initial state).
+    bins : int
+        Bins per channel (32 for the head, Table 1); must divide 256.
+    sigma : float
+        σ_c, > 0.
+    stride : float
+        Spacing of the sample grid in pixels at scale 1 (see Notes), > 0.
 
     Notes
     -----
@@ -133,7 +163,20 @@ class ColorLikelihood:
         self._kernel = 1.0 - np.sum(self._unit_points**2, axis=1)  # eq. (7), profile 1 - r²
 
     def bhattacharyya(self, frame: np.ndarray, states: np.ndarray) -> np.ndarray:
-        """ρ(q̂, p̂(x)) of eq. (10) for each of the (N, d) states."""
+        """ρ(q̂, p̂(x)) of eq. (10) for each state.
+
+        Parameters
+        ----------
+        frame : numpy.ndarray
+            (H, W, 3) uint8 RGB image.
+        states : numpy.ndarray
+            (N, 3) or (3,) states.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N,) Bhattacharyya coefficients.
+        """
         frame = _check_frame(frame)
         ellipses = self.shape_space.ellipses(states)
         n = len(ellipses)
@@ -155,11 +198,37 @@ class ColorLikelihood:
         return histograms[:, :support].clip(min=0.0) ** 0.5 @ self._sqrt_target  # eq. (10)
 
     def distance(self, frame: np.ndarray, states: np.ndarray) -> np.ndarray:
-        """1 - ρ, the squared distance of eq. (9), for each state."""
+        """1 - ρ, the squared distance of eq. (9), for each state.
+
+        Parameters
+        ----------
+        frame : numpy.ndarray
+            (H, W, 3) uint8 RGB image.
+        states : numpy.ndarray
+            (N, 3) or (3,) states.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N,) distances in [0, 1].
+        """
         return 1.0 - self.bhattacharyya(frame, states)
 
     def log_likelihood(self, frame: np.ndarray, states: np.ndarray) -> np.ndarray:
-        """Eq. (11) in the log domain, for each of the (N, d) states."""
+        """Eq. (11) in the log domain, for each state.
+
+        Parameters
+        ----------
+        frame : numpy.ndarray
+            (H, W, 3) uint8 RGB image.
+        states : numpy.ndarray
+            (N, 3) or (3,) states.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N,) log-likelihoods.
+        """
         return -self.distance(frame, states) / (2.0 * self.sigma**2) - np.log(np.sqrt(2.0 * np.pi) * self.sigma)
 
 
@@ -172,6 +241,22 @@ def edge_line_likelihood(offsets: np.ndarray, p0: float, clutter_density: float,
     divided by their likelihood when all are clutter, ``exp(-λL) λ^n``: with Poisson clutter of
     density λ uniform on the line, the edge missed with probability P0, and found at a Gaussian
     offset otherwise (see the chapter for the two-line derivation).
+
+    Parameters
+    ----------
+    offsets : array_like
+        Distances z_j of the line's features from the contour, pixels (may be empty).
+    p0 : float
+        P0, in (0, 1).
+    clutter_density : float
+        λ, clutter features per pixel, > 0.
+    sigma_e : float
+        σ_e in pixels, > 0.
+
+    Returns
+    -------
+    float
+        The value of eq. (13).
 
     References
     ----------
@@ -188,6 +273,30 @@ def simulate_measurement_lines(n_lines: int, *, half_length: float, p0: float, c
 
     Each line spans ``[-half_length, half_length]``; clutter is Poisson with density λ per pixel,
     uniform; the true edge (at offset 0) is detected with probability 1 - P0, at a N(0, σ_e²) offset.
+
+    Parameters
+    ----------
+    n_lines : int
+        Number of lines.
+    half_length : float
+        L/2 in pixels.
+    p0 : float
+        P0, the probability that the edge is missed.
+    clutter_density : float
+        λ, clutter features per pixel.
+    sigma_e : float
+        σ_e in pixels.
+    rng : int or numpy.random.Generator
+        Source of the draws.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        For each line, the offsets of its features (clutter, then the edge when detected).
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, the assumptions above eq. (13); MacCormick (2000).
     """
     generator = make_rng(rng, "rng")
     n_lines = check_positive_int(n_lines, "n_lines")
@@ -205,13 +314,20 @@ class EdgeLikelihood:
 
     Parameters
     ----------
-    shape_space : gives each particle's contour points and normals.
-    n_lines : N_e (40 for the head, Table 1).
-    half_length : L/2 in pixels (not given by the paper; ours: 12).
-    p0 : P0, probability that the edge is not detected (0.2).
-    sigma_e : σ_e in pixels (√2).
-    threshold : smallest gradient magnitude of a feature, grey levels per pixel.
-    smoothing : σ of the Gaussian applied to the grey image before the 1-D derivative (pixels).
+    shape_space : ShapeSpace
+        Gives each particle's contour points and normals.
+    n_lines : int
+        N_e (40 for the head, Table 1).
+    half_length : int
+        L/2 in pixels (not given by the paper; ours: 12).
+    p0 : float
+        P0, probability that the edge is not detected, in (0, 1) (0.2).
+    sigma_e : float
+        σ_e in pixels, > 0 (√2).
+    threshold : float
+        Smallest gradient magnitude of a feature, grey levels per pixel, > 0.
+    smoothing : float
+        σ of the Gaussian applied to the grey image before the 1-D derivative, pixels, > 0.
 
     Notes
     -----
@@ -241,7 +357,18 @@ class EdgeLikelihood:
         self.clutter_density = float("nan")  # λ of the last frame seen
 
     def grey(self, frame: np.ndarray) -> np.ndarray:
-        """The smoothed grey image the lines are read from."""
+        """The smoothed grey image the lines are read from.
+
+        Parameters
+        ----------
+        frame : numpy.ndarray
+            (H, W, 3) uint8 RGB image.
+
+        Returns
+        -------
+        numpy.ndarray
+            (H, W) float32 grey levels.
+        """
         grey = _check_frame(frame).astype(np.float32).mean(axis=2)
         return cv2.GaussianBlur(grey, (0, 0), self.smoothing)
 
@@ -249,7 +376,21 @@ class EdgeLikelihood:
         """Grey levels (N, N_e, 2L+1) along every measurement line of every state.
 
         ``reference=True`` samples with the plain-numpy :func:`_bilinear`; the default uses
-        ``cv2.remap`` (the same bilinear interpolation with 1/32-pixel weights, several times faster).
+        ``cv2.remap`` (the same bilinear interpolation, several times faster).
+
+        Parameters
+        ----------
+        frame : numpy.ndarray
+            (H, W, 3) uint8 RGB image.
+        states : numpy.ndarray
+            (N, 3) or (3,) states.
+        reference : bool
+            Use the plain-numpy reference path.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N, N_e, 2L+1) grey levels.
         """
         grey = self.grey(frame)
         states = np.atleast_2d(self.shape_space._check_states(states))
@@ -275,6 +416,20 @@ class EdgeLikelihood:
 
         A feature is a local maximum of the magnitude of the central difference along the line,
         above ``threshold``, its position refined by a parabola through the three samples.
+
+        Parameters
+        ----------
+        frame : numpy.ndarray
+            (H, W, 3) uint8 RGB image.
+        states : numpy.ndarray
+            (N, 3) or (3,) states.
+        reference : bool
+            Use the plain-numpy reference path.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            State indices, line indices and offsets z_j (pixels) of every feature found.
         """
         profile = self.profiles(frame, states, reference=reference)
         gradient = 0.5 * np.abs(profile[..., 2:] - profile[..., :-2])  # at offsets[1:-1]
@@ -288,7 +443,22 @@ class EdgeLikelihood:
         return state_index, line_index, self.offsets[2:-2][position] + shift
 
     def log_likelihood(self, frame: np.ndarray, states: np.ndarray, *, reference: bool = False) -> np.ndarray:
-        """Eq. (14) in the log domain: the sum over lines of log eq. (13)."""
+        """Eq. (14) in the log domain: the sum over lines of log eq. (13).
+
+        Parameters
+        ----------
+        frame : numpy.ndarray
+            (H, W, 3) uint8 RGB image.
+        states : numpy.ndarray
+            (N, 3) or (3,) states.
+        reference : bool
+            Use the plain-numpy reference path.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N,) log-likelihoods (λ of this frame is kept in ``clutter_density``).
+        """
         n = len(np.atleast_2d(states))
         state_index, line_index, offsets = self.features(frame, states, reference=reference)
         length = 2.0 * self.half_length
@@ -314,7 +484,26 @@ def _bilinear(image: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
 # --- fusion: eq. (6) ----------------------------------------------------------------------------
 
 def fused_log_likelihood(cues: dict, frame: np.ndarray, states: np.ndarray) -> np.ndarray:
-    """Eq. (6) in the log domain: the sum of the cues' log-likelihoods (independent cues)."""
+    """Eq. (6) in the log domain: the sum of the cues' log-likelihoods (independent cues).
+
+    Parameters
+    ----------
+    cues : dict
+        Name -> likelihood object with ``.log_likelihood(frame, states)``.
+    frame : numpy.ndarray
+        (H, W, 3) uint8 RGB image.
+    states : numpy.ndarray
+        (N, 3) states.
+
+    Returns
+    -------
+    numpy.ndarray
+        (N,) fused log-likelihoods.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eq. (6).
+    """
     total = np.zeros(len(np.atleast_2d(states)))
     for cue in cues.values():
         total += cue.log_likelihood(frame, states)
@@ -325,7 +514,21 @@ def fused_log_likelihood(cues: dict, frame: np.ndarray, states: np.ndarray) -> n
 
 @dataclass(frozen=True)
 class CalibrationResult:
-    """The σ with the best mean log score, the grid searched and the score at each σ."""
+    """The σ with the best mean log score, the grid searched and the score at each σ.
+
+    Parameters
+    ----------
+    sigma : float
+        The chosen σ.
+    grid : numpy.ndarray
+        The σ values tried.
+    scores : numpy.ndarray
+        Mean log score at each σ.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Table 1 (σ_c, σ_s set "empirically").
+    """
 
     sigma: float
     grid: np.ndarray
@@ -343,9 +546,21 @@ def calibrate_sigma(distances_true: np.ndarray, distances_prior: np.ndarray, gri
 
     Parameters
     ----------
-    distances_true : (T,) distances at the true states.
-    distances_prior : (T, N) distances at the prior samples.
-    grid : σ values to try (default: 60 log-spaced values from 0.005 to 10).
+    distances_true : numpy.ndarray
+        (T,) distances at the true states.
+    distances_prior : numpy.ndarray
+        (T, N) distances at the prior samples.
+    grid : numpy.ndarray, optional
+        σ values to try, > 0 (default: 60 log-spaced values from 0.005 to 10).
+
+    Returns
+    -------
+    CalibrationResult
+        The best σ, the grid and the scores.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eqs. (11)-(12) and Table 1.
     """
     distances_true = as_finite_array(distances_true, "distances_true", ndim=1)
     distances_prior = as_finite_array(distances_prior, "distances_prior", shape=(distances_true.size, None))

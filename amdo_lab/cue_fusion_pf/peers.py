@@ -23,9 +23,21 @@ def track_camshift(frames: np.ndarray, init: np.ndarray, *, hue_bins: int = 32) 
 
     Parameters
     ----------
-    frames : (T, H, W, 3) uint8 RGB.
-    init : initial ellipse ``(cx, cy, a, b, angle)``.
-    hue_bins : bins of the hue histogram.
+    frames : numpy.ndarray
+        (T, H, W, 3) uint8 RGB.
+    init : numpy.ndarray
+        Initial ellipse ``(cx, cy, a, b, angle)``.
+    hue_bins : int
+        Bins of the hue histogram.
+
+    Returns
+    -------
+    TrackResult
+        Ellipses from CamShift's rotated rectangles (``ess`` is NaN: there are no particles).
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004 (the task); Comaniciu, Ramesh & Meer, CVPR 2000 (ref. [13]).
     """
     frames = _check_frames(frames)
     init = as_finite_array(init, "init", shape=(5,))
@@ -72,8 +84,19 @@ def track_mil(frames: np.ndarray, init: np.ndarray) -> TrackResult:
 
     Parameters
     ----------
-    frames : (T, H, W, 3) uint8 RGB.
-    init : initial ellipse ``(cx, cy, a, b, angle)``; MIL starts from its bounding box.
+    frames : numpy.ndarray
+        (T, H, W, 3) uint8 RGB.
+    init : numpy.ndarray
+        Initial ellipse ``(cx, cy, a, b, angle)``; MIL starts from its bounding box.
+
+    Returns
+    -------
+    TrackResult
+        Ellipses inscribed in MIL's boxes (``ess`` is NaN).
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004 (the task); Babenko, Yang & Belongie, CVPR 2009 (MIL tracking).
     """
     frames = _check_frames(frames)
     init = as_finite_array(init, "init", shape=(5,))
@@ -106,12 +129,31 @@ def track_pfilter(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.
 
     Parameters
     ----------
-    frames, init, cues, n_particles, sigmas : as for :func:`track`.
-    rng : seed or generator; it seeds numpy's global generator, which pfilter draws from.
+    frames : numpy.ndarray
+        (T, H, W, 3) uint8 RGB.
+    init : numpy.ndarray
+        Initial ellipse or control points, as for :func:`track`.
+    rng : int or numpy.random.Generator
+        Seeds numpy's global generator, which pfilter draws from.
+    cues : sequence of str
+        Cues fused, as for :func:`track`.
+    n_particles : int
+        N_w.
+    sigmas : str or dict
+        As for :func:`track`.
+
+    Returns
+    -------
+    TrackResult
+        Weighted-mean states and their ellipses (no particle history).
 
     Notes
     -----
     Needs the ``pfilter`` package (pip install pfilter).
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Fig. 1 and eq. (6).
     """
     from pfilter import ParticleFilter, systematic_resample as pfilter_systematic
 

@@ -22,13 +22,17 @@ def bspline_basis(s: np.ndarray, n_control: int, derivative: bool = False) -> np
 
     Parameters
     ----------
-    s : (n,) curve parameters in ``[0, J)`` (span ``j`` is ``j <= s < j + 1``; ``L = J`` spans).
-    n_control : J, the number of control points (at least 3).
-    derivative : return ``dB/ds`` instead of ``B``.
+    s : numpy.ndarray
+        (n,) curve parameters in ``[0, J)`` (span ``j`` is ``j <= s < j + 1``; ``L = J`` spans).
+    n_control : int
+        J, the number of control points (at least 3).
+    derivative : bool
+        Return ``dB/ds`` instead of ``B``.
 
     Returns
     -------
-    (n, J) array whose rows sum to 1 (to 0 for the derivative).
+    numpy.ndarray
+        (n, J) basis values; rows sum to 1 (to 0 for the derivative).
 
     References
     ----------
@@ -50,7 +54,24 @@ def bspline_basis(s: np.ndarray, n_control: int, derivative: bool = False) -> np
 
 
 def ellipse_points(ellipse: np.ndarray, n_points: int) -> np.ndarray:
-    """``n_points`` points of the ellipse ``(cx, cy, a, b, angle)`` at equal steps of its angle parameter."""
+    """``n_points`` points of the ellipse ``(cx, cy, a, b, angle)`` at equal steps of its angle parameter.
+
+    Parameters
+    ----------
+    ellipse : numpy.ndarray
+        (5,) centre (px), semi-axes a (along x at angle 0) and b (px), angle (rad).
+    n_points : int
+        Number of points.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n_points, 2) points (x, y) in pixels.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 2.1 (the ellipse fitted to each contour).
+    """
     cx, cy, a, b, angle = ellipse
     theta = np.linspace(0.0, 2.0 * np.pi, n_points, endpoint=False)
     local = np.stack([a * np.cos(theta), b * np.sin(theta)], axis=1)
@@ -63,9 +84,13 @@ class ShapeSpace:
 
     Parameters
     ----------
-    template : (J, 2) control points ``Q̄`` in pixels; they are centred on their mean, which becomes
-        the state's origin.
-    kind : ``"translation_scale"`` (the head space of eq. 3, state ``(t_x, t_y, s)``).
+    template : numpy.ndarray
+        (J, 2) control points ``Q̄`` in pixels; they are centred on their mean, which becomes the
+        state's origin.
+    kind : str
+        ``"translation_scale"`` (the head space of eq. 3, state ``(t_x, t_y, s)``).
+    _ellipse : numpy.ndarray, optional
+        The template's exact ellipse, when known (set by :meth:`from_ellipse`).
 
     Notes
     -----
@@ -101,7 +126,17 @@ class ShapeSpace:
     def from_ellipse(cls, ellipse: np.ndarray, n_control: int = 12) -> "ShapeSpace":
         """Template whose B-spline fits the ellipse ``(cx, cy, a, b, angle)`` (least squares on 8J points).
 
-        Returns the space and nothing else; the initial state of that ellipse is ``(cx, cy, 0)``.
+        Parameters
+        ----------
+        ellipse : numpy.ndarray
+            (5,) the ellipse; axes must be positive.
+        n_control : int
+            J, the number of control points.
+
+        Returns
+        -------
+        ShapeSpace
+            The space; the state of that ellipse is ``(cx, cy, 0)``.
         """
         ellipse = as_finite_array(ellipse, "ellipse", shape=(5,))
         n_control = check_positive_int(n_control, "n_control", minimum=3)
@@ -117,24 +152,65 @@ class ShapeSpace:
 
     # --- eq. (2): Q = W X + Q̄ ---------------------------------------------------------------
     def shape_matrix(self) -> np.ndarray:
-        """W of eq. (3), left: (2J, 3) with columns (1, 0), (0, 1) and (Q̄^x, Q̄^y)."""
+        """W of eq. (3), left.
+
+        Returns
+        -------
+        numpy.ndarray
+            (2J, 3) with columns (1, 0), (0, 1) and (Q̄^x, Q̄^y) stacked x over y.
+        """
         ones, zeros = np.ones(self.n_control), np.zeros(self.n_control)
         return np.stack([np.concatenate([ones, zeros]), np.concatenate([zeros, ones]),
                          np.concatenate([self.template[:, 0], self.template[:, 1]])], axis=1)
 
     def control_points(self, states: np.ndarray) -> np.ndarray:
-        """(N, J, 2) control points of (N, 3) states, eq. (2) written as a matrix product."""
+        """Control points of the states, eq. (2) written as a matrix product.
+
+        Parameters
+        ----------
+        states : numpy.ndarray
+            (N, 3) or (3,) states ``(t_x, t_y, s)``.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N, J, 2) control points in pixels.
+        """
         states = np.atleast_2d(self._check_states(states))
         stacked = states @ self.shape_matrix().T + np.concatenate([self.template[:, 0], self.template[:, 1]])
         return np.stack([stacked[:, : self.n_control], stacked[:, self.n_control :]], axis=2)
 
     def curve(self, states: np.ndarray, n_points: int = 80) -> np.ndarray:
-        """(N, n_points, 2) points ``r(s)`` of eq. (1) at equal parameter steps."""
+        """Points ``r(s)`` of eq. (1) at equal parameter steps.
+
+        Parameters
+        ----------
+        states : numpy.ndarray
+            (N, 3) or (3,) states.
+        n_points : int
+            Points per curve.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N, n_points, 2) curve points in pixels.
+        """
         basis = bspline_basis(np.linspace(0, self.n_control, n_points, endpoint=False), self.n_control)
         return np.einsum("pj,njd->npd", basis, self.control_points(states))
 
     def template_normals(self, n_lines: int) -> tuple[np.ndarray, np.ndarray]:
-        """Points of the template curve and unit outward normals at ``n_lines`` equal parameter steps."""
+        """Points of the template curve and unit outward normals at ``n_lines`` equal parameter steps.
+
+        Parameters
+        ----------
+        n_lines : int
+            N_e, the number of measurement lines.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            (n_lines, 2) points relative to the state's centre at scale 1, and (n_lines, 2) normals.
+        """
         s = np.linspace(0, self.n_control, n_lines, endpoint=False)
         points = bspline_basis(s, self.n_control) @ self.template
         tangents = bspline_basis(s, self.n_control, derivative=True) @ self.template
@@ -145,7 +221,18 @@ class ShapeSpace:
         return points, normals
 
     def ellipses(self, states: np.ndarray) -> np.ndarray:
-        """(N, 5) best-fitting ellipses ``(cx, cy, a, b, angle)`` of the states' contours."""
+        """Best-fitting ellipses of the states' contours.
+
+        Parameters
+        ----------
+        states : numpy.ndarray
+            (N, 3) or (3,) states.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N, 5) ellipses ``(cx, cy, a, b, angle)``.
+        """
         states = np.atleast_2d(self._check_states(states))
         scale = 1.0 + states[:, 2]
         e = self.template_ellipse
@@ -153,7 +240,18 @@ class ShapeSpace:
                          scale * e[2], scale * e[3], np.full(len(states), e[4])], axis=1)
 
     def state_of_ellipse(self, ellipse: np.ndarray) -> np.ndarray:
-        """The state ``(cx, cy, s)`` whose ellipse has the centre of ``ellipse`` and its major axis."""
+        """The state ``(cx, cy, s)`` whose ellipse has the centre of ``ellipse`` and its major axis.
+
+        Parameters
+        ----------
+        ellipse : numpy.ndarray
+            (5,) ellipse ``(cx, cy, a, b, angle)``.
+
+        Returns
+        -------
+        numpy.ndarray
+            (3,) state.
+        """
         ellipse = as_finite_array(ellipse, "ellipse", shape=(5,))
         return np.array([ellipse[0], ellipse[1], max(ellipse[2], ellipse[3]) / max(self.template_ellipse[2:4]) - 1.0])
 

@@ -36,6 +36,20 @@ def integral_image(images: np.ndarray) -> np.ndarray:
     """Summed-area tables of (..., H, W) images, zero-padded to (..., H+1, W+1).
 
     ``ii[r, c]`` is the sum of ``image[:r, :c]``, so any rectangle's sum costs four look-ups.
+
+    Parameters
+    ----------
+    images : numpy.ndarray
+        (..., H, W) images.
+
+    Returns
+    -------
+    numpy.ndarray
+        (..., H+1, W+1) tables (float32 for a stack, float64 for one image).
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
     """
     images = np.asarray(images, np.float64)
     padded = np.zeros(images.shape[:-2] + (images.shape[-2] + 1, images.shape[-1] + 1), np.float32 if images.ndim > 2 else np.float64)
@@ -78,7 +92,26 @@ _SIGNS = {"type-2-x": (-1, 1), "type-2-y": (-1, 1), "type-3-x": (-1, 1, -1), "ty
 
 def haar_features(window: tuple[int, int] = WINDOW, *, n_features: int | None = None,
                   rng: int | np.random.Generator | None = None) -> HaarFeatures:
-    """All Haar-like features of a ``(width, height)`` window (scikit-image's enumeration), or a random subset."""
+    """All Haar-like features of a ``(width, height)`` window (scikit-image's enumeration), or a random subset.
+
+    Parameters
+    ----------
+    window : tuple of int
+        (width, height) of the detector window in pixels.
+    n_features : int, optional
+        Draw this many features at random (needs ``rng``).
+    rng : int or numpy.random.Generator, optional
+        Source of the subset.
+
+    Returns
+    -------
+    HaarFeatures
+        The features' rectangles and signs.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
+    """
     features = _all_haar_features(*window)
     if n_features is not None:
         if rng is None:
@@ -143,6 +176,26 @@ def make_training_set(rng: int | np.random.Generator, *, n_scenes: int = 40, per
     Positives: the head's bounding box jittered by ±2 px and ±5 % in size. Negatives: boxes of
     the same aspect anywhere in the scene, plus boxes displaced from the head by 40 % or more of
     its size or scaled by 0.6 or 1.6 (a detector of "a head here", not "a head somewhere").
+
+    Parameters
+    ----------
+    rng : int or numpy.random.Generator
+        Source of the scenes.
+    n_scenes : int
+        Scenes per view.
+    per_scene : int
+        Positive windows per head.
+    negatives_per_scene : int
+        Negative windows per scene.
+
+    Returns
+    -------
+    TrainingSet
+        Normalised patches.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
     """
     generator = make_rng(rng, "rng")
     height, width = 192, 256
@@ -246,6 +299,23 @@ class BoostedCascade:
     ``n_stages`` is N_s: the first level's stages plus the longest second-level cascade's. A window
     that passes level 1 counts the stages of its best view, scaled to that longest cascade, so
     passing a whole shorter view cascade also gives n_s = N_s.
+
+    Parameters
+    ----------
+    first_level : list
+        Stages of level 1.
+    second_level : dict
+        View name -> list of stages.
+    window : tuple of int
+        Detector window (width, height).
+    training_seconds : float
+        Training time.
+    report : dict
+        Free-form training notes.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
     """
 
     first_level: list
@@ -256,10 +326,22 @@ class BoostedCascade:
 
     @property
     def n_stages(self) -> int:
+        """N_s of eq. (12)."""
         return len(self.first_level) + max(len(c) for c in self.second_level.values())
 
     def stages_passed_patches(self, patches: np.ndarray) -> np.ndarray:
-        """n_s for normalised patches (N, h, w): first-level stages passed in order, then the best view's."""
+        """n_s for normalised patches: first-level stages passed in order, then the best view's.
+
+        Parameters
+        ----------
+        patches : numpy.ndarray
+            (N, h, w) patches from :func:`normalised_patches`.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N,) stages passed, in [0, N_s].
+        """
         integrals = integral_image(patches)
         passed = np.zeros(len(patches))
         alive = np.arange(len(patches))
@@ -283,7 +365,20 @@ class BoostedCascade:
         return passed + best
 
     def stages_passed(self, image: np.ndarray, boxes: np.ndarray) -> np.ndarray:
-        """n_s of eq. (12) for each box ``(x, y, width, height)`` of an RGB or grey image."""
+        """n_s of eq. (12) for each box of an RGB or grey image.
+
+        Parameters
+        ----------
+        image : numpy.ndarray
+            (H, W, 3) or (H, W) image.
+        boxes : numpy.ndarray
+            (N, 4) boxes ``(x, y, width, height)`` in pixels, sizes > 0.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N,) stages passed.
+        """
         boxes = as_finite_array(boxes, "boxes", shape=(None, 4))
         if np.any(boxes[:, 2:] <= 0):
             raise ValueError("boxes must have positive width and height")
@@ -321,6 +416,34 @@ def train_cascade(training: TrainingSet, *, rng: int | np.random.Generator, firs
     view, trained on the pool windows that pass level 1, on boxes shifted by 15-35 % of the head's
     size, and on the other views' heads. N_s = first_stages + second_stages (25 by
     default, as Table 1) unless the negative pool runs out first.
+
+    Parameters
+    ----------
+    training : TrainingSet
+        Positives per view and negatives.
+    rng : int or numpy.random.Generator
+        Source of the feature subset and of the negatives drawn per stage.
+    first_stages, second_stages : int
+        Stages of level 1 and of each level-2 cascade (at most).
+    n_features : int
+        Haar features drawn from all those of the window.
+    n_negatives : int
+        Negatives per stage.
+    max_stumps : int
+        Most decision stumps per stage.
+    min_detection : float
+        Share of the positives each stage keeps.
+    max_false_positive : float
+        A stage stops adding stumps once it passes at most this share of its negatives.
+
+    Returns
+    -------
+    BoostedCascade
+        The two-level cascade and its training time.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
     """
     generator = make_rng(rng, "rng")
     first_stages = check_positive_int(first_stages, "first_stages")
@@ -388,6 +511,15 @@ class StructureLikelihood:
 
     The cascade is run on each particle's circumscribed rectangle (the ellipse's bounding box).
 
+    Parameters
+    ----------
+    shape_space : ShapeSpace
+        Maps states to ellipses.
+    cascade : BoostedCascade
+        The detector.
+    sigma : float
+        σ_s, > 0.
+
     References
     ----------
     Li & Chaumette, AMDO 2004, eq. (12); Viola & Jones (2001).
@@ -399,6 +531,18 @@ class StructureLikelihood:
         self.sigma = check_positive(sigma, "sigma")
 
     def boxes(self, states: np.ndarray) -> np.ndarray:
+        """The circumscribed rectangles of the states' ellipses.
+
+        Parameters
+        ----------
+        states : numpy.ndarray
+            (N, 3) or (3,) states.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N, 4) boxes ``(x, y, width, height)``.
+        """
         ellipses = self.shape_space.ellipses(states)
         c, s = np.abs(np.cos(ellipses[:, 4])), np.abs(np.sin(ellipses[:, 4]))
         half_w = ellipses[:, 2] * c + ellipses[:, 3] * s
@@ -406,9 +550,35 @@ class StructureLikelihood:
         return np.column_stack([ellipses[:, 0] - half_w, ellipses[:, 1] - half_h, 2 * half_w, 2 * half_h])
 
     def distance(self, frame: np.ndarray, states: np.ndarray) -> np.ndarray:
-        """1 - n_s/N_s for each state."""
+        """1 - n_s/N_s for each state.
+
+        Parameters
+        ----------
+        frame : numpy.ndarray
+            (H, W, 3) uint8 RGB image.
+        states : numpy.ndarray
+            (N, 3) or (3,) states.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N,) distances in [0, 1].
+        """
         return 1.0 - self.cascade.stages_passed(frame, self.boxes(states)) / self.cascade.n_stages
 
     def log_likelihood(self, frame: np.ndarray, states: np.ndarray) -> np.ndarray:
-        """Eq. (12) in the log domain."""
+        """Eq. (12) in the log domain.
+
+        Parameters
+        ----------
+        frame : numpy.ndarray
+            (H, W, 3) uint8 RGB image.
+        states : numpy.ndarray
+            (N, 3) or (3,) states.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N,) log-likelihoods.
+        """
         return -self.distance(frame, states) / (2.0 * self.sigma**2) - np.log(np.sqrt(2.0 * np.pi) * self.sigma)

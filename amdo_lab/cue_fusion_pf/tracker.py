@@ -33,14 +33,26 @@ _PARAMS = {"bins": 32, "stride": 2.0, "n_lines": 40, "half_length": 12, "p0": 0.
 class TrackResult:
     """What :func:`track` returns.
 
-    Attributes
+    Parameters
     ----------
-    states : (T, 3) weighted-mean states ``(cx, cy, s)`` (Fig. 1, step 4).
-    ellipses : (T, 5) their ellipses ``(cx, cy, a, b, angle)``.
-    centers : (T, 2) ellipse centres, pixels.
-    ess : (T,) effective sample size ``1 / Σ w²`` before resampling.
-    seconds : wall-clock time of the whole run.
-    particles : (T, N, 3) particles before resampling; weights : (T, N) their normalised weights.
+    states : numpy.ndarray
+        (T, 3) weighted-mean states ``(cx, cy, s)`` (Fig. 1, step 4).
+    ellipses : numpy.ndarray
+        (T, 5) their ellipses ``(cx, cy, a, b, angle)``.
+    centers : numpy.ndarray
+        (T, 2) ellipse centres, pixels.
+    ess : numpy.ndarray
+        (T,) effective sample size ``1 / Σ w²`` before resampling.
+    seconds : float
+        Wall-clock time of the whole run.
+    particles : numpy.ndarray
+        (T, N, 3) particles before resampling.
+    weights : numpy.ndarray
+        (T, N) their normalised weights.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Fig. 1 (the outputs of step 4).
     """
 
     states: np.ndarray
@@ -53,6 +65,7 @@ class TrackResult:
 
     @property
     def ms_per_frame(self) -> float:
+        """Milliseconds per frame of the run."""
         return 1000.0 * self.seconds / len(self.states)
 
 
@@ -61,6 +74,22 @@ def systematic_resample(weights: np.ndarray, u: float) -> np.ndarray:
 
     The N pointers ``(u + i) / N`` walk through the cumulative weights, so particle i is copied
     ``floor`` or ``ceil`` of ``N w_i`` times: lower variance than N independent draws.
+
+    Parameters
+    ----------
+    weights : numpy.ndarray
+        (N,) normalised weights.
+    u : float
+        One uniform number in [0, 1).
+
+    Returns
+    -------
+    numpy.ndarray
+        (N,) indices of the chosen particles, in increasing order.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Fig. 1, step 5.
     """
     n = len(weights)
     cumulative = np.cumsum(weights)
@@ -70,7 +99,28 @@ def systematic_resample(weights: np.ndarray, u: float) -> np.ndarray:
 
 def default_dynamics(mean: np.ndarray, *, beta=(2.0, 2.0, 10.0), stationary_std=STATIONARY_STD,
                      printed_order: bool = False) -> ARDynamics:
-    """The head's AR(2) of eq. (5): β = 2 (translation), 10 (scale), ω = 0, τ = 1/25 s, about ``mean``."""
+    """The head's AR(2) of eq. (5): β = 2 (translation), 10 (scale), ω = 0, τ = 1/25 s, about ``mean``.
+
+    Parameters
+    ----------
+    mean : numpy.ndarray
+        (3,) the state the process returns to (the initial state).
+    beta : tuple of float
+        Damping of (t_x, t_y, s), 1/s.
+    stationary_std : tuple of float
+        Stationary standard deviations of (t_x, t_y, s): pixels, pixels, relative scale.
+    printed_order : bool
+        Eq. (4) as printed (unstable; allowed here so that it can be shown).
+
+    Returns
+    -------
+    ARDynamics
+        The dynamics.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eqs. (4)-(5) and Table 1.
+    """
     return ARDynamics(beta, (0.0, 0.0, 0.0), FRAME_PERIOD, stationary_std, mean, printed_order=printed_order,
                       allow_unstable=printed_order)
 
@@ -133,15 +183,24 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
 
     Parameters
     ----------
-    frames : (T, H, W, 3) uint8 RGB (pixels, x right, y down).
-    init : the contour at frame 0, an ellipse ``(cx, cy, a, b, angle)`` (semi-axes, a along x at
+    frames : numpy.ndarray
+        (T, H, W, 3) uint8 RGB (pixels, x right, y down).
+    init : numpy.ndarray
+        The contour at frame 0: an ellipse ``(cx, cy, a, b, angle)`` (semi-axes, a along x at
         angle 0, radians) or (J, 2) B-spline control points.
-    rng : seed or generator (the only source of randomness).
-    cues : any of ``"color"``, ``"edge"``, ``"structure"`` and ``"oracle"`` (the latter needs ``oracle=``, a callable
-        ``(t, states) -> (N,)`` log-likelihood, e.g. ``HeadSequence.oracle_log_likelihood``).
-    n_particles : N_w.
-    sigmas : ``"calibrated"`` (:data:`CALIBRATED_SIGMAS`), ``"paper"`` (Table 1: σ_c = 5, σ_s = √15) or a dict.
-    **params : bins, stride (colour); n_lines, half_length, p0, sigma_e, threshold (edges); beta,
+    rng : int or numpy.random.Generator
+        The only source of randomness.
+    cues : sequence of str
+        Any of ``"color"``, ``"edge"``, ``"structure"`` and ``"oracle"`` (the latter needs
+        ``oracle=``, a callable ``(t, states) -> (N,)`` log-likelihood, e.g.
+        ``HeadSequence.oracle_log_likelihood``).
+    n_particles : int
+        N_w, at least 2.
+    sigmas : str or dict
+        ``"calibrated"`` (:data:`CALIBRATED_SIGMAS`), ``"paper"`` (Table 1: σ_c = 5, σ_s = √15) or a
+        dict of positive values.
+    **params
+        bins, stride (colour); n_lines, half_length, p0, sigma_e, threshold (edges); beta,
         stationary_std, printed_order (dynamics); init_spread (std of the initial particles).
 
     Returns
@@ -227,9 +286,30 @@ def calibration_distances(sequences: Sequence, cue: str, *, rng: int | np.random
     ``.truth``), ``n_samples`` states are drawn from the dynamics of eq. (5) given the true states
     at t-1 and t-2: the particles a filter that tracked perfectly until t-1 would weigh.
 
+    Parameters
+    ----------
+    sequences : sequence of HeadSequence
+        Held-out sequences (objects with ``.frames``, ``.truth`` and ``.true_ellipses``).
+    cue : str
+        ``"color"`` or ``"structure"``.
+    rng : int or numpy.random.Generator
+        Source of the prior samples.
+    n_samples : int
+        Prior samples per frame.
+    frame_step : int
+        Use every ``frame_step``-th frame.
+    **params
+        Cue and dynamics parameters, as for :func:`track`.
+
     Returns
     -------
-    (T,) distances at the truth and (T, n_samples) at the prior samples (for colour 1 - ρ, for structure 1 - n_s/N_s).
+    tuple of numpy.ndarray
+        (T,) distances at the truth and (T, n_samples) at the prior samples (for colour 1 - ρ,
+        for structure 1 - n_s/N_s).
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eqs. (11)-(12) (the σ being calibrated) and Table 1.
     """
     check_choice(cue, "cue", ("color", "structure"))
     n_samples = check_positive_int(n_samples, "n_samples", minimum=2)
