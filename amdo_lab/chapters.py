@@ -96,6 +96,18 @@ CHAPTERS: tuple[Chapter, ...] = (
         "Model to Study the Configuration Space of a PCA+LDA Human Face Recognition Algorithm. "
         "AMDO 2004, LNCS 3179, pp. 1-11.",
     ),
+    Chapter(
+        6,
+        "06_cue_fusion_particle_filter.ipynb",
+        "Particle filter tracking with fused colour, edge and structure cues",
+        "Condensation built from scratch on a 1-D track, then a B-spline head contour with second-order dynamics "
+        "(the printed coefficients are unstable; the corrected order is not) weighted by a colour histogram, a "
+        "boosted Haar cascade trained in the package and an edge model derived step by step, fused in the log "
+        "domain; why the printed variances make the fusion edge-only, calibrated ones, CamShift as a peer and a "
+        "twin-head failure case.",
+        "P. Li, F. Chaumette. Image Cues Fusion for Object Tracking Based on Particle Filter. AMDO 2004, "
+        "LNCS 3179.",
+    ),
 )
 
 
