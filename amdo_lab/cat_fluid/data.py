@@ -45,7 +45,7 @@ def load_dipy_image(name: str) -> np.ndarray:
     return (image - image.min()) / (image.max() - image.min())
 
 
-def smooth_warp(shape: tuple[int, int], rng: np.random.Generator | int, *, amplitude: float = 4.0,
+def smooth_warp(shape: tuple[int, int], *, rng: int | np.random.Generator, amplitude: float = 4.0,
                 smoothness: float = 20.0, support: np.ndarray | None = None) -> np.ndarray:
     """A random smooth displacement (2, H, W) in pixels whose largest length is ``amplitude``.
 
@@ -55,7 +55,7 @@ def smooth_warp(shape: tuple[int, int], rng: np.random.Generator | int, *, ampli
     if not isinstance(shape, (tuple, list)) or len(shape) != 2:
         raise ValueError(f"shape must be a pair (H, W), got {shape!r}")
     shape = (check_positive_int(shape[0], "shape[0]"), check_positive_int(shape[1], "shape[1]"))
-    rng = make_rng(rng)
+    rng = make_rng(rng, "rng")
     amplitude = check_positive(amplitude, "amplitude")
     smoothness = check_positive(smoothness, "smoothness")
     if support is not None:
@@ -99,7 +99,7 @@ def _extra_structure(shape: tuple[int, int]) -> np.ndarray:
     return BLOB_HEIGHT * np.exp(-((rows - centre[0]) ** 2 + (cols - centre[1]) ** 2) / (2 * BLOB_SD ** 2))
 
 
-def make_pair(name: str, seed: int = 0) -> RegistrationPair:
+def make_pair(name: str, *, rng: int | np.random.Generator) -> RegistrationPair:
     """Pairs in the spirit of the paper's Fig. 3 (grey levels in [0, 1], 256x256).
 
     A: the brain slice, a smooth warp of at most 4 pixels; the study also has a bright blob that
@@ -108,11 +108,13 @@ def make_pair(name: str, seed: int = 0) -> RegistrationPair:
     other change. ``mask`` is the foreground of the template or of the noise-free warped template.
     """
     check_choice(name, "name", PAIR_NAMES)
-    seed = check_positive_int(seed, "seed", minimum=0)
+    generator = make_rng(rng, "rng")
+    if not isinstance(rng, np.random.Generator):
+        # an int seed s draws from seed s + the pair's index, so pairs A, B and C at one seed differ
+        generator = make_rng(int(rng) + PAIR_NAMES.index(name), "rng")
     image_name, amplitude, blob, noise, drift = _PAIR_SETTINGS[name]
-    rng = make_rng(seed + PAIR_NAMES.index(name))
     template = load_dipy_image(image_name)
-    true = smooth_warp(template.shape, rng, amplitude=amplitude, support=foreground_mask(template))
+    true = smooth_warp(template.shape, rng=generator, amplitude=amplitude, support=foreground_mask(template))
     study = warp_image(template, true)
     mask = foreground_mask(template) | foreground_mask(study)  # before the noise, which would speckle it
     if blob:
@@ -120,5 +122,5 @@ def make_pair(name: str, seed: int = 0) -> RegistrationPair:
     if drift:
         study = study * (1.0 + drift * np.linspace(-1, 1, study.shape[1])[None, :])
     if noise:
-        study = study + rng.normal(scale=noise, size=study.shape)
+        study = study + generator.normal(scale=noise, size=study.shape)
     return RegistrationPair(name, template, study, true, mask)
