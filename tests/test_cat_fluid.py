@@ -208,7 +208,7 @@ def test_fft_solve_inverts_the_finite_difference_operator():
 def test_sor_converges_to_the_fft_solution(omega):
     force = make_rng(3).normal(size=(2, 24, 32))
     exact = cf.solve_velocity(force, "fft", LAM, MU)
-    sor = cf.sor_solve(force, LAM, MU, sweeps=800, omega=omega)
+    sor = cf.sor_solve(force, LAM, MU, n_sweeps=800, omega=omega)
     np.testing.assert_allclose(sor, exact, atol=1e-6 * np.abs(exact).max())
 
 
@@ -219,7 +219,7 @@ def test_red_black_with_both_components_at_once_diverges_at_high_omega():
     exact = cf.solve_velocity(force, "fft", LAM, MU)
 
     def error(ordering, omega):
-        return np.linalg.norm(cf.sor_solve(force, LAM, MU, sweeps=200, omega=omega, ordering=ordering) - exact)
+        return np.linalg.norm(cf.sor_solve(force, LAM, MU, n_sweeps=200, omega=omega, ordering=ordering) - exact)
 
     scale = np.linalg.norm(exact)
     assert error("four-colour", 1.9) < 1e-8 * scale and error("red-black", 1.9) < 1e-8 * scale
@@ -230,9 +230,9 @@ def test_red_black_with_both_components_at_once_diverges_at_high_omega():
 def test_sor_error_shrinks_with_sweeps_and_warm_start_continues():
     force = make_rng(4).normal(size=(2, 32, 32))
     exact = cf.solve_velocity(force, "fft", LAM, MU)
-    errors = [np.linalg.norm(cf.sor_solve(force, LAM, MU, sweeps=k) - exact) for k in (5, 20, 80)]
+    errors = [np.linalg.norm(cf.sor_solve(force, LAM, MU, n_sweeps=k) - exact) for k in (5, 20, 80)]
     assert errors[0] > errors[1] > errors[2]
-    warm = cf.sor_solve(force, LAM, MU, sweeps=60, initial=cf.sor_solve(force, LAM, MU, sweeps=20))
+    warm = cf.sor_solve(force, LAM, MU, n_sweeps=60, initial=cf.sor_solve(force, LAM, MU, n_sweeps=20))
     assert np.linalg.norm(warm - exact) < errors[1]
 
 
@@ -308,8 +308,8 @@ def test_material_update_follows_the_flow_with_the_untransposed_jacobian():
 def test_compose_then_warp_equals_warping_twice():
     rng = make_rng(5)
     image = cf.load_dipy_image("t1_coronal_slice")[64:192, 64:192]
-    first = cf.smooth_warp(image.shape, rng=rng, amplitude=3.0)
-    second = cf.smooth_warp(image.shape, rng=rng, amplitude=3.0)
+    first = cf.smooth_warp(image.shape, rng=rng, amplitude_px=3.0)
+    second = cf.smooth_warp(image.shape, rng=rng, amplitude_px=3.0)
     twice = cf.warp_image(cf.warp_image(image, first), second)
     once = cf.warp_image(image, cf.compose_displacements(first, second))
     assert np.abs(twice - once)[8:-8, 8:-8].mean() < 0.01
@@ -342,7 +342,7 @@ def test_registration_reduces_the_residual_without_folds(method, name):
 def test_sor_registration_on_a_small_image():
     pair = cf.make_pair("C", rng=0)
     template, study = pair.template[::4, ::4], pair.study[::4, ::4]  # 64 x 64
-    result = cf.register_fluid(template, study, method="sor", n_iter=10, sor_sweeps=30)
+    result = cf.register_fluid(template, study, method="sor", n_iter=10, sor_n_sweeps=30)
     assert result.history.shape == (11, len(cf.HISTORY_COLUMNS))
     assert result.residuals[-1] < 0.8 * result.residuals[0]
     assert cf.jacobian_determinant(result.displacement).min() > 0
@@ -350,7 +350,7 @@ def test_sor_registration_on_a_small_image():
 
 def test_regridding_keeps_the_map_unfolded():
     pair = cf.make_pair("C", rng=0)
-    result = cf.register_fluid(pair.template, pair.study, "cat", n_iter=10, max_step=3.0, backtrack=False,
+    result = cf.register_fluid(pair.template, pair.study, "cat", n_iter=10, max_step_px=3.0, backtrack=False,
                                regrid_threshold=0.9)
     assert result.n_regrids >= 1
     assert cf.jacobian_determinant(result.displacement).min() > 0
@@ -362,7 +362,7 @@ def test_identical_images_stay_put_without_warnings():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         for method in cf.SOLVERS:
-            result = cf.register_fluid(image, image, method=method, n_iter=3, sor_sweeps=5)
+            result = cf.register_fluid(image, image, method=method, n_iter=3, sor_n_sweeps=5)
             assert np.all(result.displacement == 0) and np.all(result.residuals == 0)
             np.testing.assert_array_equal(result.warped, image)
 
@@ -421,7 +421,7 @@ def test_register_fluid_rejects_bad_images(small_images, change, message):
 
 @pytest.mark.parametrize("options, message", [
     ({"lam": -1.0}, "lam"), ({"mu": -5.0}, "mu"), ({"mu": 0.0}, "mu"), ({"method": "demons"}, "method"),
-    ({"max_step": 0.0}, "max_step"), ({"regrid_threshold": 1.5}, "regrid_threshold"),
+    ({"max_step_px": 0.0}, "max_step_px"), ({"regrid_threshold": 1.5}, "regrid_threshold"),
     ({"sor_omega": 2.5}, "sor_omega"),
 ])
 def test_register_fluid_rejects_bad_settings(small_images, options, message):
@@ -508,8 +508,8 @@ def test_dipy_peer_uses_our_displacement_convention():
 def test_sor_cold_start_differs_from_the_warm_start_and_checks_its_flag():
     pair = cf.make_pair("C", rng=0)
     template, study = pair.template[::4, ::4], pair.study[::4, ::4]
-    warm = cf.register_fluid(template, study, method="sor", n_iter=4, sor_sweeps=3)
-    cold = cf.register_fluid(template, study, method="sor", n_iter=4, sor_sweeps=3, sor_warm_start=False)
+    warm = cf.register_fluid(template, study, method="sor", n_iter=4, sor_n_sweeps=3)
+    cold = cf.register_fluid(template, study, method="sor", n_iter=4, sor_n_sweeps=3, sor_warm_start=False)
     # the first solve starts from zero either way; later ones differ only in their start
     assert not np.allclose(warm.displacement, cold.displacement)
     assert cold.residuals[-1] < cold.residuals[0]
@@ -537,8 +537,8 @@ def test_dense_reference_solve_equals_the_fourier_solve(shape):
 @pytest.mark.parametrize("ordering_sweeps, omega", [(1, 1.0), (4, 1.7)])
 def test_pixel_loop_sor_equals_the_vectorised_four_colour_sor(ordering_sweeps, omega):
     force = make_rng(3).normal(size=(2, 8, 6))
-    loop = cf.sor_reference(force, LAM, MU, sweeps=ordering_sweeps, omega=omega)
-    np.testing.assert_allclose(loop, cf.sor_solve(force, LAM, MU, sweeps=ordering_sweeps, omega=omega), atol=1e-12)
+    loop = cf.sor_reference(force, LAM, MU, n_sweeps=ordering_sweeps, omega=omega)
+    np.testing.assert_allclose(loop, cf.sor_solve(force, LAM, MU, n_sweeps=ordering_sweeps, omega=omega), atol=1e-12)
 
 
 def test_symbol_eigenvalues_along_a_path():
@@ -629,9 +629,9 @@ def test_regridding_switched_off_lets_a_large_deformation_fold():
     (lambda: cf.stencil_matrix(np.zeros((2, 18)), (4,)), ValueError, "shape"),
     (lambda: cf.stencil_matrix(np.zeros((3, 18)), (4, 4)), ValueError, "stencil"),
     (lambda: cf.solve_stencil_reference(cf.fluid_stencil(), np.zeros((3, 4, 4))), ValueError, "force"),
-    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 0.0, sweeps=1, omega=1.0), ValueError, "mu"),
-    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 5.0, sweeps=-1, omega=1.0), ValueError, "sweeps"),
-    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 5.0, sweeps=1, omega=-1.0), ValueError, "omega"),
+    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 0.0, n_sweeps=1, omega=1.0), ValueError, "mu"),
+    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 5.0, n_sweeps=-1, omega=1.0), ValueError, "n_sweeps"),
+    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 5.0, n_sweeps=1, omega=-1.0), ValueError, "omega"),
     (lambda: cf.polynomial_test_fields(-1.0, 5.0), ValueError, "lam"),
     (lambda: cf.grey_level_table({}, {}, scale=0.0), ValueError, "scale"),
 ])

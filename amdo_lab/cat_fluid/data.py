@@ -45,27 +45,27 @@ def load_dipy_image(name: str) -> np.ndarray:
     return (image - image.min()) / (image.max() - image.min())
 
 
-def smooth_warp(shape: tuple[int, int], *, rng: int | np.random.Generator, amplitude: float = 4.0,
-                smoothness: float = 20.0, support: np.ndarray | None = None) -> np.ndarray:
-    """A random smooth displacement (2, H, W) in pixels whose largest length is ``amplitude``.
+def smooth_warp(shape: tuple[int, int], *, rng: int | np.random.Generator, amplitude_px: float = 4.0,
+                smoothness_px: float = 20.0, support: np.ndarray | None = None) -> np.ndarray:
+    """A random smooth displacement (2, H, W) in pixels whose largest length is ``amplitude_px``.
 
-    Gaussian-filtered white noise (standard deviation ``smoothness`` pixels, periodic); with a
+    Gaussian-filtered white noise (standard deviation ``smoothness_px`` pixels, periodic); with a
     boolean ``support`` it fades out away from the object, so the border stays still.
     """
     if not isinstance(shape, (tuple, list)) or len(shape) != 2:
         raise ValueError(f"shape must be a pair (H, W), got {shape!r}")
     shape = (check_positive_int(shape[0], "shape[0]"), check_positive_int(shape[1], "shape[1]"))
     rng = make_rng(rng, "rng")
-    amplitude = check_positive(amplitude, "amplitude")
-    smoothness = check_positive(smoothness, "smoothness")
+    amplitude_px = check_positive(amplitude_px, "amplitude_px")
+    smoothness_px = check_positive(smoothness_px, "smoothness_px")
     if support is not None:
         support = as_bool_mask(support, "support", shape=shape)
         if not support.any():
             raise ValueError("support must contain at least one pixel, got an all-False mask")
-    field = np.stack([gaussian_filter(rng.normal(size=shape), smoothness, mode="wrap") for _ in range(2)])
+    field = np.stack([gaussian_filter(rng.normal(size=shape), smoothness_px, mode="wrap") for _ in range(2)])
     if support is not None:
-        field *= gaussian_filter(support.astype(float), smoothness / 2)[None]
-    return amplitude * field / np.max(np.hypot(field[0], field[1]))
+        field *= gaussian_filter(support.astype(float), smoothness_px / 2)[None]
+    return amplitude_px * field / np.max(np.hypot(field[0], field[1]))
 
 
 def foreground_mask(image: object, threshold: float = 0.05) -> np.ndarray:
@@ -114,7 +114,7 @@ def make_pair(name: str, *, rng: int | np.random.Generator) -> RegistrationPair:
         generator = make_rng(int(rng) + PAIR_NAMES.index(name), "rng")
     image_name, amplitude, blob, noise, drift = _PAIR_SETTINGS[name]
     template = load_dipy_image(image_name)
-    true = smooth_warp(template.shape, rng=generator, amplitude=amplitude, support=foreground_mask(template))
+    true = smooth_warp(template.shape, rng=generator, amplitude_px=amplitude, support=foreground_mask(template))
     study = warp_image(template, true)
     mask = foreground_mask(template) | foreground_mask(study)  # before the noise, which would speckle it
     if blob:

@@ -233,18 +233,18 @@ def _check_images(template: object, study: object) -> tuple[np.ndarray, np.ndarr
 
 
 def register_fluid(template: object, study: object, method: str = "cat", lam: float = 1.0, mu: float = 5.0,
-                   n_iter: int | None = None, *, max_step: float = 1.0, backtrack: bool = True,
-                   regrid_threshold: float = 0.5, sor_sweeps: int = 250, sor_omega: float | None = None,
+                   n_iter: int | None = None, *, max_step_px: float = 1.0, backtrack: bool = True,
+                   regrid_threshold: float = 0.5, sor_n_sweeps: int = 250, sor_omega: float | None = None,
                    sor_warm_start: bool = True) -> FluidResult:
     """Deform ``template`` onto ``study`` as a viscous fluid (Secs. 4-5).
 
     Each iteration: the force of eq. (18) on the deformed template; the velocity from
     ``method`` ("cat": the CAT stencil, eq. 15; "sor" or "fft": the finite-difference eq. 17 by
     SOR or exactly); then eq. (16), u <- u + Δt (I - J_u) v (:func:`material_update`), with Δt set
-    so that the largest displacement change is the current step bound (``max_step`` pixels at
+    so that the largest displacement change is the current step bound (``max_step_px`` pixels at
     first). With ``backtrack`` a step that does not lower the sum of squared differences is
     rejected and the bound halved, and after an accepted step the bound doubles again up to
-    ``max_step`` (the paper does not say how it chose Δt; this keeps a fixed step from
+    ``max_step_px`` (the paper does not say how it chose Δt; this keeps a fixed step from
     oscillating). The same rule applies to every ``method``. When min det(I - ∇u) of the current segment falls below
     ``regrid_threshold``, a new segment starts from the deformed template (regridding, as
     Christensen et al.); the segments are composed and the original template is warped once by
@@ -256,12 +256,12 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
     method : "cat", "sor" or "fft".
     lam, mu : Lamé constants, λ ≥ 0 and μ > 0 (the paper: 1 and 5).
     n_iter : velocity solves; default the paper's counts, 10 for "cat" and "fft", 100 for "sor".
-    max_step : largest displacement change per iteration, pixels.
+    max_step_px : largest displacement change per iteration, pixels.
     backtrack : reject a step that does not decrease the SSD and halve the bound (else Christensen's
         fixed bound, every step accepted).
     regrid_threshold : regrid when min det(I - ∇u) of the segment falls below it, in [0, 1); 0 never
         regrids (the map may then fold: det ≤ 0).
-    sor_sweeps, sor_omega : SOR sweeps per solve (the paper: 250) and relaxation factor (default
+    sor_n_sweeps, sor_omega : SOR sweeps per solve (the paper: 250) and relaxation factor (default
         :func:`~amdo_lab.cat_fluid.solvers.default_omega`).
     sor_warm_start : start each SOR solve from the previous iteration's velocity (default) or from
         zero (the paper does not say which it did).
@@ -272,9 +272,9 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
     check_bool(backtrack, "backtrack")
     check_bool(sor_warm_start, "sor_warm_start")
     n_iter = check_positive_int(DEFAULT_ITERATIONS[method] if n_iter is None else n_iter, "n_iter")
-    step_bound = check_positive(max_step, "max_step")
+    step_bound = check_positive(max_step_px, "max_step_px")
     regrid_threshold = check_in_range(regrid_threshold, "regrid_threshold", 0, 1, closed="left")
-    sor_sweeps = check_positive_int(sor_sweeps, "sor_sweeps")
+    sor_n_sweeps = check_positive_int(sor_n_sweeps, "sor_n_sweeps")
     if sor_omega is not None:
         check_in_range(sor_omega, "sor_omega", 0, 2)  # SOR converges for 0 < omega < 2 only
     if method == "sor" and (template.shape[0] % 2 or template.shape[1] % 2):
@@ -292,7 +292,7 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
         force = _force(warped, study)
         force -= force.mean(axis=(1, 2), keepdims=True)
         if symbol is None:
-            velocity = sor_solve(force, lam, mu, sweeps=sor_sweeps, omega=sor_omega,
+            velocity = sor_solve(force, lam, mu, n_sweeps=sor_n_sweeps, omega=sor_omega,
                                  initial=velocity if sor_warm_start else None)
         else:
             velocity = solve_symbol(symbol, force)
@@ -306,11 +306,11 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
             candidate_ssd = float(np.sum((candidate_warped - study) ** 2))
             if not backtrack or candidate_ssd < ssd:
                 segment, total, warped, ssd, taken = candidate, candidate_total, candidate_warped, candidate_ssd, step_bound
-                if backtrack:  # a step that worked: let the bound grow back towards max_step
-                    step_bound = min(STEP_GROWTH * step_bound, max_step)
+                if backtrack:  # a step that worked: let the bound grow back towards max_step_px
+                    step_bound = min(STEP_GROWTH * step_bound, max_step_px)
                 break
             step_bound /= 2
-            if step_bound < 1e-3 * max_step:  # no descent left at any sensible step: stop moving
+            if step_bound < 1e-3 * max_step_px:  # no descent left at any sensible step: stop moving
                 break
         total_det = float(_determinant(total).min())
         segment_det = total_det if regrids == 0 else float(_determinant(segment).min())

@@ -189,7 +189,7 @@ def default_omega(shape: tuple[int, int]) -> float:
     return 2.0 / (1.0 + np.sin(np.pi / max(shape)))
 
 
-def sor_solve(force: np.ndarray, lam: float, mu: float, *, sweeps: int = 250, omega: float | None = None,
+def sor_solve(force: np.ndarray, lam: float, mu: float, *, n_sweeps: int = 250, omega: float | None = None,
               initial: np.ndarray | None = None, ordering: str = "four-colour") -> np.ndarray:
     """Successive over-relaxation for the finite-difference eq. (17), periodic, four-colour ordering.
 
@@ -208,7 +208,7 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, sweeps: int = 250, om
     ----------
     force : (2, H, W) right-hand side F of L v = F (its mean is removed).
     lam, mu : Lamé constants λ ≥ 0, μ > 0.
-    sweeps : number of full sweeps (the paper: 250 per registration iteration).
+    n_sweeps : number of full sweeps (the paper: 250 per registration iteration).
     omega : relaxation factor in (0, 2); default :func:`default_omega`.
     initial : (2, H, W) starting velocity (warm start), zero by default.
     ordering : "four-colour" (default), "red-black" or "red-black-together" (see above).
@@ -219,7 +219,7 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, sweeps: int = 250, om
     """
     force = as_finite_array(force, "force", ndim=3, shape=(2, None, None))
     lam, mu = check_moduli(lam, mu, require_positive_mu=True)
-    sweeps = check_positive_int(sweeps, "sweeps", minimum=0)
+    n_sweeps = check_positive_int(n_sweeps, "n_sweeps", minimum=0)
     check_choice(ordering, "ordering", SOR_ORDERINGS)
     h, w = force.shape[1:]
     # SOR converges for 0 < omega < 2 only
@@ -272,7 +272,7 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, sweeps: int = 250, om
         steps = [[(comp, r, s) for r, s in colours] for colours in RED_BLACK for comp in (0, 1)]
     else:  # "red-black-together": both components of a colour at once
         steps = [[(comp, r, s) for r, s in colours for comp in (0, 1)] for colours in RED_BLACK]
-    for _ in range(sweeps):
+    for _ in range(n_sweeps):
         for step in steps:
             new_values = [relaxed(comp, r, s) for comp, r, s in step]
             for (comp, r, s), values in zip(step, new_values):
@@ -286,7 +286,7 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, sweeps: int = 250, om
     return velocity - velocity.mean(axis=(1, 2), keepdims=True)
 
 
-def sor_reference(force: object, lam: float, mu: float, *, sweeps: int, omega: float) -> np.ndarray:
+def sor_reference(force: object, lam: float, mu: float, *, n_sweeps: int, omega: float) -> np.ndarray:
     """Pixel-by-pixel SOR on the finite-difference eq. (17), the readable twin of :func:`sor_solve`.
 
     Same four-colour order (colour (row parity, column parity), then component), periodic, from
@@ -300,13 +300,13 @@ def sor_reference(force: object, lam: float, mu: float, *, sweeps: int, omega: f
     """
     force = as_finite_array(force, "force", shape=(2, None, None))
     lam, mu = check_moduli(lam, mu, require_positive_mu=True)
-    sweeps = check_positive_int(sweeps, "sweeps", minimum=0)
+    n_sweeps = check_positive_int(n_sweeps, "n_sweeps", minimum=0)
     omega = check_positive(omega, "omega")
     h, w = force.shape[1:]
     force = force - force.mean(axis=(1, 2), keepdims=True)
     v = np.zeros_like(force)
     centre = -(2 * lam + 6 * mu)  # eq. (17) discretised: coefficient of v_i at the pixel itself
-    for _ in range(sweeps):
+    for _ in range(n_sweeps):
         for r in (0, 1):
             for s in (0, 1):
                 for i in (0, 1):
@@ -330,7 +330,7 @@ def solve_velocity(force: object, method: str = "cat", lam: float = 1.0, mu: flo
                    **sor_options: object) -> np.ndarray:
     """Velocity v with L v = F (mean of F removed) by one of :data:`SOLVERS` (see module docstring).
 
-    ``sor_options`` (``sweeps``, ``omega``, ``initial``) are passed to :func:`sor_solve`.
+    ``sor_options`` (``n_sweeps``, ``omega``, ``initial``) are passed to :func:`sor_solve`.
     """
     force = as_finite_array(force, "force", ndim=3, shape=(2, None, None))
     check_choice(method, "method", SOLVERS)
