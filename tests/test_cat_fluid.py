@@ -638,3 +638,14 @@ def test_regridding_switched_off_lets_a_large_deformation_fold():
 def test_reference_paths_and_helpers_reject_bad_input(call, error, message):
     with pytest.raises(error, match=message):
         call()
+
+
+@pytest.mark.parametrize("module", ["stencil", "solvers", "data", "registration"])
+def test_docstring_examples_run(module):
+    """The Examples sections of the entry points (fluid_stencil, solve_velocity, make_pair,
+    register_fluid) are executed, so they cannot drift from the code."""
+    import doctest
+    import importlib
+
+    result = doctest.testmod(importlib.import_module(f"amdo_lab.cat_fluid.{module}"))
+    assert result.attempted > 0 and result.failed == 0

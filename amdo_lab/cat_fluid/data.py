@@ -206,6 +206,16 @@ def make_pair(name: str, *, rng: int | np.random.Generator) -> RegistrationPair:
     L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
     AMDO 2004, LNCS 3179, pp. 76-85,
     Sec. 5 and Fig. 3.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from amdo_lab.cat_fluid import make_pair
+    >>> pair = make_pair("C", rng=0)
+    >>> pair.study.shape, pair.true_displacement.shape
+    ((256, 256), (2, 256, 256))
+    >>> round(float(np.hypot(*pair.true_displacement).max()), 6)  # pair C's warp: at most 5 pixels
+    5.0
     """
     check_choice(name, "name", PAIR_NAMES)
     generator = make_rng(rng, "rng")

@@ -222,7 +222,8 @@ def material_update(displacement: object, velocity: object, dt: float) -> np.nda
     ----------
     L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
     AMDO 2004, LNCS 3179, pp. 76-85,
-    eq. (16); G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
+    eq. (16);
+    G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
     IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
     displacement = as_finite_array(displacement, "displacement", shape=(2, None, None))
@@ -488,8 +489,22 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
     ----------
     L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
     AMDO 2004, LNCS 3179, pp. 76-85,
-    Secs. 4-5, eqs. (15)-(18); G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
+    Secs. 4-5, eqs. (15)-(18);
+    G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
     IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from amdo_lab.cat_fluid import register_fluid
+    >>> rows, cols = np.indices((32, 32)) - 15.5
+    >>> template = (np.hypot(rows, cols) < 8).astype(float)      # a disc
+    >>> study = (np.hypot(rows - 2, cols) < 8).astype(float)     # the disc, 2 pixels down
+    >>> result = register_fluid(template, study, "cat", n_iter=20)
+    >>> bool(result.residuals[-1] < 0.01 * result.residuals[0])
+    True
+    >>> bool(result.history[:, 2].min() > 0)  # no folds
+    True
     """
     template, study = _check_images(template, study)
     check_choice(method, "method", SOLVERS)

@@ -128,7 +128,8 @@ def finite_difference_symbol(shape: tuple[int, int], lam: float, mu: float) -> n
     ----------
     L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
     AMDO 2004, LNCS 3179, pp. 76-85,
-    eq. (17); G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
+    eq. (17);
+    G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
     IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
     lam, mu = check_moduli(lam, mu)
@@ -162,7 +163,8 @@ def apply_finite_difference(velocity: object, lam: float, mu: float) -> np.ndarr
     ----------
     L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
     AMDO 2004, LNCS 3179, pp. 76-85,
-    eq. (17); G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
+    eq. (17);
+    G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
     IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
     velocity = as_finite_array(velocity, "velocity", shape=(2, None, None))
@@ -352,7 +354,8 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, n_sweeps: int = 250, 
     ----------
     L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
     AMDO 2004, LNCS 3179, pp. 76-85,
-    Sec. 5, eq. (17) and its SOR solver; G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
+    Sec. 5, eq. (17) and its SOR solver;
+    G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
     IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
     force = as_finite_array(force, "force", ndim=3, shape=(2, None, None))
@@ -511,6 +514,18 @@ def solve_velocity(force: object, method: str = "cat", lam: float = 1.0, mu: flo
     L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
     AMDO 2004, LNCS 3179, pp. 76-85,
     eqs. (15) and (17).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from amdo_lab.cat_fluid import apply_stencil, fluid_stencil, solve_velocity
+    >>> force = np.random.default_rng(0).normal(size=(2, 16, 16))
+    >>> velocity = solve_velocity(force, "cat", lam=1.0, mu=5.0)
+    >>> bool(np.allclose(apply_stencil(fluid_stencil(1.0, 5.0), velocity), force - force.mean(axis=(1, 2), keepdims=True)))
+    True
+    >>> exact = solve_velocity(force, "fft", lam=1.0, mu=5.0)
+    >>> bool(np.allclose(solve_velocity(force, "sor", lam=1.0, mu=5.0, n_sweeps=400), exact))
+    True
     """
     force = as_finite_array(force, "force", ndim=3, shape=(2, None, None))
     check_choice(method, "method", SOLVERS)
