@@ -76,14 +76,14 @@ def paper_gap(bench: Benchmark, pairs: list[str], sor_iterations: int, sor_sweep
     _, cf = _load()
     rows = []
     for name in pairs:
-        pair = cf.make_pair(name)
+        pair = cf.make_pair(name, rng=0)
         for step in (1.0, 2.0, 4.0, 8.0):
-            cat = cf.register_fluid(pair.template, pair.study, method="cat", n_iter=10, max_step=step)
-            rows.append(row(pair, f"CAT, max_step {step:.0f} px", cat.warped, cat.displacement, cat.seconds, "10"))
+            cat = cf.register_fluid(pair.template, pair.study, method="cat", n_iter=10, max_step_px=step)
+            rows.append(row(pair, f"CAT, max_step_px {step:.0f}", cat.warped, cat.displacement, cat.seconds, "10"))
         for label, options in (("SOR warm, default omega", {}),
                                ("SOR cold, omega 1", {"sor_warm_start": False, "sor_omega": 1.0})):
             sor = cf.register_fluid(pair.template, pair.study, method="sor", n_iter=sor_iterations,
-                                    sor_sweeps=sor_sweeps, **options)
+                                    sor_n_sweeps=sor_sweeps, **options)
             rows.append(row(pair, label, sor.warped, sor.displacement, sor.seconds, f"{sor_iterations}x{sor_sweeps}"))
     add_rows(bench, rows, "the paper's CAT-10 vs SOR-100 gap: larger CAT steps, a weaker SOR")
 
@@ -103,11 +103,11 @@ def noise_seeds(bench: Benchmark, pairs: list[str], seeds: list[int], cat_iterat
     for name in pairs:
         differences = []
         for seed in seeds:
-            pair = cf.make_pair(name, seed=seed)
+            pair = cf.make_pair(name, rng=seed)
             truth = cf.grey_level_difference(cf.warp_image(pair.template, pair.true_displacement), pair.study,
                                              scale=GREY)[0]
             cat = cf.register_fluid(pair.template, pair.study, method="cat", n_iter=cat_iterations)
-            sor = cf.register_fluid(pair.template, pair.study, method="sor", n_iter=sor_iterations, sor_sweeps=sor_sweeps)
+            sor = cf.register_fluid(pair.template, pair.study, method="sor", n_iter=sor_iterations, sor_n_sweeps=sor_sweeps)
             cat_residual, sor_residual = GREY * cat.residuals[-1], GREY * sor.residuals[-1]
             differences.append(cat_residual - sor_residual)
             table.add(name, seed, round(float(truth), 3), round(float(cat_residual), 3), round(float(sor_residual), 3),
@@ -154,7 +154,7 @@ def speed_and_accuracy(bench: Benchmark, args) -> None:
     np, cf = _load()
     rows, summary = [], []
     for name in args.pairs:
-        pair = cf.make_pair(name)
+        pair = cf.make_pair(name, rng=0)
         rows.append(row(pair, "start (identity)", pair.template, np.zeros((2,) + pair.template.shape), 0.0, "0"))
         runs = {}
         for method, n_iter in (("cat", 10), ("fft", 10), ("cat", args.long_iterations), ("fft", args.long_iterations)):
@@ -163,12 +163,12 @@ def speed_and_accuracy(bench: Benchmark, args) -> None:
             rows.append(row(pair, f"{method.upper()} exact solve", result.warped, result.displacement,
                             result.seconds, str(n_iter)))
         sor = cf.register_fluid(pair.template, pair.study, method="sor", n_iter=args.sor_iterations,
-                                sor_sweeps=args.sor_sweeps)
+                                sor_n_sweeps=args.sor_sweeps)
         rows.append(row(pair, "SOR (Christensen)", sor.warped, sor.displacement, sor.seconds,
                         f"{args.sor_iterations}x{args.sor_sweeps}"))
         if args.reduced_sweeps:
             reduced = cf.register_fluid(pair.template, pair.study, method="sor", n_iter=args.sor_iterations,
-                                        sor_sweeps=args.reduced_sweeps)
+                                        sor_n_sweeps=args.reduced_sweeps)
             rows.append(row(pair, "SOR (notebook setting)", reduced.warped, reduced.displacement, reduced.seconds,
                             f"{args.sor_iterations}x{args.reduced_sweeps}"))
         if not args.skip_dipy:

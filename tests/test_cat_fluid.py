@@ -208,7 +208,7 @@ def test_fft_solve_inverts_the_finite_difference_operator():
 def test_sor_converges_to_the_fft_solution(omega):
     force = make_rng(3).normal(size=(2, 24, 32))
     exact = cf.solve_velocity(force, "fft", LAM, MU)
-    sor = cf.sor_solve(force, LAM, MU, sweeps=800, omega=omega)
+    sor = cf.sor_solve(force, LAM, MU, n_sweeps=800, omega=omega)
     np.testing.assert_allclose(sor, exact, atol=1e-6 * np.abs(exact).max())
 
 
@@ -219,7 +219,7 @@ def test_red_black_with_both_components_at_once_diverges_at_high_omega():
     exact = cf.solve_velocity(force, "fft", LAM, MU)
 
     def error(ordering, omega):
-        return np.linalg.norm(cf.sor_solve(force, LAM, MU, sweeps=200, omega=omega, ordering=ordering) - exact)
+        return np.linalg.norm(cf.sor_solve(force, LAM, MU, n_sweeps=200, omega=omega, ordering=ordering) - exact)
 
     scale = np.linalg.norm(exact)
     assert error("four-colour", 1.9) < 1e-8 * scale and error("red-black", 1.9) < 1e-8 * scale
@@ -230,9 +230,9 @@ def test_red_black_with_both_components_at_once_diverges_at_high_omega():
 def test_sor_error_shrinks_with_sweeps_and_warm_start_continues():
     force = make_rng(4).normal(size=(2, 32, 32))
     exact = cf.solve_velocity(force, "fft", LAM, MU)
-    errors = [np.linalg.norm(cf.sor_solve(force, LAM, MU, sweeps=k) - exact) for k in (5, 20, 80)]
+    errors = [np.linalg.norm(cf.sor_solve(force, LAM, MU, n_sweeps=k) - exact) for k in (5, 20, 80)]
     assert errors[0] > errors[1] > errors[2]
-    warm = cf.sor_solve(force, LAM, MU, sweeps=60, initial=cf.sor_solve(force, LAM, MU, sweeps=20))
+    warm = cf.sor_solve(force, LAM, MU, n_sweeps=60, initial=cf.sor_solve(force, LAM, MU, n_sweeps=20))
     assert np.linalg.norm(warm - exact) < errors[1]
 
 
@@ -308,8 +308,8 @@ def test_material_update_follows_the_flow_with_the_untransposed_jacobian():
 def test_compose_then_warp_equals_warping_twice():
     rng = make_rng(5)
     image = cf.load_dipy_image("t1_coronal_slice")[64:192, 64:192]
-    first = cf.smooth_warp(image.shape, rng, amplitude=3.0)
-    second = cf.smooth_warp(image.shape, rng, amplitude=3.0)
+    first = cf.smooth_warp(image.shape, rng=rng, amplitude_px=3.0)
+    second = cf.smooth_warp(image.shape, rng=rng, amplitude_px=3.0)
     twice = cf.warp_image(cf.warp_image(image, first), second)
     once = cf.warp_image(image, cf.compose_displacements(first, second))
     assert np.abs(twice - once)[8:-8, 8:-8].mean() < 0.01
@@ -317,7 +317,7 @@ def test_compose_then_warp_equals_warping_twice():
 
 def test_external_force_points_down_the_ssd_gradient():
     """Eq. (18) with L v = F and L negative: v ∝ -F to first order, which must lower the SSD."""
-    pair = cf.make_pair("C")
+    pair = cf.make_pair("C", rng=0)
     force = cf.external_force(pair.template, pair.study)
     velocity = cf.solve_velocity(force, "cat", LAM, MU)
     before = np.sum((pair.template - pair.study) ** 2)
@@ -329,7 +329,7 @@ def test_external_force_points_down_the_ssd_gradient():
 @pytest.mark.parametrize("method", ["cat", "fft"])
 @pytest.mark.parametrize("name", ["A", "C"])
 def test_registration_reduces_the_residual_without_folds(method, name):
-    pair = cf.make_pair(name)
+    pair = cf.make_pair(name, rng=0)
     result = cf.register_fluid(pair.template, pair.study, method=method)
     assert result.residuals[-1] < 0.8 * result.residuals[0]
     assert np.all(np.diff(result.history[:, 1]) >= 0)
@@ -340,17 +340,17 @@ def test_registration_reduces_the_residual_without_folds(method, name):
 
 
 def test_sor_registration_on_a_small_image():
-    pair = cf.make_pair("C")
+    pair = cf.make_pair("C", rng=0)
     template, study = pair.template[::4, ::4], pair.study[::4, ::4]  # 64 x 64
-    result = cf.register_fluid(template, study, method="sor", n_iter=10, sor_sweeps=30)
+    result = cf.register_fluid(template, study, method="sor", n_iter=10, sor_n_sweeps=30)
     assert result.history.shape == (11, len(cf.HISTORY_COLUMNS))
     assert result.residuals[-1] < 0.8 * result.residuals[0]
     assert cf.jacobian_determinant(result.displacement).min() > 0
 
 
 def test_regridding_keeps_the_map_unfolded():
-    pair = cf.make_pair("C")
-    result = cf.register_fluid(pair.template, pair.study, "cat", n_iter=10, max_step=3.0, backtrack=False,
+    pair = cf.make_pair("C", rng=0)
+    result = cf.register_fluid(pair.template, pair.study, "cat", n_iter=10, max_step_px=3.0, backtrack=False,
                                regrid_threshold=0.9)
     assert result.n_regrids >= 1
     assert cf.jacobian_determinant(result.displacement).min() > 0
@@ -358,11 +358,11 @@ def test_regridding_keeps_the_map_unfolded():
 
 def test_identical_images_stay_put_without_warnings():
     """No force anywhere: a zero velocity, no step, no division by zero."""
-    image = cf.make_pair("C").template[::4, ::4]
+    image = cf.make_pair("C", rng=0).template[::4, ::4]
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         for method in cf.SOLVERS:
-            result = cf.register_fluid(image, image, method=method, n_iter=3, sor_sweeps=5)
+            result = cf.register_fluid(image, image, method=method, n_iter=3, sor_n_sweeps=5)
             assert np.all(result.displacement == 0) and np.all(result.residuals == 0)
             np.testing.assert_array_equal(result.warped, image)
 
@@ -421,7 +421,7 @@ def test_register_fluid_rejects_bad_images(small_images, change, message):
 
 @pytest.mark.parametrize("options, message", [
     ({"lam": -1.0}, "lam"), ({"mu": -5.0}, "mu"), ({"mu": 0.0}, "mu"), ({"method": "demons"}, "method"),
-    ({"max_step": 0.0}, "max_step"), ({"regrid_threshold": 1.5}, "regrid_threshold"),
+    ({"max_step_px": 0.0}, "max_step_px"), ({"regrid_threshold": 1.5}, "regrid_threshold"),
     ({"sor_omega": 2.5}, "sor_omega"),
 ])
 def test_register_fluid_rejects_bad_settings(small_images, options, message):
@@ -473,25 +473,23 @@ def test_warp_image_rejects_a_mismatched_displacement():
 
 def test_pairs_are_deterministic_and_their_warps_unfolded():
     for name in cf.PAIR_NAMES:
-        pair = cf.make_pair(name)
-        again = cf.make_pair(name)
+        pair = cf.make_pair(name, rng=0)
+        again = cf.make_pair(name, rng=0)
         np.testing.assert_array_equal(pair.study, again.study)
         assert pair.template.shape == pair.study.shape == (256, 256)
         assert cf.jacobian_determinant(pair.true_displacement).min() > 0.5
         assert 0.1 < pair.mask.mean() < 0.4
     with pytest.raises(ValueError, match="name"):
-        cf.make_pair("D")
+        cf.make_pair("D", rng=0)
 
 
 def test_data_helpers_validate_their_inputs():
-    with pytest.raises(ValueError, match="seed"):
-        cf.make_pair("B", seed=-1)
     with pytest.raises(TypeError, match="support must be a boolean array"):
-        cf.smooth_warp((16, 16), 0, support=np.ones((16, 16)))
+        cf.smooth_warp((16, 16), rng=0, support=np.ones((16, 16)))
     with pytest.raises(ValueError, match="support"):
-        cf.smooth_warp((16, 16), 0, support=np.zeros((16, 16), bool))
+        cf.smooth_warp((16, 16), rng=0, support=np.zeros((16, 16), bool))
     with pytest.raises(ValueError, match="shape"):
-        cf.smooth_warp((16,), 0)
+        cf.smooth_warp((16,), rng=0)
     with pytest.raises(ValueError, match="threshold"):
         cf.foreground_mask(np.ones((8, 8)), threshold=np.nan)
     with pytest.raises(ValueError, match="name"):
@@ -501,17 +499,17 @@ def test_data_helpers_validate_their_inputs():
 
 
 def test_dipy_peer_uses_our_displacement_convention():
-    pair = cf.make_pair("C")
+    pair = cf.make_pair("C", rng=0)
     template, study = pair.template[::4, ::4], pair.study[::4, ::4]
     result = cf.register_dipy(template, study, level_iters=(10, 5))
     np.testing.assert_allclose(cf.warp_image(template, result.displacement), result.warped, atol=1e-5)
 
 
 def test_sor_cold_start_differs_from_the_warm_start_and_checks_its_flag():
-    pair = cf.make_pair("C")
+    pair = cf.make_pair("C", rng=0)
     template, study = pair.template[::4, ::4], pair.study[::4, ::4]
-    warm = cf.register_fluid(template, study, method="sor", n_iter=4, sor_sweeps=3)
-    cold = cf.register_fluid(template, study, method="sor", n_iter=4, sor_sweeps=3, sor_warm_start=False)
+    warm = cf.register_fluid(template, study, method="sor", n_iter=4, sor_n_sweeps=3)
+    cold = cf.register_fluid(template, study, method="sor", n_iter=4, sor_n_sweeps=3, sor_warm_start=False)
     # the first solve starts from zero either way; later ones differ only in their start
     assert not np.allclose(warm.displacement, cold.displacement)
     assert cold.residuals[-1] < cold.residuals[0]
@@ -539,8 +537,8 @@ def test_dense_reference_solve_equals_the_fourier_solve(shape):
 @pytest.mark.parametrize("ordering_sweeps, omega", [(1, 1.0), (4, 1.7)])
 def test_pixel_loop_sor_equals_the_vectorised_four_colour_sor(ordering_sweeps, omega):
     force = make_rng(3).normal(size=(2, 8, 6))
-    loop = cf.sor_reference(force, LAM, MU, sweeps=ordering_sweeps, omega=omega)
-    np.testing.assert_allclose(loop, cf.sor_solve(force, LAM, MU, sweeps=ordering_sweeps, omega=omega), atol=1e-12)
+    loop = cf.sor_reference(force, LAM, MU, n_sweeps=ordering_sweeps, omega=omega)
+    np.testing.assert_allclose(loop, cf.sor_solve(force, LAM, MU, n_sweeps=ordering_sweeps, omega=omega), atol=1e-12)
 
 
 def test_symbol_eigenvalues_along_a_path():
@@ -576,10 +574,34 @@ def test_consistency_errors_of_the_derived_and_printed_stencils():
         cf.consistency_errors(np.zeros((2, 17)))
 
 
+@pytest.mark.parametrize("draw", [lambda *a, **kw: cf.make_pair("C", *a, **kw),
+                                  lambda *a, **kw: cf.smooth_warp((16, 16), *a, **kw)])
+def test_drawing_functions_take_rng_keyword_only_without_default(draw):
+    with pytest.raises(TypeError, match="rng"):
+        draw()  # no default seed: the caller chooses every draw
+    with pytest.raises(ValueError, match="rng"):
+        draw(rng=-1)
+    with pytest.raises(TypeError, match="rng"):
+        draw(rng=1.5)
+    with pytest.raises(TypeError):
+        draw(0)  # keyword-only
+
+
+def test_make_pair_accepts_a_generator_and_keeps_its_int_seed_streams():
+    by_seed = cf.make_pair("B", rng=4)
+    by_generator = cf.make_pair("B", rng=make_rng(4 + cf.PAIR_NAMES.index("B")))
+    np.testing.assert_array_equal(by_seed.study, by_generator.study)
+    assert not np.array_equal(cf.make_pair("B", rng=5).study, by_seed.study)
+
+
+def test_smooth_warp_draws_the_same_field_from_a_seed_or_its_generator():
+    np.testing.assert_array_equal(cf.smooth_warp((16, 16), rng=7), cf.smooth_warp((16, 16), rng=make_rng(7)))
+
+
 def test_table1_helpers():
     paper = cf.paper_table1()
     assert paper.loc["A", ("paper SOR", "mean")] == 10.9 and paper.shape == (3, 4)
-    pair = cf.make_pair("C")
+    pair = cf.make_pair("C", rng=0)
     table = cf.grey_level_table({"C": pair}, {"C": {"none": pair.template, "truth": cf.warp_image(pair.template, pair.true_displacement)}})
     assert table.loc["C", ("truth", "mean")] < 1e-9 < table.loc["C", ("none", "mean")]
     masked = cf.grey_level_table({"C": pair}, {"C": {"none": pair.template}}, masked=True)
@@ -607,12 +629,23 @@ def test_regridding_switched_off_lets_a_large_deformation_fold():
     (lambda: cf.stencil_matrix(np.zeros((2, 18)), (4,)), ValueError, "shape"),
     (lambda: cf.stencil_matrix(np.zeros((3, 18)), (4, 4)), ValueError, "stencil"),
     (lambda: cf.solve_stencil_reference(cf.fluid_stencil(), np.zeros((3, 4, 4))), ValueError, "force"),
-    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 0.0, sweeps=1, omega=1.0), ValueError, "mu"),
-    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 5.0, sweeps=-1, omega=1.0), ValueError, "sweeps"),
-    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 5.0, sweeps=1, omega=-1.0), ValueError, "omega"),
+    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 0.0, n_sweeps=1, omega=1.0), ValueError, "mu"),
+    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 5.0, n_sweeps=-1, omega=1.0), ValueError, "n_sweeps"),
+    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 5.0, n_sweeps=1, omega=-1.0), ValueError, "omega"),
     (lambda: cf.polynomial_test_fields(-1.0, 5.0), ValueError, "lam"),
     (lambda: cf.grey_level_table({}, {}, scale=0.0), ValueError, "scale"),
 ])
 def test_reference_paths_and_helpers_reject_bad_input(call, error, message):
     with pytest.raises(error, match=message):
         call()
+
+
+@pytest.mark.parametrize("module", ["stencil", "solvers", "data", "registration"])
+def test_docstring_examples_run(module):
+    """The Examples sections of the entry points (fluid_stencil, solve_velocity, make_pair,
+    register_fluid) are executed, so they cannot drift from the code."""
+    import doctest
+    import importlib
+
+    result = doctest.testmod(importlib.import_module(f"amdo_lab.cat_fluid.{module}"))
+    assert result.attempted > 0 and result.failed == 0

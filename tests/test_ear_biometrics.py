@@ -603,3 +603,195 @@ def bad_input_context(clean_ear_contours, small_database, tmp_path_factory):
 def test_public_functions_reject_bad_input(bad_input_context, call, error, message):
     with pytest.raises(error, match=message):
         call(bad_input_context)
+
+
+# --- canonical frame (silhouette moments before contour detection) and the point ranking of F ---
+
+def _similarity(image, angle_deg, scale, shift, flags=cv2.INTER_LINEAR):
+    matrix = cv2.getRotationMatrix2D((image.shape[1] / 2, image.shape[0] / 2), angle_deg, scale)
+    matrix[:, 2] += shift
+    return cv2.warpAffine(image, matrix, image.shape[::-1], flags=flags, borderMode=cv2.BORDER_REPLICATE), matrix
+
+
+def _homogeneous(matrix):
+    return np.r_[matrix, [[0.0, 0.0, 1.0]]]
+
+
+def test_silhouette_covers_the_ear_and_is_empty_on_a_blank_image(small_database):
+    image = small_database.images[0]
+    mask = eb.silhouette(image)
+    assert mask.dtype == bool and 0.1 < mask.mean() < 0.5
+    assert not mask[0].any() and not mask[:, 0].any()  # background at the border
+    from amdo_lab.ear_biometrics.synthetic import _to_pixels
+
+    outline = _to_pixels(eb.ear_curves(small_database.shapes[0])[0], small_database.poses[0], 256)
+    drawn = np.zeros((256, 256), np.uint8)
+    cv2.fillPoly(drawn, [np.round(outline).astype(np.int32)], 1)
+    overlap = (mask & (drawn > 0)).sum() / (mask | (drawn > 0)).sum()
+    assert overlap > 0.9  # the silhouette is the drawn ear (its outline is blurred and jittered)
+    assert not eb.silhouette(np.full((64, 64), 120, np.uint8)).any()
+
+
+def test_moment_frame_fast_path_equals_the_reference(small_database):
+    from amdo_lab.ear_biometrics.frame import _moment_frame_fast
+
+    for image in small_database.images[:4]:
+        mask = eb.silhouette(image)
+        reference, fast = eb.moment_frame(mask, image.shape), _moment_frame_fast(mask, image.shape)
+        np.testing.assert_allclose(fast.matrix, reference.matrix, atol=1e-9)
+        assert fast.third_moment == pytest.approx(reference.third_moment, abs=1e-9) and reference.third_moment >= 0
+
+
+def test_moment_frame_undoes_a_similarity_including_a_half_turn(small_database):
+    """The frame of a transformed mask, composed with the transform, is the frame of the original:
+    the same canonical image up to resampling, for small turns and for 180 degrees (the third moment
+    fixes the sign of the axis)."""
+    mask = eb.silhouette(small_database.images[2]).astype(np.uint8)
+    base = _homogeneous(eb.moment_frame(mask > 0, mask.shape).matrix)
+    for angle, scale, shift in [(20.0, 1.1, (5.0, -3.0)), (-25.0, 0.9, (0.0, 6.0)), (180.0, 1.0, (0.0, 0.0))]:
+        moved, matrix = _similarity(mask, angle, scale, shift, flags=cv2.INTER_NEAREST)
+        composed = _homogeneous(eb.moment_frame(moved > 0, mask.shape).matrix) @ _homogeneous(matrix)
+        residual = composed @ np.linalg.inv(base)
+        assert np.degrees(abs(np.arctan2(residual[1, 0], residual[0, 0]))) < 1.0
+        assert abs(np.hypot(residual[0, 0], residual[1, 0]) - 1) < 0.01
+        centre = residual @ np.array([128.0, 128.0, 1.0])
+        assert np.hypot(*(centre[:2] - 128)) < 1.0
+
+
+def test_third_moment_points_the_axis_to_the_longer_tail():
+    """A teardrop (a disc with a long tail downwards): the signed axis points down the tail, and the
+    same shape upside down gets the opposite axis."""
+    drop = np.zeros((128, 128), np.uint8)
+    cv2.circle(drop, (64, 50), 20, 1, -1)
+    cv2.fillConvexPoly(drop, np.array([[48, 55], [80, 55], [64, 110]], np.int32), 1)
+    down = eb.moment_frame(drop > 0, drop.shape)
+    up = eb.moment_frame(np.flipud(drop) > 0, drop.shape)
+    assert down.axis[0] > 0.99 and up.axis[0] < -0.99  # (row, col): +row is down the image
+    assert down.third_moment > 0.1 and up.third_moment == pytest.approx(down.third_moment, rel=1e-6)
+
+
+def test_canonical_image_centres_and_uprights_the_silhouette(small_database):
+    image = small_database.images[3]
+    frame = eb.moment_frame(eb.silhouette(image), image.shape)
+    canonical = eb.to_canonical(image, frame)
+    assert canonical.dtype == image.dtype and canonical.shape == image.shape
+    again = eb.moment_frame(eb.silhouette(canonical), image.shape)
+    np.testing.assert_allclose(again.centroid, [128, 128], atol=1.0)
+    assert again.axis[0] > np.cos(np.radians(1.0))  # the major axis is the downward vertical
+    assert again.spread == pytest.approx(eb.CANONICAL_SPREAD * 256, rel=0.02)
+
+
+def test_frame_normalisation_divides_by_the_silhouette_spreads(small_database):
+    image = small_database.images[0]
+    frame = eb.moment_frame(eb.silhouette(image), image.shape)
+    total = eb.CANONICAL_SPREAD * 256
+    per_axis = eb.frame_normalisation(frame, image.shape)
+    assert np.hypot(*per_axis.spread) == pytest.approx(total)
+    assert per_axis.spread[0] / per_axis.spread[1] == pytest.approx(frame.elongation)
+    np.testing.assert_allclose(per_axis.to_normalised(np.array([128.0, 128.0])), [[0.0, 0.0]])
+    above = per_axis.to_normalised(np.array([128.0 - per_axis.spread[0], 128.0]))
+    np.testing.assert_allclose(above, [[0.0, 1.0]])  # y points up the image
+    isotropic = eb.frame_normalisation(frame, image.shape, "isotropic")
+    np.testing.assert_allclose(isotropic.spread, total / np.sqrt(2))
+
+
+def test_point_distance_reference_equals_the_matcher_vectorised_path(small_database):
+    from amdo_lab.ear_biometrics.matcher import _point_distances
+
+    matcher = eb.EarMatcher()
+    templates = [matcher.extract(image) for image in small_database.images[:5]]
+    for subject, template in enumerate(templates[:4]):
+        matcher.enroll_template(subject, template)
+    query = templates[4]
+    reference = [eb.point_distance(query.topology, t.topology) for t in templates[:4]]
+    fast = _point_distances(eb.characteristic_points(query.topology), matcher._points, matcher._point_starts,
+                            eb.POINT_DISTANCE_CAP)
+    np.testing.assert_allclose(fast, reference, atol=1e-12)
+    np.testing.assert_allclose(matcher.identify_template(query).scores, reference, atol=1e-12)
+    assert eb.point_distance(query.topology, query.topology) == 0.0
+    assert 0 < min(reference) <= max(reference) <= eb.POINT_DISTANCE_CAP
+
+
+def test_similarity_copies_of_enrolled_images_are_identified(small_database):
+    """Invariance as a user sees it: the enrolled images, turned by up to 25 degrees, rescaled by
+    0.85-1.15 and shifted by up to 8 px, are identified by the canonical pipeline."""
+    images, ids = small_database
+    matcher = eb.EarMatcher()
+    for image, subject in zip(images[0::2], ids[0::2]):
+        matcher.enroll(subject, image)
+    rng = make_rng(123)
+    for image, subject in zip(images[0::2], ids[0::2]):
+        result = matcher.identify(eb.similarity_copy(image, rng=rng))
+        assert np.argmin(result.scores) == list(ids[0::2]).index(subject)
+
+
+@pytest.mark.parametrize("call, error, message", [
+    (lambda im: eb.silhouette(im > 100), TypeError, "image must be a real numeric"),
+    (lambda im: eb.silhouette(im, sigma=0), ValueError, "sigma must be positive"),
+    (lambda im: eb.moment_frame(im, im.shape), TypeError, "mask must be a 2-D boolean image"),
+    (lambda im: eb.moment_frame(np.zeros((32, 32), bool), (32, 32)), ValueError, "mask must hold at least 3 pixels"),
+    (lambda im: eb.moment_frame(im > 100, [256, 256]), TypeError, r"shape must be a \(rows, cols\) tuple"),
+    (lambda im: eb.moment_frame(im > 100, im.shape, 0.7), ValueError, "spread_fraction must be below 0.5"),
+    (lambda im: eb.to_canonical(im, "frame"), TypeError, "frame must be a CanonicalFrame"),
+    (lambda im: eb.frame_normalisation(eb.moment_frame(im > 100, im.shape), im.shape, "affine"), ValueError,
+     "mode must be one of"),
+    (lambda im: eb.point_distance(eb.EarMatcher().extract(im).circles, None), TypeError,
+     "query must be TopologyFeatures"),
+    (lambda im: eb.characteristic_points(im), TypeError, "features must be TopologyFeatures"),
+    (lambda im: eb.similarity_copy(im, rng=0, scale_range=(1.2, 0.9)), ValueError, "scale_range must be"),
+    (lambda im: eb.similarity_copy(im, rng=0, max_shift=-1), ValueError, "max_shift must be non-negative"),
+    (lambda im: eb.similarity_copy(im, rng=0, rotation_deg=np.nan), ValueError, "rotation_deg must be finite"),
+    (lambda im: eb.EarMatcher(frame="affine"), ValueError, "frame must be one of"),
+    (lambda im: eb.EarMatcher(origin="centre"), ValueError, "origin must be one of"),
+    (lambda im: eb.EarMatcher(ranking="votes"), ValueError, "ranking must be one of"),
+    (lambda im: eb.EarMatcher(canonical_spread=0.6), ValueError, "canonical_spread must be below 0.5"),
+])
+def test_canonical_frame_functions_reject_bad_input(small_database, call, error, message):
+    with pytest.raises(error, match=message):
+        call(small_database.images[0])
+
+
+def test_reference_of_eqs_6_and_7_equals_the_vectorised_path(clean_ear_contours):
+    """The plain-numpy, one-circle-at-a-time reading equals circle_features with the literal
+    settings (image axes, pixel runs, no gap merging), on an ear and on a rotated "+" with a ring."""
+    toy = np.zeros((101, 101), np.uint8)
+    toy[50, 10:91] = 1
+    toy[10:91, 50] = 1
+    cv2.circle(toy, (50, 50), 28, 1, 1)
+    rotated = cv2.warpAffine(toy, cv2.getRotationMatrix2D((50, 50), 30, 1.0), (101, 101), flags=cv2.INTER_NEAREST)
+    for contours in (clean_ear_contours, toy > 0, rotated > 0):
+        reference = eb.circle_features_reference(contours, 6, 0.3)
+        fast = eb.circle_features(contours, 6, 0.3, mode="axes", crossings="pixels", min_gap=0.0)
+        assert np.array_equal(reference.counts, fast.counts)
+        np.testing.assert_allclose(reference.distance_sums, fast.distance_sums, atol=1e-9)
+        np.testing.assert_allclose(reference.normalisation.matrix, fast.normalisation.matrix)
+    with pytest.raises(ValueError, match="no contour"):
+        eb.circle_features_reference(np.zeros((9, 9), bool))
+
+
+def test_similarity_copy_is_seeded_and_exact_for_a_quarter_turn():
+    image = np.zeros((64, 64), np.uint8)
+    image[10:20, 30:34] = 200
+    turned = eb.similarity_copy(image, rng=1, rotation_deg=90.0, scale_range=(1.0, 1.0), max_shift=0.0)
+    np.testing.assert_array_equal(turned, np.rot90(image))  # +90 degrees = counter-clockwise as displayed
+    np.testing.assert_array_equal(eb.similarity_copy(image, rng=5), eb.similarity_copy(image, rng=5))
+    assert eb.similarity_copy(image.astype(float), rng=5).dtype == float
+
+
+def test_matcher_exposes_the_image_and_contours_its_features_come_from(small_database):
+    image = small_database.images[0]
+    literal = eb.EarMatcher(frame="image")
+    assert literal.canonical_frame(image) is None
+    np.testing.assert_array_equal(literal.canonical_image(image), image)
+    matcher = eb.EarMatcher()
+    canonical = matcher.canonical_image(image)
+    assert canonical.dtype == np.uint8 and canonical.shape == image.shape
+    contours = matcher.contour_image(image)
+    from amdo_lab.ear_biometrics.frame import frame_normalisation
+
+    norm = frame_normalisation(matcher.canonical_frame(image), image.shape)
+    direct = eb.topology_features(contours, crossings="polyline", band=6.0, spur_length=8, polyline_smoothing=4,
+                                  normalisation=norm)
+    template = matcher.extract(image)
+    np.testing.assert_array_equal(template.circles.counts, direct.circles.counts)
+    np.testing.assert_allclose(eb.characteristic_points(template.topology), eb.characteristic_points(direct))

@@ -20,11 +20,22 @@ __all__ = ["CubicalComplex"]
 
 
 class CubicalComplex:
-    """Cubical complex of an image support with ``shape = (H, W)`` 0-pixels.
+    """Cubical complex of an image support with ``shape = (H, W)`` 0-pixels (Sec. 2).
 
     Numbering: vertex (i, j) -> i*W + j; horizontal edge (i, j)->(i, j+1) -> i*(W-1) + j, then
     vertical edges (i, j)->(i+1, j) -> H*(W-1) + i*W + j; square with lower corner (i, j) ->
     i*(W-1) + j.
+
+    Parameters
+    ----------
+    shape : tuple of two int
+        (H, W), the number of 0-pixels (pixel centres) along array axes 0 and 1; each at least 2.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Sec. 2 (q-pixels, chains, the boundary and coboundary operators) and eq. (7).
     """
 
     def __init__(self, shape: tuple[int, int]) -> None:
@@ -40,7 +51,14 @@ class CubicalComplex:
         return h * w, h * (w - 1) + (h - 1) * w, (h - 1) * (w - 1)
 
     def edges(self) -> tuple[np.ndarray, np.ndarray]:
-        """Tail and head vertex numbers of every 1-pixel, in edge-number order (∂γ = head - tail)."""
+        """Tail and head vertex numbers of every 1-pixel, in edge-number order (∂γ = head - tail).
+
+        Returns
+        -------
+        tails, heads : numpy.ndarray of int, shape (n_1,)
+            Vertex numbers of each edge's start and end; n_1 = H (W - 1) + (H - 1) W, horizontal edges
+            first.
+        """
         h, w = self.shape
         vertex = np.arange(h * w).reshape(h, w)
         tails = np.concatenate([vertex[:, :-1].ravel(), vertex[:-1, :].ravel()])
@@ -52,6 +70,16 @@ class CubicalComplex:
 
         Column k is the (q-1)-chain ∂γ_k: head - tail for an edge; for a square, its four edges
         with sign +1 where the edge runs with the square's counter-clockwise orientation.
+
+        Parameters
+        ----------
+        q : int
+            Degree of the chains it acts on: 1 (edges to vertices) or 2 (squares to edges).
+
+        Returns
+        -------
+        scipy.sparse.csr_matrix of int, shape (n_{q-1}, n_q)
+            Entries in {-1, 0, 1}; ``boundary(1) @ boundary(2)`` is zero.
         """
         _check_degree(q)
         h, w = self.shape
@@ -78,6 +106,16 @@ class CubicalComplex:
         """Coboundary δ_q: q-cochains -> (q+1)-cochains, (δ_q f)(γ) = f(∂γ), so δ_q = ∂_{q+1}ᵀ.
 
         For q = 0 this is eq. (7): the value on an edge is f(head) - f(tail).
+
+        Parameters
+        ----------
+        q : int
+            Degree of the cochains it acts on: 0 (vertex values to edge values) or 1 (edges to squares).
+
+        Returns
+        -------
+        scipy.sparse.csr_matrix of int, shape (n_{q+1}, n_q)
+            The transpose of ``boundary(q + 1)``.
         """
         _check_degree(q)
         if q not in (0, 1):

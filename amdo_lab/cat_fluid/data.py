@@ -36,7 +36,24 @@ _PAIR_SETTINGS = {
 def load_dipy_image(name: str) -> np.ndarray:
     """One of :data:`DIPY_IMAGES` (each 256x256), as float grey levels scaled to [0, 1].
 
-    They ship inside the dipy package (``dipy.data.get_fnames``); nothing is downloaded.
+    They ship inside the dipy package (``dipy.data.get_fnames``); nothing is downloaded. They stand
+    in for the paper's CT slices, which are not available.
+
+    Parameters
+    ----------
+    name : str
+        "t1_coronal_slice" (a T1 brain slice), "reg_o" (a circle) or "reg_c" (a C shape).
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (256, 256)
+        Grey levels, minimum 0 and maximum 1.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Sec. 5 and Fig. 3 (the CT slices these images replace).
     """
     check_choice(name, "name", DIPY_IMAGES)
     from dipy.data import get_fnames  # lazy: dipy is slow to import
@@ -45,32 +62,76 @@ def load_dipy_image(name: str) -> np.ndarray:
     return (image - image.min()) / (image.max() - image.min())
 
 
-def smooth_warp(shape: tuple[int, int], rng: np.random.Generator | int, *, amplitude: float = 4.0,
-                smoothness: float = 20.0, support: np.ndarray | None = None) -> np.ndarray:
-    """A random smooth displacement (2, H, W) in pixels whose largest length is ``amplitude``.
+def smooth_warp(shape: tuple[int, int], *, rng: int | np.random.Generator, amplitude_px: float = 4.0,
+                smoothness_px: float = 20.0, support: np.ndarray | None = None) -> np.ndarray:
+    """A random smooth displacement (2, H, W) in pixels whose largest length is ``amplitude_px``.
 
-    Gaussian-filtered white noise (standard deviation ``smoothness`` pixels, periodic); with a
+    Gaussian-filtered white noise (standard deviation ``smoothness_px`` pixels, periodic); with a
     boolean ``support`` it fades out away from the object, so the border stays still.
+
+    Parameters
+    ----------
+    shape : tuple of two int
+        (H, W), positive.
+    rng : int or numpy.random.Generator
+        Seed (non-negative) or generator of the white noise; keyword-only, no default.
+    amplitude_px : float, optional
+        Largest displacement length in pixels, > 0 (default 4).
+    smoothness_px : float, optional
+        Standard deviation of the Gaussian filter in pixels, > 0 (default 20): larger is smoother.
+    support : numpy.ndarray of bool, shape (H, W), optional
+        The object; at least one True pixel. The displacement is damped outside it.
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2, H, W)
+        Displacement in pixels, component 0 along array axis 0.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Sec. 5 (the known warps stand in for its pairs of real slices).
     """
     if not isinstance(shape, (tuple, list)) or len(shape) != 2:
         raise ValueError(f"shape must be a pair (H, W), got {shape!r}")
     shape = (check_positive_int(shape[0], "shape[0]"), check_positive_int(shape[1], "shape[1]"))
-    rng = make_rng(rng)
-    amplitude = check_positive(amplitude, "amplitude")
-    smoothness = check_positive(smoothness, "smoothness")
+    rng = make_rng(rng, "rng")
+    amplitude_px = check_positive(amplitude_px, "amplitude_px")
+    smoothness_px = check_positive(smoothness_px, "smoothness_px")
     if support is not None:
         support = as_bool_mask(support, "support", shape=shape)
         if not support.any():
             raise ValueError("support must contain at least one pixel, got an all-False mask")
-    field = np.stack([gaussian_filter(rng.normal(size=shape), smoothness, mode="wrap") for _ in range(2)])
+    field = np.stack([gaussian_filter(rng.normal(size=shape), smoothness_px, mode="wrap") for _ in range(2)])
     if support is not None:
-        field *= gaussian_filter(support.astype(float), smoothness / 2)[None]
-    return amplitude * field / np.max(np.hypot(field[0], field[1]))
+        field *= gaussian_filter(support.astype(float), smoothness_px / 2)[None]
+    return amplitude_px * field / np.max(np.hypot(field[0], field[1]))
 
 
 def foreground_mask(image: object, threshold: float = 0.05) -> np.ndarray:
-    """Boolean mask of the object (the head on a brain slice): grey level above ``threshold``,
-    holes filled so dark structures inside (ventricles, sulci) count as foreground."""
+    """Boolean mask of the object (the head on a brain slice): grey level above ``threshold``.
+
+    Holes are filled, so dark structures inside (ventricles, sulci) count as foreground.
+
+    Parameters
+    ----------
+    image : array_like, shape (H, W)
+        Finite grey levels (in [0, 1] for the chapter's images).
+    threshold : float, optional
+        Finite grey level above which a pixel is object (default 0.05).
+
+    Returns
+    -------
+    numpy.ndarray of bool, shape (H, W)
+        True on the object and its filled holes.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Table 1 (the region over which residuals are compared).
+    """
     image = as_finite_array(image, "image", shape=(None, None))
     if isinstance(threshold, bool) or not isinstance(threshold, numbers.Real) or not np.isfinite(threshold):
         raise ValueError(f"threshold must be a finite real number, got {threshold!r}")
@@ -79,7 +140,27 @@ def foreground_mask(image: object, threshold: float = 0.05) -> np.ndarray:
 
 @dataclass(frozen=True)
 class RegistrationPair:
-    """A template, its study and the known displacement: study ≈ template(x - true_displacement(x))."""
+    """A template, its study and the known displacement: study ≈ template(x - true_displacement(x)).
+
+    Parameters
+    ----------
+    name : str
+        "A", "B" or "C" (:data:`PAIR_NAMES`).
+    template : numpy.ndarray of float, shape (H, W)
+        The image deformed by registration, grey levels in [0, 1].
+    study : numpy.ndarray of float, shape (H, W)
+        The warped template, plus for pairs A and B changes no warp explains.
+    true_displacement : numpy.ndarray of float, shape (2, H, W)
+        The warp that made the study, pixels.
+    mask : numpy.ndarray of bool, shape (H, W)
+        Foreground of the template or of the noise-free warped template.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Sec. 5 and Fig. 3 (its pairs A, B and C).
+    """
 
     name: str
     template: np.ndarray
@@ -99,20 +180,51 @@ def _extra_structure(shape: tuple[int, int]) -> np.ndarray:
     return BLOB_HEIGHT * np.exp(-((rows - centre[0]) ** 2 + (cols - centre[1]) ** 2) / (2 * BLOB_SD ** 2))
 
 
-def make_pair(name: str, seed: int = 0) -> RegistrationPair:
+def make_pair(name: str, *, rng: int | np.random.Generator) -> RegistrationPair:
     """Pairs in the spirit of the paper's Fig. 3 (grey levels in [0, 1], 256x256).
 
     A: the brain slice, a smooth warp of at most 4 pixels; the study also has a bright blob that
     the template lacks, and noise (sd 0.02). B: the brain slice, a different warp of at most 6
     pixels, noise and a ±10 % left-right grey-level drift. C: the C shape, a 5-pixel warp, no
     other change. ``mask`` is the foreground of the template or of the noise-free warped template.
+
+    Parameters
+    ----------
+    name : str
+        "A", "B" or "C".
+    rng : int or numpy.random.Generator
+        Keyword-only, no default. An int seed s draws from seed s + the pair's index in
+        :data:`PAIR_NAMES` (so the three pairs at one seed differ); a generator is used as it is.
+
+    Returns
+    -------
+    RegistrationPair
+        Template, study, true displacement (pixels) and foreground mask.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Sec. 5 and Fig. 3.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from amdo_lab.cat_fluid import make_pair
+    >>> pair = make_pair("C", rng=0)
+    >>> pair.study.shape, pair.true_displacement.shape
+    ((256, 256), (2, 256, 256))
+    >>> round(float(np.hypot(*pair.true_displacement).max()), 6)  # pair C's warp: at most 5 pixels
+    5.0
     """
     check_choice(name, "name", PAIR_NAMES)
-    seed = check_positive_int(seed, "seed", minimum=0)
+    generator = make_rng(rng, "rng")
+    if not isinstance(rng, np.random.Generator):
+        # an int seed s draws from seed s + the pair's index, so pairs A, B and C at one seed differ
+        generator = make_rng(int(rng) + PAIR_NAMES.index(name), "rng")
     image_name, amplitude, blob, noise, drift = _PAIR_SETTINGS[name]
-    rng = make_rng(seed + PAIR_NAMES.index(name))
     template = load_dipy_image(image_name)
-    true = smooth_warp(template.shape, rng, amplitude=amplitude, support=foreground_mask(template))
+    true = smooth_warp(template.shape, rng=generator, amplitude_px=amplitude, support=foreground_mask(template))
     study = warp_image(template, true)
     mask = foreground_mask(template) | foreground_mask(study)  # before the noise, which would speckle it
     if blob:
@@ -120,5 +232,5 @@ def make_pair(name: str, seed: int = 0) -> RegistrationPair:
     if drift:
         study = study * (1.0 + drift * np.linspace(-1, 1, study.shape[1])[None, :])
     if noise:
-        study = study + rng.normal(scale=noise, size=study.shape)
+        study = study + generator.normal(scale=noise, size=study.shape)
     return RegistrationPair(name, template, study, true, mask)

@@ -74,9 +74,29 @@ def _warp(image: np.ndarray, displacement: np.ndarray) -> np.ndarray:
 
 
 def warp_image(image: object, displacement: object) -> np.ndarray:
-    """The deformed image I(x - u(x)), bilinear interpolation; ``displacement`` u is (2, H, W) pixels.
+    """The deformed image I(x - u(x)), bilinear interpolation.
 
     Points that fall outside the image take the value of the nearest border pixel.
+
+    Parameters
+    ----------
+    image : array_like, shape (H, W)
+        Finite grey levels.
+    displacement : array_like, shape (2, H, W)
+        u in pixels, component 0 along array axis 0.
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (H, W)
+        The warped image.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Sec. 5 (the deformed template T(x - u(x)) of Christensen's convention);
+    G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
+    IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
     image = _check_image(image, "image")
     return _warp(image, _check_displacement(displacement, image.shape))
@@ -87,13 +107,49 @@ def _jacobian(displacement: np.ndarray) -> np.ndarray:
 
 
 def displacement_jacobian(displacement: object) -> np.ndarray:
-    """J[i, j] = ∂u_i/∂x_j by central differences (one-sided at the border), shape (2, 2, H, W)."""
+    """J[i, j] = ∂u_i/∂x_j by central differences (one-sided at the border).
+
+    Parameters
+    ----------
+    displacement : array_like, shape (2, H, W)
+        u in pixels; H, W ≥ 2.
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2, 2, H, W)
+        The Jacobian matrix of u at every pixel (dimensionless).
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eq. (16) (our reading of its (∇u)ᵀ, see :func:`material_update`).
+    """
     displacement = as_finite_array(displacement, "displacement", shape=(2, None, None))
     return _jacobian(_check_differentiable(displacement, "displacement"))
 
 
 def jacobian_determinant(displacement: object) -> np.ndarray:
-    """det(I - ∇u) of the map x -> x - u(x), shape (H, W); a value ≤ 0 marks a folded pixel."""
+    """det(I - ∇u) of the map x -> x - u(x); a value ≤ 0 marks a folded pixel.
+
+    Parameters
+    ----------
+    displacement : array_like, shape (2, H, W)
+        u in pixels; H, W ≥ 2.
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (H, W)
+        Local area ratio of the map (1 where u is constant).
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Sec. 5 (regridding on the Jacobian, after Christensen et al.);
+    G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
+    IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
+    """
     displacement = as_finite_array(displacement, "displacement", shape=(2, None, None))
     return _determinant(_check_differentiable(displacement, "displacement"))
 
@@ -109,7 +165,26 @@ def _force(deformed_template: np.ndarray, study: np.ndarray) -> np.ndarray:
 
 
 def external_force(deformed_template: object, study: object) -> np.ndarray:
-    """Eq. (18): F = -(I1 - I2) ∇I1 with I1 the deformed template and I2 the study, shape (2, H, W)."""
+    """Eq. (18): F = -(I1 - I2) ∇I1 with I1 the deformed template and I2 the study.
+
+    Parameters
+    ----------
+    deformed_template : array_like, shape (H, W)
+        I1, finite grey levels; H, W ≥ 2.
+    study : array_like, shape (H, W)
+        I2, finite grey levels.
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2, H, W)
+        Force per pixel in grey level² per pixel; ∇ by central differences (one-sided at the border).
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eq. (18).
+    """
     deformed_template = _check_differentiable(_check_image(deformed_template, "deformed_template"), "deformed_template")
     return _force(deformed_template, as_finite_array(study, "study", shape=deformed_template.shape))
 
@@ -128,6 +203,28 @@ def material_update(displacement: object, velocity: object, dt: float) -> np.nda
     ∂u/∂t = v - (v·∇)u of Christensen et al., the only reading under which the deformed template
     T(x - u) is carried along by v. (tests/test_cat_fluid.py pins this down against the exact
     flow of a known displacement.)
+
+    Parameters
+    ----------
+    displacement : array_like, shape (2, H, W)
+        u in pixels; H, W ≥ 2.
+    velocity : array_like, shape (2, H, W)
+        v in pixels per unit time.
+    dt : float
+        Time step Δt, > 0.
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2, H, W)
+        The updated displacement, pixels.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eq. (16);
+    G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
+    IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
     displacement = as_finite_array(displacement, "displacement", shape=(2, None, None))
     _check_differentiable(displacement, "displacement")
@@ -139,6 +236,26 @@ def compose_displacements(first: object, second: object) -> np.ndarray:
     """Displacement of "warp by ``first``, then warp the result by ``second``".
 
     warp(warp(I, first), second)(x) = I(x - w(x)) with w(x) = second(x) + first(x - second(x)).
+
+    Parameters
+    ----------
+    first : array_like, shape (2, H, W)
+        Displacement applied first, pixels.
+    second : array_like, shape (2, H, W)
+        Displacement applied second, pixels.
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2, H, W)
+        w, pixels (``first`` sampled bilinearly, clamped at the border).
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Sec. 5 (regridding composes the segments' displacements, after Christensen et al.);
+    G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
+    IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
     first = as_finite_array(first, "first", shape=(2, None, None))
     return _compose(first, _check_displacement(second, first.shape[1:], "second"))
@@ -151,8 +268,30 @@ def _compose(first: np.ndarray, second: np.ndarray) -> np.ndarray:
 
 def grey_level_difference(image: object, reference: object, mask: object | None = None,
                           scale: float = 1.0) -> tuple[float, float]:
-    """Table 1's measure: mean and standard deviation of |image - reference| (times ``scale``),
-    over all pixels or over a boolean ``mask``."""
+    """Table 1's measure: mean and standard deviation of |image - reference| times ``scale``.
+
+    Parameters
+    ----------
+    image : array_like, shape (H, W)
+        Finite grey levels, e.g. the deformed template.
+    reference : array_like, shape (H, W)
+        Finite grey levels, e.g. the study.
+    mask : array_like of bool, shape (H, W), optional
+        Pixels to average over (at least one True); all pixels by default.
+    scale : float, optional
+        Factor on the differences, > 0 (default 1; 255 for the paper's 0-255 grey levels).
+
+    Returns
+    -------
+    mean, sd : float
+        Mean and standard deviation of the scaled absolute differences.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Table 1.
+    """
     image = _check_image(image, "image")
     reference = as_finite_array(reference, "reference", shape=image.shape)
     scale = check_positive(scale, "scale")
@@ -171,7 +310,28 @@ def _check_mask(mask: object, shape: tuple[int, ...]) -> np.ndarray:
 
 
 def displacement_rmse(displacement: object, truth: object, mask: object | None = None) -> float:
-    """Root-mean-square length of (displacement - truth), pixels, over all pixels or a boolean mask."""
+    """Root-mean-square length of (displacement - truth) over all pixels or a boolean mask.
+
+    Parameters
+    ----------
+    displacement : array_like, shape (2, H, W)
+        Estimated displacement, pixels.
+    truth : array_like, shape (2, H, W)
+        Known displacement, pixels.
+    mask : array_like of bool, shape (H, W), optional
+        Pixels to average over (at least one True); all pixels by default.
+
+    Returns
+    -------
+    float
+        RMS error in pixels, ≥ 0.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Sec. 5 (the paper measures grey levels only; with known warps we can measure this too).
+    """
     truth = as_finite_array(truth, "truth", shape=(2, None, None))
     displacement = _check_displacement(displacement, truth.shape[1:])
     squared = np.sum((displacement - truth) ** 2, axis=0)
@@ -179,8 +339,32 @@ def displacement_rmse(displacement: object, truth: object, mask: object | None =
 
 
 def inverse_consistency_error(forward: object, backward: object, mask: object | None = None) -> float:
-    """RMS of x - h_f(h_b(x)) in pixels, with h(x) = x - u(x), for u_f registering A to B and u_b
-    registering B to A; 0 for a perfectly inverse-consistent pair."""
+    """RMS of x - h_f(h_b(x)) in pixels, with h(x) = x - u(x).
+
+    For u_f registering A to B and u_b registering B to A; 0 for a perfectly inverse-consistent pair.
+
+    Parameters
+    ----------
+    forward : array_like, shape (2, H, W)
+        u_f, pixels.
+    backward : array_like, shape (2, H, W)
+        u_b, pixels.
+    mask : array_like of bool, shape (H, W), optional
+        Pixels to average over (at least one True); all pixels by default.
+
+    Returns
+    -------
+    float
+        RMS error in pixels, ≥ 0.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Sec. 5 (a property of the fluid model the paper does not measure);
+    G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
+    IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
+    """
     forward = as_finite_array(forward, "forward", shape=(2, None, None))
     backward = _check_displacement(backward, forward.shape[1:], "backward")
     return displacement_rmse(_compose(forward, backward), np.zeros_like(forward), mask)
@@ -190,15 +374,26 @@ def inverse_consistency_error(forward: object, backward: object, mask: object | 
 class FluidResult:
     """Result of :func:`register_fluid`.
 
-    Attributes
+    Parameters
     ----------
-    warped : (H, W) deformed template T(x - u(x)).
-    displacement : (2, H, W) total displacement u of the template, pixels.
-    history : (n + 1, 4) one row per iteration after the starting row 0; columns
-        :data:`HISTORY_COLUMNS`: mean |warped - study|, seconds since the start, min det(I - ∇u)
-        of the total displacement, and the largest displacement change of the step (0 if rejected).
-    n_regrids : number of regriddings.
-    method : the velocity solver used.
+    warped : numpy.ndarray of float, shape (H, W)
+        Deformed template T(x - u(x)).
+    displacement : numpy.ndarray of float, shape (2, H, W)
+        Total displacement u of the template, pixels.
+    history : numpy.ndarray of float, shape (n + 1, 4)
+        One row per iteration after the starting row 0; columns :data:`HISTORY_COLUMNS`: mean
+        |warped - study|, seconds since the start, min det(I - ∇u) of the total displacement, and
+        the largest displacement change of the step in pixels (0 if rejected).
+    n_regrids : int
+        Number of regriddings.
+    method : str
+        The velocity solver used: "cat", "sor" or "fft".
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Sec. 5, eqs. (15)-(18).
     """
 
     warped: np.ndarray
@@ -209,12 +404,14 @@ class FluidResult:
 
     @property
     def residuals(self) -> np.ndarray:
-        """Mean |warped - study| per iteration, starting state first."""
+        """Mean |warped - study| per iteration, starting state first (grey levels in the images' scale).
+        """
         return self.history[:, 0]
 
     @property
     def seconds(self) -> float:
-        """Wall-clock time of the whole registration."""
+        """Wall-clock time of the whole registration, seconds.
+        """
         return float(self.history[-1, 1])
 
 
@@ -233,38 +430,81 @@ def _check_images(template: object, study: object) -> tuple[np.ndarray, np.ndarr
 
 
 def register_fluid(template: object, study: object, method: str = "cat", lam: float = 1.0, mu: float = 5.0,
-                   n_iter: int | None = None, *, max_step: float = 1.0, backtrack: bool = True,
-                   regrid_threshold: float = 0.5, sor_sweeps: int = 250, sor_omega: float | None = None,
+                   n_iter: int | None = None, *, max_step_px: float = 1.0, backtrack: bool = True,
+                   regrid_threshold: float = 0.5, sor_n_sweeps: int = 250, sor_omega: float | None = None,
                    sor_warm_start: bool = True) -> FluidResult:
     """Deform ``template`` onto ``study`` as a viscous fluid (Secs. 4-5).
 
     Each iteration: the force of eq. (18) on the deformed template; the velocity from
     ``method`` ("cat": the CAT stencil, eq. 15; "sor" or "fft": the finite-difference eq. 17 by
     SOR or exactly); then eq. (16), u <- u + Δt (I - J_u) v (:func:`material_update`), with Δt set
-    so that the largest displacement change is the current step bound (``max_step`` pixels at
+    so that the largest displacement change is the current step bound (``max_step_px`` pixels at
     first). With ``backtrack`` a step that does not lower the sum of squared differences is
     rejected and the bound halved, and after an accepted step the bound doubles again up to
-    ``max_step`` (the paper does not say how it chose Δt; this keeps a fixed step from
-    oscillating). The same rule applies to every ``method``. When min det(I - ∇u) of the current segment falls below
-    ``regrid_threshold``, a new segment starts from the deformed template (regridding, as
-    Christensen et al.); the segments are composed and the original template is warped once by
-    the composition, so regridding adds no blur.
+    ``max_step_px`` (the paper does not say how it chose Δt; this keeps a fixed step from
+    oscillating). The same rule applies to every ``method``. When min det(I - ∇u) of the current
+    segment falls below ``regrid_threshold``, a new segment starts from the deformed template
+    (regridding, as Christensen et al.); the segments are composed and the original template is
+    warped once by the composition, so regridding adds no blur.
 
     Parameters
     ----------
-    template, study : (H, W) finite images, not constant, same shape.
-    method : "cat", "sor" or "fft".
-    lam, mu : Lamé constants, λ ≥ 0 and μ > 0 (the paper: 1 and 5).
-    n_iter : velocity solves; default the paper's counts, 10 for "cat" and "fft", 100 for "sor".
-    max_step : largest displacement change per iteration, pixels.
-    backtrack : reject a step that does not decrease the SSD and halve the bound (else Christensen's
-        fixed bound, every step accepted).
-    regrid_threshold : regrid when min det(I - ∇u) of the segment falls below it, in [0, 1); 0 never
-        regrids (the map may then fold: det ≤ 0).
-    sor_sweeps, sor_omega : SOR sweeps per solve (the paper: 250) and relaxation factor (default
-        :func:`~amdo_lab.cat_fluid.solvers.default_omega`).
-    sor_warm_start : start each SOR solve from the previous iteration's velocity (default) or from
-        zero (the paper does not say which it did).
+    template : array_like, shape (H, W)
+        Finite grey levels, not constant, H, W ≥ 4 (even for "sor").
+    study : array_like, shape (H, W)
+        Finite grey levels, not constant, same shape as ``template``.
+    method : str, optional
+        Velocity solver: "cat" (default), "sor" or "fft".
+    lam : float, optional
+        Lamé constant λ ≥ 0 (default 1, as the paper).
+    mu : float, optional
+        Lamé constant μ > 0 (default 5, as the paper).
+    n_iter : int, optional
+        Number of velocity solves, ≥ 1; default the paper's counts, 10 for "cat" and "fft", 100
+        for "sor".
+    max_step_px : float, optional
+        Largest displacement change per iteration, pixels, > 0 (default 1).
+    backtrack : bool, optional
+        Reject a step that does not decrease the SSD and halve the bound (default); False keeps
+        Christensen's fixed bound, every step accepted.
+    regrid_threshold : float, optional
+        Regrid when min det(I - ∇u) of the segment falls below it, in [0, 1) (default 0.5); 0
+        never regrids (the map may then fold: det ≤ 0).
+    sor_n_sweeps : int, optional
+        SOR sweeps per velocity solve, ≥ 1 (default 250, as the paper); "sor" only.
+    sor_omega : float, optional
+        SOR relaxation factor in (0, 2); default
+        :func:`~amdo_lab.cat_fluid.solvers.default_omega`.
+    sor_warm_start : bool, optional
+        Start each SOR solve from the previous iteration's velocity (default) or from zero (the
+        paper does not say which it did).
+
+    Returns
+    -------
+    FluidResult
+        Deformed template, total displacement (pixels), per-iteration history, number of
+        regriddings and the method.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Secs. 4-5, eqs. (15)-(18);
+    G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
+    IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from amdo_lab.cat_fluid import register_fluid
+    >>> rows, cols = np.indices((32, 32)) - 15.5
+    >>> template = (np.hypot(rows, cols) < 8).astype(float)      # a disc
+    >>> study = (np.hypot(rows - 2, cols) < 8).astype(float)     # the disc, 2 pixels down
+    >>> result = register_fluid(template, study, "cat", n_iter=20)
+    >>> bool(result.residuals[-1] < 0.01 * result.residuals[0])
+    True
+    >>> bool(result.history[:, 2].min() > 0)  # no folds
+    True
     """
     template, study = _check_images(template, study)
     check_choice(method, "method", SOLVERS)
@@ -272,9 +512,9 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
     check_bool(backtrack, "backtrack")
     check_bool(sor_warm_start, "sor_warm_start")
     n_iter = check_positive_int(DEFAULT_ITERATIONS[method] if n_iter is None else n_iter, "n_iter")
-    step_bound = check_positive(max_step, "max_step")
+    step_bound = check_positive(max_step_px, "max_step_px")
     regrid_threshold = check_in_range(regrid_threshold, "regrid_threshold", 0, 1, closed="left")
-    sor_sweeps = check_positive_int(sor_sweeps, "sor_sweeps")
+    sor_n_sweeps = check_positive_int(sor_n_sweeps, "sor_n_sweeps")
     if sor_omega is not None:
         check_in_range(sor_omega, "sor_omega", 0, 2)  # SOR converges for 0 < omega < 2 only
     if method == "sor" and (template.shape[0] % 2 or template.shape[1] % 2):
@@ -292,7 +532,7 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
         force = _force(warped, study)
         force -= force.mean(axis=(1, 2), keepdims=True)
         if symbol is None:
-            velocity = sor_solve(force, lam, mu, sweeps=sor_sweeps, omega=sor_omega,
+            velocity = sor_solve(force, lam, mu, n_sweeps=sor_n_sweeps, omega=sor_omega,
                                  initial=velocity if sor_warm_start else None)
         else:
             velocity = solve_symbol(symbol, force)
@@ -306,11 +546,11 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
             candidate_ssd = float(np.sum((candidate_warped - study) ** 2))
             if not backtrack or candidate_ssd < ssd:
                 segment, total, warped, ssd, taken = candidate, candidate_total, candidate_warped, candidate_ssd, step_bound
-                if backtrack:  # a step that worked: let the bound grow back towards max_step
-                    step_bound = min(STEP_GROWTH * step_bound, max_step)
+                if backtrack:  # a step that worked: let the bound grow back towards max_step_px
+                    step_bound = min(STEP_GROWTH * step_bound, max_step_px)
                 break
             step_bound /= 2
-            if step_bound < 1e-3 * max_step:  # no descent left at any sensible step: stop moving
+            if step_bound < 1e-3 * max_step_px:  # no descent left at any sensible step: stop moving
                 break
         total_det = float(_determinant(total).min())
         segment_det = total_det if regrids == 0 else float(_determinant(segment).min())

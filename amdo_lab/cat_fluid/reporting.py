@@ -27,7 +27,20 @@ PAPER_TABLE1: dict[str, dict[str, tuple[float, float]]] = {
 
 
 def paper_table1() -> pd.DataFrame:
-    """The paper's Table 1 as numbers: rows pairs A-C, columns (method, "mean" or "sd")."""
+    """The paper's Table 1 as numbers.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Rows the pairs A-C, columns (``"paper CAT"`` or ``"paper SOR"``, ``"mean"`` or ``"sd"``), grey
+        levels 0-255.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Table 1.
+    """
     return pd.DataFrame({(f"paper {method}", stat): {pair: values[method][k] for pair, values in PAPER_TABLE1.items()}
                          for method in ("CAT", "SOR") for k, stat in enumerate(("mean", "sd"))}).rename_axis("pair")
 
@@ -38,19 +51,25 @@ def grey_level_table(pairs: Mapping[str, RegistrationPair], deformed: Mapping[st
 
     Parameters
     ----------
-    pairs : pair name -> :class:`RegistrationPair` (its study, and its mask when ``masked``).
-    deformed : pair name -> {column label -> deformed template (H, W)}.
-    masked : over the pair's foreground mask instead of the whole image.
-    scale : grey-level scale (255 for the paper's 0-255 levels; our images are in [0, 1]).
+    pairs : mapping of str to RegistrationPair
+        Pair name -> pair (its study, and its mask when ``masked``).
+    deformed : mapping of str to mapping of str to numpy.ndarray
+        Pair name -> {column label -> deformed template (H, W)}; every pair name in ``pairs``.
+    masked : bool, optional
+        Average over the pair's foreground mask instead of the whole image (default False).
+    scale : float, optional
+        Grey-level scale, > 0 (default 255 for the paper's 0-255 levels; our images are in [0, 1]).
 
     Returns
     -------
-    DataFrame, rows the pairs, columns (label, "mean" or "sd").
+    pandas.DataFrame
+        Rows the pairs, columns (label, "mean" or "sd").
 
     References
     ----------
     L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
-    AMDO 2004, LNCS 3179, Table 1.
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Table 1.
     """
     scale = check_positive(scale, "scale")
     missing = sorted(set(deformed) - set(pairs))
@@ -67,7 +86,27 @@ def grey_level_table(pairs: Mapping[str, RegistrationPair], deformed: Mapping[st
 
 
 def mean_sd_strings(table: pd.DataFrame, digits: int = 2) -> pd.DataFrame:
-    """Collapse (label, "mean"/"sd") columns into one "mean / sd" text column per label."""
+    """Collapse (label, "mean"/"sd") columns into one "mean / sd" text column per label.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        Columns (label, "mean") and (label, "sd"), as from :func:`grey_level_table` or
+        :func:`paper_table1`.
+    digits : int, optional
+        Decimals shown (default 2).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Same rows, one text column per label.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Table 1 (its "mean / sd" layout).
+    """
     labels = list(dict.fromkeys(label for label, _ in table.columns))
     return pd.DataFrame({label: [f"{m:.{digits}f} / {s:.{digits}f}" for m, s in
                                  zip(table[(label, "mean")], table[(label, "sd")])] for label in labels},
@@ -78,9 +117,31 @@ def accuracy_row(pair: RegistrationPair, warped: np.ndarray, displacement: np.nd
                  backward: np.ndarray | None = None, scale: float = 255.0) -> dict[str, float]:
     """What an atlas user cares about, against the pair's known warp, on its mask.
 
-    Residual (mean |warped - study| in grey levels), displacement RMSE (pixels), the smallest
-    det(I - ∇u), the share of folded pixels (det ≤ 0, per cent) and, given the ``backward``
-    registration (study onto template), the inverse-consistency error (pixels; NaN without it).
+    Parameters
+    ----------
+    pair : RegistrationPair
+        The pair registered (study, true displacement and mask).
+    warped : numpy.ndarray of float, shape (H, W)
+        The deformed template.
+    displacement : numpy.ndarray of float, shape (2, H, W)
+        The estimated displacement, pixels.
+    backward : numpy.ndarray of float, shape (2, H, W), optional
+        The registration of the study onto the template, pixels.
+    scale : float, optional
+        Grey-level scale, > 0 (default 255).
+
+    Returns
+    -------
+    dict of str to float
+        "residual (mask)" (mean |warped - study|, grey levels), "RMSE px" (displacement error),
+        "min det" (smallest det(I - ∇u)), "folded %" (share of pixels with det ≤ 0) and
+        "inverse consistency px" (NaN without ``backward``).
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Table 1 and Sec. 5.
     """
     det = jacobian_determinant(displacement)
     return {"residual (mask)": grey_level_difference(warped, pair.study, pair.mask, scale=scale)[0],

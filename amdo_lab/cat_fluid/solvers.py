@@ -48,12 +48,30 @@ def _frequencies(shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
 
 
 def stencil_symbol(stencil: object, shape: tuple[int, int]) -> np.ndarray:
-    """Fourier symbol of a centro-symmetric (2, 18) stencil (eq. 15 layout), shape (2, 2, H, W//2+1).
+    """Fourier symbol of a centro-symmetric (2, 18) stencil in the layout of eq. (15).
 
     The stencil sums K_p v(x + d_p) over the neighbours d_p of :data:`NEIGHBOUR_OFFSETS`, so its
     symbol is Σ K_p exp(i ω·d_p), one 2x2 matrix per frequency ω of the real FFT of an (H, W) field.
     When K(d) = K(-d), as for the derived and the printed stencils, the sine parts cancel and the
     symbol is real.
+
+    Parameters
+    ----------
+    stencil : array_like, shape (2, 18)
+        Finite, centro-symmetric (K(d) = K(-d)).
+    shape : tuple of two int
+        (H, W) of the fields the symbol acts on, positive.
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2, 2, H, W//2 + 1)
+        One real 2x2 matrix per frequency of the real FFT of an (H, W) field.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eq. (15).
     """
     blocks = stencil_blocks(stencil)
     if not np.allclose(blocks, blocks[[NEIGHBOUR_OFFSETS.index((-d0, -d1)) for d0, d1 in NEIGHBOUR_OFFSETS]]):
@@ -64,12 +82,56 @@ def stencil_symbol(stencil: object, shape: tuple[int, int]) -> np.ndarray:
 
 
 def cat_symbol(shape: tuple[int, int], lam: float, mu: float) -> np.ndarray:
-    """Fourier symbol of the CAT stencil (eq. 15, :func:`fluid_stencil`), shape (2, 2, H, W//2+1)."""
+    """Fourier symbol of the CAT stencil (eq. 15, :func:`fluid_stencil`).
+
+    Parameters
+    ----------
+    shape : tuple of two int
+        (H, W) of the fields the symbol acts on, positive.
+    lam : float
+        Lamé constant λ ≥ 0 (the paper: 1).
+    mu : float
+        Lamé constant μ ≥ 0 (the paper: 5).
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2, 2, H, W//2 + 1)
+        One real 2x2 matrix per frequency of the real FFT of an (H, W) field.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eqs. (14)-(15).
+    """
     return stencil_symbol(fluid_stencil(lam, mu), shape)
 
 
 def finite_difference_symbol(shape: tuple[int, int], lam: float, mu: float) -> np.ndarray:
-    """Symbol of μΔ + (λ+μ)∇∇· with 3-point second differences and central mixed differences (eq. 17)."""
+    """Symbol of μΔ + (λ+μ)∇∇· with 3-point second differences and central mixed differences (eq. 17).
+
+    Parameters
+    ----------
+    shape : tuple of two int
+        (H, W) of the fields the symbol acts on, positive.
+    lam : float
+        Lamé constant λ ≥ 0 (the paper: 1).
+    mu : float
+        Lamé constant μ ≥ 0 (the paper: 5).
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2, 2, H, W//2 + 1)
+        One real 2x2 matrix per frequency of the real FFT of an (H, W) field.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eq. (17);
+    G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
+    IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
+    """
     lam, mu = check_moduli(lam, mu)
     w0, w1 = _frequencies(_check_shape(shape))
     d00 = 2 * np.cos(w0) - 2 + 0 * w1
@@ -81,7 +143,30 @@ def finite_difference_symbol(shape: tuple[int, int], lam: float, mu: float) -> n
 
 
 def apply_finite_difference(velocity: object, lam: float, mu: float) -> np.ndarray:
-    """The finite-difference operator of eq. (17) applied to a (2, H, W) field, periodic boundaries."""
+    """The finite-difference operator of eq. (17) applied to a (2, H, W) field, periodic boundaries.
+
+    Parameters
+    ----------
+    velocity : array_like, shape (2, H, W)
+        Finite velocity field, pixels per unit time.
+    lam : float
+        Lamé constant λ ≥ 0 (the paper: 1).
+    mu : float
+        Lamé constant μ ≥ 0 (the paper: 5).
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2, H, W)
+        μΔv + (λ+μ)∇(∇·v) by 3-point second differences and central mixed differences.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eq. (17);
+    G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
+    IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
+    """
     velocity = as_finite_array(velocity, "velocity", shape=(2, None, None))
     lam, mu = check_moduli(lam, mu)
 
@@ -99,16 +184,29 @@ def apply_finite_difference(velocity: object, lam: float, mu: float) -> np.ndarr
 
 
 def symbol_eigenvalues(symbol: object, rows: object, cols: object) -> np.ndarray:
-    """Eigenvalues (ascending) of the 2x2 symbol at the frequencies ``(rows[k], cols[k])``, shape (n, 2).
+    """Eigenvalues (ascending) of the 2x2 symbol at the frequencies ``(rows[k], cols[k])``.
 
-    ``symbol`` is a (2, 2, H, W//2+1) array from :func:`stencil_symbol`, :func:`cat_symbol` or
-    :func:`finite_difference_symbol`; ``rows`` and ``cols`` index its last two axes, e.g. a path
-    through frequency space (row k is the frequency 2π fftfreq(H)[k]).
+    Parameters
+    ----------
+    symbol : array_like, shape (2, 2, H, W//2 + 1)
+        From :func:`stencil_symbol`, :func:`cat_symbol` or :func:`finite_difference_symbol`;
+        finite and symmetric per frequency.
+    rows : array_like of int, shape (n,)
+        Indices into the symbol's axis 2 (row k is the frequency 2π fftfreq(H)[k]).
+    cols : array_like of int, shape (n,)
+        Indices into the symbol's axis 3, same length as ``rows``: e.g. a path through frequency
+        space.
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (n, 2)
+        Ascending eigenvalues at each frequency.
 
     References
     ----------
     L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
-    AMDO 2004, LNCS 3179, Sec. 4, eq. (15): the symbol of its stencil.
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Sec. 4, eq. (15): the symbol of its stencil.
     """
     symbol = as_finite_array(symbol, "symbol", shape=(2, 2, None, None))
     rows, cols = np.asarray(rows, dtype=int), np.asarray(cols, dtype=int)
@@ -125,10 +223,23 @@ def stencil_matrix(stencil: object, shape: tuple[int, int]) -> sp.csr_matrix:
     velocity component c at pixel m: the reference, pixel by pixel, for :func:`apply_stencil`
     and for the Fourier solve.
 
+    Parameters
+    ----------
+    stencil : array_like, shape (2, 18)
+        Finite stencil in the layout of eq. (15) (:data:`NEIGHBOUR_OFFSETS`).
+    shape : tuple of two int
+        (H, W) of the grid, positive.
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix of float, shape (2 H W, 2 H W)
+        The linear map from velocity to force.
+
     References
     ----------
     L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
-    AMDO 2004, LNCS 3179, eq. (15).
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eq. (15).
     """
     blocks = stencil_blocks(stencil)
     h, w = _check_shape(shape)
@@ -152,10 +263,23 @@ def solve_stencil_reference(stencil: object, force: object) -> np.ndarray:
     mean of F is removed and the zero-mean solution returned (least squares, minimum norm).
     Dense: use it on small grids only (a 32 x 32 grid is a 2048 x 2048 system).
 
+    Parameters
+    ----------
+    stencil : array_like, shape (2, 18)
+        Finite stencil in the layout of eq. (15).
+    force : array_like, shape (2, H, W)
+        Finite right-hand side F.
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2, H, W)
+        Zero-mean velocity v.
+
     References
     ----------
     L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
-    AMDO 2004, LNCS 3179, eq. (15) solved for the velocity.
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eq. (15) solved for the velocity.
     """
     force = as_finite_array(force, "force", shape=(2, None, None))
     h, w = force.shape[1:]
@@ -189,7 +313,7 @@ def default_omega(shape: tuple[int, int]) -> float:
     return 2.0 / (1.0 + np.sin(np.pi / max(shape)))
 
 
-def sor_solve(force: np.ndarray, lam: float, mu: float, *, sweeps: int = 250, omega: float | None = None,
+def sor_solve(force: np.ndarray, lam: float, mu: float, *, n_sweeps: int = 250, omega: float | None = None,
               initial: np.ndarray | None = None, ordering: str = "four-colour") -> np.ndarray:
     """Successive over-relaxation for the finite-difference eq. (17), periodic, four-colour ordering.
 
@@ -206,20 +330,37 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, sweeps: int = 250, om
 
     Parameters
     ----------
-    force : (2, H, W) right-hand side F of L v = F (its mean is removed).
-    lam, mu : Lamé constants λ ≥ 0, μ > 0.
-    sweeps : number of full sweeps (the paper: 250 per registration iteration).
-    omega : relaxation factor in (0, 2); default :func:`default_omega`.
-    initial : (2, H, W) starting velocity (warm start), zero by default.
-    ordering : "four-colour" (default), "red-black" or "red-black-together" (see above).
+    force : array_like, shape (2, H, W)
+        Finite right-hand side F of L v = F (its mean is removed); H and W even.
+    lam : float
+        Lamé constant λ ≥ 0 (the paper: 1).
+    mu : float
+        Lamé constant μ > 0 (the paper: 5).
+    n_sweeps : int, optional
+        Number of full sweeps, ≥ 0 (default 250, the paper's count per registration iteration).
+    omega : float, optional
+        Relaxation factor in (0, 2); default :func:`default_omega`.
+    initial : array_like, shape (2, H, W), optional
+        Starting velocity (warm start); zero by default.
+    ordering : str, optional
+        "four-colour" (default), "red-black" or "red-black-together" (see above).
 
     Returns
     -------
-    (2, H, W) velocity with zero mean.
+    numpy.ndarray of float, shape (2, H, W)
+        Velocity with zero mean.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Sec. 5, eq. (17) and its SOR solver;
+    G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
+    IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
     force = as_finite_array(force, "force", ndim=3, shape=(2, None, None))
     lam, mu = check_moduli(lam, mu, require_positive_mu=True)
-    sweeps = check_positive_int(sweeps, "sweeps", minimum=0)
+    n_sweeps = check_positive_int(n_sweeps, "n_sweeps", minimum=0)
     check_choice(ordering, "ordering", SOR_ORDERINGS)
     h, w = force.shape[1:]
     # SOR converges for 0 < omega < 2 only
@@ -272,7 +413,7 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, sweeps: int = 250, om
         steps = [[(comp, r, s) for r, s in colours] for colours in RED_BLACK for comp in (0, 1)]
     else:  # "red-black-together": both components of a colour at once
         steps = [[(comp, r, s) for r, s in colours for comp in (0, 1)] for colours in RED_BLACK]
-    for _ in range(sweeps):
+    for _ in range(n_sweeps):
         for step in steps:
             new_values = [relaxed(comp, r, s) for comp, r, s in step]
             for (comp, r, s), values in zip(step, new_values):
@@ -286,27 +427,46 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, sweeps: int = 250, om
     return velocity - velocity.mean(axis=(1, 2), keepdims=True)
 
 
-def sor_reference(force: object, lam: float, mu: float, *, sweeps: int, omega: float) -> np.ndarray:
+def sor_reference(force: object, lam: float, mu: float, *, n_sweeps: int, omega: float) -> np.ndarray:
     """Pixel-by-pixel SOR on the finite-difference eq. (17), the readable twin of :func:`sor_solve`.
 
     Same four-colour order (colour (row parity, column parity), then component), periodic, from
     zero: a plain Python loop, for small images. Within one colour no pixel is a neighbour of
     another, so this loop and the vectorised :func:`sor_solve` give the same numbers.
 
+    Parameters
+    ----------
+    force : array_like, shape (2, H, W)
+        Finite right-hand side F (its mean is removed).
+    lam : float
+        Lamé constant λ ≥ 0 (the paper: 1).
+    mu : float
+        Lamé constant μ > 0 (the paper: 5).
+    n_sweeps : int
+        Number of full sweeps, ≥ 0.
+    omega : float
+        Relaxation factor, > 0 (converges for ω < 2).
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2, H, W)
+        Velocity with zero mean.
+
     References
     ----------
     L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
-    AMDO 2004, LNCS 3179, Sec. 5, eq. (17) and its SOR solver (their reference [2]).
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    Sec. 5, eq. (17) and its SOR solver (their reference [2]).
     """
     force = as_finite_array(force, "force", shape=(2, None, None))
     lam, mu = check_moduli(lam, mu, require_positive_mu=True)
-    sweeps = check_positive_int(sweeps, "sweeps", minimum=0)
+    n_sweeps = check_positive_int(n_sweeps, "n_sweeps", minimum=0)
     omega = check_positive(omega, "omega")
     h, w = force.shape[1:]
     force = force - force.mean(axis=(1, 2), keepdims=True)
     v = np.zeros_like(force)
     centre = -(2 * lam + 6 * mu)  # eq. (17) discretised: coefficient of v_i at the pixel itself
-    for _ in range(sweeps):
+    for _ in range(n_sweeps):
         for r in (0, 1):
             for s in (0, 1):
                 for i in (0, 1):
@@ -330,7 +490,42 @@ def solve_velocity(force: object, method: str = "cat", lam: float = 1.0, mu: flo
                    **sor_options: object) -> np.ndarray:
     """Velocity v with L v = F (mean of F removed) by one of :data:`SOLVERS` (see module docstring).
 
-    ``sor_options`` (``sweeps``, ``omega``, ``initial``) are passed to :func:`sor_solve`.
+    Parameters
+    ----------
+    force : array_like, shape (2, H, W)
+        Finite right-hand side F, e.g. :func:`~amdo_lab.cat_fluid.registration.external_force`.
+    method : str, optional
+        "cat" (the CAT stencil, eq. 15, solved exactly; default), "sor" (eq. 17 by SOR) or "fft"
+        (eq. 17 solved exactly).
+    lam : float
+        Lamé constant λ ≥ 0 (the paper: 1).
+    mu : float
+        Lamé constant μ > 0 (the paper: 5).
+    **sor_options
+        ``n_sweeps``, ``omega``, ``initial``, ``ordering`` of :func:`sor_solve`; "sor" only.
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2, H, W)
+        Zero-mean velocity.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eqs. (15) and (17).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from amdo_lab.cat_fluid import apply_stencil, fluid_stencil, solve_velocity
+    >>> force = np.random.default_rng(0).normal(size=(2, 16, 16))
+    >>> velocity = solve_velocity(force, "cat", lam=1.0, mu=5.0)
+    >>> bool(np.allclose(apply_stencil(fluid_stencil(1.0, 5.0), velocity), force - force.mean(axis=(1, 2), keepdims=True)))
+    True
+    >>> exact = solve_velocity(force, "fft", lam=1.0, mu=5.0)
+    >>> bool(np.allclose(solve_velocity(force, "sor", lam=1.0, mu=5.0, n_sweeps=400), exact))
+    True
     """
     force = as_finite_array(force, "force", ndim=3, shape=(2, None, None))
     check_choice(method, "method", SOLVERS)

@@ -88,7 +88,32 @@ def fluid_stencil(lam: float = 1.0, mu: float = 5.0) -> np.ndarray:
 
     Parameters
     ----------
-    lam, mu : Lamé constants λ ≥ 0 and μ ≥ 0 (the paper: λ = 1, μ = 5).
+    lam : float, optional
+        Lamé constant λ ≥ 0 (default 1, as the paper).
+    mu : float, optional
+        Lamé constant μ ≥ 0 (default 5, as the paper).
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2, 18)
+        K; its centre coefficients are negative and each row sums to zero.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eqs. (8)-(15).
+
+    Examples
+    --------
+    >>> from amdo_lab.cat_fluid import consistency_errors, fluid_stencil, printed_stencil
+    >>> K = fluid_stencil(lam=1.0, mu=5.0)
+    >>> K.shape, float(K[0, 0])
+    ((2, 18), -24.0)
+    >>> max(consistency_errors(K).values())  # exact on constant, linear and quadratic fields
+    0.0
+    >>> max(consistency_errors(printed_stencil(1.0, 5.0)).values()) > 0  # the printed k differ
+    True
     """
     lam, mu = check_moduli(lam, mu)
     stencil = np.zeros((2, 18))
@@ -109,6 +134,24 @@ def printed_stencil(lam: float = 1.0, mu: float = 5.0) -> np.ndarray:
     k11 = k22 = -9/2 μ + 3/2 λ; k13 = k19 = k24 = k2,10 = (μ - λ)/4; k15 = k1,11 = k26 = k2,12 =
     5/4 μ - 3/4 λ; k17 = k1,13 = k1,15 = k1,17 = k28 = k2,14 = k2,16 = k2,18 = 3/8 μ + 1/8 λ;
     k18 = k1,14 = k1,16 = k1,18 = k27 = k2,13 = k2,15 = k2,17 = (μ + λ)/4; the rest 0.
+
+    Parameters
+    ----------
+    lam : float, optional
+        Lamé constant λ ≥ 0 (default 1, as the paper).
+    mu : float, optional
+        Lamé constant μ ≥ 0 (default 5, as the paper).
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2, 18)
+        The printed coefficients, in the layout of :func:`fluid_stencil`.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eq. (15) (the coefficients printed below it).
     """
     lam, mu = check_moduli(lam, mu)
     k = np.zeros((2, 18))
@@ -127,13 +170,52 @@ def printed_stencil(lam: float = 1.0, mu: float = 5.0) -> np.ndarray:
 
 
 def stencil_blocks(stencil: object) -> np.ndarray:
-    """The stencil as nine 2x2 blocks, shape (9, 2, 2): block p maps v(x + d_p) to the force."""
+    """The stencil as nine 2x2 blocks: block p maps v(x + d_p) to the force.
+
+    Parameters
+    ----------
+    stencil : array_like, shape (2, 18)
+        Finite stencil in the layout of eq. (15): column ``2 p + c`` multiplies velocity component c
+        at the neighbour ``NEIGHBOUR_OFFSETS[p]``.
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (9, 2, 2)
+        Block p, row i, column c: the coefficient of component c at ``NEIGHBOUR_OFFSETS[p]`` in
+        force component i.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eq. (15).
+    """
     stencil = as_finite_array(stencil, "stencil", shape=(2, 18))
     return stencil.reshape(2, 9, 2).transpose(1, 0, 2)
 
 
 def apply_stencil(stencil: object, velocity: object) -> np.ndarray:
-    """Force Σ_p K_p v(x + d_p) of a (2, 18) stencil on a (2, H, W) velocity, periodic boundaries."""
+    """Force Σ_p K_p v(x + d_p) of a (2, 18) stencil on a velocity field, periodic boundaries.
+
+    Parameters
+    ----------
+    stencil : array_like, shape (2, 18)
+        Finite stencil in the layout of eq. (15): column ``2 p + c`` multiplies velocity component c
+        at the neighbour ``NEIGHBOUR_OFFSETS[p]``.
+    velocity : array_like, shape (2, H, W)
+        Finite velocity field.
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2, H, W)
+        The force at every pixel.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eq. (15).
+    """
     blocks = stencil_blocks(stencil)
     velocity = as_finite_array(velocity, "velocity", shape=(2, None, None))
     out = np.zeros_like(velocity)
@@ -146,7 +228,25 @@ def apply_stencil(stencil: object, velocity: object) -> np.ndarray:
 def stencil_at_origin(stencil: object, velocity: Callable[[float, float], tuple[float, float]]) -> np.ndarray:
     """Force at the origin for a velocity field given as a function of (x1, x2), e.g. a polynomial.
 
-    ``velocity(x1, x2)`` must return the two finite velocity components at that point.
+    Parameters
+    ----------
+    stencil : array_like, shape (2, 18)
+        Finite stencil in the layout of eq. (15): column ``2 p + c`` multiplies velocity component c
+        at the neighbour ``NEIGHBOUR_OFFSETS[p]``.
+    velocity : callable
+        ``velocity(x1, x2)`` returns the two finite velocity components at that point (x1 along
+        array axis 0, unit pixel spacing).
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2,)
+        Σ_p K_p v(d_p).
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eq. (15).
     """
     blocks = stencil_blocks(stencil)
     if not callable(velocity):
@@ -160,6 +260,23 @@ def rotate_stencil(stencil: object) -> np.ndarray:
 
     An isotropic operator (as μΔ + (λ+μ)∇∇· is) is unchanged, which ties the v_2 row to the
     v_1 row: k_2 at offset R d equals (-k_{1, v2}, k_{1, v1}) at offset d.
+
+    Parameters
+    ----------
+    stencil : array_like, shape (2, 18)
+        Finite stencil in the layout of eq. (15): column ``2 p + c`` multiplies velocity component c
+        at the neighbour ``NEIGHBOUR_OFFSETS[p]``.
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2, 18)
+        The rotated stencil, same layout.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eq. (15).
     """
     blocks = stencil_blocks(stencil)
     rotation = np.array([[0.0, -1.0], [1.0, 0.0]])
@@ -177,10 +294,26 @@ def stencil_grid(stencil: object, row: int, component: int) -> np.ndarray:
     ``grid[d0 + 1, d1 + 1]`` is the coefficient by which velocity ``component`` at the neighbour
     (d0, d1) enters force component ``row`` (eq. 15, column 2 p + component).
 
+    Parameters
+    ----------
+    stencil : array_like, shape (2, 18)
+        Finite stencil in the layout of eq. (15): column ``2 p + c`` multiplies velocity component c
+        at the neighbour ``NEIGHBOUR_OFFSETS[p]``.
+    row : int
+        Force component, 0 or 1.
+    component : int
+        Velocity component, 0 or 1.
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (3, 3)
+        The coefficients, centre at [1, 1].
+
     References
     ----------
     L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
-    AMDO 2004, LNCS 3179, eq. (15).
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eq. (15).
     """
     blocks = stencil_blocks(stencil)
     for value, name in ((row, "row"), (component, "component")):
@@ -219,13 +352,26 @@ def _continuous_force(name: str, lam: float, mu: float) -> tuple[float, float]:
 def polynomial_test_fields(lam: float = 1.0, mu: float = 5.0) -> list[tuple[str, Callable[[float, float], tuple[float, float]], tuple[float, float]]]:
     """The velocity fields a consistent stencil must get exactly right, with the force it must give.
 
-    Returns (name, v(x1, x2), expected force at the origin): constants and linear fields (force 0)
-    and the six quadratic fields (force μΔv + (λ+μ)∇(∇·v), the left side of eq. 17).
+    Constants and linear fields (force 0) and the six quadratic fields (force μΔv + (λ+μ)∇(∇·v),
+    the left side of eq. 17).
+
+    Parameters
+    ----------
+    lam : float, optional
+        Lamé constant λ ≥ 0 (default 1, as the paper).
+    mu : float, optional
+        Lamé constant μ ≥ 0 (default 5, as the paper).
+
+    Returns
+    -------
+    list of (str, callable, tuple of two float)
+        (name, v(x1, x2), expected force at the origin), twelve entries.
 
     References
     ----------
     L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
-    AMDO 2004, LNCS 3179, eqs. (15) and (17).
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eqs. (15) and (17).
     """
     lam, mu = check_moduli(lam, mu)
     return ([(name, field, (0.0, 0.0)) for name, field in _LOW_ORDER_FIELDS.items()]
@@ -238,10 +384,26 @@ def consistency_errors(stencil: object, lam: float = 1.0, mu: float = 5.0) -> di
     Keys are "<field> → <expected force>" and "quarter turn leaves it unchanged"; a stencil that
     discretises μΔv + (λ+μ)∇(∇·v) with Lamé constants ``lam``, ``mu`` scores 0 on all of them.
 
+    Parameters
+    ----------
+    stencil : array_like, shape (2, 18)
+        Finite stencil in the layout of eq. (15): column ``2 p + c`` multiplies velocity component c
+        at the neighbour ``NEIGHBOUR_OFFSETS[p]``.
+    lam : float, optional
+        Lamé constant λ ≥ 0 (default 1, as the paper).
+    mu : float, optional
+        Lamé constant μ ≥ 0 (default 5, as the paper).
+
+    Returns
+    -------
+    dict of str to float
+        Thirteen errors, each ≥ 0.
+
     References
     ----------
     L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
-    AMDO 2004, LNCS 3179, eqs. (15) and (17).
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eqs. (15) and (17).
     """
     stencil = as_finite_array(stencil, "stencil", shape=(2, 18))
     errors = {}

@@ -68,22 +68,66 @@ def rotation_matrix(axis: np.ndarray, angle: float | np.ndarray) -> np.ndarray:
 
 
 def rotation_x(angle: float | np.ndarray) -> np.ndarray:
-    """Rotation about the x axis by ``angle`` radians."""
+    """Rotation about the x axis by ``angle`` radians.
+
+    Parameters
+    ----------
+    angle : float or array_like
+        Angle(s) in radians.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(3, 3)`` for a scalar angle, ``(*angle.shape, 3, 3)`` otherwise.
+    """
     return rotation_matrix(np.array([1.0, 0.0, 0.0]), angle)
 
 
 def rotation_y(angle: float | np.ndarray) -> np.ndarray:
-    """Rotation about the y axis by ``angle`` radians."""
+    """Rotation about the y axis by ``angle`` radians.
+
+    Parameters
+    ----------
+    angle : float or array_like
+        Angle(s) in radians.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(3, 3)`` for a scalar angle, ``(*angle.shape, 3, 3)`` otherwise.
+    """
     return rotation_matrix(np.array([0.0, 1.0, 0.0]), angle)
 
 
 def rotation_z(angle: float | np.ndarray) -> np.ndarray:
-    """Rotation about the z axis by ``angle`` radians."""
+    """Rotation about the z axis by ``angle`` radians.
+
+    Parameters
+    ----------
+    angle : float or array_like
+        Angle(s) in radians.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(3, 3)`` for a scalar angle, ``(*angle.shape, 3, 3)`` otherwise.
+    """
     return rotation_matrix(np.array([0.0, 0.0, 1.0]), angle)
 
 
 def rotation_2d(angle: float | np.ndarray) -> np.ndarray:
-    """Counter-clockwise 2-D rotation, ``(2, 2)`` or ``(*angle.shape, 2, 2)``."""
+    """Counter-clockwise 2-D rotation matrix.
+
+    Parameters
+    ----------
+    angle : float or array_like
+        Angle(s) in radians, counter-clockwise.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(2, 2)`` for a scalar angle, ``(*angle.shape, 2, 2)`` otherwise.
+    """
     return _rotation_2d(as_finite_array(angle, "angle", allow_empty=True))
 
 
@@ -102,6 +146,11 @@ def rigid_transform(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray
         Rotation matrix, or a stack of them.
     translation : (..., d) array_like
         Translation vector(s), broadcastable against the leading axes of ``rotation``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(..., d+1, d+1)`` homogeneous matrices with ``[R t; 0 1]``.
     """
     rotation = as_finite_array(rotation, "rotation")
     if rotation.ndim < 2 or rotation.shape[-1] != rotation.shape[-2]:
@@ -128,7 +177,17 @@ def _broadcasts_to(shape: tuple[int, ...], target: tuple[int, ...]) -> bool:
 def apply_rigid(transform: np.ndarray, points: np.ndarray) -> np.ndarray:
     """Apply a homogeneous transform ``(d+1, d+1)`` to points ``(n, d)``: ``R p + t`` per row.
 
-    A single point ``(d,)`` gives a ``(d,)`` result; an empty ``(0, d)`` set gives an empty one.
+    Parameters
+    ----------
+    transform : (d+1, d+1) array_like
+        Homogeneous matrix ``[R t; 0 1]``, e.g. from :func:`rigid_transform`.
+    points : (n, d) or (d,) array_like
+        Points as rows; an empty ``(0, d)`` set is allowed.
+
+    Returns
+    -------
+    numpy.ndarray
+        The mapped points, of the shape of ``points``.
     """
     transform = as_finite_array(transform, "transform", ndim=2)
     d = transform.shape[-1] - 1
@@ -155,6 +214,11 @@ def apply_similarity_2d(
         Rotation angle in radians (a single angle).
     translation : (2,) array_like
         Translation t.
+
+    Returns
+    -------
+    numpy.ndarray
+        The mapped points, of the shape of ``points``.
     """
     points = as_finite_array(points, "points", allow_empty=True)
     if points.ndim not in (1, 2) or points.shape[-1] != 2:
@@ -206,6 +270,16 @@ def procrustes_align(
         Allow an improper orthogonal matrix.
     weights : (n,) array_like, optional
         Non-negative weights per correspondence.
+
+    Returns
+    -------
+    ProcrustesResult
+        The aligned source, scale, rotation, translation and RMS error.
+
+    References
+    ----------
+    S. Umeyama. Least-squares estimation of transformation parameters between two point patterns.
+    IEEE TPAMI 13(4), 1991, pp. 376-380.
     """
     source = as_finite_array(source, "source", ndim=2)
     target = as_finite_array(target, "target", ndim=2)

@@ -49,6 +49,11 @@ def spawn_rngs(seed: int | np.random.Generator, n: int) -> list[np.random.Genera
         As for :func:`make_rng`.
     n : int
         Number of generators, at least 1.
+
+    Returns
+    -------
+    list of numpy.random.Generator
+        ``n`` independent generators.
     """
     if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1:
         raise ValueError(f"n must be a positive int, got {n!r}")

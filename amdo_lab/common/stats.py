@@ -18,7 +18,19 @@ __all__ = ["RateInterval", "PairedComparison", "rate_interval", "paired_comparis
 
 @dataclass(frozen=True)
 class RateInterval:
-    """A rate with its Wilson score interval: ``successes`` of ``trials``, ``low`` ≤ rate ≤ ``high``."""
+    """A rate with its Wilson score interval: ``successes`` of ``trials``, ``low`` ≤ rate ≤ ``high``.
+
+    Parameters
+    ----------
+    successes : int
+        Items right (recognised, succeeded).
+    trials : int
+        Items scored, at least 1.
+    low, high : float
+        Ends of the interval, in [0, 1].
+    confidence : float
+        Its coverage, in (0, 1).
+    """
 
     successes: int
     trials: int
@@ -28,10 +40,22 @@ class RateInterval:
 
     @property
     def rate(self) -> float:
+        """The observed rate, ``successes / trials``."""
         return self.successes / self.trials
 
     def contains(self, value: float) -> bool:
-        """Whether ``value`` (a rate in [0, 1], e.g. a paper's number) lies inside the interval."""
+        """Whether ``value`` (a rate in [0, 1], e.g. a paper's number) lies inside the interval.
+
+        Parameters
+        ----------
+        value : float
+            A rate in [0, 1].
+
+        Returns
+        -------
+        bool
+            ``low <= value <= high``.
+        """
         return self.low <= value <= self.high
 
 
@@ -42,6 +66,17 @@ class PairedComparison:
     ``only_first`` items are right for the first method and wrong for the second, ``only_second``
     the reverse; ``p_value`` is the two-sided exact binomial test of ``only_first`` against half of
     the discordant items (1.0 when there are none).
+
+    Parameters
+    ----------
+    only_first : int
+        Items right for the first method only.
+    only_second : int
+        Items right for the second method only.
+    both, neither : int
+        Items right for both, and for neither.
+    p_value : float
+        Two-sided exact p-value.
     """
 
     only_first: int
@@ -82,8 +117,15 @@ def rate_interval(outcomes: np.ndarray, confidence: float = 0.95) -> RateInterva
 
     Parameters
     ----------
-    outcomes : (n,) bool, one per item (True = recognised / succeeded).
-    confidence : coverage of the interval, in (0, 1).
+    outcomes : (n,) bool array_like
+        One outcome per item (True = recognised / succeeded), n >= 1.
+    confidence : float
+        Coverage of the interval, in (0, 1).
+
+    Returns
+    -------
+    RateInterval
+        Successes, trials, the interval's ends and its confidence.
     """
     from statsmodels.stats.proportion import proportion_confint  # lazy: statsmodels is slow to import
 
@@ -99,7 +141,15 @@ def paired_comparison(first: np.ndarray, second: np.ndarray) -> PairedComparison
 
     Parameters
     ----------
-    first, second : (n,) bool, the same items in the same order (True = right).
+    first : (n,) bool array_like
+        The first method's outcomes (True = right), n >= 1.
+    second : (n,) bool array_like
+        The second method's outcomes on the same items in the same order.
+
+    Returns
+    -------
+    PairedComparison
+        The four counts and McNemar's exact two-sided p-value.
     """
     from statsmodels.stats.contingency_tables import mcnemar  # lazy: statsmodels is slow to import
 

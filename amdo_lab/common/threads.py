@@ -22,6 +22,11 @@ def one_blas_thread() -> AbstractContextManager:
 
     Small matrices (tens to hundreds of rows) run faster on one thread: more threads only contend,
     on a shared two-core machine many times slower.
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        Use as ``with one_blas_thread(): ...``.
     """
     global _CONTROLLER
     if _CONTROLLER is None:

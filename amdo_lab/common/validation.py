@@ -99,7 +99,22 @@ def _format_shape(shape: Sequence[int | None]) -> str:
 
 
 def check_positive(value: object, name: str, *, allow_zero: bool = False) -> float:
-    """Return ``value`` as a float after checking it is a finite positive real number."""
+    """Return ``value`` as a float after checking it is a finite positive real number.
+
+    Parameters
+    ----------
+    value : real number
+        The user's input (a bool is refused).
+    name : str
+        The argument's name, used in error messages.
+    allow_zero : bool
+        Whether 0 is accepted.
+
+    Returns
+    -------
+    float
+        ``value``.
+    """
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
     number = float(value)
@@ -112,7 +127,22 @@ def check_positive(value: object, name: str, *, allow_zero: bool = False) -> flo
 
 
 def check_positive_int(value: object, name: str, *, minimum: int = 1) -> int:
-    """Return ``value`` as an int after checking it is an integer of at least ``minimum``."""
+    """Return ``value`` as an int after checking it is an integer of at least ``minimum``.
+
+    Parameters
+    ----------
+    value : int
+        The user's input (a bool or a float is refused, even 2.0).
+    name : str
+        The argument's name, used in error messages.
+    minimum : int
+        Smallest accepted value.
+
+    Returns
+    -------
+    int
+        ``value``.
+    """
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
         raise TypeError(f"{name} must be an int, got {type(value).__name__}")
     if value < minimum:
@@ -121,7 +151,22 @@ def check_positive_int(value: object, name: str, *, minimum: int = 1) -> int:
 
 
 def check_choice(value: object, name: str, choices: Iterable[object]) -> object:
-    """Return ``value`` after checking it is one of ``choices``."""
+    """Return ``value`` after checking it is one of ``choices``.
+
+    Parameters
+    ----------
+    value : object
+        The user's input.
+    name : str
+        The argument's name, used in error messages.
+    choices : iterable
+        The accepted values; the message lists them.
+
+    Returns
+    -------
+    object
+        ``value``.
+    """
     options = list(choices)
     if value not in options:
         listed = ", ".join(repr(option) for option in options)
@@ -130,7 +175,20 @@ def check_choice(value: object, name: str, choices: Iterable[object]) -> object:
 
 
 def check_bool(value: object, name: str) -> bool:
-    """Return ``value`` after checking it is a ``bool`` (``'yes'``, ``1`` or ``None`` are refused)."""
+    """Return ``value`` after checking it is a ``bool`` (``'yes'``, ``1`` or ``None`` are refused).
+
+    Parameters
+    ----------
+    value : bool
+        The user's input (``numpy.bool_`` is accepted).
+    name : str
+        The argument's name, used in error messages.
+
+    Returns
+    -------
+    bool
+        ``value``.
+    """
     if not isinstance(value, (bool, np.bool_)):
         raise TypeError(f"{name} must be True or False, got {type(value).__name__}")
     return bool(value)
@@ -157,6 +215,11 @@ def check_in_range(
     closed : {"neither", "left", "right", "both"}
         Which ends belong to the interval: ``"neither"`` is the open interval, e.g. a probability
         that must not be 0 or 1.
+
+    Returns
+    -------
+    float
+        ``value``.
     """
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
@@ -177,6 +240,20 @@ def as_bool_mask(value: object, name: str, *, shape: Sequence[int] | None = None
 
     Numbers are refused rather than thresholded: 0/1 floats passed as a mask are often a mistake
     (a probability map, an image) that a silent cast would hide.
+
+    Parameters
+    ----------
+    value : array_like of bool
+        The user's mask.
+    name : str
+        The argument's name, used in error messages.
+    shape : sequence of int, optional
+        Required shape.
+
+    Returns
+    -------
+    numpy.ndarray
+        A boolean copy (the caller's array is never modified).
     """
     array = np.asarray(value)
     if array.dtype != bool:
@@ -191,7 +268,22 @@ def as_bool_mask(value: object, name: str, *, shape: Sequence[int] | None = None
 def as_image_pair(
     first: object, second: object, names: tuple[str, str] = ("template", "study"), *, ndim: int = 2
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Two finite float images of one shape (e.g. a registration's template and study)."""
+    """Two finite float images of one shape (e.g. a registration's template and study).
+
+    Parameters
+    ----------
+    first, second : array_like
+        The two images.
+    names : tuple of str
+        Their argument names, used in error messages.
+    ndim : int
+        Required number of dimensions of each.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        Float copies of ``first`` and ``second``.
+    """
     a = as_finite_array(first, names[0], ndim=ndim)
     b = as_finite_array(second, names[1], ndim=ndim)
     if a.shape != b.shape:
@@ -200,7 +292,20 @@ def as_image_pair(
 
 
 def check_axes(ax: object, name: str = "ax") -> object:
-    """Return ``ax`` after checking it is a matplotlib ``Axes``."""
+    """Return ``ax`` after checking it is a matplotlib ``Axes``.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The user's axes.
+    name : str
+        The argument's name, used in error messages.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        ``ax``.
+    """
     from matplotlib.axes import Axes  # here, not at the top: validation must not need matplotlib
 
     if not isinstance(ax, Axes):
@@ -213,6 +318,13 @@ def check_fitted(estimator: object, attributes: str | Sequence[str]) -> None:
 
     Learned attributes end with an underscore (scikit-learn's convention), so an estimator is
     fitted when they exist. ``NotFittedError`` subclasses ``ValueError``.
+
+    Parameters
+    ----------
+    estimator : object
+        The estimator to check.
+    attributes : str or sequence of str
+        Learned attributes that exist (and are not None) once it is fitted.
     """
     from sklearn.exceptions import NotFittedError
 

@@ -1,6 +1,8 @@
 """Chapter 4: ear biometrics with geometric features (Choraś, AMDO 2004).
 
-Synthetic seeded ear images stand in for the paper's (unavailable) database.
+Synthetic seeded ear images stand in for the paper's (unavailable) database. Beyond the paper, the
+image is brought into a canonical frame (silhouette moments) before contour detection, and steps
+8-9 rank the enrolled templates by the distance between the characteristic points of F.
 """
 
 from amdo_lab.ear_biometrics.features import (
@@ -13,6 +15,7 @@ from amdo_lab.ear_biometrics.features import (
     as_grey_image,
     canny_contours,
     circle_features,
+    circle_features_reference,
     clean_contours,
     crossing_number,
     detect_contours,
@@ -22,14 +25,28 @@ from amdo_lab.ear_biometrics.features import (
     smooth_polylines,
     topology_features,
 )
+from amdo_lab.ear_biometrics.frame import (
+    CANONICAL_SPREAD,
+    FRAME_SOURCES,
+    CanonicalFrame,
+    frame_normalisation,
+    moment_frame,
+    silhouette,
+    similarity_copy,
+    to_canonical,
+)
 from amdo_lab.ear_biometrics.matcher import (
     EarMatcher,
     EarTemplate,
     HogNearestNeighbour,
     IdentificationResult,
     OpenSetRates,
+    POINT_DISTANCE_CAP,
+    RANKINGS,
+    characteristic_points,
     cumulative_match,
     open_set_rates,
+    point_distance,
     rank_of_truth,
     topology_similarity,
 )

@@ -150,6 +150,11 @@ def _image_axes_matrix(spread: np.ndarray) -> np.ndarray:
     return np.array([[0.0, 1.0 / spread[1]], [-1.0 / spread[0], 0.0]])
 
 
+def check_normalisation_mode(mode: object, name: str = "mode") -> str:
+    """One of :data:`NORMALISATION_MODES`."""
+    return check_choice(mode, name, NORMALISATION_MODES)
+
+
 def normalise_coordinates(contours: object, mode: str = "principal") -> Normalisation:
     """Eq. (6): translate the centroid of the contour pixels to the origin and divide by the spread.
 
@@ -437,7 +442,8 @@ def _skeleton(array: np.ndarray) -> np.ndarray:
 
 def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *, mode: str = "principal",
                     min_gap: float = 0.0, crossings: str = "pixels", polyline_smoothing: int = 2,
-                    band: float = 0.0, spur_length: int = 0, skeleton: np.ndarray | None = None) -> CircleFeatures:
+                    band: float = 0.0, spur_length: int = 0, skeleton: np.ndarray | None = None,
+                    normalisation: Normalisation | None = None) -> CircleFeatures:
     """First feature vector V, eq. (7).
 
     Circles of radius r_m = m * step (m = 1..n_circles) in *normalised* units (eq. 6) are centred on
@@ -458,6 +464,10 @@ def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *,
 
     sum d is the perimeter of the polygon through the intersections taken counter-clockwise, closed
     so that it does not depend on a start angle (0 for fewer than two intersections).
+
+    ``normalisation`` replaces eq. 6 on the contour pixels by a given frame (for instance the ear
+    silhouette's, :func:`amdo_lab.ear_biometrics.frame.silhouette_normalisation`); ``mode`` is then
+    not used.
     """
     array = as_contour_image(contours)
     n_circles = check_positive_int(n_circles, "n_circles")
@@ -467,7 +477,12 @@ def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *,
     polyline_smoothing = check_positive_int(polyline_smoothing, "polyline_smoothing", minimum=0)
     band = check_positive(band, "band", allow_zero=True)
     spur_length = check_positive_int(spur_length, "spur_length", minimum=0)
-    norm = normalise_coordinates(array, mode)
+    if normalisation is None:
+        norm = normalise_coordinates(array, mode)
+    elif isinstance(normalisation, Normalisation):
+        norm = normalisation
+    else:
+        raise TypeError(f"normalisation must be a Normalisation or None, got {type(normalisation).__name__}")
     radii = step * np.arange(1, n_circles + 1)
     if crossings == "pixels":
         rows, theta = _pixel_crossings(array, norm, radii, min_gap)
@@ -479,6 +494,58 @@ def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *,
         rows, theta = _polyline_crossings(prune_spurs(thin, spur_length), norm, radii, polyline_smoothing, band)
     counts, sums, points = _circle_polygons(rows, theta, radii)
     return CircleFeatures(radii, counts, sums, points, norm)
+
+
+def circle_features_reference(contours: object, n_circles: int = 8, step: float = 0.25) -> CircleFeatures:
+    """Eqs. (6)-(7) written out in plain numpy, one circle at a time: the reading to open beside the
+    paper. Literal eq. 6 (the image axes, ``mode="axes"``) and the literal count (every run of contour
+    pixels met along a sampled circle is one intersection, ``crossings="pixels"``, ``min_gap=0``);
+    :func:`circle_features` with those settings is the vectorised path and is tested equal to this.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 3 (eq. 6) and Sec. 4 (eq. 7).
+    """
+    array = as_contour_image(contours)
+    n_circles = check_positive_int(n_circles, "n_circles")
+    step = check_positive(step, "step")
+    rows_cols = np.argwhere(array).astype(float)
+    # eq. 6: the centroid (I, J) becomes the origin; each axis is divided by its standard deviation
+    centroid = rows_cols.mean(axis=0)  # (I, J)
+    sigma = rows_cols.std(axis=0)  # (sigma_i, sigma_j)
+    norm = Normalisation(centroid, sigma, _image_axes_matrix(sigma))  # x = (j - J)/sigma_j, y = -(i - I)/sigma_i
+    radii = step * np.arange(1, n_circles + 1)  # r_m = m * alpha, normalised units
+    n_samples = int(8 * np.ceil(4 * np.pi * radii[-1] * sigma.max() / 8)) + 8  # >= 2 samples per pixel
+    angles = 2 * np.pi * np.arange(n_samples) / n_samples
+    counts, sums, points = [], [], []
+    for r in radii:
+        # the circle of radius r around the centroid, back in pixels (inverse of eq. 6)
+        circle_xy = r * np.c_[np.cos(angles), np.sin(angles)]
+        pixel = np.round(norm.to_pixels(circle_xy)).astype(int)
+        inside = np.all((pixel >= 0) & (pixel < array.shape), axis=1)
+        on_contour = np.zeros(n_samples, bool)
+        on_contour[inside] = array[pixel[inside, 0], pixel[inside, 1]]
+        # l_r (eq. 7): runs of consecutive samples on contour pixels, the circle read as closed
+        if on_contour.all():
+            middles = np.array([0.0])
+        else:
+            start = np.argmin(on_contour)  # begin on a sample off the contour: no run wraps around
+            rolled = np.roll(on_contour, -start)
+            edges = np.diff(np.r_[0, rolled.astype(int), 0])
+            first, last = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
+            middles = ((first + last) / 2 + start) % n_samples
+        middles = np.sort(middles)
+        crossing_xy = r * np.c_[np.cos(2 * np.pi * middles / n_samples), np.sin(2 * np.pi * middles / n_samples)]
+        # sum d (eq. 7): distances between neighbouring intersections, counter-clockwise, closed
+        if len(crossing_xy) > 1:
+            chords = np.linalg.norm(np.roll(crossing_xy, -1, axis=0) - crossing_xy, axis=1)
+            sums.append(chords.sum())
+        else:
+            sums.append(0.0)
+        counts.append(len(crossing_xy))
+        points.append(crossing_xy)
+    return CircleFeatures(radii, np.array(counts), np.array(sums), tuple(points), norm)
 
 
 def crossing_number(skeleton: np.ndarray) -> np.ndarray:
@@ -545,7 +612,8 @@ def _cluster_centres(mask: np.ndarray) -> np.ndarray:
 
 def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, *, mode: str = "principal",
                       min_gap: float = 0.0, crossings: str = "pixels", polyline_smoothing: int = 2,
-                      band: float = 0.0, spur_length: int = 0) -> TopologyFeatures:
+                      band: float = 0.0, spur_length: int = 0,
+                      normalisation: Normalisation | None = None) -> TopologyFeatures:
     """Second feature vector F, eq. (9).
 
     The contour image is thinned (``skimage.morphology.skeletonize``); skeleton pixels with
@@ -553,12 +621,14 @@ def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, 
     8-connected skeleton component that reaches inside the outermost circle is one contour; the
     circle intersections of V are assigned to the nearest skeleton component. Contours are listed
     from the outermost (largest normalised radius) inwards, the paper's tracing order.
+    ``normalisation`` replaces eq. 6 on the contour pixels by a given frame, as in
+    :func:`circle_features`.
     """
     array = as_contour_image(contours)
     full_skeleton = _skeleton(array)
     circles = circle_features(array, n_circles, step, mode=mode, min_gap=min_gap, crossings=crossings,
                               polyline_smoothing=polyline_smoothing, band=band, spur_length=spur_length,
-                              skeleton=full_skeleton)
+                              skeleton=full_skeleton, normalisation=normalisation)
     norm = circles.normalisation
     # Work inside the contours' bounding box (plus a 1-pixel margin): same result, less to scan.
     rows, cols = np.flatnonzero(array.any(axis=1)), np.flatnonzero(array.any(axis=0))

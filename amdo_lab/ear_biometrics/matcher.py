@@ -14,11 +14,22 @@ from amdo_lab.ear_biometrics.features import (
     CROSSING_READINGS,
     NORMALISATION_MODES,
     CircleFeatures,
+    Normalisation,
     TopologyFeatures,
     as_grey_image,
     clean_contours,
     detect_contours,
     topology_features,
+)
+from amdo_lab.ear_biometrics.frame import (
+    CANONICAL_SPREAD,
+    CanonicalFrame,
+    check_frame_source,
+    check_spread_fraction,
+    frame_normalisation,
+    _moment_frame_fast,
+    _silhouette,
+    _to_canonical,
 )
 
 
@@ -82,6 +93,65 @@ def _topology_similarity(query: TopologyFeatures, reference: TopologyFeatures, c
     return matched / max(len(query.contours), len(reference.contours), 1)
 
 
+POINT_DISTANCE_CAP = 0.5
+"""Largest distance (normalised units) one characteristic point can add to :func:`point_distance`:
+a point with no partner nearby (a contour break, a spur) costs at most this much."""
+
+RANKINGS = ("points", "triples")
+
+
+def characteristic_points(features: TopologyFeatures) -> np.ndarray:
+    """All characteristic points of F (eq. 9): endings, bifurcations and circle crossings of every
+    contour, normalised (x, y), as one (n, 2) array."""
+    if not isinstance(features, TopologyFeatures):
+        raise TypeError(f"features must be TopologyFeatures (from topology_features), got {type(features).__name__}")
+    return _points(features)
+
+
+def _points(features: TopologyFeatures) -> np.ndarray:
+    parts = [c.points for c in features.contours]
+    return np.vstack(parts) if parts else np.zeros((0, 2))
+
+
+def point_distance(query: TopologyFeatures, reference: TopologyFeatures, cap: float = POINT_DISTANCE_CAP) -> float:
+    """Steps 8-9 read as a distance: do the stored points of F lie at the same coordinates?
+
+    Plain-numpy reference: for every characteristic point (eq. 9) of one image, the distance to
+    the nearest one of the other image, capped at ``cap``; the mean over the query's points and the
+    mean over the reference's points are averaged (symmetric, a chamfer distance). 0 = the same
+    points; ``cap`` when one image has no point. Unlike steps 7-8 read literally (the triples
+    (N_E, N_B, N_I) must match exactly before coordinates are compared), one extra or missing point
+    changes the distance by at most ``cap`` / n.
+    """
+    for features, name in ((query, "query"), (reference, "reference")):
+        if not isinstance(features, TopologyFeatures):
+            raise TypeError(f"{name} must be TopologyFeatures (from topology_features), got {type(features).__name__}")
+    cap = check_positive(cap, "cap")
+    a, b = _points(query), _points(reference)
+    if len(a) == 0 or len(b) == 0:
+        return cap
+    gaps = np.linalg.norm(a[:, None, :] - b[None, :, :], axis=2)  # (n_query, n_reference)
+    return 0.5 * (np.minimum(gaps.min(axis=1), cap).mean() + np.minimum(gaps.min(axis=0), cap).mean())
+
+
+def _point_distances(query: np.ndarray, stacked: np.ndarray, starts: np.ndarray, cap: float) -> np.ndarray:
+    """:func:`point_distance` from one query's points to every enrolled template at once.
+
+    ``stacked`` holds the points of all templates one after the other, template t from row
+    ``starts[t]`` (every template has at least one point); the per-template minima and means are
+    segment reductions (``np.minimum.reduceat`` / ``np.add.reduceat``) over the same gap matrix."""
+    n_templates = len(starts)
+    if len(query) == 0:
+        return np.full(n_templates, cap)
+    # squared gaps: the square root is monotone, so it is taken after the minima (fewer roots)
+    squared = ((query[:, None, :] - stacked[None, :, :]) ** 2).sum(axis=2)
+    counts = np.diff(np.r_[starts, len(stacked)])
+    nearest_to_query = np.sqrt(np.minimum.reduceat(squared, starts, axis=1))  # (n_query, n_templates)
+    query_side = np.minimum(nearest_to_query, cap).mean(axis=0)
+    reference_side = np.add.reduceat(np.minimum(np.sqrt(squared.min(axis=0)), cap), starts) / counts
+    return 0.5 * (query_side + reference_side)
+
+
 @dataclass
 class EarMatcher:
     """Choraś's classifier (Sec. 5).
@@ -102,6 +172,20 @@ class EarMatcher:
     merging runs less than ``min_gap`` pixels of arc apart (``min_gap=0`` is the literal count).
     Pixel settings are for 256 x 256 images (the database default); they were chosen on development
     seeds, not on the notebook's data.
+
+    Invariance (beyond the paper's text). ``frame="silhouette"`` (default) resamples the image into
+    the canonical frame of its silhouette (:func:`~amdo_lab.ear_biometrics.frame.moment_frame`:
+    centroid, principal axis with its sign fixed by the third moment, spread scaled to
+    ``canonical_spread`` of the side) *before* step 1, so a rotated, rescaled or shifted copy is
+    detected at the same place, orientation and size; ``"contours"`` takes that frame from the
+    contour pixels of the given image instead; ``"image"`` detects in the image as given (the
+    paper's pipeline). With a canonical frame, ``origin="frame"`` (default) takes eq. 6's centroid
+    and spreads from the silhouette's moments; ``"contours"`` from the contour pixels (eq. 6 as
+    printed, in the reading ``mode``). ``ranking="points"`` (default) ranks by
+    :func:`point_distance` between the characteristic points of F (steps 8-9 read as a distance);
+    ``"triples"`` is the literal steps 7-9 (exact triples, then coordinates) combined with the
+    distance-sum difference. Either way, the decision (``subject_id``) is the best-ranked template
+    among those that pass steps 2-4.
     """
 
     k: float = 8.0
@@ -121,6 +205,10 @@ class EarMatcher:
     polyline_smoothing: int = 4
     band: float = 6.0
     spur_length: int = 8
+    frame: str = "silhouette"
+    canonical_spread: float = CANONICAL_SPREAD
+    origin: str = "frame"
+    ranking: str = "points"
     _ids: list = field(default_factory=list, init=False, repr=False)
     _templates: list = field(default_factory=list, init=False, repr=False)
 
@@ -145,20 +233,68 @@ class EarMatcher:
         check_positive_int(self.polyline_smoothing, "polyline_smoothing", minimum=0)
         check_positive(self.band, "band", allow_zero=True)
         check_positive_int(self.spur_length, "spur_length", minimum=0)
+        check_frame_source(self.frame, "frame")
+        check_spread_fraction(self.canonical_spread, "canonical_spread")
+        check_choice(self.origin, "origin", ("frame", "contours"))
+        check_choice(self.ranking, "ranking", RANKINGS)
 
-    def extract(self, image: object) -> EarTemplate:
-        """Features of one image: contours (eqs. 1-5), clean-up, V and F."""
-        grey = as_grey_image(image)  # validates; 8-bit input keeps the detector's fast uint8 path
+    def canonical_frame(self, image: object) -> CanonicalFrame | None:
+        """The similarity that brings ``image`` into its canonical frame (None for ``frame="image"``).
+
+        ``"silhouette"``: second and third moments of :func:`silhouette`; ``"contours"``: of the
+        cleaned contours detected in the image as given."""
+        grey = as_grey_image(image)
+        return None if self.frame == "image" else self._frame_of(self._input(image, grey))
+
+    def _frame_of(self, work: np.ndarray) -> CanonicalFrame:
+        """:meth:`canonical_frame` of validated input (8-bit or float)."""
+        mask = _silhouette(work) if self.frame == "silhouette" else self._contours(work)
+        if np.count_nonzero(mask) < 3:
+            raise ValueError("image has no contour (blank, constant or too smooth image): no ear silhouette")
+        return _moment_frame_fast(mask, work.shape, self.canonical_spread)
+
+    def _input(self, image: object, grey: np.ndarray) -> np.ndarray:
+        """8-bit input keeps the detector's fast uint8 path; anything else is used as float."""
+        return np.asarray(image) if np.asarray(image).dtype == np.uint8 else grey
+
+    def _contours(self, image: np.ndarray) -> np.ndarray:
+        """Step 1: optional smoothing, contours (eqs. 1-5) and the clean-up."""
         if self.smoothing > 0:  # image normalisation step before contour detection (Fig. 3)
-            grey = cv2.GaussianBlur(grey, (0, 0), self.smoothing)
-        elif np.asarray(image).dtype == np.uint8:
-            grey = np.asarray(image)
-        contours = clean_contours(detect_contours(grey, self.k, self.window), self.min_component_size, self.closing)
+            image = cv2.GaussianBlur(np.asarray(image, float), (0, 0), self.smoothing)
+        contours = clean_contours(detect_contours(image, self.k, self.window), self.min_component_size, self.closing)
         if not contours.any():
             raise ValueError("image has no contour (blank, constant or too smooth image)")
-        topology = topology_features(contours, self.n_circles, self.step, mode=self.mode, min_gap=self.min_gap,
-                                     crossings=self.crossings, polyline_smoothing=self.polyline_smoothing,
-                                     band=self.band, spur_length=self.spur_length)
+        return contours
+
+    def canonical_image(self, image: object) -> np.ndarray:
+        """The image that step 1 sees: resampled into the canonical frame, or as given for
+        ``frame="image"`` (8-bit input stays 8-bit)."""
+        return self._prepare(image)[0]
+
+    def contour_image(self, image: object) -> np.ndarray:
+        """Step 1 as the matcher runs it: the cleaned contours (boolean) that V and F are computed from,
+        in the canonical image unless ``frame="image"``."""
+        return self._contours(self._prepare(image)[0])
+
+    def _prepare(self, image: object) -> tuple[np.ndarray, Normalisation | None]:
+        """Validated input, in the canonical frame when asked, and the frame's eq. 6 (or None)."""
+        grey = as_grey_image(image)  # validates
+        work, normalisation = self._input(image, grey), None
+        if self.frame != "image":
+            frame = self._frame_of(work)
+            work = _to_canonical(work, frame)
+            if self.origin == "frame":
+                normalisation = frame_normalisation(frame, grey.shape, self.mode, self.canonical_spread)
+        return work, normalisation
+
+    def extract(self, image: object) -> EarTemplate:
+        """Features of one image: canonical frame (unless ``frame="image"``), contours (eqs. 1-5),
+        clean-up, V and F."""
+        work, normalisation = self._prepare(image)
+        topology = topology_features(self._contours(work), self.n_circles, self.step, mode=self.mode,
+                                     min_gap=self.min_gap, crossings=self.crossings,
+                                     polyline_smoothing=self.polyline_smoothing, band=self.band,
+                                     spur_length=self.spur_length, normalisation=normalisation)
         return EarTemplate(topology.circles, topology)
 
     def enroll(self, subject_id: object, image: object) -> EarTemplate:
@@ -179,6 +315,11 @@ class EarMatcher:
         self._templates.append(template)
         self._counts = np.array([t.circles.counts for t in self._templates])
         self._sums = np.array([t.circles.distance_sums for t in self._templates])
+        points = [_points(t.topology) for t in self._templates]
+        # a template without points gets one far away (at distance >= cap from everything)
+        points = [p if len(p) else np.full((1, 2), 1e6) for p in points]
+        self._points = np.vstack(points)
+        self._point_starts = np.cumsum([0] + [len(p) for p in points[:-1]])
         return template
 
     @property
@@ -212,9 +353,15 @@ class EarMatcher:
         sum_gap = np.abs(self._sums - query.circles.distance_sums).mean(axis=1)
         scores = sum_gap + violations.astype(float)  # ranking for CMC: count violations cost 1 each
         gate = (violations <= self.max_count_violations) & (sum_gap < self.distance_threshold)
+        if self.ranking == "points":  # steps 6-9 as a distance between the points of F
+            scores = _point_distances(_points(query.topology), self._points, self._point_starts, POINT_DISTANCE_CAP)
         candidates = np.flatnonzero(gate)
         if len(candidates) == 0:
             return IdentificationResult(None, (), np.zeros(0), scores, "no reference passed steps 2-4")
+        if self.ranking == "points":
+            candidates = candidates[np.argsort(scores[candidates], kind="stable")][:shortlist]
+            return IdentificationResult(self._ids[candidates[0]], tuple(self._ids[i] for i in candidates),
+                                        scores[candidates], scores)
         candidates = candidates[np.argsort(sum_gap[candidates])][:shortlist]
         topo = np.array([_topology_similarity(query.topology, self._templates[i].topology, _COORDINATE_TOLERANCE)
                          for i in candidates])

@@ -1,0 +1,346 @@
+"""Synthetic head sequences with ground truth, and the overlap of two ellipses.
+
+The paper's videos are not available, so each figure gets a seeded sequence built to show one
+difficulty: an office-like background with strong edges, a head (skin ellipse, hair, eyes, mouth)
+over a shirt, camera noise, and, for the "fusion" kind, a colour cast on frames 29-80, a
+skin-coloured hand crossing in front of the face, and fast jumps at the end.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from amdo_lab.common import as_finite_array, check_choice, make_rng
+
+__all__ = ["HEAD_AXES", "HeadSequence", "SEQUENCE_KINDS", "ellipse_iou", "head_views", "make_head_sequence"]
+
+#: Semi-axes (a along x, b along y) of the head at scale s = 0, in pixels.
+HEAD_AXES = (20.0, 26.0)
+SEQUENCE_KINDS = ("fusion", "edges", "twin")
+FRAME_RATE = 25.0
+SKIN = np.array([214.0, 158.0, 126.0])
+HAIR = np.array([62.0, 42.0, 30.0])
+SHIRT = np.array([70.0, 95.0, 140.0])
+_CLUTTER_COLOURS = np.array([[40, 60, 110], [150, 150, 160], [30, 90, 60], [190, 190, 80], [110, 40, 50],
+                             [20, 20, 25], [230, 230, 235], [90, 120, 150], [60, 130, 140]], float)
+
+
+@dataclass
+class HeadSequence:
+    """A rendered sequence and its ground truth.
+
+    Parameters
+    ----------
+    frames : numpy.ndarray
+        (T, H, W, 3) uint8 RGB.
+    truth : numpy.ndarray
+        (T, 3) true states ``(cx, cy, s)``: centre in pixels, relative scale.
+    true_ellipses : numpy.ndarray
+        (T, 5) ``(cx, cy, a, b, angle)``.
+    segments : dict
+        Ordered ``{name: (start, stop)}`` frame ranges (stop excluded).
+    kind : str
+        The generator's kind.
+    oracle_std : tuple of float
+        Standard deviations of the oracle likelihood: centre (px) and scale.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 4 (the head sequences this one imitates).
+    """
+
+    frames: np.ndarray
+    truth: np.ndarray
+    true_ellipses: np.ndarray
+    segments: dict[str, tuple[int, int]]
+    kind: str
+    oracle_std: tuple[float, float] = field(default=(2.0, 0.02))
+
+    def oracle_log_likelihood(self, t: int, states: np.ndarray) -> np.ndarray:
+        """A likelihood that knows the truth: Gaussian on the centre (2 px) and the scale (0.02).
+
+        Parameters
+        ----------
+        t : int
+            Frame index.
+        states : numpy.ndarray
+            (N, 3) or (3,) states.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N,) log-likelihoods (0 at the truth).
+        """
+        states = np.atleast_2d(np.asarray(states, float))
+        centre_sd, scale_sd = self.oracle_std
+        squared = np.sum((states[:, :2] - self.truth[t, :2]) ** 2, axis=1) / centre_sd**2
+        return -0.5 * (squared + (states[:, 2] - self.truth[t, 2]) ** 2 / scale_sd**2)
+
+    def segment_of_frames(self) -> np.ndarray:
+        """The name of the segment each frame belongs to.
+
+        Returns
+        -------
+        numpy.ndarray
+            (T,) segment names (object array).
+        """
+        names = np.empty(len(self.frames), dtype=object)
+        for name, (start, stop) in self.segments.items():
+            names[start:stop] = name
+        return names
+
+
+def _background(rng: np.random.Generator, height: int, width: int) -> np.ndarray:
+    """An office-like wall: a shelf of books, framed pictures, a window, a desk; no skin colours."""
+    ys, xs = np.mgrid[0:height, 0:width]
+    image = np.empty((height, width, 3), np.float32)
+    image[:] = np.array([150.0, 155.0, 150.0]) + 0.15 * (ys[..., None] - height / 2)
+    del xs
+    shelf_top = int(rng.integers(20, 40))
+    x = 0
+    while x < width:  # a shelf of books: many vertical edges of varying contrast
+        book = int(rng.integers(5, 13))
+        colour = _CLUTTER_COLOURS[rng.integers(len(_CLUTTER_COLOURS))]
+        top = shelf_top + int(rng.integers(0, 12))
+        if rng.random() < 0.7:
+            image[top : shelf_top + 45, x : x + book - 1] = colour
+        x += book
+    image[shelf_top + 45 : shelf_top + 49] = (95.0, 80.0, 70.0)  # the shelf board
+    for _ in range(4):  # pictures and a monitor: rectangles with frames
+        h, w = int(rng.integers(25, 50)), int(rng.integers(25, 60))
+        top, left = int(rng.integers(shelf_top + 55, height - h)), int(rng.integers(0, width - w))
+        image[top : top + h, left : left + w] = _CLUTTER_COLOURS[rng.integers(len(_CLUTTER_COLOURS))]
+        image[top + 3 : top + h - 3, left + 3 : left + w - 3] = _CLUTTER_COLOURS[rng.integers(len(_CLUTTER_COLOURS))]
+    image[height - 22 :] = (85.0, 85.0, 95.0)  # desk edge
+    return image
+
+
+def _coverage(dx: np.ndarray, dy: np.ndarray, a: float, b: float, softness: float = 1.0) -> np.ndarray:
+    """Fraction of each pixel inside the ellipse (a linear ramp of ``softness`` pixels at the border)."""
+    radius = np.sqrt((dx / a) ** 2 + (dy / b) ** 2)
+    return np.clip((1.0 - radius) * min(a, b) / softness + 0.5, 0.0, 1.0)
+
+
+def _paint(image: np.ndarray, alpha: np.ndarray, colour: np.ndarray) -> None:
+    alpha = alpha.astype(np.float32)[..., None]
+    image += alpha * (np.asarray(colour, np.float32) - image)
+
+
+def _window(image: np.ndarray, cx: float, cy: float, half_width: float, top: float, bottom: float):
+    """The sub-image (a view) and its pixel offsets from (cx, cy) where a shape is drawn: only there."""
+    height, width, _ = image.shape
+    x0, x1 = max(int(cx - half_width), 0), min(int(cx + half_width) + 2, width)
+    y0, y1 = max(int(cy + top), 0), min(int(cy + bottom) + 2, height)
+    ys, xs = np.mgrid[y0:y1, x0:x1]
+    return image[y0:y1, x0:x1], xs - cx, ys - cy
+
+
+def _draw_head(image: np.ndarray, cx: float, cy: float, scale: float, yaw: float = 0.0) -> None:
+    """A head over shoulders; ``yaw`` in radians turns it (0 frontal, ±π/4 half profiles, π the back)."""
+    a, b = HEAD_AXES[0] * scale, HEAD_AXES[1] * scale
+    window, dx, dy = _window(image, cx, cy, 2.2 * a, -1.1 * b, 4.0 * b)
+    # shirt and shoulders below the chin
+    shoulders = _coverage(dx, dy - 2.5 * b, 2.0 * a, 1.4 * b) * (dy > 0.85 * b)
+    _paint(window, shoulders, SHIRT)
+    head = _coverage(dx, dy, a, b)
+    radius = np.sqrt((dx / a) ** 2 + (dy / b) ** 2)
+    shading = 1.0 - 0.18 * np.clip(radius, 0, 1) ** 2  # brighter in the middle of the face
+    window += (head * shading)[..., None].astype(np.float32) * SKIN.astype(np.float32) - head[..., None].astype(np.float32) * window
+    facing = np.cos(yaw)
+    # hair on the top, and on the side turned away (all of the head seen from the back)
+    side = np.sin(yaw) * dx / a
+    hair_line = -0.35 + 1.6 * np.clip(-side - 0.2 * facing, 0.0, None) + 1.4 * np.clip(-facing, 0.0, None)
+    hair = head * np.clip((-dy / b - 0.35 + hair_line + 0.35) * 6.0, 0.0, 1.0) if yaw else head * np.clip((-dy / b - 0.35) * 6.0, 0.0, 1.0)
+    _paint(window, hair, HAIR)
+    if facing <= 0.2:
+        return
+    shift = np.sin(yaw) * 0.45
+    features = [(-0.38 * facing + shift, -0.05, 0.12 * max(facing, 0.3), 0.07, (40, 30, 30)),
+                (0.38 * facing + shift, -0.05, 0.12 * max(facing, 0.3), 0.07, (40, 30, 30)),
+                (shift, 0.5, 0.3 * facing, 0.06, (140, 60, 60))]  # eyes and mouth
+    for ex, ey, ea, eb, colour in features:
+        feature, fx, fy = _window(image, cx + ex * a, cy + ey * b, ea * a + 2, -eb * b - 2, eb * b + 2)
+        _paint(feature, _coverage(fx, fy, ea * a, eb * b), np.array(colour, np.float32))
+
+
+def _trajectory(kind: str, rng: np.random.Generator, n_frames: int, width: int, height: int) -> np.ndarray:
+    t = np.arange(n_frames, dtype=float)
+    phase = rng.uniform(0, 2 * np.pi, size=3)
+    cx = width / 2 + 0.16 * width * np.sin(2 * np.pi * t / 120 + phase[0]) + 3 * np.sin(2 * np.pi * t / 17 + phase[1])
+    cy = height / 2 + 8 * np.sin(2 * np.pi * t / 70 + phase[2])
+    scale = 0.07 * np.sin(2 * np.pi * t / 90 + phase[1])
+    if kind == "twin":  # straight across the frame, meeting a twin coming the other way
+        cx = np.linspace(0.27 * width, 0.73 * width, n_frames)
+        cy = np.full(n_frames, height / 2.0)
+        scale = np.zeros(n_frames)
+    if kind == "fusion":  # agile jumps: 14 to 18 px per frame for two frames, back and forth
+        jumps = np.zeros((n_frames, 2))
+        direction = rng.choice([-1.0, 1.0])
+        for start in (108, 115, 122):
+            if start + 2 <= n_frames:
+                step = np.array([direction * rng.uniform(28, 36), rng.uniform(-10, 10)])
+                jumps[start : start + 2] += np.outer([0.5, 1.0], step)
+                jumps[start + 2 :] += step
+                direction = -direction
+        cx, cy = cx + jumps[:, 0], cy + jumps[:, 1]
+    return np.stack([cx, cy, scale], axis=1)
+
+
+def make_head_sequence(kind: str, rng: int | np.random.Generator, *, noise_std: float = 5.0,
+                       cast_strength: float = 1.0) -> HeadSequence:
+    """A seeded 256×192 RGB head sequence at 25 fps with its ground truth.
+
+    Parameters
+    ----------
+    kind : ``"fusion"`` (128 frames: calm 0-28; colour cast and darkening on 29-80; a skin-coloured
+        hand crossing the face on 81-103; three jumps of about 30 px in two frames on 104-127) or
+        ``"edges"`` (100 frames: the camera loses focus and contrast on 40-79, so edges vanish) or
+        ``"twin"`` (80 frames: the head crosses an identical head walking the other way, in front of
+        it, on frames 30-49).
+    rng : int or numpy.random.Generator
+        Source of the background, the motion and the noise.
+    noise_std : float
+        Standard deviation of the camera noise, grey levels.
+    cast_strength : size of the "fusion" kind's lighting change, 0 (none) to 1 (channel gains
+        0.45, 0.62, 1.05); values in between scale the gains' departure from 1.
+
+    Returns
+    -------
+    HeadSequence
+        Frames, truth, ellipses and segments.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 4 and Figs. 2-5.
+    """
+    kind = check_choice(kind, "kind", SEQUENCE_KINDS)
+    generator = make_rng(rng, "rng")
+    if noise_std < 0 or not np.isfinite(noise_std):
+        raise ValueError(f"noise_std must be finite and non-negative, got {noise_std}")
+    if not 0.0 <= cast_strength <= 1.5:
+        raise ValueError(f"cast_strength must be in [0, 1.5], got {cast_strength}")
+    width, height = 256, 192
+    n_frames = {"fusion": 128, "edges": 100, "twin": 80}[kind]
+    background = _background(generator, height, width)
+    truth = _trajectory(kind, generator, n_frames, width, height)
+    if kind == "fusion":
+        segments = {"calm": (0, 29), "lighting": (29, 81), "distractor": (81, 104), "agile": (104, n_frames)}
+    elif kind == "edges":
+        segments = {"sharp": (0, 40), "weak edges": (40, 80), "sharp again": (80, n_frames)}
+    else:
+        segments = {"apart": (0, 30), "crossing": (30, 50), "after": (50, n_frames)}
+    frames = np.empty((n_frames, height, width, 3), np.uint8)
+    for t in range(n_frames):
+        image = background.copy()
+        cx, cy, s = truth[t]
+        _draw_head(image, cx, cy, 1.0 + s)
+        if kind == "twin":  # the twin walks the other way, in front
+            _draw_head(image, width - cx, cy, 1.0 + s)
+        if kind == "fusion" and 81 <= t < 104:  # a hand crosses in front of the face
+            progress = (t - 81) / 22.0
+            hx = cx - 70 + 140 * progress
+            window, dx, dy = _window(image, hx, cy + 10, 16.0, -20.0, 20.0)
+            _paint(window, _coverage(dx, dy, 13.0, 17.0, softness=5.0), SKIN * 0.97)
+        if kind == "fusion":  # colour cast and darkening ramping in over 29-33 and out over 77-80
+            strength = cast_strength * np.clip(min(t - 28, 81 - t) / 4.0, 0.0, 1.0)
+            gain = 1.0 + strength * (np.array([0.45, 0.62, 1.05]) - 1.0)
+            image *= gain.astype(np.float32)
+        elif kind == "edges" and 40 <= t < 80:  # defocus and low contrast: the edges fade
+            import cv2
+            image = cv2.GaussianBlur(image.astype(np.float32), (0, 0), 3.5)
+            image = 0.45 * image + 0.55 * image.mean(axis=(0, 1))
+        image += noise_std * generator.standard_normal(image.shape, dtype=np.float32)
+        np.clip(image, 0, 255, out=image)
+        frames[t] = (image + 0.5).astype(np.uint8)
+    axes = np.outer(1.0 + truth[:, 2], HEAD_AXES)
+    true_ellipses = np.column_stack([truth[:, :2], axes, np.zeros(n_frames)])
+    return HeadSequence(frames, truth, true_ellipses, segments, kind)
+
+
+def ellipse_iou(first: np.ndarray, second: np.ndarray, *, step: float = 0.5) -> np.ndarray:
+    """Intersection over union of ellipses ``(cx, cy, a, b, angle)``, row by row, on a grid of ``step`` px.
+
+    Parameters
+    ----------
+    first, second : numpy.ndarray
+        (5,) or (T, 5) ellipses (semi-axes a along x at angle 0, angle in radians).
+    step : float
+        Grid spacing in pixels for counting the intersection (its error is about step / min axis).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        IoU in [0, 1], one per row.
+
+    References
+    ----------
+    The success criterion of this chapter (IoU >= 0.5); the paper shows its results as figures.
+    """
+    first = as_finite_array(first, "first")
+    second = as_finite_array(second, "second")
+    single = first.ndim == 1
+    first, second = np.atleast_2d(first), np.atleast_2d(second)
+    if first.shape[1] != 5 or second.shape != first.shape:
+        raise ValueError(f"first and second must both have shape (5,) or (T, 5), got {first.shape} and {second.shape}")
+    if np.any(first[:, 2:4] <= 0) or np.any(second[:, 2:4] <= 0):
+        raise ValueError("ellipse axes must be positive")
+    scores = np.empty(len(first))
+    for row, (e1, e2) in enumerate(zip(first, second)):
+        # count grid points inside both ellipses over the overlap of their bounding boxes only; the
+        # union's area follows from the exact areas π a b (so a huge ellipse costs no memory)
+        lo = np.maximum(e1[:2] - max(e1[2], e1[3]), e2[:2] - max(e2[2], e2[3]))
+        hi = np.minimum(e1[:2] + max(e1[2], e1[3]), e2[:2] + max(e2[2], e2[3]))
+        if np.any(hi <= lo):
+            scores[row] = 0.0
+            continue
+        gx, gy = np.meshgrid(np.arange(lo[0], hi[0], step) + step / 2, np.arange(lo[1], hi[1], step) + step / 2)
+        intersection = np.count_nonzero(_inside(e1, gx, gy) & _inside(e2, gx, gy)) * step**2
+        union = np.pi * (e1[2] * e1[3] + e2[2] * e2[3]) - intersection
+        scores[row] = float(np.clip(intersection / union, 0.0, 1.0))
+    return float(scores[0]) if single else scores
+
+
+def _inside(ellipse: np.ndarray, gx: np.ndarray, gy: np.ndarray) -> np.ndarray:
+    cx, cy, a, b, angle = ellipse
+    c, s = np.cos(angle), np.sin(angle)
+    u = (gx - cx) * c + (gy - cy) * s
+    v = -(gx - cx) * s + (gy - cy) * c
+    return (u / a) ** 2 + (v / b) ** 2 <= 1.0
+
+
+def head_views(yaws: np.ndarray, *, rng: int | np.random.Generator, noise_std: float = 5.0) -> tuple[np.ndarray, np.ndarray]:
+    """One 256×192 frame per yaw (radians; 0 frontal, ±π/4 half profiles, π the back) and the true states.
+
+    Each frame has its own office background and a head at a random place and scale.
+
+    Parameters
+    ----------
+    yaws : array_like
+        (n,) head yaw angles in radians.
+    rng : int or numpy.random.Generator
+        Source of the backgrounds, positions and noise.
+    noise_std : float
+        Camera noise, grey levels.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        (n, 192, 256, 3) uint8 frames and (n, 3) true states ``(cx, cy, s)``.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Fig. 4 (the structure cue as the head turns).
+    """
+    yaws = as_finite_array(yaws, "yaws", ndim=1)
+    generator = make_rng(rng, "rng")
+    frames, states = [], []
+    for yaw in yaws:
+        image = _background(generator, 192, 256)
+        state = np.array([generator.uniform(70, 186), generator.uniform(70, 110), generator.uniform(-0.1, 0.1)])
+        _draw_head(image, state[0], state[1], 1.0 + state[2], float(yaw))
+        image += noise_std * generator.standard_normal(image.shape, dtype=np.float32)
+        frames.append(np.clip(image + 0.5, 0, 255).astype(np.uint8))
+        states.append(state)
+    return np.array(frames), np.array(states)

@@ -1,0 +1,201 @@
+"""Second-order auto-regressive dynamics (eqs. 4-5), with the printed order of the two lags kept as an option.
+
+The coefficients printed under eq. (4) are those of a discretised damped oscillator,
+
+    a1 = -exp(-2 β τ),   a0 = 2 exp(-β τ) cos(ω τ),
+    b0 = sqrt(1 - a1² - a0² - 2 a1 a0² / (1 - a1)),
+
+and b0 is exactly the gain that gives unit stationary variance to ``x_k = a0 x_{k-1} + a1 x_{k-2} +
+b0 ν``: so a0 multiplies the last state and a1 the one before. Eq. (4) as printed swaps them
+(``x_k = a1 x_{k-1} + a0 x_{k-2}``); at β = 2, τ = 1/25 s that recursion has a root of modulus 1.85
+and explodes. :class:`ARDynamics` uses the corrected order and refuses an unstable model unless asked.
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+from amdo_lab.common import as_finite_array, check_positive, make_rng
+
+__all__ = ["ARDynamics", "ar2_coefficients", "ar2_stationary_variance"]
+
+
+def ar2_coefficients(beta: float, omega: float, tau: float) -> tuple[float, float, float]:
+    """The coefficients ``(a1, a0, b0)`` printed under eq. (4).
+
+    Parameters
+    ----------
+    beta : float
+        Damping coefficient β in 1/s, β >= 0 (the paper: 2 for translation, 10 for deformation).
+    omega : float
+        Oscillation frequency ω in rad/s (the paper: 0).
+    tau : float
+        Sampling period τ in s, > 0 (ours: 1/25 s, a 25 fps camera; the paper does not give it).
+
+    Returns
+    -------
+    tuple of float
+        (a1, a0, b0) as printed: a1 = -exp(-2βτ), a0 = 2 exp(-βτ) cos(ωτ), b0 the unit-variance gain.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eq. (4); Blake & Isard, Active Contours (1998), ch. 9.
+    """
+    beta = check_positive(beta, "beta", allow_zero=True)
+    if isinstance(omega, bool) or not isinstance(omega, numbers.Real) or not np.isfinite(omega):
+        raise TypeError(f"omega must be a finite real number, got {omega!r}")
+    tau = check_positive(tau, "tau")
+    a1 = -np.exp(-2.0 * beta * tau)
+    a0 = 2.0 * np.exp(-beta * tau) * np.cos(omega * tau)
+    b0_squared = 1.0 - a1**2 - a0**2 - 2.0 * a1 * a0**2 / (1.0 - a1) if a1 != 1.0 else 0.0
+    return float(a1), float(a0), float(np.sqrt(max(b0_squared, 0.0)))
+
+
+def ar2_stationary_variance(first_lag: float, second_lag: float, gain: float) -> float:
+    """Stationary variance of ``x_k = first_lag x_{k-1} + second_lag x_{k-2} + gain ν``.
+
+    Parameters
+    ----------
+    first_lag, second_lag : float
+        Weights of x_{k-1} and x_{k-2}.
+    gain : float
+        Gain of the unit-variance noise ν.
+
+    Returns
+    -------
+    float
+        The variance (Yule-Walker), or inf when a root has modulus >= 1.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eq. (4): with the corrected order, b0 gives unit variance.
+    """
+    roots = np.roots([1.0, -first_lag, -second_lag])
+    if np.max(np.abs(roots)) >= 1.0:
+        return float("inf")
+    # Yule-Walker: γ0 = (1 - φ2) g² / ((1 + φ2)((1 - φ2)² - φ1²))
+    return float((1.0 - second_lag) * gain**2 / ((1.0 + second_lag) * ((1.0 - second_lag) ** 2 - first_lag**2)))
+
+
+class ARDynamics:
+    """Eq. (5): ``X_k - X̄ = A0 (X_{k-1} - X̄) + A1 (X_{k-2} - X̄) + B0 ν``, one AR(2) per state component.
+
+    Parameters
+    ----------
+    beta : array_like
+        (d,) damping per component, 1/s, >= 0 (head: 2, 2 for translation and 10 for scale).
+    omega : array_like
+        (d,) oscillation frequency per component, rad/s (the paper: 0).
+    tau : float
+        Sampling period in s, > 0.
+    stationary_std : array_like
+        (d,) stationary standard deviation of each component (pixels, or relative scale), > 0;
+        the paper does not state it. The per-frame noise is ``b0 * stationary_std``.
+    mean : array_like
+        (d,) the state X̄ the process returns to.
+    printed_order : bool
+        Use eq. (4) exactly as printed (a1 on x_{k-1}, a0 on x_{k-2}).
+    allow_unstable : bool
+        Accept a model whose recursion has a root of modulus >= 1 (else ValueError).
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eqs. (4)-(5).
+    """
+
+    def __init__(self, beta, omega, tau: float, stationary_std, mean, *, printed_order: bool = False,
+                 allow_unstable: bool = False):
+        self.beta = as_finite_array(beta, "beta", ndim=1)
+        if np.any(self.beta < 0):
+            raise ValueError(f"beta must be non-negative, got {self.beta}")
+        d = self.beta.size
+        self.omega = as_finite_array(omega, "omega", shape=(d,))
+        self.tau = check_positive(tau, "tau")
+        self.stationary_std = as_finite_array(stationary_std, "stationary_std", shape=(d,))
+        if np.any(self.stationary_std <= 0):
+            raise ValueError(f"stationary_std must be positive, got {self.stationary_std}")
+        self.mean = as_finite_array(mean, "mean", shape=(d,))
+        self.printed_order = bool(printed_order)
+        coefficients = np.array([ar2_coefficients(b, w, self.tau) for b, w in zip(self.beta, self.omega)])
+        self.a1, self.a0, self.b0 = coefficients.T
+        # the weights of x_{k-1} and x_{k-2}
+        self.first_lag, self.second_lag = (self.a1, self.a0) if printed_order else (self.a0, self.a1)
+        if not allow_unstable and self.spectral_radius() >= 1.0:
+            raise ValueError(f"AR(2) model is unstable (spectral radius {self.spectral_radius():.3f}); "
+                             "pass allow_unstable=True to use it anyway")
+
+    @property
+    def step_std(self) -> np.ndarray:
+        """Per-frame noise standard deviation ``b0 * stationary_std`` of each component."""
+        return self.b0 * self.stationary_std
+
+    def spectral_radius(self) -> float:
+        """Largest modulus of the roots of ``z² - first_lag z - second_lag`` over the components.
+
+        Returns
+        -------
+        float
+            Below 1 for a stable model (1.85 for eq. 4 as printed at β = 2, τ = 1/25 s).
+        """
+        return float(max(np.max(np.abs(np.roots([1.0, -f, -s]))) for f, s in zip(self.first_lag, self.second_lag)))
+
+    def propagate(self, previous: np.ndarray, before: np.ndarray, noise: np.ndarray) -> np.ndarray:
+        """Eq. (5) for given standard-normal noise.
+
+        Parameters
+        ----------
+        previous, before : numpy.ndarray
+            (N, d) states X_{k-1} and X_{k-2}.
+        noise : numpy.ndarray
+            (N, d) standard-normal draws ν.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N, d) states X_k.
+        """
+        return (self.mean + self.first_lag * (previous - self.mean) + self.second_lag * (before - self.mean)
+                + self.step_std * noise)
+
+    def step(self, previous: np.ndarray, before: np.ndarray, *, rng: int | np.random.Generator) -> np.ndarray:
+        """Sample ``X_k`` given ``X_{k-1}`` and ``X_{k-2}``.
+
+        Parameters
+        ----------
+        previous, before : numpy.ndarray
+            (N, d) states X_{k-1} and X_{k-2}.
+        rng : int or numpy.random.Generator
+            Source of the noise.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N, d) sampled states X_k.
+        """
+        previous = np.asarray(previous, float)
+        return self.propagate(previous, before, make_rng(rng, "rng").standard_normal(previous.shape))
+
+    def simulate(self, n_steps: int, start: np.ndarray, *, rng: int | np.random.Generator) -> np.ndarray:
+        """A trajectory of the process starting at rest at ``start``.
+
+        Parameters
+        ----------
+        n_steps : int
+            Length of the trajectory.
+        start : numpy.ndarray
+            (d,) initial state (X_0 = X_{-1}).
+        rng : int or numpy.random.Generator
+            Source of the noise.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n_steps, d) states.
+        """
+        generator = make_rng(rng, "rng")
+        path = [np.asarray(start, float), np.asarray(start, float)]
+        for _ in range(n_steps - 2):
+            path.append(self.step(path[-1][None], path[-2][None], rng=generator)[0])
+        return np.array(path[:n_steps])

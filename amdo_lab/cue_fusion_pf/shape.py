@@ -1,0 +1,262 @@
+"""The contour: a periodic quadratic B-spline (eq. 1) in a shape space (eqs. 2-3).
+
+A state ``X`` is a short vector; the spline's control points are ``Q = W X + Q̄`` (eq. 2). For the
+head the shape space is translation + scale (eq. 3, left): ``Q^x = t_x + (1 + s) Q̄^x`` and
+``Q^y = t_y + (1 + s) Q̄^y`` with the template ``Q̄`` centred on the origin, so ``X = (t_x, t_y, s)``
+is the contour's centre in pixels and its relative change of size.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from amdo_lab.common import as_finite_array, check_choice, check_positive_int
+
+__all__ = ["SHAPE_KINDS", "ShapeSpace", "bspline_basis", "ellipse_points"]
+
+SHAPE_KINDS = ("translation_scale",)
+
+
+def bspline_basis(s: np.ndarray, n_control: int, derivative: bool = False) -> np.ndarray:
+    """Periodic uniform quadratic B-spline basis ``B(s)`` of eq. (1), one row per parameter value.
+
+    Parameters
+    ----------
+    s : numpy.ndarray
+        (n,) curve parameters in ``[0, J)`` (span ``j`` is ``j <= s < j + 1``; ``L = J`` spans).
+    n_control : int
+        J, the number of control points (at least 3).
+    derivative : bool
+        Return ``dB/ds`` instead of ``B``.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n, J) basis values; rows sum to 1 (to 0 for the derivative).
+
+    References
+    ----------
+    Blake & Isard, Active Contours (1998), ch. 3; Li & Chaumette, AMDO 2004, eq. (1).
+    """
+    n_control = check_positive_int(n_control, "n_control", minimum=3)
+    s = np.mod(as_finite_array(s, "s", ndim=1), n_control)
+    span = np.floor(s).astype(int)
+    u = s - span
+    if derivative:
+        weights = np.stack([-(1.0 - u), 1.0 - 2.0 * u, u], axis=1)
+    else:  # the three quadratic pieces; they sum to 1 for every u
+        weights = np.stack([0.5 * (1.0 - u) ** 2, 0.5 * (-2.0 * u**2 + 2.0 * u + 1.0), 0.5 * u**2], axis=1)
+    basis = np.zeros((s.size, n_control))
+    rows = np.arange(s.size)
+    for offset in range(3):
+        np.add.at(basis, (rows, (span + offset) % n_control), weights[:, offset])
+    return basis
+
+
+def ellipse_points(ellipse: np.ndarray, n_points: int) -> np.ndarray:
+    """``n_points`` points of the ellipse ``(cx, cy, a, b, angle)`` at equal steps of its angle parameter.
+
+    Parameters
+    ----------
+    ellipse : numpy.ndarray
+        (5,) centre (px), semi-axes a (along x at angle 0) and b (px), angle (rad).
+    n_points : int
+        Number of points.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n_points, 2) points (x, y) in pixels.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 2.1 (the ellipse fitted to each contour).
+    """
+    cx, cy, a, b, angle = ellipse
+    theta = np.linspace(0.0, 2.0 * np.pi, n_points, endpoint=False)
+    local = np.stack([a * np.cos(theta), b * np.sin(theta)], axis=1)
+    rotation = np.array([[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]])
+    return local @ rotation.T + np.array([cx, cy])
+
+
+class ShapeSpace:
+    """Shape space of eqs. (2-3) over a periodic quadratic B-spline template.
+
+    Parameters
+    ----------
+    template : numpy.ndarray
+        (J, 2) control points ``Q̄`` in pixels; they are centred on their mean, which becomes the
+        state's origin.
+    kind : str
+        ``"translation_scale"`` (the head space of eq. 3, state ``(t_x, t_y, s)``).
+    _ellipse : numpy.ndarray, optional
+        The template's exact ellipse, when known (set by :meth:`from_ellipse`).
+
+    Notes
+    -----
+    The paper fits an ellipse to each particle's contour for the colour cue. In a translation +
+    scale space that ellipse is the template's ellipse moved and scaled, so :meth:`ellipses` is
+    exact and costs nothing; the template's ellipse comes from the second moments of the curve
+    (exact when the template was made by :meth:`from_ellipse`).
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eqs. (1)-(3).
+    """
+
+    def __init__(self, template: np.ndarray, kind: str = "translation_scale", *, _ellipse: np.ndarray | None = None):
+        template = as_finite_array(template, "template", shape=(None, 2))
+        check_positive_int(template.shape[0], "template length", minimum=3)
+        self.kind = check_choice(kind, "kind", SHAPE_KINDS)
+        self.centre = template.mean(axis=0)
+        self.template = template - self.centre  # Q̄, centred
+        self.n_control = template.shape[0]
+        self.state_dim = 3
+        if _ellipse is None:
+            curve = bspline_basis(np.linspace(0, self.n_control, 8 * self.n_control, endpoint=False), self.n_control) @ self.template
+            centre = curve.mean(axis=0)
+            values, vectors = np.linalg.eigh(np.cov(curve.T, bias=True))
+            # points at equal steps of the angle parameter have variance a^2/2 along the major axis
+            a, b = np.sqrt(2.0 * values[::-1])
+            angle = float(np.arctan2(vectors[1, 1], vectors[0, 1]))
+            _ellipse = np.array([centre[0], centre[1], a, b, angle])
+        self.template_ellipse = np.asarray(_ellipse, float)
+
+    @classmethod
+    def from_ellipse(cls, ellipse: np.ndarray, n_control: int = 12) -> "ShapeSpace":
+        """Template whose B-spline fits the ellipse ``(cx, cy, a, b, angle)`` (least squares on 8J points).
+
+        Parameters
+        ----------
+        ellipse : numpy.ndarray
+            (5,) the ellipse; axes must be positive.
+        n_control : int
+            J, the number of control points.
+
+        Returns
+        -------
+        ShapeSpace
+            The space; the state of that ellipse is ``(cx, cy, 0)``.
+        """
+        ellipse = as_finite_array(ellipse, "ellipse", shape=(5,))
+        n_control = check_positive_int(n_control, "n_control", minimum=3)
+        if ellipse[2] <= 0 or ellipse[3] <= 0:
+            raise ValueError(f"ellipse axes must be positive, got a={ellipse[2]}, b={ellipse[3]}")
+        centred = ellipse.copy()
+        centred[:2] = 0.0
+        n_fit = 8 * n_control
+        points = ellipse_points(centred, n_fit)
+        basis = bspline_basis(np.arange(n_fit) * n_control / n_fit, n_control)
+        control, *_ = np.linalg.lstsq(basis, points, rcond=None)
+        return cls(control, "translation_scale", _ellipse=centred)
+
+    # --- eq. (2): Q = W X + Q̄ ---------------------------------------------------------------
+    def shape_matrix(self) -> np.ndarray:
+        """W of eq. (3), left.
+
+        Returns
+        -------
+        numpy.ndarray
+            (2J, 3) with columns (1, 0), (0, 1) and (Q̄^x, Q̄^y) stacked x over y.
+        """
+        ones, zeros = np.ones(self.n_control), np.zeros(self.n_control)
+        return np.stack([np.concatenate([ones, zeros]), np.concatenate([zeros, ones]),
+                         np.concatenate([self.template[:, 0], self.template[:, 1]])], axis=1)
+
+    def control_points(self, states: np.ndarray) -> np.ndarray:
+        """Control points of the states, eq. (2) written as a matrix product.
+
+        Parameters
+        ----------
+        states : numpy.ndarray
+            (N, 3) or (3,) states ``(t_x, t_y, s)``.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N, J, 2) control points in pixels.
+        """
+        states = np.atleast_2d(self._check_states(states))
+        stacked = states @ self.shape_matrix().T + np.concatenate([self.template[:, 0], self.template[:, 1]])
+        return np.stack([stacked[:, : self.n_control], stacked[:, self.n_control :]], axis=2)
+
+    def curve(self, states: np.ndarray, n_points: int = 80) -> np.ndarray:
+        """Points ``r(s)`` of eq. (1) at equal parameter steps.
+
+        Parameters
+        ----------
+        states : numpy.ndarray
+            (N, 3) or (3,) states.
+        n_points : int
+            Points per curve.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N, n_points, 2) curve points in pixels.
+        """
+        basis = bspline_basis(np.linspace(0, self.n_control, n_points, endpoint=False), self.n_control)
+        return np.einsum("pj,njd->npd", basis, self.control_points(states))
+
+    def template_normals(self, n_lines: int) -> tuple[np.ndarray, np.ndarray]:
+        """Points of the template curve and unit outward normals at ``n_lines`` equal parameter steps.
+
+        Parameters
+        ----------
+        n_lines : int
+            N_e, the number of measurement lines.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            (n_lines, 2) points relative to the state's centre at scale 1, and (n_lines, 2) normals.
+        """
+        s = np.linspace(0, self.n_control, n_lines, endpoint=False)
+        points = bspline_basis(s, self.n_control) @ self.template
+        tangents = bspline_basis(s, self.n_control, derivative=True) @ self.template
+        normals = np.stack([tangents[:, 1], -tangents[:, 0]], axis=1)
+        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+        # outward: pointing away from the centre (the template is centred on the origin)
+        normals *= np.sign(np.sum(normals * points, axis=1, keepdims=True))
+        return points, normals
+
+    def ellipses(self, states: np.ndarray) -> np.ndarray:
+        """Best-fitting ellipses of the states' contours.
+
+        Parameters
+        ----------
+        states : numpy.ndarray
+            (N, 3) or (3,) states.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N, 5) ellipses ``(cx, cy, a, b, angle)``.
+        """
+        states = np.atleast_2d(self._check_states(states))
+        scale = 1.0 + states[:, 2]
+        e = self.template_ellipse
+        return np.stack([states[:, 0] + scale * e[0], states[:, 1] + scale * e[1],
+                         scale * e[2], scale * e[3], np.full(len(states), e[4])], axis=1)
+
+    def state_of_ellipse(self, ellipse: np.ndarray) -> np.ndarray:
+        """The state ``(cx, cy, s)`` whose ellipse has the centre of ``ellipse`` and its major axis.
+
+        Parameters
+        ----------
+        ellipse : numpy.ndarray
+            (5,) ellipse ``(cx, cy, a, b, angle)``.
+
+        Returns
+        -------
+        numpy.ndarray
+            (3,) state.
+        """
+        ellipse = as_finite_array(ellipse, "ellipse", shape=(5,))
+        return np.array([ellipse[0], ellipse[1], max(ellipse[2], ellipse[3]) / max(self.template_ellipse[2:4]) - 1.0])
+
+    def _check_states(self, states: np.ndarray) -> np.ndarray:
+        states = np.asarray(states, dtype=float)
+        if states.shape[-1] != self.state_dim:
+            raise ValueError(f"states must have length {self.state_dim} on the last axis, got shape {states.shape}")
+        return states

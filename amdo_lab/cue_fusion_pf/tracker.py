@@ -1,0 +1,331 @@
+"""The particle filter of Fig. 1 with the cues fused by eq. (6), and its result object."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int, make_rng
+from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
+from amdo_lab.cue_fusion_pf.likelihoods import PAPER_SIGMAS, ColorLikelihood, EdgeLikelihood
+from amdo_lab.cue_fusion_pf.shape import ShapeSpace
+from amdo_lab.cue_fusion_pf.structure import CASCADE_SEED, StructureLikelihood, load_or_train_cascade
+
+__all__ = ["CALIBRATED_SIGMAS", "CUES", "TrackResult", "calibration_distances", "default_dynamics", "systematic_resample", "track"]
+
+CUES = ("color", "edge", "structure", "oracle")
+#: σ_c and σ_s chosen by :func:`calibrate_sigma` on held-out "fusion" seeds (seeds 100-104, rng=0, every 4th frame; the tests re-run it).
+CALIBRATED_SIGMAS = {"color": 0.066, "structure": 0.238}
+FRAME_PERIOD = 1.0 / 25.0
+#: Particles smaller or larger than these multiples of the template get weight 0 (not a head on the frame).
+MIN_SCALE, MAX_SCALE = 0.1, 10.0
+#: Our choices for what the paper does not state: stationary std of (t_x, t_y, s) and of the AR(2).
+STATIONARY_STD = (100.0, 100.0, 0.1)
+_PARAMS = {"bins": 32, "stride": 2.0, "n_lines": 40, "half_length": 12, "p0": 0.2, "sigma_e": float(np.sqrt(2.0)),
+           "threshold": 6.0, "beta": (2.0, 2.0, 10.0), "stationary_std": STATIONARY_STD, "printed_order": False,
+           "oracle": None, "init_spread": (2.0, 2.0, 0.02)}
+
+
+@dataclass
+class TrackResult:
+    """What :func:`track` returns.
+
+    Parameters
+    ----------
+    states : numpy.ndarray
+        (T, 3) weighted-mean states ``(cx, cy, s)`` (Fig. 1, step 4).
+    ellipses : numpy.ndarray
+        (T, 5) their ellipses ``(cx, cy, a, b, angle)``.
+    centers : numpy.ndarray
+        (T, 2) ellipse centres, pixels.
+    ess : numpy.ndarray
+        (T,) effective sample size ``1 / Σ w²`` before resampling.
+    seconds : float
+        Wall-clock time of the whole run.
+    particles : numpy.ndarray
+        (T, N, 3) particles before resampling.
+    weights : numpy.ndarray
+        (T, N) their normalised weights.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Fig. 1 (the outputs of step 4).
+    """
+
+    states: np.ndarray
+    ellipses: np.ndarray
+    centers: np.ndarray
+    ess: np.ndarray
+    seconds: float
+    particles: np.ndarray
+    weights: np.ndarray
+
+    @property
+    def ms_per_frame(self) -> float:
+        """Milliseconds per frame of the run."""
+        return 1000.0 * self.seconds / len(self.states)
+
+
+def systematic_resample(weights: np.ndarray, u: float) -> np.ndarray:
+    """Indices drawn by systematic resampling (Fig. 1, step 5) with one uniform ``u`` in [0, 1).
+
+    The N pointers ``(u + i) / N`` walk through the cumulative weights, so particle i is copied
+    ``floor`` or ``ceil`` of ``N w_i`` times: lower variance than N independent draws.
+
+    Parameters
+    ----------
+    weights : numpy.ndarray
+        (N,) normalised weights.
+    u : float
+        One uniform number in [0, 1).
+
+    Returns
+    -------
+    numpy.ndarray
+        (N,) indices of the chosen particles, in increasing order.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Fig. 1, step 5.
+    """
+    n = len(weights)
+    cumulative = np.cumsum(weights)
+    cumulative[-1] = 1.0  # guard against round-off
+    return np.searchsorted(cumulative, (u + np.arange(n)) / n, side="right").clip(max=n - 1)
+
+
+def default_dynamics(mean: np.ndarray, *, beta=(2.0, 2.0, 10.0), stationary_std=STATIONARY_STD,
+                     printed_order: bool = False) -> ARDynamics:
+    """The head's AR(2) of eq. (5): β = 2 (translation), 10 (scale), ω = 0, τ = 1/25 s, about ``mean``.
+
+    Parameters
+    ----------
+    mean : numpy.ndarray
+        (3,) the state the process returns to (the initial state).
+    beta : tuple of float
+        Damping of (t_x, t_y, s), 1/s.
+    stationary_std : tuple of float
+        Stationary standard deviations of (t_x, t_y, s): pixels, pixels, relative scale.
+    printed_order : bool
+        Eq. (4) as printed (unstable; allowed here so that it can be shown).
+
+    Returns
+    -------
+    ARDynamics
+        The dynamics.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eqs. (4)-(5) and Table 1.
+    """
+    return ARDynamics(beta, (0.0, 0.0, 0.0), FRAME_PERIOD, stationary_std, mean, printed_order=printed_order,
+                      allow_unstable=printed_order)
+
+
+def _check_frames(frames: object) -> np.ndarray:
+    array = np.asarray(frames)
+    if array.ndim != 4 or array.shape[-1] != 3:
+        raise ValueError(f"frames must be a (T, H, W, 3) RGB array, got shape {array.shape}")
+    if array.shape[0] == 0:
+        raise ValueError("frames must hold at least one frame")
+    if array.dtype == np.uint8:
+        return array
+    if not np.issubdtype(array.dtype, np.floating):
+        raise TypeError(f"frames must be uint8 or float RGB, got dtype {array.dtype}")
+    if not np.all(np.isfinite(array)) or array.min() < 0 or array.max() > 255:
+        raise ValueError("frames must be finite and within [0, 255]")
+    return np.rint(array).astype(np.uint8)
+
+
+def _shape_space_of(init: object, frame_shape: tuple[int, int]) -> tuple[ShapeSpace, np.ndarray]:
+    init = np.asarray(init, dtype=float)
+    if init.shape == (5,):
+        init = as_finite_array(init, "init", shape=(5,))
+        if init[2] <= 0 or init[3] <= 0:
+            raise ValueError(f"init ellipse axes must be positive, got a={init[2]}, b={init[3]}")
+        space = ShapeSpace.from_ellipse(init)
+        start = np.array([init[0], init[1], 0.0])
+    elif init.ndim == 2 and init.shape[1] == 2:
+        init = as_finite_array(init, "init", shape=(None, 2))
+        space = ShapeSpace(init)
+        start = np.array([*space.centre, 0.0])
+    else:
+        raise ValueError(f"init must be an ellipse (cx, cy, a, b, angle) or (J, 2) control points, got shape {init.shape}")
+    height, width = frame_shape
+    if not (0 <= start[0] < width and 0 <= start[1] < height):
+        raise ValueError(f"init must lie on the frame ({width}×{height}), centre at ({start[0]:.1f}, {start[1]:.1f})")
+    return space, start
+
+
+def build_cues(cues: Sequence[str], space: ShapeSpace, first_frame: np.ndarray, start: np.ndarray,
+               sigmas: dict[str, float], params: dict) -> dict:
+    """The likelihood objects of the requested cues."""
+    built = {}
+    for name in cues:
+        if name == "color":
+            built[name] = ColorLikelihood(space, first_frame, start, bins=params["bins"], sigma=sigmas["color"],
+                                          stride=params["stride"])
+        elif name == "structure":
+            built[name] = StructureLikelihood(space, load_or_train_cascade(CASCADE_SEED), sigma=sigmas["structure"])
+        elif name == "edge":
+            built[name] = EdgeLikelihood(space, n_lines=params["n_lines"], half_length=params["half_length"],
+                                         p0=params["p0"], sigma_e=params["sigma_e"], threshold=params["threshold"])
+    return built
+
+
+def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generator,
+          cues: Sequence[str] = ("color", "edge"), n_particles: int = 300,
+          sigmas: str | dict[str, float] = "calibrated", **params) -> TrackResult:
+    """Track a contour through ``frames`` with the particle filter of Fig. 1 and the fused cues of eq. (6).
+
+    Parameters
+    ----------
+    frames : numpy.ndarray
+        (T, H, W, 3) uint8 RGB (pixels, x right, y down).
+    init : numpy.ndarray
+        The contour at frame 0: an ellipse ``(cx, cy, a, b, angle)`` (semi-axes, a along x at
+        angle 0, radians) or (J, 2) B-spline control points.
+    rng : int or numpy.random.Generator
+        The only source of randomness.
+    cues : sequence of str
+        Any of ``"color"``, ``"edge"``, ``"structure"`` and ``"oracle"`` (the latter needs
+        ``oracle=``, a callable ``(t, states) -> (N,)`` log-likelihood, e.g.
+        ``HeadSequence.oracle_log_likelihood``).
+    n_particles : int
+        N_w, at least 2.
+    sigmas : str or dict
+        ``"calibrated"`` (:data:`CALIBRATED_SIGMAS`), ``"paper"`` (Table 1: σ_c = 5, σ_s = √15) or a
+        dict of positive values.
+    **params
+        bins, stride (colour); n_lines, half_length, p0, sigma_e, threshold (edges); beta,
+        stationary_std, printed_order (dynamics); init_spread (std of the initial particles).
+
+    Returns
+    -------
+    TrackResult
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Fig. 1 and eq. (6).
+    """
+    frames = _check_frames(frames)
+    if isinstance(cues, str) or not isinstance(cues, Sequence) or len(cues) == 0:
+        raise ValueError(f"cues must be a non-empty sequence of cue names, got {cues!r}")
+    for name in cues:
+        check_choice(name, "cues", CUES)
+    n_particles = check_positive_int(n_particles, "n_particles", minimum=2)
+    unknown = set(params) - set(_PARAMS)
+    if unknown:
+        raise TypeError(f"track() got unknown parameter(s) {sorted(unknown)}; known: {sorted(_PARAMS)}")
+    options = {**_PARAMS, **params}
+    if isinstance(sigmas, str):
+        sigma_table = dict({"calibrated": CALIBRATED_SIGMAS, "paper": PAPER_SIGMAS}[check_choice(sigmas, "sigmas", ("calibrated", "paper"))])
+    elif isinstance(sigmas, dict):
+        sigma_table = {**CALIBRATED_SIGMAS, **sigmas}
+        for key, value in sigma_table.items():
+            check_positive(value, f"sigmas[{key!r}]")
+    else:
+        raise TypeError(f"sigmas must be 'calibrated', 'paper' or a dict, got {type(sigmas).__name__}")
+    if "oracle" in cues and not callable(options["oracle"]):
+        raise ValueError("cues include 'oracle' but no oracle=callable(t, states) was given")
+    generator = make_rng(rng, "rng")
+    space, start = _shape_space_of(init, frames.shape[1:3])
+    cue_objects = build_cues(cues, space, frames[0], start, sigma_table, options)
+    dynamics = default_dynamics(start, beta=options["beta"], stationary_std=options["stationary_std"],
+                                printed_order=options["printed_order"])
+    oracle: Callable | None = options["oracle"] if "oracle" in cues else None
+    return _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles,
+                       np.asarray(options["init_spread"], float), generator)
+
+
+def _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles, init_spread, generator) -> TrackResult:
+    n_frames = len(frames)
+    began = time.perf_counter()
+    # 1. initialisation: particles around the initial state, at rest (X_{k-1} = X_{k-2})
+    current = start + init_spread * generator.standard_normal((n_particles, 3))
+    previous = current.copy()
+    states, ess = np.empty((n_frames, 3)), np.empty(n_frames)
+    all_particles, all_weights = np.empty((n_frames, n_particles, 3)), np.empty((n_frames, n_particles))
+    for k in range(n_frames):
+        if k > 0:  # 2. sampling from the transition prior, eq. (5); particles carry X_k and X_{k-1}
+            current, previous = dynamics.step(current, previous, rng=generator), current
+        # 3a. weights: eq. (6) in the log domain, on the particles that are a contour at all
+        valid = np.all(np.isfinite(current), axis=1) & (current[:, 2] > MIN_SCALE - 1.0) & (current[:, 2] < MAX_SCALE - 1.0)
+        if not valid.any():
+            raise RuntimeError(f"the filter diverged at frame {k}: no particle has a finite state of a plausible size "
+                               "(unstable dynamics?)")
+        log_weights = np.full(n_particles, -np.inf)
+        log_weights[valid] = 0.0
+        for cue in cue_objects.values():
+            log_weights[valid] += cue.log_likelihood(frames[k], current[valid])
+        if oracle is not None:
+            log_weights[valid] += oracle(k, current[valid])
+        # 3b. normalise (subtract the maximum first: exp of -1e4 would underflow to 0/0)
+        weights = np.exp(log_weights - log_weights.max())
+        weights /= weights.sum()
+        # 4. output: the weighted mean
+        states[k] = weights[valid] @ current[valid]
+        ess[k] = 1.0 / np.sum(weights**2)
+        all_particles[k], all_weights[k] = current, weights
+        # 5. selection
+        chosen = systematic_resample(weights, generator.random())
+        current, previous = current[chosen], previous[chosen]
+    seconds = time.perf_counter() - began
+    ellipses = space.ellipses(states)
+    return TrackResult(states, ellipses, ellipses[:, :2].copy(), ess, seconds, all_particles, all_weights)
+
+
+def calibration_distances(sequences: Sequence, cue: str, *, rng: int | np.random.Generator, n_samples: int = 200,
+                          frame_step: int = 4, **params) -> tuple[np.ndarray, np.ndarray]:
+    """A cue's distances at the true states and at prior samples around them, for :func:`calibrate_sigma`.
+
+    For every ``frame_step``-th frame t >= 2 of each sequence (objects with ``.frames`` and
+    ``.truth``), ``n_samples`` states are drawn from the dynamics of eq. (5) given the true states
+    at t-1 and t-2: the particles a filter that tracked perfectly until t-1 would weigh.
+
+    Parameters
+    ----------
+    sequences : sequence of HeadSequence
+        Held-out sequences (objects with ``.frames``, ``.truth`` and ``.true_ellipses``).
+    cue : str
+        ``"color"`` or ``"structure"``.
+    rng : int or numpy.random.Generator
+        Source of the prior samples.
+    n_samples : int
+        Prior samples per frame.
+    frame_step : int
+        Use every ``frame_step``-th frame.
+    **params
+        Cue and dynamics parameters, as for :func:`track`.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        (T,) distances at the truth and (T, n_samples) at the prior samples (for colour 1 - ρ,
+        for structure 1 - n_s/N_s).
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eqs. (11)-(12) (the σ being calibrated) and Table 1.
+    """
+    check_choice(cue, "cue", ("color", "structure"))
+    n_samples = check_positive_int(n_samples, "n_samples", minimum=2)
+    frame_step = check_positive_int(frame_step, "frame_step")
+    options = {**_PARAMS, **params}
+    generator = make_rng(rng, "rng")
+    at_truth, at_prior = [], []
+    for sequence in sequences:
+        init = sequence.true_ellipses[0]
+        space, start = _shape_space_of(init, sequence.frames.shape[1:3])
+        likelihood = build_cues([cue], space, sequence.frames[0], start, {"color": 1.0, "structure": 1.0}, options)[cue]
+        dynamics = default_dynamics(start, beta=options["beta"], stationary_std=options["stationary_std"])
+        for t in range(2, len(sequence.frames), frame_step):
+            previous = np.repeat(sequence.truth[t - 1][None], n_samples, axis=0)
+            before = np.repeat(sequence.truth[t - 2][None], n_samples, axis=0)
+            samples = dynamics.step(previous, before, rng=generator)
+            at_truth.append(likelihood.distance(sequence.frames[t], sequence.truth[t][None])[0])
+            at_prior.append(likelihood.distance(sequence.frames[t], samples))
+    return np.array(at_truth), np.array(at_prior)

@@ -1,0 +1,157 @@
+"""Chapter 6 benchmark: cue subsets × seeds on the "fusion" head sequence, peers and speed (Li & Chaumette 2004).
+
+For every seed (a new sequence and a new filter seed) and every non-empty subset of the three cues,
+the filter of Fig. 1 (N = 300, calibrated σ) tracks the 128 frames; a frame is a success when the
+tracked ellipse overlaps the true one with IoU >= 0.5. Table 1, per method: the median seed's
+success rate, the pooled rate with its Wilson interval, the median centre error on tracked frames,
+and milliseconds per frame. Table 2: the paired Wilcoxon test of all three cues against each single
+cue on per-seed success. Then the oracle filter's centre error (same filter, true likelihood).
+
+Peers on the same frames: cv2.CamShift, cv2.TrackerMIL (not seedable: its runs vary a little), and our
+three-cue likelihood inside the generic pfilter package (linear weights exp(log L - max log L), numpy's
+global generator seeded per run). ``--lighting`` instead measures Fig. 3: colour-only success on the
+lighting frames against the size of the colour cast. Ablations: ``--sigmas paper`` (Table 1's σ),
+``--bins 8`` (colour histogram), ``--printed-ar2`` (eq. 4 as printed; a diverged run counts as lost),
+``--particles``.
+
+Times are each run's own wall clock per frame (one BLAS thread, benchmarks/_harness.py), median over
+seeds; ``--repeats`` is not used (every run is a different seeded problem). ``--json PATH`` writes the tables.
+
+Run:  .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --seeds 20        (about 15-25 min)
+      .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --lighting --seeds 4 [--bins 8]
+"""
+
+from __future__ import annotations
+
+import itertools
+
+from _harness import Benchmark
+
+CUES = ("color", "edge", "structure")
+
+
+def finite_median(values) -> float:
+    """Median of the finite values (NaN when there is none: a diverged or never-tracked run)."""
+    import numpy as np
+
+    array = np.asarray(values, float)
+    array = array[np.isfinite(array)]
+    return float(np.median(array)) if array.size else float("nan")
+
+
+def main() -> None:
+    bench = Benchmark(__doc__, seed=0)
+    parser = bench.parser
+    parser.add_argument("--seeds", type=int, default=20, help="number of sequences/seeds from --seed (default 20)")
+    parser.add_argument("--particles", type=int, default=300, help="N_w (default 300)")
+    parser.add_argument("--sigmas", choices=("calibrated", "paper"), default="calibrated")
+    parser.add_argument("--subsets", default="all", help="'all' (7 subsets) or e.g. 'color+edge,structure'")
+    parser.add_argument("--bins", type=int, default=32, help="colour histogram bins per channel (default 32, Table 1)")
+    parser.add_argument("--printed-ar2", action="store_true", help="eq. (4) as printed (unstable) in our filter")
+    parser.add_argument("--no-slow-peers", action="store_true", help="skip TrackerMIL and pfilter")
+    parser.add_argument("--lighting", action="store_true", help="Fig. 3: colour only against the cast strength")
+    args = bench.parse()
+    if args.lighting:
+        lighting_sweep(bench, args)
+    else:
+        subsets_and_peers(bench, args)
+    bench.finish()
+
+
+def subsets_and_peers(bench: Benchmark, args) -> None:
+    import numpy as np
+    from scipy.stats import wilcoxon
+
+    from amdo_lab import cue_fusion_pf as cf
+    from amdo_lab.common import rate_interval
+
+    if args.subsets == "all":
+        subsets = [c for r in (1, 2, 3) for c in itertools.combinations(CUES, r)]
+    else:
+        subsets = [tuple(s.split("+")) for s in args.subsets.split(",")]
+    slow_peers = [] if args.no_slow_peers else ["mil", "pfilter (3 cues)"]
+    names = ["+".join(s) for s in subsets] + ["camshift"] + slow_peers + ["oracle"]
+    success = {name: [] for name in names}
+    errors = {name: [] for name in names}
+    ms = {name: [] for name in names}
+    cf.load_or_train_cascade(cf.CASCADE_SEED)  # train (or load) before timing
+    for seed in range(args.seed, args.seed + args.seeds):
+        sequence = cf.make_head_sequence("fusion", seed)
+        init = sequence.true_ellipses[0]
+        runs = {}
+        for subset in subsets:
+            try:
+                runs["+".join(subset)] = cf.track(sequence.frames, init, rng=10_000 + seed, cues=subset,
+                                                  n_particles=args.particles, sigmas=args.sigmas, bins=args.bins,
+                                                  printed_order=args.printed_ar2)
+            except RuntimeError as error:  # a diverging filter (eq. 4 as printed) counts as lost on every frame
+                bench.note(f"seed {seed}, {'+'.join(subset)}: {error}")
+                lost = np.full((len(sequence.frames), 5), [0.0, 0.0, 1.0, 1.0, 0.0])
+                runs["+".join(subset)] = cf.TrackResult(lost[:, :3], lost, lost[:, :2], np.ones(len(lost)), float("nan"),
+                                                        lost[:, None, :3], np.ones((len(lost), 1)))
+        runs["camshift"] = cf.track_camshift(sequence.frames, init)
+        if slow_peers:
+            runs["mil"] = cf.track_mil(sequence.frames, init)
+            runs["pfilter (3 cues)"] = cf.track_pfilter(sequence.frames, init, rng=10_000 + seed, cues=CUES,
+                                                        n_particles=args.particles, sigmas=args.sigmas)
+        runs["oracle"] = cf.track(sequence.frames, init, rng=10_000 + seed, cues=("oracle",),
+                                  n_particles=args.particles, oracle=sequence.oracle_log_likelihood)
+        for name, result in runs.items():
+            tracked = cf.ellipse_iou(result.ellipses, sequence.true_ellipses) >= 0.5
+            success[name].append(tracked)
+            error = np.linalg.norm(result.centers - sequence.truth[:, :2], axis=1)
+            errors[name].append(np.median(error[tracked]) if tracked.any() else np.nan)
+            ms[name].append(result.ms_per_frame)
+        print(f"seed {seed}: " + "  ".join(f"{n}={np.mean(success[n][-1]):.2f}" for n in names), flush=True)
+
+    table = bench.table("method", "median seed", "pooled rate", "95 % low", "95 % high", "median err px", "ms/frame",
+                        title=f"'fusion' sequence, {args.seeds} seeds, N = {args.particles}, sigmas = {args.sigmas}, "
+                              f"{args.bins}^3 bins{', eq. (4) as printed' if args.printed_ar2 else ''}")
+    for name in names:
+        pooled = rate_interval(np.concatenate(success[name]))
+        table.add(name, round(float(np.median([s.mean() for s in success[name]])), 3), round(pooled.rate, 3),
+                  round(pooled.low, 3), round(pooled.high, 3), round(finite_median(errors[name]), 2),
+                  round(finite_median(ms[name]), 1))
+    best = "+".join(CUES)
+    if best in success and args.seeds >= 6 and any(c in success for c in CUES):
+        tests = bench.table("three cues vs", "median difference", "one-sided Wilcoxon p",
+                            title="paired on per-seed success")
+        ours = np.array([s.mean() for s in success[best]])
+        for single in (c for c in CUES if c in success):
+            other = np.array([s.mean() for s in success[single]])
+            p = wilcoxon(ours, other, alternative="greater", zero_method="zsplit").pvalue if np.any(ours != other) else 1.0
+            tests.add(single, round(float(np.median(ours - other)), 3), float(p))
+    if best in success and np.isfinite(finite_median(ms[best])):
+        bench.note(f"CamShift / three cues, time per frame: {finite_median(ms['camshift']) / finite_median(ms[best]):.3f}")
+        if slow_peers:
+            bench.note(f"pfilter / ours, same three-cue likelihood, time per frame: "
+                       f"{np.median(ms['pfilter (3 cues)']) / finite_median(ms[best]):.2f}")
+        bench.note(f"oracle median centre error {finite_median(errors['oracle']):.2f} px; three cues "
+                   f"{finite_median(errors[best]):.2f} px (2 x oracle + 2 = {2 * finite_median(errors['oracle']) + 2:.2f})")
+
+
+def lighting_sweep(bench: Benchmark, args) -> None:
+    """Fig. 3: share of the lighting frames (29-80) tracked by colour alone, against the cast strength."""
+    import numpy as np
+
+    from amdo_lab import cue_fusion_pf as cf
+    from amdo_lab.common import rate_interval
+
+    table = bench.table("cast strength", "colour only", "95 % low", "95 % high", "three cues",
+                        title=f"Fig. 3: lighting frames tracked, {args.seeds} seeds, {args.bins}^3 bins, sigmas = {args.sigmas}")
+    for strength in (0.0, 0.25, 0.5, 0.75, 1.0):
+        colour, three = [], []
+        for seed in range(args.seed, args.seed + args.seeds):
+            sequence = cf.make_head_sequence("fusion", seed, cast_strength=strength)
+            start, stop = sequence.segments["lighting"]
+            for cues, store in ((("color",), colour), (CUES, three)):
+                result = cf.track(sequence.frames[:stop], sequence.true_ellipses[0], rng=10_000 + seed, cues=cues,
+                                  n_particles=args.particles, sigmas=args.sigmas, bins=args.bins)
+                store.append(cf.ellipse_iou(result.ellipses[start:], sequence.true_ellipses[start:stop]) >= 0.5)
+        c, t = rate_interval(np.concatenate(colour)), rate_interval(np.concatenate(three))
+        table.add(strength, round(c.rate, 3), round(c.low, 3), round(c.high, 3), round(t.rate, 3))
+        print(f"cast {strength}: colour {c.rate:.3f}, three cues {t.rate:.3f}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
