@@ -56,17 +56,17 @@ def speed_and_rates(bench, args) -> None:
 
     classes = tuple(pm.POSES) if args.setting == "14-poses" else pm.TABLE1_CLASSES
     train_rng, test_rng = spawn_rngs(args.seed, 2)  # the notebook's first two streams
-    train = pm.generate_pose_dataset(classes, args.train_per_class, train_rng)
+    train = pm.generate_pose_dataset(classes, args.train_per_class, rng=train_rng)
     per_class = -(-args.n_test // len(classes))
-    test = pm.generate_pose_dataset(classes, per_class, test_rng)
+    test = pm.generate_pose_dataset(classes, per_class, rng=test_rng)
     test_shapes, test_labels = test.shapes[: args.n_test], test.labels[: args.n_test]
     models = {
-        "hierarchical PDM mixture (ours)": pm.ArticulatedShapeRecognizer,
-        "ours, joint polar PDM": lambda: pm.ArticulatedShapeRecognizer(polar_model="joint"),
-        "ours, 1 polar PDM per class": lambda: pm.ArticulatedShapeRecognizer(n_shape_components=1),
+        "hierarchical PDM mixture (ours)": lambda: pm.ArticulatedShapeRecogniser(rng=0),
+        "ours, joint polar PDM": lambda: pm.ArticulatedShapeRecogniser(rng=0, polar_model="joint"),
+        "ours, 1 polar PDM per class": lambda: pm.ArticulatedShapeRecogniser(rng=0, n_shape_components=1),
         "single Cartesian PDM": pm.SingleCartesianPDMClassifier,
         "nearest Procrustes mean": pm.NearestProcrustesMeanClassifier,
-        "sklearn GaussianMixture": pm.SklearnGMMClassifier,
+        "sklearn GaussianMixture": lambda: pm.SklearnGMMClassifier(rng=0),
     }
     table = bench.table("method", "train s (best)", "recognise s (best)", "total s", "rate", "total / ours",
                         title=f"{len(classes)} classes, {len(train.labels)} training shapes, "
@@ -107,7 +107,7 @@ def separation_experiment(bench, levels: list[float], seeds: list[int], n_test: 
                               "one BLAS thread; rates with Wilson 95 % intervals, Wilcoxon p over seeds")
     for level in levels:
         start = time.perf_counter()
-        trials = [pm.mode_separation_trial(level, seed, n_test=n_test) for seed in seeds]
+        trials = [pm.mode_separation_trial(level, rng=seed, n_test=n_test) for seed in seeds]
         cells = []
         for name in names:
             interval = rate_interval(np.concatenate([t.correct[name] for t in trials]))

@@ -5,6 +5,7 @@ import warnings
 
 import numpy as np
 import pytest
+from sklearn.exceptions import NotFittedError
 
 import amdo_lab.pdm_mixtures as pm
 from amdo_lab.common import make_rng, procrustes_align, rotation_2d, spawn_rngs
@@ -13,7 +14,7 @@ from amdo_lab.pdm_mixtures import (
     POSE_MODES,
     POSES,
     TABLE1_CLASSES,
-    ArticulatedShapeRecognizer,
+    ArticulatedShapeRecogniser,
     NearestProcrustesMeanClassifier,
     classical_mds,
     fit_gaussian_mixture,
@@ -38,25 +39,25 @@ from amdo_lab.pdm_mixtures.representation import polar_shape_vector as _polar
 @pytest.fixture(scope="module")
 def small_problem():
     train_rng, test_rng = spawn_rngs(7, 2)
-    train = generate_pose_dataset(TABLE1_CLASSES, 12, train_rng)
-    test = generate_pose_dataset(TABLE1_CLASSES, 30, test_rng)
-    recogniser = ArticulatedShapeRecognizer().fit(train.shapes, train.labels)
+    train = generate_pose_dataset(TABLE1_CLASSES, 12, rng=train_rng)
+    test = generate_pose_dataset(TABLE1_CLASSES, 30, rng=test_rng)
+    recogniser = ArticulatedShapeRecogniser(rng=0).fit(train.shapes, train.labels)
     return train, test, recogniser
 
 
 # ---------------------------------------------------------------- generator
 def test_generator_shapes_labels_and_determinism():
-    data = generate_pose_dataset(TABLE1_CLASSES, 5, 3, landmarks_per_limb=7)
+    data = generate_pose_dataset(TABLE1_CLASSES, 5, rng=3, landmarks_per_limb=7)
     assert data.shapes.shape == (30, 13, 7, 2)
     assert [int(np.sum(data.labels == c)) for c in TABLE1_CLASSES] == [5] * 6
-    again = generate_pose_dataset(TABLE1_CLASSES, 5, 3, landmarks_per_limb=7)
+    again = generate_pose_dataset(TABLE1_CLASSES, 5, rng=3, landmarks_per_limb=7)
     np.testing.assert_array_equal(data.shapes, again.shapes)
-    other = generate_pose_dataset(TABLE1_CLASSES, 5, 4, landmarks_per_limb=7)
+    other = generate_pose_dataset(TABLE1_CLASSES, 5, rng=4, landmarks_per_limb=7)
     assert not np.allclose(data.shapes, other.shapes)
 
 
 def test_generator_limb_lengths_and_joint_connectivity_without_noise():
-    data = generate_pose_dataset(TABLE1_CLASSES, 4, 11, noise=0.0)
+    data = generate_pose_dataset(TABLE1_CLASSES, 4, rng=11, noise=0.0)
     strokes = data.shapes
     measured = np.linalg.norm(strokes[:, :, -1] - strokes[:, :, 0], axis=-1)
     np.testing.assert_allclose(measured, data.limb_lengths, rtol=1e-12)
@@ -94,7 +95,7 @@ def test_generator_draws_every_articulation_mode():
         templates = list(POSE_MODES[name].values())
         # The modes are genuinely different articulations (at least 25 degrees on some limb).
         assert np.max(np.abs(np.subtract(templates[0], templates[1]))) >= 25
-    data = generate_pose_dataset(TABLE1_CLASSES, 30, 9, noise=0.0, joint_jitter_deg=0.0, length_jitter=0.0,
+    data = generate_pose_dataset(TABLE1_CLASSES, 30, rng=9, noise=0.0, joint_jitter_deg=0.0, length_jitter=0.0,
                                  max_rotation_deg=0.0)
     for name in TABLE1_CLASSES:
         mask = data.labels == name
@@ -141,7 +142,7 @@ def test_polar_representation_angles_and_wrapping():
 
 
 def test_polar_angles_rotate_with_the_shape():
-    data = generate_pose_dataset(["boxing"], 1, 2)
+    data = generate_pose_dataset(["boxing"], 1, rng=2)
     rotated = data.shapes @ rotation_2d(0.3).T
     delta = wrap_angle(limb_angles(limb_centres(rotated)) - limb_angles(limb_centres(data.shapes)))
     np.testing.assert_allclose(delta, 0.3, atol=1e-12)
@@ -203,9 +204,9 @@ def test_recogniser_is_similarity_invariant(small_problem):
 def test_recognition_trace_iterates_and_converges(small_problem):
     _, test, recogniser = small_problem
     trace = recogniser.recognise(test.shapes)
-    assert 1 <= trace.n_iterations <= recogniser.max_iter
-    assert trace.posteriors.shape == (trace.n_iterations, len(test.shapes), 6)
-    if trace.n_iterations < recogniser.max_iter:
+    assert 1 <= trace.n_iter <= recogniser.max_iter
+    assert trace.posteriors.shape == (trace.n_iter, len(test.shapes), 6)
+    if trace.n_iter < recogniser.max_iter:
         # Converged: refining labels with the final winner changes nothing.
         best = trace.posteriors[-1].argmax(axis=1)
         assert best.shape == (len(test.shapes),)
@@ -224,7 +225,7 @@ def test_baseline_and_mds_sanity(small_problem):
 def test_bad_input_raises_clear_errors(small_problem):
     train, test, recogniser = small_problem
     with pytest.raises(ValueError, match="unknown pose"):
-        generate_pose_dataset(["boxing", "dancing"], 3, 0)
+        generate_pose_dataset(["boxing", "dancing"], 3, rng=0)
     with pytest.raises(ValueError, match="shapes"):
         recogniser.predict(test.shapes[:, :12])
     with pytest.raises(ValueError, match="landmarks per limb"):
@@ -234,23 +235,21 @@ def test_bad_input_raises_clear_errors(small_problem):
     with pytest.raises(ValueError, match="finite"):
         recogniser.predict(bad)
     with pytest.raises(ValueError, match="no training examples"):
-        ArticulatedShapeRecognizer(classes=TABLE1_CLASSES).fit(train.shapes[train.labels != "boxing"],
+        ArticulatedShapeRecogniser(rng=0, classes=TABLE1_CLASSES).fit(train.shapes[train.labels != "boxing"],
                                                                train.labels[train.labels != "boxing"])
     with pytest.raises(ValueError, match="not in classes"):
-        ArticulatedShapeRecognizer(classes=TABLE1_CLASSES[:5]).fit(train.shapes, train.labels)
+        ArticulatedShapeRecogniser(rng=0, classes=TABLE1_CLASSES[:5]).fit(train.shapes, train.labels)
     keep = np.r_[np.flatnonzero(train.labels != "kicking"), np.flatnonzero(train.labels == "kicking")[:2]]
     with pytest.raises(ValueError, match="at least 6 training examples"):
-        ArticulatedShapeRecognizer().fit(train.shapes[keep], train.labels[keep])
+        ArticulatedShapeRecogniser(rng=0).fit(train.shapes[keep], train.labels[keep])
     with pytest.raises(ValueError, match="at least 3 training examples"):
-        ArticulatedShapeRecognizer(n_shape_components=1).fit(train.shapes[keep], train.labels[keep])
+        ArticulatedShapeRecogniser(rng=0, n_shape_components=1).fit(train.shapes[keep], train.labels[keep])
     with pytest.raises(ValueError, match="n_shape_components"):
-        ArticulatedShapeRecognizer(n_shape_components=0)
-    with pytest.raises(TypeError, match="shape_seed"):
-        ArticulatedShapeRecognizer(shape_seed=None)
+        ArticulatedShapeRecogniser(rng=0, n_shape_components=0).fit(train.shapes, train.labels)
     with pytest.raises(ValueError, match="labels"):
-        ArticulatedShapeRecognizer().fit(train.shapes, train.labels[:-1])
-    with pytest.raises(ValueError, match="fitted"):
-        ArticulatedShapeRecognizer().predict(test.shapes)
+        ArticulatedShapeRecogniser(rng=0).fit(train.shapes, train.labels[:-1])
+    with pytest.raises(NotFittedError, match="not fitted"):
+        ArticulatedShapeRecogniser(rng=0).predict(test.shapes)
     with pytest.raises(ValueError, match="n_components"):
         fit_gaussian_mixture(np.zeros((2, 2)), 3, means_init=np.zeros((3, 2)), covariances_init=np.zeros((3, 2, 2)))
 
@@ -285,7 +284,7 @@ def test_dictionary_has_one_string_per_class_component(small_problem):
     assert recogniser.dictionary_.shape == (6, 2, 13)
     assert recogniser.dictionary_.min() >= 0 and recogniser.dictionary_.max() < recogniser.n_limb_labels
     # With one component the string is the per-limb majority MAP label of the class.
-    single = ArticulatedShapeRecognizer(n_shape_components=1).fit(train.shapes, train.labels)
+    single = ArticulatedShapeRecogniser(rng=0, n_shape_components=1).fit(train.shapes, train.labels)
     j = single.classes_.index("boxing")
     labels = single.training_label_strings_[train.labels == "boxing"]
     majority = [np.bincount(labels[:, k], minlength=single.n_limb_labels).argmax() for k in range(13)]
@@ -294,7 +293,7 @@ def test_dictionary_has_one_string_per_class_component(small_problem):
 
 def test_block_polar_pdm_models_angles_and_centres_separately(small_problem):
     train, _, recogniser = small_problem
-    single = ArticulatedShapeRecognizer(n_shape_components=1).fit(train.shapes, train.labels)
+    single = ArticulatedShapeRecogniser(rng=0, n_shape_components=1).fit(train.shapes, train.labels)
     j = single.classes_.index("stretching")
     model = single.shape_models_[j][0]
     assert [b.stop - b.start for b in model.blocks] == [13, 26]
@@ -304,23 +303,23 @@ def test_block_polar_pdm_models_angles_and_centres_separately(small_problem):
     top = np.sort(np.linalg.eigvalsh(angle_cov))[::-1][: model.pdms[0].n_modes]
     np.testing.assert_allclose(model.pdms[0].variances, top, rtol=1e-10)
     # The log-density is the sum of the two blocks' densities; a joint model has one block.
-    joint = ArticulatedShapeRecognizer(n_shape_components=1, polar_model="joint").fit(train.shapes, train.labels)
+    joint = ArticulatedShapeRecogniser(rng=0, n_shape_components=1, polar_model="joint").fit(train.shapes, train.labels)
     assert len(joint.shape_models_[j][0].pdms) == 1
-    fitted = model.fit(deviation)
+    fitted = model.project(deviation)
     assert fitted.shape == deviation.shape
     assert np.all(np.isfinite(model.log_density(deviation)))
 
 
 def test_limb_likelihood_options_give_label_posteriors(small_problem):
     train, test, recogniser = small_problem
-    residual = ArticulatedShapeRecognizer(limb_likelihood="residual").fit(train.shapes, train.labels)
+    residual = ArticulatedShapeRecogniser(rng=0, limb_likelihood="residual").fit(train.shapes, train.labels)
     for model in (recogniser, residual):
         posteriors = np.exp(model._limb_log_posteriors(model.align(test.shapes[:5])))
         np.testing.assert_allclose(posteriors.sum(axis=2), 1.0)
     with pytest.raises(ValueError, match="limb_likelihood"):
-        ArticulatedShapeRecognizer(limb_likelihood="hamming")
+        ArticulatedShapeRecogniser(rng=0, limb_likelihood="hamming").fit(train.shapes, train.labels)
     with pytest.raises(ValueError, match="polar_model"):
-        ArticulatedShapeRecognizer(polar_model="cartesian")
+        ArticulatedShapeRecogniser(rng=0, polar_model="cartesian").fit(train.shapes, train.labels)
 
 
 def test_shape_level_mixture_separates_articulation_modes(small_problem):
@@ -343,30 +342,30 @@ def test_shape_level_mixture_separates_articulation_modes(small_problem):
 
 def test_single_component_is_one_polar_pdm_per_class(small_problem):
     train, test, _ = small_problem
-    single = ArticulatedShapeRecognizer(n_shape_components=1).fit(train.shapes, train.labels)
+    single = ArticulatedShapeRecogniser(rng=0, n_shape_components=1).fit(train.shapes, train.labels)
     vectors = _polar(single.align(train.shapes))
     j = single.classes_.index("kicking")
     deviation = single._deviation(vectors[train.labels == "kicking"], single.angle_means_[j])
     np.testing.assert_allclose(single.shape_models_[j][0].mean, deviation.mean(axis=0), atol=1e-12)
     np.testing.assert_allclose(single.shape_weights_[j], [1.0])
-    again = ArticulatedShapeRecognizer().fit(train.shapes, train.labels)  # the seeded EM is reproducible
+    again = ArticulatedShapeRecogniser(rng=0).fit(train.shapes, train.labels)  # the seeded EM is reproducible
     np.testing.assert_array_equal(again.predict_proba(test.shapes[:10]),
-                                  ArticulatedShapeRecognizer().fit(train.shapes, train.labels).predict_proba(test.shapes[:10]))
+                                  ArticulatedShapeRecogniser(rng=0).fit(train.shapes, train.labels).predict_proba(test.shapes[:10]))
 
 
 def test_generator_rejects_bad_parameters():
     with pytest.raises(ValueError, match="noise"):
-        generate_pose_dataset(TABLE1_CLASSES, 2, 0, noise=-0.1)
+        generate_pose_dataset(TABLE1_CLASSES, 2, rng=0, noise=-0.1)
     with pytest.raises(ValueError, match="n_per_class"):
-        generate_pose_dataset(TABLE1_CLASSES, 0, 0)
+        generate_pose_dataset(TABLE1_CLASSES, 0, rng=0)
     with pytest.raises(ValueError, match="empty"):
-        generate_pose_dataset([], 2, 0)
+        generate_pose_dataset([], 2, rng=0)
     with pytest.raises(TypeError):
-        generate_pose_dataset(TABLE1_CLASSES, 2, None)
+        generate_pose_dataset(TABLE1_CLASSES, 2, rng=None)
 
 
 def test_polar_mixture_components_are_weighted_moments_in_original_units():
-    from amdo_lab.pdm_mixtures.recognizer import _fit_polar_mixture, _polar_blocks
+    from amdo_lab.pdm_mixtures.recogniser import _fit_polar_mixture, _polar_blocks
 
     rng = make_rng(3)
     # Two clusters; angles (radians) and centres (small units) on very different scales.
@@ -382,24 +381,24 @@ def test_polar_mixture_components_are_weighted_moments_in_original_units():
 
 
 # ---------------------------------------------------------------- open choices: ridge, restarts, held-out likelihood
-def test_shape_ridge_and_em_restarts_validate_and_default_to_the_previous_recogniser(small_problem):
+def test_shape_ridge_and_n_restarts_validate_and_default_to_the_previous_recogniser(small_problem):
     train, test, recogniser = small_problem
     for bad in (0.0, -1e-3, float("nan")):
         with pytest.raises(ValueError, match="shape_ridge"):
-            ArticulatedShapeRecognizer(shape_ridge=bad)
+            ArticulatedShapeRecogniser(rng=0, shape_ridge=bad).fit(train.shapes, train.labels)
     with pytest.raises(TypeError, match="shape_ridge"):
-        ArticulatedShapeRecognizer(shape_ridge="1e-3")
-    with pytest.raises(ValueError, match="em_restarts"):
-        ArticulatedShapeRecognizer(em_restarts=0)
-    with pytest.raises(TypeError, match="em_restarts"):
-        ArticulatedShapeRecognizer(em_restarts=2.0)
-    explicit = ArticulatedShapeRecognizer(shape_ridge=1e-3, em_restarts=1).fit(train.shapes, train.labels)
+        ArticulatedShapeRecogniser(rng=0, shape_ridge="1e-3").fit(train.shapes, train.labels)
+    with pytest.raises(ValueError, match="n_restarts"):
+        ArticulatedShapeRecogniser(rng=0, n_restarts=0).fit(train.shapes, train.labels)
+    with pytest.raises(TypeError, match="n_restarts"):
+        ArticulatedShapeRecogniser(rng=0, n_restarts=2.0).fit(train.shapes, train.labels)
+    explicit = ArticulatedShapeRecogniser(rng=0, shape_ridge=1e-3, n_restarts=1).fit(train.shapes, train.labels)
     np.testing.assert_array_equal(explicit.predict_proba(test.shapes[:20]), recogniser.predict_proba(test.shapes[:20]))
 
 
 def test_larger_shape_ridge_raises_the_component_residual_variance(small_problem):
     train, _, recogniser = small_problem
-    wide = ArticulatedShapeRecognizer(shape_ridge=1e-1).fit(train.shapes, train.labels)
+    wide = ArticulatedShapeRecogniser(rng=0, shape_ridge=1e-1).fit(train.shapes, train.labels)
     for narrow_components, wide_components in zip(recogniser.shape_models_, wide.shape_models_):
         narrow_floor = min(c.pdms[1].residual_variance for c in narrow_components)
         wide_floor = min(c.pdms[1].residual_variance for c in wide_components)
@@ -407,7 +406,7 @@ def test_larger_shape_ridge_raises_the_component_residual_variance(small_problem
 
 
 def test_em_restarts_keep_the_start_with_the_highest_training_likelihood(monkeypatch):
-    from amdo_lab.pdm_mixtures import recognizer as module
+    from amdo_lab.pdm_mixtures import recogniser as module
 
     rng = make_rng(5)
     data = np.concatenate([rng.standard_normal((12, 39)), rng.standard_normal((12, 39)) + 1.5])
@@ -437,26 +436,27 @@ def test_held_out_log_likelihood_is_deterministic_and_validates(small_problem):
     j = recogniser.classes_.index("boxing")
     vectors = recogniser._deviation(_polar(recogniser.align(train.shapes[train.labels == "boxing"])),
                                     recogniser.angle_means_[j])  # 12 shapes
-    one = held_out_log_likelihood(vectors, 1, n_folds=4)
-    assert np.isfinite(one) and one == held_out_log_likelihood(vectors, 1, n_folds=4)
-    assert np.isfinite(held_out_log_likelihood(vectors, 2, n_folds=3, shape_ridge=1e-2))
+    one = held_out_log_likelihood(vectors, 1, n_folds=4, rng=0)
+    assert np.isfinite(one) and one == held_out_log_likelihood(vectors, 1, n_folds=4, rng=0)
+    assert np.isfinite(held_out_log_likelihood(vectors, 2, n_folds=3, shape_ridge=1e-2, rng=0))
     with pytest.raises(ValueError, match="n_folds"):
-        held_out_log_likelihood(vectors, 1, n_folds=1)
+        held_out_log_likelihood(vectors, 1, n_folds=1, rng=0)
     with pytest.raises(ValueError, match="rows outside every fold"):
-        held_out_log_likelihood(vectors, 4, n_folds=4)  # 9 rows per training split; 4 components need 12
+        held_out_log_likelihood(vectors, 4, n_folds=4, rng=0)  # 9 rows per training split; 4 components need 12
     with pytest.raises(ValueError, match="shape_ridge"):
-        held_out_log_likelihood(vectors, 2, shape_ridge=0.0)
+        held_out_log_likelihood(vectors, 2, shape_ridge=0.0, rng=0)
     with pytest.raises(ValueError, match="polar_vectors"):
-        held_out_log_likelihood(vectors[:, :13], 1)
+        held_out_log_likelihood(vectors[:, :13], 1, rng=0)
     with pytest.raises(ValueError, match="polar_model"):
-        held_out_log_likelihood(vectors, 1, polar_model="both")
+        held_out_log_likelihood(vectors, 1, polar_model="both", rng=0)
 
 
 # ---------------------------------------------------------------- bad input at every public entry point
 _RNG = make_rng(21)
 _VECTORS = _RNG.standard_normal((10, 4))
 _PDM = fit_pdm(_VECTORS)
-_SHAPES = generate_pose_dataset(TABLE1_CLASSES[:1], 2, 0).shapes
+_SHAPES = generate_pose_dataset(TABLE1_CLASSES[:1], 2, rng=0).shapes
+_TWO_BOXING = np.array(["boxing", "boxing"])
 _EYES = np.stack([np.eye(2)] * 2)
 
 
@@ -538,12 +538,12 @@ _EYES = np.stack([np.eye(2)] * 2)
     (lambda: pm.pca_embedding(_VECTORS, 5), ValueError, r"n_dims must be at most min\(n, d\) = 4"),
     (lambda: pm.pca_embedding(_VECTORS, 2.5), TypeError, "n_dims must be an int"),
     (lambda: pm.pca_embedding(np.full((3, 3), np.nan)), ValueError, "vectors must be finite"),
-    (lambda: pm.SingleCartesianPDMClassifier(variance_fraction=np.nan), ValueError, "variance_fraction must be finite"),
-    (lambda: pm.SingleCartesianPDMClassifier(variance_fraction=2.0), ValueError, "variance_fraction must be in"),
+    (lambda: pm.SingleCartesianPDMClassifier(variance_fraction=np.nan).fit(_SHAPES, _TWO_BOXING), ValueError, "variance_fraction must be finite"),
+    (lambda: pm.SingleCartesianPDMClassifier(variance_fraction=2.0).fit(_SHAPES, _TWO_BOXING), ValueError, "variance_fraction must be in"),
     # recogniser settings
-    (lambda: ArticulatedShapeRecognizer(classes="boxing"), TypeError, "classes must be a sequence of class names"),
-    (lambda: ArticulatedShapeRecognizer(classes=()), ValueError, "classes must name at least one class"),
-    (lambda: ArticulatedShapeRecognizer(classes=("boxing", "boxing")), ValueError, "classes must not repeat a name"),
+    (lambda: ArticulatedShapeRecogniser(rng=0, classes="boxing").fit(_SHAPES, _TWO_BOXING), TypeError, "classes must be a sequence of class names"),
+    (lambda: ArticulatedShapeRecogniser(rng=0, classes=()).fit(_SHAPES, _TWO_BOXING), ValueError, "classes must name at least one class"),
+    (lambda: ArticulatedShapeRecogniser(rng=0, classes=("boxing", "boxing")).fit(_SHAPES, _TWO_BOXING), ValueError, "classes must not repeat a name"),
 ])
 def test_public_functions_reject_bad_input(call, error, message):
     with pytest.raises(error, match=message):
@@ -561,7 +561,7 @@ def fitted(small_problem):
     import matplotlib.pyplot as plt
 
     train, test, recogniser = small_problem
-    baselines = {cls: cls().fit(train.shapes, train.labels)
+    baselines = {cls: _make(cls).fit(train.shapes, train.labels)
                  for cls in (pm.SingleCartesianPDMClassifier, NearestProcrustesMeanClassifier, pm.SklearnGMMClassifier)}
     fig, ax = plt.subplots()
     yield types.SimpleNamespace(train=train, test=test, recogniser=recogniser, baselines=baselines, ax=ax,
@@ -573,6 +573,11 @@ def fitted(small_problem):
 _BASELINES = (pm.SingleCartesianPDMClassifier, NearestProcrustesMeanClassifier, pm.SklearnGMMClassifier)
 
 
+def _make(cls):
+    """A baseline with its default settings (the scikit-learn mixture seeded with 0)."""
+    return cls(rng=0) if cls is pm.SklearnGMMClassifier else cls()
+
+
 @pytest.mark.parametrize("call, error, message", [
     (lambda f: f.recogniser.model_limbs(np.full(39, np.nan), f.labels), ValueError, "polar_vector must be finite"),
     (lambda f: f.recogniser.model_limbs(f.vector[:20], f.labels), ValueError, r"polar_vector must have shape \(39,\)"),
@@ -581,16 +586,16 @@ _BASELINES = (pm.SingleCartesianPDMClassifier, NearestProcrustesMeanClassifier, 
     (lambda f: f.recogniser.model_limbs(f.vector, f.labels[:5]), ValueError, r"label_string must have shape \(13,\)"),
     (lambda f: f.recogniser.model_limbs(f.vector, f.labels, np.zeros((13, 5))), ValueError,
      r"observed_limbs must have shape \(13, 12\)"),
-    (lambda f: f.recogniser.shape_models_[0][0].fit(np.full((2, 39), np.nan)), ValueError, "deviation must be finite"),
+    (lambda f: f.recogniser.shape_models_[0][0].project(np.full((2, 39), np.nan)), ValueError, "deviation must be finite"),
     (lambda f: f.recogniser.shape_models_[0][0].log_density(np.zeros((2, 10))), ValueError,
      r"deviation must have shape \(n, 39\)"),
-    (lambda f: ArticulatedShapeRecognizer().align(f.test.shapes), ValueError, "must be fitted"),
-    (lambda f: ArticulatedShapeRecognizer().model_limbs(f.vector, f.labels), ValueError, "must be fitted"),
-    (lambda f: ArticulatedShapeRecognizer().fit(f.train.shapes, f.nan_labels), ValueError, "labels must not contain NaN"),
+    (lambda f: ArticulatedShapeRecogniser(rng=0).align(f.test.shapes), NotFittedError, "is not fitted yet"),
+    (lambda f: ArticulatedShapeRecogniser(rng=0).model_limbs(f.vector, f.labels), NotFittedError, "is not fitted yet"),
+    (lambda f: ArticulatedShapeRecogniser(rng=0).fit(f.train.shapes, f.nan_labels), ValueError, "labels must not contain NaN"),
     *[case for cls in _BASELINES for case in (
-        (lambda f, cls=cls: cls().fit(f.train.shapes, f.train.labels[:-1]), ValueError, r"labels must have shape \(72,\)"),
-        (lambda f, cls=cls: cls().fit(f.train.shapes, f.nan_labels), ValueError, "labels must not contain NaN"),
-        (lambda f, cls=cls: cls().predict(f.test.shapes), ValueError, "must be fitted"),
+        (lambda f, cls=cls: _make(cls).fit(f.train.shapes, f.train.labels[:-1]), ValueError, r"labels must have shape \(72,\)"),
+        (lambda f, cls=cls: _make(cls).fit(f.train.shapes, f.nan_labels), ValueError, "labels must not contain NaN"),
+        (lambda f, cls=cls: _make(cls).predict(f.test.shapes), NotFittedError, "is not fitted yet"),
         (lambda f, cls=cls: f.baselines[cls].predict(f.test.shapes[:, :, :4]), ValueError, "6 landmarks per limb"),
     )],
     *[(lambda f, cls=cls: f.baselines[cls].predict(np.r_[np.ones((1, 13, 6, 2)), f.test.shapes[:1]]), ValueError,
@@ -608,19 +613,19 @@ def test_fitted_models_reject_bad_input(fitted, call, error, message):
 
 # ---------------------------------------------------------------- mode separation, reference paths
 def test_mode_separation_default_is_unchanged_and_zero_merges_the_modes():
-    default = generate_pose_dataset(TABLE1_CLASSES, 6, 11)
-    explicit = generate_pose_dataset(TABLE1_CLASSES, 6, 11, mode_separation=1.0)
+    default = generate_pose_dataset(TABLE1_CLASSES, 6, rng=11)
+    explicit = generate_pose_dataset(TABLE1_CLASSES, 6, rng=11, mode_separation=1.0)
     assert np.array_equal(default.shapes, explicit.shapes)
     still = dict(noise=0.0, joint_jitter_deg=0.0, length_jitter=0.0, max_rotation_deg=0.0)
-    merged = generate_pose_dataset(("boxing",), 8, 3, mode_separation=0.0, **still)
+    merged = generate_pose_dataset(("boxing",), 8, rng=3, mode_separation=0.0, **still)
     assert len(set(merged.modes)) == 2  # both modes drawn, yet they coincide
     normalised = np.stack([pm.normalise_shape(s.reshape(-1, 2)) for s in merged.shapes])
     assert np.allclose(normalised, normalised[0], atol=1e-12)
     spread = {level: np.ptp(pm.limb_angles(pm.limb_centres(generate_pose_dataset(
-        ("boxing",), 8, 3, mode_separation=level, **still).shapes))[:, 3]) for level in (1.0, 1.5)}
+        ("boxing",), 8, rng=3, mode_separation=level, **still).shapes))[:, 3]) for level in (1.0, 1.5)}
     assert spread[1.5] > spread[1.0] > 0.1  # the left upper arm's two modes move apart
     with pytest.raises(ValueError, match="mode_separation"):
-        generate_pose_dataset(TABLE1_CLASSES, 2, 0, mode_separation=-1.0)
+        generate_pose_dataset(TABLE1_CLASSES, 2, rng=0, mode_separation=-1.0)
 
 
 def test_ppca_log_density_is_the_gaussian_of_the_pdm_covariance():
@@ -650,7 +655,7 @@ def test_single_cartesian_pdm_scores_with_the_one_ppca_density(small_problem):
 def test_reference_paths_equal_fast_paths():
     from amdo_lab.pdm_mixtures.gmm import _gaussian_log_density, _gaussian_log_density_reference
     from amdo_lab.pdm_mixtures.pdm import _align_to_reference, _align_to_reference_loop
-    from amdo_lab.pdm_mixtures.recognizer import _hamming_distance, _hamming_distance_reference
+    from amdo_lab.pdm_mixtures.recogniser import _hamming_distance, _hamming_distance_reference
 
     rng = make_rng(8)
     points, means = rng.standard_normal((30, 4)), rng.standard_normal((3, 4))
@@ -660,7 +665,7 @@ def test_reference_paths_equal_fast_paths():
                        _gaussian_log_density_reference(points, means, covariances))
     strings, dictionary = rng.integers(0, 4, (7, 13)), rng.integers(0, 4, (5, 13))
     assert np.array_equal(_hamming_distance(strings, dictionary), _hamming_distance_reference(strings, dictionary))
-    sets = generate_pose_dataset(TABLE1_CLASSES, 3, 5).shapes.reshape(18, -1, 2)
+    sets = generate_pose_dataset(TABLE1_CLASSES, 3, rng=5).shapes.reshape(18, -1, 2)
     reference = pm.normalise_shape(sets[0])
     assert np.allclose(_align_to_reference(sets, reference), _align_to_reference_loop(sets, reference), atol=1e-12)
 
@@ -683,17 +688,17 @@ def test_limb_label_posteriors_are_distributions(small_problem):
 
 
 def test_mode_separation_trial_is_deterministic_and_validates():
-    first = pm.mode_separation_trial(1.5, 3, n_train=6, n_test=2, classes=("boxing", "stretching"))
-    again = pm.mode_separation_trial(1.5, 3, n_train=6, n_test=2, classes=("boxing", "stretching"))
+    first = pm.mode_separation_trial(1.5, rng=3, n_train=6, n_test=2, classes=("boxing", "stretching"))
+    again = pm.mode_separation_trial(1.5, rng=3, n_train=6, n_test=2, classes=("boxing", "stretching"))
     assert set(first.correct) == set(pm.SEPARATION_MODELS)
     for name in pm.SEPARATION_MODELS:
         assert first.correct[name].shape == (4,) and first.correct[name].dtype == bool
         assert np.array_equal(first.correct[name], again.correct[name])
         assert 0.0 <= first.rate(name) <= 1.0
     with pytest.raises(ValueError, match="separation"):
-        pm.mode_separation_trial(-0.5, 3)
+        pm.mode_separation_trial(-0.5, rng=3)
     with pytest.raises(ValueError, match="n_train"):
-        pm.mode_separation_trial(1.0, 3, n_train=2)
+        pm.mode_separation_trial(1.0, rng=3, n_train=2)
 
 
 def test_batched_mixture_em_equals_one_run_at_a_time():
@@ -728,10 +733,89 @@ def test_draw_shape_draws_one_collection_and_validates():
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots()
-    pm.draw_shape(ax, generate_pose_dataset(("boxing",), 1, 0).shapes[0], label="boxing")
+    pm.draw_shape(ax, generate_pose_dataset(("boxing",), 1, rng=0).shapes[0], label="boxing")
     assert len(ax.collections) == 1 and ax.get_legend_handles_labels()[1] == ["boxing"]
     with pytest.raises(ValueError, match="shape"):
         pm.draw_shape(ax, np.zeros((12, 6, 2)))
     with pytest.raises(TypeError, match="ax"):
         pm.draw_shape("axes", np.zeros((13, 6, 2)))
     plt.close(fig)
+
+
+# ---------------------------------------------------------------- the rng convention
+_DRAWING = {
+    "generate_pose_dataset": (generate_pose_dataset, lambda rng: generate_pose_dataset(TABLE1_CLASSES, 2, rng=rng)),
+    "ArticulatedShapeRecogniser": (ArticulatedShapeRecogniser,  # estimators check their settings in fit
+                                   lambda rng: ArticulatedShapeRecogniser(rng=rng).fit(_SHAPES, _TWO_BOXING)),
+    "SklearnGMMClassifier": (pm.SklearnGMMClassifier,
+                             lambda rng: pm.SklearnGMMClassifier(rng=rng).fit(_SHAPES, _TWO_BOXING)),
+    "held_out_log_likelihood": (pm.held_out_log_likelihood,
+                                lambda rng: pm.held_out_log_likelihood(np.zeros((12, 39)), 1, rng=rng)),
+    "mode_separation_trial": (pm.mode_separation_trial, lambda rng: pm.mode_separation_trial(1.0, rng=rng)),
+}
+
+
+@pytest.mark.parametrize("name", sorted(_DRAWING))
+def test_drawing_functions_take_a_keyword_rng_without_default_and_name_it_in_errors(name):
+    import inspect
+
+    function, call = _DRAWING[name]
+    parameter = inspect.signature(function).parameters["rng"]
+    assert parameter.kind is inspect.Parameter.KEYWORD_ONLY
+    assert parameter.default is inspect.Parameter.empty
+    with pytest.raises(TypeError, match="rng must be"):
+        call("0")
+    with pytest.raises(TypeError, match="rng must be"):
+        call(None)
+    with pytest.raises(ValueError, match="rng must be non-negative"):
+        call(-1)
+
+
+def test_sklearn_baseline_takes_a_generator(fitted):
+    """A Generator seeds each class's mixture with an int drawn from it; the same stream, the same fit."""
+    first = pm.SklearnGMMClassifier(rng=make_rng(5)).fit(fitted.train.shapes, fitted.train.labels)
+    again = pm.SklearnGMMClassifier(rng=make_rng(5)).fit(fitted.train.shapes, fitted.train.labels)
+    np.testing.assert_array_equal(first.predict(fitted.test.shapes), again.predict(fitted.test.shapes))
+    assert np.mean(first.predict(fitted.test.shapes) == fitted.test.labels) > 0.5
+
+
+def test_docstring_examples_run_as_printed():
+    import doctest
+
+    from amdo_lab.pdm_mixtures import pdm, poses, recogniser
+
+    for module in (poses, pdm, recogniser):
+        result = doctest.testmod(module, optionflags=doctest.NORMALIZE_WHITESPACE)
+        assert result.failed == 0 and result.attempted > 0, module.__name__
+
+
+# ---------------------------------------------------------------- scikit-learn's estimator contract
+def test_estimators_store_settings_as_given_learn_underscored_attributes_and_fit_returns_self(fitted):
+    import inspect
+
+    cases = [
+        (ArticulatedShapeRecogniser, dict(rng=make_rng(0), n_limb_labels=np.int64(4), classes=list(TABLE1_CLASSES))),
+        (pm.SingleCartesianPDMClassifier, dict(variance_fraction=0.9)),
+        (NearestProcrustesMeanClassifier, {}),
+        (pm.SklearnGMMClassifier, dict(n_components=2, rng=0)),
+    ]
+    for cls, settings in cases:
+        model = cls(**settings)
+        for name, value in settings.items():
+            assert getattr(model, name) is value, (cls.__name__, name)
+        assert model.fit(fitted.train.shapes, fitted.train.labels) is model
+        parameters = inspect.signature(cls).parameters
+        assert all(name in parameters or name.endswith("_") for name in vars(model)), cls.__name__
+    unchecked = ArticulatedShapeRecogniser(rng=0, n_limb_labels=0)  # settings are checked by fit
+    with pytest.raises(ValueError, match="n_limb_labels"):
+        unchecked.fit(fitted.train.shapes, fitted.train.labels)
+    with pytest.raises(ValueError, match="covariance_type"):
+        pm.SklearnGMMClassifier(covariance_type="diagonal", rng=0).fit(fitted.train.shapes, fitted.train.labels)
+
+
+def test_a_refit_forgets_the_previous_fit(small_problem):
+    train, test, _ = small_problem
+    model = ArticulatedShapeRecogniser(rng=0, n_shape_components=1).fit(train.shapes, train.labels)
+    fewer = train.shapes[:, :, :4]  # 4 landmarks per limb instead of 6: accepted by a fresh fit
+    model.fit(fewer, train.labels)
+    assert model.landmarks_per_limb_ == 4 and model.predict(test.shapes[:3, :, :4]).shape == (3,)

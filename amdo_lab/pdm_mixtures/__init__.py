@@ -27,9 +27,9 @@ from amdo_lab.pdm_mixtures.poses import (
     pose_modes,
     skeleton_strokes,
 )
-from amdo_lab.pdm_mixtures.recognizer import (
+from amdo_lab.pdm_mixtures.recogniser import (
     AlignmentTrace,
-    ArticulatedShapeRecognizer,
+    ArticulatedShapeRecogniser,
     PolarPDM,
     RecognitionTrace,
     ScoreComponents,

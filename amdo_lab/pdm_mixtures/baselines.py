@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive_int, procrustes_align
+from amdo_lab.common import as_finite_array, check_choice, check_fitted, check_positive_int, make_rng, procrustes_align
 from amdo_lab.pdm_mixtures.pdm import (
     _check_labels,
     _align_to_reference,
@@ -31,11 +31,6 @@ def _check(shapes: object) -> np.ndarray:
     return shapes
 
 
-def _check_fitted(classifier: object) -> None:
-    if not hasattr(classifier, "classes_"):
-        raise ValueError(f"the {type(classifier).__name__} must be fitted before it scores or predicts shapes")
-
-
 def _check_landmarks(shapes: np.ndarray, n_points: int) -> None:
     """``shapes`` have as many landmarks (``n_points`` in all) as the training shapes."""
     if shapes.shape[1] * shapes.shape[2] != n_points:
@@ -44,13 +39,41 @@ def _check_landmarks(shapes: np.ndarray, n_points: int) -> None:
 
 
 class SingleCartesianPDMClassifier:
-    """One Cartesian PDM per class on Procrustes-aligned landmark long-vectors; class = highest
-    PPCA log-likelihood (:func:`~amdo_lab.pdm_mixtures.pdm.ppca_log_density`)."""
+    """Baseline: one Cartesian PDM per class on Procrustes-aligned landmark long-vectors.
+
+    A shape goes to the class whose PDM gives it the highest PPCA log-likelihood
+    (:func:`~amdo_lab.pdm_mixtures.pdm.ppca_log_density`).
+
+    Parameters
+    ----------
+    variance_fraction : float
+        Variance kept by each class's PDM, in (0, 1].
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (the single PDM per class that the paper's mixtures extend).
+    """
 
     def __init__(self, variance_fraction: float = 0.95) -> None:
-        self.variance_fraction = _check_variance_fraction(variance_fraction)
+        self.variance_fraction = variance_fraction  # stored as given; fit validates it
 
     def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "SingleCartesianPDMClassifier":
+        """Align the training shapes (generalised Procrustes) and fit one PDM per class (eq. 1).
+
+        Parameters
+        ----------
+        shapes : (T, 13, m, 2) array_like
+            Training shapes; no shape may have all its landmarks coincide.
+        labels : (T,) array_like
+            Class name (or id) of every training shape.
+
+        Returns
+        -------
+        SingleCartesianPDMClassifier
+            This classifier, fitted.
+        """
+        _check_variance_fraction(self.variance_fraction)
         shapes = _check(shapes)
         aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
         vectors = aligned.reshape(len(shapes), -1)
@@ -60,21 +83,68 @@ class SingleCartesianPDMClassifier:
         return self
 
     def log_likelihoods(self, shapes: np.ndarray) -> np.ndarray:
-        _check_fitted(self)
+        """PPCA log-likelihood of every shape under every class's PDM.
+
+        Parameters
+        ----------
+        shapes : (n, 13, m, 2) array_like
+            Articulated shapes, with as many landmarks per limb as the training shapes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n, C)`` log-densities in nats, columns in ``classes_`` order.
+        """
+        check_fitted(self, "classes_")
         shapes = _check(shapes)
         _check_landmarks(shapes, len(self.reference_))
         vectors = _align_to_reference(shapes.reshape(len(shapes), -1, 2), self.reference_).reshape(len(shapes), -1)
         return np.stack([_ppca_log_density(model, vectors) for model in self.models_], axis=1)
 
     def predict(self, shapes: np.ndarray) -> np.ndarray:
+        """Class of highest log-likelihood for every shape.
+
+        Parameters
+        ----------
+        shapes : (n, 13, m, 2) array_like
+            Articulated shapes, with as many landmarks per limb as the training shapes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n,)`` class names from ``classes_``.
+        """
         scores = self.log_likelihoods(shapes)  # validates first
         return np.asarray(self.classes_)[np.argmax(scores, axis=1)]
 
 
 class NearestProcrustesMeanClassifier:
-    """Class whose Procrustes mean shape is nearest in Procrustes (similarity-aligned RMS) distance."""
+    """Baseline: the class whose Procrustes mean shape is nearest in Procrustes distance.
+
+    The distance is the RMS landmark residual of the similarity fit of a class mean onto the shape,
+    divided by the shape's centroid size.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (aligned mean shapes).
+    """
 
     def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "NearestProcrustesMeanClassifier":
+        """Compute each class's generalised Procrustes mean shape.
+
+        Parameters
+        ----------
+        shapes : (T, 13, m, 2) array_like
+            Training shapes; no shape may have all its landmarks coincide.
+        labels : (T,) array_like
+            Class name (or id) of every training shape.
+
+        Returns
+        -------
+        NearestProcrustesMeanClassifier
+            This classifier, fitted.
+        """
         shapes = _check(shapes)
         labels = _check_labels(labels, len(shapes))
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
@@ -83,7 +153,20 @@ class NearestProcrustesMeanClassifier:
         return self
 
     def distances(self, shapes: np.ndarray) -> np.ndarray:
-        _check_fitted(self)
+        """Procrustes distance from every shape to every class mean.
+
+        Parameters
+        ----------
+        shapes : (n, 13, m, 2) array_like
+            Articulated shapes, with as many landmarks per limb as the training shapes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n, C)`` RMS residuals divided by each shape's centroid size (dimensionless),
+            columns in ``classes_`` order.
+        """
+        check_fitted(self, "classes_")
         shapes = _check(shapes)
         _check_landmarks(shapes, len(self.means_[0]))
         flat = shapes.reshape(len(shapes), -1, 2)
@@ -99,6 +182,18 @@ class NearestProcrustesMeanClassifier:
                          for points, size in zip(flat, sizes)])
 
     def predict(self, shapes: np.ndarray) -> np.ndarray:
+        """Class of the nearest mean for every shape.
+
+        Parameters
+        ----------
+        shapes : (n, 13, m, 2) array_like
+            Articulated shapes, with as many landmarks per limb as the training shapes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n,)`` class names from ``classes_``.
+        """
         distances = self.distances(shapes)  # validates first
         return np.asarray(self.classes_)[np.argmin(distances, axis=1)]
 
@@ -116,31 +211,84 @@ def _procrustes_rms(source: np.ndarray, targets: np.ndarray) -> np.ndarray:
 
 
 class SklearnGMMClassifier:
-    """One scikit-learn ``GaussianMixture`` per class on aligned flat landmark vectors (a peer
-    library baseline); class = highest ``score_samples``."""
+    """Peer-library baseline: one scikit-learn ``GaussianMixture`` per class on aligned landmark vectors.
 
-    def __init__(self, n_components: int = 2, covariance_type: str = "diag", seed: int = 0) -> None:
-        self.n_components = check_positive_int(n_components, "n_components")
+    A shape goes to the class whose mixture gives the highest ``score_samples``.
+
+    Parameters
+    ----------
+    n_components : int
+        Mixture components per class (positive).
+    covariance_type : {"diag", "full", "tied", "spherical"}
+        scikit-learn's covariance structure (default ``"diag"``).
+    rng : int or numpy.random.Generator
+        Seed of each mixture's k-means start (keyword-only, no default): an int is passed to
+        scikit-learn as its ``random_state``; a Generator gives each class's mixture an int seed
+        drawn from it (scikit-learn does not take a Generator).
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4 (Gaussian mixtures learnt by EM, eqs. 2-8).
+    """
+
+    def __init__(self, n_components: int = 2, covariance_type: str = "diag", *,
+                 rng: int | np.random.Generator) -> None:
+        # Stored as given (scikit-learn's contract); fit validates them.
+        self.n_components = n_components
         self.covariance_type = covariance_type
-        self.seed = seed
+        self.rng = rng
 
     def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "SklearnGMMClassifier":
+        """Align the training shapes (generalised Procrustes) and fit one mixture per class.
+
+        Parameters
+        ----------
+        shapes : (T, 13, m, 2) array_like
+            Training shapes; no shape may have all its landmarks coincide.
+        labels : (T,) array_like
+            Class name (or id) of every training shape.
+
+        Returns
+        -------
+        SklearnGMMClassifier
+            This classifier, fitted.
+        """
         from sklearn.mixture import GaussianMixture
 
+        check_positive_int(self.n_components, "n_components")
+        check_choice(self.covariance_type, "covariance_type", ("diag", "full", "tied", "spherical"))
+        generator = make_rng(self.rng, "rng")
         shapes = _check(shapes)
         aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
         vectors = aligned.reshape(len(shapes), -1)
         labels = _check_labels(labels, len(shapes))
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
+        if isinstance(self.rng, np.random.Generator):  # scikit-learn takes an int seed, not a Generator
+            seeds = [int(generator.integers(2**31 - 1)) for _ in self.classes_]
+        else:
+            seeds = [int(self.rng)] * len(self.classes_)
         self.models_ = [
             GaussianMixture(self.n_components, covariance_type=self.covariance_type, reg_covar=1e-6,
-                            random_state=self.seed).fit(vectors[labels == c])
-            for c in self.classes_
+                            random_state=seed).fit(vectors[labels == c])
+            for c, seed in zip(self.classes_, seeds)
         ]
         return self
 
     def predict(self, shapes: np.ndarray) -> np.ndarray:
-        _check_fitted(self)
+        """Class of highest mixture log-likelihood for every shape.
+
+        Parameters
+        ----------
+        shapes : (n, 13, m, 2) array_like
+            Articulated shapes, with as many landmarks per limb as the training shapes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n,)`` class names from ``classes_``.
+        """
+        check_fitted(self, "classes_")
         shapes = _check(shapes)
         _check_landmarks(shapes, len(self.reference_))
         vectors = _align_to_reference(shapes.reshape(len(shapes), -1, 2), self.reference_).reshape(len(shapes), -1)
@@ -149,7 +297,23 @@ class SklearnGMMClassifier:
 
 
 def pairwise_distances(vectors: np.ndarray) -> np.ndarray:
-    """Euclidean distance matrix of the rows of ``vectors`` ``(n, d)``."""
+    """Euclidean distance matrix of the rows of a matrix.
+
+    Parameters
+    ----------
+    vectors : (n, d) array_like
+        Points as rows.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n, n)`` symmetric distances, zero on the diagonal, in the vectors' units.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 7, Figs. 7-9 (pairwise distance matrices).
+    """
     from scipy.spatial.distance import cdist
 
     vectors = as_finite_array(vectors, "vectors", ndim=2)
@@ -157,10 +321,28 @@ def pairwise_distances(vectors: np.ndarray) -> np.ndarray:
 
 
 def classical_mds(distances: np.ndarray, n_dims: int = 3) -> np.ndarray:
-    """Classical (Torgerson) MDS: eigenvectors of the double-centred squared distances, scaled by
+    """Classical (Torgerson) multidimensional scaling of a distance matrix.
+
+    The coordinates are the leading eigenvectors of the double-centred squared distances, scaled by
     the square roots of their eigenvalues. Signs are fixed so each axis's largest entry is positive.
 
-    ``distances`` is a square ``(n, n)`` matrix of non-negative distances; 1 <= ``n_dims`` <= n."""
+    Parameters
+    ----------
+    distances : (n, n) array_like
+        Square matrix of non-negative distances.
+    n_dims : int
+        Embedding dimension, 1 <= n_dims <= n (default 3, as the paper's figures).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n, n_dims)`` coordinates, in the distances' units.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 7, Figs. 7 and 9 (MDS embeddings); Torgerson, Psychometrika 17 (1952).
+    """
     distances = as_finite_array(distances, "distances", ndim=2)
     n = distances.shape[0]
     if distances.shape != (n, n):
@@ -179,8 +361,27 @@ def classical_mds(distances: np.ndarray, n_dims: int = 3) -> np.ndarray:
 
 
 def pca_embedding(vectors: np.ndarray, n_dims: int = 3) -> np.ndarray:
-    """Projection of centred ``vectors`` ``(n, d)`` on their leading principal axes (sign-fixed as
-    above); 1 <= ``n_dims`` <= min(n, d)."""
+    """Projection of centred vectors on their leading principal axes.
+
+    Signs are fixed so each axis's largest entry is positive (as :func:`classical_mds`).
+
+    Parameters
+    ----------
+    vectors : (n, d) array_like
+        Points as rows.
+    n_dims : int
+        Number of principal axes, 1 <= n_dims <= min(n, d) (default 3, as the paper's figures).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n, n_dims)`` principal-component scores, in the vectors' units.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 7, Fig. 8 (PCA embedding).
+    """
     vectors = as_finite_array(vectors, "vectors", ndim=2)
     n_dims = check_positive_int(n_dims, "n_dims")
     if n_dims > min(vectors.shape):

@@ -12,11 +12,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive, check_positive_int, spawn_rngs
+from amdo_lab.common import check_positive, check_positive_int, make_rng, spawn_rngs
 from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.pdm_mixtures.baselines import SingleCartesianPDMClassifier
 from amdo_lab.pdm_mixtures.poses import TABLE1_CLASSES, generate_pose_dataset
-from amdo_lab.pdm_mixtures.recognizer import ArticulatedShapeRecognizer
+from amdo_lab.pdm_mixtures.recogniser import ArticulatedShapeRecogniser
 
 __all__ = ["SEPARATION_MODELS", "SeparationTrial", "mode_separation_trial"]
 
@@ -25,19 +25,45 @@ SEPARATION_MODELS: tuple[str, ...] = ("mixture of PDMs", "single polar PDM", "si
 
 @dataclass(frozen=True)
 class SeparationTrial:
-    """One seed at one separation: ``correct`` maps each name in ``SEPARATION_MODELS`` to a boolean
-    array ``(n_test,)`` saying which test shapes it recognised."""
+    """The outcome of one seeded draw at one mode separation.
+
+    Parameters
+    ----------
+    separation : float
+        The mode separation factor ``s`` (non-negative) the data were drawn with.
+    rng : int or numpy.random.Generator
+        The ``rng`` given to :func:`mode_separation_trial`.
+    correct : dict of str to numpy.ndarray
+        Each name in ``SEPARATION_MODELS`` to a boolean array ``(n_test * len(classes),)`` saying
+        which test shapes it recognised.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4 (mixtures of PDMs).
+    """
 
     separation: float
-    seed: int
+    rng: int | np.random.Generator
     correct: dict[str, np.ndarray]
 
     def rate(self, model: str) -> float:
-        """Fraction of the test shapes that ``model`` recognised."""
+        """Fraction of the test shapes that one model recognised.
+
+        Parameters
+        ----------
+        model : str
+            A name in ``SEPARATION_MODELS``.
+
+        Returns
+        -------
+        float
+            The recognition rate, in [0, 1].
+        """
         return float(np.mean(self.correct[model]))
 
 
-def mode_separation_trial(separation: float, seed: int, *, n_train: int = 20, n_test: int = 10,
+def mode_separation_trial(separation: float, *, rng: int | np.random.Generator, n_train: int = 20, n_test: int = 10,
                           classes: tuple[str, ...] = TABLE1_CLASSES) -> SeparationTrial:
     """Train the mixture, the single polar PDM and the single Cartesian PDM on one seeded draw at
     one mode separation and score them on an independent test draw.
@@ -47,12 +73,18 @@ def mode_separation_trial(separation: float, seed: int, *, n_train: int = 20, n_
     separation : float
         Non-negative factor on the distance between each class's articulation modes (0: one mode,
         1: the chapter's default data).
-    seed : int
-        Seed of the training and test streams (``spawn_rngs(seed, 2)``).
+    rng : int or numpy.random.Generator
+        Seed or generator of the training and test streams (``make_rng(rng).spawn(2)``; keyword-only,
+        no default). The recognisers' k-means++ starts use seed 0, as the chapter's recogniser does.
     n_train, n_test : int
         Training and test shapes per class.
     classes : tuple of str
         Pose classes (the six of Table 1 by default).
+
+    Returns
+    -------
+    SeparationTrial
+        Which test shapes each of the three models recognised.
 
     References
     ----------
@@ -60,15 +92,14 @@ def mode_separation_trial(separation: float, seed: int, *, n_train: int = 20, n_
     matrix cannot capture.
     """
     separation = check_positive(separation, "separation", allow_zero=True)
-    seed = int(as_finite_array(seed, "seed", ndim=0, dtype=int))
     n_train = check_positive_int(n_train, "n_train", minimum=6)
     n_test = check_positive_int(n_test, "n_test")
-    train_rng, test_rng = spawn_rngs(seed, 2)
-    train = generate_pose_dataset(classes, n_train, train_rng, mode_separation=separation)
-    test = generate_pose_dataset(classes, n_test, test_rng, mode_separation=separation)
-    models = (ArticulatedShapeRecognizer(n_shape_components=2), ArticulatedShapeRecognizer(n_shape_components=1),
+    train_rng, test_rng = spawn_rngs(make_rng(rng, "rng"), 2)
+    train = generate_pose_dataset(classes, n_train, rng=train_rng, mode_separation=separation)
+    test = generate_pose_dataset(classes, n_test, rng=test_rng, mode_separation=separation)
+    models = (ArticulatedShapeRecogniser(rng=0, n_shape_components=2), ArticulatedShapeRecogniser(rng=0, n_shape_components=1),
               SingleCartesianPDMClassifier())
     with one_blas_thread():  # small matrices: BLAS threads only contend on a shared machine
         correct = {name: model.fit(train.shapes, train.labels).predict(test.shapes) == test.labels
                    for name, model in zip(SEPARATION_MODELS, models)}
-    return SeparationTrial(separation, seed, correct)
+    return SeparationTrial(separation, rng, correct)

@@ -13,8 +13,26 @@ __all__ = ["GaussianMixtureResult", "fit_gaussian_mixture", "gaussian_log_densit
 
 @dataclass(frozen=True)
 class GaussianMixtureResult:
-    """Mixture after EM: ``weights (K,)``, ``means (K, d)``, ``covariances (K, d, d)``,
-    ``responsibilities (T, K)`` from the last E-step and the mean log-likelihood per iteration."""
+    """A Gaussian mixture after EM, with the last E-step's posteriors and the likelihood history.
+
+    Parameters
+    ----------
+    weights : (K,) numpy.ndarray
+        Mixing weights ``pi_w`` (eq. 5), positive, summing to 1.
+    means : (K, d) numpy.ndarray
+        Component means ``Y_w`` (eq. 7).
+    covariances : (K, d, d) numpy.ndarray
+        Component covariances ``Sigma_w`` (eq. 8), ridge included.
+    responsibilities : (T, K) numpy.ndarray
+        Posteriors ``P(t in w | X_t)`` of the last E-step (eq. 4); rows sum to 1.
+    log_likelihood : (n_iter,) numpy.ndarray
+        Mean log-likelihood per training vector (eq. 3 divided by T) before each M-step, in nats.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4, eqs. 2-8.
+    """
 
     weights: np.ndarray
     means: np.ndarray
@@ -34,6 +52,16 @@ def gaussian_log_density(points: np.ndarray, means: np.ndarray, covariances: np.
         Component means.
     covariances : (K, d, d) array_like
         Component covariances; each must be positive definite (a Cholesky factor is used).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``ln p(X_t | Y_w, Sigma_w)`` for every point t and component w, ``(T, K)``, in nats.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4, eq. 6.
     """
     points = as_finite_array(points, "points", ndim=2)
     means = as_finite_array(means, "means", shape=(None, points.shape[1]))
@@ -104,6 +132,17 @@ def fit_gaussian_mixture(
         Number of EM iterations (fixed: no tolerance test, so runs are reproducible).
     reg_covar : float
         Non-negative ridge added to covariance diagonals.
+
+    Returns
+    -------
+    GaussianMixtureResult
+        Weights, means and covariances after ``n_iter`` iterations, the responsibilities of the
+        last E-step and the mean log-likelihood of each iteration.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4, eqs. 2-8 (E-step eq. 4, M-step eqs. 5, 7, 8).
     """
     points = as_finite_array(X, "X", ndim=2)
     k = check_positive_int(n_components, "n_components")

@@ -22,8 +22,24 @@ __all__ = [
 
 @dataclass(frozen=True)
 class PointDistributionModel:
-    """Mean long-vector ``mean (D,)``, modal matrix ``modes (D, M)`` (columns = eigenvectors),
-    eigenvalues ``variances (M,)`` and the mean discarded eigenvalue ``residual_variance``."""
+    """A point distribution model: mean long-vector, leading eigenmodes and their variances.
+
+    Parameters
+    ----------
+    mean : (D,) numpy.ndarray
+        Mean long-vector ``Y`` (D coordinates, in the training vectors' units).
+    modes : (D, M) numpy.ndarray
+        Modal matrix ``Phi``: orthonormal eigenvectors of the covariance as columns, ``1 <= M < D``.
+    variances : (M,) numpy.ndarray
+        Eigenvalues ``alpha_k`` of the kept modes, non-negative and decreasing (units squared).
+    residual_variance : float
+        ``sigma^2``: the mean of the ``D - M`` discarded eigenvalues (positive, floored at 1e-12).
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (eq. 1 and its eigenmodes).
+    """
 
     mean: np.ndarray
     modes: np.ndarray
@@ -32,6 +48,7 @@ class PointDistributionModel:
 
     @property
     def n_modes(self) -> int:
+        """Number of kept eigenmodes M."""
         return int(self.modes.shape[1])
 
 
@@ -64,6 +81,17 @@ def pdm_from_moments(
         Upper bound on the number of modes (at most D - 1 are kept in any case).
     min_residual_variance : float
         Non-negative floor of the residual variance.
+
+    Returns
+    -------
+    PointDistributionModel
+        The mean, the kept modes (at least 1, at most D - 1), their eigenvalues and the mean of the
+        discarded eigenvalues as the residual variance.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (eigenmodes of the covariance, Sigma phi = alpha phi).
     """
     covariance = as_finite_array(covariance, "covariance", ndim=2)
     if covariance.shape[0] != covariance.shape[1] or covariance.shape[0] < 2:
@@ -92,10 +120,35 @@ def _pdm_from_moments(mean: np.ndarray, covariance: np.ndarray, variance_fractio
 
 
 def fit_pdm(long_vectors: np.ndarray, *, variance_fraction: float = 0.95, max_modes: int | None = None) -> PointDistributionModel:
-    """PDM of a training set ``(T, D)``: mean ``Y``, covariance of eq. 1 (1/T), leading eigenmodes.
+    """PDM of a training set: mean ``Y``, covariance of eq. 1 (normalised by 1/T), leading eigenmodes.
 
     At most ``T - 1`` modes are kept (the rank of eq. 1), so the residual variance is positive.
-    ``variance_fraction`` is in (0, 1]; ``max_modes``, when given, is a positive int.
+
+    Parameters
+    ----------
+    long_vectors : (T, D) array_like
+        Training long-vectors as rows, ``T >= 3`` examples of ``D >= 2`` coordinates.
+    variance_fraction : float
+        Fraction of the total variance the kept modes explain, in (0, 1].
+    max_modes : int, optional
+        Positive upper bound on the number of modes (``T - 1`` and ``D - 1`` bound it anyway).
+
+    Returns
+    -------
+    PointDistributionModel
+        The model of the training set.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2, eq. 1.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> pdm = fit_pdm(rng.standard_normal((50, 4)) * [3.0, 1.0, 0.1, 0.1], variance_fraction=0.9)
+    >>> pdm.n_modes, pdm.variances.round(2).tolist()
+    (1, [7.74])
     """
     vectors = as_finite_array(long_vectors, "long_vectors", ndim=2)
     t = vectors.shape[0]
@@ -117,9 +170,26 @@ def fit_modes(model: PointDistributionModel, observed: np.ndarray, *, clamp: boo
     """Least-squares modal coefficients ``gamma = Phi^T (X_o - Y)`` for rows of ``observed``.
 
     The paper prints ``1/2 (Phi + Phi^T)(X_o - Y)``, which is not even defined for a non-square
-    Phi; for orthonormal modes the least-squares solution is ``Phi^T (X_o - Y)``. With ``clamp``,
-    each coefficient is limited to ``+-3 sqrt(alpha_k)`` (Sec. 4). ``observed`` is ``(n, D)``
-    (or one ``(D,)`` vector).
+    Phi; for orthonormal modes the least-squares solution is ``Phi^T (X_o - Y)``.
+
+    Parameters
+    ----------
+    model : PointDistributionModel
+        The PDM, with ``D`` coordinates and ``M`` modes.
+    observed : (n, D) or (D,) array_like
+        Observed long-vectors ``X_o``.
+    clamp : bool
+        Limit each coefficient to ``+-3 sqrt(alpha_k)`` (Sec. 4); default True.
+
+    Returns
+    -------
+    numpy.ndarray
+        Coefficients ``gamma``, ``(n, M)`` (or ``(M,)`` for one vector).
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (modal fit, read as least squares) and Sec. 4 (the +-3 sqrt(alpha_k) clamp).
     """
     model = _check_model(model)
     observed = as_finite_array(observed, "observed")
@@ -138,7 +208,25 @@ def _fit_modes(model: PointDistributionModel, observed: np.ndarray, *, clamp: bo
 
 
 def reconstruct(model: PointDistributionModel, gamma: np.ndarray) -> np.ndarray:
-    """Model instance ``X_hat = Y + Phi gamma`` for rows of ``gamma`` ``(n, M)`` (or one ``(M,)``)."""
+    """Model instance ``X_hat = Y + Phi gamma`` for rows of modal coefficients.
+
+    Parameters
+    ----------
+    model : PointDistributionModel
+        The PDM, with ``D`` coordinates and ``M`` modes.
+    gamma : (n, M) or (M,) array_like
+        Modal coefficients (as from :func:`fit_modes`).
+
+    Returns
+    -------
+    numpy.ndarray
+        Long-vectors ``X_hat``, ``(n, D)`` (or ``(D,)``), in the model's units.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (X = Y + Phi gamma).
+    """
     model = _check_model(model)
     gamma = as_finite_array(gamma, "gamma")
     if gamma.ndim not in (1, 2) or gamma.shape[-1] != model.n_modes:
@@ -165,6 +253,18 @@ def ppca_log_density(model: PointDistributionModel, observed: np.ndarray) -> np.
     the residual term alone is the paper's isotropic alignment error (eq. 16). This is the one
     density used for limb labels, polar PDMs and the single Cartesian PDM baseline.
 
+    Parameters
+    ----------
+    model : PointDistributionModel
+        The PDM, with ``D`` coordinates and ``M`` modes.
+    observed : (n, D) array_like
+        Observed long-vectors ``X_o`` as rows.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``ln p`` of every row, ``(n,)``, in nats.
+
     References
     ----------
     Al-Shaher & Hancock, AMDO 2004, eqs. 6 and 16; Tipping & Bishop, JRSS B 61 (1999).
@@ -186,7 +286,23 @@ def _ppca_log_density(model: PointDistributionModel, observed: np.ndarray) -> np
 
 
 def normalise_shape(points: np.ndarray) -> np.ndarray:
-    """Centre a point set ``(L, 2)`` and scale it to unit centroid size (its points must not coincide)."""
+    """Centre a point set and scale it to unit centroid size.
+
+    Parameters
+    ----------
+    points : (L, 2) array_like
+        Landmarks; they must not all coincide.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(L, 2)`` with centroid at the origin and ``sum |p_i|^2 = 1``.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (landmarks aligned before the PDM, after Cootes et al.).
+    """
     points = as_finite_array(points, "points", shape=(None, 2))
     if np.all(points == points[0]):
         raise ValueError("points must not all coincide (their centroid size is zero)")
@@ -218,10 +334,29 @@ def _check_labels(labels: object, n_shapes: int) -> np.ndarray:
 
 
 def generalized_procrustes(point_sets: np.ndarray, *, n_iter: int = 5) -> tuple[np.ndarray, np.ndarray]:
-    """Align ``(T, L, 2)`` point sets to their common mean by iterated similarity Procrustes.
+    """Align point sets to their common mean by iterated similarity Procrustes.
 
-    Returns ``(aligned (T, L, 2), reference (L, 2))``; the reference has unit centroid size and
-    is re-aligned to its predecessor each round so its orientation does not drift.
+    The reference starts as the first set; each round aligns every set to it and replaces it by the
+    normalised mean, re-aligned to its predecessor so its orientation does not drift.
+
+    Parameters
+    ----------
+    point_sets : (T, L, 2) array_like
+        ``T`` sets of ``L`` landmarks; no set may have all its points coincide.
+    n_iter : int
+        Fixed number of rounds (positive; default 5).
+
+    Returns
+    -------
+    aligned : numpy.ndarray
+        ``(T, L, 2)``: every set similarity-aligned onto the final reference.
+    reference : numpy.ndarray
+        ``(L, 2)``: the mean shape, centred, of unit centroid size.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (training shapes aligned before the PDM); Gower, Psychometrika 40 (1975).
     """
     sets = as_finite_array(point_sets, "point_sets", shape=(None, None, 2))
     check_positive_int(n_iter, "n_iter")
@@ -237,8 +372,25 @@ def generalized_procrustes(point_sets: np.ndarray, *, n_iter: int = 5) -> tuple[
 
 
 def align_to_reference(point_sets: np.ndarray, reference: np.ndarray) -> np.ndarray:
-    """Similarity-align every ``(L, 2)`` set in ``point_sets`` ``(T, L, 2)`` onto ``reference`` ``(L, 2)``
-    (Procrustes)."""
+    """Similarity-align (Procrustes: translation, rotation, scale) every point set onto a reference.
+
+    Parameters
+    ----------
+    point_sets : (T, L, 2) array_like
+        ``T`` sets of ``L`` landmarks; no set may have all its points coincide.
+    reference : (L, 2) array_like
+        The target landmarks.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(T, L, 2)``: each set under its least-squares similarity onto ``reference``.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (aligned landmarks); Umeyama, IEEE PAMI 13 (1991).
+    """
     sets = as_finite_array(point_sets, "point_sets", shape=(None, None, 2))
     reference = as_finite_array(reference, "reference", shape=(sets.shape[1], 2))
     _check_point_set_sizes(sets, "point_sets")

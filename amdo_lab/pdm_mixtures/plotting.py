@@ -13,7 +13,28 @@ __all__ = ["draw_shape"]
 
 def draw_shape(ax: Axes, shape: np.ndarray, *, color: str = "black", linewidth: float = 1.5,
                alpha: float = 1.0, label: str | None = None) -> None:
-    """Draw a ``(13, m, 2)`` shape as 13 polylines on ``ax`` (equal aspect, no ticks)."""
+    """Draw an articulated shape as 13 limb polylines (equal aspect, axes hidden).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes to draw on.
+    shape : (13, m, 2) array_like
+        Landmark strokes of the 13 limbs.
+    color : str
+        Matplotlib colour of every stroke.
+    linewidth : float
+        Stroke width in points.
+    alpha : float
+        Opacity in [0, 1].
+    label : str, optional
+        Legend label of the shape (one legend entry for all 13 strokes).
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 3 (a shape as K limbs of landmarks).
+    """
     check_axes(ax)
     shape = as_finite_array(shape, "shape", shape=(13, None, 2))
     # one collection of 13 polylines: drawing a training set is then one artist per shape

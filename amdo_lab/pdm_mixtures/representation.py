@@ -22,7 +22,23 @@ def _check_centres(centres: object) -> np.ndarray:
 
 
 def wrap_angle(angles: np.ndarray) -> np.ndarray:
-    """Wrap radians to (-pi, pi] (the paper's (-180, 180] degrees)."""
+    """Wrap angles in radians to (-pi, pi] (the paper's (-180, 180] degrees).
+
+    Parameters
+    ----------
+    angles : array_like of float
+        Angles in radians, any shape (empty allowed), finite.
+
+    Returns
+    -------
+    numpy.ndarray
+        The same angles mapped into (-pi, pi], same shape; -pi itself maps to pi.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 3 (limb angles in (-180, 180] degrees).
+    """
     return _wrap_angle(as_finite_array(angles, "angles", allow_empty=True))
 
 
@@ -32,7 +48,23 @@ def _wrap_angle(angles: np.ndarray) -> np.ndarray:
 
 
 def limb_centres(shapes: np.ndarray) -> np.ndarray:
-    """Centre of gravity of each limb's landmarks: ``(n, K, m, 2) -> (n, K, 2)``."""
+    """Centre of gravity ``c_k`` of each limb's landmarks.
+
+    Parameters
+    ----------
+    shapes : (n, K, m, 2) array_like
+        ``n`` shapes of ``K`` limbs with ``m`` landmarks each, (x, y) in the shapes' units.
+
+    Returns
+    -------
+    numpy.ndarray
+        Limb centres ``(n, K, 2)``, ``c_k = (1/m) sum_i (x_i^k, y_i^k)``.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 3 (limb centre of gravity).
+    """
     return _limb_centres(_check_shapes(shapes))
 
 
@@ -41,7 +73,23 @@ def _limb_centres(shapes: np.ndarray) -> np.ndarray:
 
 
 def articulation_centre(centres: np.ndarray) -> np.ndarray:
-    """U: the mean of the limb centres, ``(n, K, 2) -> (n, 2)``."""
+    """Centre of articulation ``U``: the mean of the limb centres.
+
+    Parameters
+    ----------
+    centres : (n, K, 2) array_like
+        Limb centres ``c_k`` of ``n`` shapes (as from :func:`limb_centres`).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``U = (1/K) sum_k c_k`` of every shape, ``(n, 2)``.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 3 (centre of articulation).
+    """
     return _articulation_centre(_check_centres(centres))
 
 
@@ -50,10 +98,25 @@ def _articulation_centre(centres: np.ndarray) -> np.ndarray:
 
 
 def limb_angles(centres: np.ndarray) -> np.ndarray:
-    """Polar limb angles ``theta_k = atan2(U_y - c_ky, U_x - c_kx)`` in (-pi, pi], ``(n, K)``.
+    """Polar limb angles ``theta_k = atan2(U_y - c_ky, U_x - c_kx)`` about the centre of articulation.
 
     The paper writes ``tan^-1`` of the ratio; the quadrant-aware ``atan2`` is needed to cover
     (-180, 180] degrees as the text requires.
+
+    Parameters
+    ----------
+    centres : (n, K, 2) array_like
+        Limb centres ``c_k`` of ``n`` shapes.
+
+    Returns
+    -------
+    numpy.ndarray
+        Angles ``theta_k`` in radians, in (-pi, pi], ``(n, K)``.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 3 (limb angles theta_k).
     """
     return _limb_angles(_check_centres(centres))
 
@@ -64,7 +127,24 @@ def _limb_angles(centres: np.ndarray) -> np.ndarray:
 
 
 def polar_shape_vector(shapes: np.ndarray) -> np.ndarray:
-    """S = (Theta, C): ``(n, K + 2K)`` with angles in radians then the flattened limb centres."""
+    """Polar shape vector ``S = (Theta^T, C^T)^T`` of each shape: limb angles, then limb centres.
+
+    Parameters
+    ----------
+    shapes : (n, K, m, 2) array_like
+        ``n`` shapes of ``K`` limbs with ``m`` landmarks each.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n, 3K)``: the ``K`` angles ``theta_k`` in radians (in (-pi, pi]), then the ``2K``
+        flattened limb centres ``(c_1x, c_1y, ..., c_Kx, c_Ky)`` in the shapes' units.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 3 (the vector S).
+    """
     return _polar_shape_vector(_check_shapes(shapes))
 
 
@@ -74,7 +154,23 @@ def _polar_shape_vector(shapes: np.ndarray) -> np.ndarray:
 
 
 def centred_limbs(shapes: np.ndarray) -> np.ndarray:
-    """Limb long-vectors with the limb centre removed, ``(n, K, 2m)``: what the limb PDMs model."""
+    """Limb long-vectors ``X_k`` with the limb centre removed: what the limb PDMs model.
+
+    Parameters
+    ----------
+    shapes : (n, K, m, 2) array_like
+        ``n`` shapes of ``K`` limbs with ``m`` landmarks each.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n, K, 2m)``: each limb's ``(x_1 - c_x, y_1 - c_y, ..., x_m - c_x, y_m - c_y)``.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 3 (the limb long-vector X_k) and Sec. 2 (PDMs of long-vectors).
+    """
     return _centred_limbs(_check_shapes(shapes))
 
 

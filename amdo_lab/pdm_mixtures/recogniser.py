@@ -9,6 +9,7 @@ import numpy as np
 from amdo_lab.common import (
     as_finite_array,
     check_choice,
+    check_fitted,
     check_in_range,
     check_positive,
     check_positive_int,
@@ -32,7 +33,7 @@ from amdo_lab.pdm_mixtures.pdm import (
 from amdo_lab.pdm_mixtures.representation import _centred_limbs, _polar_shape_vector, _wrap_angle
 
 __all__ = [
-    "ArticulatedShapeRecognizer",
+    "ArticulatedShapeRecogniser",
     "PolarPDM",
     "RecognitionTrace",
     "ScoreComponents",
@@ -47,11 +48,32 @@ MIN_PER_CLASS = 3
 
 
 def hamming_distance(label_strings: np.ndarray, dictionary: np.ndarray) -> np.ndarray:
-    """Number of mismatching limb labels between strings ``(n, K)`` and dictionary items ``(C, K)``.
+    """Hamming distance: the number of mismatching limb labels between label strings and dictionary items.
 
     Eq. 17 as printed sums a Kronecker delta of *equal* labels, which counts matches; a Hamming
     distance counts mismatches, ``sum_i (1 - delta(l_i, lambda_i))``, which is what we compute.
-    Labels are integers (limb-label indices).
+
+    Parameters
+    ----------
+    label_strings : (n, K) array_like of int
+        Limb-label indices of ``n`` shapes.
+    dictionary : (C, K) array_like of int
+        Permissible label strings.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n, C)`` int distances, each in [0, K].
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 6, eq. 17 (read as a distance).
+
+    Examples
+    --------
+    >>> hamming_distance([[0, 1, 2]], [[0, 1, 2], [0, 2, 2]])
+    array([[0, 1]])
     """
     strings = as_finite_array(label_strings, "label_strings", ndim=2, dtype=int)
     dictionary = as_finite_array(dictionary, "dictionary", shape=(None, strings.shape[1]), dtype=int)
@@ -84,6 +106,16 @@ def label_string_log_prob(hamming: np.ndarray, n_limbs: int, error_probability: 
         Number of limbs K (positive).
     error_probability : float
         Label error probability p, in (0, 1).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``ln P(L | Lambda)`` in nats, the shape of ``hamming``.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 6, eq. 18.
     """
     n_limbs = check_positive_int(n_limbs, "n_limbs")
     p = check_in_range(error_probability, "error_probability", 0, 1)
@@ -108,7 +140,18 @@ class PolarPDM:
     With ``polar_model="block"`` (our default) the K angle rows and the 2K centre rows of S each get
     their own PDM, so the angle eigenvalues alpha_k that clamp the angle parameters come from the
     covariance of the angles alone, as Sec. 4 describes; with ``"joint"`` one PDM spans all 3K rows.
-    ``blocks`` are the slices of S each PDM in ``pdms`` models.
+
+    Parameters
+    ----------
+    blocks : tuple of slice
+        The rows of S each PDM models (angles ``0:K`` and centres ``K:3K``, or all ``0:3K``).
+    pdms : tuple of PointDistributionModel
+        One PDM per block, in deviation coordinates (angles relative to the class's circular mean).
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4 (the polar PDM of S) and Sec. 5, eq. 12 (its clamped fit).
     """
 
     blocks: tuple[slice, ...]
@@ -121,21 +164,45 @@ class PolarPDM:
 
     @property
     def n_modes(self) -> int:
+        """Total number of kept eigenmodes over the blocks."""
         return sum(pdm.n_modes for pdm in self.pdms)
 
-    def fit(self, deviation: np.ndarray) -> np.ndarray:
-        """Clamped least-squares modal fit of every block (eq. 12), reconstructed: ``(n, 3K)``."""
-        return self._fit(self._check_deviation(deviation))
+    def project(self, deviation: np.ndarray) -> np.ndarray:
+        """Project polar vectors onto the model: the clamped modal fit of every block (eq. 12), reconstructed.
+
+        Parameters
+        ----------
+        deviation : (n, 3K) array_like
+            Polar vectors S with angles relative to the class's circular mean (radians, wrapped).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n, 3K)``: each block's model instance ``Y + Phi gamma`` with ``gamma`` clamped to
+            ``+-3 sqrt(alpha_k)``.
+        """
+        return self._project(self._check_deviation(deviation))
 
     def log_density(self, deviation: np.ndarray) -> np.ndarray:
-        """``ln p(S | Phi, Gamma*)``: the sum over blocks of each PDM's Gaussian (PPCA) density."""
+        """``ln p(S | Phi, Gamma*)``: the sum over blocks of each PDM's Gaussian (PPCA) density.
+
+        Parameters
+        ----------
+        deviation : (n, 3K) array_like
+            Polar vectors S with angles relative to the class's circular mean (radians, wrapped).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n,)`` log-densities in nats.
+        """
         return self._log_density(self._check_deviation(deviation))
 
     def _check_deviation(self, deviation: object) -> np.ndarray:
         width = max(block.stop for block in self.blocks)
         return as_finite_array(deviation, "deviation", shape=(None, width))
 
-    def _fit(self, deviation: np.ndarray) -> np.ndarray:
+    def _project(self, deviation: np.ndarray) -> np.ndarray:
         return np.concatenate([_reconstruct(pdm, _fit_modes(pdm, deviation[:, block]))
                                for pdm, block in zip(self.pdms, self.blocks)], axis=1)
 
@@ -149,22 +216,53 @@ class PolarPDM:
 
 @dataclass(frozen=True)
 class RecognitionTrace:
-    """Per-iteration record of recognition: ``posteriors (n_iter, n, C)``, ``label_strings
-    (n_iter, n, K)``, ``reconstructions (n_iter, n, 3K)`` (posterior-weighted polar model fit),
-    and the number of iterations run."""
+    """Per-iteration record of hierarchical recognition.
+
+    Parameters
+    ----------
+    posteriors : (n_iter, n, C) numpy.ndarray
+        Class posteriors ``P(w | shape)`` (eq. 13's argument), columns in ``classes_`` order.
+    label_strings : (n_iter, n, K) numpy.ndarray
+        Limb labels in use at each iteration (eq. 10 at the first, eq. 14 later).
+    reconstructions : (n_iter, n, 3K) numpy.ndarray
+        Posterior-weighted polar model fits S (eq. 12), angles in radians.
+    n_iter : int
+        Number of iterations run, at most the recogniser's ``max_iter``.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Secs. 5-6, eqs. 9-18.
+    """
 
     posteriors: np.ndarray
     label_strings: np.ndarray
     reconstructions: np.ndarray
-    n_iterations: int
+    n_iter: int
 
 
 @dataclass(frozen=True)
 class ScoreComponents:
-    """The terms of the first-iteration score of every class ``w`` and mixture component ``m``,
-    each ``(n, C, M)``: limb gates ``sum_k ln P(lambda_k^wm | z_k)`` (eq. 11), ``ln P(L | Lambda_wm)``
-    for the MAP labels (eq. 18) and the polar-PDM log-likelihood ``ln p(S | Phi_wm, Gamma_wm*)``;
-    plus the mixing weights ``log_weights (C, M)`` and ``class_log_prior (C,)``."""
+    """The terms of the first-iteration score of every class ``w`` and mixture component ``m``.
+
+    Parameters
+    ----------
+    limb_gate : (n, C, M) numpy.ndarray
+        Limb gates ``sum_k ln P(lambda_k^wm | z_k)`` (eq. 11).
+    label_string : (n, C, M) numpy.ndarray
+        ``ln P(L | Lambda_wm)`` of the MAP labels (eq. 18).
+    shape : (n, C, M) numpy.ndarray
+        Polar-PDM log-likelihoods ``ln p(S | Phi_wm, Gamma_wm*)``.
+    log_weights : (C, M) numpy.ndarray
+        Log mixing weights ``ln pi_wm``.
+    class_log_prior : (C,) numpy.ndarray
+        Log class priors ``ln P(w)`` (training frequencies).
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Secs. 5-6, eqs. 11 and 18.
+    """
 
     limb_gate: np.ndarray
     label_string: np.ndarray
@@ -173,8 +271,18 @@ class ScoreComponents:
     class_log_prior: np.ndarray
 
     def class_scores(self, *terms: str) -> np.ndarray:
-        """Class log-scores ``(n, C)`` from a subset of the terms (``"limb_gate"``, ``"label_string"``,
-        ``"shape"``): ``ln P(w) + ln sum_m pi_wm exp(sum of the chosen terms)``."""
+        """Class log-scores from a subset of the terms.
+
+        Parameters
+        ----------
+        *terms : str
+            One or more of ``"limb_gate"``, ``"label_string"``, ``"shape"``.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n, C)``: ``ln P(w) + ln sum_m pi_wm exp(sum of the chosen terms)``, in nats.
+        """
         unknown = [t for t in terms if t not in ("limb_gate", "label_string", "shape")]
         if unknown or not terms:
             raise ValueError(f"terms must be some of 'limb_gate', 'label_string', 'shape', got {terms}")
@@ -184,8 +292,21 @@ class ScoreComponents:
 
 @dataclass(frozen=True)
 class AlignmentTrace:
-    """Model instances ``(n_iter, K, m, 2)`` drawn in the test shape's frame, one per iteration of
-    the alternating pose / modal fit, and the RMS limb-centre misfit per iteration."""
+    """Record of the iterative alignment of one class model to one shape.
+
+    Parameters
+    ----------
+    model_shapes : (n_iter, K, m, 2) numpy.ndarray
+        Model instances drawn in the test shape's frame, one per iteration of the alternating
+        pose / modal fit.
+    centre_rms : (n_iter,) numpy.ndarray
+        RMS misfit of the posed model limb centres to the shape's, per iteration, in the shape's units.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 5, eqs. 12 and 15.
+    """
 
     model_shapes: np.ndarray
     centre_rms: np.ndarray
@@ -217,33 +338,39 @@ def _polar_blocks(polar_model: str) -> tuple[slice, ...]:
     return (slice(0, 3 * N_LIMBS),)
 
 
-class ArticulatedShapeRecognizer:
+class ArticulatedShapeRecogniser:
     """Two-layer recogniser: limb PDM mixtures + label dictionary + per-class mixtures of polar PDMs.
+
+    Follows scikit-learn's estimator contract: the settings are stored as given and checked by
+    :meth:`fit`, which returns the recogniser; learned attributes end with an underscore; using it
+    unfitted raises ``sklearn.exceptions.NotFittedError``.
 
     Parameters
     ----------
+    rng : int or numpy.random.Generator
+        Seed or generator of the k-means++ starts of the shape-level EM (keyword-only, no default;
+        an int seed gives the same starts at every ``fit``).
     n_limb_labels : int
-        Mixture components (limb labels) learnt by EM for each of the 13 limbs.
+        Mixture components (limb labels) learnt by EM for each of the 13 limbs (positive).
     n_shape_components : int
         Polar-PDM mixture components learnt by EM for each class (1 gives one polar PDM per class).
         Each component has its own permissible label string in the class's dictionary.
-    shape_seed : int
-        Seed of the k-means++ initialisation of the shape-level EM.
     shape_ridge : float
         Ridge added to every shape-level EM covariance (eq. 8), as a multiple of the mean variance
         of the block-scaled S (positive; the paper leaves it open, default 1e-3). It also sets the
         smallest eigenvalues a component PDM can have, hence its residual variance.
-    em_restarts : int
+    n_restarts : int
         Seeded k-means++ starts of each class's shape-level EM; the run with the highest final
         training log-likelihood (eq. 3) is kept (default 1, a single start).
     label_error_probability : float
         p of eq. 18, in (0, 0.5).
     variance_fraction : float
-        Variance kept by each PDM's eigenmodes.
+        Fraction of the variance kept by each PDM's eigenmodes, in (0, 1].
     max_iter : int
-        Maximum number of limb-layer / shape-layer iterations.
-    em_iterations : int
-        Iterations of every EM fit (eqs. 2-8).
+        Upper bound on the recognition iterations (class scores, eq. 13, then relabelling, eq. 14);
+        the loop stops earlier once the limb labels no longer change. Positive.
+    n_em_iter : int
+        Fixed number of iterations of every EM fit (eqs. 2-8), positive.
     polar_model : {"block", "joint"}
         ``"block"``: separate PDMs for the angle rows and the centre rows of S (Sec. 4: the first K
         rows of Gamma are the angles, constrained by the eigenvalues of the angle covariance);
@@ -254,38 +381,69 @@ class ArticulatedShapeRecognizer:
         ``"residual"``, the isotropic fit residual alone (eq. 16), the paper's "in practice" choice.
     classes : sequence of str, optional
         The expected class names; then every one must have training examples.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Secs. 4-6, eqs. 2-18.
+
+    Examples
+    --------
+    >>> from amdo_lab.pdm_mixtures import TABLE1_CLASSES, generate_pose_dataset
+    >>> train = generate_pose_dataset(TABLE1_CLASSES, 20, rng=1)
+    >>> test = generate_pose_dataset(TABLE1_CLASSES, 10, rng=2)
+    >>> recogniser = ArticulatedShapeRecogniser(rng=0).fit(train.shapes, train.labels)
+    >>> recogniser.predict(test.shapes[:3]).tolist()
+    ['boxing', 'boxing', 'boxing']
+    >>> round(float(np.mean(recogniser.predict(test.shapes) == test.labels)), 2)
+    0.97
     """
 
     def __init__(
         self,
         *,
+        rng: int | np.random.Generator,
         n_limb_labels: int = 4,
         n_shape_components: int = 2,
-        shape_seed: int = 0,
         shape_ridge: float = 1e-3,
-        em_restarts: int = 1,
+        n_restarts: int = 1,
         label_error_probability: float = 0.2,
         variance_fraction: float = 0.95,
         max_iter: int = 10,
-        em_iterations: int = 30,
+        n_em_iter: int = 30,
         polar_model: str = "block",
         limb_likelihood: str = "gaussian",
         classes: tuple[str, ...] | None = None,
     ) -> None:
-        self.n_limb_labels = check_positive_int(n_limb_labels, "n_limb_labels")
-        self.n_shape_components = check_positive_int(n_shape_components, "n_shape_components")
-        if isinstance(shape_seed, bool) or not isinstance(shape_seed, (int, np.integer)):
-            raise TypeError(f"shape_seed must be an int, got {shape_seed!r}")
-        self.shape_seed = int(shape_seed)
-        self.shape_ridge = check_positive(shape_ridge, "shape_ridge")
-        self.em_restarts = check_positive_int(em_restarts, "em_restarts")
-        self.label_error_probability = check_in_range(label_error_probability, "label_error_probability", 0, 0.5)
-        self.variance_fraction = check_in_range(variance_fraction, "variance_fraction", 0, 1, closed="right")
-        self.max_iter = check_positive_int(max_iter, "max_iter")
-        self.em_iterations = check_positive_int(em_iterations, "em_iterations")
-        self.polar_model = check_choice(polar_model, "polar_model", ("block", "joint"))
-        self.limb_likelihood = check_choice(limb_likelihood, "limb_likelihood", ("gaussian", "residual"))
-        self.classes = None if classes is None else _check_class_names(classes)
+        # Stored as given (scikit-learn's contract); fit validates them.
+        self.n_limb_labels = n_limb_labels
+        self.n_shape_components = n_shape_components
+        self.rng = rng
+        self.shape_ridge = shape_ridge
+        self.n_restarts = n_restarts
+        self.label_error_probability = label_error_probability
+        self.variance_fraction = variance_fraction
+        self.max_iter = max_iter
+        self.n_em_iter = n_em_iter
+        self.polar_model = polar_model
+        self.limb_likelihood = limb_likelihood
+        self.classes = classes
+
+    def _check_params(self) -> tuple | None:
+        """Validate the settings given to ``__init__`` (called by :meth:`fit`); returns ``classes``
+        as a tuple (or None)."""
+        make_rng(self.rng, "rng")
+        check_positive_int(self.n_limb_labels, "n_limb_labels")
+        check_positive_int(self.n_shape_components, "n_shape_components")
+        check_positive(self.shape_ridge, "shape_ridge")
+        check_positive_int(self.n_restarts, "n_restarts")
+        check_in_range(self.label_error_probability, "label_error_probability", 0, 0.5)
+        check_in_range(self.variance_fraction, "variance_fraction", 0, 1, closed="right")
+        check_positive_int(self.max_iter, "max_iter")
+        check_positive_int(self.n_em_iter, "n_em_iter")
+        check_choice(self.polar_model, "polar_model", ("block", "joint"))
+        check_choice(self.limb_likelihood, "limb_likelihood", ("gaussian", "residual"))
+        return None if self.classes is None else _check_class_names(self.classes)
 
     # ------------------------------------------------------------------ validation
     def _check_shapes(self, shapes: object, name: str = "shapes") -> np.ndarray:
@@ -299,28 +457,40 @@ class ArticulatedShapeRecognizer:
             )
         return array
 
-    def _check_fitted(self) -> None:
-        if not hasattr(self, "classes_"):
-            raise ValueError("the recogniser must be fitted before recognising or aligning shapes")
-
     # ------------------------------------------------------------------ training
-    def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "ArticulatedShapeRecognizer":
-        """Learn the limb mixtures, the class polar-PDM mixtures and the label dictionary."""
+    def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "ArticulatedShapeRecogniser":
+        """Learn the limb mixtures, the class polar-PDM mixtures and the label dictionary.
+
+        Parameters
+        ----------
+        shapes : (T, 13, m, 2) array_like
+            Training shapes, ``m >= 2`` landmarks per limb; no shape may have all its landmarks coincide.
+        labels : (T,) array_like
+            Class name of every training shape; every class needs ``3 * n_shape_components`` shapes.
+
+        Returns
+        -------
+        ArticulatedShapeRecogniser
+            This recogniser, fitted.
+        """
         with one_blas_thread():  # small matrices: BLAS threads only contend on a shared machine
             return self._fit(shapes, labels)
 
-    def _fit(self, shapes: np.ndarray, labels: np.ndarray) -> "ArticulatedShapeRecognizer":
+    def _fit(self, shapes: np.ndarray, labels: np.ndarray) -> "ArticulatedShapeRecogniser":
+        expected_classes = self._check_params()
+        for learned in [name for name in vars(self) if name.endswith("_")]:
+            delattr(self, learned)  # a refit starts afresh (the landmark count may change)
         shapes = self._check_shapes(shapes)
         labels = _check_labels(labels, shapes.shape[0])
         present = tuple(dict.fromkeys(labels.tolist()))
-        if self.classes is not None:
-            unknown = sorted(set(present) - set(self.classes))
+        if expected_classes is not None:
+            unknown = sorted(set(present) - set(expected_classes))
             if unknown:
-                raise ValueError(f"labels contains class name(s) {unknown} not in classes={self.classes}")
-            empty = [c for c in self.classes if c not in present]
+                raise ValueError(f"labels contains class name(s) {unknown} not in classes={expected_classes}")
+            empty = [c for c in expected_classes if c not in present]
             if empty:
                 raise ValueError(f"class(es) {empty} have no training examples")
-            present = self.classes
+            present = expected_classes
         counts = {c: int(np.sum(labels == c)) for c in present}
         needed = MIN_PER_CLASS * self.n_shape_components
         few = {c: k for c, k in counts.items() if k < needed}
@@ -358,7 +528,7 @@ class ArticulatedShapeRecognizer:
         spreads = np.stack([np.cov(data.T, bias=True) + 1e-6 * np.eye(d) for data in limbs])
         ridges = 1e-3 * np.trace(spreads, axis1=1, axis2=2) / d
         weights, means, covariances, _ = _fit_gaussian_mixtures_batch(
-            limbs, starts, np.repeat(spreads[:, None], self.n_limb_labels, axis=1), self.em_iterations, ridges)
+            limbs, starts, np.repeat(spreads[:, None], self.n_limb_labels, axis=1), self.n_em_iter, ridges)
         self.limb_models_: list[list[PointDistributionModel]] = []
         self.limb_weights_ = weights
         self.limb_noise_ = np.empty(N_LIMBS)
@@ -393,7 +563,7 @@ class ArticulatedShapeRecognizer:
         class's training responsibilities ``(T_c, M)``."""
         vectors = _polar_shape_vector(aligned)
         blocks = _polar_blocks(self.polar_model)
-        rng = make_rng(self.shape_seed)
+        rng = make_rng(self.rng, "rng")
         self.angle_means_ = []
         self.shape_models_: list[list[PolarPDM]] = []
         self.shape_weights_: list[np.ndarray] = []
@@ -404,8 +574,8 @@ class ArticulatedShapeRecognizer:
             self.angle_means_.append(angle_mean)
             deviation = self._deviation(class_vectors, angle_mean)
             models, weights, resp = _fit_polar_mixture(deviation, self.n_shape_components, blocks, rng,
-                                                       self.em_iterations, self.variance_fraction,
-                                                       ridge=self.shape_ridge, n_restarts=self.em_restarts)
+                                                       self.n_em_iter, self.variance_fraction,
+                                                       ridge=self.shape_ridge, n_restarts=self.n_restarts)
             self.shape_models_.append(models)
             self.shape_weights_.append(weights)
             responsibilities.append(resp)
@@ -428,7 +598,7 @@ class ArticulatedShapeRecognizer:
         the clamped modal fits ``(M, n, 3K)`` (in deviation coordinates)."""
         scores = np.stack([np.log(weight) + model._log_density(deviation)
                            for model, weight in zip(self.shape_models_[j], self.shape_weights_[j])], axis=1)
-        fits = np.stack([model._fit(deviation) for model in self.shape_models_[j]])
+        fits = np.stack([model._project(deviation) for model in self.shape_models_[j]])
         return scores, fits
 
     def _shape_terms(self, aligned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -458,19 +628,42 @@ class ArticulatedShapeRecognizer:
 
     # ------------------------------------------------------------------ recognition
     def align(self, shapes: np.ndarray) -> np.ndarray:
-        """Procrustes-align shapes onto the training reference (removes the global similarity)."""
-        self._check_fitted()
+        """Procrustes-align shapes onto the training reference (removes the global similarity).
+
+        Parameters
+        ----------
+        shapes : (n, 13, m, 2) array_like
+            Articulated shapes, with as many landmarks per limb (``m``) as the training shapes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n, 13, m, 2)`` aligned shapes, in the reference's frame (unit centroid size).
+        """
+        check_fitted(self, "classes_")
         shapes = self._check_shapes(shapes)
         flat = shapes.reshape(shapes.shape[0], -1, 2)
         return _align_to_reference(flat, self.reference_).reshape(shapes.shape)
 
     def recognise(self, shapes: np.ndarray) -> RecognitionTrace:
-        """Run the hierarchical EM (eqs. 9-18) and return the full per-iteration trace."""
+        """Run the hierarchical EM (eqs. 9-18) and return the full per-iteration trace.
+
+        Parameters
+        ----------
+        shapes : (n, 13, m, 2) array_like
+            Articulated shapes, with as many landmarks per limb (``m``) as the training shapes.
+
+        Returns
+        -------
+        RecognitionTrace
+            Class posteriors, limb labels and model fits of every iteration until the labels stop
+            changing (at most ``max_iter``).
+        """
         with one_blas_thread():
             return self._recognise(shapes)
 
     def _recognise(self, shapes: np.ndarray) -> RecognitionTrace:
-        self._check_fitted()
+        check_fitted(self, "classes_")
         aligned = self.align(shapes)
         limb_log_post = self._limb_log_posteriors(aligned)  # (n, K, labels)
         shape_log_lik, fits = self._shape_terms(aligned)  # (n, C, M), (C, M, n, 3K)
@@ -503,16 +696,40 @@ class ArticulatedShapeRecognizer:
                                 len(history_post))
 
     def limb_label_posteriors(self, shapes: np.ndarray, *, log: bool = False) -> np.ndarray:
-        """Label posteriors ``P(lambda | z_k)`` of every limb of every shape, ``(n, K, n_limb_labels)``
-        (eqs. 9-10: each label's PDM fitted to the limb, Bayes' rule with the label's mixing weight).
-        With ``log=True`` their logarithms (exact where the posteriors underflow to 0)."""
-        self._check_fitted()
+        """Label posteriors ``P(lambda | z_k)`` of every limb of every shape (eqs. 9-10).
+
+        Each label's PDM is fitted to the limb and Bayes' rule applied with the label's mixing weight.
+
+        Parameters
+        ----------
+        shapes : (n, 13, m, 2) array_like
+            Articulated shapes, with as many landmarks per limb (``m``) as the training shapes.
+        log : bool
+            Return the logarithms instead (exact where the posteriors underflow to 0).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n, K, n_limb_labels)`` posteriors (rows sum to 1), or their logarithms.
+        """
+        check_fitted(self, "classes_")
         log_posteriors = self._limb_log_posteriors(self.align(shapes))
         return log_posteriors if log else np.exp(log_posteriors)
 
     def score_components(self, shapes: np.ndarray) -> ScoreComponents:
-        """The separate terms of the first-iteration class score (for ablations)."""
-        self._check_fitted()
+        """The separate terms of the first-iteration class score (for ablations).
+
+        Parameters
+        ----------
+        shapes : (n, 13, m, 2) array_like
+            Articulated shapes, with as many landmarks per limb (``m``) as the training shapes.
+
+        Returns
+        -------
+        ScoreComponents
+            The limb gates, label-string and polar-PDM terms, weights and priors.
+        """
+        check_fitted(self, "classes_")
         aligned = self.align(shapes)
         limb_log_post = self._limb_log_posteriors(aligned)
         shape_log_lik, _ = self._shape_terms(aligned)
@@ -520,11 +737,28 @@ class ArticulatedShapeRecognizer:
                                shape_log_lik, np.log(np.stack(self.shape_weights_)), self.class_log_prior_)
 
     def iterative_alignment(self, shape: np.ndarray, class_name: str, n_iter: int = 4) -> AlignmentTrace:
-        """Fit class ``class_name``'s polar PDM to one shape ``(13, m, 2)`` by alternating a
-        similarity pose fit of the model's limb centres (Procrustes) with the clamped modal fit
-        (eq. 12) in the model frame; iteration 1 is the mean shape posed onto the data, later
-        iterations also fit each limb's dictionary-label PDM to the data limb (eq. 15)."""
-        self._check_fitted()
+        """Fit one class's polar PDM to one shape, alternating a pose fit with the modal fit.
+
+        Each iteration poses the model's limb centres onto the shape's (similarity Procrustes), then
+        refits the clamped modes (eq. 12) in the model frame; iteration 1 is the mean shape posed
+        onto the data, later iterations also fit each limb's dictionary-label PDM to the data limb
+        (eq. 15). The class's mixture component that best explains the shape is used.
+
+        Parameters
+        ----------
+        shape : (13, m, 2) array_like
+            One articulated shape.
+        class_name : str
+            A name in ``classes_``.
+        n_iter : int
+            Fixed number of iterations (positive; default 4).
+
+        Returns
+        -------
+        AlignmentTrace
+            The posed model shape and the limb-centre RMS misfit of every iteration.
+        """
+        check_fitted(self, "classes_")
         if class_name not in self.classes_:
             raise ValueError(f"class_name must be one of {self.classes_}, got {class_name!r}")
         n_iter = check_positive_int(n_iter, "n_iter")
@@ -549,27 +783,61 @@ class ArticulatedShapeRecognizer:
             drawn.append(pose.scale * model_shape @ pose.rotation.T + pose.translation)
             misfit.append(pose.rms_error)
             deviation = self._deviation(_polar_shape_vector(shape_in_model[None]), angle_mean)
-            model_vector = model._fit(deviation)[0]
+            model_vector = model._project(deviation)[0]
             model_vector[:N_LIMBS] = _wrap_angle(model_vector[:N_LIMBS] + angle_mean)
         return AlignmentTrace(np.stack(drawn), np.array(misfit))
 
     def predict_proba(self, shapes: np.ndarray) -> np.ndarray:
-        """Class posteriors ``(n, C)`` at convergence, columns in ``classes_`` order."""
+        """Class posteriors at the last iteration of :meth:`recognise`.
+
+        Parameters
+        ----------
+        shapes : (n, 13, m, 2) array_like
+            Articulated shapes, with as many landmarks per limb (``m``) as the training shapes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n, C)`` posteriors (rows sum to 1), columns in ``classes_`` order.
+        """
         return self.recognise(shapes).posteriors[-1]
 
     def predict(self, shapes: np.ndarray) -> np.ndarray:
-        """MAP class names (eq. 13)."""
+        """MAP class names (eq. 13).
+
+        Parameters
+        ----------
+        shapes : (n, 13, m, 2) array_like
+            Articulated shapes, with as many landmarks per limb (``m``) as the training shapes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n,)`` class names from ``classes_``.
+        """
         proba = self.predict_proba(shapes)
         return np.asarray(self.classes_)[np.argmax(proba, axis=1)]
 
     def model_limbs(self, polar_vector: np.ndarray, label_string: np.ndarray,
                     observed_limbs: np.ndarray | None = None) -> np.ndarray:
-        """Draw a model shape ``(K, m, 2)`` at the limb centres of a polar vector S ``(3K,)``.
+        """Draw a model shape at the limb centres of a polar vector S.
 
-        ``label_string`` ``(K,)`` holds one limb label (0 .. n_limb_labels - 1) per limb. Without
-        ``observed_limbs`` each limb is its label's mean stroke; with centred observed limb vectors
-        ``(K, 2m)`` each limb is its label's clamped PDM fit to them (eq. 15)."""
-        self._check_fitted()
+        Parameters
+        ----------
+        polar_vector : (3K,) array_like
+            Polar vector S: K angles (radians, unused here), then the 2K limb centres.
+        label_string : (K,) array_like of int
+            One limb label in 0 .. n_limb_labels - 1 per limb.
+        observed_limbs : (K, 2m) array_like, optional
+            Centred observed limb vectors; when given each limb is its label's clamped PDM fit to
+            them (eq. 15), otherwise its label's mean stroke.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(K, m, 2)`` limb strokes placed at the centres of S.
+        """
+        check_fitted(self, "classes_")
         polar_vector = as_finite_array(polar_vector, "polar_vector", shape=(3 * N_LIMBS,))
         label_string = as_finite_array(label_string, "label_string", shape=(N_LIMBS,), dtype=int)
         if np.any((label_string < 0) | (label_string >= self.n_limb_labels)):
@@ -659,9 +927,9 @@ def held_out_log_likelihood(
     shape_ridge: float = 1e-3,
     n_folds: int = 5,
     variance_fraction: float = 0.95,
-    em_iterations: int = 30,
+    n_em_iter: int = 30,
     polar_model: str = "block",
-    seed: int = 0,
+    rng: int | np.random.Generator,
 ) -> float:
     """Mean held-out log-density of one class's polar vectors under a mixture of polar PDMs.
 
@@ -678,38 +946,43 @@ def held_out_log_likelihood(
     n_components : int
         Mixture components M.
     shape_ridge : float
-        Positive EM ridge, as ``ArticulatedShapeRecognizer(shape_ridge=...)``.
+        Positive EM ridge, as ``ArticulatedShapeRecogniser(shape_ridge=...)``.
     n_folds : int
         Number of folds (at least 2); every training split needs ``3 * n_components`` rows.
-    variance_fraction, em_iterations, polar_model
-        As for ``ArticulatedShapeRecognizer``.
-    seed : int
-        Seed of the fold split and of the k-means++ starts.
+    variance_fraction, n_em_iter, polar_model
+        As for ``ArticulatedShapeRecogniser``.
+    rng : int or numpy.random.Generator
+        Seed or generator of the fold split and of the k-means++ starts (keyword-only, no default).
 
     Returns
     -------
     float
         Held-out log-density summed over the folds, divided by T (nats per shape).
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4, eqs. 2-8 (the mixture it scores); the criterion is ours.
     """
     vectors = as_finite_array(polar_vectors, "polar_vectors", shape=(None, 3 * N_LIMBS))
     n_components = check_positive_int(n_components, "n_components")
     shape_ridge = check_positive(shape_ridge, "shape_ridge")
     n_folds = check_positive_int(n_folds, "n_folds", minimum=2)
     variance_fraction = check_in_range(variance_fraction, "variance_fraction", 0, 1, closed="right")
-    em_iterations = check_positive_int(em_iterations, "em_iterations")
+    n_em_iter = check_positive_int(n_em_iter, "n_em_iter")
     blocks = _polar_blocks(check_choice(polar_model, "polar_model", ("block", "joint")))
     t = len(vectors)
     smallest_split = t - -(-t // n_folds)
     if smallest_split < MIN_PER_CLASS * n_components:
         raise ValueError(f"polar_vectors needs at least {MIN_PER_CLASS * n_components} rows outside every fold "
                          f"(n_components={n_components}, n_folds={n_folds}), got {smallest_split} of {t}")
-    rng = make_rng(seed)
+    rng = make_rng(rng, "rng")
     folds = np.empty(t, dtype=int)
     folds[rng.permutation(t)] = np.arange(t) % n_folds
     total = 0.0
     for fold in range(n_folds):
         held = folds == fold
-        models, weights, _ = _fit_polar_mixture(vectors[~held], n_components, blocks, rng, em_iterations,
+        models, weights, _ = _fit_polar_mixture(vectors[~held], n_components, blocks, rng, n_em_iter,
                                                 variance_fraction, ridge=shape_ridge)
         scores = np.stack([np.log(w) + model._log_density(vectors[held]) for model, w in zip(models, weights)], axis=1)
         total += float(np.logaddexp.reduce(scores, axis=1).sum())
