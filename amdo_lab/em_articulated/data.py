@@ -48,8 +48,8 @@ def _first_valid(hand: HandModel, draw, what: str) -> np.ndarray:
     raise RuntimeError(f"no {what} without crossed fingers in {_MAX_DRAWS} draws")
 
 
-def perturb_pose(hand: HandModel, theta: np.ndarray, joint_error_deg: float, rng: np.random.Generator | int,
-                 *, palm_rotation_deg: float = 5.0, palm_translation_mm: float = 5.0) -> np.ndarray:
+def perturb_pose(hand: HandModel, theta: np.ndarray, joint_error_deg: float, *, rng: np.random.Generator | int,
+                 palm_rotation_deg: float = 5.0, palm_translation_mm: float = 5.0) -> np.ndarray:
     """Offset each articulation DOF by ±``joint_error_deg`` (random signs), staying inside the limits.
 
     Where the offset would leave a joint's range its sign is flipped (then clipped as a last
@@ -61,7 +61,7 @@ def perturb_pose(hand: HandModel, theta: np.ndarray, joint_error_deg: float, rng
     joint_error_deg = check_positive(joint_error_deg, "joint_error_deg", allow_zero=True)
     palm_rotation_deg = check_positive(palm_rotation_deg, "palm_rotation_deg", allow_zero=True)
     palm_translation_mm = check_positive(palm_translation_mm, "palm_translation_mm", allow_zero=True)
-    rng = make_rng(rng)
+    rng = make_rng(rng, "rng")
     limits = hand.joint_limits()
     lo, hi = limits[_ARTICULATION, 0], limits[_ARTICULATION, 1]
     offset = np.radians(joint_error_deg)
@@ -82,10 +82,10 @@ def perturb_pose(hand: HandModel, theta: np.ndarray, joint_error_deg: float, rng
     return _first_valid(hand, draw, "perturbed pose")
 
 
-def random_pose(hand: HandModel, rng: np.random.Generator | int) -> np.ndarray:
+def random_pose(hand: HandModel, *, rng: np.random.Generator | int) -> np.ndarray:
     """A natural pose: rest pose, small spreads and moderate flexions, digits not crossing."""
     check_hand(hand)
-    rng = make_rng(rng)
+    rng = make_rng(rng, "rng")
     limits = hand.joint_limits()
     flexion = ~np.isin(np.arange(6, 27), SIDEWAYS_DOFS)
 
@@ -139,10 +139,11 @@ class SkinTexture:
         return hand.transform_texture(self.binding, hand.check_theta(theta))
 
 
-def make_skin_texture(hand: HandModel, n_features: int, rng: np.random.Generator | int, *, a: float = 2.0) -> SkinTexture:
+def make_skin_texture(hand: HandModel, n_features: int, *, rng: np.random.Generator | int, a: float = 2.0) -> SkinTexture:
     """``n_features`` skin features drawn uniformly on the fused surface at the rest pose."""
+    rng = make_rng(rng, "rng")
     rest = hand.rest_pose()
-    points = hand.sample_surface(rest, check_positive_int(n_features, "n_features"), make_rng(rng))
+    points = hand.sample_surface(rest, check_positive_int(n_features, "n_features"), rng=rng)
     return SkinTexture(points, hand.texture_binding(points, rest, a))
 
 
@@ -183,7 +184,7 @@ class RegistrationProblem:
 _CAMERA = np.array([0.0, 40.0, 500.0])
 
 
-def make_registration_problem(hand: HandModel, rng: np.random.Generator | int, *, joint_error_deg: float = 20.0,
+def make_registration_problem(hand: HandModel, *, rng: np.random.Generator | int, joint_error_deg: float = 20.0,
                               noise_mm: float = 2.0, outlier_ratio: float = 1.0, n_model: int = 500,
                               n_data: int = 500, occlusion: bool = False,
                               repeatability: float = DEFAULT_REPEATABILITY,
@@ -202,7 +203,7 @@ def make_registration_problem(hand: HandModel, rng: np.random.Generator | int, *
     ``texture_noise_mm`` sets the texture's noise apart from the data's (default: ``noise_mm``;
     0 reads "2 mm noise" as noise on the data only, with an exactly known texture).
     """
-    rng = make_rng(rng)
+    rng = make_rng(rng, "rng")
     noise_mm = check_positive(noise_mm, "noise_mm", allow_zero=True)
     texture_noise_mm = noise_mm if texture_noise_mm is None else check_positive(texture_noise_mm, "texture_noise_mm",
                                                                                  allow_zero=True)
@@ -212,9 +213,9 @@ def make_registration_problem(hand: HandModel, rng: np.random.Generator | int, *
     if repeatability > 1:
         raise ValueError(f"repeatability must lie in [0, 1], got {repeatability}")
     for _ in range(_MAX_DRAWS):
-        theta_true = random_pose(hand, rng)
+        theta_true = random_pose(hand, rng=rng)
         try:
-            theta_init = perturb_pose(hand, theta_true, joint_error_deg, rng)
+            theta_init = perturb_pose(hand, theta_true, joint_error_deg, rng=rng)
             break
         except RuntimeError:  # a true pose with no valid start at this distance: draw another
             continue
@@ -222,11 +223,11 @@ def make_registration_problem(hand: HandModel, rng: np.random.Generator | int, *
         raise RuntimeError(f"no start pose {joint_error_deg} deg away without crossed fingers")
     scale = 2 if occlusion else 1  # about half of the features face the camera
     if repeatability == 0:
-        at_init = hand.sample_surface(theta_init, scale * n_model, rng)
-        at_true = hand.sample_surface(theta_true, scale * n_data, rng)
+        at_init = hand.sample_surface(theta_init, scale * n_model, rng=rng)
+        at_true = hand.sample_surface(theta_true, scale * n_data, rng=rng)
         n_skin = 0
     else:
-        skin = make_skin_texture(hand, int(np.ceil(scale * max(n_model, n_data) / repeatability)), rng)
+        skin = make_skin_texture(hand, int(np.ceil(scale * max(n_model, n_data) / repeatability)), rng=rng)
         at_init, at_true = skin.positions(hand, theta_init), skin.positions(hand, theta_true)
         n_skin = skin.n_features
     seen_init, seen_true = np.arange(len(at_init)), np.arange(len(at_true))
@@ -258,7 +259,7 @@ class TrackingSequence:
     fps: float
 
 
-def make_tracking_sequence(hand: HandModel, rng: np.random.Generator | int, *, n_frames: int = 100,
+def make_tracking_sequence(hand: HandModel, *, rng: np.random.Generator | int, n_frames: int = 100,
                            fps: float = 20.0, n_features: int = 1500, noise_mm: float = 2.0,
                            n_clutter: int = 150, repeatability: float = DEFAULT_REPEATABILITY,
                            motion: str = "turn", camera: object = None) -> TrackingSequence:
@@ -273,7 +274,7 @@ def make_tracking_sequence(hand: HandModel, rng: np.random.Generator | int, *, n
     with ``noise_mm`` of noise. Clutter: points on an unmodelled forearm cylinder behind the wrist
     plus uniform background points, ``n_clutter`` and ``n_clutter // 3`` per frame.
     """
-    rng = make_rng(rng)
+    rng = make_rng(rng, "rng")
     n_frames = check_positive_int(n_frames, "n_frames", minimum=2)
     check_choice(motion, "motion", ("turn", "bend"))
     camera = _CAMERA if camera is None else as_finite_array(camera, "camera", ndim=1, shape=(3,))
@@ -293,7 +294,7 @@ def make_tracking_sequence(hand: HandModel, rng: np.random.Generator | int, *, n
         poses[:, 13 + 4 * f] = 0.1 + 0.9 * bend
         poses[:, 14 + 4 * f] = 0.1 + 0.6 * bend
     poses[:, 10] = 0.1 + 0.6 * bend
-    skin = make_skin_texture(hand, n_features, rng)
+    skin = make_skin_texture(hand, n_features, rng=rng)
     frames, masks = [], []
     for pose in poses:
         features = skin.positions(hand, pose)

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import RateInterval, check_positive_int, rate_interval, spawn_rngs
+from amdo_lab.common import RateInterval, check_positive_int, make_rng, rate_interval, spawn_rngs
 
 from amdo_lab.em_articulated.data import (RegistrationProblem, joint_rmse_deg, make_registration_problem,
                                           worst_joint_deg)
@@ -66,19 +66,20 @@ def _floor_errors(hand: HandModel, case: RegistrationProblem) -> tuple[float, fl
     return joint_rmse_deg(floor, case.theta_true), worst_joint_deg(floor, case.theta_true)
 
 
-def noise_floor_trials(hand: HandModel, seed: int, n_trials: int, *,
+def noise_floor_trials(hand: HandModel, n_trials: int, *, rng: np.random.Generator | int,
                        problem: dict | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The noise floor alone: per-trial joint RMSE and worst joint (degrees) of the least-squares fit
     with the true matches (:func:`fit_known_correspondences`) from the start pose, on the same
-    problems as :func:`run_registration_trials` with the same ``seed`` (its ``oracle_*`` fields), but
+    problems as :func:`run_registration_trials` with the same ``rng`` (its ``oracle_*`` fields), but
     without running the EM. NaN for trials without shared features."""
+    rng = make_rng(rng, "rng")
     n_trials = check_positive_int(n_trials, "n_trials")
-    errors = [_floor_errors(hand, make_registration_problem(hand, rng, **(problem or {})))
-              for rng in spawn_rngs(seed, n_trials)]
+    errors = [_floor_errors(hand, make_registration_problem(hand, rng=trial_rng, **(problem or {})))
+              for trial_rng in spawn_rngs(rng, n_trials)]
     return np.array([e[0] for e in errors]), np.array([e[1] for e in errors])
 
 
-def run_registration_trials(hand: HandModel, seed: int, n_trials: int, *, problem: dict | None = None,
+def run_registration_trials(hand: HandModel, n_trials: int, *, rng: np.random.Generator | int, problem: dict | None = None,
                             em_settings: dict | None = None, surface_steps: int = 10,
                             epsilon_mm: float = 5.0, digit_search: dict | None = None) -> TrialSummary:
     """Draw ``n_trials`` problems (:func:`make_registration_problem` with ``problem``), run
@@ -88,10 +89,11 @@ def run_registration_trials(hand: HandModel, seed: int, n_trials: int, *, proble
     ``digit_search`` (default None: none) runs :func:`refine_digits` between the two, with these
     keyword arguments and the same ``em_settings``; the surface fit then uses its inlier probabilities.
     """
+    rng = make_rng(rng, "rng")
     n_trials = check_positive_int(n_trials, "n_trials")
     rmse, worst, seconds, oracle, oracle_worst = [], [], [], [], []
-    for rng in spawn_rngs(seed, n_trials):
-        case = make_registration_problem(hand, rng, **(problem or {}))
+    for trial_rng in spawn_rngs(rng, n_trials):
+        case = make_registration_problem(hand, rng=trial_rng, **(problem or {}))
         start = time.perf_counter()
         em = register_em(case.model_points, case.data_points, hand, case.theta_init, **(em_settings or {}))
         theta, inlier_prob = em.theta, em.inlier_prob
@@ -132,7 +134,7 @@ class ObjectiveCheck:
     sigma: float
 
 
-def objective_check(hand: HandModel, seed: int, n_trials: int, *, problem: dict | None = None,
+def objective_check(hand: HandModel, n_trials: int, *, rng: np.random.Generator | int, problem: dict | None = None,
                     em_settings: dict | None = None) -> ObjectiveCheck:
     """Optimizer or objective? On ``n_trials`` seeded problems, run :func:`register_em` and fit the
     pose with the true matches (the noise floor); evaluate the EM's own objective (the robust
@@ -145,8 +147,8 @@ def objective_check(hand: HandModel, seed: int, n_trials: int, *, problem: dict 
     Parameters
     ----------
     hand : HandModel
-    seed : seed of the trials' random streams (:func:`amdo_lab.common.spawn_rngs`).
     n_trials : number of seeded problems (≥ 1).
+    rng : int seed or numpy.random.Generator of the trials' random streams (:func:`amdo_lab.common.spawn_rngs`).
     problem : keyword arguments of :func:`make_registration_problem`.
     em_settings : keyword arguments of :func:`register_em`; the objective is taken at their
         ``sigma_min`` (3 mm by default).
@@ -159,12 +161,13 @@ def objective_check(hand: HandModel, seed: int, n_trials: int, *, problem: dict 
     ----------
     Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eqs. (9), (17)-(18) (the objective).
     """
+    rng = make_rng(rng, "rng")
     n_trials = check_positive_int(n_trials, "n_trials")
     settings = em_settings or {}
     sigma = float(settings.get("sigma_min", 3.0))
     rows = []
-    for rng in spawn_rngs(seed, n_trials):
-        case = make_registration_problem(hand, rng, **(problem or {}))
+    for trial_rng in spawn_rngs(rng, n_trials):
+        case = make_registration_problem(hand, rng=trial_rng, **(problem or {}))
         em = register_em(case.model_points, case.data_points, hand, case.theta_init, **settings)
         model_index, data_index = case.true_matches()
         floor = fit_known_correspondences(case.model_points[model_index], case.data_points[data_index], hand,

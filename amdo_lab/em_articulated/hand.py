@@ -304,8 +304,8 @@ class HandModel:
         jac[:, 3:] = -np.einsum("kmj,mkj->mk", blended[3:], lever)
         return -self.nu * np.log(fused), jac
 
-    def sample_surface(self, theta: object, n: int, rng: np.random.Generator | int,
-                       *, newton_steps: int = 4) -> np.ndarray:
+    def sample_surface(self, theta: object, n: int, *, rng: np.random.Generator | int,
+                       newton_steps: int = 4) -> np.ndarray:
         """Draw ``n`` points on the fused surface φ = 1 at pose ``theta``.
 
         Points are drawn on the ellipsoids (by approximate area) and pushed onto φ = 1 by Newton
@@ -313,7 +313,7 @@ class HandModel:
         """
         theta = self.check_theta(theta)
         n = check_positive_int(n, "n")
-        rng = make_rng(rng)
+        rng = make_rng(rng, "rng")
         frames = self._forward(theta)[0]
         radii = np.array([part.radii for part in self._parts])
         area = (radii[:, 0] * radii[:, 1] + radii[:, 1] * radii[:, 2] + radii[:, 0] * radii[:, 2])
