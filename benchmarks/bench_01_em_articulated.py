@@ -79,7 +79,7 @@ def registration_rows(table, hand, trials: int, seed: int, name: str, problem: d
         runs.append(("ours+digits", OUR_SETTINGS, {}))
     for label, settings, digit_search in runs:
         summary = run_registration_trials(hand, trials, rng=seed, problem=problem, em_settings=settings,
-                                          surface_steps=0, digit_search=digit_search)
+                                          surface_max_iter=0, digit_search=digit_search)
         floors = summary.oracle_rmse_deg[np.isfinite(summary.oracle_rmse_deg)]
         floor = float(np.median(floors)) if floors.size else float("nan")  # textureless: no true matches
         interval = summary.success_interval()
@@ -202,7 +202,7 @@ def tracking_line(bench: Benchmark, hand, n_frames: int) -> None:
     table = bench.table("frames", "points min", "points max", "ms/frame", "median RMSE", "worst RMSE", "last RMSE",
                         "texture kept",
                         title=f"tracking the chapter's sequence (seed 5, 20 fps): {TRACKING_SETTINGS['n_levels']} sigma "
-                              f"levels x {TRACKING_SETTINGS['iterations_per_level']} EM iterations + 3 surface steps "
+                              f"levels x {TRACKING_SETTINGS['max_iter']} EM iterations + 3 surface steps "
                               "per frame; joint RMSE in deg over the frames after the first, texture kept = median texture points")
     table.add(n_frames, min(points), max(points), round(1000 * per_frame), round(float(np.median(errors[1:])), 1),
               round(float(errors.max()), 1), round(float(errors[-1]), 1), round(float(np.median(result.n_texture[1:]))))
@@ -229,7 +229,7 @@ def frame_timing(bench: Benchmark, hand, n_frames: int = 20) -> None:
         em = register_em(problem.model_points, problem.data_points, hand, problem.theta_init, 8.0, 3.0,
                          **TRACKING_SETTINGS)
         close = np.abs(hand.surface_distance(problem.data_points, em.theta)) < 5.0
-        fit_surface(problem.data_points[close], hand, em.theta, n_steps=3)
+        fit_surface(problem.data_points[close], hand, em.theta, max_iter=3)
         seconds.append(time.perf_counter() - start)
     table = bench.table("texture points", "data points", "frames", "median ms",
                         title="one tracking frame (5 deg motion per joint; EM sigma 8 -> 3 mm, then 3 surface steps)")
@@ -249,10 +249,10 @@ def tracking_ablation(bench: Benchmark, hand, n_frames: int, seeds: tuple[int, .
                               f"(deg), median over frames per sequence; seed {chapter_seed} is the chapter's sequence "
                               "(not used to choose)")
     for iterations in (1, 2, 3, 5):
-        runs = [_track(hand, seed, n_frames, iterations_per_level=iterations) for seed in seeds]
+        runs = [_track(hand, seed, n_frames, max_iter=iterations) for seed in seeds]
         medians = [float(np.median(errors[1:])) for _, errors, _ in runs]
         worst = max(float(errors.max()) for _, errors, _ in runs)
-        _, chapter_errors, _ = _track(hand, chapter_seed, n_frames, iterations_per_level=iterations)
+        _, chapter_errors, _ = _track(hand, chapter_seed, n_frames, max_iter=iterations)
         table.add(iterations, round(1000 * float(np.mean([r[0] for r in runs]))), *(round(m, 2) for m in medians),
                   round(float(np.mean(medians)), 2), round(worst, 2), round(float(np.median(chapter_errors[1:])), 2),
                   round(float(chapter_errors.max()), 2))
@@ -338,7 +338,7 @@ def schedule_table(bench: Benchmark, hand, trials: int, seed: int = 1012) -> Non
     for label, settings in (("paper", PAPER_SETTINGS), ("ours", OUR_SETTINGS)):
         for schedule in ("per-step", "levels"):
             summary = run_registration_trials(hand, trials, rng=seed, problem=problem,
-                                              em_settings={**settings, "schedule": schedule}, surface_steps=0)
+                                              em_settings={**settings, "schedule": schedule}, surface_max_iter=0)
             interval = summary.success_interval()
             table.add(label, schedule, round(summary.median_rmse_deg, 2), round(summary.success_rate, 2),
                       round(interval.low, 2), round(interval.high, 2),

@@ -184,7 +184,7 @@ def test_register_em_exact_correspondences_converges(hand):
     theta_init = perturb_pose(hand, theta_true, 10.0, rng=rng)
     model = hand.sample_surface(theta_init, 400, rng=rng)
     data = hand.transform_texture(hand.texture_binding(model, theta_init), theta_true)
-    result = register_em(model, data, hand, theta_init, 10.0, 1.0, iterations_per_level=4)
+    result = register_em(model, data, hand, theta_init, 10.0, 1.0, max_iter=4)
     assert joint_rmse_deg(result.theta, theta_true) < 1.0
     assert result.history.shape[1] == 2 and result.history[-1, 0] == pytest.approx(1.0)
     limits = hand.joint_limits()
@@ -205,7 +205,7 @@ def test_fit_surface_reduces_distance(hand):
     data = hand.sample_surface(theta_true, 300, rng=rng)
     start = perturb_pose(hand, theta_true, 4.0, rng=rng, palm_rotation_deg=1.0, palm_translation_mm=1.0)
     before = np.sqrt(np.mean(hand.surface_distance(data, start) ** 2))
-    result = fit_surface(data, hand, start, n_steps=3)
+    result = fit_surface(data, hand, start, max_iter=3)
     assert result.rms_distance < 0.5 * before
 
 
@@ -213,8 +213,8 @@ def test_softassign_slack_extremes(hand):
     problem = make_registration_problem(hand, rng=9, joint_error_deg=5.0, noise_mm=1.0, outlier_ratio=0.5,
                                         n_model=150, n_data=150)
     args = (problem.model_points, problem.data_points, hand, problem.theta_init, 10.0, 3.0)
-    high = softassign_register(*args, slack=1e3, n_levels=2, iterations_per_level=1)
-    low = softassign_register(*args, slack=1e-8, n_levels=2, iterations_per_level=1)
+    high = softassign_register(*args, slack=1e3, n_levels=2, n_iter=1)
+    low = softassign_register(*args, slack=1e-8, n_levels=2, n_iter=1)
     # too high a slack: everything is an outlier; too low: every model point gets matched
     assert np.mean(high.inlier_prob) < 0.2
     assert low.inlier_prob.sum() > 0.9 * len(problem.model_points)
@@ -311,8 +311,8 @@ def test_debiased_targets_keep_a_perfect_fit_at_large_sigma(hand):
     rng = make_rng(21)
     theta = random_pose(hand, rng=rng)
     texture = hand.sample_surface(theta, 400, rng=rng)
-    paper = register_em(texture, texture, hand, theta, 20.0, 19.0, n_levels=1, iterations_per_level=5)
-    ours = register_em(texture, texture, hand, theta, 20.0, 19.0, n_levels=1, iterations_per_level=5,
+    paper = register_em(texture, texture, hand, theta, 20.0, 19.0, n_levels=1, max_iter=5)
+    ours = register_em(texture, texture, hand, theta, 20.0, 19.0, n_levels=1, max_iter=5,
                        targets="debiased")
     assert joint_rmse_deg(paper.theta, theta) > 5.0
     assert joint_rmse_deg(ours.theta, theta) < 0.1
@@ -324,7 +324,7 @@ def test_register_em_stops_a_level_once_converged(hand):
     rng = make_rng(22)
     theta = random_pose(hand, rng=rng)
     texture = hand.sample_surface(theta, 200, rng=rng)
-    result = register_em(texture, texture, hand, theta, 10.0, 3.0, n_levels=3, iterations_per_level=10,
+    result = register_em(texture, texture, hand, theta, 10.0, 3.0, n_levels=3, max_iter=10,
                          tol=1e-3, targets="debiased")
     assert len(result.history) < 3 * 10  # each level ends as soon as Θ stops changing
     assert sorted(set(result.history[:, 0]), reverse=True) == pytest.approx(np.geomspace(10.0, 3.0, 3))
@@ -376,8 +376,8 @@ def test_fit_surface_eq22_ignores_far_points(hand):
     clutter = rng.uniform(-100, 150, size=(300, 3))
     clutter = clutter[np.abs(hand.surface_distance(clutter, theta_true)) > 15.0]
     start = perturb_pose(hand, theta_true, 3.0, rng=rng, palm_rotation_deg=1.0, palm_translation_mm=1.0)
-    robust = fit_surface(np.concatenate([data, clutter]), hand, start, n_steps=5, sigma=3.0)
-    plain = fit_surface(np.concatenate([data, clutter]), hand, start, n_steps=5, sigma=None)
+    robust = fit_surface(np.concatenate([data, clutter]), hand, start, max_iter=5, sigma=3.0)
+    plain = fit_surface(np.concatenate([data, clutter]), hand, start, max_iter=5, sigma=None)
     assert joint_rmse_deg(robust.theta, theta_true) < joint_rmse_deg(plain.theta, theta_true)
     with pytest.raises(ValueError, match="sigma"):
         fit_surface(data, hand, start, sigma=0.0)
@@ -532,8 +532,8 @@ def test_loop_settings_reject_bad_input(hand):
         register_em(points, points, hand, theta, damping=-1.0)
     with pytest.raises(ValueError, match="chunk"):
         register_em(points, points, hand, theta, chunk=0)
-    with pytest.raises(ValueError, match="sinkhorn_iterations"):
-        softassign_register(points, points, hand, theta, sinkhorn_iterations=0)
+    with pytest.raises(ValueError, match="n_sweeps"):
+        softassign_register(points, points, hand, theta, n_sweeps=0)
     with pytest.raises(ValueError, match="frames must be a non-empty list"):
         track_sequence([], hand, theta)
     with pytest.raises(ValueError, match="max_texture"):
@@ -575,7 +575,7 @@ def _log_likelihood_reference(hand, model_points, theta_init, theta, data, sigma
 def test_digit_search_never_lowers_the_criterion(hand, seed):
     case = make_registration_problem(hand, rng=seed, joint_error_deg=20.0, noise_mm=2.0, outlier_ratio=1.0,
                                      n_model=150, n_data=150)
-    settings = dict(OUR_SETTINGS, iterations_per_level=3)
+    settings = dict(OUR_SETTINGS, max_iter=3)
     # from the start pose itself (far from converged) and from a finger bent onto the limit
     bent = case.theta_init.copy()
     bent[16:19] = hand.joint_limits()[16:19, 1]
@@ -655,9 +655,9 @@ def test_digit_search_rejects_bad_input(hand, changes, error, match):
 
 def test_trials_run_the_digit_search_only_when_asked(hand):
     problem = dict(joint_error_deg=10.0, n_model=100, n_data=100)
-    settings = dict(OUR_SETTINGS, iterations_per_level=2)
-    plain = run_registration_trials(hand, 1, rng=0, problem=problem, em_settings=settings, surface_steps=0)
-    rerun = run_registration_trials(hand, 1, rng=0, problem=problem, em_settings=settings, surface_steps=0,
+    settings = dict(OUR_SETTINGS, max_iter=2)
+    plain = run_registration_trials(hand, 1, rng=0, problem=problem, em_settings=settings, surface_max_iter=0)
+    rerun = run_registration_trials(hand, 1, rng=0, problem=problem, em_settings=settings, surface_max_iter=0,
                                     digit_search=dict(max_passes=0))
     assert np.isfinite(rerun.rmse_deg).all() and rerun.rmse_deg[0] != plain.rmse_deg[0]
     with pytest.raises(TypeError, match="spread"):
@@ -674,8 +674,8 @@ def test_trial_summary_success_interval_counts_the_successful_trials():
 
 def test_noise_floor_trials_are_the_trial_runners_floors_without_the_em(hand):
     problem = dict(joint_error_deg=10.0, n_model=100, n_data=100)
-    settings = dict(OUR_SETTINGS, iterations_per_level=1)
-    trials = run_registration_trials(hand, 2, rng=3, problem=problem, em_settings=settings, surface_steps=0)
+    settings = dict(OUR_SETTINGS, max_iter=1)
+    trials = run_registration_trials(hand, 2, rng=3, problem=problem, em_settings=settings, surface_max_iter=0)
     rmse, worst = noise_floor_trials(hand, 2, rng=3, problem=problem)
     np.testing.assert_array_equal(rmse, trials.oracle_rmse_deg)
     np.testing.assert_array_equal(worst, trials.oracle_max_error_deg)
@@ -738,7 +738,7 @@ def test_public_robust_log_likelihood_matches_logsumexp():
 def test_register_em_reference_equals_the_fast_em(hand, targets):
     case = make_registration_problem(hand, rng=4, joint_error_deg=10.0, noise_mm=1.0, outlier_ratio=0.5,
                                      n_model=120, n_data=120)
-    settings = dict(sigma_max=12.0, sigma_min=3.0, n_levels=3, iterations_per_level=4, targets=targets)
+    settings = dict(sigma_max=12.0, sigma_min=3.0, n_levels=3, max_iter=4, targets=targets)
     reference = register_em_reference(case.model_points, case.data_points, hand, case.theta_init, **settings)
     fast = register_em(case.model_points, case.data_points, hand, case.theta_init, e_step="dense", **settings)
     assert np.max(np.abs(reference - fast.theta)) < 1e-4  # the fast path exponentiates in single precision
@@ -773,7 +773,7 @@ def test_objective_check_fields_agree_with_their_definitions(hand):
 def test_per_step_schedule_runs_one_iteration_per_falling_sigma(hand):
     case = make_registration_problem(hand, rng=6, joint_error_deg=10.0, noise_mm=1.0, outlier_ratio=1.0,
                                      n_model=150, n_data=150)
-    settings = dict(sigma_max=20.0, sigma_min=3.0, n_levels=5, iterations_per_level=10, tol=0.0)
+    settings = dict(sigma_max=20.0, sigma_min=3.0, n_levels=5, max_iter=10, tol=0.0)
     per_step = register_em(case.model_points, case.data_points, hand, case.theta_init, schedule="per-step", **settings)
     levels = register_em(case.model_points, case.data_points, hand, case.theta_init, **settings)
     np.testing.assert_allclose(per_step.history[:, 0], np.r_[np.geomspace(20.0, 3.0, 5)[:4], np.full(10, 3.0)])

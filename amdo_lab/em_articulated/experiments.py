@@ -80,7 +80,7 @@ def noise_floor_trials(hand: HandModel, n_trials: int, *, rng: np.random.Generat
 
 
 def run_registration_trials(hand: HandModel, n_trials: int, *, rng: np.random.Generator | int, problem: dict | None = None,
-                            em_settings: dict | None = None, surface_steps: int = 10,
+                            em_settings: dict | None = None, surface_max_iter: int = 10,
                             epsilon_mm: float = 5.0, digit_search: dict | None = None) -> TrialSummary:
     """Draw ``n_trials`` problems (:func:`make_registration_problem` with ``problem``), run
     :func:`register_em` with ``em_settings`` then :func:`fit_surface` (Sec. 3.4) on the points
@@ -101,8 +101,8 @@ def run_registration_trials(hand: HandModel, n_trials: int, *, rng: np.random.Ge
             search = refine_digits(case.model_points, case.data_points, hand, case.theta_init, theta,
                                    **digit_search, **(em_settings or {}))
             theta, inlier_prob = search.theta, search.inlier_prob
-        if surface_steps:
-            theta = fit_surface(case.data_points, hand, theta, weights=inlier_prob, n_steps=surface_steps,
+        if surface_max_iter:
+            theta = fit_surface(case.data_points, hand, theta, weights=inlier_prob, max_iter=surface_max_iter,
                                 epsilon_mm=epsilon_mm).theta
         seconds.append(time.perf_counter() - start)
         floor_rmse, floor_worst = _floor_errors(hand, case)

@@ -25,7 +25,7 @@ PAPER_C = 3.0 * np.sqrt(np.pi / 2.0)
 #: register_em as the paper describes it: the M-step targets G_i of eq. (20), every DOF free at
 #: every σ, σ annealed geometrically in five levels from the largest motion to about the noise,
 #: EM iterated at each level until Θ stops changing.
-PAPER_SETTINGS = {"sigma_max": 20.0, "sigma_min": 3.0, "n_levels": 5, "iterations_per_level": 10,
+PAPER_SETTINGS = {"sigma_max": 20.0, "sigma_min": 3.0, "n_levels": 5, "max_iter": 10,
                   "targets": "paper", "e_step": "kdtree"}
 #: Ours (see the chapter's ablation): the same EM with bias-corrected targets; the texture blurred
 #: by the same E-step is subtracted, so a perfect fit is a fixed point at every σ.
@@ -379,7 +379,7 @@ def _check_common(hand: HandModel, model_points: object, data_points: object, th
 
 def register_em(model_points: object, data_points: object, hand: HandModel, theta_init: object,
                 sigma_max: float = 20.0, sigma_min: float = 3.0, *, n_levels: int = 5,
-                iterations_per_level: int = 10, tol: float = DEFAULT_TOL, outlier_c: float | None = None,
+                max_iter: int = 10, tol: float = DEFAULT_TOL, outlier_c: float | None = None,
                 sigma_mode: str = "anneal", targets: str = "paper", a: float = 2.0,
                 gauss_newton_steps: int = 2, damping: float = 1e-3, chunk: int = 256,
                 release_ratio: float | None = None, e_step: str = "dense", schedule: str = "levels") -> EMResult:
@@ -387,7 +387,7 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
 
     At each of ``n_levels`` geometric σ levels from ``sigma_max`` to ``sigma_min`` (Sec. 3.3),
     E-step (eq. 17) and M-step (eq. 20) alternate until no DOF moves by more than ``tol`` or
-    ``iterations_per_level`` iterations have run.
+    ``max_iter`` iterations have run.
 
     Parameters
     ----------
@@ -397,7 +397,7 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
     theta_init : (27,) start pose, inside the joint limits.
     sigma_max, sigma_min : annealing range in mm (largest expected motion, noise level).
     n_levels : number of geometric σ levels (the paper: about five).
-    iterations_per_level : most EM iterations at one σ.
+    max_iter : most EM iterations at one σ.
     tol : convergence threshold on the largest change of Θ in one iteration (rad; mm for the palm).
     outlier_c : constant c of eq. (17); default 3√(π/2) (eq. 18). ``sigma_mode="scaled"`` instead
         uses c·(σ/σ_min)^3, i.e. a fixed outlier density rather than a fixed c.
@@ -416,10 +416,10 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
     schedule : "levels" (our reading of Sec. 3.3, the default): at each σ level, E- and M-steps
         alternate until Θ stops changing. "per-step" (the paper's text read literally,
         σ_{q+1} = κσ_q at every iteration q): one iteration at each σ above ``sigma_min``, then
-        iterations at ``sigma_min`` until Θ stops changing (at most ``iterations_per_level``).
+        iterations at ``sigma_min`` until Θ stops changing (at most ``max_iter``).
     """
     setup = _em_setup(hand, model_points, data_points, theta_init, sigma_max, sigma_min, n_levels,
-                      iterations_per_level, tol, outlier_c, sigma_mode, targets, a, gauss_newton_steps, damping,
+                      max_iter, tol, outlier_c, sigma_mode, targets, a, gauss_newton_steps, damping,
                       chunk, release_ratio, e_step, schedule)
     theta, inlier_prob, history = _em_levels(setup, setup.theta_init, setup.sigmas)
     return EMResult(theta, inlier_prob, history, hand.transform_texture(setup.binding, theta))
@@ -427,7 +427,7 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
 
 def register_em_reference(model_points: object, data_points: object, hand: HandModel, theta_init: object,
                           sigma_max: float = 20.0, sigma_min: float = 3.0, *, n_levels: int = 5,
-                          iterations_per_level: int = 10, tol: float = DEFAULT_TOL, targets: str = "paper",
+                          max_iter: int = 10, tol: float = DEFAULT_TOL, targets: str = "paper",
                           a: float = 2.0, gauss_newton_steps: int = 2, damping: float = 1e-3) -> np.ndarray:
     """The annealed EM of Sec. 3.1-3.3 written out plainly: the readable path of :func:`register_em`.
 
@@ -446,13 +446,13 @@ def register_em_reference(model_points: object, data_points: object, hand: HandM
     model, data, theta, sigma_max, sigma_min = _check_common(hand, model_points, data_points, theta_init,
                                                              sigma_max, sigma_min)
     n_levels = check_positive_int(n_levels, "n_levels")
-    iterations_per_level = check_positive_int(iterations_per_level, "iterations_per_level")
+    max_iter = check_positive_int(max_iter, "max_iter")
     check_choice(targets, "targets", ("paper", "debiased"))
     binding = hand.texture_binding(model, theta, a)  # eq. (3): the texture's blend weights, fixed at Θ_init
     with one_blas_thread():
         # Sec. 3.3: σ falls geometrically from the largest motion σ_max to the noise level σ_min
         for sigma in np.geomspace(sigma_max, sigma_min, n_levels):
-            for _ in range(iterations_per_level):
+            for _ in range(max_iter):
                 moved = hand.transform_texture(binding, theta)  # T(X_i, Θ^q)
                 alpha = e_step_reference(moved, data, sigma)  # E-step, eq. (17)
                 lam, goal = m_step_targets(alpha, data)  # λ_i, G_i of eq. (20)
@@ -479,7 +479,7 @@ class _EMSetup:
     sigma_min: float
     lever: np.ndarray  # dof_lever_arms at theta_init (release_ratio)
     log_c: float  # log of the constant c of eq. (17)
-    iterations_per_level: int
+    max_iter: int
     tol: float
     sigma_mode: str
     targets: str
@@ -492,7 +492,7 @@ class _EMSetup:
 
 
 def _em_setup(hand: HandModel, model_points: object, data_points: object, theta_init: object,
-              sigma_max: float = 20.0, sigma_min: float = 3.0, n_levels: int = 5, iterations_per_level: int = 10,
+              sigma_max: float = 20.0, sigma_min: float = 3.0, n_levels: int = 5, max_iter: int = 10,
               tol: float = DEFAULT_TOL, outlier_c: float | None = None, sigma_mode: str = "anneal",
               targets: str = "paper", a: float = 2.0, gauss_newton_steps: int = 2, damping: float = 1e-3,
               chunk: int = 256, release_ratio: float | None = None, e_step: str = "dense",
@@ -503,7 +503,7 @@ def _em_setup(hand: HandModel, model_points: object, data_points: object, theta_
     if model.shape[0] == 0 or data.shape[0] == 0:
         raise ValueError("model_points and data_points must be non-empty")
     n_levels = check_positive_int(n_levels, "n_levels")
-    iterations_per_level = check_positive_int(iterations_per_level, "iterations_per_level")
+    max_iter = check_positive_int(max_iter, "max_iter")
     tol = check_positive(tol, "tol", allow_zero=True)
     check_choice(sigma_mode, "sigma_mode", ("anneal", "scaled", "estimate"))
     check_choice(targets, "targets", ("paper", "debiased"))
@@ -517,7 +517,7 @@ def _em_setup(hand: HandModel, model_points: object, data_points: object, theta_
         release_ratio = check_positive(release_ratio, "release_ratio")
     binding = hand.texture_binding(model, theta, a)
     return _EMSetup(hand, data, theta, binding, np.geomspace(sigma_max, sigma_min, n_levels), sigma_min,
-                    dof_lever_arms(hand, binding, theta), float(np.log(c)), iterations_per_level, tol, sigma_mode,
+                    dof_lever_arms(hand, binding, theta), float(np.log(c)), max_iter, tol, sigma_mode,
                     targets, gauss_newton_steps, damping, chunk, release_ratio, e_step, schedule)
 
 
@@ -543,7 +543,7 @@ def _em_levels(setup: _EMSetup, theta: np.ndarray, sigmas: np.ndarray) -> tuple[
     with one_blas_thread():  # small dense algebra: BLAS threads only contend
         for level, level_sigma in enumerate(sigmas):
             # per-step schedule: σ falls after every iteration until it reaches the last level
-            n_iterations = 1 if setup.schedule == "per-step" and level < len(sigmas) - 1 else setup.iterations_per_level
+            n_iterations = 1 if setup.schedule == "per-step" and level < len(sigmas) - 1 else setup.max_iter
             free = np.ones(hand.n_dof, bool)
             if setup.release_ratio is not None:
                 free &= setup.lever >= setup.release_ratio * level_sigma
@@ -571,7 +571,7 @@ def _em_levels(setup: _EMSetup, theta: np.ndarray, sigmas: np.ndarray) -> tuple[
 
 
 def climb_objective(model_points: object, data_points: object, hand: HandModel, theta_init: object,
-                    theta_start: object, sigma: float = 3.0, *, max_iterations: int = 60,
+                    theta_start: object, sigma: float = 3.0, *, max_iter: int = 60,
                     tol: float = 1e-5) -> np.ndarray:
     """The plain EM at one fixed σ from ``theta_start``: a climb of :func:`robust_log_likelihood`.
 
@@ -583,14 +583,14 @@ def climb_objective(model_points: object, data_points: object, hand: HandModel, 
 
     Returns
     -------
-    theta : (27,) pose at the local maximum (or after ``max_iterations`` iterations).
+    theta : (27,) pose at the local maximum (or after ``max_iter`` iterations).
 
     References
     ----------
     Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eqs. (9), (17), (20).
     """
     setup = _em_setup(hand, model_points, data_points, theta_init, sigma_max=2.0 * check_positive(sigma, "sigma"),
-                      sigma_min=sigma, n_levels=1, iterations_per_level=check_positive_int(max_iterations, "max_iterations"),
+                      sigma_min=sigma, n_levels=1, max_iter=check_positive_int(max_iter, "max_iter"),
                       tol=tol, targets="paper", e_step="dense")
     start = hand.check_theta(theta_start, "theta_start", within_limits=True)
     return _em_levels(setup, start, np.array([sigma]))[0]
@@ -729,7 +729,7 @@ def refine_digits(model_points: object, data_points: object, hand: HandModel, th
 
 
 def fit_known_correspondences(model_points: object, matched_points: object, hand: HandModel, theta_init: object,
-                              *, a: float = 2.0, n_steps: int = 30) -> np.ndarray:
+                              *, a: float = 2.0, max_iter: int = 30) -> np.ndarray:
     """Least-squares pose when every texture point's match is known: the M-step (eq. 20) with α = 1.
 
     The noise floor of point registration: no assignment can do better than the true one.
@@ -741,7 +741,7 @@ def fit_known_correspondences(model_points: object, matched_points: object, hand
     theta = hand.check_theta(theta_init, "theta_init", within_limits=True)
     with one_blas_thread():
         binding = hand.texture_binding(model, theta, a)
-        return _m_step(hand, binding, theta, np.ones(len(model)), matched, check_positive_int(n_steps, "n_steps"), 1e-3)
+        return _m_step(hand, binding, theta, np.ones(len(model)), matched, check_positive_int(max_iter, "max_iter"), 1e-3)
 
 
 @dataclass(frozen=True)
@@ -753,7 +753,7 @@ class SurfaceFitResult:
 
 
 def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, weights: object = None,
-                sigma: float | None = 3.0, n_steps: int = 3, damping: float = 1e-2,
+                sigma: float | None = 3.0, max_iter: int = 3, damping: float = 1e-2,
                 epsilon_mm: float | None = None) -> SurfaceFitResult:
     """Refine Θ by minimising Σ_j β_j d(Y_j, Θ)² (Sec. 3.4, eq. 21; d from eq. 2).
 
@@ -778,7 +778,7 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
         sigma = check_positive(sigma, "sigma")
     if epsilon_mm is not None:
         epsilon_mm = check_positive(epsilon_mm, "epsilon_mm")
-    n_steps = check_positive_int(n_steps, "n_steps", minimum=0)
+    max_iter = check_positive_int(max_iter, "max_iter", minimum=0)
     limits = hand.joint_limits()
 
     def step_weights(dist: np.ndarray) -> np.ndarray:
@@ -795,7 +795,7 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
     with one_blas_thread():
         dist, jac = hand.surface_distance_jacobian(data, theta)
         current = cost(dist)
-        for _ in range(n_steps):
+        for _ in range(max_iter):
             sqrt_w = np.sqrt(step_weights(dist))
             jac_w = sqrt_w[:, None] * jac
             normal = jac_w.T @ jac_w
@@ -826,7 +826,7 @@ class SoftAssignResult:
 
 def softassign_register(model_points: object, data_points: object, hand: HandModel, theta_init: object,
                         sigma_max: float = 20.0, sigma_min: float = 2.0, *, slack: float = 1e-2,
-                        n_levels: int = 5, iterations_per_level: int = 3, sinkhorn_iterations: int = 30,
+                        n_levels: int = 5, n_iter: int = 3, n_sweeps: int = 30,
                         a: float = 2.0) -> SoftAssignResult:
     """SoftAssign (Gold, Rangarajan et al.) baseline of Sec. 4, Sinkhorn in the log domain.
 
@@ -839,18 +839,18 @@ def softassign_register(model_points: object, data_points: object, hand: HandMod
         raise ValueError("model_points and data_points must be non-empty")
     slack = check_positive(slack, "slack")
     n_levels = check_positive_int(n_levels, "n_levels")
-    iterations_per_level = check_positive_int(iterations_per_level, "iterations_per_level")
-    sinkhorn_iterations = check_positive_int(sinkhorn_iterations, "sinkhorn_iterations")
+    n_iter = check_positive_int(n_iter, "n_iter")
+    n_sweeps = check_positive_int(n_sweeps, "n_sweeps")
     binding = hand.texture_binding(model, theta, a)
     n_model, n_data = len(model), len(data)
     inlier_prob = np.zeros(n_data)
     for sigma in np.geomspace(sigma_max, sigma_min, n_levels):
-        for _ in range(iterations_per_level):
+        for _ in range(n_iter):
             moved = hand.transform_texture(binding, theta)
             sq = np.sum((moved[:, None, :] - data[None, :, :]) ** 2, axis=2)
             log_m = np.full((n_model + 1, n_data + 1), np.log(slack))
             log_m[:n_model, :n_data] = -sq / (2 * sigma**2)
-            for _ in range(sinkhorn_iterations):
+            for _ in range(n_sweeps):
                 log_m[:n_model] -= logsumexp(log_m[:n_model], axis=1, keepdims=True)
                 log_m[:, :n_data] -= logsumexp(log_m[:, :n_data], axis=0, keepdims=True)
             match = np.exp(log_m[:n_model, :n_data])

@@ -20,7 +20,7 @@ __all__ = ["TrackingResult", "track_sequence", "TRACKING_SETTINGS"]
 #: median error on all four sequences) and is the fastest; 3 or 5 σ levels, or 2 or 4 surface steps,
 #: did no better. ``benchmarks/bench_01_em_articulated.py --tracking-ablation`` prints the comparison.
 TRACKING_SETTINGS = {**{key: value for key, value in OUR_SETTINGS.items() if key not in ("sigma_max", "sigma_min")},
-                     "n_levels": 4, "iterations_per_level": 1}
+                     "n_levels": 4, "max_iter": 1}
 
 
 @dataclass(frozen=True)
@@ -33,11 +33,11 @@ class TrackingResult:
 
 def track_sequence(frames: list, hand: HandModel, theta_start: np.ndarray, *, epsilon_mm: float = 5.0,
                    sigma_max: float = 15.0, sigma_min: float = 2.0, max_texture: int = 500,
-                   surface_steps: int = 3, em_settings: dict | None = None) -> TrackingResult:
+                   surface_max_iter: int = 3, em_settings: dict | None = None) -> TrackingResult:
     """Track a sequence: EM on the previous frame's texture, surface fit, then texture refresh.
 
     The texture for frame t+1 is the data of frame t within ``epsilon_mm`` of the fitted surface
-    (|d| < ε, eq. 2), at most ``max_texture`` of them (evenly subsampled). ``surface_steps``
+    (|d| < ε, eq. 2), at most ``max_texture`` of them (evenly subsampled). ``surface_max_iter``
     Gauss-Newton steps of the surface fit (Sec. 3.4; 0 skips it) on the data within ε of the
     EM's pose correct the drift that frame-to-frame matching alone accumulates. ``em_settings``
     are keyword arguments of :func:`register_em` that override :data:`TRACKING_SETTINGS`.
@@ -46,7 +46,7 @@ def track_sequence(frames: list, hand: HandModel, theta_start: np.ndarray, *, ep
         raise ValueError("frames must be a non-empty list of (n, 3) point arrays, one per frame")
     epsilon_mm = check_positive(epsilon_mm, "epsilon_mm")
     max_texture = check_positive_int(max_texture, "max_texture")
-    surface_steps = check_positive_int(surface_steps, "surface_steps", minimum=0)
+    surface_max_iter = check_positive_int(surface_max_iter, "surface_max_iter", minimum=0)
     theta = hand.check_theta(theta_start, "theta_start", within_limits=True)
     texture = frames[0][np.abs(hand.surface_distance(frames[0], theta)) < epsilon_mm]
     poses, counts = [theta], [len(texture)]
@@ -55,10 +55,10 @@ def track_sequence(frames: list, hand: HandModel, theta_start: np.ndarray, *, ep
         settings = {**TRACKING_SETTINGS, **(em_settings or {})}
         result = register_em(texture, data, hand, theta, sigma_max, sigma_min, **settings)
         theta = result.theta
-        if surface_steps:
+        if surface_max_iter:
             close = np.abs(hand.surface_distance(data, theta)) < epsilon_mm
             if np.any(close):
-                theta = fit_surface(data[close], hand, theta, n_steps=surface_steps).theta
+                theta = fit_surface(data[close], hand, theta, max_iter=surface_max_iter).theta
         texture = data[np.abs(hand.surface_distance(data, theta)) < epsilon_mm]
         poses.append(theta)
         counts.append(len(texture))
