@@ -826,3 +826,17 @@ def test_drawing_functions_take_rng_keyword_only_without_default(name):
 def test_drawing_functions_name_rng_in_errors(hand, name, bad, error):
     with pytest.raises(error, match="^rng "):
         _DRAWING[name][1](hand, bad)
+
+
+@pytest.mark.parametrize("name", ["e_step_reference", "make_registration_problem", "register_em"])
+def test_docstring_examples_run_and_print_what_they_show(name):
+    import doctest
+
+    import amdo_lab.em_articulated as chapter
+    function = getattr(chapter, name)
+    finder, runner = doctest.DocTestFinder(), doctest.DocTestRunner(optionflags=doctest.NORMALIZE_WHITESPACE)
+    tests = finder.find(function, name, globs={name: function})
+    assert tests and tests[0].examples
+    for test in tests:
+        runner.run(test)
+    assert runner.failures == 0

@@ -25,7 +25,20 @@ TRACKING_SETTINGS = {**{key: value for key, value in OUR_SETTINGS.items() if key
 
 @dataclass(frozen=True)
 class TrackingResult:
-    """Estimated poses (F, 27) and number of texture points kept per frame (F,)."""
+    """Result of :func:`track_sequence`.
+
+    Parameters
+    ----------
+    poses : numpy.ndarray, shape (F, 27)
+        Estimated pose of every frame (the first is the given start pose).
+    n_texture : numpy.ndarray of int, shape (F,)
+        Texture points kept after each frame (data within ε of the fitted surface).
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 5.
+    """
 
     poses: np.ndarray
     n_texture: np.ndarray
@@ -41,6 +54,38 @@ def track_sequence(frames: list, hand: HandModel, theta_start: np.ndarray, *, ep
     Gauss-Newton steps of the surface fit (Sec. 3.4; 0 skips it) on the data within ε of the
     EM's pose correct the drift that frame-to-frame matching alone accumulates. ``em_settings``
     are keyword arguments of :func:`register_em` that override :data:`TRACKING_SETTINGS`.
+
+    Parameters
+    ----------
+    frames : list of array_like
+        Data of every frame, shape (M_f, 3), mm; at least one frame.
+    hand : HandModel
+        The hand to track.
+    theta_start : array_like, shape (27,)
+        Pose at the first frame, inside the joint limits.
+    epsilon_mm : float, default 5.0
+        Texture refresh radius ε around the fitted surface, mm (> 0).
+    sigma_max : float, default 15.0
+        Largest σ of each frame's EM, mm (> ``sigma_min``): about the motion between frames.
+    sigma_min : float, default 2.0
+        Smallest σ, mm (> 0): about the noise.
+    max_texture : int, default 500
+        Most texture points carried to the next frame (≥ 1).
+    surface_max_iter : int, default 3
+        Most Gauss-Newton steps of the surface fit per frame (≥ 0; 0 skips it).
+    em_settings : dict, optional
+        Keyword arguments of :func:`register_em` that override :data:`TRACKING_SETTINGS`.
+
+    Returns
+    -------
+    TrackingResult
+        Poses and texture sizes per frame.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 3 (texture refresh, eq. 2),
+    Sec. 3.4 (surface fit) and Sec. 5.
     """
     if not hasattr(frames, "__len__") or len(frames) == 0:
         raise ValueError("frames must be a non-empty list of (n, 3) point arrays, one per frame")
