@@ -78,8 +78,8 @@ def registration_rows(table, hand, trials: int, seed: int, name: str, problem: d
     if name in DIGIT_SEARCH_CONDITIONS:
         runs.append(("ours+digits", OUR_SETTINGS, {}))
     for label, settings, digit_search in runs:
-        summary = run_registration_trials(hand, seed, trials, problem=problem, em_settings=settings,
-                                          surface_steps=0, digit_search=digit_search)
+        summary = run_registration_trials(hand, trials, rng=seed, problem=problem, em_settings=settings,
+                                          surface_max_iter=0, digit_search=digit_search)
         floors = summary.oracle_rmse_deg[np.isfinite(summary.oracle_rmse_deg)]
         floor = float(np.median(floors)) if floors.size else float("nan")  # textureless: no true matches
         interval = summary.success_interval()
@@ -105,7 +105,7 @@ def floor_table(bench: Benchmark, hand, trials: int) -> None:
     for k, (name, problem) in enumerate(conditions()):
         if problem.get("repeatability") == 0.0:
             continue  # textureless: no true matches, no floor
-        rmse, worst = noise_floor_trials(hand, 1000 + k, trials, problem=problem)
+        rmse, worst = noise_floor_trials(hand, trials, rng=1000 + k, problem=problem)
         interval = rate_interval(worst < SUCCESS_DEG)
         table.add(name, round(float(np.median(rmse)), 2), round(interval.rate, 2), round(interval.low, 2),
                   round(interval.high, 2))
@@ -145,7 +145,7 @@ def e_step_table(bench: Benchmark, hand) -> None:
     # No public name exposes the pair-share estimate and the dense/k-d tree switch register_em uses.
     from amdo_lab.em_articulated.registration import _DENSE_PAIR_FRACTION, _ClosePairs
 
-    problem = make_registration_problem(hand, 0, joint_error_deg=0.0, noise_mm=2.0, outlier_ratio=1.0)
+    problem = make_registration_problem(hand, rng=0, joint_error_deg=0.0, noise_mm=2.0, outlier_ratio=1.0)
     model, data = problem.model_points, problem.data_points
     table = bench.table("sigma (mm)", "pairs in 4s", "dense f32", "dense f64", "k-d tree", "pycpd E", "pycpd E+M",
                         "ours", "pycpd E+M / ours",
@@ -182,7 +182,7 @@ def _track(hand, seed: int, n_frames: int, **overrides):
 
     from amdo_lab.em_articulated import TRACKING_SETTINGS, joint_rmse_deg, make_tracking_sequence, track_sequence
 
-    sequence = make_tracking_sequence(hand, seed, n_frames=n_frames, fps=20.0)
+    sequence = make_tracking_sequence(hand, rng=seed, n_frames=n_frames, fps=20.0)
     start = time.perf_counter()
     result = track_sequence(sequence.frames, hand, sequence.poses[0], sigma_max=8.0, sigma_min=3.0,
                             em_settings={**TRACKING_SETTINGS, **overrides})
@@ -202,7 +202,7 @@ def tracking_line(bench: Benchmark, hand, n_frames: int) -> None:
     table = bench.table("frames", "points min", "points max", "ms/frame", "median RMSE", "worst RMSE", "last RMSE",
                         "texture kept",
                         title=f"tracking the chapter's sequence (seed 5, 20 fps): {TRACKING_SETTINGS['n_levels']} sigma "
-                              f"levels x {TRACKING_SETTINGS['iterations_per_level']} EM iterations + 3 surface steps "
+                              f"levels x {TRACKING_SETTINGS['max_iter']} EM iterations + 3 surface steps "
                               "per frame; joint RMSE in deg over the frames after the first, texture kept = median texture points")
     table.add(n_frames, min(points), max(points), round(1000 * per_frame), round(float(np.median(errors[1:])), 1),
               round(float(errors.max()), 1), round(float(errors[-1]), 1), round(float(np.median(result.n_texture[1:]))))
@@ -223,13 +223,13 @@ def frame_timing(bench: Benchmark, hand, n_frames: int = 20) -> None:
 
     seconds = []
     for rng in spawn_rngs(21, n_frames):
-        problem = make_registration_problem(hand, rng, joint_error_deg=5.0, noise_mm=2.0, outlier_ratio=1.0,
+        problem = make_registration_problem(hand, rng=rng, joint_error_deg=5.0, noise_mm=2.0, outlier_ratio=1.0,
                                             n_model=500, n_data=500)
         start = time.perf_counter()
         em = register_em(problem.model_points, problem.data_points, hand, problem.theta_init, 8.0, 3.0,
                          **TRACKING_SETTINGS)
         close = np.abs(hand.surface_distance(problem.data_points, em.theta)) < 5.0
-        fit_surface(problem.data_points[close], hand, em.theta, n_steps=3)
+        fit_surface(problem.data_points[close], hand, em.theta, max_iter=3)
         seconds.append(time.perf_counter() - start)
     table = bench.table("texture points", "data points", "frames", "median ms",
                         title="one tracking frame (5 deg motion per joint; EM sigma 8 -> 3 mm, then 3 surface steps)")
@@ -249,10 +249,10 @@ def tracking_ablation(bench: Benchmark, hand, n_frames: int, seeds: tuple[int, .
                               f"(deg), median over frames per sequence; seed {chapter_seed} is the chapter's sequence "
                               "(not used to choose)")
     for iterations in (1, 2, 3, 5):
-        runs = [_track(hand, seed, n_frames, iterations_per_level=iterations) for seed in seeds]
+        runs = [_track(hand, seed, n_frames, max_iter=iterations) for seed in seeds]
         medians = [float(np.median(errors[1:])) for _, errors, _ in runs]
         worst = max(float(errors.max()) for _, errors, _ in runs)
-        _, chapter_errors, _ = _track(hand, chapter_seed, n_frames, iterations_per_level=iterations)
+        _, chapter_errors, _ = _track(hand, chapter_seed, n_frames, max_iter=iterations)
         table.add(iterations, round(1000 * float(np.mean([r[0] for r in runs]))), *(round(m, 2) for m in medians),
                   round(float(np.mean(medians)), 2), round(worst, 2), round(float(np.median(chapter_errors[1:])), 2),
                   round(float(chapter_errors.max()), 2))
@@ -271,7 +271,7 @@ def peer_table(bench: Benchmark, hand, trials: int) -> None:
 
     rows = []
     for rng in spawn_rngs(7, trials):
-        problem = make_registration_problem(hand, rng, joint_error_deg=20.0, noise_mm=2.0, outlier_ratio=1.0)
+        problem = make_registration_problem(hand, rng=rng, joint_error_deg=20.0, noise_mm=2.0, outlier_ratio=1.0)
         palm_true = hand.part_transforms(problem.theta_true)[0, :3, 3]
         palm_init = hand.part_transforms(problem.theta_init)[0, :3, 3]
         row = []
@@ -305,7 +305,7 @@ def objective_table(bench: Benchmark, hand, trials: int, seed: int = 4242) -> No
 
     from amdo_lab.em_articulated import OUR_SETTINGS, objective_check
 
-    check = objective_check(hand, seed, trials, problem=OBJECTIVE_CONDITION, em_settings=OUR_SETTINGS)
+    check = objective_check(hand, trials, rng=seed, problem=OBJECTIVE_CONDITION, em_settings=OUR_SETTINGS)
     table = bench.table("trial", "EM", "floor", "climbed", "L(EM)-L(floor)", "L(EM)-L(truth)", "L(climbed)-L(EM)",
                         title=f"optimizer or objective? {trials} trials, start 10 deg, 2 mm per coordinate on texture "
                               f"and data, 1:1 outliers, objective at sigma {check.sigma:g} mm; joint RMSE in deg")
@@ -337,8 +337,8 @@ def schedule_table(bench: Benchmark, hand, trials: int, seed: int = 1012) -> Non
                         title=f"sigma schedule, {trials} trials, {HEADLINE_CONDITION}; joint RMSE in deg")
     for label, settings in (("paper", PAPER_SETTINGS), ("ours", OUR_SETTINGS)):
         for schedule in ("per-step", "levels"):
-            summary = run_registration_trials(hand, seed, trials, problem=problem,
-                                              em_settings={**settings, "schedule": schedule}, surface_steps=0)
+            summary = run_registration_trials(hand, trials, rng=seed, problem=problem,
+                                              em_settings={**settings, "schedule": schedule}, surface_max_iter=0)
             interval = summary.success_interval()
             table.add(label, schedule, round(summary.median_rmse_deg, 2), round(summary.success_rate, 2),
                       round(interval.low, 2), round(interval.high, 2),

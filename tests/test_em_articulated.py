@@ -19,6 +19,7 @@ from amdo_lab.em_articulated import (
     fit_known_correspondences,
     fit_surface,
     make_skin_texture,
+    objective_check,
     joint_rmse_deg,
     make_registration_problem,
     make_tracking_sequence,
@@ -69,7 +70,7 @@ def test_finger_flexion_moves_only_its_chain(hand):
 
 def test_surface_distance_on_sampled_surface_and_sign(hand):
     theta = hand.rest_pose()
-    points = hand.sample_surface(theta, 300, make_rng(1))
+    points = hand.sample_surface(theta, 300, rng=make_rng(1))
     assert points.shape == (300, 3)
     assert np.max(np.abs(hand.surface_distance(points, theta))) < 0.2
     normals = hand.surface_normals(points, theta)
@@ -89,7 +90,7 @@ def test_neighbour_rule_prevents_gluing(hand):
 
 def test_move_texture_identity_and_rigid_limit(hand):
     theta = hand.rest_pose()
-    points = hand.sample_surface(theta, 200, make_rng(2))
+    points = hand.sample_surface(theta, 200, rng=make_rng(2))
     np.testing.assert_allclose(hand.move_texture(points, theta, theta), points, atol=1e-10)
     moved = theta.copy()
     moved[:3] += 7.0
@@ -99,7 +100,7 @@ def test_move_texture_identity_and_rigid_limit(hand):
 def test_bending_texture_a_controls_stickiness(hand):
     """Eq. (3): with a = 10 points near a joint follow one part more rigidly than with a = 2."""
     theta = hand.rest_pose()
-    points = hand.sample_surface(theta, 400, make_rng(3))
+    points = hand.sample_surface(theta, 400, rng=make_rng(3))
     binding_2 = hand.texture_binding(points, theta, a=2.0)
     binding_10 = hand.texture_binding(points, theta, a=10.0)
     assert np.all(binding_10.weight_p >= binding_2.weight_p - 1e-12)
@@ -108,10 +109,10 @@ def test_bending_texture_a_controls_stickiness(hand):
 
 def test_analytic_jacobian_matches_finite_differences(hand):
     rng = make_rng(4)
-    theta = random_pose(hand, rng)
-    points = hand.sample_surface(theta, 150, rng)
+    theta = random_pose(hand, rng=rng)
+    points = hand.sample_surface(theta, 150, rng=rng)
     binding = hand.texture_binding(points, theta)
-    theta_eval = perturb_pose(hand, theta, 10.0, rng)
+    theta_eval = perturb_pose(hand, theta, 10.0, rng=rng)
     _, jac = hand.texture_jacobian(binding, theta_eval)
     eps = 1e-6
     numeric = np.stack([(hand.transform_texture(binding, theta_eval + eps * e)
@@ -179,11 +180,11 @@ def test_e_step_without_outlier_class():
 
 def test_register_em_exact_correspondences_converges(hand):
     rng = make_rng(6)
-    theta_true = random_pose(hand, rng)
-    theta_init = perturb_pose(hand, theta_true, 10.0, rng)
-    model = hand.sample_surface(theta_init, 400, rng)
+    theta_true = random_pose(hand, rng=rng)
+    theta_init = perturb_pose(hand, theta_true, 10.0, rng=rng)
+    model = hand.sample_surface(theta_init, 400, rng=rng)
     data = hand.transform_texture(hand.texture_binding(model, theta_init), theta_true)
-    result = register_em(model, data, hand, theta_init, 10.0, 1.0, iterations_per_level=4)
+    result = register_em(model, data, hand, theta_init, 10.0, 1.0, max_iter=4)
     assert joint_rmse_deg(result.theta, theta_true) < 1.0
     assert result.history.shape[1] == 2 and result.history[-1, 0] == pytest.approx(1.0)
     limits = hand.joint_limits()
@@ -191,7 +192,7 @@ def test_register_em_exact_correspondences_converges(hand):
 
 
 def test_register_em_inlier_prob_separates_outliers(hand):
-    problem = make_registration_problem(hand, 7, joint_error_deg=5.0, noise_mm=1.0, outlier_ratio=1.0,
+    problem = make_registration_problem(hand, rng=7, joint_error_deg=5.0, noise_mm=1.0, outlier_ratio=1.0,
                                         n_model=300, n_data=300)
     result = register_em(problem.model_points, problem.data_points, hand, problem.theta_init, 15.0, 3.0)
     assert result.inlier_prob.shape == (len(problem.data_points),)
@@ -200,27 +201,27 @@ def test_register_em_inlier_prob_separates_outliers(hand):
 
 def test_fit_surface_reduces_distance(hand):
     rng = make_rng(8)
-    theta_true = random_pose(hand, rng)
-    data = hand.sample_surface(theta_true, 300, rng)
-    start = perturb_pose(hand, theta_true, 4.0, rng, palm_rotation_deg=1.0, palm_translation_mm=1.0)
+    theta_true = random_pose(hand, rng=rng)
+    data = hand.sample_surface(theta_true, 300, rng=rng)
+    start = perturb_pose(hand, theta_true, 4.0, rng=rng, palm_rotation_deg=1.0, palm_translation_mm=1.0)
     before = np.sqrt(np.mean(hand.surface_distance(data, start) ** 2))
-    result = fit_surface(data, hand, start, n_steps=3)
+    result = fit_surface(data, hand, start, max_iter=3)
     assert result.rms_distance < 0.5 * before
 
 
 def test_softassign_slack_extremes(hand):
-    problem = make_registration_problem(hand, 9, joint_error_deg=5.0, noise_mm=1.0, outlier_ratio=0.5,
+    problem = make_registration_problem(hand, rng=9, joint_error_deg=5.0, noise_mm=1.0, outlier_ratio=0.5,
                                         n_model=150, n_data=150)
     args = (problem.model_points, problem.data_points, hand, problem.theta_init, 10.0, 3.0)
-    high = softassign_register(*args, slack=1e3, n_levels=2, iterations_per_level=1)
-    low = softassign_register(*args, slack=1e-8, n_levels=2, iterations_per_level=1)
+    high = softassign_register(*args, slack=1e3, n_levels=2, n_iter=1)
+    low = softassign_register(*args, slack=1e-8, n_levels=2, n_iter=1)
     # too high a slack: everything is an outlier; too low: every model point gets matched
     assert np.mean(high.inlier_prob) < 0.2
     assert low.inlier_prob.sum() > 0.9 * len(problem.model_points)
 
 
 def test_tracking_sequence_generator(hand):
-    seq = make_tracking_sequence(hand, 10, n_frames=3, n_features=600, n_clutter=60)
+    seq = make_tracking_sequence(hand, rng=10, n_frames=3, n_features=600, n_clutter=60)
     assert seq.poses.shape == (3, 27) and len(seq.frames) == 3
     n_surface_points = [int((~mask).sum()) for mask in seq.is_outlier]
     assert all(150 < n < 0.8 * 600 for n in n_surface_points)  # only the camera-facing side, 80 % detected
@@ -270,7 +271,7 @@ def test_digit_clearance_separates_rest_from_crossed_fingers(hand):
 def test_registration_problems_never_start_with_crossed_fingers(hand):
     from amdo_lab.em_articulated.data import MIN_DIGIT_CLEARANCE_MM
     for seed in range(3):
-        problem = make_registration_problem(hand, seed, joint_error_deg=20.0, n_model=20, n_data=20)
+        problem = make_registration_problem(hand, rng=seed, joint_error_deg=20.0, n_model=20, n_data=20)
         assert hand.digit_clearance(problem.theta_true) >= MIN_DIGIT_CLEARANCE_MM
         assert hand.digit_clearance(problem.theta_init) >= MIN_DIGIT_CLEARANCE_MM
         assert joint_rmse_deg(problem.theta_init, problem.theta_true) > 15.0
@@ -279,7 +280,7 @@ def test_registration_problems_never_start_with_crossed_fingers(hand):
 def test_lever_arms_shrink_along_each_finger(hand):
     from amdo_lab.em_articulated import dof_lever_arms
     theta = hand.rest_pose()
-    points = hand.sample_surface(theta, 400, make_rng(3))
+    points = hand.sample_surface(theta, 400, rng=make_rng(3))
     lever = dof_lever_arms(hand, hand.texture_binding(points, theta), theta)
     assert np.all(np.isinf(lever[:3]))
     for first in (11, 15, 19, 23):  # abduction, then the three flexions of each finger
@@ -289,7 +290,7 @@ def test_lever_arms_shrink_along_each_finger(hand):
 def test_release_ratio_holds_short_levers_while_sigma_is_large(hand):
     rng = make_rng(4)
     theta = hand.rest_pose()
-    model = hand.sample_surface(theta, 200, rng)
+    model = hand.sample_surface(theta, 200, rng=rng)
     moved = theta.copy()
     moved[:3] += [3.0, -2.0, 1.0]
     moved[12] += 0.2
@@ -308,10 +309,10 @@ def test_debiased_targets_keep_a_perfect_fit_at_large_sigma(hand):
     """Data that coincide with the texture: the paper's blurred targets G_i move the hand at
     σ = 20 mm (fingers curl towards the middle), the bias-corrected ones leave it in place."""
     rng = make_rng(21)
-    theta = random_pose(hand, rng)
-    texture = hand.sample_surface(theta, 400, rng)
-    paper = register_em(texture, texture, hand, theta, 20.0, 19.0, n_levels=1, iterations_per_level=5)
-    ours = register_em(texture, texture, hand, theta, 20.0, 19.0, n_levels=1, iterations_per_level=5,
+    theta = random_pose(hand, rng=rng)
+    texture = hand.sample_surface(theta, 400, rng=rng)
+    paper = register_em(texture, texture, hand, theta, 20.0, 19.0, n_levels=1, max_iter=5)
+    ours = register_em(texture, texture, hand, theta, 20.0, 19.0, n_levels=1, max_iter=5,
                        targets="debiased")
     assert joint_rmse_deg(paper.theta, theta) > 5.0
     assert joint_rmse_deg(ours.theta, theta) < 0.1
@@ -321,18 +322,18 @@ def test_debiased_targets_keep_a_perfect_fit_at_large_sigma(hand):
 
 def test_register_em_stops_a_level_once_converged(hand):
     rng = make_rng(22)
-    theta = random_pose(hand, rng)
-    texture = hand.sample_surface(theta, 200, rng)
-    result = register_em(texture, texture, hand, theta, 10.0, 3.0, n_levels=3, iterations_per_level=10,
+    theta = random_pose(hand, rng=rng)
+    texture = hand.sample_surface(theta, 200, rng=rng)
+    result = register_em(texture, texture, hand, theta, 10.0, 3.0, n_levels=3, max_iter=10,
                          tol=1e-3, targets="debiased")
     assert len(result.history) < 3 * 10  # each level ends as soon as Θ stops changing
     assert sorted(set(result.history[:, 0]), reverse=True) == pytest.approx(np.geomspace(10.0, 3.0, 3))
 
 
 def test_skin_texture_features_move_with_eq3_and_matches_are_true(hand):
-    skin = make_skin_texture(hand, 300, 5)
+    skin = make_skin_texture(hand, 300, rng=5)
     np.testing.assert_allclose(skin.positions(hand, hand.rest_pose()), skin.rest_points, atol=1e-9)
-    problem = make_registration_problem(hand, 23, noise_mm=0.0, outlier_ratio=1.0, n_model=200, n_data=200,
+    problem = make_registration_problem(hand, rng=23, noise_mm=0.0, outlier_ratio=1.0, n_model=200, n_data=200,
                                         repeatability=0.8)
     model_index, data_index = problem.true_matches()
     assert 0.5 * 200 < len(model_index) <= 200
@@ -341,14 +342,14 @@ def test_skin_texture_features_move_with_eq3_and_matches_are_true(hand):
     binding = hand.texture_binding(problem.model_points, problem.theta_init)
     moved = hand.transform_texture(binding, problem.theta_true)
     assert np.median(np.linalg.norm(moved[model_index] - problem.data_points[data_index], axis=1)) < 1.0
-    independent = make_registration_problem(hand, 23, n_model=50, n_data=50, repeatability=0.0)
+    independent = make_registration_problem(hand, rng=23, n_model=50, n_data=50, repeatability=0.0)
     assert len(independent.true_matches()[0]) == 0
     with pytest.raises(ValueError, match="repeatability"):
-        make_registration_problem(hand, 23, n_model=50, n_data=50, repeatability=1.5)
+        make_registration_problem(hand, rng=23, n_model=50, n_data=50, repeatability=1.5)
 
 
 def test_known_correspondences_recover_the_pose(hand):
-    problem = make_registration_problem(hand, 24, noise_mm=0.0, outlier_ratio=0.0, n_model=300, n_data=300)
+    problem = make_registration_problem(hand, rng=24, noise_mm=0.0, outlier_ratio=0.0, n_model=300, n_data=300)
     model_index, data_index = problem.true_matches()
     theta = fit_known_correspondences(problem.model_points[model_index], problem.data_points[data_index],
                                       hand, problem.theta_init)
@@ -358,8 +359,8 @@ def test_known_correspondences_recover_the_pose(hand):
 
 def test_surface_distance_jacobian_matches_finite_differences(hand):
     rng = make_rng(25)
-    theta = random_pose(hand, rng)
-    points = hand.sample_surface(theta, 120, rng) + rng.normal(scale=2.0, size=(120, 3))
+    theta = random_pose(hand, rng=rng)
+    points = hand.sample_surface(theta, 120, rng=rng) + rng.normal(scale=2.0, size=(120, 3))
     dist, jac = hand.surface_distance_jacobian(points, theta)
     np.testing.assert_allclose(dist, hand.surface_distance(points, theta), atol=1e-12)
     eps = 1e-6
@@ -370,13 +371,13 @@ def test_surface_distance_jacobian_matches_finite_differences(hand):
 
 def test_fit_surface_eq22_ignores_far_points(hand):
     rng = make_rng(26)
-    theta_true = random_pose(hand, rng)
-    data = hand.sample_surface(theta_true, 300, rng)
+    theta_true = random_pose(hand, rng=rng)
+    data = hand.sample_surface(theta_true, 300, rng=rng)
     clutter = rng.uniform(-100, 150, size=(300, 3))
     clutter = clutter[np.abs(hand.surface_distance(clutter, theta_true)) > 15.0]
-    start = perturb_pose(hand, theta_true, 3.0, rng, palm_rotation_deg=1.0, palm_translation_mm=1.0)
-    robust = fit_surface(np.concatenate([data, clutter]), hand, start, n_steps=5, sigma=3.0)
-    plain = fit_surface(np.concatenate([data, clutter]), hand, start, n_steps=5, sigma=None)
+    start = perturb_pose(hand, theta_true, 3.0, rng=rng, palm_rotation_deg=1.0, palm_translation_mm=1.0)
+    robust = fit_surface(np.concatenate([data, clutter]), hand, start, max_iter=5, sigma=3.0)
+    plain = fit_surface(np.concatenate([data, clutter]), hand, start, max_iter=5, sigma=None)
     assert joint_rmse_deg(robust.theta, theta_true) < joint_rmse_deg(plain.theta, theta_true)
     with pytest.raises(ValueError, match="sigma"):
         fit_surface(data, hand, start, sigma=0.0)
@@ -386,8 +387,8 @@ def test_kdtree_e_step_matches_dense(hand):
     from amdo_lab.em_articulated import e_step_statistics_kdtree
     theta = hand.rest_pose()
     rng = make_rng(12)
-    model = hand.sample_surface(theta, 300, rng)
-    data = np.concatenate([hand.sample_surface(theta, 300, rng) + rng.normal(scale=2.0, size=(300, 3)),
+    model = hand.sample_surface(theta, 300, rng=rng)
+    data = np.concatenate([hand.sample_surface(theta, 300, rng=rng) + rng.normal(scale=2.0, size=(300, 3)),
                            rng.uniform(-100, 150, size=(100, 3))])
     for sigma in (3.0, 10.0):
         dense = e_step_statistics(model, data, sigma, np.log(PAPER_C))
@@ -444,13 +445,13 @@ def test_close_pair_cache_returns_the_pairs_of_a_fresh_query(hand):
 
 
 def test_texture_noise_can_be_set_apart_from_the_data_noise(hand):
-    exact = make_registration_problem(hand, 8, noise_mm=2.0, texture_noise_mm=0.0)
-    noisy = make_registration_problem(hand, 8, noise_mm=2.0)
+    exact = make_registration_problem(hand, rng=8, noise_mm=2.0, texture_noise_mm=0.0)
+    noisy = make_registration_problem(hand, rng=8, noise_mm=2.0)
     # the exact texture sits on the surface (up to the slight stretch of eq. 3); 2 mm noise lifts it off
     assert np.median(np.abs(hand.surface_distance(exact.model_points, exact.theta_init))) < 0.1
     assert np.median(np.abs(hand.surface_distance(noisy.model_points, noisy.theta_init))) > 1.0
     with pytest.raises(ValueError, match="texture_noise_mm"):
-        make_registration_problem(hand, 8, texture_noise_mm=-1.0)
+        make_registration_problem(hand, rng=8, texture_noise_mm=-1.0)
 
 
 @pytest.mark.parametrize("precision, rtol", [("double", 1e-9), ("single", 2e-6)])
@@ -477,7 +478,7 @@ def test_pair_fraction_estimate_and_the_dense_switch(hand):
     from amdo_lab.em_articulated.registration import _DENSE_PAIR_FRACTION, _ClosePairs
     rng = make_rng(13)
     theta = hand.rest_pose()
-    model = hand.sample_surface(theta, 300, rng)
+    model = hand.sample_surface(theta, 300, rng=rng)
     data = model + rng.normal(scale=2.0, size=model.shape)
     for radius in (12.0, 40.0, 80.0):
         exact = np.mean(np.linalg.norm(data[:, None] - model[None], axis=2) <= radius)
@@ -495,21 +496,21 @@ def test_pair_fraction_estimate_and_the_dense_switch(hand):
 def test_pose_helpers_reject_bad_input(hand):
     from amdo_lab.em_articulated import dof_lever_arms, perturb_pose, random_pose, visible_points
     theta = hand.rest_pose()
-    points = hand.sample_surface(theta, 20, 0)
+    points = hand.sample_surface(theta, 20, rng=0)
     with pytest.raises(ValueError, match="theta_est must be finite"):
         joint_rmse_deg(np.full(27, np.nan), theta)
     with pytest.raises(ValueError, match="theta_true must have shape"):
         joint_rmse_deg(theta, theta[:5])
     with pytest.raises(ValueError, match="joint_error_deg must be non-negative"):
-        perturb_pose(hand, theta, -5.0, 0)
+        perturb_pose(hand, theta, -5.0, rng=0)
     with pytest.raises(ValueError, match="joint_error_deg must be finite"):
-        perturb_pose(hand, theta, np.nan, 0)
+        perturb_pose(hand, theta, np.nan, rng=0)
     with pytest.raises(ValueError, match="theta must have shape"):
-        perturb_pose(hand, theta[:5], 5.0, 0)
+        perturb_pose(hand, theta[:5], 5.0, rng=0)
     with pytest.raises(TypeError, match="HandModel"):
-        random_pose("hand", 0)
+        random_pose("hand", rng=0)
     with pytest.raises(TypeError, match="Generator"):
-        random_pose(hand, "seed")
+        random_pose(hand, rng="seed")
     with pytest.raises(ValueError, match="camera must have shape"):
         visible_points(hand, points, theta, np.zeros(2))
     with pytest.raises(ValueError, match="points must be finite"):
@@ -519,20 +520,20 @@ def test_pose_helpers_reject_bad_input(hand):
     with pytest.raises(TypeError, match="binding"):
         dof_lever_arms(hand, points, theta)
     # an integer seed and the generator it makes give the same pose
-    np.testing.assert_array_equal(perturb_pose(hand, theta, 10.0, 3), perturb_pose(hand, theta, 10.0, make_rng(3)))
+    np.testing.assert_array_equal(perturb_pose(hand, theta, 10.0, rng=3), perturb_pose(hand, theta, 10.0, rng=make_rng(3)))
 
 
 def test_loop_settings_reject_bad_input(hand):
     theta = hand.rest_pose()
-    points = hand.sample_surface(theta, 30, 0)
+    points = hand.sample_surface(theta, 30, rng=0)
     with pytest.raises(ValueError, match="gauss_newton_steps"):
         register_em(points, points, hand, theta, gauss_newton_steps=0)
     with pytest.raises(ValueError, match="damping"):
         register_em(points, points, hand, theta, damping=-1.0)
     with pytest.raises(ValueError, match="chunk"):
         register_em(points, points, hand, theta, chunk=0)
-    with pytest.raises(ValueError, match="sinkhorn_iterations"):
-        softassign_register(points, points, hand, theta, sinkhorn_iterations=0)
+    with pytest.raises(ValueError, match="n_sweeps"):
+        softassign_register(points, points, hand, theta, n_sweeps=0)
     with pytest.raises(ValueError, match="frames must be a non-empty list"):
         track_sequence([], hand, theta)
     with pytest.raises(ValueError, match="max_texture"):
@@ -551,7 +552,7 @@ def _worst_finger_deg(theta, theta_true):
 
 def test_digit_search_frees_a_finger_the_em_leaves_on_its_neighbour(hand):
     # seed 15: the annealed EM ends with the ring and little fingers up to 22 and 27 degrees off
-    case = make_registration_problem(hand, 15, **_LENIENT)
+    case = make_registration_problem(hand, rng=15, **_LENIENT)
     em = register_em(case.model_points, case.data_points, hand, case.theta_init, **OUR_SETTINGS)
     assert _worst_finger_deg(em.theta, case.theta_true) > 15
     args = (case.model_points, case.data_points, hand, case.theta_init, em.theta)
@@ -572,9 +573,9 @@ def _log_likelihood_reference(hand, model_points, theta_init, theta, data, sigma
 
 @pytest.mark.parametrize("seed", [1, 2])
 def test_digit_search_never_lowers_the_criterion(hand, seed):
-    case = make_registration_problem(hand, seed, joint_error_deg=20.0, noise_mm=2.0, outlier_ratio=1.0,
+    case = make_registration_problem(hand, rng=seed, joint_error_deg=20.0, noise_mm=2.0, outlier_ratio=1.0,
                                      n_model=150, n_data=150)
-    settings = dict(OUR_SETTINGS, iterations_per_level=3)
+    settings = dict(OUR_SETTINGS, max_iter=3)
     # from the start pose itself (far from converged) and from a finger bent onto the limit
     bent = case.theta_init.copy()
     bent[16:19] = hand.joint_limits()[16:19, 1]
@@ -592,7 +593,7 @@ def test_digit_search_never_lowers_the_criterion(hand, seed):
 
 def test_digit_search_keeps_an_exact_fit(hand):
     theta = hand.rest_pose()
-    texture = hand.sample_surface(theta, 200, 0)
+    texture = hand.sample_surface(theta, 200, rng=0)
     search = refine_digits(texture, texture, hand, theta, theta, search_levels=1, **OUR_SETTINGS)
     assert search.accepted == ()
     assert np.degrees(np.max(np.abs(search.theta - theta))) < 1.0
@@ -645,7 +646,7 @@ def test_digit_starts_move_one_digit_within_the_limits(hand):
 ])
 def test_digit_search_rejects_bad_input(hand, changes, error, match):
     theta = hand.rest_pose()
-    points = hand.sample_surface(theta, 30, 0)
+    points = hand.sample_surface(theta, 30, rng=0)
     args = dict(model_points=points, data_points=points, hand=hand, theta_init=theta, theta=theta)
     args.update(changes)
     with pytest.raises(error, match=match):
@@ -654,13 +655,13 @@ def test_digit_search_rejects_bad_input(hand, changes, error, match):
 
 def test_trials_run_the_digit_search_only_when_asked(hand):
     problem = dict(joint_error_deg=10.0, n_model=100, n_data=100)
-    settings = dict(OUR_SETTINGS, iterations_per_level=2)
-    plain = run_registration_trials(hand, 0, 1, problem=problem, em_settings=settings, surface_steps=0)
-    rerun = run_registration_trials(hand, 0, 1, problem=problem, em_settings=settings, surface_steps=0,
+    settings = dict(OUR_SETTINGS, max_iter=2)
+    plain = run_registration_trials(hand, 1, rng=0, problem=problem, em_settings=settings, surface_max_iter=0)
+    rerun = run_registration_trials(hand, 1, rng=0, problem=problem, em_settings=settings, surface_max_iter=0,
                                     digit_search=dict(max_passes=0))
     assert np.isfinite(rerun.rmse_deg).all() and rerun.rmse_deg[0] != plain.rmse_deg[0]
     with pytest.raises(TypeError, match="spread"):
-        run_registration_trials(hand, 0, 1, problem=problem, em_settings=settings, digit_search=dict(spread=1))
+        run_registration_trials(hand, 1, rng=0, problem=problem, em_settings=settings, digit_search=dict(spread=1))
 
 
 def test_trial_summary_success_interval_counts_the_successful_trials():
@@ -673,13 +674,13 @@ def test_trial_summary_success_interval_counts_the_successful_trials():
 
 def test_noise_floor_trials_are_the_trial_runners_floors_without_the_em(hand):
     problem = dict(joint_error_deg=10.0, n_model=100, n_data=100)
-    settings = dict(OUR_SETTINGS, iterations_per_level=1)
-    trials = run_registration_trials(hand, 3, 2, problem=problem, em_settings=settings, surface_steps=0)
-    rmse, worst = noise_floor_trials(hand, 3, 2, problem=problem)
+    settings = dict(OUR_SETTINGS, max_iter=1)
+    trials = run_registration_trials(hand, 2, rng=3, problem=problem, em_settings=settings, surface_max_iter=0)
+    rmse, worst = noise_floor_trials(hand, 2, rng=3, problem=problem)
     np.testing.assert_array_equal(rmse, trials.oracle_rmse_deg)
     np.testing.assert_array_equal(worst, trials.oracle_max_error_deg)
     assert np.all(worst >= rmse)
-    textureless, _ = noise_floor_trials(hand, 3, 1, problem=dict(problem, repeatability=0.0))
+    textureless, _ = noise_floor_trials(hand, 1, rng=3, problem=dict(problem, repeatability=0.0))
     assert np.isnan(textureless).all()  # no feature seen twice: no true matches, no floor
 
 
@@ -735,9 +736,9 @@ def test_public_robust_log_likelihood_matches_logsumexp():
 
 @pytest.mark.parametrize("targets", ["paper", "debiased"])
 def test_register_em_reference_equals_the_fast_em(hand, targets):
-    case = make_registration_problem(hand, 4, joint_error_deg=10.0, noise_mm=1.0, outlier_ratio=0.5,
+    case = make_registration_problem(hand, rng=4, joint_error_deg=10.0, noise_mm=1.0, outlier_ratio=0.5,
                                      n_model=120, n_data=120)
-    settings = dict(sigma_max=12.0, sigma_min=3.0, n_levels=3, iterations_per_level=4, targets=targets)
+    settings = dict(sigma_max=12.0, sigma_min=3.0, n_levels=3, max_iter=4, targets=targets)
     reference = register_em_reference(case.model_points, case.data_points, hand, case.theta_init, **settings)
     fast = register_em(case.model_points, case.data_points, hand, case.theta_init, e_step="dense", **settings)
     assert np.max(np.abs(reference - fast.theta)) < 1e-4  # the fast path exponentiates in single precision
@@ -745,7 +746,7 @@ def test_register_em_reference_equals_the_fast_em(hand, targets):
 
 
 def test_climb_objective_never_lowers_the_objective(hand):
-    case = make_registration_problem(hand, 8, joint_error_deg=10.0, noise_mm=2.0, outlier_ratio=1.0,
+    case = make_registration_problem(hand, rng=8, joint_error_deg=10.0, noise_mm=2.0, outlier_ratio=1.0,
                                      n_model=150, n_data=150)
     binding = hand.texture_binding(case.model_points, case.theta_init)
 
@@ -761,18 +762,18 @@ def test_climb_objective_never_lowers_the_objective(hand):
 def test_objective_check_fields_agree_with_their_definitions(hand):
     from amdo_lab.em_articulated import objective_check
     problem = dict(joint_error_deg=10.0, noise_mm=2.0, outlier_ratio=1.0, n_model=150, n_data=150)
-    check = objective_check(hand, 5, 2, problem=problem, em_settings=OUR_SETTINGS)
+    check = objective_check(hand, 2, rng=5, problem=problem, em_settings=OUR_SETTINGS)
     assert check.em_rmse_deg.shape == (2,) and check.sigma == OUR_SETTINGS["sigma_min"]
     # the climb starts at the floor pose and only goes up
     assert np.all(check.climbed_log_likelihood >= check.floor_log_likelihood - 1e-6)
     with pytest.raises(ValueError, match="n_trials"):
-        objective_check(hand, 5, 0, problem=problem)
+        objective_check(hand, 0, rng=5, problem=problem)
 
 
 def test_per_step_schedule_runs_one_iteration_per_falling_sigma(hand):
-    case = make_registration_problem(hand, 6, joint_error_deg=10.0, noise_mm=1.0, outlier_ratio=1.0,
+    case = make_registration_problem(hand, rng=6, joint_error_deg=10.0, noise_mm=1.0, outlier_ratio=1.0,
                                      n_model=150, n_data=150)
-    settings = dict(sigma_max=20.0, sigma_min=3.0, n_levels=5, iterations_per_level=10, tol=0.0)
+    settings = dict(sigma_max=20.0, sigma_min=3.0, n_levels=5, max_iter=10, tol=0.0)
     per_step = register_em(case.model_points, case.data_points, hand, case.theta_init, schedule="per-step", **settings)
     levels = register_em(case.model_points, case.data_points, hand, case.theta_init, **settings)
     np.testing.assert_allclose(per_step.history[:, 0], np.r_[np.geomspace(20.0, 3.0, 5)[:4], np.full(10, 3.0)])
@@ -782,13 +783,60 @@ def test_per_step_schedule_runs_one_iteration_per_falling_sigma(hand):
 
 
 def test_bend_sequence_keeps_the_palm_still_and_the_camera_selects_the_points(hand):
-    above = make_tracking_sequence(hand, 3, n_frames=4, motion="bend")
-    side = make_tracking_sequence(hand, 3, n_frames=4, motion="bend", camera=np.array([500.0, 40.0, 100.0]))
-    turn = make_tracking_sequence(hand, 3, n_frames=4)
+    above = make_tracking_sequence(hand, rng=3, n_frames=4, motion="bend")
+    side = make_tracking_sequence(hand, rng=3, n_frames=4, motion="bend", camera=np.array([500.0, 40.0, 100.0]))
+    turn = make_tracking_sequence(hand, rng=3, n_frames=4)
     assert np.all(above.poses[:, 4] == above.poses[0, 4]) and np.ptp(turn.poses[:, 4]) > 0.1
     np.testing.assert_array_equal(above.poses, side.poses)  # same motion, different view
     assert not np.array_equal(above.frames[1], side.frames[1])
     with pytest.raises(ValueError, match="motion"):
-        make_tracking_sequence(hand, 3, n_frames=4, motion="wave")
+        make_tracking_sequence(hand, rng=3, n_frames=4, motion="wave")
     with pytest.raises(ValueError, match="camera"):
-        make_tracking_sequence(hand, 3, n_frames=4, camera=np.zeros(2))
+        make_tracking_sequence(hand, rng=3, n_frames=4, camera=np.zeros(2))
+
+
+#: Every public function of the chapter that draws random numbers, with a cheap call that needs only
+#: ``rng``: the one convention (``rng`` keyword-only, no default, errors naming ``rng``).
+_DRAWING = {
+    "random_pose": (random_pose, lambda hand, rng: random_pose(hand, rng=rng)),
+    "perturb_pose": (perturb_pose, lambda hand, rng: perturb_pose(hand, hand.rest_pose(), 5.0, rng=rng)),
+    "sample_surface": (HandModel.sample_surface, lambda hand, rng: hand.sample_surface(hand.rest_pose(), 5, rng=rng)),
+    "make_skin_texture": (make_skin_texture, lambda hand, rng: make_skin_texture(hand, 5, rng=rng)),
+    "make_registration_problem": (make_registration_problem,
+                                  lambda hand, rng: make_registration_problem(hand, rng=rng, n_model=5, n_data=5)),
+    "make_tracking_sequence": (make_tracking_sequence,
+                               lambda hand, rng: make_tracking_sequence(hand, rng=rng, n_frames=2, n_features=50,
+                                                                        n_clutter=3)),
+    "noise_floor_trials": (noise_floor_trials, lambda hand, rng: noise_floor_trials(hand, 1, rng=rng)),
+    "run_registration_trials": (run_registration_trials, lambda hand, rng: run_registration_trials(hand, 1, rng=rng)),
+    "objective_check": (objective_check, lambda hand, rng: objective_check(hand, 1, rng=rng)),
+}
+
+
+@pytest.mark.parametrize("name", sorted(_DRAWING))
+def test_drawing_functions_take_rng_keyword_only_without_default(name):
+    import inspect
+    parameter = inspect.signature(_DRAWING[name][0]).parameters["rng"]
+    assert parameter.kind is inspect.Parameter.KEYWORD_ONLY
+    assert parameter.default is inspect.Parameter.empty
+
+
+@pytest.mark.parametrize("name", sorted(_DRAWING))
+@pytest.mark.parametrize("bad, error", [("seed", TypeError), (None, TypeError), (1.5, TypeError), (-1, ValueError)])
+def test_drawing_functions_name_rng_in_errors(hand, name, bad, error):
+    with pytest.raises(error, match="^rng "):
+        _DRAWING[name][1](hand, bad)
+
+
+@pytest.mark.parametrize("name", ["e_step_reference", "make_registration_problem", "register_em"])
+def test_docstring_examples_run_and_print_what_they_show(name):
+    import doctest
+
+    import amdo_lab.em_articulated as chapter
+    function = getattr(chapter, name)
+    finder, runner = doctest.DocTestFinder(), doctest.DocTestRunner(optionflags=doctest.NORMALIZE_WHITESPACE)
+    tests = finder.find(function, name, globs={name: function})
+    assert tests and tests[0].examples
+    for test in tests:
+        runner.run(test)
+    assert runner.failures == 0

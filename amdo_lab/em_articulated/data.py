@@ -18,15 +18,54 @@ _ARTICULATION = slice(6, 27)
 
 
 def joint_rmse_deg(theta_est: np.ndarray, theta_true: np.ndarray) -> float:
-    """RMSE over the 21 finger/thumb joint angles, in degrees."""
+    """RMSE over the 21 finger/thumb joint angles, in degrees.
+
+    Parameters
+    ----------
+    theta_est : array_like, shape (27,)
+        Estimated pose (mm for DOFs 0-2, radians for the others); only DOFs 6-26 are compared.
+    theta_true : array_like, shape (27,)
+        True pose, same layout.
+
+    Returns
+    -------
+    float
+        sqrt(mean over the 21 joints of the squared angle error), degrees (≥ 0).
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 5 (joint-angle error of the
+    synthetic experiments).
+    """
     theta_est = as_finite_array(theta_est, "theta_est", ndim=1, shape=(27,))
     theta_true = as_finite_array(theta_true, "theta_true", ndim=1, shape=(27,))
     return float(np.degrees(np.sqrt(np.mean((theta_est[_ARTICULATION] - theta_true[_ARTICULATION]) ** 2))))
 
 
 def worst_joint_deg(theta_est: np.ndarray, theta_true: np.ndarray) -> float:
-    """Largest error over the 21 finger/thumb joint angles, in degrees (a trial succeeds when it is
-    below :data:`SUCCESS_DEG`)."""
+    """Largest error over the 21 finger/thumb joint angles, in degrees.
+
+    A trial succeeds when it is below :data:`SUCCESS_DEG`.
+
+    Parameters
+    ----------
+    theta_est : array_like, shape (27,)
+        Estimated pose (mm for DOFs 0-2, radians for the others); only DOFs 6-26 are compared.
+    theta_true : array_like, shape (27,)
+        True pose, same layout.
+
+    Returns
+    -------
+    float
+        max over the 21 joints of the absolute angle error, degrees (≥ 0).
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 5 (our success criterion;
+    the paper reports errors per sequence, not a success rate).
+    """
     theta_est = as_finite_array(theta_est, "theta_est", ndim=1, shape=(27,))
     theta_true = as_finite_array(theta_true, "theta_true", ndim=1, shape=(27,))
     return float(np.degrees(np.max(np.abs(theta_est[_ARTICULATION] - theta_true[_ARTICULATION]))))
@@ -48,20 +87,51 @@ def _first_valid(hand: HandModel, draw, what: str) -> np.ndarray:
     raise RuntimeError(f"no {what} without crossed fingers in {_MAX_DRAWS} draws")
 
 
-def perturb_pose(hand: HandModel, theta: np.ndarray, joint_error_deg: float, rng: np.random.Generator | int,
-                 *, palm_rotation_deg: float = 5.0, palm_translation_mm: float = 5.0) -> np.ndarray:
+def perturb_pose(hand: HandModel, theta: np.ndarray, joint_error_deg: float, *, rng: np.random.Generator | int,
+                 palm_rotation_deg: float = 5.0, palm_translation_mm: float = 5.0) -> np.ndarray:
     """Offset each articulation DOF by ±``joint_error_deg`` (random signs), staying inside the limits.
 
     Where the offset would leave a joint's range its sign is flipped (then clipped as a last
     resort). Sign patterns that make two digits cross are redrawn: a start pose with the index
     lying inside the middle finger is not a pose a tracker could have produced.
+
+    Parameters
+    ----------
+    hand : HandModel
+        The hand whose joint limits and digit clearance constrain the draw.
+    theta : array_like, shape (27,)
+        Pose to perturb (mm for DOFs 0-2, radians for the others).
+    joint_error_deg : float
+        Offset of every finger/thumb joint, degrees (≥ 0); the four finger abductions share one sign.
+    rng : int or numpy.random.Generator
+        Seed (≥ 0) or generator of the random signs and palm offsets.
+    palm_rotation_deg : float, default 5.0
+        RMS of the palm's rotation offset over its three angles, degrees (≥ 0).
+    palm_translation_mm : float, default 5.0
+        RMS length of the palm's translation offset, mm (≥ 0).
+
+    Returns
+    -------
+    numpy.ndarray, shape (27,)
+        The perturbed pose, inside ``hand.joint_limits()``.
+
+    Raises
+    ------
+    RuntimeError
+        When 200 draws all make two digits cross.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 5 (start poses of the
+    synthetic experiments).
     """
     check_hand(hand)
     theta = hand.check_theta(theta, "theta")
     joint_error_deg = check_positive(joint_error_deg, "joint_error_deg", allow_zero=True)
     palm_rotation_deg = check_positive(palm_rotation_deg, "palm_rotation_deg", allow_zero=True)
     palm_translation_mm = check_positive(palm_translation_mm, "palm_translation_mm", allow_zero=True)
-    rng = make_rng(rng)
+    rng = make_rng(rng, "rng")
     limits = hand.joint_limits()
     lo, hi = limits[_ARTICULATION, 0], limits[_ARTICULATION, 1]
     offset = np.radians(joint_error_deg)
@@ -82,10 +152,29 @@ def perturb_pose(hand: HandModel, theta: np.ndarray, joint_error_deg: float, rng
     return _first_valid(hand, draw, "perturbed pose")
 
 
-def random_pose(hand: HandModel, rng: np.random.Generator | int) -> np.ndarray:
-    """A natural pose: rest pose, small spreads and moderate flexions, digits not crossing."""
+def random_pose(hand: HandModel, *, rng: np.random.Generator | int) -> np.ndarray:
+    """A natural pose: rest pose, small spreads and moderate flexions, digits not crossing.
+
+    Parameters
+    ----------
+    hand : HandModel
+        The hand whose rest pose, joint limits and digit clearance shape the draw.
+    rng : int or numpy.random.Generator
+        Seed (≥ 0) or generator of the flexions and spreads.
+
+    Returns
+    -------
+    numpy.ndarray, shape (27,)
+        Pose with the palm at the origin: flexions of -0.1 to 0.6 rad added to the rest pose, the
+        fingers fanned out together by up to 0.15 rad, inside ``hand.joint_limits()``.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 5 (synthetic poses).
+    """
     check_hand(hand)
-    rng = make_rng(rng)
+    rng = make_rng(rng, "rng")
     limits = hand.joint_limits()
     flexion = ~np.isin(np.arange(6, 27), SIDEWAYS_DOFS)
 
@@ -102,7 +191,30 @@ def random_pose(hand: HandModel, rng: np.random.Generator | int) -> np.ndarray:
 
 
 def visible_points(hand: HandModel, points: np.ndarray, theta: np.ndarray, camera: np.ndarray) -> np.ndarray:
-    """Boolean mask of points whose surface normal faces ``camera`` (back-face culling)."""
+    """Boolean mask of points whose surface normal faces ``camera`` (back-face culling).
+
+    Parameters
+    ----------
+    hand : HandModel
+        The hand whose fused surface (eq. 2) gives the normals.
+    points : array_like, shape (M, 3)
+        Points on or near the surface at pose ``theta``, mm.
+    theta : array_like, shape (27,)
+        Pose of the hand.
+    camera : array_like, shape (3,)
+        Camera centre, mm.
+
+    Returns
+    -------
+    numpy.ndarray of bool, shape (M,)
+        True where the outward normal points towards the camera.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, eq. (2) (the surface whose normals
+    are used) and Sec. 5 (stereo data seen from one side).
+    """
     check_hand(hand)
     points = as_finite_array(points, "points", ndim=2, shape=(None, 3))
     camera = as_finite_array(camera, "camera", ndim=1, shape=(3,))
@@ -121,10 +233,22 @@ DEFAULT_REPEATABILITY = 0.8
 class SkinTexture:
     """Features of the skin (the paper's texture): fixed surface points that move with the hand.
 
-    ``rest_points`` (K, 3) are the features at the rest pose; ``binding`` attaches them to the
-    kinematic chain so that :meth:`positions` moves them by the bending model of eq. (3). Every
-    observation of the hand sees a subset of the same features, which is what makes point-to-point
-    matching (Sec. 3) meaningful: a data point is the same skin mark as some texture point.
+    Every observation of the hand sees a subset of the same features, which is what makes
+    point-to-point matching (Sec. 3) meaningful: a data point is the same skin mark as some
+    texture point.
+
+    Parameters
+    ----------
+    rest_points : numpy.ndarray, shape (K, 3)
+        The features at the rest pose, mm.
+    binding : TextureBinding
+        Attaches them to the kinematic chain, so that :meth:`positions` moves them by the bending
+        model of eq. (3).
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 3 and eq. (3).
     """
 
     rest_points: np.ndarray
@@ -132,17 +256,55 @@ class SkinTexture:
 
     @property
     def n_features(self) -> int:
+        """Number of skin features K."""
         return len(self.rest_points)
 
     def positions(self, hand: HandModel, theta: np.ndarray) -> np.ndarray:
-        """Noise-free 3-D positions (K, 3) of every feature at pose ``theta``."""
+        """Noise-free 3-D positions of every feature at pose ``theta`` (eq. 3).
+
+        Parameters
+        ----------
+        hand : HandModel
+            The hand the features were bound to.
+        theta : array_like, shape (27,)
+            Pose.
+
+        Returns
+        -------
+        numpy.ndarray, shape (K, 3)
+            Feature positions, mm.
+        """
         return hand.transform_texture(self.binding, hand.check_theta(theta))
 
 
-def make_skin_texture(hand: HandModel, n_features: int, rng: np.random.Generator | int, *, a: float = 2.0) -> SkinTexture:
-    """``n_features`` skin features drawn uniformly on the fused surface at the rest pose."""
+def make_skin_texture(hand: HandModel, n_features: int, *, rng: np.random.Generator | int,
+                      a: float = 2.0) -> SkinTexture:
+    """``n_features`` skin features drawn uniformly on the fused surface at the rest pose.
+
+    Parameters
+    ----------
+    hand : HandModel
+        The hand to draw the features on.
+    n_features : int
+        Number of features K (≥ 1).
+    rng : int or numpy.random.Generator
+        Seed (≥ 0) or generator of the feature positions.
+    a : float, default 2.0
+        Exponent of the bending weights of eq. (3) (> 0; 2 is the paper's value).
+
+    Returns
+    -------
+    SkinTexture
+        The features at the rest pose and their binding to the hand.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 3 (texture) and eq. (3).
+    """
+    rng = make_rng(rng, "rng")
     rest = hand.rest_pose()
-    points = hand.sample_surface(rest, check_positive_int(n_features, "n_features"), make_rng(rng))
+    points = hand.sample_surface(rest, check_positive_int(n_features, "n_features"), rng=rng)
     return SkinTexture(points, hand.texture_binding(points, rest, a))
 
 
@@ -160,8 +322,28 @@ def _observe(positions: np.ndarray, candidates: np.ndarray, n: int, noise_mm: fl
 class RegistrationProblem:
     """One synthetic problem: model texture at ``theta_init``, data at ``theta_true``.
 
-    ``model_feature`` and ``data_feature`` name the skin feature each point observes (-1 for an
-    outlier or, with independent samples, for every point), so the true matches are known.
+    Parameters
+    ----------
+    theta_true : numpy.ndarray, shape (27,)
+        The pose the data were observed at.
+    theta_init : numpy.ndarray, shape (27,)
+        The start pose, where the model texture was observed.
+    model_points : numpy.ndarray, shape (N, 3)
+        The texture X_i, mm.
+    data_points : numpy.ndarray, shape (M, 3)
+        The data Y_j (skin points and outliers, shuffled), mm.
+    is_outlier : numpy.ndarray of bool, shape (M,)
+        True for the uniform outliers among the data.
+    model_feature : numpy.ndarray of int, shape (N,)
+        Skin feature each texture point observes (-1 with independent samples).
+    data_feature : numpy.ndarray of int, shape (M,)
+        Skin feature each data point observes (-1 for an outlier or with independent samples),
+        so the true matches are known.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 3 (texture and data) and Sec. 5.
     """
 
     theta_true: np.ndarray
@@ -173,7 +355,15 @@ class RegistrationProblem:
     data_feature: np.ndarray
 
     def true_matches(self) -> tuple[np.ndarray, np.ndarray]:
-        """Index pairs (model i, data j) that observe the same skin feature."""
+        """Index pairs (model i, data j) that observe the same skin feature.
+
+        Returns
+        -------
+        model_index : numpy.ndarray of int, shape (P,)
+            Rows of ``model_points``.
+        data_index : numpy.ndarray of int, shape (P,)
+            The rows of ``data_points`` they match (P = 0 without shared features).
+        """
         data_of_feature = {f: j for j, f in enumerate(self.data_feature) if f >= 0}
         pairs = [(i, data_of_feature[f]) for i, f in enumerate(self.model_feature) if f in data_of_feature]
         pairs = np.array(pairs, dtype=int).reshape(-1, 2)
@@ -183,7 +373,7 @@ class RegistrationProblem:
 _CAMERA = np.array([0.0, 40.0, 500.0])
 
 
-def make_registration_problem(hand: HandModel, rng: np.random.Generator | int, *, joint_error_deg: float = 20.0,
+def make_registration_problem(hand: HandModel, *, rng: np.random.Generator | int, joint_error_deg: float = 20.0,
                               noise_mm: float = 2.0, outlier_ratio: float = 1.0, n_model: int = 500,
                               n_data: int = 500, occlusion: bool = False,
                               repeatability: float = DEFAULT_REPEATABILITY,
@@ -201,8 +391,48 @@ def make_registration_problem(hand: HandModel, rng: np.random.Generator | int, *
     ``occlusion`` keeps only features facing a camera 500 mm above the hand.
     ``texture_noise_mm`` sets the texture's noise apart from the data's (default: ``noise_mm``;
     0 reads "2 mm noise" as noise on the data only, with an exactly known texture).
+
+    Parameters
+    ----------
+    hand : HandModel
+        The hand to observe.
+    rng : int or numpy.random.Generator
+        Seed (≥ 0) or generator of the poses, features, noise and outliers.
+    joint_error_deg : float, default 20.0
+        Offset of every joint of the start pose from the true pose, degrees (≥ 0; :func:`perturb_pose`).
+    noise_mm : float, default 2.0
+        Standard deviation of the Gaussian noise per coordinate on the data, mm (≥ 0).
+    outlier_ratio : float, default 1.0
+        Uniform outliers per inlier data point (≥ 0).
+    n_model : int, default 500
+        Texture points N (≥ 1).
+    n_data : int, default 500
+        Skin points among the data (≥ 1), before the outliers.
+    occlusion : bool, default False
+        Keep only features facing a camera 500 mm above the hand.
+    repeatability : float, default DEFAULT_REPEATABILITY
+        Share of the data with a true match, in [0, 1]; 0 draws independent samples.
+    texture_noise_mm : float or None, default None
+        Noise per coordinate on the texture, mm (≥ 0); None: ``noise_mm``.
+
+    Returns
+    -------
+    RegistrationProblem
+        Texture, data, both poses and the true matches.
+
+    Examples
+    --------
+    >>> from amdo_lab.em_articulated import HandModel
+    >>> problem = make_registration_problem(HandModel(), rng=1, n_model=300, n_data=300)
+    >>> problem.model_points.shape, problem.data_points.shape, int(problem.is_outlier.sum())
+    ((300, 3), (600, 3), 300)
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 5 (synthetic experiments).
     """
-    rng = make_rng(rng)
+    rng = make_rng(rng, "rng")
     noise_mm = check_positive(noise_mm, "noise_mm", allow_zero=True)
     texture_noise_mm = noise_mm if texture_noise_mm is None else check_positive(texture_noise_mm, "texture_noise_mm",
                                                                                  allow_zero=True)
@@ -212,9 +442,9 @@ def make_registration_problem(hand: HandModel, rng: np.random.Generator | int, *
     if repeatability > 1:
         raise ValueError(f"repeatability must lie in [0, 1], got {repeatability}")
     for _ in range(_MAX_DRAWS):
-        theta_true = random_pose(hand, rng)
+        theta_true = random_pose(hand, rng=rng)
         try:
-            theta_init = perturb_pose(hand, theta_true, joint_error_deg, rng)
+            theta_init = perturb_pose(hand, theta_true, joint_error_deg, rng=rng)
             break
         except RuntimeError:  # a true pose with no valid start at this distance: draw another
             continue
@@ -222,11 +452,11 @@ def make_registration_problem(hand: HandModel, rng: np.random.Generator | int, *
         raise RuntimeError(f"no start pose {joint_error_deg} deg away without crossed fingers")
     scale = 2 if occlusion else 1  # about half of the features face the camera
     if repeatability == 0:
-        at_init = hand.sample_surface(theta_init, scale * n_model, rng)
-        at_true = hand.sample_surface(theta_true, scale * n_data, rng)
+        at_init = hand.sample_surface(theta_init, scale * n_model, rng=rng)
+        at_true = hand.sample_surface(theta_true, scale * n_data, rng=rng)
         n_skin = 0
     else:
-        skin = make_skin_texture(hand, int(np.ceil(scale * max(n_model, n_data) / repeatability)), rng)
+        skin = make_skin_texture(hand, int(np.ceil(scale * max(n_model, n_data) / repeatability)), rng=rng)
         at_init, at_true = skin.positions(hand, theta_init), skin.positions(hand, theta_true)
         n_skin = skin.n_features
     seen_init, seen_true = np.arange(len(at_init)), np.arange(len(at_true))
@@ -250,7 +480,24 @@ def make_registration_problem(hand: HandModel, rng: np.random.Generator | int, *
 
 @dataclass(frozen=True)
 class TrackingSequence:
-    """Poses (F, 27) and per-frame data clouds (list of (M_f, 3)) with outlier masks."""
+    """A synthetic tracking sequence: true poses and per-frame data clouds with outlier masks.
+
+    Parameters
+    ----------
+    poses : numpy.ndarray, shape (F, 27)
+        True pose of every frame.
+    frames : list of numpy.ndarray
+        Data of every frame, shape (M_f, 3), mm: skin points then clutter.
+    is_outlier : list of numpy.ndarray of bool
+        Per frame, shape (M_f,): True for clutter.
+    fps : float
+        Frame rate, frames per second.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 5 (Fig. 3).
+    """
 
     poses: np.ndarray
     frames: list
@@ -258,7 +505,7 @@ class TrackingSequence:
     fps: float
 
 
-def make_tracking_sequence(hand: HandModel, rng: np.random.Generator | int, *, n_frames: int = 100,
+def make_tracking_sequence(hand: HandModel, *, rng: np.random.Generator | int, n_frames: int = 100,
                            fps: float = 20.0, n_features: int = 1500, noise_mm: float = 2.0,
                            n_clutter: int = 150, repeatability: float = DEFAULT_REPEATABILITY,
                            motion: str = "turn", camera: object = None) -> TrackingSequence:
@@ -272,8 +519,41 @@ def make_tracking_sequence(hand: HandModel, rng: np.random.Generator | int, *, n
     500 mm above the hand detects ``repeatability`` of those facing it (about 500-700 points),
     with ``noise_mm`` of noise. Clutter: points on an unmodelled forearm cylinder behind the wrist
     plus uniform background points, ``n_clutter`` and ``n_clutter // 3`` per frame.
+
+    Parameters
+    ----------
+    hand : HandModel
+        The hand to observe.
+    rng : int or numpy.random.Generator
+        Seed (≥ 0) or generator of the features, detections, noise and clutter.
+    n_frames : int, default 100
+        Number of frames F (≥ 2).
+    fps : float, default 20.0
+        Frame rate, frames per second (> 0); one full motion cycle spans the sequence.
+    n_features : int, default 1500
+        Skin features on the hand (≥ 1).
+    noise_mm : float, default 2.0
+        Standard deviation of the Gaussian noise per coordinate, mm (≥ 0).
+    n_clutter : int, default 150
+        Forearm clutter points per frame (≥ 0).
+    repeatability : float, default DEFAULT_REPEATABILITY
+        Share of the camera-facing features detected per frame, in (0, 1].
+    motion : {"turn", "bend"}, default "turn"
+        The paper's turning hand, or fingers bending with the palm still.
+    camera : array_like, shape (3,), optional
+        Camera centre, mm (default 500 mm above the hand).
+
+    Returns
+    -------
+    TrackingSequence
+        The true poses and every frame's data.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 5 and Fig. 3.
     """
-    rng = make_rng(rng)
+    rng = make_rng(rng, "rng")
     n_frames = check_positive_int(n_frames, "n_frames", minimum=2)
     check_choice(motion, "motion", ("turn", "bend"))
     camera = _CAMERA if camera is None else as_finite_array(camera, "camera", ndim=1, shape=(3,))
@@ -293,7 +573,7 @@ def make_tracking_sequence(hand: HandModel, rng: np.random.Generator | int, *, n
         poses[:, 13 + 4 * f] = 0.1 + 0.9 * bend
         poses[:, 14 + 4 * f] = 0.1 + 0.6 * bend
     poses[:, 10] = 0.1 + 0.6 * bend
-    skin = make_skin_texture(hand, n_features, rng)
+    skin = make_skin_texture(hand, n_features, rng=rng)
     frames, masks = [], []
     for pose in poses:
         features = skin.positions(hand, pose)

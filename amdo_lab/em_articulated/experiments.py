@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import RateInterval, check_positive_int, rate_interval, spawn_rngs
+from amdo_lab.common import RateInterval, check_positive_int, make_rng, rate_interval, spawn_rngs
 
 from amdo_lab.em_articulated.data import (RegistrationProblem, joint_rmse_deg, make_registration_problem,
                                           worst_joint_deg)
@@ -25,9 +25,24 @@ SUCCESS_DEG = 10.0
 class TrialSummary:
     """Per-trial joint RMSE and worst joint error (degrees) and run time (s) of EM + surface fit.
 
-    ``oracle_rmse_deg`` is the joint RMSE of :func:`fit_known_correspondences` on the same
-    points with the true matches (NaN without shared features): the noise floor of the trial;
-    ``oracle_max_error_deg`` its worst finger joint.
+    Parameters
+    ----------
+    rmse_deg : numpy.ndarray, shape (T,)
+        Joint RMSE of each trial (:func:`joint_rmse_deg`), degrees.
+    max_error_deg : numpy.ndarray, shape (T,)
+        Worst finger/thumb joint of each trial (:func:`worst_joint_deg`), degrees.
+    seconds : numpy.ndarray, shape (T,)
+        Wall-clock time of each trial's registration, seconds.
+    oracle_rmse_deg : numpy.ndarray, shape (T,)
+        Joint RMSE of :func:`fit_known_correspondences` on the same points with the true matches
+        (NaN without shared features): the noise floor of the trial, degrees.
+    oracle_max_error_deg : numpy.ndarray, shape (T,)
+        The noise floor's worst finger joint, degrees.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 5.
     """
 
     rmse_deg: np.ndarray
@@ -38,6 +53,7 @@ class TrialSummary:
 
     @property
     def median_rmse_deg(self) -> float:
+        """Median joint RMSE over the trials, degrees."""
         return float(np.median(self.rmse_deg))
 
     @property
@@ -46,7 +62,18 @@ class TrialSummary:
         return float(np.mean(self.max_error_deg < SUCCESS_DEG))
 
     def success_interval(self, confidence: float = 0.95) -> RateInterval:
-        """:attr:`success_rate` with its Wilson interval (at 100 trials, about ±6 points around 90 %)."""
+        """:attr:`success_rate` with its Wilson interval (at 100 trials, about ±6 points around 90 %).
+
+        Parameters
+        ----------
+        confidence : float, default 0.95
+            Coverage of the interval, in (0, 1).
+
+        Returns
+        -------
+        RateInterval
+            The success rate and the interval's bounds.
+        """
         return rate_interval(self.max_error_deg < SUCCESS_DEG, confidence)
 
     @property
@@ -66,32 +93,89 @@ def _floor_errors(hand: HandModel, case: RegistrationProblem) -> tuple[float, fl
     return joint_rmse_deg(floor, case.theta_true), worst_joint_deg(floor, case.theta_true)
 
 
-def noise_floor_trials(hand: HandModel, seed: int, n_trials: int, *,
+def noise_floor_trials(hand: HandModel, n_trials: int, *, rng: np.random.Generator | int,
                        problem: dict | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """The noise floor alone: per-trial joint RMSE and worst joint (degrees) of the least-squares fit
-    with the true matches (:func:`fit_known_correspondences`) from the start pose, on the same
-    problems as :func:`run_registration_trials` with the same ``seed`` (its ``oracle_*`` fields), but
-    without running the EM. NaN for trials without shared features."""
+    """The noise floor alone: joint errors of the least-squares fit with the true matches.
+
+    The fit is :func:`fit_known_correspondences` from the start pose, on the same problems as
+    :func:`run_registration_trials` with the same ``rng`` (its ``oracle_*`` fields), but without
+    running the EM.
+
+    Parameters
+    ----------
+    hand : HandModel
+        The hand of every problem.
+    n_trials : int
+        Number of seeded problems (≥ 1).
+    rng : int or numpy.random.Generator
+        Seed (≥ 0) or generator of the trials' random streams (:func:`amdo_lab.common.spawn_rngs`).
+    problem : dict, optional
+        Keyword arguments of :func:`make_registration_problem`.
+
+    Returns
+    -------
+    rmse_deg : numpy.ndarray, shape (n_trials,)
+        Joint RMSE per trial, degrees (NaN for trials without shared features).
+    max_error_deg : numpy.ndarray, shape (n_trials,)
+        Worst joint per trial, degrees (NaN likewise).
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, eq. (20) with known matches.
+    """
+    rng = make_rng(rng, "rng")
     n_trials = check_positive_int(n_trials, "n_trials")
-    errors = [_floor_errors(hand, make_registration_problem(hand, rng, **(problem or {})))
-              for rng in spawn_rngs(seed, n_trials)]
+    errors = [_floor_errors(hand, make_registration_problem(hand, rng=trial_rng, **(problem or {})))
+              for trial_rng in spawn_rngs(rng, n_trials)]
     return np.array([e[0] for e in errors]), np.array([e[1] for e in errors])
 
 
-def run_registration_trials(hand: HandModel, seed: int, n_trials: int, *, problem: dict | None = None,
-                            em_settings: dict | None = None, surface_steps: int = 10,
+def run_registration_trials(hand: HandModel, n_trials: int, *, rng: np.random.Generator | int,
+                            problem: dict | None = None, em_settings: dict | None = None, surface_max_iter: int = 10,
                             epsilon_mm: float = 5.0, digit_search: dict | None = None) -> TrialSummary:
-    """Draw ``n_trials`` problems (:func:`make_registration_problem` with ``problem``), run
+    """Seeded registration trials: EM, optional digit search, then surface fit, scored against the truth.
+
+    Draws ``n_trials`` problems (:func:`make_registration_problem` with ``problem``), runs
     :func:`register_em` with ``em_settings`` then :func:`fit_surface` (Sec. 3.4) on the points
     within ``epsilon_mm`` of the surface, weighted by the EM inlier probabilities.
 
-    ``digit_search`` (default None: none) runs :func:`refine_digits` between the two, with these
-    keyword arguments and the same ``em_settings``; the surface fit then uses its inlier probabilities.
+    Parameters
+    ----------
+    hand : HandModel
+        The hand of every problem.
+    n_trials : int
+        Number of seeded problems (≥ 1).
+    rng : int or numpy.random.Generator
+        Seed (≥ 0) or generator of the trials' random streams (:func:`amdo_lab.common.spawn_rngs`):
+        trial k draws the same problem whatever ``n_trials``.
+    problem : dict, optional
+        Keyword arguments of :func:`make_registration_problem`.
+    em_settings : dict, optional
+        Keyword arguments of :func:`register_em` (e.g. ``OUR_SETTINGS``).
+    surface_max_iter : int, default 10
+        Most Gauss-Newton steps of the surface fit (≥ 0; 0 skips it).
+    epsilon_mm : float, default 5.0
+        The surface fit uses the data within this distance of the surface, mm (> 0).
+    digit_search : dict, optional
+        Keyword arguments of :func:`refine_digits`, run between the EM and the surface fit with the
+        same ``em_settings`` (None: no search); the surface fit then uses its inlier probabilities.
+
+    Returns
+    -------
+    TrialSummary
+        Per-trial errors, run times and noise floors.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 3 (eqs. 17-22) and Sec. 5.
     """
+    rng = make_rng(rng, "rng")
     n_trials = check_positive_int(n_trials, "n_trials")
     rmse, worst, seconds, oracle, oracle_worst = [], [], [], [], []
-    for rng in spawn_rngs(seed, n_trials):
-        case = make_registration_problem(hand, rng, **(problem or {}))
+    for trial_rng in spawn_rngs(rng, n_trials):
+        case = make_registration_problem(hand, rng=trial_rng, **(problem or {}))
         start = time.perf_counter()
         em = register_em(case.model_points, case.data_points, hand, case.theta_init, **(em_settings or {}))
         theta, inlier_prob = em.theta, em.inlier_prob
@@ -99,8 +183,8 @@ def run_registration_trials(hand: HandModel, seed: int, n_trials: int, *, proble
             search = refine_digits(case.model_points, case.data_points, hand, case.theta_init, theta,
                                    **digit_search, **(em_settings or {}))
             theta, inlier_prob = search.theta, search.inlier_prob
-        if surface_steps:
-            theta = fit_surface(case.data_points, hand, theta, weights=inlier_prob, n_steps=surface_steps,
+        if surface_max_iter:
+            theta = fit_surface(case.data_points, hand, theta, weights=inlier_prob, max_iter=surface_max_iter,
                                 epsilon_mm=epsilon_mm).theta
         seconds.append(time.perf_counter() - start)
         floor_rmse, floor_worst = _floor_errors(hand, case)
@@ -116,10 +200,24 @@ def run_registration_trials(hand: HandModel, seed: int, n_trials: int, *, proble
 class ObjectiveCheck:
     """Per trial of :func:`objective_check`: joint RMSE (degrees) and the EM's objective at several poses.
 
-    ``*_rmse_deg`` and ``*_log_likelihood`` for: ``em`` (the pose :func:`register_em` returns),
-    ``floor`` (the pose fitted with the true matches), ``truth`` (the true pose; RMSE 0, not stored),
-    ``climbed`` (the local maximum of the objective reached from the floor pose,
-    :func:`climb_objective`). The objective is :func:`robust_log_likelihood` at ``sigma``.
+    The poses: ``em`` (the pose :func:`register_em` returns), ``floor`` (the pose fitted with the
+    true matches), ``truth`` (the true pose; RMSE 0, not stored), ``climbed`` (the local maximum of
+    the objective reached from the floor pose, :func:`climb_objective`). The objective is
+    :func:`robust_log_likelihood` at ``sigma``.
+
+    Parameters
+    ----------
+    em_rmse_deg, floor_rmse_deg, climbed_rmse_deg : numpy.ndarray, shape (T,)
+        Joint RMSE of each pose per trial, degrees.
+    em_log_likelihood, floor_log_likelihood, truth_log_likelihood, climbed_log_likelihood : numpy.ndarray, shape (T,)
+        The objective at each pose per trial, nats (compare within a trial only).
+    sigma : float
+        σ the objective is taken at, mm.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, eqs. (9), (17)-(18).
     """
 
     em_rmse_deg: np.ndarray
@@ -132,9 +230,11 @@ class ObjectiveCheck:
     sigma: float
 
 
-def objective_check(hand: HandModel, seed: int, n_trials: int, *, problem: dict | None = None,
+def objective_check(hand: HandModel, n_trials: int, *, rng: np.random.Generator | int, problem: dict | None = None,
                     em_settings: dict | None = None) -> ObjectiveCheck:
-    """Optimizer or objective? On ``n_trials`` seeded problems, run :func:`register_em` and fit the
+    """Optimizer or objective: where the EM's own objective puts its maximum, on seeded problems.
+
+    On ``n_trials`` seeded problems, run :func:`register_em` and fit the
     pose with the true matches (the noise floor); evaluate the EM's own objective (the robust
     log-likelihood of eq. 17's mixture at the EM's final σ) at both poses and at the truth, and climb
     it from the floor pose to its nearest local maximum.
@@ -145,26 +245,33 @@ def objective_check(hand: HandModel, seed: int, n_trials: int, *, problem: dict 
     Parameters
     ----------
     hand : HandModel
-    seed : seed of the trials' random streams (:func:`amdo_lab.common.spawn_rngs`).
-    n_trials : number of seeded problems (≥ 1).
-    problem : keyword arguments of :func:`make_registration_problem`.
-    em_settings : keyword arguments of :func:`register_em`; the objective is taken at their
-        ``sigma_min`` (3 mm by default).
+        The hand of every problem.
+    n_trials : int
+        Number of seeded problems (≥ 1).
+    rng : int or numpy.random.Generator
+        Seed (≥ 0) or generator of the trials' random streams (:func:`amdo_lab.common.spawn_rngs`).
+    problem : dict, optional
+        Keyword arguments of :func:`make_registration_problem`.
+    em_settings : dict, optional
+        Keyword arguments of :func:`register_em`; the objective is taken at their ``sigma_min``
+        (3 mm by default).
 
     Returns
     -------
     ObjectiveCheck
+        Per-trial errors and objective values.
 
     References
     ----------
     Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eqs. (9), (17)-(18) (the objective).
     """
+    rng = make_rng(rng, "rng")
     n_trials = check_positive_int(n_trials, "n_trials")
     settings = em_settings or {}
     sigma = float(settings.get("sigma_min", 3.0))
     rows = []
-    for rng in spawn_rngs(seed, n_trials):
-        case = make_registration_problem(hand, rng, **(problem or {}))
+    for trial_rng in spawn_rngs(rng, n_trials):
+        case = make_registration_problem(hand, rng=trial_rng, **(problem or {}))
         em = register_em(case.model_points, case.data_points, hand, case.theta_init, **settings)
         model_index, data_index = case.true_matches()
         floor = fit_known_correspondences(case.model_points[model_index], case.data_points[data_index], hand,

@@ -77,8 +77,13 @@ class HandModel:
 
     Parameters
     ----------
-    nu : float
-        Field fall-off ν of eq. (1) in mm.
+    nu : float, default 4.0
+        Field fall-off ν of eq. (1), mm (> 0).
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; Sec. 2, eqs. (1)-(3).
     """
 
     n_parts = 16
@@ -160,7 +165,13 @@ class HandModel:
 
     # ------------------------------------------------------------------ kinematics
     def rest_pose(self) -> np.ndarray:
-        """Open flat hand at the origin, slightly flexed fingers (within limits)."""
+        """Open flat hand at the origin, slightly flexed fingers (within limits).
+
+        Returns
+        -------
+        numpy.ndarray, shape (27,)
+            The rest pose.
+        """
         theta = np.zeros(self.n_dof)
         theta[6:11] = [0.2, 0.3, 0.0, 0.1, 0.1]
         for f in range(4):
@@ -168,11 +179,33 @@ class HandModel:
         return theta
 
     def joint_limits(self) -> np.ndarray:
-        """(27, 2) array of [lower, upper] bounds; palm translation is unbounded."""
+        """Lower and upper bound of every DOF (a copy).
+
+        Returns
+        -------
+        numpy.ndarray, shape (27, 2)
+            [lower, upper] per DOF: ±inf for the palm translation, radians for the rest (the
+            Shadow Dexterous Hand's ranges for the digits).
+        """
         return self._limits.copy()
 
     def check_theta(self, theta: object, name: str = "theta", *, within_limits: bool = False) -> np.ndarray:
-        """Validate a pose vector (length 27, finite; optionally inside the joint limits)."""
+        """Validate a pose vector (length 27, finite; optionally inside the joint limits).
+
+        Parameters
+        ----------
+        theta : array_like, shape (27,)
+            The pose to check.
+        name : str, default "theta"
+            Argument name used in error messages.
+        within_limits : bool, default False
+            Also require every DOF inside :meth:`joint_limits` (to 1e-9).
+
+        Returns
+        -------
+        numpy.ndarray, shape (27,)
+            ``theta`` as a float array.
+        """
         theta = as_finite_array(theta, name, ndim=1, shape=(self.n_dof,))
         if within_limits:
             lo, hi = self._limits[:, 0], self._limits[:, 1]
@@ -212,7 +245,18 @@ class HandModel:
         return frames, axes_world[:-1], origins_world[:-1]
 
     def part_transforms(self, theta: object) -> np.ndarray:
-        """Rigid motion T_p(Θ) of every part, part frame -> world, as (16, 4, 4)."""
+        """Rigid motion T_p(Θ) of every part, part frame -> world.
+
+        Parameters
+        ----------
+        theta : array_like, shape (27,)
+            Pose (mm for DOFs 0-2, radians for the others).
+
+        Returns
+        -------
+        numpy.ndarray, shape (16, 4, 4)
+            Homogeneous transforms, translations in mm.
+        """
         return self._forward(self.check_theta(theta))[0]
 
     def digit_clearance(self, theta: object, n_samples: int = 7) -> float:
@@ -220,6 +264,18 @@ class HandModel:
 
         Each phalanx is reduced to its axis (sampled at ``n_samples`` points) and a radius (its
         larger cross-section semi-axis), which is enough to reject poses where fingers cross.
+
+        Parameters
+        ----------
+        theta : array_like, shape (27,)
+            Pose (mm for DOFs 0-2, radians for the others).
+        n_samples : int, default 7
+            Points sampled along each phalanx axis (≥ 1).
+
+        Returns
+        -------
+        float
+            The smallest gap, mm.
         """
         frames = self._forward(self.check_theta(theta))[0]
         along = np.linspace(-0.5, 0.5, check_positive_int(n_samples, "n_samples"))
@@ -247,6 +303,18 @@ class HandModel:
 
         Radial reading: d = ||x - c|| (1 - 1/r) with r = ||(x - c)/radii|| in the part frame,
         exact for spheres, negative inside.
+
+        Parameters
+        ----------
+        points : array_like, shape (M, 3)
+            Query points in world coordinates, mm.
+        theta : array_like, shape (27,)
+            Pose (mm for DOFs 0-2, radians for the others).
+
+        Returns
+        -------
+        numpy.ndarray, shape (M, 16)
+            Distances, mm.
         """
         points = as_finite_array(points, "points", ndim=2, shape=(None, 3))
         frames = self._forward(self.check_theta(theta))[0]
@@ -256,11 +324,40 @@ class HandModel:
         return np.linalg.norm(local, axis=2) * (1.0 - 1.0 / np.maximum(radial, 1e-12))
 
     def part_fields(self, points: np.ndarray, theta: object) -> np.ndarray:
-        """Field functions φ_p = exp(-d/ν), eq. (1), shape (M, 16)."""
+        """Field functions φ_p = exp(-d/ν), eq. (1).
+
+        Parameters
+        ----------
+        points : array_like, shape (M, 3)
+            Query points in world coordinates, mm.
+        theta : array_like, shape (27,)
+            Pose (mm for DOFs 0-2, radians for the others).
+
+        Returns
+        -------
+        numpy.ndarray, shape (M, 16)
+            φ_p per point and part (1 on an ellipsoid, > 1 inside, clipped at d = -20ν).
+        """
         return np.exp(-np.clip(self.part_distances(points, theta), -20 * self.nu, None) / self.nu)
 
     def fused_field(self, points: np.ndarray, theta: object, *, neighbour_rule: bool = True) -> np.ndarray:
-        """φ = Σ φ_p over the strongest part and its kinematic neighbours (Sec. 2), shape (M,)."""
+        """φ = Σ φ_p over the strongest part and its kinematic neighbours (Sec. 2).
+
+        Parameters
+        ----------
+        points : array_like, shape (M, 3)
+            Query points in world coordinates, mm.
+        theta : array_like, shape (27,)
+            Pose (mm for DOFs 0-2, radians for the others).
+        neighbour_rule : bool, default True
+            Sum over the strongest part and its neighbours only (the paper's rule); False sums
+            over all 16 parts.
+
+        Returns
+        -------
+        numpy.ndarray, shape (M,)
+            The fused field φ (1 on the surface).
+        """
         fields = self.part_fields(points, theta)
         if not neighbour_rule:
             return fields.sum(axis=1)
@@ -268,7 +365,22 @@ class HandModel:
         return np.sum(fields * self.adjacency[strongest], axis=1)
 
     def surface_distance(self, points: object, theta: object, *, neighbour_rule: bool = True) -> np.ndarray:
-        """Distance to the fused surface d = -ν log φ, eq. (2) (negative inside), shape (M,)."""
+        """Distance to the fused surface d = -ν log φ, eq. (2) (negative inside).
+
+        Parameters
+        ----------
+        points : array_like, shape (M, 3)
+            Query points in world coordinates, mm.
+        theta : array_like, shape (27,)
+            Pose (mm for DOFs 0-2, radians for the others).
+        neighbour_rule : bool, default True
+            As for :meth:`fused_field`.
+
+        Returns
+        -------
+        numpy.ndarray, shape (M,)
+            Signed distances, mm.
+        """
         return -self.nu * np.log(self.fused_field(points, theta, neighbour_rule=neighbour_rule))
 
     def surface_distance_jacobian(self, points: object, theta: object) -> tuple[np.ndarray, np.ndarray]:
@@ -279,6 +391,20 @@ class HandModel:
         with world axis ω_k through o_k, ∂d_p/∂θ_k = -n_p · (ω_k × (x - o_k)), with n_p the world
         gradient of d_p in x; for a palm translation it is -n_p. The strongest part is held fixed
         (the rule is piecewise constant), as is the clip of very deep points in :meth:`part_fields`.
+
+        Parameters
+        ----------
+        points : array_like, shape (M, 3)
+            Query points in world coordinates, mm.
+        theta : array_like, shape (27,)
+            Pose (mm for DOFs 0-2, radians for the others).
+
+        Returns
+        -------
+        distance : numpy.ndarray, shape (M,)
+            Signed distances d (eq. 2), mm.
+        jacobian : numpy.ndarray, shape (M, 27)
+            ∂d/∂Θ: mm per mm for the palm translation, mm per radian for the rest.
         """
         points = as_finite_array(points, "points", ndim=2, shape=(None, 3))
         theta = self.check_theta(theta)
@@ -304,16 +430,32 @@ class HandModel:
         jac[:, 3:] = -np.einsum("kmj,mkj->mk", blended[3:], lever)
         return -self.nu * np.log(fused), jac
 
-    def sample_surface(self, theta: object, n: int, rng: np.random.Generator | int,
-                       *, newton_steps: int = 4) -> np.ndarray:
+    def sample_surface(self, theta: object, n: int, *, rng: np.random.Generator | int,
+                       newton_steps: int = 4) -> np.ndarray:
         """Draw ``n`` points on the fused surface φ = 1 at pose ``theta``.
 
         Points are drawn on the ellipsoids (by approximate area) and pushed onto φ = 1 by Newton
         steps along a finite-difference gradient of eq. (2); points left far from it are redrawn.
+
+        Parameters
+        ----------
+        theta : array_like, shape (27,)
+            Pose (mm for DOFs 0-2, radians for the others).
+        n : int
+            Number of points (≥ 1).
+        rng : int or numpy.random.Generator
+            Seed (≥ 0) or generator of the points.
+        newton_steps : int, default 4
+            Newton steps that project each drawn point onto the surface.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n, 3)
+            Points within 0.2 mm of the surface, mm.
         """
         theta = self.check_theta(theta)
         n = check_positive_int(n, "n")
-        rng = make_rng(rng)
+        rng = make_rng(rng, "rng")
         frames = self._forward(theta)[0]
         radii = np.array([part.radii for part in self._parts])
         area = (radii[:, 0] * radii[:, 1] + radii[:, 1] * radii[:, 2] + radii[:, 0] * radii[:, 2])
@@ -346,7 +488,20 @@ class HandModel:
         return grad
 
     def surface_normals(self, points: object, theta: object) -> np.ndarray:
-        """Unit outward normals of the fused surface (finite-difference gradient of eq. 2)."""
+        """Unit outward normals of the fused surface (finite-difference gradient of eq. 2).
+
+        Parameters
+        ----------
+        points : array_like, shape (M, 3)
+            Query points in world coordinates, mm.
+        theta : array_like, shape (27,)
+            Pose (mm for DOFs 0-2, radians for the others).
+
+        Returns
+        -------
+        numpy.ndarray, shape (M, 3)
+            Unit vectors (zero where the gradient vanishes).
+        """
         points = as_finite_array(points, "points", ndim=2, shape=(None, 3))
         grad = self._distance_gradient(points, self.check_theta(theta))
         return grad / np.maximum(np.linalg.norm(grad, axis=1, keepdims=True), 1e-12)
@@ -356,6 +511,20 @@ class HandModel:
 
         Each ellipsoid is a latitude-longitude grid of ``resolution`` x ``resolution`` vertices,
         scaled by its semi-axes and placed by its part's rigid motion T_p(Θ).
+
+        Parameters
+        ----------
+        theta : array_like, shape (27,)
+            Pose (mm for DOFs 0-2, radians for the others).
+        resolution : int, default 16
+            Vertices per side of each ellipsoid's grid (≥ 4).
+
+        Returns
+        -------
+        vertices : numpy.ndarray, shape (16·resolution², 3)
+            Vertex positions, mm.
+        faces : numpy.ndarray of int, shape (F, 3)
+            Vertex indices of each triangle.
         """
         frames = self._forward(self.check_theta(theta))[0]
         n = check_positive_int(resolution, "resolution", minimum=4)
@@ -375,6 +544,21 @@ class HandModel:
 
         The weights φ_p^a / (φ_p^a + φ_r^a) of eq. (3) are evaluated once, at the pose where the
         texture was observed, and the points are stored in both parts' local frames.
+
+        Parameters
+        ----------
+        points : array_like, shape (N, 3)
+            Texture points X at pose ``theta``, mm.
+        theta : array_like, shape (27,)
+            Pose (mm for DOFs 0-2, radians for the others).
+        a : float, default 2.0
+            Exponent of the weights of eq. (3) (> 0): large ``a`` moves each point rigidly with
+            its strongest part.
+
+        Returns
+        -------
+        TextureBinding
+            Both parts, the weight of the first, and the local coordinates.
         """
         points = as_finite_array(points, "points", ndim=2, shape=(None, 3))
         theta = self.check_theta(theta)
@@ -393,7 +577,20 @@ class HandModel:
         return TextureBinding(part_p, part_r, weight_p, local_p, local_r)
 
     def transform_texture(self, binding: "TextureBinding", theta: np.ndarray) -> np.ndarray:
-        """Blended motion T(X, Θ) of eq. (3) for bound texture points, shape (N, 3)."""
+        """Blended motion T(X, Θ) of eq. (3) for bound texture points.
+
+        Parameters
+        ----------
+        binding : TextureBinding
+            From :meth:`texture_binding`.
+        theta : array_like, shape (27,)
+            Pose (mm for DOFs 0-2, radians for the others).
+
+        Returns
+        -------
+        numpy.ndarray, shape (N, 3)
+            The moved texture, mm.
+        """
         frames = self._forward(theta)[0]
         world_p, world_r = binding.world_points(frames)
         w = binding.weight_p[:, None]
@@ -405,6 +602,20 @@ class HandModel:
         For a revolute DOF k with world axis ω_k through o_k, a point x rigidly attached to a part
         it moves has dx/dθ_k = ω_k × (x - o_k); for the palm translation dx/dt = e_t. Eq. (3) mixes
         the two parts' derivatives with the same (frozen) weights.
+
+        Parameters
+        ----------
+        binding : TextureBinding
+            From :meth:`texture_binding`.
+        theta : array_like, shape (27,)
+            Pose (mm for DOFs 0-2, radians for the others).
+
+        Returns
+        -------
+        positions : numpy.ndarray, shape (N, 3)
+            T(X, Θ), mm.
+        jacobian : numpy.ndarray, shape (N, 3, 27)
+            dT/dΘ: mm per mm for the palm translation, mm per radian for the rest.
         """
         frames, axes, origins = self._forward(theta)
         world_p, world_r = binding.world_points(frames)
@@ -420,14 +631,50 @@ class HandModel:
         return w * world_p + (1 - w) * world_r, jac
 
     def move_texture(self, points: object, theta_from: object, theta_to: object, a: float = 2.0) -> np.ndarray:
-        """Move texture points observed at pose ``theta_from`` to pose ``theta_to`` (eq. 3)."""
+        """Move texture points observed at pose ``theta_from`` to pose ``theta_to`` (eq. 3).
+
+        Parameters
+        ----------
+        points : array_like, shape (N, 3)
+            Texture points at ``theta_from``, mm.
+        theta_from : array_like, shape (27,)
+            Pose where the points were observed.
+        theta_to : array_like, shape (27,)
+            Pose to move them to.
+        a : float, default 2.0
+            Exponent of the weights of eq. (3) (> 0).
+
+        Returns
+        -------
+        numpy.ndarray, shape (N, 3)
+            The moved points, mm.
+        """
         binding = self.texture_binding(points, theta_from, a)
         return self.transform_texture(binding, self.check_theta(theta_to, "theta_to"))
 
 
 @dataclass(frozen=True)
 class TextureBinding:
-    """Texture points attached to two adjacent parts with the eq. (3) weight of the first."""
+    """Texture points attached to two adjacent parts with the eq. (3) weight of the first.
+
+    Parameters
+    ----------
+    part_p : numpy.ndarray of int, shape (N,)
+        Strongest part p of each point.
+    part_r : numpy.ndarray of int, shape (N,)
+        Its strongest kinematic neighbour r.
+    weight_p : numpy.ndarray, shape (N,)
+        φ_p^a / (φ_p^a + φ_r^a) of eq. (3), in [0, 1], frozen at the binding pose.
+    local_p : numpy.ndarray, shape (N, 3)
+        The point in part p's frame, mm.
+    local_r : numpy.ndarray, shape (N, 3)
+        The point in part r's frame, mm.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; eq. (3).
+    """
 
     part_p: np.ndarray
     part_r: np.ndarray
@@ -436,6 +683,20 @@ class TextureBinding:
     local_r: np.ndarray
 
     def world_points(self, frames: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Each point carried rigidly by part p and by part r (the two terms eq. 3 blends).
+
+        Parameters
+        ----------
+        frames : numpy.ndarray, shape (16, 4, 4)
+            Part transforms, e.g. :meth:`HandModel.part_transforms`.
+
+        Returns
+        -------
+        world_p : numpy.ndarray, shape (N, 3)
+            The points moved with part p, mm.
+        world_r : numpy.ndarray, shape (N, 3)
+            The points moved with part r, mm.
+        """
         world_p = np.einsum("nij,nj->ni", frames[self.part_p, :3, :3], self.local_p) + frames[self.part_p, :3, 3]
         world_r = np.einsum("nij,nj->ni", frames[self.part_r, :3, :3], self.local_r) + frames[self.part_r, :3, 3]
         return world_p, world_r

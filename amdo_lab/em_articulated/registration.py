@@ -25,7 +25,7 @@ PAPER_C = 3.0 * np.sqrt(np.pi / 2.0)
 #: register_em as the paper describes it: the M-step targets G_i of eq. (20), every DOF free at
 #: every σ, σ annealed geometrically in five levels from the largest motion to about the noise,
 #: EM iterated at each level until Θ stops changing.
-PAPER_SETTINGS = {"sigma_max": 20.0, "sigma_min": 3.0, "n_levels": 5, "iterations_per_level": 10,
+PAPER_SETTINGS = {"sigma_max": 20.0, "sigma_min": 3.0, "n_levels": 5, "max_iter": 10,
                   "targets": "paper", "e_step": "kdtree"}
 #: Ours (see the chapter's ablation): the same EM with bias-corrected targets; the texture blurred
 #: by the same E-step is subtracted, so a perfect fit is a fixed point at every σ.
@@ -46,8 +46,21 @@ DEFAULT_TOL = 1e-3
 class EMResult:
     """Result of :func:`register_em`.
 
-    theta : (27,) estimated pose; inlier_prob : (M,) Σ_i α_ij per data point;
-    history : (n_iter, 2) rows of [σ, energy of eq. (20)]; model_points : (N, 3) moved texture.
+    Parameters
+    ----------
+    theta : numpy.ndarray, shape (27,)
+        Estimated pose.
+    inlier_prob : numpy.ndarray, shape (M,)
+        Σ_i α_ij per data point at the last E-step, in [0, 1).
+    history : numpy.ndarray, shape (n_iterations, 2)
+        One row per EM iteration: [σ in mm, energy Σ_ij α_ij ||Y_j - T(X_i)||² in mm²].
+    model_points : numpy.ndarray, shape (N, 3)
+        The texture moved to ``theta``, mm.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; eqs. (17)-(20).
     """
 
     theta: np.ndarray
@@ -78,14 +91,31 @@ def e_step_reference(model_points: object, data_points: object, sigma: float, c:
 
     Parameters
     ----------
-    model_points : (N, 3) moved texture points T(X_i, Θ), mm.
-    data_points : (M, 3) data points Y_j, mm.
-    sigma : σ of the Gaussian of eq. (6), mm (> 0).
-    c : the outlier constant of eq. (18) (> 0); 3√(π/2) by default.
+    model_points : array_like, shape (N, 3)
+        Moved texture points T(X_i, Θ), mm.
+    data_points : array_like, shape (M, 3)
+        Data points Y_j, mm.
+    sigma : float
+        σ of the Gaussian of eq. (6), mm (> 0).
+    c : float, default PAPER_C
+        The outlier constant of eq. (18) (> 0); 3√(π/2) by default.
 
     Returns
     -------
-    alpha : (N, M) array; column j sums to the inlier probability of Y_j, below 1.
+    alpha : numpy.ndarray, shape (N, M)
+        Posteriors α_ij; column j sums to the inlier probability of Y_j, below 1.
+
+    Examples
+    --------
+    One data point next to the first texture point, one far from both: the far one goes to the
+    outlier class (its column sums to 0), the near one is shared with it through c.
+
+    >>> import numpy as np
+    >>> model = np.array([[0.0, 0.0, 0.0], [10.0, 0.0, 0.0]])
+    >>> data = np.array([[0.5, 0.0, 0.0], [100.0, 0.0, 0.0]])
+    >>> e_step_reference(model, data, sigma=2.0).round(3)
+    array([[0.205, 0.   ],
+           [0.   , 0.   ]])
 
     References
     ----------
@@ -109,12 +139,17 @@ def m_step_targets(alpha: object, data_points: object) -> tuple[np.ndarray, np.n
 
     Parameters
     ----------
-    alpha : (N, M) posteriors, e.g. :func:`e_step_reference`.
-    data_points : (M, 3) data points Y_j.
+    alpha : array_like, shape (N, M)
+        Posteriors α_ij ≥ 0, e.g. :func:`e_step_reference`.
+    data_points : array_like, shape (M, 3)
+        Data points Y_j, mm.
 
     Returns
     -------
-    lam : (N,) weights λ_i; targets : (N, 3) centres of gravity G_i.
+    lam : numpy.ndarray, shape (N,)
+        Weights λ_i.
+    targets : numpy.ndarray, shape (N, 3)
+        Centres of gravity G_i, mm.
 
     References
     ----------
@@ -134,6 +169,22 @@ def robust_log_likelihood(model_points: object, data_points: object, sigma: floa
     mixture of eq. (9) (the Gaussian's normalisation and the priors v/V factor out into c, eq. 18),
     so values at the same σ and c compare poses. Computed by the streamed pass of
     :func:`e_step_statistics` in double precision (log domain: no underflow far from the hand).
+
+    Parameters
+    ----------
+    model_points : array_like, shape (N, 3)
+        Moved texture points T(X_i, Θ), mm.
+    data_points : array_like, shape (M, 3)
+        Data points Y_j, mm.
+    sigma : float
+        σ, mm (> 0).
+    c : float, default PAPER_C
+        The outlier constant of eq. (18) (> 0).
+
+    Returns
+    -------
+    float
+        The objective, nats; finite for finite input (c > 0 bounds each term below by log c).
 
     References
     ----------
@@ -162,12 +213,36 @@ def e_step_statistics(model_points: object, data_points: object, sigma: float,
     error of about 1e-7 (α below about 1e-38 becomes 0), far below anything the EM can resolve at
     millimetre noise; ``"double"`` keeps every step in float64 (a reference for the tests).
 
+    Parameters
+    ----------
+    model_points : array_like, shape (N, 3)
+        Moved texture points T(X_i, Θ), mm.
+    data_points : array_like, shape (M, 3)
+        Data points Y_j, mm.
+    sigma : float
+        σ of the Gaussian of eq. (6), mm (> 0).
+    log_c : float
+        log of the outlier constant c of eq. (17); -inf for no outlier class.
+    chunk : int, default 256
+        Data points per streamed block (≥ 1).
+    precision : {"single", "double"}, default "single"
+        Precision of the exponentials and their sums.
+
     Returns
     -------
-    weights : (N,) Σ_j α_ij per model point
-    weighted_data : (N, 3) Σ_j α_ij Y_j
-    inlier_prob : (M,) Σ_i α_ij per data point
-    energy : float, Σ_ij α_ij ||Y_j - T(X_i)||² (eq. 19/20 up to the 1/2σ² factor)
+    weights : numpy.ndarray, shape (N,)
+        λ_i = Σ_j α_ij per model point.
+    weighted_data : numpy.ndarray, shape (N, 3)
+        Σ_j α_ij Y_j, mm.
+    inlier_prob : numpy.ndarray, shape (M,)
+        Σ_i α_ij per data point, in [0, 1).
+    energy : float
+        Σ_ij α_ij ||Y_j - T(X_i)||², mm² (eq. 19/20 up to the 1/2σ² factor).
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; eqs. (17)-(20).
     """
     model_points, data_points, sigma, log_c = _check_e_step_inputs(model_points, data_points, sigma, log_c)
     chunk = check_positive_int(chunk, "chunk")
@@ -227,11 +302,30 @@ def _dense_pass(model_points: np.ndarray, data_points: np.ndarray, sigma: float,
 
 
 def dof_lever_arms(hand: HandModel, binding: TextureBinding, theta: np.ndarray) -> np.ndarray:
-    """Largest distance (mm) a unit rotation of each DOF moves a texture point, shape (27,).
+    """Largest distance (mm) a unit rotation of each DOF moves a texture point.
 
     Palm translations get +inf (always resolvable). A DOF whose lever arm is short moves points
     by much less than σ while σ is large, so its estimate there is dominated by the blur of the
     targets G_i (eq. 20) rather than by the data.
+
+    Parameters
+    ----------
+    hand : HandModel
+        The articulated model.
+    binding : TextureBinding
+        The texture, from :meth:`HandModel.texture_binding`.
+    theta : array_like, shape (27,)
+        Pose at which the lever arms are measured.
+
+    Returns
+    -------
+    numpy.ndarray, shape (27,)
+        Lever arm per DOF, mm per radian (+inf for DOFs 0-2).
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; eq. (20) (our coarse-to-fine release, not in the paper).
     """
     check_hand(hand)
     if not isinstance(binding, TextureBinding):
@@ -252,6 +346,35 @@ def e_step_statistics_kdtree(model_points: object, data_points: object, sigma: f
     of a kept pair is at least exp(-radius²/2), so the linear domain cannot underflow here.
     (:func:`register_em` gets the same pairs from a cache that re-measures candidates between
     iterations instead of querying anew.)
+
+    Parameters
+    ----------
+    model_points : array_like, shape (N, 3)
+        Moved texture points T(X_i, Θ), mm.
+    data_points : array_like, shape (M, 3)
+        Data points Y_j, mm.
+    sigma : float
+        σ of the Gaussian of eq. (6), mm (> 0).
+    log_c : float
+        log of the outlier constant c of eq. (17); -inf for no outlier class.
+    radius_sigmas : float, default 4.0
+        Truncation radius, in σ (> 0).
+
+    Returns
+    -------
+    weights : numpy.ndarray, shape (N,)
+        λ_i = Σ_j α_ij per model point.
+    weighted_data : numpy.ndarray, shape (N, 3)
+        Σ_j α_ij Y_j, mm.
+    inlier_prob : numpy.ndarray, shape (M,)
+        Σ_i α_ij per data point, in [0, 1).
+    energy : float
+        Σ_ij α_ij ||Y_j - T(X_i)||², mm² (eq. 19/20 up to the 1/2σ² factor).
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; eq. (17), truncated (ours).
     """
     model_points, data_points, sigma, log_c = _check_e_step_inputs(model_points, data_points, sigma, log_c)
     radius = check_positive(radius_sigmas, "radius_sigmas") * sigma
@@ -379,7 +502,7 @@ def _check_common(hand: HandModel, model_points: object, data_points: object, th
 
 def register_em(model_points: object, data_points: object, hand: HandModel, theta_init: object,
                 sigma_max: float = 20.0, sigma_min: float = 3.0, *, n_levels: int = 5,
-                iterations_per_level: int = 10, tol: float = DEFAULT_TOL, outlier_c: float | None = None,
+                max_iter: int = 10, tol: float = DEFAULT_TOL, outlier_c: float | None = None,
                 sigma_mode: str = "anneal", targets: str = "paper", a: float = 2.0,
                 gauss_newton_steps: int = 2, damping: float = 1e-3, chunk: int = 256,
                 release_ratio: float | None = None, e_step: str = "dense", schedule: str = "levels") -> EMResult:
@@ -387,39 +510,89 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
 
     At each of ``n_levels`` geometric σ levels from ``sigma_max`` to ``sigma_min`` (Sec. 3.3),
     E-step (eq. 17) and M-step (eq. 20) alternate until no DOF moves by more than ``tol`` or
-    ``iterations_per_level`` iterations have run.
+    ``max_iter`` iterations have run.
 
     Parameters
     ----------
-    model_points : (N, 3) texture points lying on the hand at pose ``theta_init``.
-    data_points : (M, 3) observed points (inliers and outliers).
+    model_points : array_like, shape (N, 3)
+        Texture points X_i lying on the hand at pose ``theta_init``, mm.
+    data_points : array_like, shape (M, 3)
+        Observed points Y_j (inliers and outliers), mm.
     hand : HandModel
-    theta_init : (27,) start pose, inside the joint limits.
-    sigma_max, sigma_min : annealing range in mm (largest expected motion, noise level).
-    n_levels : number of geometric σ levels (the paper: about five).
-    iterations_per_level : most EM iterations at one σ.
-    tol : convergence threshold on the largest change of Θ in one iteration (rad; mm for the palm).
-    outlier_c : constant c of eq. (17); default 3√(π/2) (eq. 18). ``sigma_mode="scaled"`` instead
+        The articulated model.
+    theta_init : array_like, shape (27,)
+        Pose where the texture was observed and the EM starts, inside the joint limits.
+    sigma_max : float, default 20.0
+        Largest σ of the annealing, mm (> ``sigma_min``): about the largest expected motion.
+    sigma_min : float, default 3.0
+        Smallest σ, mm (> 0): about the noise.
+    n_levels : int, default 5
+        Number of geometric σ levels (≥ 1; the paper: about five).
+    max_iter : int, default 10
+        Most EM iterations at one σ level (≥ 1); a level ends earlier when Θ stops changing.
+    tol : float, default 1e-3
+        Convergence threshold on the largest change of Θ in one iteration (rad; mm for the palm; ≥ 0).
+    outlier_c : float or None, default None
+        Constant c of eq. (17) (> 0); None: 3√(π/2) (eq. 18). ``sigma_mode="scaled"`` instead
         uses c·(σ/σ_min)^3, i.e. a fixed outlier density rather than a fixed c.
-    sigma_mode : "anneal" (paper), "scaled" (σ-scaled c, ablation) or "estimate" (σ re-estimated
+    sigma_mode : {"anneal", "scaled", "estimate"}, default "anneal"
+        "anneal" (paper), "scaled" (σ-scaled c, ablation) or "estimate" (σ re-estimated
         in the M-step from the weighted residuals, the variant the paper warns against).
-    targets : "paper" (G_i of eq. 20) or "debiased" (ours): T(X_i) + G_i - B_i, where B_i is the
+    targets : {"paper", "debiased"}, default "paper"
+        "paper" (G_i of eq. 20) or "debiased" (ours): T(X_i) + G_i - B_i, where B_i is the
         same weighted mean computed with the moved texture itself as data. At large σ the G_i are
         blurred towards the middle of the hand, which curls fingers; B_i carries the same blur, so
         data that coincide with the model give zero force at every σ.
-    release_ratio : coarse-to-fine (ours; the paper frees every DOF at every σ, the default None):
+    a : float, default 2.0
+        Exponent of the bending weights of eq. (3) (> 0).
+    gauss_newton_steps : int, default 2
+        Gauss-Newton steps of each M-step (≥ 1); the M-step stops earlier when a step is below 1e-6.
+    damping : float, default 1e-3
+        Levenberg damping of the M-step's normal equations, relative to their diagonal (≥ 0).
+    chunk : int, default 256
+        Data points per block of the streamed dense E-step (≥ 1).
+    release_ratio : float or None, default None
+        Coarse-to-fine (ours; the paper frees every DOF at every σ, the default None):
         a joint is estimated only once σ is below its lever arm (:func:`dof_lever_arms`) divided
-        by this ratio, so σ-wide blur cannot swing short phalanges.
-    e_step : "dense" (every pair, streamed in chunks) or "kdtree" (pairs within 4σ only,
+        by this ratio (> 0), so σ-wide blur cannot swing short phalanges.
+    e_step : {"dense", "kdtree"}, default "dense"
+        "dense" (every pair, streamed in chunks) or "kdtree" (pairs within 4σ only,
         :func:`e_step_statistics_kdtree`). At a σ where the 4σ balls hold more than 15 % of all
         pairs, "kdtree" uses the dense E-step instead: there it is faster and not truncated.
-    schedule : "levels" (our reading of Sec. 3.3, the default): at each σ level, E- and M-steps
+    schedule : {"levels", "per-step"}, default "levels"
+        "levels" (our reading of Sec. 3.3, the default): at each σ level, E- and M-steps
         alternate until Θ stops changing. "per-step" (the paper's text read literally,
         σ_{q+1} = κσ_q at every iteration q): one iteration at each σ above ``sigma_min``, then
-        iterations at ``sigma_min`` until Θ stops changing (at most ``iterations_per_level``).
+        iterations at ``sigma_min`` until Θ stops changing (at most ``max_iter``).
+
+    Returns
+    -------
+    EMResult
+        Pose, inlier probabilities, history and moved texture.
+
+    Examples
+    --------
+    A synthetic problem started 10° off at every joint, registered with our settings:
+
+    >>> from amdo_lab.em_articulated import (OUR_SETTINGS, HandModel, joint_rmse_deg,
+    ...                                      make_registration_problem)
+    >>> hand = HandModel()
+    >>> problem = make_registration_problem(hand, rng=1, joint_error_deg=10.0, noise_mm=1.0,
+    ...                                     n_model=300, n_data=300)
+    >>> result = register_em(problem.model_points, problem.data_points, hand, problem.theta_init,
+    ...                      **OUR_SETTINGS)
+    >>> round(joint_rmse_deg(problem.theta_init, problem.theta_true), 1)
+    10.0
+    >>> round(joint_rmse_deg(result.theta, problem.theta_true), 1)
+    2.8
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; Sec. 3.1-3.3, eqs. (17)-(20).
     """
     setup = _em_setup(hand, model_points, data_points, theta_init, sigma_max, sigma_min, n_levels,
-                      iterations_per_level, tol, outlier_c, sigma_mode, targets, a, gauss_newton_steps, damping,
+                      max_iter, tol, outlier_c, sigma_mode, targets, a, gauss_newton_steps, damping,
                       chunk, release_ratio, e_step, schedule)
     theta, inlier_prob, history = _em_levels(setup, setup.theta_init, setup.sigmas)
     return EMResult(theta, inlier_prob, history, hand.transform_texture(setup.binding, theta))
@@ -427,7 +600,7 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
 
 def register_em_reference(model_points: object, data_points: object, hand: HandModel, theta_init: object,
                           sigma_max: float = 20.0, sigma_min: float = 3.0, *, n_levels: int = 5,
-                          iterations_per_level: int = 10, tol: float = DEFAULT_TOL, targets: str = "paper",
+                          max_iter: int = 10, tol: float = DEFAULT_TOL, targets: str = "paper",
                           a: float = 2.0, gauss_newton_steps: int = 2, damping: float = 1e-3) -> np.ndarray:
     """The annealed EM of Sec. 3.1-3.3 written out plainly: the readable path of :func:`register_em`.
 
@@ -435,9 +608,39 @@ def register_em_reference(model_points: object, data_points: object, hand: HandM
     which check that :func:`register_em` (streamed E-step, ``e_step="dense"``) reaches the same pose.
     ``targets="debiased"`` is our correction of the large-σ blur (see :func:`register_em`).
 
+    Parameters
+    ----------
+    model_points : array_like, shape (N, 3)
+        Texture points X_i lying on the hand at pose ``theta_init``, mm.
+    data_points : array_like, shape (M, 3)
+        Observed points Y_j (inliers and outliers), mm.
+    hand : HandModel
+        The articulated model.
+    theta_init : array_like, shape (27,)
+        Pose where the texture was observed and the EM starts, inside the joint limits.
+    sigma_max : float, default 20.0
+        Largest σ of the annealing, mm (> ``sigma_min``): about the largest expected motion.
+    sigma_min : float, default 3.0
+        Smallest σ, mm (> 0): about the noise.
+    n_levels : int, default 5
+        Number of geometric σ levels (≥ 1; the paper: about five).
+    max_iter : int, default 10
+        Most EM iterations at one σ level (≥ 1); a level ends earlier when Θ stops changing.
+    tol : float, default 1e-3
+        Convergence threshold on the largest change of Θ in one iteration (rad; mm for the palm; ≥ 0).
+    targets : {"paper", "debiased"}, default "paper"
+        The M-step targets, as for :func:`register_em`.
+    a : float, default 2.0
+        Exponent of the bending weights of eq. (3) (> 0).
+    gauss_newton_steps : int, default 2
+        Gauss-Newton steps of each M-step (≥ 1); the M-step stops earlier when a step is below 1e-6.
+    damping : float, default 1e-3
+        Levenberg damping of the M-step's normal equations, relative to their diagonal (≥ 0).
+
     Returns
     -------
-    theta : (27,) the estimated pose.
+    theta : numpy.ndarray, shape (27,)
+        The estimated pose.
 
     References
     ----------
@@ -446,13 +649,13 @@ def register_em_reference(model_points: object, data_points: object, hand: HandM
     model, data, theta, sigma_max, sigma_min = _check_common(hand, model_points, data_points, theta_init,
                                                              sigma_max, sigma_min)
     n_levels = check_positive_int(n_levels, "n_levels")
-    iterations_per_level = check_positive_int(iterations_per_level, "iterations_per_level")
+    max_iter = check_positive_int(max_iter, "max_iter")
     check_choice(targets, "targets", ("paper", "debiased"))
     binding = hand.texture_binding(model, theta, a)  # eq. (3): the texture's blend weights, fixed at Θ_init
     with one_blas_thread():
         # Sec. 3.3: σ falls geometrically from the largest motion σ_max to the noise level σ_min
         for sigma in np.geomspace(sigma_max, sigma_min, n_levels):
-            for _ in range(iterations_per_level):
+            for _ in range(max_iter):
                 moved = hand.transform_texture(binding, theta)  # T(X_i, Θ^q)
                 alpha = e_step_reference(moved, data, sigma)  # E-step, eq. (17)
                 lam, goal = m_step_targets(alpha, data)  # λ_i, G_i of eq. (20)
@@ -479,7 +682,7 @@ class _EMSetup:
     sigma_min: float
     lever: np.ndarray  # dof_lever_arms at theta_init (release_ratio)
     log_c: float  # log of the constant c of eq. (17)
-    iterations_per_level: int
+    max_iter: int
     tol: float
     sigma_mode: str
     targets: str
@@ -492,7 +695,7 @@ class _EMSetup:
 
 
 def _em_setup(hand: HandModel, model_points: object, data_points: object, theta_init: object,
-              sigma_max: float = 20.0, sigma_min: float = 3.0, n_levels: int = 5, iterations_per_level: int = 10,
+              sigma_max: float = 20.0, sigma_min: float = 3.0, n_levels: int = 5, max_iter: int = 10,
               tol: float = DEFAULT_TOL, outlier_c: float | None = None, sigma_mode: str = "anneal",
               targets: str = "paper", a: float = 2.0, gauss_newton_steps: int = 2, damping: float = 1e-3,
               chunk: int = 256, release_ratio: float | None = None, e_step: str = "dense",
@@ -503,7 +706,7 @@ def _em_setup(hand: HandModel, model_points: object, data_points: object, theta_
     if model.shape[0] == 0 or data.shape[0] == 0:
         raise ValueError("model_points and data_points must be non-empty")
     n_levels = check_positive_int(n_levels, "n_levels")
-    iterations_per_level = check_positive_int(iterations_per_level, "iterations_per_level")
+    max_iter = check_positive_int(max_iter, "max_iter")
     tol = check_positive(tol, "tol", allow_zero=True)
     check_choice(sigma_mode, "sigma_mode", ("anneal", "scaled", "estimate"))
     check_choice(targets, "targets", ("paper", "debiased"))
@@ -517,7 +720,7 @@ def _em_setup(hand: HandModel, model_points: object, data_points: object, theta_
         release_ratio = check_positive(release_ratio, "release_ratio")
     binding = hand.texture_binding(model, theta, a)
     return _EMSetup(hand, data, theta, binding, np.geomspace(sigma_max, sigma_min, n_levels), sigma_min,
-                    dof_lever_arms(hand, binding, theta), float(np.log(c)), iterations_per_level, tol, sigma_mode,
+                    dof_lever_arms(hand, binding, theta), float(np.log(c)), max_iter, tol, sigma_mode,
                     targets, gauss_newton_steps, damping, chunk, release_ratio, e_step, schedule)
 
 
@@ -543,7 +746,7 @@ def _em_levels(setup: _EMSetup, theta: np.ndarray, sigmas: np.ndarray) -> tuple[
     with one_blas_thread():  # small dense algebra: BLAS threads only contend
         for level, level_sigma in enumerate(sigmas):
             # per-step schedule: σ falls after every iteration until it reaches the last level
-            n_iterations = 1 if setup.schedule == "per-step" and level < len(sigmas) - 1 else setup.iterations_per_level
+            n_iterations = 1 if setup.schedule == "per-step" and level < len(sigmas) - 1 else setup.max_iter
             free = np.ones(hand.n_dof, bool)
             if setup.release_ratio is not None:
                 free &= setup.lever >= setup.release_ratio * level_sigma
@@ -571,7 +774,7 @@ def _em_levels(setup: _EMSetup, theta: np.ndarray, sigmas: np.ndarray) -> tuple[
 
 
 def climb_objective(model_points: object, data_points: object, hand: HandModel, theta_init: object,
-                    theta_start: object, sigma: float = 3.0, *, max_iterations: int = 60,
+                    theta_start: object, sigma: float = 3.0, *, max_iter: int = 60,
                     tol: float = 1e-5) -> np.ndarray:
     """The plain EM at one fixed σ from ``theta_start``: a climb of :func:`robust_log_likelihood`.
 
@@ -581,16 +784,36 @@ def climb_objective(model_points: object, data_points: object, hand: HandModel, 
     ``theta_init``, where it was observed, as in :func:`register_em`. Used to ask where the
     objective itself puts its maximum, e.g. started from the pose fitted with the true matches.
 
+    Parameters
+    ----------
+    model_points : array_like, shape (N, 3)
+        Texture points X_i lying on the hand at pose ``theta_init``, mm.
+    data_points : array_like, shape (M, 3)
+        Observed points Y_j (inliers and outliers), mm.
+    hand : HandModel
+        The articulated model.
+    theta_init : array_like, shape (27,)
+        Pose where the texture was observed and the EM starts, inside the joint limits.
+    theta_start : array_like, shape (27,)
+        Pose the climb starts from, inside the joint limits.
+    sigma : float, default 3.0
+        The fixed σ, mm (> 0).
+    max_iter : int, default 60
+        Most EM iterations (≥ 1).
+    tol : float, default 1e-5
+        The climb stops when no DOF moves by more than this in one iteration (rad; mm for the palm).
+
     Returns
     -------
-    theta : (27,) pose at the local maximum (or after ``max_iterations`` iterations).
+    theta : numpy.ndarray, shape (27,)
+        Pose at the local maximum (or after ``max_iter`` iterations).
 
     References
     ----------
     Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eqs. (9), (17), (20).
     """
     setup = _em_setup(hand, model_points, data_points, theta_init, sigma_max=2.0 * check_positive(sigma, "sigma"),
-                      sigma_min=sigma, n_levels=1, iterations_per_level=check_positive_int(max_iterations, "max_iterations"),
+                      sigma_min=sigma, n_levels=1, max_iter=check_positive_int(max_iter, "max_iter"),
                       tol=tol, targets="paper", e_step="dense")
     start = hand.check_theta(theta_start, "theta_start", within_limits=True)
     return _em_levels(setup, start, np.array([sigma]))[0]
@@ -607,9 +830,23 @@ _DIGIT_FLEXION = tuple(np.setdiff1d(dofs, SIDEWAYS_DOFS) for dofs in DIGIT_DOFS)
 class DigitSearchResult:
     """Result of :func:`refine_digits`.
 
-    theta : (27,) refined pose; inlier_prob : (M,) Σ_i α_ij per data point at that pose and σ_min;
-    log_likelihood : the criterion at ``theta``; start_log_likelihood : the criterion at the pose
-    the search started from; accepted : (digit name, gain of the criterion) per accepted move, in order.
+    Parameters
+    ----------
+    theta : numpy.ndarray, shape (27,)
+        The refined pose.
+    inlier_prob : numpy.ndarray, shape (M,)
+        Σ_i α_ij per data point at that pose and σ_min.
+    log_likelihood : float
+        The criterion at ``theta``, nats.
+    start_log_likelihood : float
+        The criterion at the pose the search started from, nats.
+    accepted : tuple of (str, float)
+        (digit name, gain of the criterion in nats) per accepted move, in order.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; eq. (17) (the criterion); the search itself is ours.
     """
 
     theta: np.ndarray
@@ -671,21 +908,42 @@ def refine_digits(model_points: object, data_points: object, hand: HandModel, th
 
     Parameters
     ----------
-    model_points, data_points, hand, theta_init : as for :func:`register_em` (the texture at
-        ``theta_init``, and the data).
-    theta : (27,) pose to refine, inside the joint limits (e.g. ``register_em(...).theta``).
-    search_levels : how many of the EM's last σ levels each restart runs (1 to ``n_levels``).
-    abduction_step_deg, flexion_step_deg : sizes of the digit moves, degrees (> 0).
-    max_passes : most passes over the five digits (0: only the re-run from ``theta``).
-    min_gain : smallest rise of the criterion that accepts a restart (≥ 0): a margin against
+    model_points : array_like, shape (N, 3)
+        Texture points X_i at pose ``theta_init``, mm (as for :func:`register_em`).
+    data_points : array_like, shape (M, 3)
+        Observed points Y_j, mm.
+    hand : HandModel
+        The articulated model.
+    theta_init : array_like, shape (27,)
+        Pose where the texture was observed, inside the joint limits.
+    theta : array_like, shape (27,)
+        Pose to refine, inside the joint limits (e.g. ``register_em(...).theta``).
+    search_levels : int, default 2
+        How many of the EM's last σ levels each restart runs (1 to ``n_levels``).
+    abduction_step_deg : float, default 20.0
+        Sideways swing of a digit's restarts, degrees (> 0).
+    flexion_step_deg : float, default 25.0
+        Knuckle and whole-curl flexion of a digit's restarts, degrees (> 0).
+    max_passes : int, default 2
+        Most passes over the five digits (≥ 0; 0: only the re-run from ``theta``).
+    min_gain : float, default 1.0
+        Smallest rise of the criterion that accepts a restart, nats (≥ 0): a margin against
         moves that only fit the noise.
-    **em_settings : keyword arguments of :func:`register_em` (``sigma_max``, ``sigma_min``,
+    **em_settings
+        Keyword arguments of :func:`register_em` (``sigma_max``, ``sigma_min``,
         ``n_levels``, ``targets``, ``e_step``, ...), e.g. ``**OUR_SETTINGS``; the same as the EM that
         produced ``theta``, so the restarts are that EM's last levels.
 
     Returns
     -------
     DigitSearchResult
+        The refined pose, its inlier probabilities and criterion, and the accepted moves.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; eq. (17) (the criterion); the search is
+    ours, not in the paper.
     """
     setup = _em_setup(hand, model_points, data_points, theta_init, **em_settings)
     theta = hand.check_theta(theta, "theta", within_limits=True)
@@ -729,31 +987,70 @@ def refine_digits(model_points: object, data_points: object, hand: HandModel, th
 
 
 def fit_known_correspondences(model_points: object, matched_points: object, hand: HandModel, theta_init: object,
-                              *, a: float = 2.0, n_steps: int = 30) -> np.ndarray:
+                              *, a: float = 2.0, max_iter: int = 30) -> np.ndarray:
     """Least-squares pose when every texture point's match is known: the M-step (eq. 20) with α = 1.
 
     The noise floor of point registration: no assignment can do better than the true one.
     ``matched_points`` (N, 3) are the observations of ``model_points`` (N, 3) at the unknown pose.
+
+    Parameters
+    ----------
+    model_points : array_like, shape (N, 3)
+        Texture points at ``theta_init``, mm.
+    matched_points : array_like, shape (N, 3)
+        Observation of each texture point at the unknown pose, mm.
+    hand : HandModel
+        The articulated model.
+    theta_init : array_like, shape (27,)
+        Pose of the texture and start of the fit, inside the joint limits.
+    a : float, default 2.0
+        Exponent of the bending weights of eq. (3) (> 0).
+    max_iter : int, default 30
+        Most Gauss-Newton steps (≥ 1); the fit stops earlier when a step is below 1e-6.
+
+    Returns
+    -------
+    numpy.ndarray, shape (27,)
+        The least-squares pose.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; eq. (20) with α_ij = 1 for the true pairs.
     """
     check_hand(hand)
     model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3))
     matched = as_finite_array(matched_points, "matched_points", ndim=2, shape=(len(model), 3))
     theta = hand.check_theta(theta_init, "theta_init", within_limits=True)
+    max_iter = check_positive_int(max_iter, "max_iter")
     with one_blas_thread():
         binding = hand.texture_binding(model, theta, a)
-        return _m_step(hand, binding, theta, np.ones(len(model)), matched, check_positive_int(n_steps, "n_steps"), 1e-3)
+        return _m_step(hand, binding, theta, np.ones(len(model)), matched, max_iter, 1e-3)
 
 
 @dataclass(frozen=True)
 class SurfaceFitResult:
-    """Result of :func:`fit_surface`: pose and RMS point-to-surface distance (mm)."""
+    """Result of :func:`fit_surface`.
+
+    Parameters
+    ----------
+    theta : numpy.ndarray, shape (27,)
+        The refined pose.
+    rms_distance : float
+        Weighted RMS point-to-surface distance at that pose, mm.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; Sec. 3.4, eqs. (21)-(22).
+    """
 
     theta: np.ndarray
     rms_distance: float
 
 
 def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, weights: object = None,
-                sigma: float | None = 3.0, n_steps: int = 3, damping: float = 1e-2,
+                sigma: float | None = 3.0, max_iter: int = 3, damping: float = 1e-2,
                 epsilon_mm: float | None = None) -> SurfaceFitResult:
     """Refine Θ by minimising Σ_j β_j d(Y_j, Θ)² (Sec. 3.4, eq. 21; d from eq. 2).
 
@@ -765,6 +1062,35 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
     stops early when no step helps. ``weights`` (per data point, e.g. the EM inlier
     probabilities) multiply β_j. With ``epsilon_mm`` each step uses only the points within ε of
     the current surface.
+
+    Parameters
+    ----------
+    data_points : array_like, shape (M, 3)
+        Data points Y_j, mm; at least one.
+    hand : HandModel
+        The articulated model.
+    theta_init : array_like, shape (27,)
+        Start pose, inside the joint limits.
+    weights : array_like, shape (M,), optional
+        Non-negative per-point weights multiplying β_j (None: all 1).
+    sigma : float or None, default 3.0
+        σ of eq. (22), mm (> 0); None drops eq. (22).
+    max_iter : int, default 3
+        Most Gauss-Newton steps (≥ 0); the fit stops earlier when no step lowers the loss.
+    damping : float, default 1e-2
+        Initial Levenberg-Marquardt damping, relative to the normal equations' diagonal.
+    epsilon_mm : float or None, default None
+        Use only the points within this distance of the current surface, mm (> 0); None: all.
+
+    Returns
+    -------
+    SurfaceFitResult
+        The refined pose and its weighted RMS distance.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; Sec. 3.4, eqs. (2), (21)-(22).
     """
     check_hand(hand)
     data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3))
@@ -778,7 +1104,7 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
         sigma = check_positive(sigma, "sigma")
     if epsilon_mm is not None:
         epsilon_mm = check_positive(epsilon_mm, "epsilon_mm")
-    n_steps = check_positive_int(n_steps, "n_steps", minimum=0)
+    max_iter = check_positive_int(max_iter, "max_iter", minimum=0)
     limits = hand.joint_limits()
 
     def step_weights(dist: np.ndarray) -> np.ndarray:
@@ -795,7 +1121,7 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
     with one_blas_thread():
         dist, jac = hand.surface_distance_jacobian(data, theta)
         current = cost(dist)
-        for _ in range(n_steps):
+        for _ in range(max_iter):
             sqrt_w = np.sqrt(step_weights(dist))
             jac_w = sqrt_w[:, None] * jac
             normal = jac_w.T @ jac_w
@@ -818,7 +1144,20 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
 
 @dataclass(frozen=True)
 class SoftAssignResult:
-    """Result of :func:`softassign_register`: pose and per-data-point match mass (1 - slack)."""
+    """Result of :func:`softassign_register`.
+
+    Parameters
+    ----------
+    theta : numpy.ndarray, shape (27,)
+        The estimated pose.
+    inlier_prob : numpy.ndarray, shape (M,)
+        Match mass per data point (1 - its slack entry), in [0, 1].
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; Sec. 4 (the SoftAssign comparison).
+    """
 
     theta: np.ndarray
     inlier_prob: np.ndarray
@@ -826,12 +1165,51 @@ class SoftAssignResult:
 
 def softassign_register(model_points: object, data_points: object, hand: HandModel, theta_init: object,
                         sigma_max: float = 20.0, sigma_min: float = 2.0, *, slack: float = 1e-2,
-                        n_levels: int = 5, iterations_per_level: int = 3, sinkhorn_iterations: int = 30,
+                        n_levels: int = 5, n_iter: int = 3, n_sweeps: int = 30,
                         a: float = 2.0) -> SoftAssignResult:
     """SoftAssign (Gold, Rangarajan et al.) baseline of Sec. 4, Sinkhorn in the log domain.
 
     The (N+1)x(M+1) match matrix has a slack row and column initialised to ``slack``; rows and
     columns (except the slack ones) are alternately normalised to sum 1. Dense: O(N·M) memory.
+
+    Parameters
+    ----------
+    model_points : array_like, shape (N, 3)
+        Texture points X_i lying on the hand at pose ``theta_init``, mm.
+    data_points : array_like, shape (M, 3)
+        Observed points Y_j (inliers and outliers), mm.
+    hand : HandModel
+        The articulated model.
+    theta_init : array_like, shape (27,)
+        Pose where the texture was observed and the EM starts, inside the joint limits.
+    sigma_max : float, default 20.0
+        Largest σ of the annealing, mm (> ``sigma_min``).
+    sigma_min : float, default 2.0
+        Smallest σ, mm (> 0).
+    slack : float, default 1e-2
+        Initial slack entry (> 0).
+    n_levels : int, default 5
+        Number of geometric σ levels (≥ 1).
+    n_iter : int, default 3
+        Match-and-pose iterations at each σ level (≥ 1).
+    n_sweeps : int, default 30
+        Sinkhorn row-and-column normalisation sweeps per iteration (≥ 1).
+    a : float, default 2.0
+        Exponent of the bending weights of eq. (3) (> 0).
+
+    Returns
+    -------
+    SoftAssignResult
+        Pose and match mass per data point.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; Sec. 4.
+
+    Gold & Rangarajan, "A graduated assignment algorithm for graph matching", IEEE TPAMI 18 (1996)
+    377-388; Rangarajan, Chui & Bookstein, "The softassign Procrustes matching algorithm", IPMI 1997,
+    29-42 (the paper's [11], [12]).
     """
     model, data, theta, sigma_max, sigma_min = _check_common(hand, model_points, data_points,
                                                              theta_init, sigma_max, sigma_min)
@@ -839,18 +1217,18 @@ def softassign_register(model_points: object, data_points: object, hand: HandMod
         raise ValueError("model_points and data_points must be non-empty")
     slack = check_positive(slack, "slack")
     n_levels = check_positive_int(n_levels, "n_levels")
-    iterations_per_level = check_positive_int(iterations_per_level, "iterations_per_level")
-    sinkhorn_iterations = check_positive_int(sinkhorn_iterations, "sinkhorn_iterations")
+    n_iter = check_positive_int(n_iter, "n_iter")
+    n_sweeps = check_positive_int(n_sweeps, "n_sweeps")
     binding = hand.texture_binding(model, theta, a)
     n_model, n_data = len(model), len(data)
     inlier_prob = np.zeros(n_data)
     for sigma in np.geomspace(sigma_max, sigma_min, n_levels):
-        for _ in range(iterations_per_level):
+        for _ in range(n_iter):
             moved = hand.transform_texture(binding, theta)
             sq = np.sum((moved[:, None, :] - data[None, :, :]) ** 2, axis=2)
             log_m = np.full((n_model + 1, n_data + 1), np.log(slack))
             log_m[:n_model, :n_data] = -sq / (2 * sigma**2)
-            for _ in range(sinkhorn_iterations):
+            for _ in range(n_sweeps):
                 log_m[:n_model] -= logsumexp(log_m[:n_model], axis=1, keepdims=True)
                 log_m[:, :n_data] -= logsumexp(log_m[:, :n_data], axis=0, keepdims=True)
             match = np.exp(log_m[:n_model, :n_data])
