@@ -63,7 +63,7 @@ def docstring_problems(subpackage: str) -> list[str]:
 
 #: Subpackages whose docstrings are not yet complete: expected to fail, strictly, so the entry must
 #: be removed once its docstrings pass.
-PENDING: set[str] = {"em_articulated", "ear_biometrics", "face_glmm"}
+PENDING: set[str] = {"ear_biometrics", "face_glmm"}
 
 
 @pytest.mark.parametrize(
