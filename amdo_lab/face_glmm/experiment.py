@@ -78,7 +78,7 @@ def reduced_design() -> FactorialDesign:
                            shape=(32, 28))
 
 
-def make_supplement(images: np.ndarray, kind: str, rng: np.random.Generator) -> np.ndarray:
+def make_supplement(images: np.ndarray, kind: str, *, rng: int | np.random.Generator) -> np.ndarray:
     """One altered copy per preprocessed training image (Sec. 4's three supplements).
 
     shift: one pixel to the left (the vacated column is 0, the masked background);
@@ -87,9 +87,7 @@ def make_supplement(images: np.ndarray, kind: str, rng: np.random.Generator) -> 
     ``images`` is ``(n, rows, cols)``; ``rng`` (a generator or an int seed) is used by "noise" only.
     """
     images = as_finite_array(images, "images", ndim=3)
-    if kind == "noise":
-        rng = make_rng(rng)
-    return _make_supplement(images, kind, rng)
+    return _make_supplement(images, kind, make_rng(rng, "rng"))
 
 
 def _make_supplement(images: np.ndarray, kind: str, rng: np.random.Generator) -> np.ndarray:
@@ -142,16 +140,16 @@ class ExperimentDraws:
     noise_rngs: list
 
 
-def experiment_draws(design: FactorialDesign, rng: int | np.random.Generator) -> ExperimentDraws:
+def experiment_draws(design: FactorialDesign, *, rng: int | np.random.Generator) -> ExperimentDraws:
     """The population, training sets and galleries that :func:`run_factorial_experiment` uses.
 
     Same seed, same draws: the chapter uses it to recompute one row of the table by hand.
     """
     if not isinstance(design, FactorialDesign):
         raise TypeError(f"design must be a FactorialDesign, got {type(design).__name__}")
-    gen = make_rng(rng)
+    gen = make_rng(rng, "rng")
     pop_rng, split_rng, gallery_rng, noise_seed = gen.spawn(4)
-    pop = generate_face_population(design.n_subjects, 4, pop_rng, shape=design.shape,
+    pop = generate_face_population(design.n_subjects, 4, rng=pop_rng, shape=design.shape,
                                    nuisance=design.nuisance, **design.population_kwargs)
     n = design.n_subjects
     training_sets = np.stack([split_rng.permutation(n)[: design.n_train_subjects]
@@ -161,7 +159,7 @@ def experiment_draws(design: FactorialDesign, rng: int | np.random.Generator) ->
     return ExperimentDraws(pop, training_sets, gallery_choice, noise_rngs)
 
 
-def run_factorial_experiment(design: FactorialDesign, rng: int | np.random.Generator) -> pd.DataFrame:
+def run_factorial_experiment(design: FactorialDesign, *, rng: int | np.random.Generator) -> pd.DataFrame:
     """Run the balanced factorial experiment and return the response table.
 
     Parameters
@@ -181,7 +179,7 @@ def run_factorial_experiment(design: FactorialDesign, rng: int | np.random.Gener
 
 
 def _run(design: FactorialDesign, rng) -> pd.DataFrame:
-    draws = experiment_draws(design, rng)
+    draws = experiment_draws(design, rng=rng)
     pop, training_sets, gallery_choice, noise_rngs = (draws.population, draws.training_sets,
                                                       draws.gallery_choice, draws.noise_rngs)
     n = design.n_subjects

@@ -67,8 +67,8 @@ def _blob(x, y, cx, cy, sx, sy):
 def generate_face_population(
     n_subjects: int,
     images_per_subject: int,
-    rng: int | np.random.Generator,
     *,
+    rng: int | np.random.Generator,
     shape: tuple[int, int] = STANDARD_SHAPE,
     nuisance: float = 1.0,
     difficulty_spread: float = 0.25,
@@ -112,7 +112,7 @@ def generate_face_population(
     difficulty_spread = check_positive(difficulty_spread, "difficulty_spread", allow_zero=True)
     noise_sd = check_positive(noise_sd, "noise_sd", allow_zero=True)
     _check_image_shape(shape, minimum=8)
-    gen = make_rng(rng)
+    gen = make_rng(rng, "rng")
     rows, cols = int(shape[0]), int(shape[1])
     n_img = n_subjects * images_per_subject
     labels = np.repeat(np.arange(n_subjects), images_per_subject)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import numbers
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -17,7 +16,7 @@ __all__ = ["simulate_binomial_glmm", "RecoverySummary", "summarise_recovery", "r
 
 
 def simulate_binomial_glmm(table: pd.DataFrame, fixed: str, coefficients: np.ndarray,
-                           variances: dict, trials: int, rng) -> np.ndarray:
+                           variances: dict, trials: int, *, rng: int | np.random.Generator) -> np.ndarray:
     """Draw Y ~ Bin(trials, expit(X beta + sum_k b_k)), b_k ~ N(0, variances[k]) per level.
 
     ``coefficients`` has one finite entry per design column; ``variances`` maps grouping terms to
@@ -25,7 +24,7 @@ def simulate_binomial_glmm(table: pd.DataFrame, fixed: str, coefficients: np.nda
     """
     trials = check_positive_int(trials, "trials")
     _check_variances(variances)
-    gen = make_rng(rng)
+    gen = make_rng(rng, "rng")
     _, terms = parse_formula(fixed)
     x = build_design(table, terms).matrix
     coefficients = as_finite_array(coefficients, "coefficients", shape=(x.shape[1],))
@@ -69,7 +68,7 @@ def summarise_recovery(true: pd.Series, estimates: np.ndarray, ses: np.ndarray, 
 
 
 def recovery_study(table: pd.DataFrame, fixed: str, coefficients: pd.Series, variances: dict,
-                   n_replicates: int, rng, trials: int = 30, level: float = 0.95) -> tuple[RecoverySummary, pd.DataFrame]:
+                   n_replicates: int, *, rng: int | np.random.Generator, trials: int = 30, level: float = 0.95) -> tuple[RecoverySummary, pd.DataFrame]:
     """Simulate ``n_replicates`` responses from known effects, refit each, summarise.
 
     Returns the per-coefficient summary and a frame of fitted variance components.
@@ -78,8 +77,7 @@ def recovery_study(table: pd.DataFrame, fixed: str, coefficients: pd.Series, var
     from amdo_lab.face_glmm.glmm import fit_binomial_glmm
 
     # Everything is checked before the first (slow) refit.
-    if isinstance(rng, bool) or not isinstance(rng, numbers.Integral):
-        raise TypeError(f"rng must be an int seed for recovery_study, got {type(rng).__name__}")
+    gen = make_rng(rng, "rng")
     if not isinstance(table, pd.DataFrame):
         raise TypeError(f"table must be a pandas DataFrame, got {type(table).__name__}")
     if not isinstance(coefficients, pd.Series):
@@ -91,8 +89,9 @@ def recovery_study(table: pd.DataFrame, fixed: str, coefficients: pd.Series, var
     check_positive_int(trials, "trials")
     _check_level(level)
     estimates, ses, components = [], [], []
-    for gen in spawn_rngs(rng, n_replicates):
-        sim = table.assign(Y=simulate_binomial_glmm(table, fixed, coefficients.to_numpy(), variances, trials, gen))
+    for replicate_rng in spawn_rngs(gen, n_replicates):
+        sim = table.assign(Y=simulate_binomial_glmm(table, fixed, coefficients.to_numpy(), variances, trials,
+                                                    rng=replicate_rng))
         fit = fit_binomial_glmm(sim, fixed, list(variances), trials)
         estimates.append(fit.coefficients.to_numpy())
         ses.append(np.sqrt(np.diag(fit.covariance.to_numpy())))
