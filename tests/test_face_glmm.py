@@ -255,7 +255,7 @@ def test_glmm_bad_inputs(simulated):
         fit_binomial_glmm(cat, "Y ~ M", ["p"], 30)
     with pytest.raises(ValueError, match="not in table"):
         fit_binomial_glmm(table, "Y ~ Q", ["p"], 30)
-    with pytest.raises(ValueError, match="trials"):
+    with pytest.raises(ValueError, match="n_trials"):
         fit_binomial_glmm(table, "Y ~ M", ["p"], 0)
     with pytest.raises(TypeError, match="table"):
         fit_binomial_glmm(table.to_numpy(), "Y ~ M", ["p"], 30)
@@ -287,7 +287,7 @@ def test_fast_laplace_deviance_equals_dense_reference(random):
         pd.MultiIndex.from_frame(table[term.split(":")].astype(str)), sort=True)[0] for term in random)]
     z = np.hstack([np.eye(g.max() + 1)[g] for g in groups])
     lam = np.concatenate([np.full(g.max() + 1, sd) for g, sd in zip(groups, theta)])
-    ref_beta, _, ref_value, _ = _laplace_deviance_reference(problem.y, problem.trials, problem.x, z, lam)
+    ref_beta, _, ref_value, _ = _laplace_deviance_reference(problem.y, problem.n_trials, problem.x, z, lam)
     assert value == pytest.approx(ref_value, rel=1e-10)
     np.testing.assert_allclose(beta, ref_beta, atol=1e-8)
 
@@ -468,9 +468,9 @@ _COUNTS = _RNG.integers(0, 30, 20).astype(float)
     (lambda: fg.binomial_deviance(np.full(20, np.nan), np.full(20, 30.0), np.zeros(20)), ValueError, "y must be finite"),
     (lambda: fg.binomial_deviance(_COUNTS, np.full(20, 30.0), np.full(20, np.inf)), ValueError, "eta must be finite"),
     (lambda: fg.binomial_deviance(_COUNTS, np.full(20, 30.0), np.zeros(3)), ValueError, r"eta must have shape \(20,\)"),
-    (lambda: fg.binomial_deviance(_COUNTS + 40, 30.0, np.zeros(20)), ValueError, r"y must hold counts in \[0, trials\]"),
-    (lambda: fg.binomial_deviance(_COUNTS, 0.0, np.zeros(20)), ValueError, "trials must be positive"),
-    (lambda: fg.binomial_deviance(_COUNTS, np.full(3, 30.0), np.zeros(20)), ValueError, "trials must be a number or have the shape of y"),
+    (lambda: fg.binomial_deviance(_COUNTS + 40, 30.0, np.zeros(20)), ValueError, r"y must hold counts in \[0, n_trials\]"),
+    (lambda: fg.binomial_deviance(_COUNTS, 0.0, np.zeros(20)), ValueError, "n_trials must be positive"),
+    (lambda: fg.binomial_deviance(_COUNTS, np.full(3, 30.0), np.zeros(20)), ValueError, "n_trials must be a number or have the shape of y"),
     (lambda: fg.pca_basis(np.full((4, 5), np.nan)), ValueError, "samples must be finite"),
     (lambda: fg.pca_basis(np.ones((1, 5))), ValueError, "samples must have at least 2 rows"),
     (lambda: fg.pca_basis(np.ones((4, 5, 2))), ValueError, "samples must have 2 dimensions"),
@@ -569,8 +569,8 @@ def fitted(simulated, population, reduced_table):
     (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], {"p": -1.0}, 30, rng=0), ValueError,
      r"variances\['p'\] must be non-negative"),
     (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], ["p"], 30, rng=0), TypeError, "variances must map grouping terms"),
-    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], {}, 2.5, rng=0), TypeError, "trials must be an int"),
-    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], {}, 0, rng=0), ValueError, "trials must be at least 1"),
+    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], {}, 2.5, rng=0), TypeError, "n_trials must be an int"),
+    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], {}, 0, rng=0), ValueError, "n_trials must be at least 1"),
     (lambda f: fg.recovery_study(f.table, "Y ~ M * D + U", f.fit.coefficients, f.variances, 0, rng=1), ValueError,
      "n_replicates must be at least 1"),
     (lambda f: fg.recovery_study(f.table, "Y ~ M * D + U", f.fit.coefficients, f.variances, 1, rng=True), TypeError,
@@ -581,15 +581,15 @@ def fitted(simulated, population, reduced_table):
      "coefficients must be a pandas Series"),
     (lambda f: fg.recovery_study(f.table, "Y ~ M * D + U", f.fit.coefficients, {}, 1, rng=1), ValueError,
      "variances must name at least one"),
-    (lambda f: fg.fit_gee_exchangeable(f.table, "Y ~ M", trials=0), ValueError, "trials must be at least 1"),
+    (lambda f: fg.fit_gee_exchangeable(f.table, "Y ~ M", n_trials=0), ValueError, "n_trials must be at least 1"),
     (lambda f: fg.fit_gee_exchangeable(f.table, "Y ~ M", group="q"), ValueError, "group 'q' is not a column of table"),
     (lambda f: fg.fit_gee_exchangeable(f.table.assign(Y=f.table.Y + 100), "Y ~ M"), ValueError,
-     r"response 'Y' must hold integer counts in \[0, trials=30\]"),
+     r"response 'Y' must hold integer counts in \[0, n_trials=30\]"),
     (lambda f: fg.fit_naive_logistic(f.table.assign(Y=np.where(f.table.index == 0, np.nan, f.table.Y)), "Y ~ M"),
      ValueError, "response 'Y' must be finite counts"),
     (lambda f: fg.fit_naive_logistic(f.table, "Z ~ M"), ValueError, "response 'Z' is not a column of table"),
-    (lambda f: fg.fit_naive_logistic(f.table, "Y ~ M", trials=2.5), TypeError, "trials must be an int"),
-    (lambda f: fit_with_lme4(f.table, "Y ~ M", ["p"], trials=0), ValueError, "trials must be at least 1"),
+    (lambda f: fg.fit_naive_logistic(f.table, "Y ~ M", n_trials=2.5), TypeError, "n_trials must be an int"),
+    (lambda f: fit_with_lme4(f.table, "Y ~ M", ["p"], n_trials=0), ValueError, "n_trials must be at least 1"),
     (lambda f: fit_with_lme4(f.table, "Y ~ M", ["q"]), ValueError, "random term 'q' names columns not in table"),
     (lambda f: PcaLda().fit(f.images, f.labels, basis="basis"), TypeError, "basis must be a PcaBasis"),
     (lambda f: PcaLda().fit(f.images, f.labels, basis=fg.pca_basis(f.images.reshape(len(f.images), -1)[:, :10])),

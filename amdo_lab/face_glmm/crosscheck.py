@@ -21,11 +21,11 @@ suppressMessages(library(lme4))
 args <- commandArgs(trailingOnly = TRUE)
 d <- read.csv(args[1], stringsAsFactors = FALSE)
 spec <- readLines(args[2])
-fixed <- spec[1]; random <- spec[2]; trials <- as.numeric(spec[3]); factors <- strsplit(spec[4], ",")[[1]]
+fixed <- spec[1]; random <- spec[2]; n_trials <- as.numeric(spec[3]); factors <- strsplit(spec[4], ",")[[1]]
 for (f in factors) { lev <- strsplit(spec[4 + match(f, factors)], "|", fixed = TRUE)[[1]]
   d[[f]] <- factor(d[[f]], levels = lev); contrasts(d[[f]]) <- contr.sum(length(lev)) }
 for (g in c("t", "p")) if (!is.null(d[[g]])) d[[g]] <- factor(d[[g]])
-d$FAIL <- trials - d$Y
+d$FAIL <- n_trials - d$Y
 form <- as.formula(paste("cbind(Y, FAIL) ~", fixed, "+", random))
 t0 <- proc.time()
 m <- glmer(form, data = d, family = binomial, nAGQ = 0)
@@ -49,7 +49,7 @@ def lme4_available() -> bool:
     return done.returncode == 0
 
 
-def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), trials: int = 30) -> dict:
+def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), n_trials: int = 30) -> dict:
     """Fit ``glmer(cbind(Y, n-Y) ~ fixed + (1|...), nAGQ=0)`` with sum-to-zero contrasts.
 
     Returns a dict with ``coefficients`` (same column order as our design for formulas
@@ -57,7 +57,7 @@ def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), tri
     ``variance_components`` (term -> variance), ``seconds`` (R's elapsed fit time) and
     ``cpu_seconds`` (R's user + system CPU time of the fit).
     """
-    design, _ = _design_and_response(table, fixed, trials)
+    design, _ = _design_and_response(table, fixed, n_trials)
     random = _check_random_terms(random)
     for term in random:
         group_indices(table, term)  # its columns exist and have no missing values
@@ -73,7 +73,7 @@ def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), tri
         frame = table[columns].astype({v: str for v in factors}).copy()
         frame["Y"] = table[response].to_numpy()
         frame.to_csv(data_path, index=False)
-        lines = [rhs, random_part, str(trials), ",".join(factors)]
+        lines = [rhs, random_part, str(n_trials), ",".join(factors)]
         lines += ["|".join(map(str, design.levels[v])) for v in factors]
         spec_path.write_text("\n".join(lines) + "\n")
         script_path.write_text(_R_SCRIPT)
@@ -95,17 +95,17 @@ def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), tri
     }
 
 
-def _design_and_response(table: object, fixed: str, trials: object) -> tuple:
-    """The fixed design and the response counts, after checking the table and ``trials``."""
+def _design_and_response(table: object, fixed: str, n_trials: object) -> tuple:
+    """The fixed design and the response counts, after checking the table and ``n_trials``."""
     if not isinstance(table, pd.DataFrame):
         raise TypeError(f"table must be a pandas DataFrame, got {type(table).__name__}")
-    trials = check_positive_int(trials, "trials")
+    n_trials = check_positive_int(n_trials, "n_trials")
     response, terms = parse_formula(fixed)
-    y = _response_counts(table, response, trials)  # proportions above 1 would not be refused by statsmodels
+    y = _response_counts(table, response, n_trials)  # proportions above 1 would not be refused by statsmodels
     return build_design(table, terms), y
 
 
-def fit_gee_exchangeable(table: pd.DataFrame, fixed: str, group: str = "p", trials: int = 30,
+def fit_gee_exchangeable(table: pd.DataFrame, fixed: str, group: str = "p", n_trials: int = 30,
                          correlation: str = "exchangeable") -> pd.DataFrame:
     """Population-averaged fit: statsmodels GEE, binomial proportions, working correlation within ``group``.
 
@@ -116,11 +116,11 @@ def fit_gee_exchangeable(table: pd.DataFrame, fixed: str, group: str = "p", tria
 
     check_choice(correlation, "correlation", ("exchangeable", "independence"))
     structure = sm.cov_struct.Exchangeable() if correlation == "exchangeable" else sm.cov_struct.Independence()
-    design, y = _design_and_response(table, fixed, trials)
+    design, y = _design_and_response(table, fixed, n_trials)
     if group not in table.columns:
         raise ValueError(f"group {group!r} is not a column of table")
     order = np.argsort(table[group].to_numpy(), kind="stable")
-    model = sm.GEE(y[order] / trials, design.matrix[order], groups=table[group].to_numpy()[order],
+    model = sm.GEE(y[order] / n_trials, design.matrix[order], groups=table[group].to_numpy()[order],
                    family=sm.families.Binomial(), cov_struct=structure)
     # statsmodels' logit-link derivative overflows harmlessly for cells with p ~ 1
     with np.errstate(over="ignore", invalid="ignore"):
@@ -130,11 +130,11 @@ def fit_gee_exchangeable(table: pd.DataFrame, fixed: str, group: str = "p", tria
     return frame
 
 
-def fit_naive_logistic(table: pd.DataFrame, fixed: str, trials: int = 30) -> pd.DataFrame:
+def fit_naive_logistic(table: pd.DataFrame, fixed: str, n_trials: int = 30) -> pd.DataFrame:
     """Ordinary binomial GLM ignoring all grouping (the naive analysis)."""
     import statsmodels.api as sm
 
-    design, y = _design_and_response(table, fixed, trials)
-    endog = np.column_stack([y, trials - y])
+    design, y = _design_and_response(table, fixed, n_trials)
+    endog = np.column_stack([y, n_trials - y])
     fitted = sm.GLM(endog, design.matrix, family=sm.families.Binomial()).fit()
     return pd.DataFrame({"estimate": fitted.params, "se": fitted.bse}, index=list(design.column_names))

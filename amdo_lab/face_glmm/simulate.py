@@ -16,13 +16,13 @@ __all__ = ["simulate_binomial_glmm", "RecoverySummary", "summarise_recovery", "r
 
 
 def simulate_binomial_glmm(table: pd.DataFrame, fixed: str, coefficients: np.ndarray,
-                           variances: dict, trials: int, *, rng: int | np.random.Generator) -> np.ndarray:
-    """Draw Y ~ Bin(trials, expit(X beta + sum_k b_k)), b_k ~ N(0, variances[k]) per level.
+                           variances: dict, n_trials: int, *, rng: int | np.random.Generator) -> np.ndarray:
+    """Draw Y ~ Bin(n_trials, expit(X beta + sum_k b_k)), b_k ~ N(0, variances[k]) per level.
 
     ``coefficients`` has one finite entry per design column; ``variances`` maps grouping terms to
-    finite non-negative variances; ``trials`` is a positive int.
+    finite non-negative variances; ``n_trials`` is a positive int.
     """
-    trials = check_positive_int(trials, "trials")
+    n_trials = check_positive_int(n_trials, "n_trials")
     _check_variances(variances)
     gen = make_rng(rng, "rng")
     _, terms = parse_formula(fixed)
@@ -32,7 +32,7 @@ def simulate_binomial_glmm(table: pd.DataFrame, fixed: str, coefficients: np.nda
     for term, variance in variances.items():
         idx = group_indices(table, term)
         eta = eta + np.sqrt(variance) * gen.standard_normal(idx.max() + 1)[idx]
-    return gen.binomial(trials, expit(eta))
+    return gen.binomial(n_trials, expit(eta))
 
 
 @dataclass(frozen=True)
@@ -68,7 +68,7 @@ def summarise_recovery(true: pd.Series, estimates: np.ndarray, ses: np.ndarray, 
 
 
 def recovery_study(table: pd.DataFrame, fixed: str, coefficients: pd.Series, variances: dict,
-                   n_replicates: int, *, rng: int | np.random.Generator, trials: int = 30, level: float = 0.95) -> tuple[RecoverySummary, pd.DataFrame]:
+                   n_replicates: int, *, rng: int | np.random.Generator, n_trials: int = 30, level: float = 0.95) -> tuple[RecoverySummary, pd.DataFrame]:
     """Simulate ``n_replicates`` responses from known effects, refit each, summarise.
 
     Returns the per-coefficient summary and a frame of fitted variance components.
@@ -86,13 +86,13 @@ def recovery_study(table: pd.DataFrame, fixed: str, coefficients: pd.Series, var
     if not variances:
         raise ValueError("variances must name at least one grouping term (the refits need a random effect)")
     n_replicates = check_positive_int(n_replicates, "n_replicates")
-    check_positive_int(trials, "trials")
+    check_positive_int(n_trials, "n_trials")
     _check_level(level)
     estimates, ses, components = [], [], []
     for replicate_rng in spawn_rngs(gen, n_replicates):
-        sim = table.assign(Y=simulate_binomial_glmm(table, fixed, coefficients.to_numpy(), variances, trials,
+        sim = table.assign(Y=simulate_binomial_glmm(table, fixed, coefficients.to_numpy(), variances, n_trials,
                                                     rng=replicate_rng))
-        fit = fit_binomial_glmm(sim, fixed, list(variances), trials)
+        fit = fit_binomial_glmm(sim, fixed, list(variances), n_trials)
         estimates.append(fit.coefficients.to_numpy())
         ses.append(np.sqrt(np.diag(fit.covariance.to_numpy())))
         components.append(fit.variance_components)
