@@ -45,9 +45,21 @@ def experiment_cache_key(design: FactorialDesign, *, rng: int | np.random.Genera
     Parameters
     ----------
     design : FactorialDesign
+        The experiment's sizes and population settings.
     rng : int or numpy.random.Generator
-    modules : sequence of modules or dotted names
-        Whose source text enters the key (default :data:`RESULT_MODULES`); the order matters.
+        The experiment's seed: a non-negative int, keyed as the number, or a generator, keyed on its
+        seed sequence (entropy, spawn key, children spawned) and its bit generator's state.
+    modules : sequence of modules or dotted names, default RESULT_MODULES
+        Whose source text enters the key; the order matters.
+
+    Returns
+    -------
+    str
+        16 lowercase hexadecimal digits (the start of a SHA-256 digest).
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Sec. 4 and Table 1 (the experiment the key stands for).
     """
     _check_design(design)
     digest = hashlib.sha256()
@@ -60,10 +72,31 @@ def experiment_cache_key(design: FactorialDesign, *, rng: int | np.random.Genera
 
 def load_or_run_experiment(design: FactorialDesign, cache_dir: str | Path, *,
                            rng: int | np.random.Generator) -> tuple[pd.DataFrame, bool]:
-    """Return ``(table, loaded_from_cache)`` for :func:`run_factorial_experiment` ``(design, rng=rng)``.
+    """Return the table of :func:`run_factorial_experiment` from the cache, or compute and store it.
 
     The table is read from ``cache_dir`` when a file with the same :func:`experiment_cache_key`
-    exists, and otherwise computed and written there.
+    exists, and otherwise computed and written there. A generator passed as ``rng`` is advanced
+    (it spawns the experiment's streams) only when the table is computed.
+
+    Parameters
+    ----------
+    design : FactorialDesign
+        The experiment's sizes and population settings.
+    cache_dir : str or pathlib.Path
+        Directory of the cached tables (created when absent).
+    rng : int or numpy.random.Generator
+        Seed or generator of the experiment (via :func:`amdo_lab.common.make_rng`).
+
+    Returns
+    -------
+    table : pandas.DataFrame
+        The response table (see :func:`run_factorial_experiment`).
+    loaded_from_cache : bool
+        True when the table was read, False when it was computed.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Sec. 4 and Table 1 (the factorial experiment).
     """
     _check_design(design)
     if not isinstance(cache_dir, (str, os.PathLike)):
