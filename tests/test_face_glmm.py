@@ -153,7 +153,7 @@ def test_pcalda_bad_inputs(population):
     with pytest.raises(ValueError, match="metric"):
         PcaLda().fit(imgs, population.labels).distances(imgs[:2], imgs[2:4], metric="l1")
     with pytest.raises(ValueError, match="pca_dimension"):
-        PcaLda("e95")
+        PcaLda("e95").fit(imgs, population.labels)
 
 
 # --- the factorial experiment ----------------------------------------------------------
@@ -482,11 +482,12 @@ _COUNTS = _RNG.integers(0, 30, 20).astype(float)
     (lambda: fg.weighted_sq_distances(_A, _B, np.ones(3)), ValueError, r"weights must have shape \(4,\)"),
     (lambda: fg.weighted_sq_distances(np.full((3, 4), np.nan), _B, np.ones(4)), ValueError, "a must be finite"),
     (lambda: fg.weighted_sq_distances(_A, _B, -np.ones(4)), ValueError, "weights must be non-negative"),
-    (lambda: PcaLda(True), ValueError, "pca_dimension must be a positive int"),
-    (lambda: PcaLda("fixed", 0), ValueError, "base_images_per_class must be at least 1"),
-    (lambda: PcaLda("fixed", 2.7), TypeError, "base_images_per_class must be an int"),
-    (lambda: PcaLda().transform(np.ones((2, 10))), ValueError, "the PcaLda must be fitted"),
-    (lambda: PcaLda().metric_weights("l2"), ValueError, "the PcaLda must be fitted"),
+    (lambda: PcaLda(True).fit(np.ones((4, 10)), [0, 0, 1, 1]), ValueError, "pca_dimension must be a positive int"),
+    (lambda: PcaLda("fixed", 0).fit(np.ones((4, 10)), [0, 0, 1, 1]), ValueError,
+     "base_images_per_class must be at least 1"),
+    (lambda: PcaLda("fixed", 2.7).fit(np.ones((4, 10)), [0, 0, 1, 1]), TypeError, "base_images_per_class must be an int"),
+    (lambda: PcaLda().transform(np.ones((2, 10))), ValueError, "this PcaLda is not fitted yet"),
+    (lambda: PcaLda().metric_weights("l2"), ValueError, "this PcaLda is not fitted yet"),
     (lambda: elliptical_mask((6.5, 5)), TypeError, r"shape\[0\] must be an int"),
     (lambda: elliptical_mask((6, 5, 3)), ValueError, r"shape must be a pair \(rows, cols\)"),
     (lambda: elliptical_mask((0, 5)), ValueError, r"shape\[0\] must be at least 1"),
@@ -660,3 +661,18 @@ def test_recovery_study_accepts_a_generator_with_the_seed_s_streams():
     by_seed, _ = fg_module.recovery_study(table, "Y ~ M", coefficients, {"p": 0.5}, 2, rng=4)
     by_generator, _ = fg_module.recovery_study(table, "Y ~ M", coefficients, {"p": 0.5}, 2, rng=make_rng(4))
     pd.testing.assert_frame_equal(by_seed.table, by_generator.table)
+
+
+def test_pcalda_follows_the_estimator_contract(population):
+    """Parameters stored as given (checked in fit), fit returns self, NotFittedError before fit."""
+    from sklearn.exceptions import NotFittedError
+
+    dimension = np.int64(20)
+    model = PcaLda(dimension, base_images_per_class=3)
+    assert model.pca_dimension is dimension and model.base_images_per_class == 3
+    PcaLda("e95")  # a bad parameter is refused by fit, not by the constructor
+    with pytest.raises(NotFittedError):
+        model.transform(np.ones((2, 480)))
+    imgs = preprocess_images(population.images)
+    assert model.fit(imgs, population.labels) is model
+    assert model.n_pca_ == 20 and model.projection_.shape == (imgs[0].size, min(20, population.n_subjects - 1))

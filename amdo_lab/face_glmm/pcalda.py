@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive_int
+from amdo_lab.common import as_finite_array, check_choice, check_fitted, check_in_range, check_positive_int
 
 __all__ = ["PcaLda", "PcaBasis", "pca_basis", "e90_dimension", "fisher_basis", "METRICS"]
 
@@ -157,13 +157,9 @@ class PcaLda:
     """
 
     def __init__(self, pca_dimension: int | str = "fixed", base_images_per_class: int = 3):
-        if isinstance(pca_dimension, str):
-            check_choice(pca_dimension, "pca_dimension", ("fixed", "e90"))
-        elif (not isinstance(pca_dimension, (int, np.integer)) or isinstance(pca_dimension, (bool, np.bool_))
-              or pca_dimension < 1):
-            raise ValueError(f"pca_dimension must be a positive int, 'fixed' or 'e90', got {pca_dimension!r}")
+        # stored as given and checked in fit (scikit-learn's estimator contract)
         self.pca_dimension = pca_dimension
-        self.base_images_per_class = check_positive_int(base_images_per_class, "base_images_per_class")
+        self.base_images_per_class = base_images_per_class
 
     def fit(self, images: np.ndarray, labels: np.ndarray, basis: PcaBasis | None = None) -> "PcaLda":
         """Learn the PCA basis, the PCA dimension and the Fisher directions from labelled images.
@@ -182,6 +178,13 @@ class PcaLda:
         PcaLda
             ``self``, with ``basis_``, ``n_pca_``, ``projection_`` (pixels x C-1) and ``eigenvalues_``.
         """
+        pca_dimension = self.pca_dimension
+        if isinstance(pca_dimension, str):
+            check_choice(pca_dimension, "pca_dimension", ("fixed", "e90"))
+        elif (not isinstance(pca_dimension, (int, np.integer)) or isinstance(pca_dimension, (bool, np.bool_))
+              or pca_dimension < 1):
+            raise ValueError(f"pca_dimension must be a positive int, 'fixed' or 'e90', got {pca_dimension!r}")
+        base_images_per_class = check_positive_int(self.base_images_per_class, "base_images_per_class")
         samples = _as_samples(images)
         labels = np.asarray(labels)
         if labels.shape != (samples.shape[0],):
@@ -203,12 +206,12 @@ class PcaLda:
             )
         self.basis_ = basis if basis is not None else _pca_basis(samples)
         cap = min(samples.shape[0] - n_classes, self.basis_.vectors.shape[1])
-        if self.pca_dimension == "e90":
+        if pca_dimension == "e90":
             k = _e90_dimension(self.basis_.eigenvalues)
-        elif self.pca_dimension == "fixed":
-            k = int(0.6 * (n_classes * self.base_images_per_class - 1))  # 114 for 64 x 3
+        elif pca_dimension == "fixed":
+            k = int(0.6 * (n_classes * base_images_per_class - 1))  # 114 for 64 x 3
         else:
-            k = int(self.pca_dimension)
+            k = int(pca_dimension)
         self.n_pca_ = int(min(k, cap))
         pca_vectors = self.basis_.vectors[:, : self.n_pca_]
         projected = (samples - self.basis_.mean) @ pca_vectors
@@ -231,7 +234,7 @@ class PcaLda:
         ndarray, shape (n, C-1)
             (image - mean) projected on the unit-length PCA+LDA axes.
         """
-        self._check_fitted()
+        check_fitted(self, ("basis_", "projection_", "eigenvalues_"))
         samples = _as_samples(images)
         if samples.shape[1] != self.projection_.shape[0]:
             raise ValueError(f"images must have {self.projection_.shape[0]} pixels, got {samples.shape[1]}")
@@ -272,15 +275,11 @@ class PcaLda:
             Non-negative weights w_i of sum_i w_i (a_i - b_i)^2.
         """
         check_choice(metric, "metric", METRICS)
-        self._check_fitted()
+        check_fitted(self, ("basis_", "projection_", "eigenvalues_"))
         if metric == "l2":
             return np.ones_like(self.eigenvalues_)
         return self.eigenvalues_ ** SOFT_L2_POWER
 
-
-    def _check_fitted(self) -> None:
-        if not hasattr(self, "projection_"):
-            raise ValueError("the PcaLda must be fitted before it transforms images or gives metric weights")
 
 
 def weighted_sq_distances(a: np.ndarray, b: np.ndarray, weights: np.ndarray) -> np.ndarray:
