@@ -31,12 +31,12 @@ from amdo_lab.face_glmm import (
 
 @pytest.fixture(scope="module")
 def population():
-    return generate_face_population(40, 4, 3, shape=(24, 20))
+    return generate_face_population(40, 4, rng=3, shape=(24, 20))
 
 
 @pytest.fixture(scope="module")
 def reduced_table():
-    return run_factorial_experiment(reduced_design(), 11)
+    return run_factorial_experiment(reduced_design(), rng=11)
 
 
 def _crossed_table(n_t=6, n_p=120, seed=0):
@@ -50,11 +50,11 @@ def _crossed_table(n_t=6, n_p=120, seed=0):
 # --- population and preprocessing ------------------------------------------------------
 
 def test_population_is_seeded_and_shaped(population):
-    again = generate_face_population(40, 4, 3, shape=(24, 20))
+    again = generate_face_population(40, 4, rng=3, shape=(24, 20))
     np.testing.assert_array_equal(population.images, again.images)
     assert population.images.shape == (160, 24, 20)
     np.testing.assert_array_equal(population.labels, np.repeat(np.arange(40), 4))
-    other = generate_face_population(40, 4, 4, shape=(24, 20))
+    other = generate_face_population(40, 4, rng=4, shape=(24, 20))
     assert not np.allclose(population.images, other.images)
 
 
@@ -75,14 +75,14 @@ def test_power_law_texture_spreads_the_pca_spectrum():
         images = preprocess_images(pop.images).reshape(48, 4, -1)[:, 1:].reshape(144, -1)
         return e90_dimension(pca_basis(images).eigenvalues)
 
-    smooth = generate_face_population(48, 4, 2, shape=(40, 36))
-    textured = generate_face_population(48, 4, 2, shape=(40, 36), texture_slope=2.0, texture_amplitude=0.7)
+    smooth = generate_face_population(48, 4, rng=2, shape=(40, 36))
+    textured = generate_face_population(48, 4, rng=2, shape=(40, 36), texture_slope=2.0, texture_amplitude=0.7)
     np.testing.assert_array_equal(smooth.difficulty, textured.difficulty)  # drawn after everything else
     assert e90_of(textured) > 2.5 * e90_of(smooth)
     with pytest.raises(ValueError, match="texture_slope"):
-        generate_face_population(8, 2, 0, texture_slope=-1.0)
+        generate_face_population(8, 2, rng=0, texture_slope=-1.0)
     with pytest.raises(ValueError, match="texture_amplitude"):
-        generate_face_population(8, 2, 0, texture_slope=2.0, texture_amplitude=-0.1)
+        generate_face_population(8, 2, rng=0, texture_slope=2.0, texture_amplitude=-0.1)
 
 
 def test_preprocessing_masks_equalises_and_standardises(population):
@@ -105,11 +105,11 @@ def test_downsample_has_quarter_pixels(population):
 def test_supplements(population):
     imgs = preprocess_images(population.images[:4])
     mask = elliptical_mask(imgs.shape[1:])
-    shifted = make_supplement(imgs, "shift", make_rng(0))
+    shifted = make_supplement(imgs, "shift", rng=make_rng(0))
     np.testing.assert_allclose(shifted[:, 5, 3:10], (imgs[:, 5, 4:11] * mask[5, 3:10]))
-    reflected = make_supplement(imgs, "reflection", make_rng(0))
+    reflected = make_supplement(imgs, "reflection", rng=make_rng(0))
     np.testing.assert_allclose(reflected[:, :, ::-1], imgs * mask[:, ::-1])
-    noisy = make_supplement(imgs, "noise", make_rng(0))
+    noisy = make_supplement(imgs, "noise", rng=make_rng(0))
     spread = (noisy - imgs)[:, mask].std(1) / (imgs.max((1, 2)) - imgs.min((1, 2)))
     np.testing.assert_allclose(spread, 0.02, rtol=0.1)
 
@@ -153,7 +153,7 @@ def test_pcalda_bad_inputs(population):
     with pytest.raises(ValueError, match="metric"):
         PcaLda().fit(imgs, population.labels).distances(imgs[:2], imgs[2:4], metric="l1")
     with pytest.raises(ValueError, match="pca_dimension"):
-        PcaLda("e95")
+        PcaLda("e95").fit(imgs, population.labels)
 
 
 # --- the factorial experiment ----------------------------------------------------------
@@ -167,7 +167,7 @@ def test_reduced_experiment_table(reduced_table):
     assert (per_t == design.n_train_subjects).all()
     # better than chance by far, not perfect
     assert 0.3 < reduced_table.Y.mean() / design.n_galleries < 0.99
-    again = run_factorial_experiment(design, 11)
+    again = run_factorial_experiment(design, rng=11)
     pd.testing.assert_frame_equal(reduced_table, again)
 
 
@@ -205,7 +205,7 @@ TRUE_BETA = np.array([0.8, -0.4, 0.3, 0.5, 0.2])  # intercept, M, D, U, M:D
 def simulated():
     table = _crossed_table()
     variances = {"t": 0.05, "p": 1.2, "t:p": 0.4}
-    table["Y"] = simulate_binomial_glmm(table, "Y ~ M * D + U", TRUE_BETA, variances, 30, 7)
+    table["Y"] = simulate_binomial_glmm(table, "Y ~ M * D + U", TRUE_BETA, variances, 30, rng=7)
     return table, variances
 
 
@@ -227,7 +227,7 @@ def test_glmm_reduces_to_logistic_regression_without_random_variance():
     """With all true variances 0 the fitted sigmas collapse and beta is the GLM's."""
     import statsmodels.api as sm
     table = _crossed_table(4, 60)
-    table["Y"] = simulate_binomial_glmm(table, "Y ~ M * D + U", TRUE_BETA, {}, 30, 3)
+    table["Y"] = simulate_binomial_glmm(table, "Y ~ M * D + U", TRUE_BETA, {}, 30, rng=3)
     fit = fit_binomial_glmm(table, "Y ~ M * D + U", ["t", "p"], 30)
     x = build_design(table, parse_formula("Y ~ M * D + U")[1]).matrix
     glm = sm.GLM(np.column_stack([table.Y, 30 - table.Y]), x, family=sm.families.Binomial()).fit()
@@ -255,7 +255,7 @@ def test_glmm_bad_inputs(simulated):
         fit_binomial_glmm(cat, "Y ~ M", ["p"], 30)
     with pytest.raises(ValueError, match="not in table"):
         fit_binomial_glmm(table, "Y ~ Q", ["p"], 30)
-    with pytest.raises(ValueError, match="trials"):
+    with pytest.raises(ValueError, match="n_trials"):
         fit_binomial_glmm(table, "Y ~ M", ["p"], 0)
     with pytest.raises(TypeError, match="table"):
         fit_binomial_glmm(table.to_numpy(), "Y ~ M", ["p"], 30)
@@ -277,7 +277,7 @@ def test_fast_laplace_deviance_equals_dense_reference(random):
     """The Schur-complement fast path equals the plain dense penalised IRLS + Laplace deviance."""
     from amdo_lab.face_glmm.glmm import _laplace_deviance_reference, _setup
     table = pd.concat([_crossed_table(3, 10).assign(S=s) for s in ("a", "b")], ignore_index=True)
-    table["Y"] = simulate_binomial_glmm(table, "Y ~ M * D + U", TRUE_BETA, {"t": 0.1, "p": 1.0, "t:p": 0.3}, 30, 5)
+    table["Y"] = simulate_binomial_glmm(table, "Y ~ M * D + U", TRUE_BETA, {"t": 0.1, "p": 1.0, "t:p": 0.3}, 30, rng=5)
     problem, start = _setup(table, "Y ~ M * D + U", random, 30)
     assert (problem.rest_of_big is not None) == (random == ("t", "p", "t:p"))
     assert problem.sum_over_cells == (random != ("t", "p", "t:p", "t:S"))
@@ -287,7 +287,7 @@ def test_fast_laplace_deviance_equals_dense_reference(random):
         pd.MultiIndex.from_frame(table[term.split(":")].astype(str)), sort=True)[0] for term in random)]
     z = np.hstack([np.eye(g.max() + 1)[g] for g in groups])
     lam = np.concatenate([np.full(g.max() + 1, sd) for g, sd in zip(groups, theta)])
-    ref_beta, _, ref_value, _ = _laplace_deviance_reference(problem.y, problem.trials, problem.x, z, lam)
+    ref_beta, _, ref_value, _ = _laplace_deviance_reference(problem.y, problem.n_trials, problem.x, z, lam)
     assert value == pytest.approx(ref_value, rel=1e-10)
     np.testing.assert_allclose(beta, ref_beta, atol=1e-8)
 
@@ -334,9 +334,9 @@ def test_peer_fits_run_on_simulated_table(simulated):
 def test_population_and_design_bad_inputs():
     from amdo_lab.face_glmm import FactorialDesign
     with pytest.raises(ValueError, match="n_subjects"):
-        generate_face_population(1, 4, 0)
+        generate_face_population(1, 4, rng=0)
     with pytest.raises(ValueError, match="shape"):
-        generate_face_population(4, 4, 0, shape=(4, 4))
+        generate_face_population(4, 4, rng=0, shape=(4, 4))
     images = np.zeros((2, 8, 8))
     images[1, 3, 3] = np.nan
     with pytest.raises(ValueError, match="images"):
@@ -346,15 +346,15 @@ def test_population_and_design_bad_inputs():
     with pytest.raises(ValueError, match="supplements"):
         FactorialDesign(supplements=("none", "blur"))
     with pytest.raises(TypeError, match="design"):
-        run_factorial_experiment({"n_subjects": 8}, 0)
+        run_factorial_experiment({"n_subjects": 8}, rng=0)
 
 
 def test_experiment_cache_round_trip(tmp_path):
     from amdo_lab.face_glmm import FactorialDesign, load_or_run_experiment
     design = FactorialDesign(n_subjects=16, n_training_sets=1, n_train_subjects=8, n_galleries=3,
                              supplements=("none",), shape=(16, 14))
-    first, hit_first = load_or_run_experiment(design, 1, tmp_path)
-    second, hit_second = load_or_run_experiment(design, 1, tmp_path)
+    first, hit_first = load_or_run_experiment(design, tmp_path, rng=1)
+    second, hit_second = load_or_run_experiment(design, tmp_path, rng=1)
     assert (hit_first, hit_second) == (False, True)
     pd.testing.assert_frame_equal(first, second)
 
@@ -363,7 +363,7 @@ def test_experiment_draws_recompute_one_row_of_the_table(reduced_table):
     """One row of the table (t=0, no supplement, L2, fixed, standard) recomputed from the draws."""
     from amdo_lab.face_glmm import experiment_draws
     design = reduced_design()
-    draws = experiment_draws(design, 11)
+    draws = experiment_draws(design, rng=11)
     n = design.n_subjects
     faces = preprocess_images(draws.population.images).reshape(n, 4, -1)
     subjects = draws.training_sets[0]
@@ -376,7 +376,7 @@ def test_experiment_draws_recompute_one_row_of_the_table(reduced_table):
         y = int(np.sum(np.argmin(in_gallery, axis=1) == probe))
         assert y == rows.loc[probe, "Y"]
     with pytest.raises(TypeError, match="design"):
-        experiment_draws({"n_subjects": 8}, 0)
+        experiment_draws({"n_subjects": 8}, rng=0)
 
 
 def _edited_copy_of_population(tmp_path, name):
@@ -400,25 +400,25 @@ def _edited_copy_of_population(tmp_path, name):
 def test_cache_key_changes_when_a_generator_constant_is_edited(tmp_path):
     from amdo_lab.face_glmm import RESULT_MODULES, experiment_cache_key, reduced_design
     design = reduced_design()
-    key = experiment_cache_key(design, 1)
-    assert key == experiment_cache_key(design, 1, RESULT_MODULES)
-    assert key != experiment_cache_key(design, 2)  # the seed
-    assert key != experiment_cache_key(dataclasses.replace(design, nuisance=0.9), 1)
+    key = experiment_cache_key(design, rng=1)
+    assert key == experiment_cache_key(design, rng=1, modules=RESULT_MODULES)
+    assert key != experiment_cache_key(design, rng=2)  # the seed
+    assert key != experiment_cache_key(dataclasses.replace(design, nuisance=0.9), rng=1)
     edited = _edited_copy_of_population(tmp_path, "population_edited")
     modules = tuple(edited if name.endswith(".population") else name for name in RESULT_MODULES)
-    assert experiment_cache_key(design, 1, modules) != key
+    assert experiment_cache_key(design, rng=1, modules=modules) != key
 
 
 def test_cache_reruns_after_a_generator_edit(tmp_path, monkeypatch):
     from amdo_lab.face_glmm import RESULT_MODULES, cache, load_or_run_experiment
     design = FactorialDesign(n_subjects=16, n_training_sets=1, n_train_subjects=8, n_galleries=3,
                              supplements=("none",), shape=(16, 14))
-    _, first_hit = load_or_run_experiment(design, 1, tmp_path)
+    _, first_hit = load_or_run_experiment(design, tmp_path, rng=1)
     edited = _edited_copy_of_population(tmp_path, "population_edited_again")
     monkeypatch.setattr(cache, "RESULT_MODULES",
                         tuple(edited if name.endswith(".population") else name for name in RESULT_MODULES))
-    _, after_edit_hit = load_or_run_experiment(design, 1, tmp_path)
-    _, again_hit = load_or_run_experiment(design, 1, tmp_path)
+    _, after_edit_hit = load_or_run_experiment(design, tmp_path, rng=1)
+    _, again_hit = load_or_run_experiment(design, tmp_path, rng=1)
     assert (first_hit, after_edit_hit, again_hit) == (False, False, True)
     assert len(list(tmp_path.glob("face_glmm_experiment_*.pkl"))) == 2
 
@@ -426,11 +426,11 @@ def test_cache_reruns_after_a_generator_edit(tmp_path, monkeypatch):
 def test_cache_key_bad_inputs():
     from amdo_lab.face_glmm import experiment_cache_key, reduced_design
     with pytest.raises(TypeError, match="design"):
-        experiment_cache_key({"n_subjects": 8}, 1)
-    with pytest.raises(TypeError, match="seed"):
-        experiment_cache_key(reduced_design(), 1.5)
+        experiment_cache_key({"n_subjects": 8}, rng=1)
+    with pytest.raises(TypeError, match="rng must be a non-negative int"):
+        experiment_cache_key(reduced_design(), rng=1.5)
     with pytest.raises(TypeError, match="modules"):
-        experiment_cache_key(reduced_design(), 1, (3,))
+        experiment_cache_key(reduced_design(), rng=1, modules=(3,))
 
 
 def test_agrees_with_statsmodels_bayes_mixed_glm_on_a_small_table():
@@ -443,7 +443,7 @@ def test_agrees_with_statsmodels_bayes_mixed_glm_on_a_small_table():
     from statsmodels.genmod.bayes_mixed_glm import BinomialBayesMixedGLM
 
     table = _crossed_table(1, 40)
-    table["Y"] = simulate_binomial_glmm(table, "Y ~ M * D + U", TRUE_BETA, {"p": 1.0}, 30, 11)
+    table["Y"] = simulate_binomial_glmm(table, "Y ~ M * D + U", TRUE_BETA, {"p": 1.0}, 30, rng=11)
     ours = fit_binomial_glmm(table, "Y ~ M * D + U", ["p"], 30)
     rows = table.loc[table.index.repeat(30)].reset_index(drop=True)
     rows["y"] = np.concatenate([np.r_[np.ones(k), np.zeros(30 - k)] for k in table.Y])
@@ -468,9 +468,9 @@ _COUNTS = _RNG.integers(0, 30, 20).astype(float)
     (lambda: fg.binomial_deviance(np.full(20, np.nan), np.full(20, 30.0), np.zeros(20)), ValueError, "y must be finite"),
     (lambda: fg.binomial_deviance(_COUNTS, np.full(20, 30.0), np.full(20, np.inf)), ValueError, "eta must be finite"),
     (lambda: fg.binomial_deviance(_COUNTS, np.full(20, 30.0), np.zeros(3)), ValueError, r"eta must have shape \(20,\)"),
-    (lambda: fg.binomial_deviance(_COUNTS + 40, 30.0, np.zeros(20)), ValueError, r"y must hold counts in \[0, trials\]"),
-    (lambda: fg.binomial_deviance(_COUNTS, 0.0, np.zeros(20)), ValueError, "trials must be positive"),
-    (lambda: fg.binomial_deviance(_COUNTS, np.full(3, 30.0), np.zeros(20)), ValueError, "trials must be a number or have the shape of y"),
+    (lambda: fg.binomial_deviance(_COUNTS + 40, 30.0, np.zeros(20)), ValueError, r"y must hold counts in \[0, n_trials\]"),
+    (lambda: fg.binomial_deviance(_COUNTS, 0.0, np.zeros(20)), ValueError, "n_trials must be positive"),
+    (lambda: fg.binomial_deviance(_COUNTS, np.full(3, 30.0), np.zeros(20)), ValueError, "n_trials must be a number or have the shape of y"),
     (lambda: fg.pca_basis(np.full((4, 5), np.nan)), ValueError, "samples must be finite"),
     (lambda: fg.pca_basis(np.ones((1, 5))), ValueError, "samples must have at least 2 rows"),
     (lambda: fg.pca_basis(np.ones((4, 5, 2))), ValueError, "samples must have 2 dimensions"),
@@ -482,27 +482,28 @@ _COUNTS = _RNG.integers(0, 30, 20).astype(float)
     (lambda: fg.weighted_sq_distances(_A, _B, np.ones(3)), ValueError, r"weights must have shape \(4,\)"),
     (lambda: fg.weighted_sq_distances(np.full((3, 4), np.nan), _B, np.ones(4)), ValueError, "a must be finite"),
     (lambda: fg.weighted_sq_distances(_A, _B, -np.ones(4)), ValueError, "weights must be non-negative"),
-    (lambda: PcaLda(True), ValueError, "pca_dimension must be a positive int"),
-    (lambda: PcaLda("fixed", 0), ValueError, "base_images_per_class must be at least 1"),
-    (lambda: PcaLda("fixed", 2.7), TypeError, "base_images_per_class must be an int"),
-    (lambda: PcaLda().transform(np.ones((2, 10))), ValueError, "the PcaLda must be fitted"),
-    (lambda: PcaLda().metric_weights("l2"), ValueError, "the PcaLda must be fitted"),
+    (lambda: PcaLda(True).fit(np.ones((4, 10)), [0, 0, 1, 1]), ValueError, "pca_dimension must be a positive int"),
+    (lambda: PcaLda("fixed", 0).fit(np.ones((4, 10)), [0, 0, 1, 1]), ValueError,
+     "base_images_per_class must be at least 1"),
+    (lambda: PcaLda("fixed", 2.7).fit(np.ones((4, 10)), [0, 0, 1, 1]), TypeError, "base_images_per_class must be an int"),
+    (lambda: PcaLda().transform(np.ones((2, 10))), ValueError, "this PcaLda is not fitted yet"),
+    (lambda: PcaLda().metric_weights("l2"), ValueError, "this PcaLda is not fitted yet"),
     (lambda: elliptical_mask((6.5, 5)), TypeError, r"shape\[0\] must be an int"),
     (lambda: elliptical_mask((6, 5, 3)), ValueError, r"shape must be a pair \(rows, cols\)"),
     (lambda: elliptical_mask((0, 5)), ValueError, r"shape\[0\] must be at least 1"),
-    (lambda: generate_face_population(3, 2, 0, shape=(16.7, 14)), TypeError, r"shape\[0\] must be an int"),
-    (lambda: generate_face_population(3, 2, 0, shape=16), ValueError, r"shape must be a pair"),
+    (lambda: generate_face_population(3, 2, rng=0, shape=(16.7, 14)), TypeError, r"shape\[0\] must be an int"),
+    (lambda: generate_face_population(3, 2, rng=0, shape=16), ValueError, r"shape must be a pair"),
     (lambda: preprocess_images(np.ones((2, 1, 1))), ValueError, "images must have at least 2 pixels inside the elliptical mask"),
-    (lambda: make_supplement(np.full((2, 8, 8), np.nan), "shift", make_rng(0)), ValueError, "images must be finite"),
-    (lambda: make_supplement(np.ones((8, 8)), "shift", make_rng(0)), ValueError, "images must have 3 dimensions"),
+    (lambda: make_supplement(np.full((2, 8, 8), np.nan), "shift", rng=make_rng(0)), ValueError, "images must be finite"),
+    (lambda: make_supplement(np.ones((8, 8)), "shift", rng=make_rng(0)), ValueError, "images must have 3 dimensions"),
     (lambda: fg.FactorialDesign(n_subjects=8, n_train_subjects=2.5), TypeError, "n_train_subjects must be an int"),
     (lambda: fg.FactorialDesign(supplements=("none", "none")), ValueError, "supplements must not repeat"),
     (lambda: fg.FactorialDesign(shape=(15, 14)), ValueError, "shape must have even rows and cols"),
     (lambda: fg.FactorialDesign(shape=16), ValueError, r"shape must be a pair"),
     (lambda: fg.FactorialDesign(population_kwargs=[("noise_sd", 0.1)]), TypeError, "population_kwargs must be a dict"),
-    (lambda: fg.load_or_run_experiment({"n_subjects": 8}, 0, "unused"), TypeError, "design must be a FactorialDesign"),
-    (lambda: fg.load_or_run_experiment(reduced_design(), True, "unused"), TypeError, "seed must be an int"),
-    (lambda: fg.load_or_run_experiment(reduced_design(), 0, 3), TypeError, "cache_dir must be a path"),
+    (lambda: fg.load_or_run_experiment({"n_subjects": 8}, "unused", rng=0), TypeError, "design must be a FactorialDesign"),
+    (lambda: fg.load_or_run_experiment(reduced_design(), "unused", rng=True), TypeError, "rng must be a non-negative int"),
+    (lambda: fg.load_or_run_experiment(reduced_design(), 3, rng=0), TypeError, "cache_dir must be a path"),
     (lambda: build_design(np.zeros((2, 2)), [("M",)]), TypeError, "table must be a pandas DataFrame"),
     (lambda: build_design(_crossed_table(1, 2), "MD"), TypeError, "terms must be a list of tuples"),
     (lambda: build_design(_crossed_table(1, 2), ["M", "D"]), TypeError, "terms must be a list of tuples"),
@@ -563,33 +564,33 @@ def fitted(simulated, population, reduced_table):
     (lambda f: fit_binomial_glmm(f.table.iloc[:0], "Y ~ M", ["p"], 30), ValueError, "table must have at least one row"),
     (lambda f: fit_binomial_glmm(f.table.assign(Y=f.table.Y > 10), "Y ~ M", ["p"], 30), TypeError,
      "response 'Y' must hold counts, got booleans"),
-    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [np.nan, 0.0], {}, 30, 0), ValueError, "coefficients must be finite"),
-    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], {"p": np.nan}, 30, 0), ValueError,
+    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [np.nan, 0.0], {}, 30, rng=0), ValueError, "coefficients must be finite"),
+    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], {"p": np.nan}, 30, rng=0), ValueError,
      r"variances\['p'\] must be finite"),
-    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], {"p": -1.0}, 30, 0), ValueError,
+    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], {"p": -1.0}, 30, rng=0), ValueError,
      r"variances\['p'\] must be non-negative"),
-    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], ["p"], 30, 0), TypeError, "variances must map grouping terms"),
-    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], {}, 2.5, 0), TypeError, "trials must be an int"),
-    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], {}, 0, 0), ValueError, "trials must be at least 1"),
-    (lambda f: fg.recovery_study(f.table, "Y ~ M * D + U", f.fit.coefficients, f.variances, 0, 1), ValueError,
+    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], ["p"], 30, rng=0), TypeError, "variances must map grouping terms"),
+    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], {}, 2.5, rng=0), TypeError, "n_trials must be an int"),
+    (lambda f: simulate_binomial_glmm(f.table, "Y ~ M", [0.0, 0.0], {}, 0, rng=0), ValueError, "n_trials must be at least 1"),
+    (lambda f: fg.recovery_study(f.table, "Y ~ M * D + U", f.fit.coefficients, f.variances, 0, rng=1), ValueError,
      "n_replicates must be at least 1"),
-    (lambda f: fg.recovery_study(f.table, "Y ~ M * D + U", f.fit.coefficients, f.variances, 1, True), TypeError,
-     "rng must be an int seed"),
-    (lambda f: fg.recovery_study(f.table, "Y ~ M * D + U", f.fit.coefficients, f.variances, 1, 1, level=2.0), ValueError,
+    (lambda f: fg.recovery_study(f.table, "Y ~ M * D + U", f.fit.coefficients, f.variances, 1, rng=True), TypeError,
+     "rng must be a non-negative int"),
+    (lambda f: fg.recovery_study(f.table, "Y ~ M * D + U", f.fit.coefficients, f.variances, 1, rng=1, level=2.0), ValueError,
      r"level must be in \(0, 1\)"),
-    (lambda f: fg.recovery_study(f.table, "Y ~ M * D + U", f.fit.coefficients.to_numpy(), f.variances, 1, 1), TypeError,
+    (lambda f: fg.recovery_study(f.table, "Y ~ M * D + U", f.fit.coefficients.to_numpy(), f.variances, 1, rng=1), TypeError,
      "coefficients must be a pandas Series"),
-    (lambda f: fg.recovery_study(f.table, "Y ~ M * D + U", f.fit.coefficients, {}, 1, 1), ValueError,
+    (lambda f: fg.recovery_study(f.table, "Y ~ M * D + U", f.fit.coefficients, {}, 1, rng=1), ValueError,
      "variances must name at least one"),
-    (lambda f: fg.fit_gee_exchangeable(f.table, "Y ~ M", trials=0), ValueError, "trials must be at least 1"),
+    (lambda f: fg.fit_gee_exchangeable(f.table, "Y ~ M", n_trials=0), ValueError, "n_trials must be at least 1"),
     (lambda f: fg.fit_gee_exchangeable(f.table, "Y ~ M", group="q"), ValueError, "group 'q' is not a column of table"),
     (lambda f: fg.fit_gee_exchangeable(f.table.assign(Y=f.table.Y + 100), "Y ~ M"), ValueError,
-     r"response 'Y' must hold integer counts in \[0, trials=30\]"),
+     r"response 'Y' must hold integer counts in \[0, n_trials=30\]"),
     (lambda f: fg.fit_naive_logistic(f.table.assign(Y=np.where(f.table.index == 0, np.nan, f.table.Y)), "Y ~ M"),
      ValueError, "response 'Y' must be finite counts"),
     (lambda f: fg.fit_naive_logistic(f.table, "Z ~ M"), ValueError, "response 'Z' is not a column of table"),
-    (lambda f: fg.fit_naive_logistic(f.table, "Y ~ M", trials=2.5), TypeError, "trials must be an int"),
-    (lambda f: fit_with_lme4(f.table, "Y ~ M", ["p"], trials=0), ValueError, "trials must be at least 1"),
+    (lambda f: fg.fit_naive_logistic(f.table, "Y ~ M", n_trials=2.5), TypeError, "n_trials must be an int"),
+    (lambda f: fit_with_lme4(f.table, "Y ~ M", ["p"], n_trials=0), ValueError, "n_trials must be at least 1"),
     (lambda f: fit_with_lme4(f.table, "Y ~ M", ["q"]), ValueError, "random term 'q' names columns not in table"),
     (lambda f: PcaLda().fit(f.images, f.labels, basis="basis"), TypeError, "basis must be a PcaBasis"),
     (lambda f: PcaLda().fit(f.images, f.labels, basis=fg.pca_basis(f.images.reshape(len(f.images), -1)[:, :10])),
@@ -606,3 +607,72 @@ def fitted(simulated, population, reduced_table):
 def test_models_and_fits_reject_bad_input(fitted, call, error, message):
     with pytest.raises(error, match=message):
         call(fitted)
+
+
+# --- the randomness convention: rng keyword-only, no default, errors name rng -----------------
+
+import inspect
+
+import amdo_lab.face_glmm as fg_module
+
+_DRAWING = {
+    "generate_face_population": lambda rng: fg_module.generate_face_population(8, 2, rng=rng, shape=(16, 14)),
+    "make_supplement": lambda rng: fg_module.make_supplement(np.ones((2, 8, 8)), "noise", rng=rng),
+    "experiment_draws": lambda rng: fg_module.experiment_draws(reduced_design(), rng=rng),
+    "run_factorial_experiment": lambda rng: fg_module.run_factorial_experiment(reduced_design(), rng=rng),
+    "experiment_cache_key": lambda rng: fg_module.experiment_cache_key(reduced_design(), rng=rng),
+    "load_or_run_experiment": lambda rng: fg_module.load_or_run_experiment(reduced_design(), "unused", rng=rng),
+    "simulate_binomial_glmm": lambda rng: fg_module.simulate_binomial_glmm(
+        _crossed_table(2, 4), "Y ~ M", [0.0, 0.0], {}, 30, rng=rng),
+    "recovery_study": lambda rng: fg_module.recovery_study(
+        _crossed_table(2, 4), "Y ~ M", pd.Series([0.0, 0.0]), {"p": 1.0}, 1, rng=rng),
+}
+
+
+@pytest.mark.parametrize("name", sorted(_DRAWING))
+def test_rng_is_keyword_only_without_default(name):
+    parameter = inspect.signature(getattr(fg_module, name)).parameters["rng"]
+    assert parameter.kind is inspect.Parameter.KEYWORD_ONLY
+    assert parameter.default is inspect.Parameter.empty
+
+
+@pytest.mark.parametrize("name", sorted(_DRAWING))
+@pytest.mark.parametrize("bad, error", [("7", TypeError), (None, TypeError), (2.5, TypeError), (-1, ValueError)])
+def test_bad_rng_is_refused_naming_rng(name, bad, error):
+    with pytest.raises(error, match=r"^rng must be"):
+        _DRAWING[name](bad)
+
+
+def test_cache_key_of_a_generator_follows_its_seed_sequence_and_state():
+    from amdo_lab.face_glmm import experiment_cache_key
+    design = reduced_design()
+    key = experiment_cache_key(design, rng=make_rng(1))
+    assert key == experiment_cache_key(design, rng=make_rng(1))
+    assert key != experiment_cache_key(design, rng=make_rng(2))
+    advanced = make_rng(1)
+    advanced.spawn(1)  # the experiment spawns its streams: a generator that already spawned draws others
+    assert key != experiment_cache_key(design, rng=advanced)
+    assert experiment_cache_key(design, rng=1) == experiment_cache_key(design, rng=np.int64(1))
+
+
+def test_recovery_study_accepts_a_generator_with_the_seed_s_streams():
+    table = _crossed_table(3, 20)
+    coefficients = pd.Series([0.5, -0.3], index=["(Intercept)", "M[l2]"])
+    by_seed, _ = fg_module.recovery_study(table, "Y ~ M", coefficients, {"p": 0.5}, 2, rng=4)
+    by_generator, _ = fg_module.recovery_study(table, "Y ~ M", coefficients, {"p": 0.5}, 2, rng=make_rng(4))
+    pd.testing.assert_frame_equal(by_seed.table, by_generator.table)
+
+
+def test_pcalda_follows_the_estimator_contract(population):
+    """Parameters stored as given (checked in fit), fit returns self, NotFittedError before fit."""
+    from sklearn.exceptions import NotFittedError
+
+    dimension = np.int64(20)
+    model = PcaLda(dimension, base_images_per_class=3)
+    assert model.pca_dimension is dimension and model.base_images_per_class == 3
+    PcaLda("e95")  # a bad parameter is refused by fit, not by the constructor
+    with pytest.raises(NotFittedError):
+        model.transform(np.ones((2, 480)))
+    imgs = preprocess_images(population.images)
+    assert model.fit(imgs, population.labels) is model
+    assert model.n_pca_ == 20 and model.projection_.shape == (imgs[0].size, min(20, population.n_subjects - 1))

@@ -15,8 +15,10 @@ import os
 from pathlib import Path
 from types import ModuleType
 
+import numpy as np
 import pandas as pd
 
+from amdo_lab.common import make_rng
 from amdo_lab.face_glmm.experiment import FactorialDesign, run_factorial_experiment
 
 __all__ = ["load_or_run_experiment", "experiment_cache_key", "RESULT_MODULES"]
@@ -36,47 +38,92 @@ def _module_source(module: str | ModuleType) -> str:
     return inspect.getsource(module)
 
 
-def experiment_cache_key(design: FactorialDesign, seed: int,
+def experiment_cache_key(design: FactorialDesign, *, rng: int | np.random.Generator,
                          modules: tuple[str | ModuleType, ...] = RESULT_MODULES) -> str:
     """A 16-hex-digit key hashing the design, the seed and the source of ``modules``.
 
     Parameters
     ----------
     design : FactorialDesign
-    seed : int
-    modules : sequence of modules or dotted names
-        Whose source text enters the key (default :data:`RESULT_MODULES`); the order matters.
+        The experiment's sizes and population settings.
+    rng : int or numpy.random.Generator
+        The experiment's seed: a non-negative int, keyed as the number, or a generator, keyed on its
+        seed sequence (entropy, spawn key, children spawned) and its bit generator's state.
+    modules : sequence of modules or dotted names, default RESULT_MODULES
+        Whose source text enters the key; the order matters.
+
+    Returns
+    -------
+    str
+        16 lowercase hexadecimal digits (the start of a SHA-256 digest).
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Sec. 4 and Table 1 (the experiment the key stands for).
     """
-    _check_design_and_seed(design, seed)
+    _check_design(design)
     digest = hashlib.sha256()
-    digest.update(repr((design, sorted(design.population_kwargs.items()), seed)).encode())
+    digest.update(repr((design, sorted(design.population_kwargs.items()), _rng_key(rng))).encode())
     for module in modules:
         digest.update(b"\0module\0")
         digest.update(_module_source(module).encode())
     return digest.hexdigest()[:16]
 
 
-def load_or_run_experiment(design: FactorialDesign, seed: int, cache_dir: str | Path) -> tuple[pd.DataFrame, bool]:
-    """Return ``(table, loaded_from_cache)`` for :func:`run_factorial_experiment` ``(design, seed)``.
+def load_or_run_experiment(design: FactorialDesign, cache_dir: str | Path, *,
+                           rng: int | np.random.Generator) -> tuple[pd.DataFrame, bool]:
+    """Return the table of :func:`run_factorial_experiment` from the cache, or compute and store it.
 
     The table is read from ``cache_dir`` when a file with the same :func:`experiment_cache_key`
-    exists, and otherwise computed and written there.
+    exists, and otherwise computed and written there. A generator passed as ``rng`` is advanced
+    (it spawns the experiment's streams) only when the table is computed.
+
+    Parameters
+    ----------
+    design : FactorialDesign
+        The experiment's sizes and population settings.
+    cache_dir : str or pathlib.Path
+        Directory of the cached tables (created when absent).
+    rng : int or numpy.random.Generator
+        Seed or generator of the experiment (via :func:`amdo_lab.common.make_rng`).
+
+    Returns
+    -------
+    table : pandas.DataFrame
+        The response table (see :func:`run_factorial_experiment`).
+    loaded_from_cache : bool
+        True when the table was read, False when it was computed.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Sec. 4 and Table 1 (the factorial experiment).
     """
-    _check_design_and_seed(design, seed)
+    _check_design(design)
     if not isinstance(cache_dir, (str, os.PathLike)):
         raise TypeError(f"cache_dir must be a path (str or pathlib.Path), got {type(cache_dir).__name__}")
-    key = experiment_cache_key(design, seed, RESULT_MODULES)
+    key = experiment_cache_key(design, rng=rng, modules=RESULT_MODULES)
     path = Path(cache_dir) / f"face_glmm_experiment_{key}.pkl"
     if path.exists():
         return pd.read_pickle(path), True
-    table = run_factorial_experiment(design, seed)
+    table = run_factorial_experiment(design, rng=rng)
     path.parent.mkdir(parents=True, exist_ok=True)
     table.to_pickle(path)
     return table, False
 
 
-def _check_design_and_seed(design: object, seed: object) -> None:
+def _check_design(design: object) -> None:
     if not isinstance(design, FactorialDesign):
         raise TypeError(f"design must be a FactorialDesign, got {type(design).__name__}")
-    if not isinstance(seed, int) or isinstance(seed, bool):
-        raise TypeError(f"seed must be an int, got {type(seed).__name__}")
+
+
+def _rng_key(rng: object) -> object:
+    """What of ``rng`` fixes the experiment's draws: the int seed, or a generator's seed sequence and state.
+
+    The experiment spawns its streams from the generator's seed sequence, so a generator is keyed on
+    that sequence (entropy, spawn key, children already spawned) and on its bit generator's state.
+    """
+    gen = make_rng(rng, "rng")  # refuses anything but a non-negative int or a Generator, naming rng
+    if rng is not gen:
+        return int(rng)  # an int seed: keyed as the number itself
+    seq = gen.bit_generator.seed_seq
+    return ("Generator", seq.entropy, seq.spawn_key, seq.n_children_spawned, repr(gen.bit_generator.state))

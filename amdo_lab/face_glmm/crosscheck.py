@@ -21,11 +21,11 @@ suppressMessages(library(lme4))
 args <- commandArgs(trailingOnly = TRUE)
 d <- read.csv(args[1], stringsAsFactors = FALSE)
 spec <- readLines(args[2])
-fixed <- spec[1]; random <- spec[2]; trials <- as.numeric(spec[3]); factors <- strsplit(spec[4], ",")[[1]]
+fixed <- spec[1]; random <- spec[2]; n_trials <- as.numeric(spec[3]); factors <- strsplit(spec[4], ",")[[1]]
 for (f in factors) { lev <- strsplit(spec[4 + match(f, factors)], "|", fixed = TRUE)[[1]]
   d[[f]] <- factor(d[[f]], levels = lev); contrasts(d[[f]]) <- contr.sum(length(lev)) }
 for (g in c("t", "p")) if (!is.null(d[[g]])) d[[g]] <- factor(d[[g]])
-d$FAIL <- trials - d$Y
+d$FAIL <- n_trials - d$Y
 form <- as.formula(paste("cbind(Y, FAIL) ~", fixed, "+", random))
 t0 <- proc.time()
 m <- glmer(form, data = d, family = binomial, nAGQ = 0)
@@ -42,22 +42,63 @@ cat("VC", sprintf("%.10g", vc$vcov), "\n")
 
 
 def lme4_available() -> bool:
-    """True when ``Rscript`` is on the PATH and can load lme4."""
+    """True when ``Rscript`` is on the PATH and can load the R package lme4.
+
+    Returns
+    -------
+    bool
+        Whether :func:`fit_with_lme4` can run on this machine (it starts one ``Rscript`` process).
+
+    References
+    ----------
+    Bates, Maechler, Bolker & Walker (2015), "Fitting Linear Mixed-Effects Models Using lme4",
+    J. Stat. Softw. 67(1): the peer fitter of the GLMM of eq. (2) in Givens et al. (2004), AMDO, LNCS 3179.
+    """
     if shutil.which("Rscript") is None:
         return False
     done = subprocess.run(["Rscript", "-e", "suppressMessages(library(lme4))"], capture_output=True)
     return done.returncode == 0
 
 
-def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), trials: int = 30) -> dict:
-    """Fit ``glmer(cbind(Y, n-Y) ~ fixed + (1|...), nAGQ=0)`` with sum-to-zero contrasts.
+def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), n_trials: int = 30) -> dict:
+    """Fit the GLMM of eq. (2) with R's ``glmer(cbind(Y, n-Y) ~ fixed + (1|...), nAGQ=0)``.
 
-    Returns a dict with ``coefficients`` (same column order as our design for formulas
-    whose interactions have at most one multi-level factor first), ``standard_errors``,
-    ``variance_components`` (term -> variance), ``seconds`` (R's elapsed fit time) and
-    ``cpu_seconds`` (R's user + system CPU time of the fit).
+    Factors get sum-to-zero contrasts (``contr.sum``), as in our design, so the coefficients are
+    comparable column by column with :func:`fit_binomial_glmm`.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        One row per binomial observation, holding the response and every column ``fixed`` and
+        ``random`` name.
+    fixed : str
+        Fixed-effects formula ``"Y ~ U + M + ..."`` (see :func:`parse_formula`).
+    random : sequence of str, default ("t", "p", "t:p")
+        Grouping terms, each a random intercept ``(1|term)``; a term joins columns with ``:``.
+    n_trials : int, default 30
+        Binomial size n of every row (the number of galleries), at least 1; the response must hold
+        integer counts in [0, n_trials].
+
+    Returns
+    -------
+    dict
+        ``coefficients`` and ``standard_errors`` (pandas.Series over our design's column names, in the
+        same order for formulas whose interactions have at most one multi-level factor first),
+        ``variance_components`` (dict, grouping term -> variance sigma_k^2 on the logit scale),
+        ``seconds`` (R's elapsed wall-clock time of ``glmer`` alone, s) and ``cpu_seconds`` (R's user +
+        system CPU time of that fit, s).
+
+    Raises
+    ------
+    RuntimeError
+        When Rscript or lme4 is missing (see :func:`lme4_available`) or the R fit fails.
+
+    References
+    ----------
+    Bates et al. (2015), J. Stat. Softw. 67(1) (``glmer``, the Laplace fit with nAGQ=0); the model is
+    eq. (2) of Givens et al. (2004), AMDO, LNCS 3179.
     """
-    design, _ = _design_and_response(table, fixed, trials)
+    design, _ = _design_and_response(table, fixed, n_trials)
     random = _check_random_terms(random)
     for term in random:
         group_indices(table, term)  # its columns exist and have no missing values
@@ -73,7 +114,7 @@ def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), tri
         frame = table[columns].astype({v: str for v in factors}).copy()
         frame["Y"] = table[response].to_numpy()
         frame.to_csv(data_path, index=False)
-        lines = [rhs, random_part, str(trials), ",".join(factors)]
+        lines = [rhs, random_part, str(n_trials), ",".join(factors)]
         lines += ["|".join(map(str, design.levels[v])) for v in factors]
         spec_path.write_text("\n".join(lines) + "\n")
         script_path.write_text(_R_SCRIPT)
@@ -95,32 +136,53 @@ def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), tri
     }
 
 
-def _design_and_response(table: object, fixed: str, trials: object) -> tuple:
-    """The fixed design and the response counts, after checking the table and ``trials``."""
+def _design_and_response(table: object, fixed: str, n_trials: object) -> tuple:
+    """The fixed design and the response counts, after checking the table and ``n_trials``."""
     if not isinstance(table, pd.DataFrame):
         raise TypeError(f"table must be a pandas DataFrame, got {type(table).__name__}")
-    trials = check_positive_int(trials, "trials")
+    n_trials = check_positive_int(n_trials, "n_trials")
     response, terms = parse_formula(fixed)
-    y = _response_counts(table, response, trials)  # proportions above 1 would not be refused by statsmodels
+    y = _response_counts(table, response, n_trials)  # proportions above 1 would not be refused by statsmodels
     return build_design(table, terms), y
 
 
-def fit_gee_exchangeable(table: pd.DataFrame, fixed: str, group: str = "p", trials: int = 30,
+def fit_gee_exchangeable(table: pd.DataFrame, fixed: str, group: str = "p", n_trials: int = 30,
                          correlation: str = "exchangeable") -> pd.DataFrame:
-    """Population-averaged fit: statsmodels GEE, binomial proportions, working correlation within ``group``.
+    """Population-averaged fit: statsmodels GEE on binomial proportions, correlated within ``group``.
 
-    Returns a frame with ``estimate`` and robust (sandwich) ``se`` per design column;
-    ``frame.attrs["finite"]`` is False when statsmodels' iterations diverged (NaN).
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        One row per binomial observation.
+    fixed : str
+        Fixed-effects formula (see :func:`parse_formula`); its response column holds counts.
+    group : str, default "p"
+        Column whose rows share a working correlation (the probe, as the paper's compound symmetry).
+    n_trials : int, default 30
+        Binomial size n of every row, at least 1.
+    correlation : {"exchangeable", "independence"}, default "exchangeable"
+        The GEE working correlation within a group.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Indexed by design column, with ``estimate`` (logit scale) and robust sandwich ``se``;
+        ``frame.attrs["finite"]`` is False when statsmodels' iterations diverged (NaN entries).
+
+    References
+    ----------
+    Liang & Zeger (1986), Biometrika 73, "Longitudinal data analysis using generalized linear models"
+    (GEE); the population-averaged counterpart of the subject-specific eq. (2) of Givens et al. (2004), AMDO, LNCS 3179.
     """
     import statsmodels.api as sm
 
     check_choice(correlation, "correlation", ("exchangeable", "independence"))
     structure = sm.cov_struct.Exchangeable() if correlation == "exchangeable" else sm.cov_struct.Independence()
-    design, y = _design_and_response(table, fixed, trials)
+    design, y = _design_and_response(table, fixed, n_trials)
     if group not in table.columns:
         raise ValueError(f"group {group!r} is not a column of table")
     order = np.argsort(table[group].to_numpy(), kind="stable")
-    model = sm.GEE(y[order] / trials, design.matrix[order], groups=table[group].to_numpy()[order],
+    model = sm.GEE(y[order] / n_trials, design.matrix[order], groups=table[group].to_numpy()[order],
                    family=sm.families.Binomial(), cov_struct=structure)
     # statsmodels' logit-link derivative overflows harmlessly for cells with p ~ 1
     with np.errstate(over="ignore", invalid="ignore"):
@@ -130,11 +192,32 @@ def fit_gee_exchangeable(table: pd.DataFrame, fixed: str, group: str = "p", tria
     return frame
 
 
-def fit_naive_logistic(table: pd.DataFrame, fixed: str, trials: int = 30) -> pd.DataFrame:
-    """Ordinary binomial GLM ignoring all grouping (the naive analysis)."""
+def fit_naive_logistic(table: pd.DataFrame, fixed: str, n_trials: int = 30) -> pd.DataFrame:
+    """Ordinary binomial GLM that ignores all grouping (the naive analysis).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        One row per binomial observation.
+    fixed : str
+        Fixed-effects formula (see :func:`parse_formula`); its response column holds counts.
+    n_trials : int, default 30
+        Binomial size n of every row, at least 1.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Indexed by design column, with ``estimate`` (logit scale) and model-based ``se``, which are
+        too small when rows of one probe are correlated.
+
+    References
+    ----------
+    McCullagh & Nelder (1989), Generalized Linear Models, 2nd ed., Ch. 4 (binomial GLM); eq. (2) of
+    Givens et al. (2004), AMDO, LNCS 3179 without its random effects.
+    """
     import statsmodels.api as sm
 
-    design, y = _design_and_response(table, fixed, trials)
-    endog = np.column_stack([y, trials - y])
+    design, y = _design_and_response(table, fixed, n_trials)
+    endog = np.column_stack([y, n_trials - y])
     fitted = sm.GLM(endog, design.matrix, family=sm.families.Binomial()).fit()
     return pd.DataFrame({"estimate": fitted.params, "se": fitted.bse}, index=list(design.column_names))

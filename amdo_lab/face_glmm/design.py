@@ -22,8 +22,25 @@ SIZE_FORMULA = ("Y ~ U + M + D + F + S + U:M + U:F + U:D + M:F + M:D + D:F"
 def parse_formula(formula: str) -> tuple[str, list[tuple[str, ...]]]:
     """Split ``"Y ~ A * B + C"`` into the response and the ordered list of terms.
 
-    ``A * B`` expands to ``A + B + A:B``; ``A:B`` is the interaction alone. Terms are
-    ordered by interaction order, then by first appearance; duplicates are dropped.
+    ``A * B`` expands to ``A + B + A:B``; ``A:B`` is the interaction alone; ``1`` (the intercept,
+    always present) is dropped. Terms are ordered by interaction order, then by first appearance;
+    duplicates are dropped.
+
+    Parameters
+    ----------
+    formula : str
+        A formula ``"response ~ term + term + ..."`` with exactly one ``~``.
+
+    Returns
+    -------
+    response : str
+        The name left of ``~``.
+    terms : list of tuple of str
+        Each term as the tuple of the variables it multiplies, e.g. ``("M", "D")`` for ``M:D``.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, eq. (2) (the fixed part: U, M, D, F and their interactions).
     """
     if not isinstance(formula, str) or formula.count("~") != 1:
         raise ValueError(f"fixed must be a formula 'response ~ terms', got {formula!r}")
@@ -53,7 +70,23 @@ def parse_formula(formula: str) -> tuple[str, list[tuple[str, ...]]]:
 
 @dataclass(frozen=True)
 class DesignMatrix:
-    """A fixed-effects design matrix with its term structure."""
+    """A fixed-effects design matrix with its term structure.
+
+    Parameters
+    ----------
+    matrix : ndarray, shape (n, n_columns)
+        The design X; column 0 is the intercept, then one block of columns per term.
+    column_names : tuple of str
+        One name per column, e.g. ``"(Intercept)"``, ``"M[l2]"``, ``"M[l2]:D[fixed]"``.
+    term_columns : dict
+        Term name (``"M:D"``) -> slice of its columns in ``matrix``.
+    levels : dict
+        Variable -> tuple of its levels in coding order (None for a numeric variable).
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, eq. (2): X beta is the fixed part of the linear predictor.
+    """
 
     matrix: np.ndarray                 # (n, n_columns), first column the intercept
     column_names: tuple[str, ...]
@@ -90,10 +123,31 @@ def _variable_coding(column: pd.Series, name: str, levels=None) -> tuple[np.ndar
 
 
 def build_design(table: pd.DataFrame, terms: list[tuple[str, ...]], levels: dict | None = None) -> DesignMatrix:
-    """Intercept plus one block of columns per term (row-wise products of codings).
+    """Intercept plus one block of sum-to-zero coded columns per term (row-wise products of codings).
 
-    ``terms`` are tuples of column names (as :func:`parse_formula` returns them); ``levels``
-    optionally maps a factor to the levels to code it with.
+    A factor with L levels gets L-1 columns: level j < L-1 is the unit vector e_j, the last level is
+    -1 in every column (effect coding), so each main effect sums to zero over its levels, as SAS's
+    Type III tests assume. A numeric column enters as it is.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        One row per observation; text and categorical columns are factors (a categorical column's
+        categories fix its level order and must all occur), numeric columns are covariates.
+    terms : list of tuple of str
+        Terms as :func:`parse_formula` returns them.
+    levels : dict, optional
+        Factor name -> the levels to code it with (e.g. those of a fit, to code new data alike).
+
+    Returns
+    -------
+    DesignMatrix
+        The matrix of shape (len(table), 1 + total columns of the terms) and its column names,
+        term slices and levels.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, eq. (2) (the fixed effects of the model).
     """
     _check_table(table)
     if isinstance(terms, (str, tuple)) or not hasattr(terms, "__iter__"):
@@ -132,7 +186,24 @@ def build_design(table: pd.DataFrame, terms: list[tuple[str, ...]], levels: dict
 
 
 def group_indices(table: pd.DataFrame, term: str) -> np.ndarray:
-    """Integer level index (0..q-1) of a grouping term such as ``"t"`` or ``"t:p"``."""
+    """Integer level index (0..q-1) of a grouping term such as ``"t"`` or ``"t:p"``.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        Holds every column the term names, without missing values.
+    term : str
+        One column (``"p"``) or several joined by ``:`` (``"t:p"``: one level per pair).
+
+    Returns
+    -------
+    ndarray of int, shape (len(table),)
+        The row's level of the term, numbered in sorted order of the levels.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, eq. (2): the random intercepts of training set t, probe p and their interaction.
+    """
     _check_table(table)
     if not isinstance(term, str):
         raise TypeError(f"term must be a grouping term such as 't' or 't:p', got {type(term).__name__}")

@@ -35,7 +35,33 @@ NOISE_FRACTION = 0.02  # Sec. 4: noise sd = 2 % of the image's dynamic range
 
 @dataclass(frozen=True)
 class FactorialDesign:
-    """Sizes of the Table 1 design (defaults = the paper's)."""
+    """Sizes of the Table 1 design (defaults = the paper's).
+
+    Parameters
+    ----------
+    n_subjects : int, default 256
+        Subjects in the population, at least 4; each has 4 images (1 probe, 3 candidates).
+    n_training_sets : int, default 8
+        Training sets t drawn, at least 1.
+    n_train_subjects : int, default 64
+        Subjects per training set, in [2, n_subjects].
+    n_galleries : int, default 30
+        Galleries per probe; the response Y counts rank-1 matches among them.
+    supplements : tuple of str, default SUPPLEMENTS
+        Non-empty subset of ("none", "shift", "reflection", "noise"), without repeats.
+    shape : tuple of int, default STANDARD_SHAPE
+        Standard image size (rows, cols) in pixels, each even and at least 8 (the small size halves
+        each side).
+    nuisance : float, default 0.95
+        Per-image variation of the population, > 0 (calibrated: overall rank-1 rate about 75 %,
+        paper 76 %).
+    population_kwargs : dict, default {}
+        Further keyword arguments of :func:`generate_face_population`.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Sec. 4 and Table 1.
+    """
 
     n_subjects: int = 256
     n_training_sets: int = 8
@@ -68,28 +94,63 @@ class FactorialDesign:
 
 
 def paper_design() -> FactorialDesign:
-    """The full design: 8 x 30 x 4 x 2 x 2 x 2 per probe, 65,536 rows."""
+    """The full design: 8 training sets x 30 galleries x 4 supplements x 2 metrics x 2 dimensions x 2 sizes.
+
+    Returns
+    -------
+    FactorialDesign
+        The paper's sizes: 256 subjects, 8 training sets of 64, 30 galleries (65,536 table rows).
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Sec. 4 and Table 1.
+    """
     return FactorialDesign()
 
 
 def reduced_design() -> FactorialDesign:
-    """A small design for tests: 64 subjects, 2 training sets of 16, 10 galleries."""
+    """A small design for tests: 64 subjects, 2 training sets of 16, 10 galleries, 32 x 28 images.
+
+    Returns
+    -------
+    FactorialDesign
+        The reduced sizes (all four supplements kept).
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Sec. 4 and Table 1 (the full design this one shrinks).
+    """
     return FactorialDesign(n_subjects=64, n_training_sets=2, n_train_subjects=16, n_galleries=10,
                            shape=(32, 28))
 
 
-def make_supplement(images: np.ndarray, kind: str, rng: np.random.Generator) -> np.ndarray:
+def make_supplement(images: np.ndarray, kind: str, *, rng: int | np.random.Generator) -> np.ndarray:
     """One altered copy per preprocessed training image (Sec. 4's three supplements).
 
-    shift: one pixel to the left (the vacated column is 0, the masked background);
-    reflection: mirror about the vertical mid-line; noise: Gaussian, sd 2 % of each
-    image's dynamic range. The face mask is re-applied so the background stays 0.
-    ``images`` is ``(n, rows, cols)``; ``rng`` (a generator or an int seed) is used by "noise" only.
+    shift: one pixel to the left (the vacated column is 0, the masked background); reflection: mirror
+    about the vertical mid-line; noise: Gaussian, standard deviation 2 % of each image's dynamic
+    range. The face mask is re-applied so the background stays 0.
+
+    Parameters
+    ----------
+    images : array_like, shape (n, rows, cols)
+        Finite preprocessed images.
+    kind : {"shift", "reflection", "noise"}
+        The supplement.
+    rng : int or numpy.random.Generator
+        Seed or generator (via :func:`amdo_lab.common.make_rng`); drawn from by "noise" only.
+
+    Returns
+    -------
+    ndarray, shape (n, rows, cols)
+        The altered copies, 0 outside the elliptical mask.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Sec. 4 (the training supplements U).
     """
     images = as_finite_array(images, "images", ndim=3)
-    if kind == "noise":
-        rng = make_rng(rng)
-    return _make_supplement(images, kind, rng)
+    return _make_supplement(images, kind, make_rng(rng, "rng"))
 
 
 def _make_supplement(images: np.ndarray, kind: str, rng: np.random.Generator) -> np.ndarray:
@@ -124,7 +185,7 @@ def _rank1_counts(distance: np.ndarray, gallery_choice: np.ndarray) -> np.ndarra
 class ExperimentDraws:
     """Every random draw of one factorial experiment, made before any recogniser runs.
 
-    Attributes
+    Parameters
     ----------
     population : FacePopulation
         ``n_subjects`` x 4 raw images; image 0 of each subject is its probe, images 1-3 its candidates.
@@ -134,6 +195,10 @@ class ExperimentDraws:
         Which candidate (0, 1 or 2) stands for each subject in each gallery.
     noise_rngs : list of numpy.random.Generator
         One per (training set, image size), for the noise supplement.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Sec. 4 and Table 1.
     """
 
     population: object
@@ -142,16 +207,33 @@ class ExperimentDraws:
     noise_rngs: list
 
 
-def experiment_draws(design: FactorialDesign, rng: int | np.random.Generator) -> ExperimentDraws:
+def experiment_draws(design: FactorialDesign, *, rng: int | np.random.Generator) -> ExperimentDraws:
     """The population, training sets and galleries that :func:`run_factorial_experiment` uses.
 
     Same seed, same draws: the chapter uses it to recompute one row of the table by hand.
+
+    Parameters
+    ----------
+    design : FactorialDesign
+        The experiment's sizes.
+    rng : int or numpy.random.Generator
+        Seed or generator (via :func:`amdo_lab.common.make_rng`); four streams are spawned from it
+        (population, training sets, galleries, noise supplements).
+
+    Returns
+    -------
+    ExperimentDraws
+        Every random draw of the experiment.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Sec. 4 and Table 1.
     """
     if not isinstance(design, FactorialDesign):
         raise TypeError(f"design must be a FactorialDesign, got {type(design).__name__}")
-    gen = make_rng(rng)
+    gen = make_rng(rng, "rng")
     pop_rng, split_rng, gallery_rng, noise_seed = gen.spawn(4)
-    pop = generate_face_population(design.n_subjects, 4, pop_rng, shape=design.shape,
+    pop = generate_face_population(design.n_subjects, 4, rng=pop_rng, shape=design.shape,
                                    nuisance=design.nuisance, **design.population_kwargs)
     n = design.n_subjects
     training_sets = np.stack([split_rng.permutation(n)[: design.n_train_subjects]
@@ -161,27 +243,36 @@ def experiment_draws(design: FactorialDesign, rng: int | np.random.Generator) ->
     return ExperimentDraws(pop, training_sets, gallery_choice, noise_rngs)
 
 
-def run_factorial_experiment(design: FactorialDesign, rng: int | np.random.Generator) -> pd.DataFrame:
+def run_factorial_experiment(design: FactorialDesign, *, rng: int | np.random.Generator) -> pd.DataFrame:
     """Run the balanced factorial experiment and return the response table.
 
     Parameters
     ----------
     design : FactorialDesign
+        The experiment's sizes (:func:`paper_design` for the paper's).
     rng : int or numpy.random.Generator
+        Seed or generator (via :func:`amdo_lab.common.make_rng`); the draws are those of
+        :func:`experiment_draws` with the same ``rng``.
 
     Returns
     -------
     pandas.DataFrame
-        One row per (training set t, probe p, supplement U, metric M, PCA dimension D,
-        image size S) with the inclusion flag F ("yes"/"no"), the PCA dimension used
-        (``k``) and Y = number of galleries (of ``design.n_galleries``) with a rank-1 match.
+        One row per (training set t, probe p, supplement U, metric M, PCA dimension D, image size S)
+        with the inclusion flag F ("yes"/"no"), the PCA dimension used (``k``) and Y = number of
+        galleries (of ``design.n_galleries``, stored in ``table.attrs["n_galleries"]``) with a rank-1
+        match. U, M, D, S and F are categorical.
+
+    References
+    ----------
+    Givens, Beveridge, Draper & Bolme (2004), "Using a Generalized Linear Mixed Model to Study the
+    Configuration Space of a PCA+LDA Human Face Recognition Algorithm", AMDO 2004, LNCS 3179, pp. 1-11, Sec. 4 and Table 1.
     """
     with one_blas_thread():  # small matrices: threads only contend on a shared machine
         return _run(design, rng)
 
 
 def _run(design: FactorialDesign, rng) -> pd.DataFrame:
-    draws = experiment_draws(design, rng)
+    draws = experiment_draws(design, rng=rng)
     pop, training_sets, gallery_choice, noise_rngs = (draws.population, draws.training_sets,
                                                       draws.gallery_choice, draws.noise_rngs)
     n = design.n_subjects

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive_int
+from amdo_lab.common import as_finite_array, check_choice, check_fitted, check_in_range, check_positive_int
 
 __all__ = ["PcaLda", "PcaBasis", "pca_basis", "e90_dimension", "fisher_basis", "METRICS"]
 
@@ -17,7 +17,21 @@ SOFT_L2_POWER = 0.2  # eq. (1): weight lambda_i ** 0.2
 
 @dataclass(frozen=True)
 class PcaBasis:
-    """Eigen-decomposition of the training images (shared by every PCA dimension)."""
+    """Eigen-decomposition of the training images (shared by every PCA dimension).
+
+    Parameters
+    ----------
+    mean : ndarray, shape (n_pixels,)
+        The mean training image, as a row vector.
+    vectors : ndarray, shape (n_pixels, rank)
+        Unit eigenvectors as columns, in decreasing order of variance.
+    eigenvalues : ndarray, shape (rank,)
+        Their variances (grey value^2), positive and decreasing.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Sec. 3 (the PCA step of the CSU PCA+LDA system).
+    """
 
     mean: np.ndarray        # (n_pixels,)
     vectors: np.ndarray     # (n_pixels, rank), unit columns, decreasing variance
@@ -25,7 +39,23 @@ class PcaBasis:
 
 
 def pca_basis(samples: np.ndarray) -> PcaBasis:
-    """PCA of row-vector samples ``(n, n_pixels)``, n >= 2, by a thin SVD (the 'eigenfaces' of Sec. 3)."""
+    """PCA of row-vector samples by a thin SVD (the 'eigenfaces' of Sec. 3).
+
+    Parameters
+    ----------
+    samples : array_like, shape (n, n_pixels)
+        Finite training images as rows, n >= 2.
+
+    Returns
+    -------
+    PcaBasis
+        Mean, eigenvectors and eigenvalues; the rank is at most n - 1 (directions whose singular value
+        is below 1e-10 of the largest are dropped).
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Sec. 3.
+    """
     samples = as_finite_array(samples, "samples", ndim=2)
     if samples.shape[0] < 2:
         raise ValueError(f"samples must have at least 2 rows for a covariance, got {samples.shape[0]}")
@@ -41,9 +71,23 @@ def _pca_basis(samples: np.ndarray) -> PcaBasis:
 
 
 def e90_dimension(eigenvalues: np.ndarray, energy: float = 0.90) -> int:
-    """Number of leading eigenvectors holding ``energy`` of the total (E90%, Kirby [7]).
+    """Number of leading eigenvectors holding ``energy`` of the total variance (E90 for 0.90).
 
-    ``eigenvalues`` are non-negative, in decreasing order, with a positive sum; ``energy`` is in (0, 1].
+    Parameters
+    ----------
+    eigenvalues : array_like, shape (rank,)
+        Non-negative, in decreasing order, with a positive sum.
+    energy : float, default 0.90
+        Share of the total in (0, 1].
+
+    Returns
+    -------
+    int
+        The smallest k with sum(eigenvalues[:k]) >= energy * sum(eigenvalues), in [1, rank].
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Sec. 4 (the E90 PCA dimension, after Kirby, their ref. [7]).
     """
     eigenvalues = as_finite_array(eigenvalues, "eigenvalues", ndim=1)
     if np.any(eigenvalues < 0) or eigenvalues.sum() <= 0:
@@ -60,8 +104,23 @@ def _e90_dimension(eigenvalues: np.ndarray, energy: float = 0.90) -> int:
 def fisher_basis(projected: np.ndarray, labels: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Fisher directions from S_b v = lambda S_w v in PCA coordinates.
 
-    Returns the (k, C-1) eigenvectors for the C-1 largest generalised eigenvalues and
-    those eigenvalues (the lambda_i of eq. 1), in decreasing order.
+    Parameters
+    ----------
+    projected : ndarray, shape (n, k)
+        Training images in PCA coordinates, with a non-singular within-class scatter.
+    labels : ndarray, shape (n,)
+        Subject of each row, at least 2 distinct.
+
+    Returns
+    -------
+    vectors : ndarray, shape (k, C-1)
+        Generalised eigenvectors for the C-1 largest eigenvalues (C = number of subjects).
+    eigenvalues : ndarray, shape (C-1,)
+        Those eigenvalues, the lambda_i of eq. (1), clipped at 0 and decreasing.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Sec. 3 and eq. (1).
     """
     classes, inverse = np.unique(labels, return_inverse=True)
     counts = np.bincount(inverse).astype(float)
@@ -83,26 +142,49 @@ class PcaLda:
 
     Parameters
     ----------
-    pca_dimension : int or "e90" or "fixed"
-        Number of PCA eigenvectors kept: an integer, ``"e90"`` (90 % of the energy) or
-        ``"fixed"`` (60 % of the PCA rank of the *unsupplemented* training set, i.e.
-        114 for 64 subjects x 3 images, the paper's choice). Always capped at
-        ``n_images - n_classes`` so that the within-class scatter is non-singular.
-    base_images_per_class : int
-        Images per subject before any supplement (3 in the paper); defines "fixed".
+    pca_dimension : int or {"fixed", "e90"}, default "fixed"
+        Number of PCA eigenvectors kept: a positive int, ``"e90"`` (90 % of the energy) or
+        ``"fixed"`` (60 % of the PCA rank of the *unsupplemented* training set, i.e. 114 for
+        64 subjects x 3 images, the paper's choice). Always capped at ``n_images - n_classes`` so that
+        the within-class scatter is non-singular.
+    base_images_per_class : int, default 3
+        Images per subject before any supplement (3 in the paper), at least 1; defines "fixed".
+
+    References
+    ----------
+    Givens, Beveridge, Draper & Bolme (2004), "Using a Generalized Linear Mixed Model to Study the
+    Configuration Space of a PCA+LDA Human Face Recognition Algorithm", AMDO 2004, LNCS 3179, pp. 1-11, Sec. 3 (the CSU PCA+LDA system) and eq. (1) (its two distances).
     """
 
     def __init__(self, pca_dimension: int | str = "fixed", base_images_per_class: int = 3):
+        # stored as given and checked in fit (scikit-learn's estimator contract)
+        self.pca_dimension = pca_dimension
+        self.base_images_per_class = base_images_per_class
+
+    def fit(self, images: np.ndarray, labels: np.ndarray, basis: PcaBasis | None = None) -> "PcaLda":
+        """Learn the PCA basis, the PCA dimension and the Fisher directions from labelled images.
+
+        Parameters
+        ----------
+        images : array_like, shape (n, rows, cols) or (n, pixels)
+            Finite training images.
+        labels : array_like, shape (n,)
+            Subject of each image (no NaN), at least 2 subjects, with n - C >= C - 1.
+        basis : PcaBasis, optional
+            A precomputed :func:`pca_basis` of the same images (shared between PCA dimensions).
+
+        Returns
+        -------
+        PcaLda
+            ``self``, with ``basis_``, ``n_pca_``, ``projection_`` (pixels x C-1) and ``eigenvalues_``.
+        """
+        pca_dimension = self.pca_dimension
         if isinstance(pca_dimension, str):
             check_choice(pca_dimension, "pca_dimension", ("fixed", "e90"))
         elif (not isinstance(pca_dimension, (int, np.integer)) or isinstance(pca_dimension, (bool, np.bool_))
               or pca_dimension < 1):
             raise ValueError(f"pca_dimension must be a positive int, 'fixed' or 'e90', got {pca_dimension!r}")
-        self.pca_dimension = pca_dimension
-        self.base_images_per_class = check_positive_int(base_images_per_class, "base_images_per_class")
-
-    def fit(self, images: np.ndarray, labels: np.ndarray, basis: PcaBasis | None = None) -> "PcaLda":
-        """Train on ``images`` (n, rows, cols) or (n, pixels) with subject ``labels``."""
+        base_images_per_class = check_positive_int(self.base_images_per_class, "base_images_per_class")
         samples = _as_samples(images)
         labels = np.asarray(labels)
         if labels.shape != (samples.shape[0],):
@@ -124,12 +206,12 @@ class PcaLda:
             )
         self.basis_ = basis if basis is not None else _pca_basis(samples)
         cap = min(samples.shape[0] - n_classes, self.basis_.vectors.shape[1])
-        if self.pca_dimension == "e90":
+        if pca_dimension == "e90":
             k = _e90_dimension(self.basis_.eigenvalues)
-        elif self.pca_dimension == "fixed":
-            k = int(0.6 * (n_classes * self.base_images_per_class - 1))  # 114 for 64 x 3
+        elif pca_dimension == "fixed":
+            k = int(0.6 * (n_classes * base_images_per_class - 1))  # 114 for 64 x 3
         else:
-            k = int(self.pca_dimension)
+            k = int(pca_dimension)
         self.n_pca_ = int(min(k, cap))
         pca_vectors = self.basis_.vectors[:, : self.n_pca_]
         projected = (samples - self.basis_.mean) @ pca_vectors
@@ -140,36 +222,86 @@ class PcaLda:
         return self
 
     def transform(self, images: np.ndarray) -> np.ndarray:
-        """Coordinates in the PCA+LDA space, shape (n, C-1)."""
-        self._check_fitted()
+        """Coordinates of images in the PCA+LDA space.
+
+        Parameters
+        ----------
+        images : array_like, shape (n, rows, cols) or (n, pixels)
+            Finite images with the training images' number of pixels.
+
+        Returns
+        -------
+        ndarray, shape (n, C-1)
+            (image - mean) projected on the unit-length PCA+LDA axes.
+        """
+        check_fitted(self, ("basis_", "projection_", "eigenvalues_"))
         samples = _as_samples(images)
         if samples.shape[1] != self.projection_.shape[0]:
             raise ValueError(f"images must have {self.projection_.shape[0]} pixels, got {samples.shape[1]}")
         return (samples - self.basis_.mean) @ self.projection_
 
     def distances(self, probes: np.ndarray, gallery: np.ndarray, metric: str = "l2") -> np.ndarray:
-        """Eq. (1) distance matrix (n_probes, n_gallery) between two image sets."""
+        """Eq. (1) distance matrix between two image sets.
+
+        Parameters
+        ----------
+        probes : array_like, shape (n_probes, rows, cols) or (n_probes, pixels)
+            Query images.
+        gallery : array_like, shape (n_gallery, rows, cols) or (n_gallery, pixels)
+            Gallery images.
+        metric : {"l2", "soft_l2"}, default "l2"
+            L2, or Zhao's soft L2 weighting axis i by lambda_i ** 0.2.
+
+        Returns
+        -------
+        ndarray, shape (n_probes, n_gallery)
+            Weighted squared distances, >= 0.
+        """
         check_choice(metric, "metric", METRICS)
         return _weighted_sq_distances(self.transform(probes), self.transform(gallery),
                                      self.metric_weights(metric))
 
     def metric_weights(self, metric: str) -> np.ndarray:
+        """Per-axis weights of the eq. (1) distance.
+
+        Parameters
+        ----------
+        metric : {"l2", "soft_l2"}
+            L2 (all weights 1) or soft L2 (lambda_i ** 0.2, lambda_i the Fisher eigenvalues).
+
+        Returns
+        -------
+        ndarray, shape (C-1,)
+            Non-negative weights w_i of sum_i w_i (a_i - b_i)^2.
+        """
         check_choice(metric, "metric", METRICS)
-        self._check_fitted()
+        check_fitted(self, ("basis_", "projection_", "eigenvalues_"))
         if metric == "l2":
             return np.ones_like(self.eigenvalues_)
         return self.eigenvalues_ ** SOFT_L2_POWER
 
 
-    def _check_fitted(self) -> None:
-        if not hasattr(self, "projection_"):
-            raise ValueError("the PcaLda must be fitted before it transforms images or gives metric weights")
-
 
 def weighted_sq_distances(a: np.ndarray, b: np.ndarray, weights: np.ndarray) -> np.ndarray:
-    """sum_i w_i (a_i - b_i)^2 for all pairs, by the expanded square (eq. 1).
+    """Weighted squared distances sum_i w_i (a_i - b_i)^2 of all pairs, by the expanded square (eq. 1).
 
-    ``a`` ``(n, k)`` and ``b`` ``(m, k)`` hold points as rows; ``weights`` ``(k,)`` are non-negative.
+    Parameters
+    ----------
+    a : array_like, shape (n, k)
+        Points as rows.
+    b : array_like, shape (m, k)
+        Points as rows.
+    weights : array_like, shape (k,)
+        Non-negative per-axis weights (ones: L2; lambda_i ** 0.2: soft L2).
+
+    Returns
+    -------
+    ndarray, shape (n, m)
+        The distances, clipped at 0 against rounding.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, eq. (1).
     """
     a = as_finite_array(a, "a", ndim=2)
     b = as_finite_array(b, "b", shape=(None, a.shape[1]))

@@ -39,15 +39,21 @@ _N_TEXTURE = 6  # low-frequency cosine basis per axis for the identity texture
 class FacePopulation:
     """Raw (unpreprocessed) face images with identity labels.
 
-    Attributes
+    Parameters
     ----------
     images : ndarray, shape (n_subjects * images_per_subject, rows, cols)
-        Grey values (arbitrary units), image ``i`` belongs to subject ``labels[i]``.
+        Grey values (arbitrary units, face contrast about 1); image ``i`` belongs to subject
+        ``labels[i]``.
     labels : ndarray of int, shape (n_images,)
         Subject index; images of one subject are contiguous.
     difficulty : ndarray, shape (n_subjects,)
-        The per-subject nuisance multiplier (larger = harder to recognise).
+        The per-subject nuisance multiplier (positive; larger = harder to recognise).
     images_per_subject : int
+        Images of each subject (4 in the paper).
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Sec. 2 (FERET, for which this synthetic population stands in).
     """
 
     images: np.ndarray
@@ -57,6 +63,7 @@ class FacePopulation:
 
     @property
     def n_subjects(self) -> int:
+        """Number of subjects (people) in the population."""
         return int(self.difficulty.size)
 
 
@@ -67,8 +74,8 @@ def _blob(x, y, cx, cy, sx, sy):
 def generate_face_population(
     n_subjects: int,
     images_per_subject: int,
-    rng: int | np.random.Generator,
     *,
+    rng: int | np.random.Generator,
     shape: tuple[int, int] = STANDARD_SHAPE,
     nuisance: float = 1.0,
     difficulty_spread: float = 0.25,
@@ -80,31 +87,49 @@ def generate_face_population(
 
     Parameters
     ----------
-    n_subjects, images_per_subject : int
-        Population size (paper: 256 subjects x 4 images).
+    n_subjects : int
+        Number of subjects, at least 2 (paper: 256).
+    images_per_subject : int
+        Images per subject, at least 2 (paper: 4).
     rng : int or numpy.random.Generator
         Seed or generator (via :func:`amdo_lab.common.make_rng`).
-    shape : (rows, cols)
-        Image size.
-    nuisance : float
-        Global scale of the per-image variation; the calibration knob that sets the
+    shape : tuple of int, default STANDARD_SHAPE
+        Image size (rows, cols) in pixels, each at least 8.
+    nuisance : float, default 1.0
+        Global scale of the per-image variation, >= 0; the calibration knob that sets the
         overall rank-1 rate (the chapter calibrates it to about 76 %).
-    difficulty_spread : float
-        Standard deviation of log difficulty across subjects.
-    noise_sd : float
-        Pixel noise standard deviation (face contrast is about 1).
-    texture_slope : float or None
+    difficulty_spread : float, default 0.25
+        Standard deviation of log difficulty across subjects, >= 0.
+    noise_sd : float, default 0.05
+        Pixel noise standard deviation, >= 0 (grey values; face contrast is about 1).
+    texture_slope : float or None, default None
         None (default): identity texture is the 6 x 6 low-frequency cosine basis only, whose image
-        power spectrum falls about as f^-4.5. A number s adds a Gaussian random texture with power
+        power spectrum falls about as f^-4.5. A number s > 0 adds a Gaussian random texture with power
         spectrum f^-s at every frequency (real faces, e.g. scikit-image's ``lfw_subset``, fall about
         as f^-2.3): one per subject (mostly left-right symmetric) plus a weaker one per image.
-    texture_amplitude : float
-        Standard deviation of that subject texture (the per-image one is half of it, times the
-        image's nuisance scale); used only when ``texture_slope`` is given.
+    texture_amplitude : float, default 0.5
+        Standard deviation of that subject texture, >= 0 (the per-image one is half of it, times
+        the image's nuisance scale); used only when ``texture_slope`` is given.
 
     Returns
     -------
     FacePopulation
+        ``n_subjects * images_per_subject`` raw images with their labels and difficulties.
+
+    References
+    ----------
+    Givens, Beveridge, Draper & Bolme (2004), "Using a Generalized Linear Mixed Model to Study the
+    Configuration Space of a PCA+LDA Human Face Recognition Algorithm", AMDO 2004, LNCS 3179,
+    pp. 1-11, Sec. 2 (the FERET images this population stands in for).
+
+    Examples
+    --------
+    >>> from amdo_lab.face_glmm import generate_face_population
+    >>> population = generate_face_population(3, 4, rng=0, shape=(16, 14))
+    >>> population.images.shape
+    (12, 16, 14)
+    >>> population.labels.tolist()
+    [0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2]
     """
     n_subjects = check_positive_int(n_subjects, "n_subjects", minimum=2)
     images_per_subject = check_positive_int(images_per_subject, "images_per_subject", minimum=2)
@@ -112,7 +137,7 @@ def generate_face_population(
     difficulty_spread = check_positive(difficulty_spread, "difficulty_spread", allow_zero=True)
     noise_sd = check_positive(noise_sd, "noise_sd", allow_zero=True)
     _check_image_shape(shape, minimum=8)
-    gen = make_rng(rng)
+    gen = make_rng(rng, "rng")
     rows, cols = int(shape[0]), int(shape[1])
     n_img = n_subjects * images_per_subject
     labels = np.repeat(np.arange(n_subjects), images_per_subject)
@@ -199,7 +224,22 @@ def _check_image_shape(shape: object, *, minimum: int) -> tuple[int, int]:
 
 
 def elliptical_mask(shape: tuple[int, int]) -> np.ndarray:
-    """Boolean elliptical face mask (Sec. 2 step 3), inscribed in the image frame of ``shape`` (rows, cols)."""
+    """Boolean elliptical face mask, inscribed in the image frame.
+
+    Parameters
+    ----------
+    shape : tuple of int
+        Image size (rows, cols) in pixels, each at least 1.
+
+    Returns
+    -------
+    ndarray of bool, shape (rows, cols)
+        True inside the ellipse whose axes are the frame's height and width.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Sec. 2 step 3 (the elliptical mask).
+    """
     rows, cols = _check_image_shape(shape, minimum=1)
     yy = (np.arange(rows) - (rows - 1) / 2) / (rows / 2)
     xx = (np.arange(cols) - (cols - 1) / 2) / (cols / 2)
@@ -207,7 +247,22 @@ def elliptical_mask(shape: tuple[int, int]) -> np.ndarray:
 
 
 def downsample_by_two(images: np.ndarray) -> np.ndarray:
-    """2 x 2 block mean: a quarter of the pixels (the paper's 65 x 75 from 130 x 150)."""
+    """2 x 2 block mean: a quarter of the pixels (the paper's 65 x 75 from 130 x 150).
+
+    Parameters
+    ----------
+    images : array_like, shape (n, rows, cols)
+        Finite images with even ``rows`` and ``cols``.
+
+    Returns
+    -------
+    ndarray, shape (n, rows // 2, cols // 2)
+        Each pixel the mean of a 2 x 2 block.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Sec. 4 (the image-size factor S).
+    """
     images = as_finite_array(images, "images", ndim=3)
     n, rows, cols = images.shape
     if rows % 2 or cols % 2:
@@ -216,19 +271,24 @@ def downsample_by_two(images: np.ndarray) -> np.ndarray:
 
 
 def preprocess_images(images: np.ndarray) -> np.ndarray:
-    """Sec. 2 steps 3-5: elliptical mask, histogram equalisation, zero mean / unit variance.
+    """Sec. 2 steps 3-5: elliptical mask, histogram equalisation, zero mean and unit variance.
 
-    Histogram equalisation of continuous grey values is the rank transform of the
-    masked pixels to a uniform distribution; pixels outside the mask are set to 0.
+    Histogram equalisation of continuous grey values is the rank transform of the masked pixels to a
+    uniform distribution; pixels outside the mask are set to 0.
 
     Parameters
     ----------
-    images : ndarray, shape (n, rows, cols)
+    images : array_like, shape (n, rows, cols)
+        Finite raw images with at least 2 pixels inside the elliptical mask.
 
     Returns
     -------
     ndarray, shape (n, rows, cols)
-        Each image's masked pixels have mean 0 and standard deviation 1.
+        Each image's masked pixels have mean 0 and standard deviation 1; the background is 0.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Sec. 2 (image pre-processing, steps 3-5).
     """
     images = as_finite_array(images, "images", ndim=3)
     mask = elliptical_mask(images.shape[1:])

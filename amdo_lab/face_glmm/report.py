@@ -62,7 +62,24 @@ def _check_result(result: object, name: str = "result", *, compared: bool = Fals
 
 
 def table2_comparison(result: GlmmResult) -> pd.DataFrame:
-    """Paper's Table 2 next to our Wald F tests (denominator d.f. taken as infinite)."""
+    """The paper's Table 2 next to our Wald F tests of the same terms.
+
+    Parameters
+    ----------
+    result : GlmmResult
+        A fit of :data:`PAPER_FORMULA` (terms absent from the fit give NaN rows).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Indexed by term (U, M, D, F and the interactions of eq. 2) with ``df``, ``F paper``, ``p paper``
+        (as printed), ``F ours`` (chi2 / df, i.e. the denominator degrees of freedom taken as infinite,
+        rounded to 0.1) and ``p ours`` (two significant digits, as text).
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Table 2 (tests of the fixed effects of eq. 2).
+    """
     if not isinstance(result, GlmmResult):
         raise TypeError(f"result must be a GlmmResult (from fit_binomial_glmm), got {type(result).__name__}")
     ours = result.tests.reindex(PAPER_TABLE2.index)
@@ -71,7 +88,25 @@ def table2_comparison(result: GlmmResult) -> pd.DataFrame:
 
 
 def cell_predictions(result: GlmmResult, ci: float | None = None) -> pd.DataFrame:
-    """Predicted rank-1 probability of every U x M x D x F cell (typical probe)."""
+    """Predicted rank-1 probability of every U x M x D x F cell for a typical probe and training set.
+
+    Parameters
+    ----------
+    result : GlmmResult
+        A fit with the paper's factors U, M, D and F.
+    ci : float or None, default None
+        Level in (0, 1) of a Wald interval on the logit scale; None for no interval.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per cell: columns U, M, D, F and ``p`` (probability in [0, 1], random effects 0),
+        plus ``lower`` and ``upper`` when ``ci`` is given.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, eq. (2) and Fig. 1 (the cell probabilities it plots).
+    """
     _check_result(result)
     levels = result.design.levels
     grid = pd.MultiIndex.from_product([levels["U"], levels["M"], levels["D"], levels["F"]],
@@ -87,7 +122,23 @@ def _marg(result, **levels):
 def findings(result: GlmmResult, size_result: GlmmResult | None = None) -> pd.DataFrame:
     """The paper's qualitative findings (Sec. 6), each evaluated on our fit.
 
-    ``size_result``, when given, is a fit with image-size (S) terms, such as one of ``SIZE_FORMULA``.
+    Parameters
+    ----------
+    result : GlmmResult
+        A fit of the paper's factors U, M, D and F with the levels the findings compare (none and
+        reflection; l2 and soft_l2; fixed and e90; no and yes).
+    size_result : GlmmResult or None, default None
+        A fit with image-size (S) terms, such as one of :data:`SIZE_FORMULA`; adds the finding that
+        image size does not matter.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Indexed by the finding in words, one bool column ``holds for ours``.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Secs. 6-7 (the effects of supplement, metric, PCA dimension, inclusion and image size).
     """
     _check_result(result, compared=True)
     if size_result is not None:
@@ -133,7 +184,22 @@ def _draw(ax, x, p, colours, marker, filled, linestyle):
 
 
 def plot_figure1(result: GlmmResult, ax) -> None:
-    """Fig. 1: predicted rank-1 probability against the training supplement."""
+    """Fig. 1: predicted rank-1 probability of a typical probe against the training supplement.
+
+    The paper's encoding: colour = supplement, marker = metric (square L2, circle soft L2), filled =
+    probe in the training set, line style = PCA dimension (solid 114, dashed E90).
+
+    Parameters
+    ----------
+    result : GlmmResult
+        A fit with the paper's factors U, M, D and F, every level of which the figure can draw.
+    ax : matplotlib.axes.Axes
+        Where to draw; the legend is placed to its right.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Fig. 1.
+    """
     _check_result(result, drawn=True)
     check_axes(ax)
     cells = cell_predictions(result)
@@ -170,7 +236,16 @@ def _figure1_legend(supplements) -> list:
 def plot_figure2(result: GlmmResult, axes) -> None:
     """Fig. 2: metric (left), inclusion (centre) and PCA dimension (right), averaged over supplements.
 
-    ``axes`` holds three matplotlib Axes (e.g. from ``plt.subplots(1, 3)``).
+    Parameters
+    ----------
+    result : GlmmResult
+        A fit with the paper's factors U, M, D and F and the levels Fig. 2 compares.
+    axes : sequence of three matplotlib.axes.Axes
+        The three panels, e.g. from ``plt.subplots(1, 3)``.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Fig. 2 (marginal probabilities, the supplement averaged on the logit scale).
     """
     _check_result(result, compared=True, drawn=True)
     axes = list(np.ravel(axes)) if isinstance(axes, (list, tuple, np.ndarray)) else [axes]
