@@ -12,8 +12,8 @@ from amdo_lab.common import make_rng
 def clean_ear_contours():
     """Contours of one noise-light perpendicular ear, padded into a 256x256 frame."""
     rng = make_rng(7)
-    shape = eb.draw_ear_shape(rng)
-    image = eb.render_ear(shape, eb.CapturePose(0.0, 1.0, np.zeros(2), 0.0), rng, size=128)
+    shape = eb.draw_ear_shape(rng=rng)
+    image = eb.render_ear(shape, eb.CapturePose(0.0, 1.0, np.zeros(2), 0.0), rng=rng, size=128)
     contours = eb.clean_contours(eb.detect_contours(image, 8.0))
     big = np.zeros((256, 256), bool)
     big[64:192, 64:192] = contours
@@ -21,9 +21,9 @@ def clean_ear_contours():
 
 
 def test_generator_is_seeded_and_unpacks():
-    images, ids = eb.generate_ear_database(3, 2, "easy", 11)
-    again = eb.generate_ear_database(3, 2, "easy", 11)
-    other = eb.generate_ear_database(3, 2, "easy", 12)
+    images, ids = eb.generate_ear_database(3, 2, "easy", rng=11)
+    again = eb.generate_ear_database(3, 2, "easy", rng=11)
+    other = eb.generate_ear_database(3, 2, "easy", rng=12)
     assert images.shape == (6, 256, 256) and images.dtype == np.uint8
     assert ids.tolist() == [0, 0, 1, 1, 2, 2]
     assert np.array_equal(images, again.images)
@@ -33,46 +33,46 @@ def test_generator_is_seeded_and_unpacks():
 
 def test_difficult_images_carry_more_clutter_than_easy_ones():
     """Same subjects and seeds: occluders, noise and uneven light add contour pixels."""
-    easy = eb.generate_ear_database(4, 1, "easy", 3).images
-    hard = eb.generate_ear_database(4, 1, "difficult", 3).images
+    easy = eb.generate_ear_database(4, 1, "easy", rng=3).images
+    hard = eb.generate_ear_database(4, 1, "difficult", rng=3).images
     clutter = [np.mean([eb.clean_contours(eb.detect_contours(im)).mean() for im in ims]) for ims in (easy, hard)]
     assert clutter[1] > 1.5 * clutter[0]
 
 
 def test_generator_rejects_bad_arguments():
     with pytest.raises(ValueError, match="difficulty"):
-        eb.generate_ear_database(2, 2, "medium", 0)
+        eb.generate_ear_database(2, 2, "medium", rng=0)
     with pytest.raises(TypeError, match="n_subjects"):
-        eb.generate_ear_database(2.5, 2, "easy", 0)
+        eb.generate_ear_database(2.5, 2, "easy", rng=0)
     with pytest.raises(ValueError, match="disable.*'glare'"):
-        eb.generate_ear_database(2, 2, "easy", 0, disable=("glare",))
+        eb.generate_ear_database(2, 2, "easy", rng=0, disable=("glare",))
     with pytest.raises(TypeError, match="disable"):
-        eb.generate_ear_database(2, 2, "easy", 0, disable="yaw")
+        eb.generate_ear_database(2, 2, "easy", rng=0, disable="yaw")
 
 
 def test_disabling_a_factor_changes_only_that_factor():
-    base = eb.generate_ear_database(3, 2, "easy", 4)
-    no_yaw = eb.generate_ear_database(3, 2, "easy", 4, disable=("yaw",))
+    base = eb.generate_ear_database(3, 2, "easy", rng=4)
+    no_yaw = eb.generate_ear_database(3, 2, "easy", rng=4, disable=("yaw",))
     assert all(p.yaw == 0.0 for p in no_yaw.poses)
     assert [(p.rotation, p.scale) for p in no_yaw.poses] == [(p.rotation, p.scale) for p in base.poses]
     assert np.array_equal(no_yaw.images[0::2], base.images[0::2])  # perpendicular captures unchanged
     assert not np.array_equal(no_yaw.images[1::2], base.images[1::2])
-    still = eb.generate_ear_database(3, 2, "easy", 4, disable=eb.NUISANCE_FACTORS)
+    still = eb.generate_ear_database(3, 2, "easy", rng=4, disable=eb.NUISANCE_FACTORS)
     assert np.array_equal(still.images[0::2], still.images[1::2])  # no nuisance: identical captures
 
 
 def test_easy_lighting_is_fixed_and_difficult_lighting_varies():
     """Paper Sec. 6: the easy images have no illumination changes."""
-    easy = eb.generate_ear_database(3, 2, "easy", 8)
-    assert np.array_equal(easy.images, eb.generate_ear_database(3, 2, "easy", 8, disable=("illumination",)).images)
-    hard = eb.generate_ear_database(3, 2, "difficult", 8)
-    assert not np.array_equal(hard.images, eb.generate_ear_database(3, 2, "difficult", 8, disable=("illumination",)).images)
+    easy = eb.generate_ear_database(3, 2, "easy", rng=8)
+    assert np.array_equal(easy.images, eb.generate_ear_database(3, 2, "easy", rng=8, disable=("illumination",)).images)
+    hard = eb.generate_ear_database(3, 2, "difficult", rng=8)
+    assert not np.array_equal(hard.images, eb.generate_ear_database(3, 2, "difficult", rng=8, disable=("illumination",)).images)
 
 
 def test_crura_end_beneath_the_helix():
     rng = make_rng(5)
     for _ in range(200):
-        shape = eb.draw_ear_shape(rng)
+        shape = eb.draw_ear_shape(rng=rng)
         for end in (shape.superior_crus_end, shape.inferior_crus_end):
             angle = np.arctan2(end[1] / shape.helix_axes[1], end[0] / shape.helix_axes[0])
             helix_radius = eb.synthetic._radius(np.array([angle]), shape.helix_harmonics)[0]
@@ -80,7 +80,7 @@ def test_crura_end_beneath_the_helix():
 
 
 def test_loader_reads_grey_and_colour_files(tmp_path):
-    images, _ = eb.generate_ear_database(2, 1, "easy", 5)
+    images, _ = eb.generate_ear_database(2, 1, "easy", rng=5)
     cv2.imwrite(str(tmp_path / "007_a.png"), images[0])
     cv2.imwrite(str(tmp_path / "012_b.png"), cv2.cvtColor(images[1], cv2.COLOR_GRAY2BGR))
     (tmp_path / "notes.txt").write_text("not an image")
@@ -368,7 +368,7 @@ def test_topology_features_of_a_y_contour():
 
 @pytest.fixture(scope="module")
 def small_database():
-    return eb.generate_ear_database(6, 2, "easy", 99)
+    return eb.generate_ear_database(6, 2, "easy", rng=99)
 
 
 def test_matcher_finds_an_enrolled_image_and_rejects_blank(small_database):
@@ -522,7 +522,7 @@ def bad_input_context(clean_ear_contours, small_database, tmp_path_factory):
         norm=eb.normalise_coordinates(clean_ear_contours), features=eb.topology_features(clean_ear_contours),
         images=images, ids=ids, templates=templates, matcher=matcher, baseline=baseline,
         five_circles=eb.EarMatcher(n_circles=5).extract(images[1]), folder=folder, rng=rng,
-        shape=eb.draw_ear_shape(rng), pose=eb.CapturePose(0.0, 1.0, np.zeros(2), 0.0), ax=ax)
+        shape=eb.draw_ear_shape(rng=rng), pose=eb.CapturePose(0.0, 1.0, np.zeros(2), 0.0), ax=ax)
     plt.close(fig)
 
 
@@ -570,27 +570,27 @@ def bad_input_context(clean_ear_contours, small_database, tmp_path_factory):
     (lambda c: eb.closed_set("matcher", c.templates, c.ids[:6]), TypeError, "matcher must be an EarMatcher"),
     (lambda c: eb.hog_closed_set(c.images[:5], c.ids[:5]), ValueError, "images and subject_ids must have the same even length"),
     (lambda c: eb.hog_closed_set(c.images, c.ids[:4]), ValueError, "images and subject_ids must have the same even length"),
-    (lambda c: eb.nuisance_study(2, 0, ["baseline"]), TypeError, "conditions must map row names"),
-    (lambda c: eb.nuisance_study(2, 0, {"a": ()}, relaxed_violations=-1), ValueError, "relaxed_violations must be at least 0"),
-    (lambda c: eb.nuisance_study(2, 0, {"a": ()}, size=64, topology_weight=np.nan), ValueError,
+    (lambda c: eb.nuisance_study(2, ["baseline"], rng=0), TypeError, "conditions must map row names"),
+    (lambda c: eb.nuisance_study(2, {"a": ()}, rng=0, relaxed_violations=-1), ValueError, "relaxed_violations must be at least 0"),
+    (lambda c: eb.nuisance_study(2, {"a": ()}, rng=0, size=64, topology_weight=np.nan), ValueError,
      "topology_weight must be finite"),
     # generator, loader and plots
-    (lambda c: eb.draw_capture_pose(c.rng, frontal=True, size=128, difficulty="hard"), ValueError, "difficulty must be one of"),
-    (lambda c: eb.draw_capture_pose(c.rng, frontal="no", size=128, difficulty="easy"), TypeError, "frontal must be a bool"),
-    (lambda c: eb.draw_capture_pose(c.rng, frontal=True, size=0, difficulty="easy"), ValueError, "size must be at least 32"),
-    (lambda c: eb.draw_capture_pose(c.rng, frontal=False, size=128, difficulty="easy", max_yaw=np.nan), ValueError,
+    (lambda c: eb.draw_capture_pose(rng=c.rng, frontal=True, size=128, difficulty="hard"), ValueError, "difficulty must be one of"),
+    (lambda c: eb.draw_capture_pose(rng=c.rng, frontal="no", size=128, difficulty="easy"), TypeError, "frontal must be a bool"),
+    (lambda c: eb.draw_capture_pose(rng=c.rng, frontal=True, size=0, difficulty="easy"), ValueError, "size must be at least 32"),
+    (lambda c: eb.draw_capture_pose(rng=c.rng, frontal=False, size=128, difficulty="easy", max_yaw=np.nan), ValueError,
      "max_yaw must be finite"),
-    (lambda c: eb.draw_capture_pose(c.rng, frontal=False, size=128, difficulty="easy", max_yaw=120), ValueError,
+    (lambda c: eb.draw_capture_pose(rng=c.rng, frontal=False, size=128, difficulty="easy", max_yaw=120), ValueError,
      "max_yaw must be below 90 degrees"),
-    (lambda c: eb.generate_ear_database(1, 2, max_yaw=-30), ValueError, "max_yaw must be non-negative"),
-    (lambda c: eb.generate_ear_database(1, 2, max_rotation=np.nan), ValueError, "max_rotation must be finite"),
-    (lambda c: eb.render_ear("shape", c.pose, c.rng), TypeError, "shape must be an EarShape"),
-    (lambda c: eb.render_ear(c.shape, (0.0, 1.0), c.rng), TypeError, "pose must be a CapturePose"),
-    (lambda c: eb.render_ear(c.shape, eb.CapturePose(np.nan, 1.0, np.zeros(2), 0.0), c.rng), ValueError,
+    (lambda c: eb.generate_ear_database(1, 2, rng=0, max_yaw=-30), ValueError, "max_yaw must be non-negative"),
+    (lambda c: eb.generate_ear_database(1, 2, rng=0, max_rotation=np.nan), ValueError, "max_rotation must be finite"),
+    (lambda c: eb.render_ear("shape", c.pose, rng=c.rng), TypeError, "shape must be an EarShape"),
+    (lambda c: eb.render_ear(c.shape, (0.0, 1.0), rng=c.rng), TypeError, "pose must be a CapturePose"),
+    (lambda c: eb.render_ear(c.shape, eb.CapturePose(np.nan, 1.0, np.zeros(2), 0.0), rng=c.rng), ValueError,
      "pose.rotation must be finite"),
-    (lambda c: eb.render_ear(c.shape, eb.CapturePose(0.0, 0.0, np.zeros(2), 0.0), c.rng), ValueError,
+    (lambda c: eb.render_ear(c.shape, eb.CapturePose(0.0, 0.0, np.zeros(2), 0.0), rng=c.rng), ValueError,
      "pose.scale must be positive"),
-    (lambda c: eb.render_ear(c.shape, eb.CapturePose(0.0, 1.0, np.zeros(2), 2.0), c.rng), ValueError,
+    (lambda c: eb.render_ear(c.shape, eb.CapturePose(0.0, 1.0, np.zeros(2), 2.0), rng=c.rng), ValueError,
      r"pose.yaw must be within \(-pi/2, pi/2\)"),
     (lambda c: eb.ear_curves(eb.EarShape(**{**vars(c.shape), "lobule_depth": np.nan})), ValueError,
      "shape.lobule_depth must be finite"),
@@ -795,3 +795,38 @@ def test_matcher_exposes_the_image_and_contours_its_features_come_from(small_dat
     template = matcher.extract(image)
     np.testing.assert_array_equal(template.circles.counts, direct.circles.counts)
     np.testing.assert_allclose(eb.characteristic_points(template.topology), eb.characteristic_points(direct))
+
+
+# --- the rng convention: keyword-only, no default, errors name ``rng`` ---------------------------
+
+_POSE = eb.CapturePose(0.0, 1.0, np.zeros(2), 0.0)
+RNG_CALLS = {
+    "draw_ear_shape": lambda rng: eb.draw_ear_shape(rng=rng),
+    "render_ear": lambda rng: eb.render_ear(eb.draw_ear_shape(rng=0), _POSE, rng=rng, size=64),
+    "draw_capture_pose": lambda rng: eb.draw_capture_pose(rng=rng, frontal=True, size=64, difficulty="easy"),
+    "generate_ear_database": lambda rng: eb.generate_ear_database(1, 1, rng=rng, size=64),
+    "similarity_copy": lambda rng: eb.similarity_copy(np.zeros((16, 16), np.uint8), rng=rng),
+    "nuisance_study": lambda rng: eb.nuisance_study(2, {"a": ()}, rng=rng),
+}
+
+
+@pytest.mark.parametrize("name", sorted(RNG_CALLS))
+def test_drawing_functions_take_rng_keyword_only_without_default(name):
+    import inspect
+
+    parameter = inspect.signature(getattr(eb, name)).parameters["rng"]
+    assert parameter.kind is inspect.Parameter.KEYWORD_ONLY
+    assert parameter.default is inspect.Parameter.empty
+
+
+@pytest.mark.parametrize("name", sorted(RNG_CALLS))
+@pytest.mark.parametrize("bad, error", [("7", TypeError), (1.5, TypeError), (None, TypeError), (-1, ValueError)])
+def test_a_bad_rng_is_refused_by_name(name, bad, error):
+    with pytest.raises(error, match="^rng must be"):
+        RNG_CALLS[name](bad)
+
+
+def test_an_int_seed_and_its_generator_draw_the_same_ears():
+    by_seed = eb.generate_ear_database(2, 2, rng=21, size=64).images
+    np.testing.assert_array_equal(by_seed, eb.generate_ear_database(2, 2, rng=make_rng(21), size=64).images)
+    np.testing.assert_array_equal(eb.similarity_copy(by_seed[0], rng=3), eb.similarity_copy(by_seed[0], rng=make_rng(3)))

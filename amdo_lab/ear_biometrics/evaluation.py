@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive_int
+from amdo_lab.common import as_finite_array, check_positive_int, make_rng
 from amdo_lab.ear_biometrics.matcher import EarMatcher, EarTemplate, HogNearestNeighbour, _check_templates, rank_of_truth
 from amdo_lab.ear_biometrics.synthetic import check_disable, generate_ear_database
 
@@ -133,19 +134,19 @@ def hog_closed_set(images: np.ndarray, subject_ids: object, pixels_per_cell: int
     return ranks, genuine_impostor_separation(distances, ids[0::2], ids[1::2])
 
 
-def nuisance_study(n_subjects: int, rng: int, conditions: dict[str, tuple], *, difficulty: str = "easy",
-                   size: int = 256, relaxed_violations: int = 2, **matcher_settings) -> list[dict]:
+def nuisance_study(n_subjects: int, conditions: Mapping[str, tuple], *, rng: int | np.random.Generator,
+                   difficulty: str = "easy", size: int = 256, relaxed_violations: int = 2, **matcher_settings) -> list[dict]:
     """Rates and separations of our method and HOG on databases that differ only in which nuisance
     factors are disabled.
 
     ``conditions`` maps a row name to the factors to disable; every database is drawn from the same
-    integer seed ``rng``, so the subjects and all other factors are identical. Per row: our
+    state of ``rng`` (an int seed, or a generator that is copied, not advanced), so the subjects and
+    all other factors are identical. Per row: our
     paper-rule decisions ("correct"), our rank-1 under the relaxed rule (``relaxed_violations``
     radii may break the +-1 count rule), HOG's rank-1, and both methods' AUC and d' (separation).
     """
     n_subjects = check_positive_int(n_subjects, "n_subjects", minimum=2)
-    if not isinstance(rng, (int, np.integer)) or isinstance(rng, bool):
-        raise TypeError(f"rng must be an int seed (each condition redraws from it), got {type(rng).__name__}")
+    generator = make_rng(rng, "rng")  # each condition draws from a copy of this state
     # Everything is checked before the first (slow) database is drawn.
     if not isinstance(conditions, Mapping):
         raise TypeError(f"conditions must map row names to factors to disable, got {type(conditions).__name__}")
@@ -155,7 +156,8 @@ def nuisance_study(n_subjects: int, rng: int, conditions: dict[str, tuple], *, d
     EarMatcher(**matcher_settings)  # checks the settings under their own names
     rows = []
     for name, disabled in conditions.items():
-        database = generate_ear_database(n_subjects, 2, difficulty, int(rng), size=size, disable=disabled)
+        database = generate_ear_database(n_subjects, 2, difficulty, rng=copy.deepcopy(generator), size=size,
+                                         disable=disabled)
         templates = [EarMatcher(**matcher_settings).extract(image) for image in database.images]
         paper = closed_set(EarMatcher(**matcher_settings), templates, database.subject_ids)
         relaxed = closed_set(EarMatcher(**matcher_settings, max_count_violations=relaxed_violations),

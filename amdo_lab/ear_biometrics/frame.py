@@ -235,7 +235,7 @@ def similarity_copy(image: object, *, rng: int | np.random.Generator, max_rotati
     interpolation (``cv2.warpAffine``), border replicated. Same size and dtype as ``image``."""
     as_grey_image(image)
     array = np.asarray(image)
-    rng = make_rng(rng)
+    rng = make_rng(rng, "rng")
     check_positive(max_rotation_deg, "max_rotation_deg", allow_zero=True)
     low, high = as_finite_array(scale_range, "scale_range", shape=(2,))
     if not 0 < low <= high:

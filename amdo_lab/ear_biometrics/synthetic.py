@@ -89,7 +89,7 @@ class EarDatabase:
         return iter((self.images, self.subject_ids))
 
 
-def draw_ear_shape(rng: np.random.Generator) -> EarShape:
+def draw_ear_shape(*, rng: int | np.random.Generator) -> EarShape:
     """Draw one subject's ear shape parameters.
 
     The canonical ear is about 2.15 units tall (helix top to lobule tip), so one unit is roughly
@@ -103,7 +103,7 @@ def draw_ear_shape(rng: np.random.Generator) -> EarShape:
     (standard deviation 9 degrees) and a fraction of the local helix radius (uniform, 0.72-0.90 for
     the superior crus, 0.60-0.78 for the inferior one), so they never leave the ear.
     """
-    rng = make_rng(rng)
+    rng = make_rng(rng, "rng")
     normal = rng.normal
     size = 1 + 0.07 * normal()
     helix_axes = np.array([0.62 * (1 + 0.09 * normal()), 0.95]) * size
@@ -218,8 +218,8 @@ def _to_pixels(points: np.ndarray, pose: CapturePose, size: int) -> np.ndarray:
 def render_ear(
     shape: EarShape,
     pose: CapturePose,
-    rng: np.random.Generator,
     *,
+    rng: int | np.random.Generator,
     difficulty: str = "easy",
     size: int = 256,
     disable: object = (),
@@ -235,19 +235,19 @@ def render_ear(
     """
     _check_ear_shape(shape)
     _check_pose(pose)
+    rng = make_rng(rng, "rng")
     check_choice(difficulty, "difficulty", DIFFICULTIES)
     size = check_positive_int(size, "size", minimum=32)
     disable = check_disable(disable)
     return _render_ear(shape, pose, rng, difficulty=difficulty, size=size, disable=disable)
 
 
-def _render_ear(shape: EarShape, pose: CapturePose, rng: np.random.Generator | int, *, difficulty: str, size: int,
+def _render_ear(shape: EarShape, pose: CapturePose, rng: np.random.Generator, *, difficulty: str, size: int,
                 disable: frozenset) -> np.ndarray:
     """:func:`render_ear` on validated input (the database generator's per-image call)."""
     hard = difficulty == "difficult"
     # The paper's easy images were taken "without illumination changes" (Sec. 6): one fixed lighting.
     lit, noisy = hard and "illumination" not in disable, "noise" not in disable
-    rng = make_rng(rng)
     curves = [_to_pixels(c, pose, size) for c in _ear_curves(shape)]
     shift = 4  # sub-pixel drawing precision (cv2 fixed point)
 
@@ -317,7 +317,7 @@ def _add_occluders(image: np.ndarray, curves: list[np.ndarray], rng: np.random.G
     return image * (1 - 0.75 * np.clip(arm, 0, 1)) + 0.08 * np.clip(arm, 0, 1)
 
 
-def draw_capture_pose(rng: np.random.Generator, *, frontal: bool, size: int, difficulty: str,
+def draw_capture_pose(*, rng: int | np.random.Generator, frontal: bool, size: int, difficulty: str,
                       max_yaw: float = 30.0, max_rotation: float | None = None) -> CapturePose:
     """Per-capture nuisance: rotation ±10° (±20° difficult) unless ``max_rotation`` (degrees) is given,
     scale 0.85–1.1, shift ±6 % of the image, yaw 0 for the perpendicular capture, else uniform in
@@ -326,7 +326,7 @@ def draw_capture_pose(rng: np.random.Generator, *, frontal: bool, size: int, dif
     ``rng`` is a generator or an int seed, ``frontal`` a bool, ``size`` the image side (>= 32),
     ``max_yaw`` in [0, 90) degrees and ``max_rotation`` non-negative.
     """
-    rng = make_rng(rng)
+    rng = make_rng(rng, "rng")
     if not isinstance(frontal, (bool, np.bool_)):
         raise TypeError(f"frontal must be a bool, got {type(frontal).__name__}")
     size = check_positive_int(size, "size", minimum=32)
@@ -373,8 +373,8 @@ def generate_ear_database(
     n_subjects: int,
     images_per_subject: int = 2,
     difficulty: str = "easy",
-    rng: int | np.random.Generator = 0,
     *,
+    rng: int | np.random.Generator,
     size: int = 256,
     max_yaw: float = 30.0,
     max_rotation: float | None = None,
@@ -397,10 +397,10 @@ def generate_ear_database(
     size = check_positive_int(size, "size", minimum=32)
     max_yaw, max_rotation = _check_pose_ranges(max_yaw, max_rotation)
     disable = check_disable(disable)
-    rng = make_rng(rng)
+    rng = make_rng(rng, "rng")
     shapes, poses, images, ids = [], [], [], []
     for subject in range(n_subjects):
-        shape = draw_ear_shape(rng)
+        shape = draw_ear_shape(rng=rng)
         shapes.append(shape)
         for capture in range(images_per_subject):
             pose = _neutralise(_draw_capture_pose(rng, frontal=capture == 0, size=size, difficulty=difficulty,
