@@ -129,8 +129,8 @@ def speed(bench: Benchmark, args) -> None:
     def clean(raw):
         return eb.clean_contours(raw, ours.min_component_size, ours.closing)
 
-    settings = dict(mode=ours.mode, min_gap=ours.min_gap, crossings=ours.crossings,
-                    polyline_smoothing=ours.polyline_smoothing, band=ours.band, spur_length=ours.spur_length)
+    settings = dict(mode=ours.mode, min_gap_px=ours.min_gap_px, crossings=ours.crossings,
+                    polyline_smoothing=ours.polyline_smoothing, band_px=ours.band_px, spur_length_px=ours.spur_length_px)
 
     def canonical(image):
         return _to_canonical(image, _moment_frame_fast(_silhouette(image), image.shape))
@@ -144,7 +144,7 @@ def speed(bench: Benchmark, args) -> None:
         "clean-up (closing, small parts)": best_time(clean, [eb.detect_contours(im, ours.k) for im in gallery]),
         f"V ({ours.crossings} crossings)": best_time(lambda c: eb.circle_features(c, ours.n_circles, ours.step, **settings), contours),
         "V (pixel-run crossings)": best_time(lambda c: eb.circle_features(c, ours.n_circles, ours.step, mode=ours.mode,
-                                                                           min_gap=ours.min_gap), contours),
+                                                                           min_gap_px=ours.min_gap_px), contours),
         "F: thinning, N_c, tracing (incl. V)": best_time(lambda c: eb.topology_features(c, ours.n_circles, ours.step, **settings), contours),
     }
 

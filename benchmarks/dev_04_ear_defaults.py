@@ -26,15 +26,15 @@ VARIANTS = {
     "canonical frame, triples": dict(ranking="triples"),
     "eq. 6 on contour pixels": dict(origin="contours"),
     "frame from contour pixels": dict(frame="contours"),
-    "band 0": dict(band=0.0),
-    "band 3": dict(band=3.0),
-    "band 9": dict(band=9.0),
-    "no spur pruning": dict(spur_length=0),
+    "band 0": dict(band_px=0.0),
+    "band 3": dict(band_px=3.0),
+    "band 9": dict(band_px=9.0),
+    "no spur pruning": dict(spur_length_px=0),
     "no smoothing": dict(polyline_smoothing=0),
     "closing 1": dict(closing=1),
     "fragments >= 20 px": dict(min_component_size=20),
     "pixel runs, min_gap 6": dict(crossings="pixels"),
-    "literal pixel count": dict(crossings="pixels", min_gap=0.0),
+    "literal pixel count": dict(crossings="pixels", min_gap_px=0.0),
 }
 
 

@@ -164,16 +164,16 @@ def test_circle_features_of_a_plus_sign():
 
 def test_min_gap_merges_a_ragged_double_line():
     """Each arm of the plus is drawn twice, one empty pixel apart: without merging every circle sees
-    8 runs, with min_gap = 3 pixels the 4 arms."""
+    8 runs, with min_gap_px = 3 the 4 arms."""
     contours = np.zeros((101, 101), bool)
     for offset in (-1, 1):
         contours[50 + offset, 10:91] = True
         contours[10:91, 50 + offset] = True
     assert eb.circle_features(contours, n_circles=3, step=0.5, mode="isotropic").counts.tolist() == [8, 8, 8]
-    merged = eb.circle_features(contours, n_circles=3, step=0.5, mode="isotropic", min_gap=3)
+    merged = eb.circle_features(contours, n_circles=3, step=0.5, mode="isotropic", min_gap_px=3)
     assert merged.counts.tolist() == [4, 4, 4]
-    with pytest.raises(ValueError, match="min_gap"):
-        eb.circle_features(contours, min_gap=-1)
+    with pytest.raises(ValueError, match="min_gap_px"):
+        eb.circle_features(contours, min_gap_px=-1)
 
 
 def _plus(size: int = 201, arm: int = 90) -> np.ndarray:
@@ -229,11 +229,11 @@ def test_dead_band_ignores_a_graze_and_keeps_a_crossing():
         cv2.line(canvas, tuple(int(v) for v in np.round(end[::-1])), tuple(int(v) for v in np.round(apex[::-1])), 1, 1)
     skeleton = canvas > 0
     common = dict(n_circles=2, step=0.5, mode="isotropic", crossings="polyline", polyline_smoothing=0, skeleton=skeleton)
-    plain = eb.circle_features(plus, band=0.0, **common).counts
-    banded = eb.circle_features(plus, band=3.0, **common).counts
+    plain = eb.circle_features(plus, band_px=0.0, **common).counts
+    banded = eb.circle_features(plus, band_px=3.0, **common).counts
     assert plain.tolist() == [4, 6] and banded.tolist() == [4, 4]
-    with pytest.raises(ValueError, match="band"):
-        eb.circle_features(plus, crossings="polyline", band=-1.0)
+    with pytest.raises(ValueError, match="band_px"):
+        eb.circle_features(plus, crossings="polyline", band_px=-1.0)
     with pytest.raises(ValueError, match="crossings"):
         eb.circle_features(plus, crossings="subpixel")
     with pytest.raises(ValueError, match="skeleton"):
@@ -313,14 +313,14 @@ def test_property_random_similarities_change_features_only_by_discretisation(cle
     run nearly along the helix, where a one-pixel change adds or removes a crossing)."""
     rng = make_rng(2024)
     modes = eb.NORMALISATION_MODES
-    base = {mode: eb.circle_features(clean_ear_contours, mode=mode, min_gap=3) for mode in modes}
+    base = {mode: eb.circle_features(clean_ear_contours, mode=mode, min_gap_px=3) for mode in modes}
     gaps = {mode: [] for mode in modes}
     for _ in range(10):
         matrix = cv2.getRotationMatrix2D((128, 128), rng.uniform(0, 360), rng.uniform(0.8, 1.25))
         matrix[:, 2] += rng.uniform(-20, 20, 2)
         warped = _warp(clean_ear_contours, matrix)
         for mode in modes:
-            moved = eb.circle_features(warped, mode=mode, min_gap=3)
+            moved = eb.circle_features(warped, mode=mode, min_gap_px=3)
             gaps[mode].append((np.abs(moved.counts - base[mode].counts).mean(),
                                np.abs(moved.distance_sums - base[mode].distance_sums).mean()))
     mean = {mode: np.mean(gaps[mode], axis=0) for mode in modes}
@@ -336,8 +336,8 @@ def test_principal_normalisation_absorbs_horizontal_foreshortening(clean_ear_con
     squeezed = _warp(clean_ear_contours, squeeze)
     gap = {}
     for mode in ("principal", "isotropic"):
-        a = eb.circle_features(clean_ear_contours, mode=mode, min_gap=3)
-        b = eb.circle_features(squeezed, mode=mode, min_gap=3)
+        a = eb.circle_features(clean_ear_contours, mode=mode, min_gap_px=3)
+        b = eb.circle_features(squeezed, mode=mode, min_gap_px=3)
         gap[mode] = np.abs(a.distance_sums - b.distance_sums).mean()
     assert gap["principal"] < 0.5 * gap["isotropic"]
 
@@ -489,8 +489,8 @@ def test_enroll_template_checks_and_open_set_rates(small_database):
     ({"topology_weight": -1.0}, ValueError, "topology_weight must be non-negative"),
     ({"mode": "affine"}, ValueError, "mode must be one of"),
     ({"crossings": "edges"}, ValueError, "crossings must be one of"),
-    ({"band": -1.0}, ValueError, "band must be non-negative"),
-    ({"spur_length": -1}, ValueError, "spur_length must be at least 0"),
+    ({"band_px": -1.0}, ValueError, "band_px must be non-negative"),
+    ({"spur_length_px": -1}, ValueError, "spur_length_px must be at least 0"),
 ])
 def test_matcher_settings_are_checked_when_it_is_built(settings, error, message):
     with pytest.raises(error, match=message):
@@ -578,12 +578,12 @@ def bad_input_context(clean_ear_contours, small_database, tmp_path_factory):
     (lambda c: eb.draw_capture_pose(rng=c.rng, frontal=True, size=128, difficulty="hard"), ValueError, "difficulty must be one of"),
     (lambda c: eb.draw_capture_pose(rng=c.rng, frontal="no", size=128, difficulty="easy"), TypeError, "frontal must be a bool"),
     (lambda c: eb.draw_capture_pose(rng=c.rng, frontal=True, size=0, difficulty="easy"), ValueError, "size must be at least 32"),
-    (lambda c: eb.draw_capture_pose(rng=c.rng, frontal=False, size=128, difficulty="easy", max_yaw=np.nan), ValueError,
-     "max_yaw must be finite"),
-    (lambda c: eb.draw_capture_pose(rng=c.rng, frontal=False, size=128, difficulty="easy", max_yaw=120), ValueError,
-     "max_yaw must be below 90 degrees"),
-    (lambda c: eb.generate_ear_database(1, 2, rng=0, max_yaw=-30), ValueError, "max_yaw must be non-negative"),
-    (lambda c: eb.generate_ear_database(1, 2, rng=0, max_rotation=np.nan), ValueError, "max_rotation must be finite"),
+    (lambda c: eb.draw_capture_pose(rng=c.rng, frontal=False, size=128, difficulty="easy", max_yaw_deg=np.nan), ValueError,
+     "max_yaw_deg must be finite"),
+    (lambda c: eb.draw_capture_pose(rng=c.rng, frontal=False, size=128, difficulty="easy", max_yaw_deg=120), ValueError,
+     "max_yaw_deg must be below 90 degrees"),
+    (lambda c: eb.generate_ear_database(1, 2, rng=0, max_yaw_deg=-30), ValueError, "max_yaw_deg must be non-negative"),
+    (lambda c: eb.generate_ear_database(1, 2, rng=0, max_rotation_deg=np.nan), ValueError, "max_rotation_deg must be finite"),
     (lambda c: eb.render_ear("shape", c.pose, rng=c.rng), TypeError, "shape must be an EarShape"),
     (lambda c: eb.render_ear(c.shape, (0.0, 1.0), rng=c.rng), TypeError, "pose must be a CapturePose"),
     (lambda c: eb.render_ear(c.shape, eb.CapturePose(np.nan, 1.0, np.zeros(2), 0.0), rng=c.rng), ValueError,
@@ -739,7 +739,7 @@ def test_similarity_copies_of_enrolled_images_are_identified(small_database):
      "query must be TopologyFeatures"),
     (lambda im: eb.characteristic_points(im), TypeError, "features must be TopologyFeatures"),
     (lambda im: eb.similarity_copy(im, rng=0, scale_range=(1.2, 0.9)), ValueError, "scale_range must be"),
-    (lambda im: eb.similarity_copy(im, rng=0, max_shift=-1), ValueError, "max_shift must be non-negative"),
+    (lambda im: eb.similarity_copy(im, rng=0, max_shift_px=-1), ValueError, "max_shift_px must be non-negative"),
     (lambda im: eb.similarity_copy(im, rng=0, rotation_deg=np.nan), ValueError, "rotation_deg must be finite"),
     (lambda im: eb.EarMatcher(frame="affine"), ValueError, "frame must be one of"),
     (lambda im: eb.EarMatcher(origin="centre"), ValueError, "origin must be one of"),
@@ -761,7 +761,7 @@ def test_reference_of_eqs_6_and_7_equals_the_vectorised_path(clean_ear_contours)
     rotated = cv2.warpAffine(toy, cv2.getRotationMatrix2D((50, 50), 30, 1.0), (101, 101), flags=cv2.INTER_NEAREST)
     for contours in (clean_ear_contours, toy > 0, rotated > 0):
         reference = eb.circle_features_reference(contours, 6, 0.3)
-        fast = eb.circle_features(contours, 6, 0.3, mode="axes", crossings="pixels", min_gap=0.0)
+        fast = eb.circle_features(contours, 6, 0.3, mode="axes", crossings="pixels", min_gap_px=0.0)
         assert np.array_equal(reference.counts, fast.counts)
         np.testing.assert_allclose(reference.distance_sums, fast.distance_sums, atol=1e-9)
         np.testing.assert_allclose(reference.normalisation.matrix, fast.normalisation.matrix)
@@ -772,7 +772,7 @@ def test_reference_of_eqs_6_and_7_equals_the_vectorised_path(clean_ear_contours)
 def test_similarity_copy_is_seeded_and_exact_for_a_quarter_turn():
     image = np.zeros((64, 64), np.uint8)
     image[10:20, 30:34] = 200
-    turned = eb.similarity_copy(image, rng=1, rotation_deg=90.0, scale_range=(1.0, 1.0), max_shift=0.0)
+    turned = eb.similarity_copy(image, rng=1, rotation_deg=90.0, scale_range=(1.0, 1.0), max_shift_px=0.0)
     np.testing.assert_array_equal(turned, np.rot90(image))  # +90 degrees = counter-clockwise as displayed
     np.testing.assert_array_equal(eb.similarity_copy(image, rng=5), eb.similarity_copy(image, rng=5))
     assert eb.similarity_copy(image.astype(float), rng=5).dtype == float
@@ -790,7 +790,7 @@ def test_matcher_exposes_the_image_and_contours_its_features_come_from(small_dat
     from amdo_lab.ear_biometrics.frame import frame_normalisation
 
     norm = frame_normalisation(matcher.canonical_frame(image), image.shape)
-    direct = eb.topology_features(contours, crossings="polyline", band=6.0, spur_length=8, polyline_smoothing=4,
+    direct = eb.topology_features(contours, crossings="polyline", band_px=6.0, spur_length_px=8, polyline_smoothing=4,
                                   normalisation=norm)
     template = matcher.extract(image)
     np.testing.assert_array_equal(template.circles.counts, direct.circles.counts)
@@ -830,3 +830,15 @@ def test_an_int_seed_and_its_generator_draw_the_same_ears():
     by_seed = eb.generate_ear_database(2, 2, rng=21, size=64).images
     np.testing.assert_array_equal(by_seed, eb.generate_ear_database(2, 2, rng=make_rng(21), size=64).images)
     np.testing.assert_array_equal(eb.similarity_copy(by_seed[0], rng=3), eb.similarity_copy(by_seed[0], rng=make_rng(3)))
+
+
+@pytest.mark.parametrize("shape", [(0, 0), (0, 5), (5, 0)])
+@pytest.mark.parametrize("call", [
+    lambda image: eb.clean_contours(image),  # OpenCV's closing crashed the interpreter on these
+    lambda image: eb.prune_spurs(image, 2),  # OpenCV's dilation raised cv2.error
+    lambda image: eb.skeleton_graph(image),
+    lambda image: eb.crossing_number(image),
+], ids=["clean_contours", "prune_spurs", "skeleton_graph", "crossing_number"])
+def test_empty_boolean_images_are_refused(call, shape):
+    with pytest.raises(ValueError, match="must not be empty"):
+        call(np.zeros(shape, bool))

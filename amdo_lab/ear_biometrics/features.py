@@ -11,8 +11,16 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from skimage.morphology import skeletonize
 
-from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
+from amdo_lab.common import as_bool_mask, as_finite_array, check_choice, check_positive, check_positive_int
 
+
+def _as_bool_image(value: object, name: str) -> np.ndarray:
+    """A non-empty 2-D boolean image (contours, a skeleton): OpenCV's morphology and component
+    labelling crash the interpreter on an image with zero rows, so empty images are refused here."""
+    array = np.asarray(value)
+    if array.dtype != bool or array.ndim != 2:
+        raise TypeError(f"{name} must be a 2-D boolean image, got dtype {array.dtype}, shape {array.shape}")
+    return as_bool_mask(array, name)
 
 
 def as_grey_image(image: object, name: str = "image") -> np.ndarray:
@@ -88,9 +96,7 @@ def clean_contours(contours: object, min_size: int = 20, closing: int = 1) -> np
     closing with a (2*closing+1)^2 square (bridges the one-pixel gaps between the two flanks of a
     groove, so one groove crosses a circle once), then drop 8-connected fragments with fewer than
     ``min_size`` pixels. ``closing=0`` skips the closing."""
-    array = np.asarray(contours)
-    if array.dtype != bool or array.ndim != 2:
-        raise TypeError(f"contours must be a 2-D boolean image, got dtype {array.dtype}, shape {array.shape}")
+    array = _as_bool_image(contours, "contours")
     min_size = check_positive_int(min_size, "min_size")
     closing = check_positive_int(closing, "closing", minimum=0)
     if closing:
@@ -230,17 +236,17 @@ def _runs(rolled: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return rows, starts, ends
 
 
-def _fill_short_gaps(hits: np.ndarray, arc: np.ndarray, min_gap: float) -> np.ndarray:
-    """Close runs of False on closed rows whose arc length (sum of ``arc``) is below ``min_gap``."""
+def _fill_short_gaps(hits: np.ndarray, arc: np.ndarray, min_gap_px: float) -> np.ndarray:
+    """Close runs of False on closed rows whose arc length (sum of ``arc``) is below ``min_gap_px``."""
     partial = hits.any(axis=1) & ~hits.all(axis=1)
-    if min_gap <= 0 or not partial.any():
+    if min_gap_px <= 0 or not partial.any():
         return hits
     sub, sub_arc = hits[partial], arc[partial]
     shifts = np.argmax(sub, axis=1)  # start every row on a True, so no gap wraps around
     rolled, rolled_arc = _roll_rows(sub, shifts), _roll_rows(sub_arc, shifts)
     rows, starts, ends = _runs(~rolled)
     cumulative = np.pad(np.cumsum(rolled_arc, axis=1), ((0, 0), (1, 0)))
-    short = cumulative[rows, ends] - cumulative[rows, starts] < min_gap
+    short = cumulative[rows, ends] - cumulative[rows, starts] < min_gap_px
     fill = np.zeros(rolled.shape[1] + 1, np.int32)[None].repeat(len(rolled), axis=0)
     np.add.at(fill, (rows[short], starts[short]), 1)
     np.add.at(fill, (rows[short], ends[short]), -1)
@@ -274,9 +280,7 @@ def skeleton_graph(skeleton: object) -> tuple[np.ndarray, np.ndarray]:
     a triangle, so a circle passing the corner is crossed once). Returns ``(nodes (n, 2) float,
     edges (m, 2) int)``.
     """
-    thin = np.asarray(skeleton)
-    if thin.dtype != bool or thin.ndim != 2:
-        raise TypeError(f"skeleton must be a 2-D boolean image, got dtype {thin.dtype}, shape {thin.shape}")
+    thin = _as_bool_image(skeleton, "skeleton")
     h, w = thin.shape
     index = np.full((h + 2, w + 2), -1, np.int64)
     nodes = np.argwhere(thin)
@@ -296,11 +300,11 @@ def skeleton_graph(skeleton: object) -> tuple[np.ndarray, np.ndarray]:
     return nodes.astype(float), np.vstack(pairs)
 
 
-def smooth_polylines(nodes: np.ndarray, edges: np.ndarray, iterations: int) -> np.ndarray:
-    """Light smoothing along the contours: ``iterations`` rounds of replacing every node of degree 2
+def smooth_polylines(nodes: np.ndarray, edges: np.ndarray, n_iter: int) -> np.ndarray:
+    """Light smoothing along the contours: ``n_iter`` rounds of replacing every node of degree 2
     (an interior polyline point) by the mean of itself and its two neighbours. Endings and
     bifurcations stay put, so contours neither shrink nor come apart."""
-    iterations = check_positive_int(iterations, "iterations", minimum=0)
+    n_iter = check_positive_int(n_iter, "n_iter", minimum=0)
     positions = as_finite_array(nodes, "nodes", shape=(None, 2))
     edges = np.asarray(edges)
     if edges.ndim != 2 or edges.shape[1] != 2 or not np.issubdtype(edges.dtype, np.integer):
@@ -310,7 +314,7 @@ def smooth_polylines(nodes: np.ndarray, edges: np.ndarray, iterations: int) -> n
         raise ValueError(f"edges must index nodes 0..{len(positions) - 1}, got indices {edges.min()}..{edges.max()}")
     degree = np.bincount(edges.ravel(), minlength=len(positions))
     interior = degree == 2
-    for _ in range(iterations):
+    for _ in range(n_iter):
         totals = positions.copy()
         np.add.at(totals, edges[:, 0], positions[edges[:, 1]])
         np.add.at(totals, edges[:, 1], positions[edges[:, 0]])
@@ -319,7 +323,7 @@ def smooth_polylines(nodes: np.ndarray, edges: np.ndarray, iterations: int) -> n
 
 
 def _pixel_crossings(array: np.ndarray, norm: Normalisation, radii: np.ndarray,
-                     min_gap: float) -> tuple[np.ndarray, np.ndarray]:
+                     min_gap_px: float) -> tuple[np.ndarray, np.ndarray]:
     """Literal reading: circle index and angle of every run of contour pixels met along each circle."""
     n_samples = int(8 * np.ceil(4 * np.pi * radii[-1] * norm.spread.max() / 8)) + 8
     angles = 2 * np.pi * np.arange(n_samples) / n_samples
@@ -330,17 +334,17 @@ def _pixel_crossings(array: np.ndarray, norm: Normalisation, radii: np.ndarray,
     hits = np.zeros((len(radii), n_samples), bool)
     hits[inside] = array[rc[inside][:, 0], rc[inside][:, 1]]
     arc = np.linalg.norm(np.roll(pixels, -1, axis=1) - pixels, axis=2)  # pixel length of each sample step
-    rows, mids = _circle_crossings(_fill_short_gaps(hits, arc, min_gap))
+    rows, mids = _circle_crossings(_fill_short_gaps(hits, arc, min_gap_px))
     return rows, 2 * np.pi * mids / n_samples
 
 
 def _polyline_crossings(skeleton: np.ndarray, norm: Normalisation, radii: np.ndarray, smoothing: int,
-                        band: float) -> tuple[np.ndarray, np.ndarray]:
+                        band_px: float) -> tuple[np.ndarray, np.ndarray]:
     """Sub-pixel reading: circle index and angle of every crossing of the (lightly smoothed) skeleton
     polylines with each circle.
 
-    With ``band`` = 0 a crossing is a sign change of r(s) - R along an edge, located by linear
-    interpolation. With ``band`` = h > 0 (pixels) the sign change must go from below R - h to above
+    With ``band_px`` = 0 a crossing is a sign change of r(s) - R along an edge, located by linear
+    interpolation. With ``band_px`` = h > 0 (pixels) the sign change must go from below R - h to above
     R + h (a dead band, as in a Schmitt trigger): a stretch of contour inside the band counts once if
     it enters from one side and leaves on the other, and not at all if it touches the circle and turns
     back (a graze), so sub-pixel wobble near a tangent point cannot add or remove crossings.
@@ -349,7 +353,7 @@ def _polyline_crossings(skeleton: np.ndarray, norm: Normalisation, radii: np.nda
     xy = norm.to_normalised(smooth_polylines(nodes, edges, smoothing))
     radius = np.linalg.norm(xy, axis=1)
     n_nodes, n_circles = len(xy), len(radii)
-    h = band / np.sqrt(np.prod(norm.spread))  # pixels -> normalised units (geometric-mean spread)
+    h = band_px / np.sqrt(np.prod(norm.spread))  # pixels -> normalised units (geometric-mean spread)
     side = np.where(radius[:, None] < radii - h, -1, np.where(radius[:, None] >= radii + h, 1, 0))
     a, b = edges[:, 0], edges[:, 1]
     # direct jumps over the whole band (always the case for h = 0)
@@ -389,15 +393,13 @@ def _polyline_crossings(skeleton: np.ndarray, norm: Normalisation, radii: np.nda
     return np.concatenate(rows_out), np.concatenate(theta_out) % (2 * np.pi)
 
 
-def prune_spurs(skeleton: object, length: int) -> np.ndarray:
-    """Remove side branches shorter than ``length`` pixels from a thinned image (spurs that a ragged
-    contour border leaves after thinning): ``length`` rounds of deleting end pixels, then the
-    surviving ends regrow along the original skeleton by up to ``length`` pixels, so genuine open
+def prune_spurs(skeleton: object, length_px: int) -> np.ndarray:
+    """Remove side branches shorter than ``length_px`` pixels from a thinned image (spurs that a ragged
+    contour border leaves after thinning): ``length_px`` rounds of deleting end pixels, then the
+    surviving ends regrow along the original skeleton by up to ``length_px`` pixels, so genuine open
     contours keep their full length."""
-    thin = np.asarray(skeleton)
-    if thin.dtype != bool or thin.ndim != 2:
-        raise TypeError(f"skeleton must be a 2-D boolean image, got dtype {thin.dtype}, shape {thin.shape}")
-    length = check_positive_int(length, "length", minimum=0)
+    thin = _as_bool_image(skeleton, "skeleton")
+    length = check_positive_int(length_px, "length_px", minimum=0)
     kernel = np.ones((3, 3), np.uint8)
 
     def ends(mask: np.ndarray) -> np.ndarray:  # one branch (N_c = 1) or isolated (N_c = 0)
@@ -441,8 +443,8 @@ def _skeleton(array: np.ndarray) -> np.ndarray:
 
 
 def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *, mode: str = "principal",
-                    min_gap: float = 0.0, crossings: str = "pixels", polyline_smoothing: int = 2,
-                    band: float = 0.0, spur_length: int = 0, skeleton: np.ndarray | None = None,
+                    min_gap_px: float = 0.0, crossings: str = "pixels", polyline_smoothing: int = 2,
+                    band_px: float = 0.0, spur_length_px: int = 0, skeleton: np.ndarray | None = None,
                     normalisation: Normalisation | None = None) -> CircleFeatures:
     """First feature vector V, eq. (7).
 
@@ -453,14 +455,14 @@ def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *,
     ``crossings="pixels"`` (the literal one)
         All circles are sampled at the same angles, at least two samples per pixel of the largest
         one; a run of consecutive samples on contour pixels is one intersection (l_r counts runs, so
-        a 2-pixel-thick contour crossing the circle counts once). ``min_gap`` > 0 (pixels of arc)
+        a 2-pixel-thick contour crossing the circle counts once). ``min_gap_px`` > 0 (pixels of arc)
         first merges runs separated by a shorter gap (a ragged contour grazing the circle).
     ``crossings="polyline"`` (sub-pixel)
         The contours are thinned, the skeleton is read as polylines (:func:`skeleton_graph`),
         smoothed by ``polyline_smoothing`` rounds of neighbour averaging (:func:`smooth_polylines`)
         and intersected with each circle analytically: one crossing per sign change of r(s) - R
         along a contour, so a contour that crosses a circle once counts once however ragged its
-        pixels are. ``min_gap`` is not used. ``skeleton`` may pass an already thinned image.
+        pixels are. ``min_gap_px`` is not used. ``skeleton`` may pass an already thinned image.
 
     sum d is the perimeter of the polygon through the intersections taken counter-clockwise, closed
     so that it does not depend on a start angle (0 for fewer than two intersections).
@@ -472,11 +474,11 @@ def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *,
     array = as_contour_image(contours)
     n_circles = check_positive_int(n_circles, "n_circles")
     step = check_positive(step, "step")
-    min_gap = check_positive(min_gap, "min_gap", allow_zero=True)
+    min_gap_px = check_positive(min_gap_px, "min_gap_px", allow_zero=True)
     check_choice(crossings, "crossings", CROSSING_READINGS)
     polyline_smoothing = check_positive_int(polyline_smoothing, "polyline_smoothing", minimum=0)
-    band = check_positive(band, "band", allow_zero=True)
-    spur_length = check_positive_int(spur_length, "spur_length", minimum=0)
+    band_px = check_positive(band_px, "band_px", allow_zero=True)
+    spur_length_px = check_positive_int(spur_length_px, "spur_length_px", minimum=0)
     if normalisation is None:
         norm = normalise_coordinates(array, mode)
     elif isinstance(normalisation, Normalisation):
@@ -485,13 +487,13 @@ def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *,
         raise TypeError(f"normalisation must be a Normalisation or None, got {type(normalisation).__name__}")
     radii = step * np.arange(1, n_circles + 1)
     if crossings == "pixels":
-        rows, theta = _pixel_crossings(array, norm, radii, min_gap)
+        rows, theta = _pixel_crossings(array, norm, radii, min_gap_px)
     else:
         thin = _skeleton(array) if skeleton is None else np.asarray(skeleton)
         if thin.shape != array.shape or thin.dtype != bool:
             raise ValueError(f"skeleton must be a boolean image of the contours' shape {array.shape}, "
                              f"got dtype {thin.dtype}, shape {thin.shape}")
-        rows, theta = _polyline_crossings(prune_spurs(thin, spur_length), norm, radii, polyline_smoothing, band)
+        rows, theta = _polyline_crossings(prune_spurs(thin, spur_length_px), norm, radii, polyline_smoothing, band_px)
     counts, sums, points = _circle_polygons(rows, theta, radii)
     return CircleFeatures(radii, counts, sums, points, norm)
 
@@ -499,7 +501,7 @@ def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *,
 def circle_features_reference(contours: object, n_circles: int = 8, step: float = 0.25) -> CircleFeatures:
     """Eqs. (6)-(7) written out in plain numpy, one circle at a time: the reading to open beside the
     paper. Literal eq. 6 (the image axes, ``mode="axes"``) and the literal count (every run of contour
-    pixels met along a sampled circle is one intersection, ``crossings="pixels"``, ``min_gap=0``);
+    pixels met along a sampled circle is one intersection, ``crossings="pixels"``, ``min_gap_px=0``);
     :func:`circle_features` with those settings is the vectorised path and is tested equal to this.
 
     References
@@ -551,9 +553,7 @@ def circle_features_reference(contours: object, n_circles: int = 8, step: float 
 def crossing_number(skeleton: np.ndarray) -> np.ndarray:
     """8-connected crossing number N_c = 1/2 sum_k |p_{k+1} - p_k| over the 8 neighbours in cyclic
     order (Fig. 7), evaluated on every pixel of a 2-D boolean ``skeleton`` (0 off the skeleton)."""
-    thin = np.asarray(skeleton)
-    if thin.dtype != bool or thin.ndim != 2:
-        raise TypeError(f"skeleton must be a 2-D boolean image, got dtype {thin.dtype}, shape {thin.shape}")
+    thin = _as_bool_image(skeleton, "skeleton")
     return _crossing_number(thin)
 
 
@@ -611,8 +611,8 @@ def _cluster_centres(mask: np.ndarray) -> np.ndarray:
 
 
 def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, *, mode: str = "principal",
-                      min_gap: float = 0.0, crossings: str = "pixels", polyline_smoothing: int = 2,
-                      band: float = 0.0, spur_length: int = 0,
+                      min_gap_px: float = 0.0, crossings: str = "pixels", polyline_smoothing: int = 2,
+                      band_px: float = 0.0, spur_length_px: int = 0,
                       normalisation: Normalisation | None = None) -> TopologyFeatures:
     """Second feature vector F, eq. (9).
 
@@ -626,8 +626,8 @@ def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, 
     """
     array = as_contour_image(contours)
     full_skeleton = _skeleton(array)
-    circles = circle_features(array, n_circles, step, mode=mode, min_gap=min_gap, crossings=crossings,
-                              polyline_smoothing=polyline_smoothing, band=band, spur_length=spur_length,
+    circles = circle_features(array, n_circles, step, mode=mode, min_gap_px=min_gap_px, crossings=crossings,
+                              polyline_smoothing=polyline_smoothing, band_px=band_px, spur_length_px=spur_length_px,
                               skeleton=full_skeleton, normalisation=normalisation)
     norm = circles.normalisation
     # Work inside the contours' bounding box (plus a 1-pixel margin): same result, less to scan.

@@ -227,11 +227,11 @@ def check_spread_fraction(value: object, name: str = "canonical_spread") -> floa
 
 
 def similarity_copy(image: object, *, rng: int | np.random.Generator, max_rotation_deg: float = 25.0,
-                    scale_range: tuple[float, float] = (0.85, 1.15), max_shift: float = 8.0,
+                    scale_range: tuple[float, float] = (0.85, 1.15), max_shift_px: float = 8.0,
                     rotation_deg: float | None = None) -> np.ndarray:
     """A copy of ``image`` turned about its centre, rescaled and shifted, as a user's camera would
     present the same ear: rotation uniform in +-``max_rotation_deg`` (or exactly ``rotation_deg``),
-    scale uniform in ``scale_range``, shift uniform in +-``max_shift`` pixels per axis; bilinear
+    scale uniform in ``scale_range``, shift uniform in +-``max_shift_px`` pixels per axis; bilinear
     interpolation (``cv2.warpAffine``), border replicated. Same size and dtype as ``image``."""
     as_grey_image(image)
     array = np.asarray(image)
@@ -240,12 +240,12 @@ def similarity_copy(image: object, *, rng: int | np.random.Generator, max_rotati
     low, high = as_finite_array(scale_range, "scale_range", shape=(2,))
     if not 0 < low <= high:
         raise ValueError(f"scale_range must be (low, high) with 0 < low <= high, got {tuple(scale_range)}")
-    check_positive(max_shift, "max_shift", allow_zero=True)
+    check_positive(max_shift_px, "max_shift_px", allow_zero=True)
     angle = rng.uniform(-max_rotation_deg, max_rotation_deg)
     if rotation_deg is not None:
         angle = float(as_finite_array(rotation_deg, "rotation_deg", ndim=0))
     centre = ((array.shape[1] - 1) / 2, (array.shape[0] - 1) / 2)  # the middle of the pixel grid
     matrix = cv2.getRotationMatrix2D(centre, angle, rng.uniform(low, high))
-    matrix[:, 2] += rng.uniform(-max_shift, max_shift, 2)
+    matrix[:, 2] += rng.uniform(-max_shift_px, max_shift_px, 2)
     return cv2.warpAffine(array, matrix, (array.shape[1], array.shape[0]), flags=cv2.INTER_LINEAR,
                           borderMode=cv2.BORDER_REPLICATE)

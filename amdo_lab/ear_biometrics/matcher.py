@@ -167,9 +167,9 @@ class EarMatcher:
     ``mode`` is the reading of eq. 6 (see :func:`normalise_coordinates`; default the principal-axis
     one). ``crossings`` is the reading of "the contour crosses a circle" (see :func:`circle_features`):
     the default ``"polyline"`` intersects the thinned contours, pruned of spurs shorter than
-    ``spur_length`` pixels and smoothed by ``polyline_smoothing`` rounds, with each circle, with a
-    dead band of ``band`` pixels; ``"pixels"`` counts runs of contour pixels along the sampled circle,
-    merging runs less than ``min_gap`` pixels of arc apart (``min_gap=0`` is the literal count).
+    ``spur_length_px`` pixels and smoothed by ``polyline_smoothing`` rounds, with each circle, with a
+    dead band of ``band_px`` pixels; ``"pixels"`` counts runs of contour pixels along the sampled circle,
+    merging runs less than ``min_gap_px`` pixels of arc apart (``min_gap_px=0`` is the literal count).
     Pixel settings are for 256 x 256 images (the database default); they were chosen on development
     seeds, not on the notebook's data.
 
@@ -200,11 +200,11 @@ class EarMatcher:
     distance_threshold: float = np.inf
     topology_weight: float = 1.0
     mode: str = "principal"
-    min_gap: float = 6.0
+    min_gap_px: float = 6.0
     crossings: str = "polyline"
     polyline_smoothing: int = 4
-    band: float = 6.0
-    spur_length: int = 8
+    band_px: float = 6.0
+    spur_length_px: int = 8
     frame: str = "silhouette"
     canonical_spread: float = CANONICAL_SPREAD
     origin: str = "frame"
@@ -228,11 +228,11 @@ class EarMatcher:
         _check_distance_threshold(self.distance_threshold, "distance_threshold")
         check_positive(self.topology_weight, "topology_weight", allow_zero=True)
         check_choice(self.mode, "mode", NORMALISATION_MODES)
-        check_positive(self.min_gap, "min_gap", allow_zero=True)
+        check_positive(self.min_gap_px, "min_gap_px", allow_zero=True)
         check_choice(self.crossings, "crossings", CROSSING_READINGS)
         check_positive_int(self.polyline_smoothing, "polyline_smoothing", minimum=0)
-        check_positive(self.band, "band", allow_zero=True)
-        check_positive_int(self.spur_length, "spur_length", minimum=0)
+        check_positive(self.band_px, "band_px", allow_zero=True)
+        check_positive_int(self.spur_length_px, "spur_length_px", minimum=0)
         check_frame_source(self.frame, "frame")
         check_spread_fraction(self.canonical_spread, "canonical_spread")
         check_choice(self.origin, "origin", ("frame", "contours"))
@@ -292,9 +292,9 @@ class EarMatcher:
         clean-up, V and F."""
         work, normalisation = self._prepare(image)
         topology = topology_features(self._contours(work), self.n_circles, self.step, mode=self.mode,
-                                     min_gap=self.min_gap, crossings=self.crossings,
-                                     polyline_smoothing=self.polyline_smoothing, band=self.band,
-                                     spur_length=self.spur_length, normalisation=normalisation)
+                                     min_gap_px=self.min_gap_px, crossings=self.crossings,
+                                     polyline_smoothing=self.polyline_smoothing, band_px=self.band_px,
+                                     spur_length_px=self.spur_length_px, normalisation=normalisation)
         return EarTemplate(topology.circles, topology)
 
     def enroll(self, subject_id: object, image: object) -> EarTemplate:

@@ -318,44 +318,44 @@ def _add_occluders(image: np.ndarray, curves: list[np.ndarray], rng: np.random.G
 
 
 def draw_capture_pose(*, rng: int | np.random.Generator, frontal: bool, size: int, difficulty: str,
-                      max_yaw: float = 30.0, max_rotation: float | None = None) -> CapturePose:
-    """Per-capture nuisance: rotation ±10° (±20° difficult) unless ``max_rotation`` (degrees) is given,
+                      max_yaw_deg: float = 30.0, max_rotation_deg: float | None = None) -> CapturePose:
+    """Per-capture nuisance: rotation ±10° (±20° difficult) unless ``max_rotation_deg`` (degrees) is given,
     scale 0.85–1.1, shift ±6 % of the image, yaw 0 for the perpendicular capture, else uniform in
-    [2/3, 1] x ``max_yaw`` degrees (the paper's second view is at 30°).
+    [2/3, 1] x ``max_yaw_deg`` degrees (the paper's second view is at 30°).
 
     ``rng`` is a generator or an int seed, ``frontal`` a bool, ``size`` the image side (>= 32),
-    ``max_yaw`` in [0, 90) degrees and ``max_rotation`` non-negative.
+    ``max_yaw_deg`` in [0, 90) degrees and ``max_rotation_deg`` non-negative.
     """
     rng = make_rng(rng, "rng")
     if not isinstance(frontal, (bool, np.bool_)):
         raise TypeError(f"frontal must be a bool, got {type(frontal).__name__}")
     size = check_positive_int(size, "size", minimum=32)
     check_choice(difficulty, "difficulty", DIFFICULTIES)
-    max_yaw, max_rotation = _check_pose_ranges(max_yaw, max_rotation)
-    return _draw_capture_pose(rng, frontal=frontal, size=size, difficulty=difficulty, max_yaw=max_yaw,
-                              max_rotation=max_rotation)
+    max_yaw_deg, max_rotation_deg = _check_pose_ranges(max_yaw_deg, max_rotation_deg)
+    return _draw_capture_pose(rng, frontal=frontal, size=size, difficulty=difficulty, max_yaw_deg=max_yaw_deg,
+                              max_rotation_deg=max_rotation_deg)
 
 
-def _check_pose_ranges(max_yaw: object, max_rotation: object) -> tuple[object, object]:
-    """``max_yaw`` in [0, 90) degrees (at 90 the ear is seen edge-on) and a non-negative ``max_rotation``."""
-    if not check_positive(max_yaw, "max_yaw", allow_zero=True) < 90:
-        raise ValueError(f"max_yaw must be below 90 degrees, got {max_yaw}")
-    if max_rotation is not None:
-        check_positive(max_rotation, "max_rotation", allow_zero=True)
-    return max_yaw, max_rotation
+def _check_pose_ranges(max_yaw_deg: object, max_rotation_deg: object) -> tuple[object, object]:
+    """``max_yaw_deg`` in [0, 90) degrees (at 90 the ear is seen edge-on) and a non-negative ``max_rotation_deg``."""
+    if not check_positive(max_yaw_deg, "max_yaw_deg", allow_zero=True) < 90:
+        raise ValueError(f"max_yaw_deg must be below 90 degrees, got {max_yaw_deg}")
+    if max_rotation_deg is not None:
+        check_positive(max_rotation_deg, "max_rotation_deg", allow_zero=True)
+    return max_yaw_deg, max_rotation_deg
 
 
 def _draw_capture_pose(rng: np.random.Generator, *, frontal: bool, size: int, difficulty: str,
-                       max_yaw: float, max_rotation: float | None) -> CapturePose:
+                       max_yaw_deg: float, max_rotation_deg: float | None) -> CapturePose:
     """:func:`draw_capture_pose` on validated input."""
     hard = difficulty == "difficult"
-    if max_rotation is None:
-        max_rotation = 20.0 if hard else 10.0
+    if max_rotation_deg is None:
+        max_rotation_deg = 20.0 if hard else 10.0
     return CapturePose(
-        rotation=float(np.deg2rad(rng.uniform(-1, 1) * max_rotation)),
+        rotation=float(np.deg2rad(rng.uniform(-1, 1) * max_rotation_deg)),
         scale=float(rng.uniform(0.85, 1.1)),
         translation=rng.uniform(-0.06, 0.06, 2) * size,
-        yaw=0.0 if frontal else float(np.deg2rad(rng.uniform(2 / 3, 1) * max_yaw)),
+        yaw=0.0 if frontal else float(np.deg2rad(rng.uniform(2 / 3, 1) * max_yaw_deg)),
     )
 
 
@@ -376,8 +376,8 @@ def generate_ear_database(
     *,
     rng: int | np.random.Generator,
     size: int = 256,
-    max_yaw: float = 30.0,
-    max_rotation: float | None = None,
+    max_yaw_deg: float = 30.0,
+    max_rotation_deg: float | None = None,
     disable: object = (),
 ) -> EarDatabase:
     """Seeded synthetic ear database: capture 0 of a subject is perpendicular, the others yawed.
@@ -395,7 +395,7 @@ def generate_ear_database(
     images_per_subject = check_positive_int(images_per_subject, "images_per_subject")
     check_choice(difficulty, "difficulty", DIFFICULTIES)
     size = check_positive_int(size, "size", minimum=32)
-    max_yaw, max_rotation = _check_pose_ranges(max_yaw, max_rotation)
+    max_yaw_deg, max_rotation_deg = _check_pose_ranges(max_yaw_deg, max_rotation_deg)
     disable = check_disable(disable)
     rng = make_rng(rng, "rng")
     shapes, poses, images, ids = [], [], [], []
@@ -404,7 +404,7 @@ def generate_ear_database(
         shapes.append(shape)
         for capture in range(images_per_subject):
             pose = _neutralise(_draw_capture_pose(rng, frontal=capture == 0, size=size, difficulty=difficulty,
-                                                  max_yaw=max_yaw, max_rotation=max_rotation), disable)
+                                                  max_yaw_deg=max_yaw_deg, max_rotation_deg=max_rotation_deg), disable)
             jittered = _jitter_shape(shape, rng, 0.005)
             if "jitter" in disable:
                 jittered = shape
