@@ -842,3 +842,29 @@ def test_an_int_seed_and_its_generator_draw_the_same_ears():
 def test_empty_boolean_images_are_refused(call, shape):
     with pytest.raises(ValueError, match="must not be empty"):
         call(np.zeros(shape, bool))
+
+
+def test_draw_circles_draws_and_refuses_a_non_bool_flag(clean_ear_contours):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    features = eb.circle_features(clean_ear_contours, n_circles=3, step=0.5)
+    fig, ax = plt.subplots()
+    try:
+        eb.draw_circles(ax, clean_ear_contours, features, show_crossings=True)
+        assert len(ax.lines) >= 3 + 1  # three circles and the centroid, plus the polygons
+        with pytest.raises(TypeError, match="show_crossings must be True or False"):
+            eb.draw_circles(ax, clean_ear_contours, features, show_crossings="yes")
+    finally:
+        plt.close(fig)
+
+
+@pytest.mark.parametrize("module", ["synthetic", "features", "matcher"])
+def test_docstring_examples_run(module):
+    import doctest
+    import importlib
+
+    result = doctest.testmod(importlib.import_module(f"amdo_lab.ear_biometrics.{module}"), verbose=False)
+    assert result.attempted > 0 and result.failed == 0
