@@ -389,7 +389,7 @@ def test_matcher_finds_an_enrolled_image_and_rejects_blank(small_database):
 def test_matcher_bad_input(small_database):
     images, _ = small_database
     matcher = eb.EarMatcher()
-    with pytest.raises(ValueError, match="enroll"):
+    with pytest.raises(ValueError, match="not fitted yet"):  # NotFittedError is a ValueError
         matcher.identify(images[0])
     with pytest.raises(ValueError, match="no contour"):
         matcher.enroll(1, np.zeros((64, 64), np.uint8))
@@ -539,7 +539,7 @@ def bad_input_context(clean_ear_contours, small_database, tmp_path_factory):
     (lambda c: eb.topology_similarity(c.features, c.features, -0.1), ValueError, "coordinate_tolerance must be non-negative"),
     (lambda c: eb.topology_similarity(c.features.circles, c.features), TypeError, "query must be TopologyFeatures"),
     # matching and evaluation
-    (lambda c: eb.EarMatcher().identify_template(c.templates[0]), ValueError, "no subject enrolled"),
+    (lambda c: eb.EarMatcher().identify_template(c.templates[0]), ValueError, "EarMatcher is not fitted yet"),
     (lambda c: c.matcher.identify_template(c.images[0]), TypeError, "query must be an EarTemplate"),
     (lambda c: c.matcher.identify_template(c.five_circles), ValueError, "query has 5 circles, matcher expects 8"),
     (lambda c: c.baseline.enroll(1, c.images[1][:128, :128]), ValueError,
@@ -556,7 +556,7 @@ def bad_input_context(clean_ear_contours, small_database, tmp_path_factory):
     (lambda c: eb.open_set_rates(c.matcher, list(c.images[1:6:2]), c.ids[1:6:2], c.templates[:1], [1.0]), TypeError,
      "genuine must hold EarTemplate objects"),
     (lambda c: eb.open_set_rates(eb.EarMatcher(), c.templates[1::2], c.ids[1:6:2], c.templates[:1], [1.0]), ValueError,
-     "matcher has no subject enrolled"),
+     "EarMatcher is not fitted yet"),
     (lambda c: eb.rank_of_truth([0.1, 0.5], [0, 1], 7), ValueError, "true_id 7 is not among enrolled_ids"),
     (lambda c: eb.rank_of_truth([0.1, 0.5, 0.3], [0, 1], 1), ValueError, "enrolled_ids must have one subject per score"),
     (lambda c: eb.rank_of_truth([np.nan, 0.5], [0, 1], 1), ValueError, "scores must be finite"),
@@ -868,3 +868,45 @@ def test_docstring_examples_run(module):
 
     result = doctest.testmod(importlib.import_module(f"amdo_lab.ear_biometrics.{module}"), verbose=False)
     assert result.attempted > 0 and result.failed == 0
+
+
+# --- scikit-learn's estimator contract for the two matchers --------------------------------------
+
+def test_matchers_fit_returns_self_and_learns_underscore_attributes(small_database):
+    from sklearn.exceptions import NotFittedError
+
+    images, ids = small_database
+    gallery, gallery_ids = images[0::2], ids[0::2]
+    for matcher, learned in ((eb.EarMatcher(), "templates_"), (eb.HogNearestNeighbour(), "descriptors_")):
+        assert getattr(matcher, learned) is None and matcher.subject_ids_ is None
+        with pytest.raises(NotFittedError, match="not fitted yet"):
+            matcher.identify(images[1])
+        assert matcher.fit(gallery, gallery_ids) is matcher
+        assert len(getattr(matcher, learned)) == len(gallery) and list(matcher.subject_ids_) == list(gallery_ids)
+        first = matcher.identify(images[1])
+        matcher.fit(gallery[:2], gallery_ids[:2])  # a second fit forgets the first
+        assert len(matcher.subject_ids_) == 2
+        with pytest.raises(ValueError, match="subject_ids must give one subject per image"):
+            matcher.fit(gallery, gallery_ids[:2])
+        with pytest.raises(ValueError, match="images must not be empty"):
+            matcher.fit([], [])
+    assert first == ids[1]  # the HOG baseline on this easy pair
+
+
+def test_ear_matcher_fit_equals_enrolling_one_by_one(small_database):
+    images, ids = small_database
+    fitted = eb.EarMatcher().fit(images[0::2], ids[0::2])
+    enrolled = eb.EarMatcher()
+    for subject, image in zip(ids[0::2], images[0::2]):
+        enrolled.enroll(subject, image)
+    a, b = fitted.identify(images[3]), enrolled.identify(images[3])
+    assert a.subject_id == b.subject_id
+    np.testing.assert_array_equal(a.scores, b.scores)
+
+
+def test_hog_parameters_are_stored_as_given_and_checked_when_used(small_database):
+    images, _ = small_database
+    baseline = eb.HogNearestNeighbour(pixels_per_cell=1)
+    assert baseline.pixels_per_cell == 1
+    with pytest.raises(ValueError, match="pixels_per_cell must be at least 2"):
+        baseline.describe(images[0])

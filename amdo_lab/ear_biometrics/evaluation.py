@@ -143,26 +143,22 @@ class ClosedSetResult:
 
     @property
     def recognised(self) -> np.ndarray:
-        """Per query, whether the paper's rule named the true subject: (n_queries,) bool.
-        """
+        """Per query, whether the paper's rule named the true subject: (n_queries,) bool."""
         return np.asarray(self.decided == self.truth, dtype=bool)
 
     @property
     def correct(self) -> float:
-        """Share of queries the paper's rule named correctly.
-        """
+        """Share of queries the paper's rule named correctly."""
         return float(np.mean(self.recognised))
 
     @property
     def rejected(self) -> float:
-        """Share of queries the paper's rule rejected (no candidate passed steps 2-4).
-        """
+        """Share of queries the paper's rule rejected (no candidate passed steps 2-4)."""
         return float(np.mean([d is None for d in self.decided]))
 
     @property
     def rank1(self) -> float:
-        """Share of queries whose true subject ranks first.
-        """
+        """Share of queries whose true subject ranks first."""
         return float(np.mean(self.ranks == 1))
 
 

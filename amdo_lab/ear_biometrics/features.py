@@ -895,14 +895,12 @@ class ContourTopology:
 
     @property
     def triple(self) -> tuple[int, int, int]:
-        """The triple (N_E, N_B, N_I) of eq. (9).
-        """
+        """The triple (N_E, N_B, N_I) of eq. (9)."""
         return len(self.endings), len(self.bifurcations), len(self.intersections)
 
     @property
     def points(self) -> np.ndarray:
-        """All characteristic points: endings, then bifurcations, then intersections, shape (n, 2).
-        """
+        """All characteristic points: endings, then bifurcations, then intersections, shape (n, 2)."""
         return np.vstack([self.endings, self.bifurcations, self.intersections])
 
 

@@ -66,8 +66,7 @@ class CanonicalFrame:
 
     @property
     def angle_deg(self) -> float:
-        """Angle of ``axis`` from the image's downward vertical, degrees, counter-clockwise as displayed.
-        """
+        """Angle of ``axis`` from the image's downward vertical, degrees, counter-clockwise as displayed."""
         return float(np.degrees(np.arctan2(self.axis[1], self.axis[0])))
 
 

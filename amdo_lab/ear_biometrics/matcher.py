@@ -9,7 +9,7 @@ import cv2
 import numpy as np
 from skimage.feature import hog
 
-from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
+from amdo_lab.common import as_finite_array, check_choice, check_fitted, check_positive, check_positive_int
 from amdo_lab.ear_biometrics.features import (
     CROSSING_READINGS,
     NORMALISATION_MODES,
@@ -303,6 +303,14 @@ class EarMatcher:
         the literal exact triples then coordinates (:func:`topology_similarity`), combined with the
         distance-sum gap (``"triples"``).
 
+    Attributes
+    ----------
+    subject_ids_ : list or None
+        Subject of each enrolled template, in enrolment order (None before :meth:`fit` or
+        :meth:`enroll`).
+    templates_ : list of EarTemplate or None
+        The enrolled features V and F.
+
     References
     ----------
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
@@ -343,8 +351,9 @@ class EarMatcher:
     canonical_spread: float = CANONICAL_SPREAD
     origin: str = "frame"
     ranking: str = "points"
-    _ids: list = field(default_factory=list, init=False, repr=False)
-    _templates: list = field(default_factory=list, init=False, repr=False)
+    # learned from the enrolled images (scikit-learn's trailing underscore); None until the first one
+    subject_ids_: list | None = field(default=None, init=False, repr=False)
+    templates_: list | None = field(default=None, init=False, repr=False)
 
     def __post_init__(self) -> None:
         # Checked once here, under the matcher's own names; several settings (the step 2-4 rule and
@@ -510,11 +519,14 @@ class EarMatcher:
             raise TypeError(f"template must be an EarTemplate, got {type(template).__name__}")
         if len(template.circles.counts) != self.n_circles:
             raise ValueError(f"template has {len(template.circles.counts)} circles, matcher expects {self.n_circles}")
-        self._ids.append(subject_id)
-        self._templates.append(template)
-        self._counts = np.array([t.circles.counts for t in self._templates])
-        self._sums = np.array([t.circles.distance_sums for t in self._templates])
-        points = [_points(t.topology) for t in self._templates]
+        if self.templates_ is None:
+            self.subject_ids_, self.templates_ = [], []
+        self.subject_ids_.append(subject_id)
+        self.templates_.append(template)
+        # caches of the enrolled features for steps 2-9, stacked once per enrolment
+        self._counts = np.array([t.circles.counts for t in self.templates_])
+        self._sums = np.array([t.circles.distance_sums for t in self.templates_])
+        points = [_points(t.topology) for t in self.templates_]
         # a template without points gets one far away (at distance >= cap from everything)
         points = [p if len(p) else np.full((1, 2), 1e6) for p in points]
         self._points = np.vstack(points)
@@ -523,9 +535,32 @@ class EarMatcher:
 
     @property
     def n_enrolled(self) -> int:
-        """Number of enrolled templates.
+        """Number of enrolled templates (0 before the first enrolment)."""
+        return 0 if self.templates_ is None else len(self.templates_)
+
+    def fit(self, images: object, subject_ids: object) -> EarMatcher:
+        """Enrol one reference image per subject id, forgetting any earlier enrolment.
+
+        Parameters
+        ----------
+        images : sequence of array_like
+            Grey-level images (8-bit or float), each holding an ear.
+        subject_ids : sequence
+            The subject of each image (no None), as many as ``images``.
+
+        Returns
+        -------
+        EarMatcher
+            ``self``, with ``subject_ids_`` and ``templates_`` learned.
         """
-        return len(self._ids)
+        if len(subject_ids) != len(images):
+            raise ValueError(f"subject_ids must give one subject per image ({len(images)}), got {len(subject_ids)}")
+        if len(images) == 0:
+            raise ValueError("images must not be empty")
+        self.subject_ids_, self.templates_ = None, None
+        for subject_id, image in zip(subject_ids, images):
+            self.enroll(subject_id, image)
+        return self
 
     def identify(self, image: object, *, shortlist: int = 10) -> IdentificationResult:
         """Identify one query image (steps 1-9); a blank or constant image is rejected, not an error.
@@ -542,8 +577,7 @@ class EarMatcher:
         IdentificationResult
             The decision, the candidates and every enrolled template's score.
         """
-        if not self._ids:
-            raise ValueError("no subject enrolled: call enroll() first")
+        check_fitted(self, "templates_")  # NotFittedError (a ValueError) before any enrolment
         as_grey_image(image)  # bad dtype/shape/NaN -> TypeError/ValueError
         try:
             query = self.extract(image)
@@ -569,8 +603,7 @@ class EarMatcher:
             The decision, the candidates and every enrolled template's score.
         """
         shortlist = check_positive_int(shortlist, "shortlist")
-        if not self._ids:
-            raise ValueError("no subject enrolled: call enroll() first")
+        check_fitted(self, "templates_")
         if not isinstance(query, EarTemplate):
             raise TypeError(f"query must be an EarTemplate, got {type(query).__name__}")
         if len(query.circles.counts) != self.n_circles:
@@ -587,17 +620,17 @@ class EarMatcher:
             return IdentificationResult(None, (), np.zeros(0), scores, "no reference passed steps 2-4")
         if self.ranking == "points":
             candidates = candidates[np.argsort(scores[candidates], kind="stable")][:shortlist]
-            return IdentificationResult(self._ids[candidates[0]], tuple(self._ids[i] for i in candidates),
+            return IdentificationResult(self.subject_ids_[candidates[0]], tuple(self.subject_ids_[i] for i in candidates),
                                         scores[candidates], scores)
         candidates = candidates[np.argsort(sum_gap[candidates])][:shortlist]
-        topo = np.array([_topology_similarity(query.topology, self._templates[i].topology, _COORDINATE_TOLERANCE)
+        topo = np.array([_topology_similarity(query.topology, self.templates_[i].topology, _COORDINATE_TOLERANCE)
                          for i in candidates])
         final = sum_gap[candidates] - self.topology_weight * topo
         order = np.argsort(final, kind="stable")
         candidates, final = candidates[order], final[order]
         scores = scores.copy()
         scores[candidates] = final - 10.0  # gated candidates rank ahead of all others
-        return IdentificationResult(self._ids[candidates[0]], tuple(self._ids[i] for i in candidates), final, scores)
+        return IdentificationResult(self.subject_ids_[candidates[0]], tuple(self.subject_ids_[i] for i in candidates), final, scores)
 
 
 class HogNearestNeighbour:
@@ -606,7 +639,16 @@ class HogNearestNeighbour:
     Parameters
     ----------
     pixels_per_cell : int
-        Side of a HOG cell, pixels, >= 2.
+        Side of a HOG cell, pixels, >= 2 (checked when a descriptor is computed).
+
+    Attributes
+    ----------
+    subject_ids_ : list or None
+        Subject of each enrolled image (None before :meth:`fit` or :meth:`enroll`).
+    descriptors_ : numpy.ndarray or None
+        The enrolled HOG descriptors, shape (n_enrolled, n_features).
+    image_shape_ : tuple or None
+        Shape of the enrolled images (queries must have it).
 
     References
     ----------
@@ -616,9 +658,10 @@ class HogNearestNeighbour:
     """
 
     def __init__(self, pixels_per_cell: int = 16) -> None:
-        self.pixels_per_cell = check_positive_int(pixels_per_cell, "pixels_per_cell", minimum=2)
-        self._ids: list = []
-        self._features: list = []
+        self.pixels_per_cell = pixels_per_cell  # stored as given, checked where it is used (describe)
+        self.subject_ids_: list | None = None  # learned: None until the first enrolment
+        self.descriptors_: np.ndarray | None = None  # (n_enrolled, n_features)
+        self.image_shape_: tuple | None = None
 
     def describe(self, image: object) -> np.ndarray:
         """The HOG descriptor of one image.
@@ -634,13 +677,13 @@ class HogNearestNeighbour:
             The descriptor (its length depends on the image size).
         """
         grey = as_grey_image(image)
-        cell = (self.pixels_per_cell, self.pixels_per_cell)
+        cell = (check_positive_int(self.pixels_per_cell, "pixels_per_cell", minimum=2),) * 2
         return hog(grey, orientations=9, pixels_per_cell=cell, cells_per_block=(2, 2), feature_vector=True)
 
     def _check_size(self, image: object) -> None:
         """Descriptors are only comparable between images of one size (the HOG grid depends on it)."""
-        if self._ids and np.shape(image) != self._shape:
-            raise ValueError(f"image must have the enrolled images' shape {self._shape}, got {np.shape(image)}")
+        if self.image_shape_ is not None and np.shape(image) != self.image_shape_:
+            raise ValueError(f"image must have the enrolled images' shape {self.image_shape_}, got {np.shape(image)}")
 
     def enroll(self, subject_id: object, image: object) -> None:
         """Add one reference image of ``subject_id``.
@@ -653,10 +696,36 @@ class HogNearestNeighbour:
             Grey levels, of the shape of the images enrolled before.
         """
         self._check_size(image)
-        self._features.append(self.describe(image))
-        self._ids.append(subject_id)
-        self._shape = np.shape(image)
-        self._matrix = np.array(self._features)
+        descriptor = self.describe(image)[None]
+        if self.descriptors_ is None:
+            self.subject_ids_, self.descriptors_ = [], np.zeros((0, descriptor.shape[1]))
+        self.descriptors_ = np.vstack([self.descriptors_, descriptor])
+        self.subject_ids_.append(subject_id)
+        self.image_shape_ = np.shape(image)
+
+    def fit(self, images: object, subject_ids: object) -> HogNearestNeighbour:
+        """Enrol one reference image per subject id, forgetting any earlier enrolment.
+
+        Parameters
+        ----------
+        images : sequence of array_like
+            Grey-level images, all of one shape.
+        subject_ids : sequence
+            The subject of each image, as many as ``images``.
+
+        Returns
+        -------
+        HogNearestNeighbour
+            ``self``, with ``subject_ids_``, ``descriptors_`` and ``image_shape_`` learned.
+        """
+        if len(subject_ids) != len(images):
+            raise ValueError(f"subject_ids must give one subject per image ({len(images)}), got {len(subject_ids)}")
+        if len(images) == 0:
+            raise ValueError("images must not be empty")
+        self.subject_ids_, self.descriptors_, self.image_shape_ = None, None, None
+        for subject_id, image in zip(subject_ids, images):
+            self.enroll(subject_id, image)
+        return self
 
     def distances(self, image: object) -> np.ndarray:
         """L2 distance from the query's HOG to every enrolled HOG (lower is better).
@@ -671,10 +740,9 @@ class HogNearestNeighbour:
         numpy.ndarray, shape (n_enrolled,)
             The distances, in enrolment order.
         """
-        if not self._ids:
-            raise ValueError("no subject enrolled: call enroll() first")
+        check_fitted(self, "descriptors_")  # NotFittedError (a ValueError) before any enrolment
         self._check_size(image)
-        return np.linalg.norm(self._matrix - self.describe(image), axis=1)
+        return np.linalg.norm(self.descriptors_ - self.describe(image), axis=1)
 
     def identify(self, image: object) -> object:
         """The subject of the nearest enrolled descriptor.
@@ -689,7 +757,7 @@ class HogNearestNeighbour:
         object
             The subject id of the nearest enrolled image.
         """
-        return self._ids[int(np.argmin(self.distances(image)))]
+        return self.subject_ids_[int(np.argmin(self.distances(image)))]
 
 
 @dataclass(frozen=True)
@@ -750,8 +818,7 @@ def open_set_rates(matcher: EarMatcher, genuine: list, genuine_ids: list, impost
     """
     if not isinstance(matcher, EarMatcher):
         raise TypeError(f"matcher must be an EarMatcher, got {type(matcher).__name__}")
-    if not matcher.n_enrolled:
-        raise ValueError("matcher has no subject enrolled: call enroll() first")
+    check_fitted(matcher, "templates_")
     for templates, name in ((genuine, "genuine"), (impostors, "impostors")):
         _check_templates(templates, name)
     if len(genuine_ids) != len(genuine):
