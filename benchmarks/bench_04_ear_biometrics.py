@@ -14,28 +14,15 @@ and the *same* image is identified after a random similarity (rotation within +-
 rank-1 of the ranking (with its Wilson 95 % interval) and the share the strict rule of steps 2-5
 names correctly. The seeds are not used by the tests.
 
-BLAS is limited to one thread (set before numpy is imported) so the timing is single-core. Each time is
+BLAS is limited to one thread (benchmarks/_harness.py) so the timing is single-core. Each time is
 the mean over images of each image's best of ``--repeats`` runs (the machine is shared; the minimum
-filters out load spikes). A
-second table splits our feature time into its stages.
+filters out load spikes). A second table splits our feature time into its stages. ``--json PATH``
+writes the tables.
 """
 
 from __future__ import annotations
 
-import os
-
-for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ.setdefault(_variable, "1")
-
-import argparse  # noqa: E402
-import time  # noqa: E402
-
-import numpy as np  # noqa: E402
-
-from amdo_lab import ear_biometrics as eb  # noqa: E402
-from amdo_lab.common import make_rng, rate_interval  # noqa: E402
-from amdo_lab.ear_biometrics.frame import _moment_frame_fast, _silhouette, _to_canonical  # noqa: E402
-
+from _harness import Benchmark  # first: pins BLAS threads before numpy is imported
 
 PIPELINES = {
     "paper: image frame, eq. 6 on contours, triples": dict(frame="image", origin="contours", ranking="triples"),
@@ -45,11 +32,17 @@ PIPELINES = {
 }
 
 
-def similarity_study(subjects: list[int], seeds: list[int]) -> None:
+def similarity_study(bench: Benchmark, subjects: list[int], seeds: list[int]) -> None:
     """Rank-1 and strict-rule identification of similarity-transformed copies of enrolled images."""
-    print(f"{'pipeline':54s} {'subjects':>8s} {'rank-1':>7s} {'95 % interval':>15s} {'strict rule':>11s}")
+    import numpy as np
+
+    from amdo_lab import ear_biometrics as eb
+    from amdo_lab.common import make_rng, rate_interval
+
+    table = bench.table("pipeline", "subjects", "rank-1", "95 % low", "95 % high", "strict rule",
+                        title="the same enrolled image after a random similarity (rotation, scale, shift)")
     for n_subjects, seed in zip(subjects, seeds):
-        database = eb.generate_ear_database(n_subjects, 2, "easy", seed)
+        database = eb.generate_ear_database(n_subjects, 2, "easy", rng=seed)
         gallery, ids = database.images[0::2], database.subject_ids[0::2]
         rng = make_rng(seed + 1)
         copies = [eb.similarity_copy(image, rng=rng) for image in gallery]
@@ -61,27 +54,43 @@ def similarity_study(subjects: list[int], seeds: list[int]) -> None:
             first = np.array([eb.rank_of_truth(r.scores, ids, s) == 1 for r, s in zip(results, ids)])
             strict = np.mean([r.subject_id == s for r, s in zip(results, ids)])
             interval = rate_interval(first)
-            print(f"{name:54s} {n_subjects:8d} {first.mean():7.3f}   [{interval.low:.3f}, {interval.high:.3f}] "
-                  f"{strict:11.3f}", flush=True)
+            table.add(name, n_subjects, round(float(first.mean()), 3), round(float(interval.low), 3),
+                      round(float(interval.high), 3), round(float(strict), 3))
+            print(f"{n_subjects} subjects: {name} measured", flush=True)
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--size", type=int, default=256)
-    parser.add_argument("--enrolled", type=int, default=240)
-    parser.add_argument("--queries", type=int, default=40)
-    parser.add_argument("--seed", type=int, default=2004)
-    parser.add_argument("--repeats", type=int, default=3)
+    bench = Benchmark(__doc__, seed=2004, repeats=3)
+    parser = bench.parser
+    parser.add_argument("--size", type=int, default=256, help="image side in pixels (default 256)")
+    parser.add_argument("--enrolled", type=int, default=240, help="enrolled subjects (default 240)")
+    parser.add_argument("--queries", type=int, default=40, help="timed queries (default 40)")
     parser.add_argument("--similarity", action="store_true", help="identification of similarity copies instead")
-    parser.add_argument("--subjects", type=int, nargs="+", default=[40, 60])
-    parser.add_argument("--similarity-seeds", type=int, nargs="+", default=[2604, 2605])
-    args = parser.parse_args()
+    parser.add_argument("--subjects", type=int, nargs="+", default=[40, 60],
+                        help="subjects per database of --similarity (default 40 60)")
+    parser.add_argument("--similarity-seeds", type=int, nargs="+", default=[2604, 2605],
+                        help="one database seed per --subjects entry (default 2604 2605)")
+    args = bench.parse()
     if args.similarity:
         if len(args.subjects) != len(args.similarity_seeds):
             parser.error("--subjects and --similarity-seeds must have the same length")
-        similarity_study(args.subjects, args.similarity_seeds)
-        return
-    database = eb.generate_ear_database(args.enrolled, 2, "easy", args.seed, size=args.size)
+        similarity_study(bench, args.subjects, args.similarity_seeds)
+    else:
+        speed(bench, args)
+    bench.finish()
+
+
+def speed(bench: Benchmark, args) -> None:
+    """Feature and identification times of ours (paper rule, relaxed rule, no frame) and HOG + 1-NN,
+    then our feature time split into its stages."""
+    import time
+
+    import numpy as np
+
+    from amdo_lab import ear_biometrics as eb
+    from amdo_lab.ear_biometrics.frame import _moment_frame_fast, _silhouette, _to_canonical
+
+    database = eb.generate_ear_database(args.enrolled, 2, "easy", rng=args.seed, size=args.size)
     gallery = database.images[0::2]
     gallery_ids = database.subject_ids[0::2]
     queries = database.images[1::2][: args.queries]
@@ -90,6 +99,7 @@ def main() -> None:
     def best_time(function, items):
         """Mean over items of each item's best-of-repeats time (seconds): a shared machine's load
         spikes inflate single calls, and the per-call minimum filters them out."""
+        function(items[0])  # untimed: a first call's imports (e.g. scikit-learn's) are not the method's cost
         best = np.full(len(items), np.inf)
         for _ in range(args.repeats):
             for index, item in enumerate(items):
@@ -115,12 +125,14 @@ def main() -> None:
                 for name, matcher in (("paper", ours), ("relaxed", relaxed))}
     ours_identify = max(identify.values())
     query_hogs = [baseline.describe(image) for image in queries]
-    hog_identify = best_time(lambda d: int(np.argmin(np.linalg.norm(baseline._matrix - d, axis=1))), query_hogs)
+    hog_identify = best_time(lambda d: int(np.argmin(np.linalg.norm(baseline.descriptors_ - d, axis=1))), query_hogs)
+
     def clean(raw):
         return eb.clean_contours(raw, ours.min_component_size, ours.closing)
 
-    settings = dict(mode=ours.mode, min_gap=ours.min_gap, crossings=ours.crossings,
-                    polyline_smoothing=ours.polyline_smoothing, band=ours.band, spur_length=ours.spur_length)
+    settings = dict(mode=ours.mode, min_gap_px=ours.min_gap_px, crossings=ours.crossings,
+                    polyline_smoothing=ours.polyline_smoothing, band_px=ours.band_px, spur_length_px=ours.spur_length_px)
+
     def canonical(image):
         return _to_canonical(image, _moment_frame_fast(_silhouette(image), image.shape))
 
@@ -133,22 +145,23 @@ def main() -> None:
         "clean-up (closing, small parts)": best_time(clean, [eb.detect_contours(im, ours.k) for im in gallery]),
         f"V ({ours.crossings} crossings)": best_time(lambda c: eb.circle_features(c, ours.n_circles, ours.step, **settings), contours),
         "V (pixel-run crossings)": best_time(lambda c: eb.circle_features(c, ours.n_circles, ours.step, mode=ours.mode,
-                                                                           min_gap=ours.min_gap), contours),
+                                                                           min_gap_px=ours.min_gap_px), contours),
         "F: thinning, N_c, tracing (incl. V)": best_time(lambda c: eb.topology_features(c, ours.n_circles, ours.step, **settings), contours),
     }
 
-    print(f"{args.size}x{args.size} images, {len(gallery)} enrolled, {len(queries)} queries, one BLAS thread")
-    print(f"{'method':28s} {'features ms':>12s} {'identify ms':>12s} {'features / ours':>16s}")
+    table = bench.table("method", "features ms", "identify ms", "features / ours",
+                        title=f"{args.size}x{args.size} images, {len(gallery)} enrolled, {len(queries)} queries, "
+                              "one BLAS thread")
     for name, extract_s, identify_s in [("Choras, paper rule (ours)", ours_extract, identify["paper"]),
                                         ("Choras, relaxed rule (ours)", ours_extract, identify["relaxed"]),
                                         ("image as given (no frame)", literal_extract, identify["paper"]),
                                         ("HOG + 1-NN (skimage)", hog_extract, hog_identify)]:
-        print(f"{name:28s} {1e3 * extract_s:12.2f} {1e3 * identify_s:12.3f} {extract_s / ours_extract:16.2f}")
-    print(f"\n{'our feature stages':36s} {'ms':>8s}")
+        table.add(name, round(1e3 * extract_s, 2), round(1e3 * identify_s, 3), round(extract_s / ours_extract, 2))
+    stage_table = bench.table("our feature stages", "ms")
     for name, seconds in stages.items():
-        print(f"{name:36s} {1e3 * seconds:8.2f}")
-    print(f"goals: features < 20 ms -> {'met' if ours_extract < 0.020 else 'NOT met'}; "
-          f"identification < 5 ms -> {'met' if ours_identify < 0.005 else 'NOT met'}")
+        stage_table.add(name, round(1e3 * seconds, 2))
+    bench.note(f"goals: features < 20 ms -> {'met' if ours_extract < 0.020 else 'NOT met'}; "
+               f"identification < 5 ms -> {'met' if ours_identify < 0.005 else 'NOT met'}")
 
 
 if __name__ == "__main__":

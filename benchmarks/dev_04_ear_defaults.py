@@ -11,15 +11,13 @@ one-at-a-time changes, each scored by the paper's rule (fraction of yawed querie
 subject) and by the relaxed ranking's rank-1 rate.
 
     .venv/bin/python benchmarks/dev_04_ear_defaults.py [--subjects 60] [--seeds 77 79]
+
+Each row scores one variant on every seed; ``--json PATH`` writes the table.
 """
 
 from __future__ import annotations
 
-import argparse
-
-import numpy as np
-
-from amdo_lab import ear_biometrics as eb
+from _harness import Benchmark  # first: pins BLAS threads before numpy is imported
 
 VARIANTS = {
     "defaults": {},
@@ -28,37 +26,46 @@ VARIANTS = {
     "canonical frame, triples": dict(ranking="triples"),
     "eq. 6 on contour pixels": dict(origin="contours"),
     "frame from contour pixels": dict(frame="contours"),
-    "band 0": dict(band=0.0),
-    "band 3": dict(band=3.0),
-    "band 9": dict(band=9.0),
-    "no spur pruning": dict(spur_length=0),
+    "band 0": dict(band_px=0.0),
+    "band 3": dict(band_px=3.0),
+    "band 9": dict(band_px=9.0),
+    "no spur pruning": dict(spur_length_px=0),
     "no smoothing": dict(polyline_smoothing=0),
     "closing 1": dict(closing=1),
     "fragments >= 20 px": dict(min_component_size=20),
     "pixel runs, min_gap 6": dict(crossings="pixels"),
-    "literal pixel count": dict(crossings="pixels", min_gap=0.0),
+    "literal pixel count": dict(crossings="pixels", min_gap_px=0.0),
 }
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--subjects", type=int, default=60)
-    parser.add_argument("--seeds", type=int, nargs="+", default=[77, 79])
-    args = parser.parse_args()
-    databases = {seed: eb.generate_ear_database(args.subjects, 2, "easy", seed) for seed in args.seeds}
-    header = "".join(f"{f'seed {s} paper':>16s}{f'seed {s} rank-1':>16s}" for s in args.seeds)
-    print(f"{args.subjects} easy subjects per development seed, 256 px\n{'variant':24s}{header}")
+    bench = Benchmark(__doc__)
+    bench.parser.add_argument("--subjects", type=int, default=60, help="easy subjects per database (default 60)")
+    bench.parser.add_argument("--seeds", type=int, nargs="+", default=[77, 79],
+                              help="development database seeds (default 77 79)")
+    args = bench.parse()
+    import numpy as np
+
+    from amdo_lab import ear_biometrics as eb
+
+    np.seterr(all="raise")  # a silent NaN would corrupt the comparison
+    databases = {seed: eb.generate_ear_database(args.subjects, 2, "easy", rng=seed) for seed in args.seeds}
+    columns = [name for s in args.seeds for name in (f"seed {s} paper", f"seed {s} rank-1")]
+    table = bench.table("variant", *columns,
+                        title=f"{args.subjects} easy subjects per development seed, 256 px; paper = share of "
+                              "queries the paper's rule names correctly, rank-1 = relaxed ranking")
     for name, change in VARIANTS.items():
         cells = []
         for seed, database in databases.items():
             templates = [eb.EarMatcher(**change).extract(image) for image in database.images]
             paper = eb.closed_set(eb.EarMatcher(**change), templates, database.subject_ids)
             relaxed = eb.closed_set(eb.EarMatcher(**change, max_count_violations=2), templates, database.subject_ids)
-            cells.append(f"{paper.correct:16.3f}{relaxed.rank1:16.3f}")
-        print(f"{name:24s}{''.join(cells)}", flush=True)
-    print(f"chance rank-1 = {1 / args.subjects:.3f}")
+            cells += [round(float(paper.correct), 3), round(float(relaxed.rank1), 3)]
+        table.add(name, *cells)
+        print(f"{name} measured", flush=True)
+    bench.note(f"chance rank-1 = {1 / args.subjects:.3f}")
+    bench.finish()
 
 
 if __name__ == "__main__":
-    np.seterr(all="raise")  # a silent NaN would corrupt the comparison
     main()

@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive_int
+from amdo_lab.common import as_finite_array, check_positive_int, make_rng
 from amdo_lab.ear_biometrics.matcher import EarMatcher, EarTemplate, HogNearestNeighbour, _check_templates, rank_of_truth
 from amdo_lab.ear_biometrics.synthetic import check_disable, generate_ear_database
 
@@ -16,10 +17,25 @@ from amdo_lab.ear_biometrics.synthetic import check_disable, generate_ear_databa
 class Separation:
     """How far genuine distances lie below impostor ones (lower distance = more alike).
 
-    ``d_prime`` = (mean impostor - mean genuine) / sqrt((var genuine + var impostor) / 2);
-    ``auc`` = mean over queries of the fraction of that query's impostor distances above its
-    genuine distance (ties count one half); 1 means every query is closest to its own subject.
-    ``ratio`` = median genuine / median impostor distance (within- over between-subject spread).
+    Parameters
+    ----------
+    genuine : numpy.ndarray, shape (n_queries,)
+        Distance of each query to its own subject (the closest of its templates).
+    impostor : numpy.ndarray, shape (n_queries, n_enrolled)
+        Distances to the other subjects' templates, NaN where the template is the query's subject.
+    d_prime : float
+        (mean impostor - mean genuine) / sqrt((var genuine + var impostor) / 2); inf when both
+        spreads are 0.
+    auc : float
+        Mean over queries of the share of that query's impostor distances above its genuine distance
+        (ties count one half), in [0, 1]; 1 means every query is closest to its own subject.
+    ratio : float
+        Median genuine over median impostor distance (within- over between-subject spread).
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 5, step 4 (the distance-sum difference these numbers describe).
     """
 
     genuine: np.ndarray  # (n_queries,) distance to the query's own subject (closest template)
@@ -30,7 +46,27 @@ class Separation:
 
 
 def genuine_impostor_separation(distances: object, enrolled_ids: object, query_ids: object) -> Separation:
-    """Separation of a (n_queries, n_enrolled) distance matrix; every query's subject must be enrolled."""
+    """Separation of genuine from impostor distances in a query-by-enrolled distance matrix.
+
+    Parameters
+    ----------
+    distances : array_like, shape (n_queries, n_enrolled)
+        Finite distances, lower = more alike.
+    enrolled_ids : array_like, shape (n_enrolled,)
+        Subject of each enrolled template.
+    query_ids : array_like, shape (n_queries,)
+        Subject of each query; every one must be enrolled, together with at least one other subject.
+
+    Returns
+    -------
+    Separation
+        Genuine and impostor distances, d', AUC and the median ratio.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 5, step 4.
+    """
     distances = as_finite_array(distances, "distances", ndim=2)
     enrolled_ids, query_ids = np.asarray(enrolled_ids), np.asarray(query_ids)
     if distances.shape != (len(query_ids), len(enrolled_ids)):
@@ -50,9 +86,24 @@ def genuine_impostor_separation(distances: object, enrolled_ids: object, query_i
 
 
 def distance_sum_gaps(queries: list[EarTemplate], references: list[EarTemplate]) -> np.ndarray:
-    """Step 4's distance: mean over circles of |sum d (query) - sum d (reference)|, all pairs.
+    """Step 4's distance for all pairs: mean over circles of |sum d (query) - sum d (reference)|.
 
-    ``queries`` and ``references`` are non-empty lists of :class:`EarTemplate` with equally many circles.
+    Parameters
+    ----------
+    queries : list of EarTemplate
+        Non-empty, all with the same number of circles as ``references``.
+    references : list of EarTemplate
+        Non-empty.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n_queries, n_references)
+        The mean absolute distance-sum differences, normalised units.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 4, eq. (7) and Sec. 5, step 4.
     """
     _check_templates(queries, "queries")
     _check_templates(references, "references")
@@ -66,7 +117,24 @@ def distance_sum_gaps(queries: list[EarTemplate], references: list[EarTemplate])
 
 @dataclass(frozen=True)
 class ClosedSetResult:
-    """Enrol capture 0 of every subject, query capture 1: decisions of the paper's rule and ranks."""
+    """Closed-set identification: capture 0 of every subject enrolled, capture 1 queried.
+
+    Parameters
+    ----------
+    decided : numpy.ndarray, shape (n_queries,), object
+        Subject named by the paper's rule, or None for a rejection.
+    ranks : numpy.ndarray, shape (n_queries,), int
+        Rank of the true subject by the matcher's ranking score.
+    truth : numpy.ndarray, shape (n_queries,)
+        True subject ids.
+    separation : Separation
+        Separation of the step-4 distance (mean |delta sum d|).
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 6 (two captures per subject) and Sec. 5 (the rule).
+    """
 
     decided: np.ndarray  # (n_queries,) object: subject id or None (rejected), paper's rule
     ranks: np.ndarray  # (n_queries,) rank of the true subject by the matcher's ranking score
@@ -75,26 +143,46 @@ class ClosedSetResult:
 
     @property
     def recognised(self) -> np.ndarray:
-        """(n_queries,) bool: the paper's rule named the true subject."""
+        """Per query, whether the paper's rule named the true subject: (n_queries,) bool."""
         return np.asarray(self.decided == self.truth, dtype=bool)
 
     @property
     def correct(self) -> float:
+        """Share of queries the paper's rule named correctly."""
         return float(np.mean(self.recognised))
 
     @property
     def rejected(self) -> float:
+        """Share of queries the paper's rule rejected (no candidate passed steps 2-4)."""
         return float(np.mean([d is None for d in self.decided]))
 
     @property
     def rank1(self) -> float:
+        """Share of queries whose true subject ranks first."""
         return float(np.mean(self.ranks == 1))
 
 
 def closed_set(matcher: EarMatcher, templates: list[EarTemplate], subject_ids: object) -> ClosedSetResult:
     """Enrol the even-indexed templates (capture 0), identify the odd-indexed ones (capture 1).
 
-    ``matcher`` must be empty; its settings decide the rule (``max_count_violations``) and ranking.
+    Parameters
+    ----------
+    matcher : EarMatcher
+        An empty matcher; its settings decide the rule (``max_count_violations``) and the ranking.
+    templates : list of EarTemplate
+        Two per subject, capture 0 then capture 1 (from :meth:`EarMatcher.extract`).
+    subject_ids : array_like, shape (n,)
+        Subject of each template; n even, the same length as ``templates``.
+
+    Returns
+    -------
+    ClosedSetResult
+        Decisions, ranks, truth and the step-4 separation.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 5 (steps 1-9) and Sec. 6 (the protocol: perpendicular and 30-degree captures).
     """
     if not isinstance(matcher, EarMatcher):
         raise TypeError(f"matcher must be an EarMatcher, got {type(matcher).__name__}")
@@ -115,10 +203,31 @@ def closed_set(matcher: EarMatcher, templates: list[EarTemplate], subject_ids: o
 
 def hog_closed_set(images: np.ndarray, subject_ids: object, pixels_per_cell: int | None = None
                    ) -> tuple[np.ndarray, Separation]:
-    """HOG + 1-NN baseline with the same protocol: ranks of the true subject and the separation.
+    """HOG + 1-NN baseline with the protocol of :func:`closed_set`.
 
-    ``pixels_per_cell`` defaults to an eighth of the image side (16 px at 128, 32 px at 256), so the
-    HOG grid covers the ear the same way at every resolution."""
+    Parameters
+    ----------
+    images : array_like, shape (n, rows, cols)
+        Two images per subject, capture 0 then capture 1.
+    subject_ids : array_like, shape (n,)
+        Subject of each image; n even.
+    pixels_per_cell : int or None
+        HOG cell side, pixels, >= 2; None for an eighth of the image side (16 px at 128, 32 px at
+        256), so the HOG grid covers the ear the same way at every resolution.
+
+    Returns
+    -------
+    ranks : numpy.ndarray, shape (n // 2,), int
+        Rank of the true subject for each query.
+    separation : Separation
+        Separation of the HOG distances.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 6 (the protocol).
+    N. Dalal, B. Triggs, "Histograms of Oriented Gradients for Human Detection", CVPR 2005.
+    """
     ids = np.asarray(subject_ids)
     if ids.ndim != 1 or len(ids) != len(images) or len(ids) % 2:
         raise ValueError("images and subject_ids must have the same even length (two captures per subject), "
@@ -133,19 +242,46 @@ def hog_closed_set(images: np.ndarray, subject_ids: object, pixels_per_cell: int
     return ranks, genuine_impostor_separation(distances, ids[0::2], ids[1::2])
 
 
-def nuisance_study(n_subjects: int, rng: int, conditions: dict[str, tuple], *, difficulty: str = "easy",
-                   size: int = 256, relaxed_violations: int = 2, **matcher_settings) -> list[dict]:
-    """Rates and separations of our method and HOG on databases that differ only in which nuisance
-    factors are disabled.
+def nuisance_study(n_subjects: int, conditions: Mapping[str, tuple], *, rng: int | np.random.Generator,
+                   difficulty: str = "easy", size: int = 256, relaxed_violations: int = 2, **matcher_settings) -> list[dict]:
+    """Rates and separations of our method and HOG on databases that differ in one nuisance factor.
 
-    ``conditions`` maps a row name to the factors to disable; every database is drawn from the same
-    integer seed ``rng``, so the subjects and all other factors are identical. Per row: our
-    paper-rule decisions ("correct"), our rank-1 under the relaxed rule (``relaxed_violations``
-    radii may break the +-1 count rule), HOG's rank-1, and both methods' AUC and d' (separation).
+    Every database is drawn from the same state of ``rng`` (an int seed, or a generator that is
+    copied, not advanced), so the subjects and all other factors are identical; only the disabled
+    factors are set to neutral values. Per row: our paper-rule decisions ("correct"), our rank-1
+    under the relaxed rule (``relaxed_violations`` radii may break the +-1 count rule), HOG's rank-1,
+    and both methods' AUC and d' (separation).
+
+    Parameters
+    ----------
+    n_subjects : int
+        Subjects per database, >= 2.
+    conditions : Mapping
+        Row name -> collection of factors to disable (names from :data:`NUISANCE_FACTORS`).
+    rng : int or numpy.random.Generator
+        Seed or generator of every database (each condition draws from a copy of its state).
+    difficulty : {"easy", "difficult"}
+        Kind of images.
+    size : int
+        Image side in pixels, >= 32.
+    relaxed_violations : int
+        ``max_count_violations`` of the relaxed rule, >= 0.
+    **matcher_settings
+        Further :class:`EarMatcher` settings, used for every matcher of the study.
+
+    Returns
+    -------
+    list of dict
+        One row per condition: "condition", "ours correct (paper rule)", "ours rank-1",
+        "HOG rank-1", "ours AUC", "HOG AUC", "ours d'", "HOG d'".
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 6 (easy and difficult images, the 30-degree capture).
     """
     n_subjects = check_positive_int(n_subjects, "n_subjects", minimum=2)
-    if not isinstance(rng, (int, np.integer)) or isinstance(rng, bool):
-        raise TypeError(f"rng must be an int seed (each condition redraws from it), got {type(rng).__name__}")
+    generator = make_rng(rng, "rng")  # each condition draws from a copy of this state
     # Everything is checked before the first (slow) database is drawn.
     if not isinstance(conditions, Mapping):
         raise TypeError(f"conditions must map row names to factors to disable, got {type(conditions).__name__}")
@@ -155,7 +291,8 @@ def nuisance_study(n_subjects: int, rng: int, conditions: dict[str, tuple], *, d
     EarMatcher(**matcher_settings)  # checks the settings under their own names
     rows = []
     for name, disabled in conditions.items():
-        database = generate_ear_database(n_subjects, 2, difficulty, int(rng), size=size, disable=disabled)
+        database = generate_ear_database(n_subjects, 2, difficulty, rng=copy.deepcopy(generator), size=size,
+                                         disable=disabled)
         templates = [EarMatcher(**matcher_settings).extract(image) for image in database.images]
         paper = closed_set(EarMatcher(**matcher_settings), templates, database.subject_ids)
         relaxed = closed_set(EarMatcher(**matcher_settings, max_count_violations=relaxed_violations),

@@ -11,15 +11,41 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from skimage.morphology import skeletonize
 
-from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
+from amdo_lab.common import as_bool_mask, as_finite_array, check_choice, check_positive, check_positive_int
 
+
+def _as_bool_image(value: object, name: str) -> np.ndarray:
+    """A non-empty 2-D boolean image (contours, a skeleton): OpenCV's morphology and component
+    labelling crash the interpreter on an image with zero rows, so empty images are refused here."""
+    array = np.asarray(value)
+    if array.dtype != bool or array.ndim != 2:
+        raise TypeError(f"{name} must be a 2-D boolean image, got dtype {array.dtype}, shape {array.shape}")
+    return as_bool_mask(array, name)
 
 
 def as_grey_image(image: object, name: str = "image") -> np.ndarray:
     """Validate a 2-D grey-level image (uint8 or float) and return it as float64.
 
     Colour (3-D) images are rejected: convert them with ``cv2.cvtColor`` first (the folder loader
-    does this for you). Booleans, NaN/inf and non-numeric arrays raise.
+    does this for you).
+
+    Parameters
+    ----------
+    image : array_like, shape (rows, cols)
+        Grey levels: real, finite, non-negative (0-255 for 8-bit images), at least 8 x 8 pixels;
+        booleans are refused.
+    name : str
+        The argument's name in error messages.
+
+    Returns
+    -------
+    numpy.ndarray, shape (rows, cols), float64
+        A float copy of ``image``.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 2: the grey-level input of the contour detector.
     """
     array = np.asarray(image)
     if array.dtype == bool or array.dtype == object or not np.issubdtype(array.dtype, np.number) \
@@ -60,6 +86,39 @@ def detect_contours(image: object, k: float = 8.0, window: int = 3) -> np.ndarra
     is (c + k) sigma >= mu, a threshold on the local *relative* contrast sigma/mu; larger k = more
     sensitive. We add S > 0 so that a flat window (e.g. pure black, where mu = sigma = 0) is never a
     contour. Borders are handled by reflection.
+
+    Parameters
+    ----------
+    image : array_like, shape (rows, cols)
+        Grey levels, as :func:`as_grey_image` accepts them (an 8-bit image takes a faster path with
+        the same result).
+    k : float
+        The threshold's multiple of sigma in eq. (4), >= 0; larger finds more contour pixels.
+    window : int
+        Side n of the square window, odd, >= 3.
+
+    Returns
+    -------
+    numpy.ndarray, shape (rows, cols), bool
+        True on contour pixels.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 2, eqs. (1)-(5).
+
+    Examples
+    --------
+    A vertical step from grey level 100 to 200: the two columns at the step are contour pixels,
+    the flat part is not.
+
+    >>> import numpy as np
+    >>> from amdo_lab import ear_biometrics as eb
+    >>> image = np.full((32, 32), 100, np.uint8)
+    >>> image[:, 16:] = 200
+    >>> contours = eb.detect_contours(image, k=8.0)
+    >>> np.flatnonzero(contours[5]).tolist()
+    [15, 16]
     """
     grey = as_grey_image(image)
     k = check_positive(k, "k", allow_zero=True)
@@ -84,13 +143,32 @@ def detect_contours(image: object, k: float = 8.0, window: int = 3) -> np.ndarra
 
 
 def clean_contours(contours: object, min_size: int = 20, closing: int = 1) -> np.ndarray:
-    """Binarisation clean-up (Fig. 3's "binarization" box, not specified in the paper): a binary
-    closing with a (2*closing+1)^2 square (bridges the one-pixel gaps between the two flanks of a
-    groove, so one groove crosses a circle once), then drop 8-connected fragments with fewer than
-    ``min_size`` pixels. ``closing=0`` skips the closing."""
-    array = np.asarray(contours)
-    if array.dtype != bool or array.ndim != 2:
-        raise TypeError(f"contours must be a 2-D boolean image, got dtype {array.dtype}, shape {array.shape}")
+    """Binarisation clean-up of a contour image (Fig. 3's "binarization" box, not specified in the paper).
+
+    A binary closing with a (2 ``closing`` + 1)^2 square bridges the one-pixel gaps between the two
+    flanks of a groove (so one groove crosses a circle once), then 8-connected fragments with fewer
+    than ``min_size`` pixels are dropped.
+
+    Parameters
+    ----------
+    contours : array_like, shape (rows, cols), bool
+        Contour image (from :func:`detect_contours`), not empty.
+    min_size : int
+        Smallest fragment kept, pixels, >= 1.
+    closing : int
+        Half-width of the closing square, pixels, >= 0 (0 skips the closing).
+
+    Returns
+    -------
+    numpy.ndarray, shape (rows, cols), bool
+        The cleaned contour image.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 1, Fig. 3 (binarisation before the features).
+    """
+    array = _as_bool_image(contours, "contours")
     min_size = check_positive_int(min_size, "min_size")
     closing = check_positive_int(closing, "closing", minimum=0)
     if closing:
@@ -105,7 +183,30 @@ def clean_contours(contours: object, min_size: int = 20, closing: int = 1) -> np
 
 
 def canny_contours(image: object, sigma: float = 1.5, low: float = 20, high: float = 50) -> np.ndarray:
-    """Peer method: OpenCV Canny after Gaussian smoothing (non-negative thresholds on the 0-255 scale)."""
+    """Peer contour detector: OpenCV's Canny after Gaussian smoothing.
+
+    Parameters
+    ----------
+    image : array_like, shape (rows, cols)
+        Grey levels on the 0-255 scale, as :func:`as_grey_image` accepts them.
+    sigma : float
+        Standard deviation of the Gaussian smoothing, pixels, > 0.
+    low : float
+        Lower hysteresis threshold of the gradient magnitude, >= 0 (grey levels per pixel).
+    high : float
+        Upper hysteresis threshold, >= 0.
+
+    Returns
+    -------
+    numpy.ndarray, shape (rows, cols), bool
+        True on edge pixels.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 2 (the detector this peer is compared with, eqs. (1)-(5)).
+    J. Canny, "A Computational Approach to Edge Detection", IEEE TPAMI 8(6), 1986.
+    """
     grey = as_grey_image(image)
     check_positive(low, "low", allow_zero=True)
     check_positive(high, "high", allow_zero=True)
@@ -118,10 +219,21 @@ NORMALISATION_MODES = ("principal", "axes", "isotropic")
 
 @dataclass(frozen=True)
 class Normalisation:
-    """Eq. (6): centroid (I, J) in (row, col) pixels and the linear map to normalised (x, y).
+    """Eq. (6): the centroid (I, J) of the contour pixels and the linear map to normalised (x, y).
 
-    ``matrix`` (2x2) maps a pixel offset (row - I, col - J) to normalised (x, y); ``spread`` holds
-    the pixel standard deviations along the normalised x and y axes (the sigmas that eq. 6 divides by).
+    Parameters
+    ----------
+    centroid : numpy.ndarray, shape (2,)
+        The centroid (row, col), pixels.
+    spread : numpy.ndarray, shape (2,)
+        Pixel standard deviations along the normalised axes (the sigmas that eq. 6 divides by).
+    matrix : numpy.ndarray, shape (2, 2)
+        Maps a pixel offset (row - I, col - J) to normalised (x, y); x right, y up.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 3, eq. (6).
     """
 
     centroid: np.ndarray
@@ -129,11 +241,33 @@ class Normalisation:
     matrix: np.ndarray
 
     def to_normalised(self, rows_cols: np.ndarray) -> np.ndarray:
-        """Pixel (row, col) ``(n, 2)`` (or one ``(2,)`` point) -> normalised (x, y) ``(n, 2)``."""
+        """Map pixel positions to normalised coordinates (eq. 6).
+
+        Parameters
+        ----------
+        rows_cols : array_like, shape (n, 2) or (2,)
+            Pixel positions (row, col), finite.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n, 2)
+            Normalised (x, y).
+        """
         return (_check_points(rows_cols, "rows_cols") - self.centroid) @ self.matrix.T
 
     def to_pixels(self, xy: np.ndarray) -> np.ndarray:
-        """Normalised (x, y) ``(n, 2)`` (or one ``(2,)`` point) -> pixel (row, col) ``(n, 2)``."""
+        """Map normalised coordinates back to pixel positions (the inverse of eq. 6).
+
+        Parameters
+        ----------
+        xy : array_like, shape (n, 2) or (2,)
+            Normalised (x, y), finite.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n, 2)
+            Pixel positions (row, col), not rounded.
+        """
         return _check_points(xy, "xy") @ np.linalg.inv(self.matrix).T + self.centroid
 
 
@@ -176,6 +310,23 @@ def normalise_coordinates(contours: object, mode: str = "principal") -> Normalis
         Both image axes divided by sqrt((sigma_i^2 + sigma_j^2) / 2): a similarity normalisation,
         rotation covariant (circles stay circles) but the frame turns with the ear and the aspect
         ratio is kept.
+
+    Parameters
+    ----------
+    contours : array_like, shape (rows, cols), bool
+        Contour image with at least one contour pixel, not on a single row, column or line.
+    mode : {"principal", "axes", "isotropic"}
+        The reading of eq. (6), as above.
+
+    Returns
+    -------
+    Normalisation
+        Centroid, spreads and the map to normalised coordinates.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 3, eq. (6).
     """
     array = as_contour_image(contours)
     check_choice(mode, "mode", NORMALISATION_MODES)
@@ -202,7 +353,26 @@ def normalise_coordinates(contours: object, mode: str = "principal") -> Normalis
 
 @dataclass(frozen=True)
 class CircleFeatures:
-    """Eq. (7): V = {[r, l_r, sum d_r]} for the N_r circles, plus what was used to compute it."""
+    """Eq. (7): V = {[r, l_r, sum d_r]} for the N_r circles, plus what was used to compute it.
+
+    Parameters
+    ----------
+    radii : numpy.ndarray, shape (N_r,)
+        Circle radii r, normalised units.
+    counts : numpy.ndarray, shape (N_r,), int
+        l_r, the number of intersections of the contours with each circle.
+    distance_sums : numpy.ndarray, shape (N_r,)
+        sum d_r, the summed distances between neighbouring intersections, normalised units.
+    intersections : tuple of numpy.ndarray
+        Per circle, the (l_r, 2) intersection points, normalised (x, y), counter-clockwise.
+    normalisation : Normalisation
+        The frame of eq. (6) the circles are drawn in.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 4, eq. (7) and Figs. 5-6.
+    """
 
     radii: np.ndarray  # (N_r,) normalised radii
     counts: np.ndarray  # (N_r,) l_r, number of intersections
@@ -230,17 +400,17 @@ def _runs(rolled: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return rows, starts, ends
 
 
-def _fill_short_gaps(hits: np.ndarray, arc: np.ndarray, min_gap: float) -> np.ndarray:
-    """Close runs of False on closed rows whose arc length (sum of ``arc``) is below ``min_gap``."""
+def _fill_short_gaps(hits: np.ndarray, arc: np.ndarray, min_gap_px: float) -> np.ndarray:
+    """Close runs of False on closed rows whose arc length (sum of ``arc``) is below ``min_gap_px``."""
     partial = hits.any(axis=1) & ~hits.all(axis=1)
-    if min_gap <= 0 or not partial.any():
+    if min_gap_px <= 0 or not partial.any():
         return hits
     sub, sub_arc = hits[partial], arc[partial]
     shifts = np.argmax(sub, axis=1)  # start every row on a True, so no gap wraps around
     rolled, rolled_arc = _roll_rows(sub, shifts), _roll_rows(sub_arc, shifts)
     rows, starts, ends = _runs(~rolled)
     cumulative = np.pad(np.cumsum(rolled_arc, axis=1), ((0, 0), (1, 0)))
-    short = cumulative[rows, ends] - cumulative[rows, starts] < min_gap
+    short = cumulative[rows, ends] - cumulative[rows, starts] < min_gap_px
     fill = np.zeros(rolled.shape[1] + 1, np.int32)[None].repeat(len(rolled), axis=0)
     np.add.at(fill, (rows[short], starts[short]), 1)
     np.add.at(fill, (rows[short], ends[short]), -1)
@@ -271,12 +441,26 @@ def skeleton_graph(skeleton: object) -> tuple[np.ndarray, np.ndarray]:
 
     Nodes are the skeleton pixels (row, col); edges join 4-adjacent pixels, and diagonal pixels only
     when no 4-adjacent pixel of the skeleton already links them (a staircase corner is one path, not
-    a triangle, so a circle passing the corner is crossed once). Returns ``(nodes (n, 2) float,
-    edges (m, 2) int)``.
+    a triangle, so a circle passing the corner is crossed once).
+
+    Parameters
+    ----------
+    skeleton : array_like, shape (rows, cols), bool
+        A thinned contour image (one pixel wide), not empty.
+
+    Returns
+    -------
+    nodes : numpy.ndarray, shape (n, 2), float
+        Pixel positions (row, col) of the skeleton pixels.
+    edges : numpy.ndarray, shape (m, 2), int
+        Pairs of node indices joined by the contour.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 4 (the contours traced for eq. (9), read here as polylines).
     """
-    thin = np.asarray(skeleton)
-    if thin.dtype != bool or thin.ndim != 2:
-        raise TypeError(f"skeleton must be a 2-D boolean image, got dtype {thin.dtype}, shape {thin.shape}")
+    thin = _as_bool_image(skeleton, "skeleton")
     h, w = thin.shape
     index = np.full((h + 2, w + 2), -1, np.int64)
     nodes = np.argwhere(thin)
@@ -296,11 +480,33 @@ def skeleton_graph(skeleton: object) -> tuple[np.ndarray, np.ndarray]:
     return nodes.astype(float), np.vstack(pairs)
 
 
-def smooth_polylines(nodes: np.ndarray, edges: np.ndarray, iterations: int) -> np.ndarray:
-    """Light smoothing along the contours: ``iterations`` rounds of replacing every node of degree 2
-    (an interior polyline point) by the mean of itself and its two neighbours. Endings and
-    bifurcations stay put, so contours neither shrink nor come apart."""
-    iterations = check_positive_int(iterations, "iterations", minimum=0)
+def smooth_polylines(nodes: np.ndarray, edges: np.ndarray, n_iter: int) -> np.ndarray:
+    """Light smoothing along the contours, endings and bifurcations held fixed.
+
+    Each of ``n_iter`` rounds replaces every node of degree 2 (an interior polyline point) by the
+    mean of itself and its two neighbours. Endings and bifurcations stay put, so contours neither
+    shrink nor come apart.
+
+    Parameters
+    ----------
+    nodes : array_like, shape (n, 2)
+        Node positions (from :func:`skeleton_graph`), finite, not empty.
+    edges : array_like, shape (m, 2), int
+        Pairs of node indices, each in 0..n-1.
+    n_iter : int
+        Number of smoothing rounds, >= 0.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, 2)
+        The smoothed node positions (a new array).
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 4 (beyond the paper: sub-pixel crossings of the circles of eq. (7)).
+    """
+    n_iter = check_positive_int(n_iter, "n_iter", minimum=0)
     positions = as_finite_array(nodes, "nodes", shape=(None, 2))
     edges = np.asarray(edges)
     if edges.ndim != 2 or edges.shape[1] != 2 or not np.issubdtype(edges.dtype, np.integer):
@@ -310,7 +516,7 @@ def smooth_polylines(nodes: np.ndarray, edges: np.ndarray, iterations: int) -> n
         raise ValueError(f"edges must index nodes 0..{len(positions) - 1}, got indices {edges.min()}..{edges.max()}")
     degree = np.bincount(edges.ravel(), minlength=len(positions))
     interior = degree == 2
-    for _ in range(iterations):
+    for _ in range(n_iter):
         totals = positions.copy()
         np.add.at(totals, edges[:, 0], positions[edges[:, 1]])
         np.add.at(totals, edges[:, 1], positions[edges[:, 0]])
@@ -319,7 +525,7 @@ def smooth_polylines(nodes: np.ndarray, edges: np.ndarray, iterations: int) -> n
 
 
 def _pixel_crossings(array: np.ndarray, norm: Normalisation, radii: np.ndarray,
-                     min_gap: float) -> tuple[np.ndarray, np.ndarray]:
+                     min_gap_px: float) -> tuple[np.ndarray, np.ndarray]:
     """Literal reading: circle index and angle of every run of contour pixels met along each circle."""
     n_samples = int(8 * np.ceil(4 * np.pi * radii[-1] * norm.spread.max() / 8)) + 8
     angles = 2 * np.pi * np.arange(n_samples) / n_samples
@@ -330,17 +536,17 @@ def _pixel_crossings(array: np.ndarray, norm: Normalisation, radii: np.ndarray,
     hits = np.zeros((len(radii), n_samples), bool)
     hits[inside] = array[rc[inside][:, 0], rc[inside][:, 1]]
     arc = np.linalg.norm(np.roll(pixels, -1, axis=1) - pixels, axis=2)  # pixel length of each sample step
-    rows, mids = _circle_crossings(_fill_short_gaps(hits, arc, min_gap))
+    rows, mids = _circle_crossings(_fill_short_gaps(hits, arc, min_gap_px))
     return rows, 2 * np.pi * mids / n_samples
 
 
 def _polyline_crossings(skeleton: np.ndarray, norm: Normalisation, radii: np.ndarray, smoothing: int,
-                        band: float) -> tuple[np.ndarray, np.ndarray]:
+                        band_px: float) -> tuple[np.ndarray, np.ndarray]:
     """Sub-pixel reading: circle index and angle of every crossing of the (lightly smoothed) skeleton
     polylines with each circle.
 
-    With ``band`` = 0 a crossing is a sign change of r(s) - R along an edge, located by linear
-    interpolation. With ``band`` = h > 0 (pixels) the sign change must go from below R - h to above
+    With ``band_px`` = 0 a crossing is a sign change of r(s) - R along an edge, located by linear
+    interpolation. With ``band_px`` = h > 0 (pixels) the sign change must go from below R - h to above
     R + h (a dead band, as in a Schmitt trigger): a stretch of contour inside the band counts once if
     it enters from one side and leaves on the other, and not at all if it touches the circle and turns
     back (a graze), so sub-pixel wobble near a tangent point cannot add or remove crossings.
@@ -349,7 +555,7 @@ def _polyline_crossings(skeleton: np.ndarray, norm: Normalisation, radii: np.nda
     xy = norm.to_normalised(smooth_polylines(nodes, edges, smoothing))
     radius = np.linalg.norm(xy, axis=1)
     n_nodes, n_circles = len(xy), len(radii)
-    h = band / np.sqrt(np.prod(norm.spread))  # pixels -> normalised units (geometric-mean spread)
+    h = band_px / np.sqrt(np.prod(norm.spread))  # pixels -> normalised units (geometric-mean spread)
     side = np.where(radius[:, None] < radii - h, -1, np.where(radius[:, None] >= radii + h, 1, 0))
     a, b = edges[:, 0], edges[:, 1]
     # direct jumps over the whole band (always the case for h = 0)
@@ -389,15 +595,32 @@ def _polyline_crossings(skeleton: np.ndarray, norm: Normalisation, radii: np.nda
     return np.concatenate(rows_out), np.concatenate(theta_out) % (2 * np.pi)
 
 
-def prune_spurs(skeleton: object, length: int) -> np.ndarray:
-    """Remove side branches shorter than ``length`` pixels from a thinned image (spurs that a ragged
-    contour border leaves after thinning): ``length`` rounds of deleting end pixels, then the
-    surviving ends regrow along the original skeleton by up to ``length`` pixels, so genuine open
-    contours keep their full length."""
-    thin = np.asarray(skeleton)
-    if thin.dtype != bool or thin.ndim != 2:
-        raise TypeError(f"skeleton must be a 2-D boolean image, got dtype {thin.dtype}, shape {thin.shape}")
-    length = check_positive_int(length, "length", minimum=0)
+def prune_spurs(skeleton: object, length_px: int) -> np.ndarray:
+    """Remove side branches shorter than ``length_px`` pixels from a thinned image.
+
+    Spurs are what a ragged contour border leaves after thinning: ``length_px`` rounds of deleting
+    end pixels, then the surviving ends regrow along the original skeleton by up to ``length_px``
+    pixels, so genuine open contours keep their full length.
+
+    Parameters
+    ----------
+    skeleton : array_like, shape (rows, cols), bool
+        A thinned contour image, not empty.
+    length_px : int
+        Longest spur removed, pixels, >= 0 (0 returns the skeleton unchanged).
+
+    Returns
+    -------
+    numpy.ndarray, shape (rows, cols), bool
+        The pruned skeleton.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 4 (beyond the paper: endings of eq. (9) that a ragged contour would add).
+    """
+    thin = _as_bool_image(skeleton, "skeleton")
+    length = check_positive_int(length_px, "length_px", minimum=0)
     kernel = np.ones((3, 3), np.uint8)
 
     def ends(mask: np.ndarray) -> np.ndarray:  # one branch (N_c = 1) or isolated (N_c = 0)
@@ -441,8 +664,8 @@ def _skeleton(array: np.ndarray) -> np.ndarray:
 
 
 def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *, mode: str = "principal",
-                    min_gap: float = 0.0, crossings: str = "pixels", polyline_smoothing: int = 2,
-                    band: float = 0.0, spur_length: int = 0, skeleton: np.ndarray | None = None,
+                    min_gap_px: float = 0.0, crossings: str = "pixels", polyline_smoothing: int = 2,
+                    band_px: float = 0.0, spur_length_px: int = 0, skeleton: np.ndarray | None = None,
                     normalisation: Normalisation | None = None) -> CircleFeatures:
     """First feature vector V, eq. (7).
 
@@ -453,30 +676,75 @@ def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *,
     ``crossings="pixels"`` (the literal one)
         All circles are sampled at the same angles, at least two samples per pixel of the largest
         one; a run of consecutive samples on contour pixels is one intersection (l_r counts runs, so
-        a 2-pixel-thick contour crossing the circle counts once). ``min_gap`` > 0 (pixels of arc)
-        first merges runs separated by a shorter gap (a ragged contour grazing the circle).
+        a 2-pixel-thick contour crossing the circle counts once). ``min_gap_px`` > 0 first merges
+        runs separated by a shorter gap (a ragged contour grazing the circle).
     ``crossings="polyline"`` (sub-pixel)
         The contours are thinned, the skeleton is read as polylines (:func:`skeleton_graph`),
-        smoothed by ``polyline_smoothing`` rounds of neighbour averaging (:func:`smooth_polylines`)
-        and intersected with each circle analytically: one crossing per sign change of r(s) - R
-        along a contour, so a contour that crosses a circle once counts once however ragged its
-        pixels are. ``min_gap`` is not used. ``skeleton`` may pass an already thinned image.
+        smoothed (:func:`smooth_polylines`) and intersected with each circle analytically: one
+        crossing per sign change of r(s) - R along a contour, so a contour that crosses a circle once
+        counts once however ragged its pixels are.
 
     sum d is the perimeter of the polygon through the intersections taken counter-clockwise, closed
     so that it does not depend on a start angle (0 for fewer than two intersections).
 
-    ``normalisation`` replaces eq. 6 on the contour pixels by a given frame (for instance the ear
-    silhouette's, :func:`amdo_lab.ear_biometrics.frame.silhouette_normalisation`); ``mode`` is then
-    not used.
+    Parameters
+    ----------
+    contours : array_like, shape (rows, cols), bool
+        Contour image with at least one contour pixel.
+    n_circles : int
+        Number of circles N_r, >= 1.
+    step : float
+        Radius step alpha between circles, normalised units, > 0.
+    mode : {"principal", "axes", "isotropic"}
+        Reading of eq. (6) (see :func:`normalise_coordinates`); unused with ``normalisation``.
+    min_gap_px : float
+        ``"pixels"`` only: runs closer than this arc length, pixels, are merged; >= 0 (0 is the
+        literal count).
+    crossings : {"pixels", "polyline"}
+        Reading of "the contour crosses the circle", as above.
+    polyline_smoothing : int
+        ``"polyline"`` only: rounds of :func:`smooth_polylines`, >= 0.
+    band_px : float
+        ``"polyline"`` only: half-width of the dead band around each circle, pixels, >= 0; a crossing
+        must go from below R - band to above R + band, so a graze is not counted.
+    spur_length_px : int
+        ``"polyline"`` only: spurs shorter than this, pixels, are pruned first (:func:`prune_spurs`).
+    skeleton : numpy.ndarray or None
+        ``"polyline"`` only: an already thinned image of the contours' shape (saves the thinning).
+    normalisation : Normalisation or None
+        A given frame in place of eq. (6) on the contour pixels (for instance the silhouette's,
+        :func:`~amdo_lab.ear_biometrics.frame.frame_normalisation`).
+
+    Returns
+    -------
+    CircleFeatures
+        V: radii, counts l_r, distance sums, the intersections and the frame.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 3, eq. (6) and Sec. 4, eq. (7), Figs. 5-6.
+
+    Examples
+    --------
+    A '+' of two one-pixel lines crosses every circle around its centre four times.
+
+    >>> import numpy as np
+    >>> from amdo_lab import ear_biometrics as eb
+    >>> plus = np.zeros((64, 64), bool)
+    >>> plus[32, 8:56] = True
+    >>> plus[8:56, 32] = True
+    >>> eb.circle_features(plus, n_circles=2, step=0.5, mode="isotropic").counts.tolist()
+    [4, 4]
     """
     array = as_contour_image(contours)
     n_circles = check_positive_int(n_circles, "n_circles")
     step = check_positive(step, "step")
-    min_gap = check_positive(min_gap, "min_gap", allow_zero=True)
+    min_gap_px = check_positive(min_gap_px, "min_gap_px", allow_zero=True)
     check_choice(crossings, "crossings", CROSSING_READINGS)
     polyline_smoothing = check_positive_int(polyline_smoothing, "polyline_smoothing", minimum=0)
-    band = check_positive(band, "band", allow_zero=True)
-    spur_length = check_positive_int(spur_length, "spur_length", minimum=0)
+    band_px = check_positive(band_px, "band_px", allow_zero=True)
+    spur_length_px = check_positive_int(spur_length_px, "spur_length_px", minimum=0)
     if normalisation is None:
         norm = normalise_coordinates(array, mode)
     elif isinstance(normalisation, Normalisation):
@@ -485,27 +753,43 @@ def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *,
         raise TypeError(f"normalisation must be a Normalisation or None, got {type(normalisation).__name__}")
     radii = step * np.arange(1, n_circles + 1)
     if crossings == "pixels":
-        rows, theta = _pixel_crossings(array, norm, radii, min_gap)
+        rows, theta = _pixel_crossings(array, norm, radii, min_gap_px)
     else:
         thin = _skeleton(array) if skeleton is None else np.asarray(skeleton)
         if thin.shape != array.shape or thin.dtype != bool:
             raise ValueError(f"skeleton must be a boolean image of the contours' shape {array.shape}, "
                              f"got dtype {thin.dtype}, shape {thin.shape}")
-        rows, theta = _polyline_crossings(prune_spurs(thin, spur_length), norm, radii, polyline_smoothing, band)
+        rows, theta = _polyline_crossings(prune_spurs(thin, spur_length_px), norm, radii, polyline_smoothing, band_px)
     counts, sums, points = _circle_polygons(rows, theta, radii)
     return CircleFeatures(radii, counts, sums, points, norm)
 
 
 def circle_features_reference(contours: object, n_circles: int = 8, step: float = 0.25) -> CircleFeatures:
-    """Eqs. (6)-(7) written out in plain numpy, one circle at a time: the reading to open beside the
-    paper. Literal eq. 6 (the image axes, ``mode="axes"``) and the literal count (every run of contour
-    pixels met along a sampled circle is one intersection, ``crossings="pixels"``, ``min_gap=0``);
-    :func:`circle_features` with those settings is the vectorised path and is tested equal to this.
+    """Eqs. (6)-(7) written out in plain numpy, one circle at a time: the reading to open beside the paper.
+
+    Literal eq. 6 (the image axes, ``mode="axes"``) and the literal count (every run of contour
+    pixels met along a sampled circle is one intersection, ``crossings="pixels"``,
+    ``min_gap_px=0``); :func:`circle_features` with those settings is the vectorised path and is
+    tested equal to this.
+
+    Parameters
+    ----------
+    contours : array_like, shape (rows, cols), bool
+        Contour image with at least one contour pixel.
+    n_circles : int
+        Number of circles N_r, >= 1.
+    step : float
+        Radius step alpha between circles, normalised units, > 0.
+
+    Returns
+    -------
+    CircleFeatures
+        V: radii, counts l_r, distance sums, the intersections and the frame of eq. (6).
 
     References
     ----------
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
-    LNCS 3179, pp. 51-61, Sec. 3 (eq. 6) and Sec. 4 (eq. 7).
+    LNCS 3179, pp. 51-61, Sec. 3, eq. (6) and Sec. 4, eq. (7).
     """
     array = as_contour_image(contours)
     n_circles = check_positive_int(n_circles, "n_circles")
@@ -549,11 +833,27 @@ def circle_features_reference(contours: object, n_circles: int = 8, step: float 
 
 
 def crossing_number(skeleton: np.ndarray) -> np.ndarray:
-    """8-connected crossing number N_c = 1/2 sum_k |p_{k+1} - p_k| over the 8 neighbours in cyclic
-    order (Fig. 7), evaluated on every pixel of a 2-D boolean ``skeleton`` (0 off the skeleton)."""
-    thin = np.asarray(skeleton)
-    if thin.dtype != bool or thin.ndim != 2:
-        raise TypeError(f"skeleton must be a 2-D boolean image, got dtype {thin.dtype}, shape {thin.shape}")
+    """The 8-connected crossing number N_c of every skeleton pixel (eq. 8, Fig. 7).
+
+    N_c = 1/2 sum_k |p_{k+1} - p_k| over the 8 neighbours p_1..p_8 in cyclic order: 1 at an ending,
+    2 along a contour, 3 or more at a bifurcation.
+
+    Parameters
+    ----------
+    skeleton : array_like, shape (rows, cols), bool
+        A thinned contour image, not empty.
+
+    Returns
+    -------
+    numpy.ndarray, shape (rows, cols), int
+        N_c on the skeleton, 0 off it.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 4, eq. (8) and Fig. 7.
+    """
+    thin = _as_bool_image(skeleton, "skeleton")
     return _crossing_number(thin)
 
 
@@ -569,7 +869,24 @@ def _crossing_number(skeleton: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class ContourTopology:
-    """One traced contour of eq. (9): its endings, bifurcations and circle intersections (normalised)."""
+    """One traced contour of eq. (9): its endings, bifurcations and circle intersections (normalised).
+
+    Parameters
+    ----------
+    endings : numpy.ndarray, shape (N_E, 2)
+        Endings e, normalised (x, y).
+    bifurcations : numpy.ndarray, shape (N_B, 2)
+        Bifurcations b, normalised (x, y).
+    intersections : numpy.ndarray, shape (N_I, 2)
+        Intersections i with the circles of V, normalised (x, y).
+    outer_radius : float
+        Largest normalised radius reached by the contour (the tracing order).
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 4, eq. (9) and Fig. 8.
+    """
 
     endings: np.ndarray  # (N_E, 2)
     bifurcations: np.ndarray  # (N_B, 2)
@@ -578,17 +895,37 @@ class ContourTopology:
 
     @property
     def triple(self) -> tuple[int, int, int]:
-        """(N_E, N_B, N_I)."""
+        """The triple (N_E, N_B, N_I) of eq. (9)."""
         return len(self.endings), len(self.bifurcations), len(self.intersections)
 
     @property
     def points(self) -> np.ndarray:
+        """All characteristic points: endings, then bifurcations, then intersections, shape (n, 2)."""
         return np.vstack([self.endings, self.bifurcations, self.intersections])
 
 
 @dataclass(frozen=True)
 class TopologyFeatures:
-    """Eq. (9): F = one ContourTopology per contour, ordered from the outermost contour inwards."""
+    """Eq. (9): F = one ContourTopology per contour, ordered from the outermost contour inwards.
+
+    Parameters
+    ----------
+    contours : tuple of ContourTopology
+        The traced contours, outermost first.
+    skeleton : numpy.ndarray, shape (rows, cols), bool
+        The thinned contour image.
+    ending_pixels : numpy.ndarray, shape (n, 2)
+        All endings, pixel (row, col) (for plotting).
+    bifurcation_pixels : numpy.ndarray, shape (n, 2)
+        All bifurcations, pixel (row, col).
+    circles : CircleFeatures
+        V, computed on the same contours (its intersections are the i of eq. 9).
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 4, eqs. (8)-(9) and Figs. 7-8.
+    """
 
     contours: tuple[ContourTopology, ...]
     skeleton: np.ndarray
@@ -611,23 +948,54 @@ def _cluster_centres(mask: np.ndarray) -> np.ndarray:
 
 
 def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, *, mode: str = "principal",
-                      min_gap: float = 0.0, crossings: str = "pixels", polyline_smoothing: int = 2,
-                      band: float = 0.0, spur_length: int = 0,
+                      min_gap_px: float = 0.0, crossings: str = "pixels", polyline_smoothing: int = 2,
+                      band_px: float = 0.0, spur_length_px: int = 0,
                       normalisation: Normalisation | None = None) -> TopologyFeatures:
     """Second feature vector F, eq. (9).
 
     The contour image is thinned (``skimage.morphology.skeletonize``); skeleton pixels with
-    N_c = 1 are endings and with N_c > 2 bifurcations (clusters of adjacent ones merged). Each
-    8-connected skeleton component that reaches inside the outermost circle is one contour; the
+    N_c = 1 (eq. 8) are endings and with N_c > 2 bifurcations (clusters of adjacent ones merged).
+    Each 8-connected skeleton component that reaches inside the outermost circle is one contour; the
     circle intersections of V are assigned to the nearest skeleton component. Contours are listed
     from the outermost (largest normalised radius) inwards, the paper's tracing order.
-    ``normalisation`` replaces eq. 6 on the contour pixels by a given frame, as in
-    :func:`circle_features`.
+
+    Parameters
+    ----------
+    contours : array_like, shape (rows, cols), bool
+        Contour image with at least one contour pixel.
+    n_circles : int
+        Number of circles N_r, >= 1.
+    step : float
+        Radius step between circles, normalised units, > 0.
+    mode : {"principal", "axes", "isotropic"}
+        Reading of eq. (6); unused with ``normalisation``.
+    min_gap_px : float
+        As in :func:`circle_features`, pixels, >= 0.
+    crossings : {"pixels", "polyline"}
+        As in :func:`circle_features`.
+    polyline_smoothing : int
+        As in :func:`circle_features`, >= 0.
+    band_px : float
+        As in :func:`circle_features`, pixels, >= 0.
+    spur_length_px : int
+        As in :func:`circle_features`, pixels, >= 0.
+    normalisation : Normalisation or None
+        A given frame in place of eq. (6) on the contour pixels.
+
+    Returns
+    -------
+    TopologyFeatures
+        F, with the skeleton, the pixel positions of endings and bifurcations, and V.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 4, eqs. (7)-(9) and Figs. 7-8.
     """
     array = as_contour_image(contours)
     full_skeleton = _skeleton(array)
-    circles = circle_features(array, n_circles, step, mode=mode, min_gap=min_gap, crossings=crossings,
-                              polyline_smoothing=polyline_smoothing, band=band, spur_length=spur_length,
+    circles = circle_features(array, n_circles, step, mode=mode, min_gap_px=min_gap_px, crossings=crossings,
+                              polyline_smoothing=polyline_smoothing, band_px=band_px, spur_length_px=spur_length_px,
                               skeleton=full_skeleton, normalisation=normalisation)
     norm = circles.normalisation
     # Work inside the contours' bounding box (plus a 1-pixel margin): same result, less to scan.

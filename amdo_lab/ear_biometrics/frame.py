@@ -35,10 +35,26 @@ elongated ears still fit the image and detection runs at about the resolution of
 class CanonicalFrame:
     """The similarity that maps an image onto its canonical frame.
 
-    ``centroid`` (row, col) and ``axis`` (unit (row, col) vector of the signed principal axis) are in
-    the given image; ``spread`` = sqrt(lambda_1 + lambda_2) of the mask's pixel covariance, pixels;
-    ``third_moment`` the skewness along ``axis`` (>= 0 by construction); ``matrix`` the 2 x 3 affine
-    map from given (x = col, y = row) to canonical (x, y) coordinates, as ``cv2.warpAffine`` takes it.
+    Parameters
+    ----------
+    centroid : numpy.ndarray, shape (2,)
+        Centroid (row, col) of the mask in the given image, pixels.
+    axis : numpy.ndarray, shape (2,)
+        Unit (row, col) vector of the signed principal axis in the given image.
+    spread : float
+        sqrt(lambda_1 + lambda_2) of the mask's pixel covariance, pixels.
+    elongation : float
+        sqrt(lambda_major / lambda_minor), >= 1.
+    third_moment : float
+        Skewness along ``axis``, >= 0 by construction (it fixes the axis's sign).
+    matrix : numpy.ndarray, shape (2, 3)
+        Affine map from given (x = col, y = row) to canonical (x, y) coordinates, as
+        ``cv2.warpAffine`` takes it.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 3, eq. (6). Beyond the paper: its Sec. 3 moments (eq. 6) taken of the silhouette and applied to the image.
     """
 
     centroid: np.ndarray
@@ -50,7 +66,7 @@ class CanonicalFrame:
 
     @property
     def angle_deg(self) -> float:
-        """Angle of ``axis`` from the image's downward vertical, counter-clockwise as displayed."""
+        """Angle of ``axis`` from the image's downward vertical, degrees, counter-clockwise as displayed."""
         return float(np.degrees(np.arctan2(self.axis[1], self.axis[0])))
 
 
@@ -63,6 +79,26 @@ def silhouette(image: np.ndarray, sigma: float = 2.0, closing: int = 7) -> np.nd
     where a blurred groove passes through the background level; the largest 8-connected part is kept
     and its holes filled. Assumes a cropped ear in front of a roughly even background. An 8-bit
     image is blurred in 8 bits (fast); a float one in float32 (the masks can differ by rounding).
+
+    Parameters
+    ----------
+    image : array_like, shape (rows, cols)
+        Grey levels, as :func:`~amdo_lab.ear_biometrics.features.as_grey_image` accepts them.
+    sigma : float
+        Standard deviation of the Gaussian blur, pixels, > 0.
+    closing : int
+        Side of the elliptic closing element, pixels, >= 1.
+
+    Returns
+    -------
+    numpy.ndarray, shape (rows, cols), bool
+        The silhouette (all False when nothing stands out from the background).
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 3. Beyond the paper: its Sec. 3 moments (eq. 6) taken of the silhouette and applied to the image.
+    N. Otsu, "A Threshold Selection Method from Gray-Level Histograms", IEEE SMC 9(1), 1979.
     """
     as_grey_image(image)
     return _silhouette(np.asarray(image), check_positive(sigma, "sigma"), check_positive_int(closing, "closing"))
@@ -91,15 +127,34 @@ def _silhouette(array: np.ndarray, sigma: float = 2.0, closing: int = 7) -> np.n
 
 def moment_frame(mask: np.ndarray, shape: tuple[int, int], spread_fraction: float = CANONICAL_SPREAD
                  ) -> CanonicalFrame:
-    """Canonical frame of a binary ``mask`` (plain numpy reference; the moments of Sec. 3 of the
-    paper, applied to the image rather than to the contour pixels).
+    """Canonical frame of a binary ``mask`` from its moments (plain-numpy reference).
 
+    The moments of the paper's Sec. 3, applied to the image rather than to the contour pixels.
     Centroid c = mean of the pixel positions p; covariance C = mean (p - c)(p - c)^T with
     eigenvalues lambda_minor <= lambda_major and major eigenvector e; spread s = sqrt(lambda_minor +
     lambda_major) (rotation invariant, scales with the ear). The eigenvector's sign is arbitrary (a
     180-degree ambiguity): we take the sign for which the third moment mean(((p - c) . e)^3) is
     positive, i.e. e points towards the longer tail of the shape. The map sends c to the centre of
     an image of ``shape``, e to the downward vertical, and scales by ``spread_fraction`` * side / s.
+
+    Parameters
+    ----------
+    mask : array_like, shape (rows, cols), bool
+        The silhouette (or contours): at least 3 pixels, not on one straight line.
+    shape : tuple of int
+        (rows, cols) of the canonical image, each >= 8.
+    spread_fraction : float
+        Spread of the mask in the canonical image, as a fraction of the shorter side, in (0, 0.5).
+
+    Returns
+    -------
+    CanonicalFrame
+        Centroid, signed axis, spread, elongation, third moment and the 2 x 3 map.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 3, eq. (6). Beyond the paper: its Sec. 3 moments (eq. 6) taken of the silhouette and applied to the image.
     """
     mask, shape, spread_fraction = _check_frame_input(mask, shape, spread_fraction)
     pixels = np.argwhere(mask).astype(float)  # (n, 2) row, col
@@ -167,11 +222,29 @@ def _frame(centroid: np.ndarray, axis: np.ndarray, variances: np.ndarray, third:
 
 
 def to_canonical(image: np.ndarray, frame: CanonicalFrame) -> np.ndarray:
-    """Resample ``image`` (2-D grey levels) into its canonical frame (bilinear, border replicated, same size and dtype).
+    """Resample ``image`` into its canonical frame (bilinear, border replicated, same size and dtype).
 
     When the frame shrinks the image (scale s < 1) it is first blurred with a Gaussian of
     sigma = 0.5 sqrt(1/s^2 - 1) pixels (anti-aliasing), so a copy that was larger to begin with is not
-    sampled more coarsely than the original."""
+    sampled more coarsely than the original.
+
+    Parameters
+    ----------
+    image : array_like, shape (rows, cols)
+        Grey levels, as :func:`~amdo_lab.ear_biometrics.features.as_grey_image` accepts them.
+    frame : CanonicalFrame
+        The frame (from :func:`moment_frame`).
+
+    Returns
+    -------
+    numpy.ndarray, shape (rows, cols)
+        The resampled image, of ``image``'s dtype.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 3. Beyond the paper: its Sec. 3 moments (eq. 6) taken of the silhouette and applied to the image.
+    """
     as_grey_image(image)
     if not isinstance(frame, CanonicalFrame):
         raise TypeError(f"frame must be a CanonicalFrame (from moment_frame), got {type(frame).__name__}")
@@ -197,6 +270,27 @@ def frame_normalisation(frame: CanonicalFrame, shape: tuple[int, int], mode: str
     along the minor axis (their ratio is the frame's elongation e: sigma_minor = S / sqrt(1 + e^2),
     sigma_major = e sigma_minor), as eq. 6 divides each axis by its own sigma; ``"isotropic"``
     divides both by S / sqrt(2). Normalised y points up the image (away from the longer tail).
+
+    Parameters
+    ----------
+    frame : CanonicalFrame
+        The silhouette's frame (from :func:`moment_frame`).
+    shape : tuple of int
+        (rows, cols) of the canonical image, each >= 8.
+    mode : {"principal", "axes", "isotropic"}
+        Reading of eq. (6), as above.
+    spread_fraction : float
+        The ``spread_fraction`` the frame was made with, in (0, 0.5).
+
+    Returns
+    -------
+    Normalisation
+        The frame of eq. (6) in the canonical image.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 3, eq. (6).
     """
     if not isinstance(frame, CanonicalFrame):
         raise TypeError(f"frame must be a CanonicalFrame (from moment_frame), got {type(frame).__name__}")
@@ -227,25 +321,54 @@ def check_spread_fraction(value: object, name: str = "canonical_spread") -> floa
 
 
 def similarity_copy(image: object, *, rng: int | np.random.Generator, max_rotation_deg: float = 25.0,
-                    scale_range: tuple[float, float] = (0.85, 1.15), max_shift: float = 8.0,
+                    scale_range: tuple[float, float] = (0.85, 1.15), max_shift_px: float = 8.0,
                     rotation_deg: float | None = None) -> np.ndarray:
-    """A copy of ``image`` turned about its centre, rescaled and shifted, as a user's camera would
-    present the same ear: rotation uniform in +-``max_rotation_deg`` (or exactly ``rotation_deg``),
-    scale uniform in ``scale_range``, shift uniform in +-``max_shift`` pixels per axis; bilinear
-    interpolation (``cv2.warpAffine``), border replicated. Same size and dtype as ``image``."""
+    """A copy of ``image`` turned about its centre, rescaled and shifted.
+
+    This is how a user's camera would present the same ear: rotation uniform in
+    +-``max_rotation_deg`` (or exactly ``rotation_deg``), scale uniform in ``scale_range``, shift
+    uniform in +-``max_shift_px`` pixels per axis; bilinear interpolation (``cv2.warpAffine``),
+    border replicated.
+
+    Parameters
+    ----------
+    image : array_like, shape (rows, cols)
+        Grey levels, as :func:`~amdo_lab.ear_biometrics.features.as_grey_image` accepts them.
+    rng : int or numpy.random.Generator
+        Seed or generator of the rotation, scale and shift; a generator is advanced (the rotation is
+        drawn even when ``rotation_deg`` is given, so the stream does not depend on it).
+    max_rotation_deg : float
+        Largest rotation, degrees, >= 0.
+    scale_range : tuple of float
+        (low, high) of the scale factor, 0 < low <= high.
+    max_shift_px : float
+        Largest shift per axis, pixels, >= 0.
+    rotation_deg : float or None
+        A fixed rotation, degrees, in place of the drawn one.
+
+    Returns
+    -------
+    numpy.ndarray, shape (rows, cols)
+        The transformed copy, of ``image``'s dtype.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 3 (the invariance to rotation, scale and shift that eq. (6) is meant to give).
+    """
     as_grey_image(image)
     array = np.asarray(image)
-    rng = make_rng(rng)
+    rng = make_rng(rng, "rng")
     check_positive(max_rotation_deg, "max_rotation_deg", allow_zero=True)
     low, high = as_finite_array(scale_range, "scale_range", shape=(2,))
     if not 0 < low <= high:
         raise ValueError(f"scale_range must be (low, high) with 0 < low <= high, got {tuple(scale_range)}")
-    check_positive(max_shift, "max_shift", allow_zero=True)
+    check_positive(max_shift_px, "max_shift_px", allow_zero=True)
     angle = rng.uniform(-max_rotation_deg, max_rotation_deg)
     if rotation_deg is not None:
         angle = float(as_finite_array(rotation_deg, "rotation_deg", ndim=0))
     centre = ((array.shape[1] - 1) / 2, (array.shape[0] - 1) / 2)  # the middle of the pixel grid
     matrix = cv2.getRotationMatrix2D(centre, angle, rng.uniform(low, high))
-    matrix[:, 2] += rng.uniform(-max_shift, max_shift, 2)
+    matrix[:, 2] += rng.uniform(-max_shift_px, max_shift_px, 2)
     return cv2.warpAffine(array, matrix, (array.shape[1], array.shape[0]), flags=cv2.INTER_LINEAR,
                           borderMode=cv2.BORDER_REPLICATE)

@@ -9,7 +9,7 @@ import cv2
 import numpy as np
 from skimage.feature import hog
 
-from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
+from amdo_lab.common import as_finite_array, check_choice, check_fitted, check_positive, check_positive_int
 from amdo_lab.ear_biometrics.features import (
     CROSSING_READINGS,
     NORMALISATION_MODES,
@@ -35,7 +35,20 @@ from amdo_lab.ear_biometrics.frame import (
 
 @dataclass(frozen=True)
 class EarTemplate:
-    """Both feature vectors of one image: V (eq. 7) and F (eq. 9)."""
+    """Both feature vectors of one image: V (eq. 7) and F (eq. 9).
+
+    Parameters
+    ----------
+    circles : CircleFeatures
+        V, eq. (7).
+    topology : TopologyFeatures
+        F, eq. (9).
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 4, eqs. (7) and (9); Sec. 5 (the stored F_ref and V_ref).
+    """
 
     circles: CircleFeatures
     topology: TopologyFeatures
@@ -45,9 +58,23 @@ class EarTemplate:
 class IdentificationResult:
     """Outcome of :meth:`EarMatcher.identify`.
 
-    ``subject_id`` is None for a rejection. ``candidate_ids``/``candidate_scores`` are the enrolled
-    templates that passed steps 2-4 (count gate and distance-sum threshold), best first; ``scores``
-    holds the ranking score of every enrolled template (lower is better; used for CMC curves).
+    Parameters
+    ----------
+    subject_id : object
+        The identified subject, or None for a rejection (step 5).
+    candidate_ids : tuple
+        Subjects of the enrolled templates that passed steps 2-4, best first (at most ``shortlist``).
+    candidate_scores : numpy.ndarray, shape (n_candidates,)
+        Their ranking scores, lower is better.
+    scores : numpy.ndarray, shape (n_enrolled,)
+        The ranking score of every enrolled template, lower is better (for CMC curves).
+    reason : str
+        Why the query was rejected ("" when it was not).
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 5, steps 1-9.
     """
 
     subject_id: object
@@ -63,10 +90,32 @@ _COORDINATE_TOLERANCE = 0.2
 
 def topology_similarity(query: TopologyFeatures, reference: TopologyFeatures,
                         coordinate_tolerance: float = _COORDINATE_TOLERANCE) -> float:
-    """Steps 7-9: fraction of contours (of the larger set) whose triple (N_E, N_B, N_I) equals that of
-    an unused contour of the other image *and* whose characteristic points lie within
-    ``coordinate_tolerance`` (normalised units, mean nearest-point distance) of it. Greedy, outermost
-    contour first (the paper's tracing order)."""
+    """Steps 7-9 read literally: the share of contours whose triple and points match.
+
+    A contour counts as matched when its triple (N_E, N_B, N_I) equals that of an unused contour of
+    the other image *and* its characteristic points lie within ``coordinate_tolerance`` (mean
+    nearest-point distance) of that contour's. Greedy, outermost contour first (the paper's tracing
+    order); the count is divided by the larger number of contours.
+
+    Parameters
+    ----------
+    query : TopologyFeatures
+        F of the query image.
+    reference : TopologyFeatures
+        F of an enrolled image.
+    coordinate_tolerance : float
+        Largest mean point distance of a match, normalised units, >= 0.
+
+    Returns
+    -------
+    float
+        Similarity in [0, 1]; 1 when every contour has a matching partner.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 5, steps 7-9, on F of eq. (9).
+    """
     for features, name in ((query, "query"), (reference, "reference")):
         if not isinstance(features, TopologyFeatures):
             raise TypeError(f"{name} must be TopologyFeatures (from topology_features), got {type(features).__name__}")
@@ -101,8 +150,23 @@ RANKINGS = ("points", "triples")
 
 
 def characteristic_points(features: TopologyFeatures) -> np.ndarray:
-    """All characteristic points of F (eq. 9): endings, bifurcations and circle crossings of every
-    contour, normalised (x, y), as one (n, 2) array."""
+    """All characteristic points of F (eq. 9) as one array.
+
+    Parameters
+    ----------
+    features : TopologyFeatures
+        F of one image.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, 2)
+        Endings, bifurcations and circle crossings of every contour, normalised (x, y).
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 4, eq. (9).
+    """
     if not isinstance(features, TopologyFeatures):
         raise TypeError(f"features must be TopologyFeatures (from topology_features), got {type(features).__name__}")
     return _points(features)
@@ -118,10 +182,28 @@ def point_distance(query: TopologyFeatures, reference: TopologyFeatures, cap: fl
 
     Plain-numpy reference: for every characteristic point (eq. 9) of one image, the distance to
     the nearest one of the other image, capped at ``cap``; the mean over the query's points and the
-    mean over the reference's points are averaged (symmetric, a chamfer distance). 0 = the same
-    points; ``cap`` when one image has no point. Unlike steps 7-8 read literally (the triples
-    (N_E, N_B, N_I) must match exactly before coordinates are compared), one extra or missing point
-    changes the distance by at most ``cap`` / n.
+    mean over the reference's points are averaged (symmetric, a chamfer distance). Unlike steps 7-8
+    read literally (the triples (N_E, N_B, N_I) must match exactly before coordinates are compared),
+    one extra or missing point changes the distance by at most ``cap`` / n.
+
+    Parameters
+    ----------
+    query : TopologyFeatures
+        F of the query image.
+    reference : TopologyFeatures
+        F of an enrolled image.
+    cap : float
+        Largest distance one point can add, normalised units, > 0.
+
+    Returns
+    -------
+    float
+        Distance in [0, ``cap``]: 0 for the same points, ``cap`` when one image has no point.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 5, steps 8-9, on the points of eq. (9).
     """
     for features, name in ((query, "query"), (reference, "reference")):
         if not isinstance(features, TopologyFeatures):
@@ -154,38 +236,98 @@ def _point_distances(query: np.ndarray, stacked: np.ndarray, starts: np.ndarray,
 
 @dataclass
 class EarMatcher:
-    """Choraś's classifier (Sec. 5).
+    """Choraś's classifier (Sec. 5): features of enrolled images, identification of a query.
 
     Steps: (2-3) a reference is a candidate when |l_r - l_r,ref| <= ``count_tolerance`` on every
     radius, except at most ``max_count_violations`` radii (0 = the paper's rule); (4) its mean
     absolute difference of the distance sums must be below ``distance_threshold``; (5) no candidate
-    -> rejection (``subject_id=None``); (6-9) candidates are ranked by the distance-sum difference
-    minus ``topology_weight`` times the topology similarity (exact triples + close coordinates).
-    ``smoothing`` > 0 applies a Gaussian blur (that sigma, pixels) before contour detection; the
-    default 0 follows the paper. Step 1's contours are cleaned by :func:`clean_contours` (a
-    (2 ``closing`` + 1)^2 closing, fragments under ``min_component_size`` pixels dropped).
-    ``mode`` is the reading of eq. 6 (see :func:`normalise_coordinates`; default the principal-axis
-    one). ``crossings`` is the reading of "the contour crosses a circle" (see :func:`circle_features`):
-    the default ``"polyline"`` intersects the thinned contours, pruned of spurs shorter than
-    ``spur_length`` pixels and smoothed by ``polyline_smoothing`` rounds, with each circle, with a
-    dead band of ``band`` pixels; ``"pixels"`` counts runs of contour pixels along the sampled circle,
-    merging runs less than ``min_gap`` pixels of arc apart (``min_gap=0`` is the literal count).
-    Pixel settings are for 256 x 256 images (the database default); they were chosen on development
-    seeds, not on the notebook's data.
+    -> rejection (``subject_id=None``); (6-9) candidates are ranked (``ranking``). Pixel settings are
+    for 256 x 256 images (the database default); they were chosen on development seeds, not on the
+    notebook's data. The decision (``subject_id``) is the best-ranked template among those that pass
+    steps 2-4.
 
-    Invariance (beyond the paper's text). ``frame="silhouette"`` (default) resamples the image into
-    the canonical frame of its silhouette (:func:`~amdo_lab.ear_biometrics.frame.moment_frame`:
-    centroid, principal axis with its sign fixed by the third moment, spread scaled to
-    ``canonical_spread`` of the side) *before* step 1, so a rotated, rescaled or shifted copy is
-    detected at the same place, orientation and size; ``"contours"`` takes that frame from the
-    contour pixels of the given image instead; ``"image"`` detects in the image as given (the
-    paper's pipeline). With a canonical frame, ``origin="frame"`` (default) takes eq. 6's centroid
-    and spreads from the silhouette's moments; ``"contours"`` from the contour pixels (eq. 6 as
-    printed, in the reading ``mode``). ``ranking="points"`` (default) ranks by
-    :func:`point_distance` between the characteristic points of F (steps 8-9 read as a distance);
-    ``"triples"`` is the literal steps 7-9 (exact triples, then coordinates) combined with the
-    distance-sum difference. Either way, the decision (``subject_id``) is the best-ranked template
-    among those that pass steps 2-4.
+    Invariance (beyond the paper's text): with a canonical frame (``frame``) the image is resampled
+    into the frame of its silhouette (:func:`~amdo_lab.ear_biometrics.frame.moment_frame`) *before*
+    step 1, so a rotated, rescaled or shifted copy is detected at the same place, orientation and
+    size.
+
+    Parameters
+    ----------
+    k : float
+        Sensitivity of the contour detector, eq. (4), >= 0.
+    window : int
+        Window side of eqs. (1)-(3), odd, >= 3.
+    smoothing : float
+        Gaussian blur before contour detection, sigma in pixels, >= 0 (0, the default, follows the
+        paper).
+    n_circles : int
+        Number of circles N_r of eq. (7), >= 1.
+    step : float
+        Radius step between circles, normalised units, > 0.
+    min_component_size : int
+        Contour fragments with fewer pixels are dropped (:func:`clean_contours`), >= 1.
+    closing : int
+        Half-width of the closing square of :func:`clean_contours`, pixels, >= 0.
+    count_tolerance : int
+        Steps 2-3: allowed |l_r - l_r,ref| per radius, >= 0 (the paper's 1).
+    max_count_violations : int
+        Radii that may break the count rule, >= 0 (0 = the paper's rule).
+    distance_threshold : float
+        Step 4: largest mean |sum d - sum d_ref|, >= 0, or inf for no threshold.
+    topology_weight : float
+        ``ranking="triples"``: candidates are ordered by their distance-sum gap minus this weight
+        times :func:`topology_similarity`; >= 0.
+    mode : {"principal", "axes", "isotropic"}
+        Reading of eq. (6) (see :func:`normalise_coordinates`).
+    min_gap_px : float
+        ``crossings="pixels"``: runs of contour pixels closer than this arc length, pixels, are one
+        crossing; >= 0 (0 is the literal count).
+    crossings : {"polyline", "pixels"}
+        Reading of "the contour crosses a circle" (see :func:`circle_features`).
+    polyline_smoothing : int
+        ``crossings="polyline"``: smoothing rounds of the thinned contours, >= 0.
+    band_px : float
+        ``crossings="polyline"``: dead band around each circle, pixels, >= 0.
+    spur_length_px : int
+        ``crossings="polyline"``: skeleton spurs shorter than this, pixels, are pruned, >= 0.
+    frame : {"silhouette", "contours", "image"}
+        Where the canonical frame comes from: the silhouette's moments, the contour pixels detected in
+        the given image, or none (the image as given, the paper's pipeline).
+    canonical_spread : float
+        Spread of the silhouette in the canonical image, fraction of the side, in (0, 0.5).
+    origin : {"frame", "contours"}
+        With a canonical frame: eq. (6)'s centroid and spreads from the silhouette's moments
+        (``"frame"``) or from the contour pixels (eq. 6 as printed, in the reading ``mode``).
+    ranking : {"points", "triples"}
+        Steps 6-9: :func:`point_distance` between the characteristic points of F (``"points"``), or
+        the literal exact triples then coordinates (:func:`topology_similarity`), combined with the
+        distance-sum gap (``"triples"``).
+
+    Attributes
+    ----------
+    subject_ids_ : list or None
+        Subject of each enrolled template, in enrolment order (None before :meth:`fit` or
+        :meth:`enroll`).
+    templates_ : list of EarTemplate or None
+        The enrolled features V and F.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 2 (eqs. 1-5), Sec. 3 (eq. 6), Sec. 4 (eqs. 7-9) and Sec. 5 (steps 1-9).
+
+    Examples
+    --------
+    Enrol the perpendicular capture of three subjects and identify the 30-degree capture of the
+    first one.
+
+    >>> from amdo_lab import ear_biometrics as eb
+    >>> images, ids = eb.generate_ear_database(3, 2, "easy", rng=1)
+    >>> matcher = eb.EarMatcher()
+    >>> for subject, image in zip(ids[0::2], images[0::2]):
+    ...     _ = matcher.enroll(subject, image)
+    >>> int(matcher.identify(images[1]).subject_id)
+    0
     """
 
     k: float = 8.0
@@ -200,17 +342,18 @@ class EarMatcher:
     distance_threshold: float = np.inf
     topology_weight: float = 1.0
     mode: str = "principal"
-    min_gap: float = 6.0
+    min_gap_px: float = 6.0
     crossings: str = "polyline"
     polyline_smoothing: int = 4
-    band: float = 6.0
-    spur_length: int = 8
+    band_px: float = 6.0
+    spur_length_px: int = 8
     frame: str = "silhouette"
     canonical_spread: float = CANONICAL_SPREAD
     origin: str = "frame"
     ranking: str = "points"
-    _ids: list = field(default_factory=list, init=False, repr=False)
-    _templates: list = field(default_factory=list, init=False, repr=False)
+    # learned from the enrolled images (scikit-learn's trailing underscore); None until the first one
+    subject_ids_: list | None = field(default=None, init=False, repr=False)
+    templates_: list | None = field(default=None, init=False, repr=False)
 
     def __post_init__(self) -> None:
         # Checked once here, under the matcher's own names; several settings (the step 2-4 rule and
@@ -228,21 +371,30 @@ class EarMatcher:
         _check_distance_threshold(self.distance_threshold, "distance_threshold")
         check_positive(self.topology_weight, "topology_weight", allow_zero=True)
         check_choice(self.mode, "mode", NORMALISATION_MODES)
-        check_positive(self.min_gap, "min_gap", allow_zero=True)
+        check_positive(self.min_gap_px, "min_gap_px", allow_zero=True)
         check_choice(self.crossings, "crossings", CROSSING_READINGS)
         check_positive_int(self.polyline_smoothing, "polyline_smoothing", minimum=0)
-        check_positive(self.band, "band", allow_zero=True)
-        check_positive_int(self.spur_length, "spur_length", minimum=0)
+        check_positive(self.band_px, "band_px", allow_zero=True)
+        check_positive_int(self.spur_length_px, "spur_length_px", minimum=0)
         check_frame_source(self.frame, "frame")
         check_spread_fraction(self.canonical_spread, "canonical_spread")
         check_choice(self.origin, "origin", ("frame", "contours"))
         check_choice(self.ranking, "ranking", RANKINGS)
 
     def canonical_frame(self, image: object) -> CanonicalFrame | None:
-        """The similarity that brings ``image`` into its canonical frame (None for ``frame="image"``).
+        """The similarity that brings ``image`` into its canonical frame.
 
-        ``"silhouette"``: second and third moments of :func:`silhouette`; ``"contours"``: of the
-        cleaned contours detected in the image as given."""
+        Parameters
+        ----------
+        image : array_like, shape (rows, cols)
+            Grey levels (8-bit or float).
+
+        Returns
+        -------
+        CanonicalFrame or None
+            From the silhouette's or the cleaned contours' moments (``frame``); None for
+            ``frame="image"``.
+        """
         grey = as_grey_image(image)
         return None if self.frame == "image" else self._frame_of(self._input(image, grey))
 
@@ -267,13 +419,33 @@ class EarMatcher:
         return contours
 
     def canonical_image(self, image: object) -> np.ndarray:
-        """The image that step 1 sees: resampled into the canonical frame, or as given for
-        ``frame="image"`` (8-bit input stays 8-bit)."""
+        """The image that step 1 sees: resampled into the canonical frame, or as given for ``frame="image"``.
+
+        Parameters
+        ----------
+        image : array_like, shape (rows, cols)
+            Grey levels (8-bit or float).
+
+        Returns
+        -------
+        numpy.ndarray, shape (rows, cols)
+            The canonical image (8-bit input stays 8-bit).
+        """
         return self._prepare(image)[0]
 
     def contour_image(self, image: object) -> np.ndarray:
-        """Step 1 as the matcher runs it: the cleaned contours (boolean) that V and F are computed from,
-        in the canonical image unless ``frame="image"``."""
+        """Step 1 as the matcher runs it: the cleaned contours that V and F are computed from.
+
+        Parameters
+        ----------
+        image : array_like, shape (rows, cols)
+            Grey levels (8-bit or float).
+
+        Returns
+        -------
+        numpy.ndarray, shape (rows, cols), bool
+            The cleaned contours, in the canonical image unless ``frame="image"``.
+        """
         return self._contours(self._prepare(image)[0])
 
     def _prepare(self, image: object) -> tuple[np.ndarray, Normalisation | None]:
@@ -288,34 +460,73 @@ class EarMatcher:
         return work, normalisation
 
     def extract(self, image: object) -> EarTemplate:
-        """Features of one image: canonical frame (unless ``frame="image"``), contours (eqs. 1-5),
-        clean-up, V and F."""
+        """Features of one image: canonical frame, contours (eqs. 1-5), clean-up, V and F.
+
+        Parameters
+        ----------
+        image : array_like, shape (rows, cols)
+            Grey levels (8-bit or float) holding an ear.
+
+        Returns
+        -------
+        EarTemplate
+            V (eq. 7) and F (eq. 9).
+        """
         work, normalisation = self._prepare(image)
         topology = topology_features(self._contours(work), self.n_circles, self.step, mode=self.mode,
-                                     min_gap=self.min_gap, crossings=self.crossings,
-                                     polyline_smoothing=self.polyline_smoothing, band=self.band,
-                                     spur_length=self.spur_length, normalisation=normalisation)
+                                     min_gap_px=self.min_gap_px, crossings=self.crossings,
+                                     polyline_smoothing=self.polyline_smoothing, band_px=self.band_px,
+                                     spur_length_px=self.spur_length_px, normalisation=normalisation)
         return EarTemplate(topology.circles, topology)
 
     def enroll(self, subject_id: object, image: object) -> EarTemplate:
-        """Add one reference image; raises ValueError when it has no contour."""
+        """Add one reference image of ``subject_id``.
+
+        Parameters
+        ----------
+        subject_id : object
+            The subject's id (any value but None, which means rejection).
+        image : array_like, shape (rows, cols)
+            Grey levels holding the subject's ear; an image without contours raises ValueError.
+
+        Returns
+        -------
+        EarTemplate
+            The enrolled features.
+        """
         if subject_id is None:
             raise ValueError("subject_id must not be None (None means rejection)")
         return self.enroll_template(subject_id, self.extract(image))
 
     def enroll_template(self, subject_id: object, template: EarTemplate) -> EarTemplate:
-        """Add already extracted features (from :meth:`extract` with the same settings)."""
+        """Add already extracted features (from :meth:`extract` with the same settings).
+
+        Parameters
+        ----------
+        subject_id : object
+            The subject's id (any value but None).
+        template : EarTemplate
+            Features with ``n_circles`` circles.
+
+        Returns
+        -------
+        EarTemplate
+            ``template``, now enrolled.
+        """
         if subject_id is None:
             raise ValueError("subject_id must not be None (None means rejection)")
         if not isinstance(template, EarTemplate):
             raise TypeError(f"template must be an EarTemplate, got {type(template).__name__}")
         if len(template.circles.counts) != self.n_circles:
             raise ValueError(f"template has {len(template.circles.counts)} circles, matcher expects {self.n_circles}")
-        self._ids.append(subject_id)
-        self._templates.append(template)
-        self._counts = np.array([t.circles.counts for t in self._templates])
-        self._sums = np.array([t.circles.distance_sums for t in self._templates])
-        points = [_points(t.topology) for t in self._templates]
+        if self.templates_ is None:
+            self.subject_ids_, self.templates_ = [], []
+        self.subject_ids_.append(subject_id)
+        self.templates_.append(template)
+        # caches of the enrolled features for steps 2-9, stacked once per enrolment
+        self._counts = np.array([t.circles.counts for t in self.templates_])
+        self._sums = np.array([t.circles.distance_sums for t in self.templates_])
+        points = [_points(t.topology) for t in self.templates_]
         # a template without points gets one far away (at distance >= cap from everything)
         points = [p if len(p) else np.full((1, 2), 1e6) for p in points]
         self._points = np.vstack(points)
@@ -324,12 +535,49 @@ class EarMatcher:
 
     @property
     def n_enrolled(self) -> int:
-        return len(self._ids)
+        """Number of enrolled templates (0 before the first enrolment)."""
+        return 0 if self.templates_ is None else len(self.templates_)
+
+    def fit(self, images: object, subject_ids: object) -> EarMatcher:
+        """Enrol one reference image per subject id, forgetting any earlier enrolment.
+
+        Parameters
+        ----------
+        images : sequence of array_like
+            Grey-level images (8-bit or float), each holding an ear.
+        subject_ids : sequence
+            The subject of each image (no None), as many as ``images``.
+
+        Returns
+        -------
+        EarMatcher
+            ``self``, with ``subject_ids_`` and ``templates_`` learned.
+        """
+        if len(subject_ids) != len(images):
+            raise ValueError(f"subject_ids must give one subject per image ({len(images)}), got {len(subject_ids)}")
+        if len(images) == 0:
+            raise ValueError("images must not be empty")
+        self.subject_ids_, self.templates_ = None, None
+        for subject_id, image in zip(subject_ids, images):
+            self.enroll(subject_id, image)
+        return self
 
     def identify(self, image: object, *, shortlist: int = 10) -> IdentificationResult:
-        """Identify one query image (steps 1-9); a blank/constant image is rejected, not an error."""
-        if not self._ids:
-            raise ValueError("no subject enrolled: call enroll() first")
+        """Identify one query image (steps 1-9); a blank or constant image is rejected, not an error.
+
+        Parameters
+        ----------
+        image : array_like, shape (rows, cols)
+            Grey levels of the query.
+        shortlist : int
+            Largest number of candidates kept and ranked, >= 1.
+
+        Returns
+        -------
+        IdentificationResult
+            The decision, the candidates and every enrolled template's score.
+        """
+        check_fitted(self, "templates_")  # NotFittedError (a ValueError) before any enrolment
         as_grey_image(image)  # bad dtype/shape/NaN -> TypeError/ValueError
         try:
             query = self.extract(image)
@@ -340,10 +588,22 @@ class EarMatcher:
         return self.identify_template(query, shortlist=shortlist)
 
     def identify_template(self, query: EarTemplate, *, shortlist: int = 10) -> IdentificationResult:
-        """Steps 2-9 on already extracted features."""
+        """Steps 2-9 on already extracted features.
+
+        Parameters
+        ----------
+        query : EarTemplate
+            The query's features (from :meth:`extract` with the same settings).
+        shortlist : int
+            Largest number of candidates kept and ranked, >= 1.
+
+        Returns
+        -------
+        IdentificationResult
+            The decision, the candidates and every enrolled template's score.
+        """
         shortlist = check_positive_int(shortlist, "shortlist")
-        if not self._ids:
-            raise ValueError("no subject enrolled: call enroll() first")
+        check_fitted(self, "templates_")
         if not isinstance(query, EarTemplate):
             raise TypeError(f"query must be an EarTemplate, got {type(query).__name__}")
         if len(query.circles.counts) != self.n_circles:
@@ -360,58 +620,166 @@ class EarMatcher:
             return IdentificationResult(None, (), np.zeros(0), scores, "no reference passed steps 2-4")
         if self.ranking == "points":
             candidates = candidates[np.argsort(scores[candidates], kind="stable")][:shortlist]
-            return IdentificationResult(self._ids[candidates[0]], tuple(self._ids[i] for i in candidates),
+            return IdentificationResult(self.subject_ids_[candidates[0]], tuple(self.subject_ids_[i] for i in candidates),
                                         scores[candidates], scores)
         candidates = candidates[np.argsort(sum_gap[candidates])][:shortlist]
-        topo = np.array([_topology_similarity(query.topology, self._templates[i].topology, _COORDINATE_TOLERANCE)
+        topo = np.array([_topology_similarity(query.topology, self.templates_[i].topology, _COORDINATE_TOLERANCE)
                          for i in candidates])
         final = sum_gap[candidates] - self.topology_weight * topo
         order = np.argsort(final, kind="stable")
         candidates, final = candidates[order], final[order]
         scores = scores.copy()
         scores[candidates] = final - 10.0  # gated candidates rank ahead of all others
-        return IdentificationResult(self._ids[candidates[0]], tuple(self._ids[i] for i in candidates), final, scores)
+        return IdentificationResult(self.subject_ids_[candidates[0]], tuple(self.subject_ids_[i] for i in candidates), final, scores)
 
 
 class HogNearestNeighbour:
-    """Baseline: HOG (skimage.feature.hog, 9 orientations, 16x16 cells, 2x2 blocks) + 1-NN (L2)."""
+    """Baseline: HOG descriptors (9 orientations, square cells, 2x2 blocks) and 1-nearest neighbour (L2).
+
+    Parameters
+    ----------
+    pixels_per_cell : int
+        Side of a HOG cell, pixels, >= 2 (checked when a descriptor is computed).
+
+    Attributes
+    ----------
+    subject_ids_ : list or None
+        Subject of each enrolled image (None before :meth:`fit` or :meth:`enroll`).
+    descriptors_ : numpy.ndarray or None
+        The enrolled HOG descriptors, shape (n_enrolled, n_features).
+    image_shape_ : tuple or None
+        Shape of the enrolled images (queries must have it).
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 6 (the task; this baseline is ours).
+    N. Dalal, B. Triggs, "Histograms of Oriented Gradients for Human Detection", CVPR 2005.
+    """
 
     def __init__(self, pixels_per_cell: int = 16) -> None:
-        self.pixels_per_cell = check_positive_int(pixels_per_cell, "pixels_per_cell", minimum=2)
-        self._ids: list = []
-        self._features: list = []
+        self.pixels_per_cell = pixels_per_cell  # stored as given, checked where it is used (describe)
+        self.subject_ids_: list | None = None  # learned: None until the first enrolment
+        self.descriptors_: np.ndarray | None = None  # (n_enrolled, n_features)
+        self.image_shape_: tuple | None = None
 
     def describe(self, image: object) -> np.ndarray:
+        """The HOG descriptor of one image.
+
+        Parameters
+        ----------
+        image : array_like, shape (rows, cols)
+            Grey levels.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n_features,)
+            The descriptor (its length depends on the image size).
+        """
         grey = as_grey_image(image)
-        cell = (self.pixels_per_cell, self.pixels_per_cell)
+        cell = (check_positive_int(self.pixels_per_cell, "pixels_per_cell", minimum=2),) * 2
         return hog(grey, orientations=9, pixels_per_cell=cell, cells_per_block=(2, 2), feature_vector=True)
 
     def _check_size(self, image: object) -> None:
         """Descriptors are only comparable between images of one size (the HOG grid depends on it)."""
-        if self._ids and np.shape(image) != self._shape:
-            raise ValueError(f"image must have the enrolled images' shape {self._shape}, got {np.shape(image)}")
+        if self.image_shape_ is not None and np.shape(image) != self.image_shape_:
+            raise ValueError(f"image must have the enrolled images' shape {self.image_shape_}, got {np.shape(image)}")
 
     def enroll(self, subject_id: object, image: object) -> None:
+        """Add one reference image of ``subject_id``.
+
+        Parameters
+        ----------
+        subject_id : object
+            The subject's id.
+        image : array_like, shape (rows, cols)
+            Grey levels, of the shape of the images enrolled before.
+        """
         self._check_size(image)
-        self._features.append(self.describe(image))
-        self._ids.append(subject_id)
-        self._shape = np.shape(image)
-        self._matrix = np.array(self._features)
+        descriptor = self.describe(image)[None]
+        if self.descriptors_ is None:
+            self.subject_ids_, self.descriptors_ = [], np.zeros((0, descriptor.shape[1]))
+        self.descriptors_ = np.vstack([self.descriptors_, descriptor])
+        self.subject_ids_.append(subject_id)
+        self.image_shape_ = np.shape(image)
+
+    def fit(self, images: object, subject_ids: object) -> HogNearestNeighbour:
+        """Enrol one reference image per subject id, forgetting any earlier enrolment.
+
+        Parameters
+        ----------
+        images : sequence of array_like
+            Grey-level images, all of one shape.
+        subject_ids : sequence
+            The subject of each image, as many as ``images``.
+
+        Returns
+        -------
+        HogNearestNeighbour
+            ``self``, with ``subject_ids_``, ``descriptors_`` and ``image_shape_`` learned.
+        """
+        if len(subject_ids) != len(images):
+            raise ValueError(f"subject_ids must give one subject per image ({len(images)}), got {len(subject_ids)}")
+        if len(images) == 0:
+            raise ValueError("images must not be empty")
+        self.subject_ids_, self.descriptors_, self.image_shape_ = None, None, None
+        for subject_id, image in zip(subject_ids, images):
+            self.enroll(subject_id, image)
+        return self
 
     def distances(self, image: object) -> np.ndarray:
-        """L2 distance from the query's HOG to every enrolled HOG (lower is better)."""
-        if not self._ids:
-            raise ValueError("no subject enrolled: call enroll() first")
+        """L2 distance from the query's HOG to every enrolled HOG (lower is better).
+
+        Parameters
+        ----------
+        image : array_like, shape (rows, cols)
+            Grey levels, of the enrolled images' shape.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n_enrolled,)
+            The distances, in enrolment order.
+        """
+        check_fitted(self, "descriptors_")  # NotFittedError (a ValueError) before any enrolment
         self._check_size(image)
-        return np.linalg.norm(self._matrix - self.describe(image), axis=1)
+        return np.linalg.norm(self.descriptors_ - self.describe(image), axis=1)
 
     def identify(self, image: object) -> object:
-        return self._ids[int(np.argmin(self.distances(image)))]
+        """The subject of the nearest enrolled descriptor.
+
+        Parameters
+        ----------
+        image : array_like, shape (rows, cols)
+            Grey levels, of the enrolled images' shape.
+
+        Returns
+        -------
+        object
+            The subject id of the nearest enrolled image.
+        """
+        return self.subject_ids_[int(np.argmin(self.distances(image)))]
 
 
 @dataclass(frozen=True)
 class OpenSetRates:
-    """False accept / false reject / misidentification rates per distance threshold."""
+    """False accept, false reject and misidentification rates per distance threshold.
+
+    Parameters
+    ----------
+    thresholds : numpy.ndarray, shape (n,)
+        The step-4 thresholds swept.
+    false_accept : numpy.ndarray, shape (n,)
+        Share of impostor queries (never enrolled) that were given an identity.
+    false_reject : numpy.ndarray, shape (n,)
+        Share of genuine queries rejected.
+    misidentified : numpy.ndarray, shape (n,)
+        Share of genuine queries accepted as the wrong subject.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 5, steps 4-5 (the threshold and the rejection).
+    """
 
     thresholds: np.ndarray
     false_accept: np.ndarray  # impostor queries (never enrolled) that were given an identity
@@ -421,17 +789,36 @@ class OpenSetRates:
 
 def open_set_rates(matcher: EarMatcher, genuine: list, genuine_ids: list, impostors: list,
                    thresholds: np.ndarray) -> OpenSetRates:
-    """Sweep ``matcher.distance_threshold`` (step 4) over ``thresholds`` on extracted templates;
-    the matcher's threshold is restored afterwards.
+    """Sweep the matcher's step-4 threshold over ``thresholds`` on extracted templates.
 
-    ``genuine`` (templates of enrolled subjects, with their ``genuine_ids``) and ``impostors``
-    (templates of subjects never enrolled) are non-empty lists of :class:`EarTemplate`;
-    ``thresholds`` is a non-empty 1-D sequence of non-negative numbers (``inf``: no threshold).
+    The matcher's ``distance_threshold`` is restored afterwards.
+
+    Parameters
+    ----------
+    matcher : EarMatcher
+        A matcher with enrolled subjects.
+    genuine : list of EarTemplate
+        Non-empty: templates of enrolled subjects.
+    genuine_ids : sequence
+        The subject of each genuine template.
+    impostors : list of EarTemplate
+        Non-empty: templates of subjects never enrolled.
+    thresholds : sequence of float
+        Non-empty, 1-D: thresholds >= 0 (``inf``: no threshold).
+
+    Returns
+    -------
+    OpenSetRates
+        The three rates per threshold.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 5, steps 4-5.
     """
     if not isinstance(matcher, EarMatcher):
         raise TypeError(f"matcher must be an EarMatcher, got {type(matcher).__name__}")
-    if not matcher.n_enrolled:
-        raise ValueError("matcher has no subject enrolled: call enroll() first")
+    check_fitted(matcher, "templates_")
     for templates, name in ((genuine, "genuine"), (impostors, "impostors")):
         _check_templates(templates, name)
     if len(genuine_ids) != len(genuine):
@@ -458,8 +845,24 @@ def open_set_rates(matcher: EarMatcher, genuine: list, genuine_ids: list, impost
 def rank_of_truth(scores: np.ndarray, enrolled_ids: np.ndarray, true_id: object) -> int:
     """1-based rank of the best-scoring template of ``true_id`` when templates are sorted by score.
 
-    ``scores`` ``(n,)`` are finite (a NaN would compare as neither better nor worse); ``enrolled_ids``
-    gives the subject of each of the n templates and must include ``true_id``.
+    Parameters
+    ----------
+    scores : array_like, shape (n,)
+        Finite scores, lower is better (a NaN would compare as neither better nor worse).
+    enrolled_ids : array_like, shape (n,)
+        The subject of each template; must include ``true_id``.
+    true_id : object
+        The query's true subject.
+
+    Returns
+    -------
+    int
+        1 + the number of templates scoring strictly better than the true subject's best.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 6 (the identification rates; ranks are our measure of the ranking of steps 6-9).
     """
     scores = as_finite_array(scores, "scores", ndim=1)
     enrolled_ids = np.asarray(enrolled_ids)
@@ -474,7 +877,25 @@ def rank_of_truth(scores: np.ndarray, enrolled_ids: np.ndarray, true_id: object)
 
 
 def cumulative_match(ranks: np.ndarray, max_rank: int) -> np.ndarray:
-    """CMC: fraction of queries whose true subject is within rank 1..max_rank (``ranks``: 1-D, ints >= 1)."""
+    """Cumulative match characteristic: share of queries whose true subject is within rank 1..max_rank.
+
+    Parameters
+    ----------
+    ranks : array_like, shape (n,), int
+        1-based ranks of the true subject (from :func:`rank_of_truth`), not empty.
+    max_rank : int
+        Largest rank, >= 1.
+
+    Returns
+    -------
+    numpy.ndarray, shape (max_rank,)
+        Entry r - 1 is the share of queries with rank <= r.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 6 (identification rates; the CMC curve is our addition).
+    """
     ranks = as_finite_array(ranks, "ranks", ndim=1, dtype=int)
     if np.any(ranks < 1):
         raise ValueError(f"ranks must be 1-based (>= 1), got minimum {ranks.min()}")

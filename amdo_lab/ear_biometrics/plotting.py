@@ -2,16 +2,19 @@
 
 from __future__ import annotations
 
-import numpy as np
-from matplotlib.axes import Axes
+from typing import TYPE_CHECKING
 
-from amdo_lab.common import PALETTE
+import numpy as np
+
+from amdo_lab.common import PALETTE, check_axes, check_bool
 from amdo_lab.ear_biometrics.features import CircleFeatures, TopologyFeatures
+
+if TYPE_CHECKING:  # matplotlib is imported by the caller's figure
+    from matplotlib.axes import Axes
 
 
 def _check_plot_arguments(ax: object, features: object, kind: type) -> None:
-    if not isinstance(ax, Axes):
-        raise TypeError(f"ax must be a matplotlib Axes, got {type(ax).__name__}")
+    check_axes(ax)
     if not isinstance(features, kind):
         raise TypeError(f"features must be {kind.__name__}, got {type(features).__name__}")
 
@@ -21,10 +24,27 @@ def _circle_pixels(features: CircleFeatures, radius: float, n: int = 200) -> np.
     return features.normalisation.to_pixels(radius * np.c_[np.cos(angles), np.sin(angles)])
 
 
-def draw_circles(ax, contours: np.ndarray, features: CircleFeatures, *, show_crossings: bool = False) -> None:
-    """Contours (black), centroid (cross) and the N_r circles of V; optionally the crossings and the
-    counter-clockwise polygon whose length is sum d (Fig. 6)."""
+def draw_circles(ax: Axes, contours: np.ndarray, features: CircleFeatures, *, show_crossings: bool = False) -> None:
+    """Draw the contours, the centroid (cross) and the N_r circles of V (Figs. 5-6).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    contours : numpy.ndarray, shape (rows, cols), bool
+        The contour image V was computed from.
+    features : CircleFeatures
+        V, eq. (7).
+    show_crossings : bool
+        Also draw the crossings and the counter-clockwise polygon whose length is sum d (Fig. 6).
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 4, eq. (7) and Figs. 5-6.
+    """
     _check_plot_arguments(ax, features, CircleFeatures)
+    check_bool(show_crossings, "show_crossings")
     ax.imshow(contours, cmap="gray_r", interpolation="nearest")
     centre = features.normalisation.centroid
     for radius in features.radii:
@@ -41,8 +61,21 @@ def draw_circles(ax, contours: np.ndarray, features: CircleFeatures, *, show_cro
     ax.axis("off")
 
 
-def draw_topology(ax, features: TopologyFeatures) -> None:
-    """Skeleton with endings (E, squares), bifurcations (B, diamonds) and circle crossings (dots)."""
+def draw_topology(ax: Axes, features: TopologyFeatures) -> None:
+    """Draw the skeleton with endings (squares), bifurcations (diamonds) and circle crossings (dots).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    features : TopologyFeatures
+        F, eq. (9).
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 4, eqs. (8)-(9) and Figs. 7-8.
+    """
     _check_plot_arguments(ax, features, TopologyFeatures)
     ax.imshow(features.skeleton, cmap="gray_r", interpolation="nearest")
     circles = features.circles

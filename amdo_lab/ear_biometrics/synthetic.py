@@ -45,7 +45,48 @@ def check_disable(disable: object) -> frozenset:
 
 @dataclass(frozen=True)
 class EarShape:
-    """Per-subject shape parameters (canonical frame, units of about half an ear height)."""
+    """Per-subject shape parameters of a synthetic ear (canonical frame, units of about half an ear height).
+
+    Parameters
+    ----------
+    helix_axes : numpy.ndarray, shape (2,)
+        Semi-axes (x, y) of the helix ellipse.
+    helix_harmonics : numpy.ndarray, shape (3, 2)
+        Cosine and sine amplitudes of harmonics 2-4 of the helix radius.
+    antihelix_scale : float
+        Antihelix radius relative to the helix radius.
+    antihelix_harmonics : numpy.ndarray, shape (3, 2)
+        Cosine and sine amplitudes of harmonics 2-4 of the antihelix radius.
+    junction_angle : float
+        Polar angle of the crura junction, radians.
+    superior_crus_end : numpy.ndarray, shape (2,)
+        End point (x, y) of the superior crus.
+    inferior_crus_end : numpy.ndarray, shape (2,)
+        End point (x, y) of the inferior crus.
+    concha_centre : numpy.ndarray, shape (2,)
+        Centre (x, y) of the concha rim.
+    concha_axes : numpy.ndarray, shape (2,)
+        Semi-axes (x, y) of the concha rim.
+    tragus_centre : numpy.ndarray, shape (2,)
+        Centre (x, y) of the tragus.
+    antitragus_centre : numpy.ndarray, shape (2,)
+        Centre (x, y) of the antitragus.
+    lobule_depth : float
+        How far the lobule hangs below the helix ellipse.
+    helix_start : float
+        Polar angle where the helix root starts at the front, radians.
+    lobule_width : float
+        Horizontal extent of the lobule.
+    tragus_size : float
+        Relative size of the tragus (1 = average).
+    antitragus_size : float
+        Relative size of the antitragus (1 = average).
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61. Synthetic data: no equation of the paper; stands in for its database of Sec. 6 (Figs. 1-2).
+    """
 
     helix_axes: np.ndarray  # (2,) semi-axes (x, y) of the helix ellipse
     helix_harmonics: np.ndarray  # (3, 2) cos/sin amplitudes of harmonics 2..4 of the helix radius
@@ -67,7 +108,25 @@ class EarShape:
 
 @dataclass(frozen=True)
 class CapturePose:
-    """Per-capture nuisance: in-plane rotation (rad), scale, translation (pixels), yaw (rad)."""
+    """Per-capture nuisance of a synthetic ear image: how the camera saw the ear.
+
+    Parameters
+    ----------
+    rotation : float
+        In-plane rotation, radians (counter-clockwise as displayed).
+    scale : float
+        Scale factor, > 0 (1 = an ear about 0.36 x 2.15 of the image side tall).
+    translation : numpy.ndarray, shape (2,)
+        Shift (columns, rows) of the ear from the image centre, pixels.
+    yaw : float
+        The camera's turn about the head's vertical axis, radians, in (-pi/2, pi/2); it foreshortens
+        the ear horizontally by cos(yaw).
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 6: the second capture of every subject at about 30 degrees.
+    """
 
     rotation: float
     scale: float
@@ -77,7 +136,28 @@ class CapturePose:
 
 @dataclass(frozen=True)
 class EarDatabase:
-    """Images with their subject ids, the per-subject shapes and per-capture poses."""
+    """A synthetic ear database: images with their subject ids, shapes and poses.
+
+    Unpacks as ``images, subject_ids = database``.
+
+    Parameters
+    ----------
+    images : numpy.ndarray, shape (n, size, size), uint8
+        Grey-level images, captures of one subject next to each other.
+    subject_ids : numpy.ndarray, shape (n,), int
+        Subject of each image (0, 0, 1, 1, ... for two captures per subject).
+    shapes : tuple of EarShape
+        One shape per subject.
+    poses : tuple of CapturePose
+        One pose per image.
+    difficulty : {"easy", "difficult"}
+        Which kind of images were rendered.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 6 and Figs. 1-2 (its "easy" and "difficult" images).
+    """
 
     images: np.ndarray  # (n, size, size) uint8
     subject_ids: np.ndarray  # (n,) int
@@ -89,7 +169,7 @@ class EarDatabase:
         return iter((self.images, self.subject_ids))
 
 
-def draw_ear_shape(rng: np.random.Generator) -> EarShape:
+def draw_ear_shape(*, rng: int | np.random.Generator) -> EarShape:
     """Draw one subject's ear shape parameters.
 
     The canonical ear is about 2.15 units tall (helix top to lobule tip), so one unit is roughly
@@ -102,8 +182,23 @@ def draw_ear_shape(rng: np.random.Generator) -> EarShape:
     degrees. The crura end beneath the helix rim: their end points are drawn as a polar angle
     (standard deviation 9 degrees) and a fraction of the local helix radius (uniform, 0.72-0.90 for
     the superior crus, 0.60-0.78 for the inferior one), so they never leave the ear.
+
+    Parameters
+    ----------
+    rng : int or numpy.random.Generator
+        Seed (non-negative int) or generator of the draw; a generator is advanced.
+
+    Returns
+    -------
+    EarShape
+        The subject's shape parameters.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61. Synthetic data: no equation of the paper; stands in for its database of Sec. 6 (Figs. 1-2).
     """
-    rng = make_rng(rng)
+    rng = make_rng(rng, "rng")
     normal = rng.normal
     size = 1 + 0.07 * normal()
     helix_axes = np.array([0.62 * (1 + 0.09 * normal()), 0.95]) * size
@@ -166,7 +261,24 @@ def _check_pose(pose: object) -> CapturePose:
 
 
 def ear_curves(shape: EarShape) -> list[np.ndarray]:
-    """Polylines (canonical frame) of the ear's anatomical curves; the first is the outer silhouette."""
+    """Polylines of the ear's anatomical curves in the canonical frame (y up).
+
+    Parameters
+    ----------
+    shape : EarShape
+        A subject's shape, every parameter finite.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        Seven (n_k, 2) arrays of (x, y) points: the outer silhouette (helix and lobule) first, then
+        the antihelix, its superior and inferior crus, the concha rim, the tragus and the antitragus.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Fig. 8 (the contours the method traces). Synthetic data: no equation of the paper; stands in for its database of Sec. 6 (Figs. 1-2).
+    """
     return _ear_curves(_check_ear_shape(shape))
 
 
@@ -218,36 +330,61 @@ def _to_pixels(points: np.ndarray, pose: CapturePose, size: int) -> np.ndarray:
 def render_ear(
     shape: EarShape,
     pose: CapturePose,
-    rng: np.random.Generator,
     *,
+    rng: int | np.random.Generator,
     difficulty: str = "easy",
     size: int = 256,
     disable: object = (),
 ) -> np.ndarray:
-    """Render one grey-level uint8 ear image of ``shape`` seen under ``pose``.
+    """Render one grey-level ear image of ``shape`` seen under ``pose``.
 
     ``difficulty="easy"``: one fixed, even illumination for every capture (light direction, groove
     contrast and background level do not vary; the paper's easy images have no illumination
     changes), mild noise. ``"difficult"``: a random light direction and groove contrast per capture,
     an illumination gradient, lower contrast and stronger noise, plus hair strands, an earring and a
-    straight glasses arm. ``disable`` may hold ``"illumination"`` (difficult images only) and
-    ``"noise"`` (see :data:`NUISANCE_FACTORS`).
+    straight glasses arm.
+
+    Parameters
+    ----------
+    shape : EarShape
+        The subject's shape (from :func:`draw_ear_shape`).
+    pose : CapturePose
+        The capture's pose: finite, scale > 0, yaw within (-pi/2, pi/2).
+    rng : int or numpy.random.Generator
+        Seed or generator of the lighting, texture, noise and occluders; a generator is advanced.
+    difficulty : {"easy", "difficult"}
+        Kind of image, as above.
+    size : int
+        Image side in pixels, at least 32.
+    disable : collection of str
+        Nuisance factors switched off: ``"illumination"`` (difficult images only) and ``"noise"``
+        (see :data:`NUISANCE_FACTORS`); the random stream is drawn all the same.
+
+    Returns
+    -------
+    numpy.ndarray, shape (size, size), uint8
+        The grey-level image.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 6 and Figs. 1-2 (easy and difficult images). Synthetic data: no equation of the paper; stands in for its database of Sec. 6 (Figs. 1-2).
     """
     _check_ear_shape(shape)
     _check_pose(pose)
+    rng = make_rng(rng, "rng")
     check_choice(difficulty, "difficulty", DIFFICULTIES)
     size = check_positive_int(size, "size", minimum=32)
     disable = check_disable(disable)
     return _render_ear(shape, pose, rng, difficulty=difficulty, size=size, disable=disable)
 
 
-def _render_ear(shape: EarShape, pose: CapturePose, rng: np.random.Generator | int, *, difficulty: str, size: int,
+def _render_ear(shape: EarShape, pose: CapturePose, rng: np.random.Generator, *, difficulty: str, size: int,
                 disable: frozenset) -> np.ndarray:
     """:func:`render_ear` on validated input (the database generator's per-image call)."""
     hard = difficulty == "difficult"
     # The paper's easy images were taken "without illumination changes" (Sec. 6): one fixed lighting.
     lit, noisy = hard and "illumination" not in disable, "noise" not in disable
-    rng = make_rng(rng)
     curves = [_to_pixels(c, pose, size) for c in _ear_curves(shape)]
     shift = 4  # sub-pixel drawing precision (cv2 fixed point)
 
@@ -317,45 +454,69 @@ def _add_occluders(image: np.ndarray, curves: list[np.ndarray], rng: np.random.G
     return image * (1 - 0.75 * np.clip(arm, 0, 1)) + 0.08 * np.clip(arm, 0, 1)
 
 
-def draw_capture_pose(rng: np.random.Generator, *, frontal: bool, size: int, difficulty: str,
-                      max_yaw: float = 30.0, max_rotation: float | None = None) -> CapturePose:
-    """Per-capture nuisance: rotation ±10° (±20° difficult) unless ``max_rotation`` (degrees) is given,
-    scale 0.85–1.1, shift ±6 % of the image, yaw 0 for the perpendicular capture, else uniform in
-    [2/3, 1] x ``max_yaw`` degrees (the paper's second view is at 30°).
+def draw_capture_pose(*, rng: int | np.random.Generator, frontal: bool, size: int, difficulty: str,
+                      max_yaw_deg: float = 30.0, max_rotation_deg: float | None = None) -> CapturePose:
+    """Draw one capture's nuisance: rotation, scale, shift and yaw.
 
-    ``rng`` is a generator or an int seed, ``frontal`` a bool, ``size`` the image side (>= 32),
-    ``max_yaw`` in [0, 90) degrees and ``max_rotation`` non-negative.
+    Rotation uniform in +-10 degrees (+-20 for difficult images) unless ``max_rotation_deg`` is
+    given, scale uniform in 0.85-1.1, shift uniform in +-6 % of the image side per axis, yaw 0 for
+    the perpendicular capture, else uniform in [2/3, 1] x ``max_yaw_deg``.
+
+    Parameters
+    ----------
+    rng : int or numpy.random.Generator
+        Seed or generator of the draw; a generator is advanced.
+    frontal : bool
+        True for the capture with the camera perpendicular to the head (yaw 0).
+    size : int
+        Image side in pixels, at least 32 (scales the shift).
+    difficulty : {"easy", "difficult"}
+        Sets the default rotation range.
+    max_yaw_deg : float
+        Largest yaw of a non-frontal capture, degrees, in [0, 90).
+    max_rotation_deg : float or None
+        Largest in-plane rotation, degrees, >= 0; None for the default of ``difficulty``.
+
+    Returns
+    -------
+    CapturePose
+        The drawn pose (angles in radians).
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 6: one capture perpendicular to the head, one at 30 degrees.
     """
-    rng = make_rng(rng)
+    rng = make_rng(rng, "rng")
     if not isinstance(frontal, (bool, np.bool_)):
         raise TypeError(f"frontal must be a bool, got {type(frontal).__name__}")
     size = check_positive_int(size, "size", minimum=32)
     check_choice(difficulty, "difficulty", DIFFICULTIES)
-    max_yaw, max_rotation = _check_pose_ranges(max_yaw, max_rotation)
-    return _draw_capture_pose(rng, frontal=frontal, size=size, difficulty=difficulty, max_yaw=max_yaw,
-                              max_rotation=max_rotation)
+    max_yaw_deg, max_rotation_deg = _check_pose_ranges(max_yaw_deg, max_rotation_deg)
+    return _draw_capture_pose(rng, frontal=frontal, size=size, difficulty=difficulty, max_yaw_deg=max_yaw_deg,
+                              max_rotation_deg=max_rotation_deg)
 
 
-def _check_pose_ranges(max_yaw: object, max_rotation: object) -> tuple[object, object]:
-    """``max_yaw`` in [0, 90) degrees (at 90 the ear is seen edge-on) and a non-negative ``max_rotation``."""
-    if not check_positive(max_yaw, "max_yaw", allow_zero=True) < 90:
-        raise ValueError(f"max_yaw must be below 90 degrees, got {max_yaw}")
-    if max_rotation is not None:
-        check_positive(max_rotation, "max_rotation", allow_zero=True)
-    return max_yaw, max_rotation
+def _check_pose_ranges(max_yaw_deg: object, max_rotation_deg: object) -> tuple[object, object]:
+    """``max_yaw_deg`` in [0, 90) degrees (at 90 the ear is seen edge-on) and a non-negative ``max_rotation_deg``."""
+    if not check_positive(max_yaw_deg, "max_yaw_deg", allow_zero=True) < 90:
+        raise ValueError(f"max_yaw_deg must be below 90 degrees, got {max_yaw_deg}")
+    if max_rotation_deg is not None:
+        check_positive(max_rotation_deg, "max_rotation_deg", allow_zero=True)
+    return max_yaw_deg, max_rotation_deg
 
 
 def _draw_capture_pose(rng: np.random.Generator, *, frontal: bool, size: int, difficulty: str,
-                       max_yaw: float, max_rotation: float | None) -> CapturePose:
+                       max_yaw_deg: float, max_rotation_deg: float | None) -> CapturePose:
     """:func:`draw_capture_pose` on validated input."""
     hard = difficulty == "difficult"
-    if max_rotation is None:
-        max_rotation = 20.0 if hard else 10.0
+    if max_rotation_deg is None:
+        max_rotation_deg = 20.0 if hard else 10.0
     return CapturePose(
-        rotation=float(np.deg2rad(rng.uniform(-1, 1) * max_rotation)),
+        rotation=float(np.deg2rad(rng.uniform(-1, 1) * max_rotation_deg)),
         scale=float(rng.uniform(0.85, 1.1)),
         translation=rng.uniform(-0.06, 0.06, 2) * size,
-        yaw=0.0 if frontal else float(np.deg2rad(rng.uniform(2 / 3, 1) * max_yaw)),
+        yaw=0.0 if frontal else float(np.deg2rad(rng.uniform(2 / 3, 1) * max_yaw_deg)),
     )
 
 
@@ -373,38 +534,73 @@ def generate_ear_database(
     n_subjects: int,
     images_per_subject: int = 2,
     difficulty: str = "easy",
-    rng: int | np.random.Generator = 0,
     *,
+    rng: int | np.random.Generator,
     size: int = 256,
-    max_yaw: float = 30.0,
-    max_rotation: float | None = None,
+    max_yaw_deg: float = 30.0,
+    max_rotation_deg: float | None = None,
     disable: object = (),
 ) -> EarDatabase:
     """Seeded synthetic ear database: capture 0 of a subject is perpendicular, the others yawed.
 
-    Images are ``size`` x ``size`` (default 256: the issue states its speed goal for 256 x 256
-    images, and the paper's "very high quality" photographs resolve the ear far more finely than
-    128 px; at 128 px the contours are only a few pixels apart and the circle features change with
-    the rasterisation of the same ear).
+    Images are ``size`` x ``size``, 256 by default: the paper's "very high quality" photographs
+    resolve the ear far more finely than 128 px, and at 128 px the contours are only a few pixels
+    apart, so the circle features change with the rasterisation of the same ear. Every subject draws
+    its shape, then per capture a pose, a small shape jitter and the rendering, all from one stream.
 
-    ``disable`` switches nuisance factors off (names from :data:`NUISANCE_FACTORS`); the random
-    stream is unchanged, so a database with a factor disabled differs from the default one only in
-    that factor. Returns an :class:`EarDatabase`, which unpacks as ``images, subject_ids``.
+    Parameters
+    ----------
+    n_subjects : int
+        Number of subjects, at least 1.
+    images_per_subject : int
+        Captures per subject, at least 1.
+    difficulty : {"easy", "difficult"}
+        Kind of images (see :func:`render_ear`).
+    rng : int or numpy.random.Generator
+        Seed or generator of the whole database; a generator is advanced.
+    size : int
+        Image side in pixels, at least 32.
+    max_yaw_deg : float
+        Largest yaw of the non-frontal captures, degrees, in [0, 90).
+    max_rotation_deg : float or None
+        Largest in-plane rotation, degrees, >= 0; None for 10 (easy) or 20 (difficult).
+    disable : collection of str
+        Nuisance factors switched off (names from :data:`NUISANCE_FACTORS`); the random stream is
+        unchanged, so a database with a factor disabled differs from the default one only in that
+        factor.
+
+    Returns
+    -------
+    EarDatabase
+        Images, subject ids, shapes and poses; unpacks as ``images, subject_ids``.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 6: two captures per subject, perpendicular and at 30 degrees, "easy" and
+    "difficult" images.
+
+    Examples
+    --------
+    >>> from amdo_lab import ear_biometrics as eb
+    >>> images, ids = eb.generate_ear_database(2, 2, "easy", rng=0, size=128)
+    >>> images.shape, images.dtype.name, ids.tolist()
+    ((4, 128, 128), 'uint8', [0, 0, 1, 1])
     """
     n_subjects = check_positive_int(n_subjects, "n_subjects")
     images_per_subject = check_positive_int(images_per_subject, "images_per_subject")
     check_choice(difficulty, "difficulty", DIFFICULTIES)
     size = check_positive_int(size, "size", minimum=32)
-    max_yaw, max_rotation = _check_pose_ranges(max_yaw, max_rotation)
+    max_yaw_deg, max_rotation_deg = _check_pose_ranges(max_yaw_deg, max_rotation_deg)
     disable = check_disable(disable)
-    rng = make_rng(rng)
+    rng = make_rng(rng, "rng")
     shapes, poses, images, ids = [], [], [], []
     for subject in range(n_subjects):
-        shape = draw_ear_shape(rng)
+        shape = draw_ear_shape(rng=rng)
         shapes.append(shape)
         for capture in range(images_per_subject):
             pose = _neutralise(_draw_capture_pose(rng, frontal=capture == 0, size=size, difficulty=difficulty,
-                                                  max_yaw=max_yaw, max_rotation=max_rotation), disable)
+                                                  max_yaw_deg=max_yaw_deg, max_rotation_deg=max_rotation_deg), disable)
             jittered = _jitter_shape(shape, rng, 0.005)
             if "jitter" in disable:
                 jittered = shape
@@ -422,7 +618,25 @@ def load_ear_folder(folder: str | Path, *, size: int | None = None) -> tuple[lis
 
     Subject id = the file-name part before the first ``_`` (``017_a.png`` -> ``"017"``); files are
     read in sorted order. Colour images are converted to grey (OpenCV's BGR->GRAY weights).
-    ``size`` resizes every image to ``size x size`` (area interpolation) when given.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        An existing directory holding .png, .jpg, .jpeg, .bmp, .tif, .tiff or .pgm files.
+    size : int or None
+        When given (>= 1), every image is resized to ``size`` x ``size`` (area interpolation).
+
+    Returns
+    -------
+    images : list of numpy.ndarray
+        The uint8 grey-level images, in file-name order.
+    subject_ids : numpy.ndarray, shape (n,), str
+        The subject id of each image.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 6 (a database of two left-ear images per person).
     """
     if not isinstance(folder, (str, os.PathLike)):
         raise TypeError(f"folder must be a path (str or pathlib.Path), got {type(folder).__name__}")
