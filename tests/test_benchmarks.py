@@ -1,9 +1,11 @@
-"""The benchmark harness: tables, timing, --json."""
+"""The benchmark harness: tables, timing, --json; and every benchmark script answers --help at once."""
 
 from __future__ import annotations
 
 import json
+import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -48,3 +50,14 @@ def test_benchmark_writes_json(tmp_path, capsys):
     assert record["arguments"]["seed"] == 7
     assert record["notes"] == ["one note"] and record["machine"]["threads"]["OMP_NUM_THREADS"]
     assert "one note" in capsys.readouterr().out
+SCRIPTS = sorted(p for p in BENCHMARKS.glob("*.py") if not p.name.startswith("_"))
+
+
+@pytest.mark.parametrize("script", SCRIPTS, ids=lambda p: p.name)
+def test_every_script_answers_help_at_once_and_offers_json(script):
+    start = time.perf_counter()
+    done = subprocess.run([sys.executable, str(script), "--help"], capture_output=True, text=True, timeout=60)
+    seconds = time.perf_counter() - start
+    assert done.returncode == 0, done.stderr
+    assert "--json" in done.stdout
+    assert seconds < 10, f"{script.name} --help took {seconds:.1f} s"  # 2 s goal; loose under a loaded CI

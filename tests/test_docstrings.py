@@ -61,16 +61,7 @@ def docstring_problems(subpackage: str) -> list[str]:
     return problems
 
 
-#: Subpackages whose docstrings are not yet complete: expected to fail, strictly, so the entry must
-#: be removed once its docstrings pass.
-PENDING: set[str] = {"ear_biometrics", "face_glmm"}
-
-
-@pytest.mark.parametrize(
-    "subpackage",
-    [pytest.param(name, marks=pytest.mark.xfail(strict=True, reason="docstrings not yet complete"))
-     if name in PENDING else name for name in SUBPACKAGES],
-)
+@pytest.mark.parametrize("subpackage", SUBPACKAGES)
 def test_public_api_has_numpydoc_docstrings(subpackage):
     problems = docstring_problems(subpackage)
     assert not problems, f"{len(problems)} docstring problem(s):\n" + "\n".join(problems)
