@@ -1,0 +1,56 @@
+"""What the bad-input test shares with the per-subpackage tables: a case, and the spoiled values."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Case:
+    """One public callable: how to call it validly, and the kind of each argument to spoil."""
+
+    function: Callable[..., object]
+    valid: dict[str, object]
+    kinds: dict[str, str]
+    #: the word an error must contain for each argument (default: the argument's own name)
+    names: dict[str, str] = field(default_factory=dict)
+    #: (argument, spoiled label) pairs that are valid input for this callable
+    accept: frozenset[tuple[str, str]] = frozenset()
+
+
+def spoil(kind: str, valid: object) -> list[tuple[str, object]]:
+    """Bad values of one kind of argument, each with a label."""
+    common = [("None", None), ("a string", "abc")]
+    if kind in ("array", "image", "points", "bool_array"):
+        array = np.asarray(valid)
+        bad = common + [("a bool", True), ("an empty array", np.empty((0,) + array.shape[1:], array.dtype)),
+                        ("one more axis", array[None])]
+        if array.ndim >= 1:
+            bad.append(("a wrong trailing axis", np.zeros(array.shape[:-1] + (array.shape[-1] + 1,), array.dtype)))
+        if kind == "bool_array":
+            return bad + [("numbers for a mask", array.astype(float))]
+        with_nan, with_inf = array.astype(float), array.astype(float)
+        with_nan.flat[0], with_inf.flat[-1] = np.nan, np.inf
+        return bad + [("NaN inside", with_nan), ("inf inside", with_inf)]
+    if kind == "count":
+        return common + [("zero", 0), ("negative", -1), ("a float", 2.5), ("a bool", True)]
+    if kind in ("positive", "non_negative"):
+        bad = common + [("negative", -1.0), ("NaN", math.nan), ("inf", math.inf), ("a bool", True)]
+        return bad + ([("zero", 0.0)] if kind == "positive" else [])
+    if kind == "real":
+        return common + [("NaN", math.nan), ("inf", math.inf), ("a bool", True)]
+    if kind == "probability":
+        return common + [("below 0", -0.1), ("above 1", 1.5), ("NaN", math.nan), ("a bool", True)]
+    if kind == "flag":
+        return [("None", None), ("a string", "yes"), ("an int", 1)]
+    if kind == "seed":
+        return common + [("negative", -1), ("a float", 1.5), ("a bool", True)]
+    if kind == "name":
+        return [("None", None), ("a number", 3)]
+    if kind == "object":
+        return common + [("a number", 3)]
+    raise ValueError(f"unknown kind {kind!r}")
