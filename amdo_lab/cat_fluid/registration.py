@@ -17,6 +17,7 @@ from amdo_lab.cat_fluid.stencil import check_moduli
 from amdo_lab.common import (
     as_bool_mask,
     as_finite_array,
+    as_image_pair,
     check_bool,
     check_choice,
     check_in_range,
@@ -42,8 +43,15 @@ def _check_image(image: object, name: str) -> np.ndarray:
     return as_finite_array(image, name, shape=(None, None))
 
 
-def _check_displacement(displacement: object, shape: tuple[int, ...], name: str = "displacement") -> np.ndarray:
-    return as_finite_array(displacement, name, shape=(2,) + tuple(shape))
+def _check_displacement(displacement: object, shape: tuple[int, ...], name: str = "displacement",
+                        match: str = "image") -> np.ndarray:
+    """A finite (2, H, W) field whose (H, W) is ``shape``, the shape of the argument ``match``: a mismatch
+    names both arguments, since either may be the one at fault."""
+    field = as_finite_array(displacement, name, shape=(2, None, None))
+    if field.shape[1:] != tuple(shape):
+        raise ValueError(f"{name} and {match} must cover the same pixels: {name} has shape {field.shape}, "
+                         f"{match} {tuple(shape)} pixels")
+    return field
 
 
 def _check_differentiable(array: np.ndarray, name: str) -> np.ndarray:
@@ -99,7 +107,7 @@ def warp_image(image: object, displacement: object) -> np.ndarray:
     IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
     image = _check_image(image, "image")
-    return _warp(image, _check_displacement(displacement, image.shape))
+    return _warp(image, _check_displacement(displacement, image.shape, match="image"))
 
 
 def _jacobian(displacement: np.ndarray) -> np.ndarray:
@@ -185,8 +193,8 @@ def external_force(deformed_template: object, study: object) -> np.ndarray:
     AMDO 2004, LNCS 3179, pp. 76-85,
     eq. (18).
     """
-    deformed_template = _check_differentiable(_check_image(deformed_template, "deformed_template"), "deformed_template")
-    return _force(deformed_template, as_finite_array(study, "study", shape=deformed_template.shape))
+    deformed_template, study = as_image_pair(deformed_template, study, ("deformed_template", "study"))
+    return _force(_check_differentiable(deformed_template, "deformed_template"), study)
 
 
 def _update(displacement: np.ndarray, velocity: np.ndarray, dt: float) -> np.ndarray:
@@ -228,7 +236,7 @@ def material_update(displacement: object, velocity: object, dt: float) -> np.nda
     """
     displacement = as_finite_array(displacement, "displacement", shape=(2, None, None))
     _check_differentiable(displacement, "displacement")
-    velocity = _check_displacement(velocity, displacement.shape[1:], "velocity")
+    velocity = _check_displacement(velocity, displacement.shape[1:], "velocity", match="displacement")
     return _update(displacement, velocity, check_positive(dt, "dt"))
 
 
@@ -258,7 +266,7 @@ def compose_displacements(first: object, second: object) -> np.ndarray:
     IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
     first = as_finite_array(first, "first", shape=(2, None, None))
-    return _compose(first, _check_displacement(second, first.shape[1:], "second"))
+    return _compose(first, _check_displacement(second, first.shape[1:], "second", match="first"))
 
 
 def _compose(first: np.ndarray, second: np.ndarray) -> np.ndarray:
@@ -292,8 +300,7 @@ def grey_level_difference(image: object, reference: object, mask: object | None 
     AMDO 2004, LNCS 3179, pp. 76-85,
     Table 1.
     """
-    image = _check_image(image, "image")
-    reference = as_finite_array(reference, "reference", shape=image.shape)
+    image, reference = as_image_pair(image, reference, ("image", "reference"))
     scale = check_positive(scale, "scale")
     diff = scale * np.abs(image - reference)
     if mask is not None:
@@ -333,7 +340,7 @@ def displacement_rmse(displacement: object, truth: object, mask: object | None =
     Sec. 5 (the paper measures grey levels only; with known warps we can measure this too).
     """
     truth = as_finite_array(truth, "truth", shape=(2, None, None))
-    displacement = _check_displacement(displacement, truth.shape[1:])
+    displacement = _check_displacement(displacement, truth.shape[1:], match="truth")
     squared = np.sum((displacement - truth) ** 2, axis=0)
     return float(np.sqrt(squared.mean() if mask is None else squared[_check_mask(mask, squared.shape)].mean()))
 
@@ -366,7 +373,7 @@ def inverse_consistency_error(forward: object, backward: object, mask: object | 
     IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
     forward = as_finite_array(forward, "forward", shape=(2, None, None))
-    backward = _check_displacement(backward, forward.shape[1:], "backward")
+    backward = _check_displacement(backward, forward.shape[1:], "backward", match="forward")
     return displacement_rmse(_compose(forward, backward), np.zeros_like(forward), mask)
 
 

@@ -209,9 +209,12 @@ def symbol_eigenvalues(symbol: object, rows: object, cols: object) -> np.ndarray
     Sec. 4, eq. (15): the symbol of its stencil.
     """
     symbol = as_finite_array(symbol, "symbol", shape=(2, 2, None, None))
-    rows, cols = np.asarray(rows, dtype=int), np.asarray(cols, dtype=int)
-    if rows.shape != cols.shape or rows.ndim != 1:
+    rows, cols = as_finite_array(rows, "rows", ndim=1, dtype=int), as_finite_array(cols, "cols", ndim=1, dtype=int)
+    if rows.shape != cols.shape:
         raise ValueError(f"rows and cols must be 1-D of the same length, got shapes {rows.shape} and {cols.shape}")
+    for index, name, size in ((rows, "rows", symbol.shape[2]), (cols, "cols", symbol.shape[3])):
+        if index.min() < 0 or index.max() >= size:
+            raise ValueError(f"{name} must index the symbol's {size} frequencies (0 to {size - 1}), got {index}")
     matrices = np.moveaxis(symbol[:, :, rows, cols], -1, 0)  # (n, 2, 2): one matrix per frequency
     return np.linalg.eigvalsh(matrices)
 
@@ -366,7 +369,7 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, n_sweeps: int = 250, 
     # SOR converges for 0 < omega < 2 only
     omega = default_omega((h, w)) if omega is None else check_in_range(omega, "omega", 0, 2)
     if h % 2 or w % 2:
-        raise ValueError(f"SOR's four-colour ordering needs even image sizes, got {(h, w)}")
+        raise ValueError(f"force must have even H and W for SOR's four-colour ordering, got {(h, w)}")
     start = np.zeros_like(force) if initial is None else as_finite_array(initial, "initial", shape=force.shape)
     force = force - force.mean(axis=(1, 2), keepdims=True)
     # pad[comp][r][s]: colour-(r, s) pixels (2a + r, 2b + s) of component comp, with a periodic frame

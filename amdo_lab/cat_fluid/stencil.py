@@ -25,7 +25,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive
+from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
 
 __all__ = ["NEIGHBOUR_OFFSETS", "check_moduli", "fluid_stencil", "printed_stencil", "apply_stencil",
            "stencil_at_origin", "rotate_stencil", "stencil_blocks", "stencil_grid", "polynomial_test_fields",
@@ -317,8 +317,7 @@ def stencil_grid(stencil: object, row: int, component: int) -> np.ndarray:
     """
     blocks = stencil_blocks(stencil)
     for value, name in ((row, "row"), (component, "component")):
-        if value not in (0, 1):
-            raise ValueError(f"{name} must be 0 or 1, got {value!r}")
+        check_choice(check_positive_int(value, name, minimum=0), name, (0, 1))  # an int: True is not 1 here
     grid = np.zeros((3, 3))
     for block, (d0, d1) in zip(blocks, NEIGHBOUR_OFFSETS):
         grid[d0 + 1, d1 + 1] = block[row, component]
