@@ -61,6 +61,13 @@ def _check_differentiable(array: np.ndarray, name: str) -> np.ndarray:
     return array
 
 
+def _finite(result: np.ndarray, names: str) -> np.ndarray:
+    """``result``, or a ValueError naming the arguments whose size drove it out of float range."""
+    if not np.all(np.isfinite(result)):
+        raise ValueError(f"{names} too large: the result overflows a float (NaN or inf)")
+    return result
+
+
 def sample_bilinear(image: np.ndarray, coords: np.ndarray) -> np.ndarray:
     """image at the (2, H, W) array coordinates ``coords``, bilinear, coordinates clamped to the image
     (the same values as ``scipy.ndimage.map_coordinates(order=1, mode="nearest")``, a few times faster)."""
@@ -159,7 +166,7 @@ def jacobian_determinant(displacement: object) -> np.ndarray:
     IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
     displacement = as_finite_array(displacement, "displacement", shape=(2, None, None))
-    return _determinant(_check_differentiable(displacement, "displacement"))
+    return _finite(_determinant(_check_differentiable(displacement, "displacement")), "displacement")
 
 
 def _determinant(displacement: np.ndarray) -> np.ndarray:
@@ -194,7 +201,8 @@ def external_force(deformed_template: object, study: object) -> np.ndarray:
     eq. (18).
     """
     deformed_template, study = as_image_pair(deformed_template, study, ("deformed_template", "study"))
-    return _force(_check_differentiable(deformed_template, "deformed_template"), study)
+    return _finite(_force(_check_differentiable(deformed_template, "deformed_template"), study),
+                   "deformed_template and study")
 
 
 def _update(displacement: np.ndarray, velocity: np.ndarray, dt: float) -> np.ndarray:
@@ -302,10 +310,10 @@ def grey_level_difference(image: object, reference: object, mask: object | None 
     """
     image, reference = as_image_pair(image, reference, ("image", "reference"))
     scale = check_positive(scale, "scale")
-    diff = scale * np.abs(image - reference)
+    diff = _finite(scale * np.abs(image - reference), "scale, image and reference")
     if mask is not None:
         diff = diff[_check_mask(mask, image.shape)]
-    return float(diff.mean()), float(diff.std())
+    return float(_finite(diff.mean(), "scale, image and reference")), float(_finite(diff.std(), "scale, image and reference"))
 
 
 def _check_mask(mask: object, shape: tuple[int, ...]) -> np.ndarray:
@@ -341,8 +349,13 @@ def displacement_rmse(displacement: object, truth: object, mask: object | None =
     """
     truth = as_finite_array(truth, "truth", shape=(2, None, None))
     displacement = _check_displacement(displacement, truth.shape[1:], match="truth")
-    squared = np.sum((displacement - truth) ** 2, axis=0)
-    return float(np.sqrt(squared.mean() if mask is None else squared[_check_mask(mask, squared.shape)].mean()))
+    return _rmse(displacement - truth, mask, "displacement and truth")
+
+
+def _rmse(error: np.ndarray, mask: object | None, names: str) -> float:
+    squared = _finite(np.sum(error ** 2, axis=0), names)
+    return float(_finite(np.sqrt(squared.mean() if mask is None else squared[_check_mask(mask, squared.shape)].mean()),
+                         names))
 
 
 def inverse_consistency_error(forward: object, backward: object, mask: object | None = None) -> float:
@@ -374,7 +387,7 @@ def inverse_consistency_error(forward: object, backward: object, mask: object | 
     """
     forward = as_finite_array(forward, "forward", shape=(2, None, None))
     backward = _check_displacement(backward, forward.shape[1:], "backward", match="forward")
-    return displacement_rmse(_compose(forward, backward), np.zeros_like(forward), mask)
+    return _rmse(_compose(forward, backward), mask, "forward and backward")
 
 
 @dataclass(frozen=True)
@@ -463,14 +476,15 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
     method : str, optional
         Velocity solver: "cat" (default), "sor" or "fft".
     lam : float, optional
-        Lamé constant λ ≥ 0 (default 1, as the paper).
+        Lamé constant λ, 0 ≤ λ ≤ 1e150 (default 1, as the paper).
     mu : float, optional
-        Lamé constant μ > 0 (default 5, as the paper).
+        Lamé constant μ, 0 < μ ≤ 1e150 (default 5, as the paper).
     n_iter : int, optional
         Number of velocity solves, ≥ 1; default the paper's counts, 10 for "cat" and "fft", 100
         for "sor".
     max_step_px : float, optional
-        Largest displacement change per iteration, pixels, > 0 (default 1).
+        Largest displacement change per iteration, pixels, > 0 and at most the image's longer side
+        (default 1).
     backtrack : bool, optional
         Reject a step that does not decrease the SSD and halve the bound (default); False keeps
         Christensen's fixed bound, every step accepted.
@@ -519,7 +533,7 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
     check_bool(backtrack, "backtrack")
     check_bool(sor_warm_start, "sor_warm_start")
     n_iter = check_positive_int(DEFAULT_ITERATIONS[method] if n_iter is None else n_iter, "n_iter")
-    step_bound = check_positive(max_step_px, "max_step_px")
+    step_bound = check_in_range(max_step_px, "max_step_px", 0, max(template.shape), closed="right")
     regrid_threshold = check_in_range(regrid_threshold, "regrid_threshold", 0, 1, closed="left")
     sor_n_sweeps = check_positive_int(sor_n_sweeps, "sor_n_sweeps")
     if sor_omega is not None:
