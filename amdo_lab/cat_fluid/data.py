@@ -16,12 +16,14 @@ import numpy as np
 from scipy.ndimage import binary_fill_holes, gaussian_filter
 
 from amdo_lab.cat_fluid.registration import warp_image
-from amdo_lab.common import as_bool_mask, as_finite_array, check_choice, check_positive, check_positive_int, make_rng
+from amdo_lab.common import (as_bool_mask, as_finite_array, check_choice, check_in_range, check_positive,
+                             check_positive_int, make_rng)
 
 __all__ = ["PAIR_NAMES", "DIPY_IMAGES", "BLOB_CENTRE_FRACTION", "BLOB_SD", "BLOB_HEIGHT", "RegistrationPair", "load_dipy_image", "smooth_warp", "foreground_mask",
            "make_pair"]
 
 PAIR_NAMES = ("A", "B", "C")
+MAX_SMOOTHNESS_PX = 1000.0  # smooth_warp's largest filter width: its kernel has 8 x 1000 taps
 DIPY_IMAGES = ("t1_coronal_slice", "reg_o", "reg_c")
 
 # Decided from the paper's description of its pairs before any registration was run:
@@ -78,7 +80,8 @@ def smooth_warp(shape: tuple[int, int], *, rng: int | np.random.Generator, ampli
     amplitude_px : float, optional
         Largest displacement length in pixels, > 0 (default 4).
     smoothness_px : float, optional
-        Standard deviation of the Gaussian filter in pixels, > 0 (default 20): larger is smoother.
+        Standard deviation of the Gaussian filter in pixels, in (0, 1000] (default 20): larger is
+        smoother (the filter's kernel spans 8 standard deviations, so a larger one is only slower).
     support : numpy.ndarray of bool, shape (H, W), optional
         The object; at least one True pixel. The displacement is damped outside it.
 
@@ -98,7 +101,7 @@ def smooth_warp(shape: tuple[int, int], *, rng: int | np.random.Generator, ampli
     shape = (check_positive_int(shape[0], "shape[0]"), check_positive_int(shape[1], "shape[1]"))
     rng = make_rng(rng, "rng")
     amplitude_px = check_positive(amplitude_px, "amplitude_px")
-    smoothness_px = check_positive(smoothness_px, "smoothness_px")
+    smoothness_px = check_in_range(smoothness_px, "smoothness_px", 0, MAX_SMOOTHNESS_PX, closed="right")
     if support is not None:
         support = as_bool_mask(support, "support", shape=shape)
         if not support.any():

@@ -17,6 +17,7 @@ from amdo_lab.cat_fluid.stencil import check_moduli
 from amdo_lab.common import (
     as_bool_mask,
     as_finite_array,
+    as_image_pair,
     check_bool,
     check_choice,
     check_in_range,
@@ -42,8 +43,15 @@ def _check_image(image: object, name: str) -> np.ndarray:
     return as_finite_array(image, name, shape=(None, None))
 
 
-def _check_displacement(displacement: object, shape: tuple[int, ...], name: str = "displacement") -> np.ndarray:
-    return as_finite_array(displacement, name, shape=(2,) + tuple(shape))
+def _check_displacement(displacement: object, shape: tuple[int, ...], name: str = "displacement",
+                        match: str = "image") -> np.ndarray:
+    """A finite (2, H, W) field whose (H, W) is ``shape``, the shape of the argument ``match``: a mismatch
+    names both arguments, since either may be the one at fault."""
+    field = as_finite_array(displacement, name, shape=(2, None, None))
+    if field.shape[1:] != tuple(shape):
+        raise ValueError(f"{name} and {match} must cover the same pixels: {name} has shape {field.shape}, "
+                         f"{match} {tuple(shape)} pixels")
+    return field
 
 
 def _check_differentiable(array: np.ndarray, name: str) -> np.ndarray:
@@ -51,6 +59,13 @@ def _check_differentiable(array: np.ndarray, name: str) -> np.ndarray:
     if min(array.shape[-2:]) < 2:
         raise ValueError(f"{name} must be at least 2x2 pixels for finite differences, got shape {array.shape}")
     return array
+
+
+def _finite(result: np.ndarray, names: str) -> np.ndarray:
+    """``result``, or a ValueError naming the arguments whose size drove it out of float range."""
+    if not np.all(np.isfinite(result)):
+        raise ValueError(f"{names} too large: the result overflows a float (NaN or inf)")
+    return result
 
 
 def sample_bilinear(image: np.ndarray, coords: np.ndarray) -> np.ndarray:
@@ -99,7 +114,7 @@ def warp_image(image: object, displacement: object) -> np.ndarray:
     IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
     image = _check_image(image, "image")
-    return _warp(image, _check_displacement(displacement, image.shape))
+    return _warp(image, _check_displacement(displacement, image.shape, match="image"))
 
 
 def _jacobian(displacement: np.ndarray) -> np.ndarray:
@@ -151,7 +166,7 @@ def jacobian_determinant(displacement: object) -> np.ndarray:
     IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
     displacement = as_finite_array(displacement, "displacement", shape=(2, None, None))
-    return _determinant(_check_differentiable(displacement, "displacement"))
+    return _finite(_determinant(_check_differentiable(displacement, "displacement")), "displacement")
 
 
 def _determinant(displacement: np.ndarray) -> np.ndarray:
@@ -185,8 +200,9 @@ def external_force(deformed_template: object, study: object) -> np.ndarray:
     AMDO 2004, LNCS 3179, pp. 76-85,
     eq. (18).
     """
-    deformed_template = _check_differentiable(_check_image(deformed_template, "deformed_template"), "deformed_template")
-    return _force(deformed_template, as_finite_array(study, "study", shape=deformed_template.shape))
+    deformed_template, study = as_image_pair(deformed_template, study, ("deformed_template", "study"))
+    return _finite(_force(_check_differentiable(deformed_template, "deformed_template"), study),
+                   "deformed_template and study")
 
 
 def _update(displacement: np.ndarray, velocity: np.ndarray, dt: float) -> np.ndarray:
@@ -228,7 +244,7 @@ def material_update(displacement: object, velocity: object, dt: float) -> np.nda
     """
     displacement = as_finite_array(displacement, "displacement", shape=(2, None, None))
     _check_differentiable(displacement, "displacement")
-    velocity = _check_displacement(velocity, displacement.shape[1:], "velocity")
+    velocity = _check_displacement(velocity, displacement.shape[1:], "velocity", match="displacement")
     return _update(displacement, velocity, check_positive(dt, "dt"))
 
 
@@ -258,7 +274,7 @@ def compose_displacements(first: object, second: object) -> np.ndarray:
     IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
     first = as_finite_array(first, "first", shape=(2, None, None))
-    return _compose(first, _check_displacement(second, first.shape[1:], "second"))
+    return _compose(first, _check_displacement(second, first.shape[1:], "second", match="first"))
 
 
 def _compose(first: np.ndarray, second: np.ndarray) -> np.ndarray:
@@ -292,13 +308,12 @@ def grey_level_difference(image: object, reference: object, mask: object | None 
     AMDO 2004, LNCS 3179, pp. 76-85,
     Table 1.
     """
-    image = _check_image(image, "image")
-    reference = as_finite_array(reference, "reference", shape=image.shape)
+    image, reference = as_image_pair(image, reference, ("image", "reference"))
     scale = check_positive(scale, "scale")
-    diff = scale * np.abs(image - reference)
+    diff = _finite(scale * np.abs(image - reference), "scale, image and reference")
     if mask is not None:
         diff = diff[_check_mask(mask, image.shape)]
-    return float(diff.mean()), float(diff.std())
+    return float(_finite(diff.mean(), "scale, image and reference")), float(_finite(diff.std(), "scale, image and reference"))
 
 
 def _check_mask(mask: object, shape: tuple[int, ...]) -> np.ndarray:
@@ -333,9 +348,14 @@ def displacement_rmse(displacement: object, truth: object, mask: object | None =
     Sec. 5 (the paper measures grey levels only; with known warps we can measure this too).
     """
     truth = as_finite_array(truth, "truth", shape=(2, None, None))
-    displacement = _check_displacement(displacement, truth.shape[1:])
-    squared = np.sum((displacement - truth) ** 2, axis=0)
-    return float(np.sqrt(squared.mean() if mask is None else squared[_check_mask(mask, squared.shape)].mean()))
+    displacement = _check_displacement(displacement, truth.shape[1:], match="truth")
+    return _rmse(displacement - truth, mask, "displacement and truth")
+
+
+def _rmse(error: np.ndarray, mask: object | None, names: str) -> float:
+    squared = _finite(np.sum(error ** 2, axis=0), names)
+    return float(_finite(np.sqrt(squared.mean() if mask is None else squared[_check_mask(mask, squared.shape)].mean()),
+                         names))
 
 
 def inverse_consistency_error(forward: object, backward: object, mask: object | None = None) -> float:
@@ -366,8 +386,8 @@ def inverse_consistency_error(forward: object, backward: object, mask: object | 
     IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
     forward = as_finite_array(forward, "forward", shape=(2, None, None))
-    backward = _check_displacement(backward, forward.shape[1:], "backward")
-    return displacement_rmse(_compose(forward, backward), np.zeros_like(forward), mask)
+    backward = _check_displacement(backward, forward.shape[1:], "backward", match="forward")
+    return _rmse(_compose(forward, backward), mask, "forward and backward")
 
 
 @dataclass(frozen=True)
@@ -456,14 +476,15 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
     method : str, optional
         Velocity solver: "cat" (default), "sor" or "fft".
     lam : float, optional
-        Lamé constant λ ≥ 0 (default 1, as the paper).
+        Lamé constant λ, 0 ≤ λ ≤ 1e150 (default 1, as the paper).
     mu : float, optional
-        Lamé constant μ > 0 (default 5, as the paper).
+        Lamé constant μ, 0 < μ ≤ 1e150 (default 5, as the paper).
     n_iter : int, optional
         Number of velocity solves, ≥ 1; default the paper's counts, 10 for "cat" and "fft", 100
         for "sor".
     max_step_px : float, optional
-        Largest displacement change per iteration, pixels, > 0 (default 1).
+        Largest displacement change per iteration, pixels, > 0 and at most the image's longer side
+        (default 1).
     backtrack : bool, optional
         Reject a step that does not decrease the SSD and halve the bound (default); False keeps
         Christensen's fixed bound, every step accepted.
@@ -512,7 +533,7 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
     check_bool(backtrack, "backtrack")
     check_bool(sor_warm_start, "sor_warm_start")
     n_iter = check_positive_int(DEFAULT_ITERATIONS[method] if n_iter is None else n_iter, "n_iter")
-    step_bound = check_positive(max_step_px, "max_step_px")
+    step_bound = check_in_range(max_step_px, "max_step_px", 0, max(template.shape), closed="right")
     regrid_threshold = check_in_range(regrid_threshold, "regrid_threshold", 0, 1, closed="left")
     sor_n_sweeps = check_positive_int(sor_n_sweeps, "sor_n_sweeps")
     if sor_omega is not None:

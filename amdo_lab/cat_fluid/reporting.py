@@ -14,7 +14,7 @@ import pandas as pd
 from amdo_lab.cat_fluid.data import RegistrationPair
 from amdo_lab.cat_fluid.registration import (displacement_rmse, grey_level_difference, inverse_consistency_error,
                                              jacobian_determinant)
-from amdo_lab.common import check_positive
+from amdo_lab.common import as_finite_array, check_bool, check_positive, check_positive_int
 
 __all__ = ["PAPER_TABLE1", "paper_table1", "grey_level_table", "mean_sd_strings", "accuracy_row"]
 
@@ -24,6 +24,11 @@ PAPER_TABLE1: dict[str, dict[str, tuple[float, float]]] = {
     "B": {"CAT": (6.8, 13.8), "SOR": (9.3, 17.2)},
     "C": {"CAT": (6.2, 13.2), "SOR": (9.1, 16.6)},
 }
+
+
+def _check_mapping(value: object, name: str) -> None:
+    if not isinstance(value, Mapping):
+        raise TypeError(f"{name} must be a mapping (a dict) by pair name, got {type(value).__name__}")
 
 
 def paper_table1() -> pd.DataFrame:
@@ -72,6 +77,9 @@ def grey_level_table(pairs: Mapping[str, RegistrationPair], deformed: Mapping[st
     Table 1.
     """
     scale = check_positive(scale, "scale")
+    check_bool(masked, "masked")
+    _check_mapping(pairs, "pairs")
+    _check_mapping(deformed, "deformed")
     missing = sorted(set(deformed) - set(pairs))
     if missing:
         raise ValueError(f"deformed has pairs {missing} that pairs does not")
@@ -107,6 +115,9 @@ def mean_sd_strings(table: pd.DataFrame, digits: int = 2) -> pd.DataFrame:
     AMDO 2004, LNCS 3179, pp. 76-85,
     Table 1 (its "mean / sd" layout).
     """
+    if not isinstance(table, pd.DataFrame):
+        raise TypeError(f"table must be a pandas DataFrame, got {type(table).__name__}")
+    digits = check_positive_int(digits, "digits", minimum=0)
     labels = list(dict.fromkeys(label for label, _ in table.columns))
     return pd.DataFrame({label: [f"{m:.{digits}f} / {s:.{digits}f}" for m, s in
                                  zip(table[(label, "mean")], table[(label, "sd")])] for label in labels},
@@ -143,6 +154,9 @@ def accuracy_row(pair: RegistrationPair, warped: np.ndarray, displacement: np.nd
     AMDO 2004, LNCS 3179, pp. 76-85,
     Table 1 and Sec. 5.
     """
+    if not isinstance(pair, RegistrationPair):
+        raise TypeError(f"pair must be a RegistrationPair, got {type(pair).__name__}")
+    warped = as_finite_array(warped, "warped", shape=pair.study.shape)
     det = jacobian_determinant(displacement)
     return {"residual (mask)": grey_level_difference(warped, pair.study, pair.mask, scale=scale)[0],
             "RMSE px": displacement_rmse(displacement, pair.true_displacement, pair.mask),

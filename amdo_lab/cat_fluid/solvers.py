@@ -24,7 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from amdo_lab.cat_fluid.stencil import NEIGHBOUR_OFFSETS, check_moduli, fluid_stencil, stencil_blocks
-from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive, check_positive_int
+from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive_int
 
 __all__ = ["SOLVERS", "stencil_symbol", "cat_symbol", "finite_difference_symbol", "apply_finite_difference",
            "solve_symbol", "sor_solve", "solve_velocity", "default_omega", "SOR_ORDERINGS", "symbol_eigenvalues",
@@ -89,9 +89,9 @@ def cat_symbol(shape: tuple[int, int], lam: float, mu: float) -> np.ndarray:
     shape : tuple of two int
         (H, W) of the fields the symbol acts on, positive.
     lam : float
-        Lamé constant λ ≥ 0 (the paper: 1).
+        Lamé constant λ, 0 ≤ λ ≤ 1e150 (the paper: 1).
     mu : float
-        Lamé constant μ ≥ 0 (the paper: 5).
+        Lamé constant μ, 0 ≤ μ ≤ 1e150 (the paper: 5).
 
     Returns
     -------
@@ -115,9 +115,9 @@ def finite_difference_symbol(shape: tuple[int, int], lam: float, mu: float) -> n
     shape : tuple of two int
         (H, W) of the fields the symbol acts on, positive.
     lam : float
-        Lamé constant λ ≥ 0 (the paper: 1).
+        Lamé constant λ, 0 ≤ λ ≤ 1e150 (the paper: 1).
     mu : float
-        Lamé constant μ ≥ 0 (the paper: 5).
+        Lamé constant μ, 0 ≤ μ ≤ 1e150 (the paper: 5).
 
     Returns
     -------
@@ -150,9 +150,9 @@ def apply_finite_difference(velocity: object, lam: float, mu: float) -> np.ndarr
     velocity : array_like, shape (2, H, W)
         Finite velocity field, pixels per unit time.
     lam : float
-        Lamé constant λ ≥ 0 (the paper: 1).
+        Lamé constant λ, 0 ≤ λ ≤ 1e150 (the paper: 1).
     mu : float
-        Lamé constant μ ≥ 0 (the paper: 5).
+        Lamé constant μ, 0 ≤ μ ≤ 1e150 (the paper: 5).
 
     Returns
     -------
@@ -209,9 +209,12 @@ def symbol_eigenvalues(symbol: object, rows: object, cols: object) -> np.ndarray
     Sec. 4, eq. (15): the symbol of its stencil.
     """
     symbol = as_finite_array(symbol, "symbol", shape=(2, 2, None, None))
-    rows, cols = np.asarray(rows, dtype=int), np.asarray(cols, dtype=int)
-    if rows.shape != cols.shape or rows.ndim != 1:
+    rows, cols = as_finite_array(rows, "rows", ndim=1, dtype=int), as_finite_array(cols, "cols", ndim=1, dtype=int)
+    if rows.shape != cols.shape:
         raise ValueError(f"rows and cols must be 1-D of the same length, got shapes {rows.shape} and {cols.shape}")
+    for index, name, size in ((rows, "rows", symbol.shape[2]), (cols, "cols", symbol.shape[3])):
+        if index.min() < 0 or index.max() >= size:
+            raise ValueError(f"{name} must index the symbol's {size} frequencies (0 to {size - 1}), got {index}")
     matrices = np.moveaxis(symbol[:, :, rows, cols], -1, 0)  # (n, 2, 2): one matrix per frequency
     return np.linalg.eigvalsh(matrices)
 
@@ -333,9 +336,9 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, n_sweeps: int = 250, 
     force : array_like, shape (2, H, W)
         Finite right-hand side F of L v = F (its mean is removed); H and W even.
     lam : float
-        Lamé constant λ ≥ 0 (the paper: 1).
+        Lamé constant λ, 0 ≤ λ ≤ 1e150 (the paper: 1).
     mu : float
-        Lamé constant μ > 0 (the paper: 5).
+        Lamé constant μ, 0 < μ ≤ 1e150 (the paper: 5).
     n_sweeps : int, optional
         Number of full sweeps, ≥ 0 (default 250, the paper's count per registration iteration).
     omega : float, optional
@@ -366,7 +369,7 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, n_sweeps: int = 250, 
     # SOR converges for 0 < omega < 2 only
     omega = default_omega((h, w)) if omega is None else check_in_range(omega, "omega", 0, 2)
     if h % 2 or w % 2:
-        raise ValueError(f"SOR's four-colour ordering needs even image sizes, got {(h, w)}")
+        raise ValueError(f"force must have even H and W for SOR's four-colour ordering, got {(h, w)}")
     start = np.zeros_like(force) if initial is None else as_finite_array(initial, "initial", shape=force.shape)
     force = force - force.mean(axis=(1, 2), keepdims=True)
     # pad[comp][r][s]: colour-(r, s) pixels (2a + r, 2b + s) of component comp, with a periodic frame
@@ -439,13 +442,13 @@ def sor_reference(force: object, lam: float, mu: float, *, n_sweeps: int, omega:
     force : array_like, shape (2, H, W)
         Finite right-hand side F (its mean is removed).
     lam : float
-        Lamé constant λ ≥ 0 (the paper: 1).
+        Lamé constant λ, 0 ≤ λ ≤ 1e150 (the paper: 1).
     mu : float
-        Lamé constant μ > 0 (the paper: 5).
+        Lamé constant μ, 0 < μ ≤ 1e150 (the paper: 5).
     n_sweeps : int
         Number of full sweeps, ≥ 0.
     omega : float
-        Relaxation factor, > 0 (converges for ω < 2).
+        Relaxation factor in (0, 2), where SOR converges.
 
     Returns
     -------
@@ -461,7 +464,7 @@ def sor_reference(force: object, lam: float, mu: float, *, n_sweeps: int, omega:
     force = as_finite_array(force, "force", shape=(2, None, None))
     lam, mu = check_moduli(lam, mu, require_positive_mu=True)
     n_sweeps = check_positive_int(n_sweeps, "n_sweeps", minimum=0)
-    omega = check_positive(omega, "omega")
+    omega = check_in_range(omega, "omega", 0, 2)  # SOR converges for 0 < omega < 2 only
     h, w = force.shape[1:]
     force = force - force.mean(axis=(1, 2), keepdims=True)
     v = np.zeros_like(force)
@@ -498,9 +501,9 @@ def solve_velocity(force: object, method: str = "cat", lam: float = 1.0, mu: flo
         "cat" (the CAT stencil, eq. 15, solved exactly; default), "sor" (eq. 17 by SOR) or "fft"
         (eq. 17 solved exactly).
     lam : float
-        Lamé constant λ ≥ 0 (the paper: 1).
+        Lamé constant λ, 0 ≤ λ ≤ 1e150 (the paper: 1).
     mu : float
-        Lamé constant μ > 0 (the paper: 5).
+        Lamé constant μ, 0 < μ ≤ 1e150 (the paper: 5).
     **sor_options
         ``n_sweeps``, ``omega``, ``initial``, ``ordering`` of :func:`sor_solve`; "sor" only.
 

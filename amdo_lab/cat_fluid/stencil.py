@@ -25,7 +25,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive
+from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive_int
 
 __all__ = ["NEIGHBOUR_OFFSETS", "check_moduli", "fluid_stencil", "printed_stencil", "apply_stencil",
            "stencil_at_origin", "rotate_stencil", "stencil_blocks", "stencil_grid", "polynomial_test_fields",
@@ -47,10 +47,15 @@ _HALF_FACES = (  # (point on the half-face, outward normal, length)
 )
 
 
+#: Largest Lamé constant accepted: the Fourier solve multiplies two symbol entries of about
+#: 8 (λ + 2μ), which would overflow a float (1.8e308) above about 1e153.
+MAX_MODULUS = 1e150
+
+
 def check_moduli(lam: object, mu: object, *, require_positive_mu: bool = False) -> tuple[float, float]:
-    """Validate the Lamé constants: λ ≥ 0 and μ ≥ 0 (μ > 0 when a velocity is solved for)."""
-    return (check_positive(lam, "lam", allow_zero=True),
-            check_positive(mu, "mu", allow_zero=not require_positive_mu))
+    """Validate the Lamé constants: 0 ≤ λ ≤ 1e150 and 0 ≤ μ ≤ 1e150 (μ > 0 when a velocity is solved for)."""
+    return (check_in_range(lam, "lam", 0, MAX_MODULUS, closed="both"),
+            check_in_range(mu, "mu", 0, MAX_MODULUS, closed="right" if require_positive_mu else "both"))
 
 
 def _bilinear_gradient(corner_velocity: Callable[[int, int], np.ndarray], point: np.ndarray) -> np.ndarray:
@@ -89,9 +94,9 @@ def fluid_stencil(lam: float = 1.0, mu: float = 5.0) -> np.ndarray:
     Parameters
     ----------
     lam : float, optional
-        Lamé constant λ ≥ 0 (default 1, as the paper).
+        Lamé constant λ, 0 ≤ λ ≤ 1e150 (default 1, as the paper).
     mu : float, optional
-        Lamé constant μ ≥ 0 (default 5, as the paper).
+        Lamé constant μ, 0 ≤ μ ≤ 1e150 (default 5, as the paper).
 
     Returns
     -------
@@ -138,9 +143,9 @@ def printed_stencil(lam: float = 1.0, mu: float = 5.0) -> np.ndarray:
     Parameters
     ----------
     lam : float, optional
-        Lamé constant λ ≥ 0 (default 1, as the paper).
+        Lamé constant λ, 0 ≤ λ ≤ 1e150 (default 1, as the paper).
     mu : float, optional
-        Lamé constant μ ≥ 0 (default 5, as the paper).
+        Lamé constant μ, 0 ≤ μ ≤ 1e150 (default 5, as the paper).
 
     Returns
     -------
@@ -317,8 +322,7 @@ def stencil_grid(stencil: object, row: int, component: int) -> np.ndarray:
     """
     blocks = stencil_blocks(stencil)
     for value, name in ((row, "row"), (component, "component")):
-        if value not in (0, 1):
-            raise ValueError(f"{name} must be 0 or 1, got {value!r}")
+        check_choice(check_positive_int(value, name, minimum=0), name, (0, 1))  # an int: True is not 1 here
     grid = np.zeros((3, 3))
     for block, (d0, d1) in zip(blocks, NEIGHBOUR_OFFSETS):
         grid[d0 + 1, d1 + 1] = block[row, component]
@@ -358,9 +362,9 @@ def polynomial_test_fields(lam: float = 1.0, mu: float = 5.0) -> list[tuple[str,
     Parameters
     ----------
     lam : float, optional
-        Lamé constant λ ≥ 0 (default 1, as the paper).
+        Lamé constant λ, 0 ≤ λ ≤ 1e150 (default 1, as the paper).
     mu : float, optional
-        Lamé constant μ ≥ 0 (default 5, as the paper).
+        Lamé constant μ, 0 ≤ μ ≤ 1e150 (default 5, as the paper).
 
     Returns
     -------
@@ -390,9 +394,9 @@ def consistency_errors(stencil: object, lam: float = 1.0, mu: float = 5.0) -> di
         Finite stencil in the layout of eq. (15): column ``2 p + c`` multiplies velocity component c
         at the neighbour ``NEIGHBOUR_OFFSETS[p]``.
     lam : float, optional
-        Lamé constant λ ≥ 0 (default 1, as the paper).
+        Lamé constant λ, 0 ≤ λ ≤ 1e150 (default 1, as the paper).
     mu : float, optional
-        Lamé constant μ ≥ 0 (default 5, as the paper).
+        Lamé constant μ, 0 ≤ μ ≤ 1e150 (default 5, as the paper).
 
     Returns
     -------
