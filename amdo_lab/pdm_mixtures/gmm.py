@@ -64,7 +64,9 @@ def gaussian_log_density(points: np.ndarray, means: np.ndarray, covariances: np.
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4, eq. 6.
     """
     points = as_finite_array(points, "points", ndim=2)
-    means = as_finite_array(means, "means", shape=(None, points.shape[1]))
+    means = as_finite_array(means, "means", ndim=2)
+    if means.shape[1] != points.shape[1]:
+        raise ValueError(f"points and means must have as many columns, got {points.shape[1]} and {means.shape[1]}")
     covariances = as_finite_array(covariances, "covariances", shape=(len(means), points.shape[1], points.shape[1]))
     try:
         return _gaussian_log_density(points, means, covariances)
@@ -151,7 +153,9 @@ def fit_gaussian_mixture(
     t, d = points.shape
     if t < k:
         raise ValueError(f"X must have at least n_components={k} rows, got {t}")
-    means = as_finite_array(means_init, "means_init", shape=(k, d))
+    means = as_finite_array(means_init, "means_init", shape=(k, None))
+    if means.shape[1] != d:
+        raise ValueError(f"X and means_init must have as many columns, got {d} and {means.shape[1]}")
     covariances = as_finite_array(covariances_init, "covariances_init", shape=(k, d, d))
     try:
         np.linalg.cholesky(covariances)

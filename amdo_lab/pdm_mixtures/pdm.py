@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_in_range, check_positive, check_positive_int, procrustes_align
+from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive, check_positive_int, procrustes_align
 
 __all__ = [
     "PointDistributionModel",
@@ -195,6 +195,7 @@ def fit_modes(model: PointDistributionModel, observed: np.ndarray, *, clamp: boo
     observed = as_finite_array(observed, "observed")
     if observed.ndim not in (1, 2) or observed.shape[-1] != len(model.mean):
         raise ValueError(f"observed must have shape (n, {len(model.mean)}) like the model mean, got {observed.shape}")
+    clamp = check_bool(clamp, "clamp")
     return _fit_modes(model, observed, clamp=clamp)
 
 
@@ -328,8 +329,8 @@ def _check_labels(labels: object, n_shapes: int) -> np.ndarray:
     labels = np.asarray(labels)
     if labels.shape != (n_shapes,):
         raise ValueError(f"labels must have shape ({n_shapes},) (one per shape), got {labels.shape}")
-    if labels.dtype.kind == "f" and np.isnan(labels).any():
-        raise ValueError("labels must not contain NaN (every shape needs a class)")
+    if labels.dtype.kind == "f" and not np.isfinite(labels).all():
+        raise ValueError("labels must not contain NaN or inf (every shape needs a finite class id)")
     return labels
 
 

@@ -8,6 +8,7 @@ import numpy as np
 
 from amdo_lab.common import (
     as_finite_array,
+    check_bool,
     check_choice,
     check_fitted,
     check_in_range,
@@ -76,7 +77,10 @@ def hamming_distance(label_strings: np.ndarray, dictionary: np.ndarray) -> np.nd
     array([[0, 1]])
     """
     strings = as_finite_array(label_strings, "label_strings", ndim=2, dtype=int)
-    dictionary = as_finite_array(dictionary, "dictionary", shape=(None, strings.shape[1]), dtype=int)
+    dictionary = as_finite_array(dictionary, "dictionary", ndim=2, dtype=int)
+    if dictionary.shape[1] != strings.shape[1]:
+        raise ValueError(f"label_strings and dictionary must have as many columns (limbs), "
+                         f"got {strings.shape[1]} and {dictionary.shape[1]}")
     return _hamming_distance(strings, dictionary)
 
 
@@ -713,6 +717,7 @@ class ArticulatedShapeRecogniser:
             ``(n, K, n_limb_labels)`` posteriors (rows sum to 1), or their logarithms.
         """
         check_fitted(self, "classes_")
+        log = check_bool(log, "log")
         log_posteriors = self._limb_log_posteriors(self.align(shapes))
         return log_posteriors if log else np.exp(log_posteriors)
 
