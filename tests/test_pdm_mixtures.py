@@ -464,7 +464,7 @@ _EYES = np.stack([np.eye(2)] * 2)
     # Gaussian mixture
     (lambda: pm.gaussian_log_density(np.full((3, 2), np.nan), np.zeros((2, 2)), _EYES), ValueError, "points must be finite"),
     (lambda: pm.gaussian_log_density(np.ones(2), np.zeros((2, 2)), _EYES), ValueError, "points must have 2 dimensions"),
-    (lambda: pm.gaussian_log_density(np.ones((3, 3)), np.zeros((2, 2)), _EYES), ValueError, r"means must have shape \(n, 3\)"),
+    (lambda: pm.gaussian_log_density(np.ones((3, 3)), np.zeros((2, 2)), _EYES), ValueError, r"points and means must have as many columns, got 3 and 2"),
     (lambda: pm.gaussian_log_density(np.ones((3, 2)), np.zeros((3, 2)), _EYES), ValueError, r"covariances must have shape \(3, 2, 2\)"),
     (lambda: pm.gaussian_log_density(np.ones((3, 2)), np.zeros((2, 2)), -_EYES), ValueError, "covariances must be positive definite"),
     (lambda: fit_gaussian_mixture(_RNG.standard_normal((6, 2)), 2, means_init=np.zeros((2, 2)), covariances_init=-_EYES),
@@ -516,7 +516,7 @@ _EYES = np.stack([np.eye(2)] * 2)
     (lambda: skeleton_strokes(np.zeros((1, 13)), MEAN_LENGTHS[None], 1), ValueError, "landmarks_per_limb must be at least 2"),
     (lambda: skeleton_strokes(np.zeros((1, 13)), MEAN_LENGTHS[None], 2.5), TypeError, "landmarks_per_limb must be an int"),
     # label model
-    (lambda: hamming_distance(np.zeros((2, 13), int), np.ones((3, 12), int)), ValueError, r"dictionary must have shape \(n, 13\)"),
+    (lambda: hamming_distance(np.zeros((2, 13), int), np.ones((3, 12), int)), ValueError, r"label_strings and dictionary must have as many columns \(limbs\), got 13 and 12"),
     (lambda: hamming_distance(np.zeros(13, int), np.ones((3, 13), int)), ValueError, "label_strings must have 2 dimensions"),
     (lambda: hamming_distance(np.full((2, 13), np.nan), np.ones((3, 13))), ValueError, "label_strings must be finite"),
     (lambda: hamming_distance(np.full((2, 13), 0.5), np.ones((3, 13))), ValueError, "label_strings must hold whole numbers"),

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import check_positive, check_positive_int, make_rng, spawn_rngs
+from amdo_lab.common import check_choice, check_positive, check_positive_int, make_rng, spawn_rngs
 from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.pdm_mixtures.baselines import SingleCartesianPDMClassifier
 from amdo_lab.pdm_mixtures.poses import TABLE1_CLASSES, generate_pose_dataset
@@ -60,6 +60,7 @@ class SeparationTrial:
         float
             The recognition rate, in [0, 1].
         """
+        check_choice(model, "model", self.correct)
         return float(np.mean(self.correct[model]))
 
 

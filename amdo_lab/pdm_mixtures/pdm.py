@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_in_range, check_positive, check_positive_int, procrustes_align
+from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive, check_positive_int, procrustes_align
 
 __all__ = [
     "PointDistributionModel",
@@ -150,7 +150,7 @@ def fit_pdm(long_vectors: np.ndarray, *, variance_fraction: float = 0.95, max_mo
     >>> pdm.n_modes, pdm.variances.round(2).tolist()
     (1, [7.74])
     """
-    vectors = as_finite_array(long_vectors, "long_vectors", ndim=2)
+    vectors = _check_magnitude(as_finite_array(long_vectors, "long_vectors", ndim=2), "long_vectors")
     t = vectors.shape[0]
     if t < 3:
         raise ValueError(f"long_vectors needs at least 3 training examples for a covariance, got {t}")
@@ -195,6 +195,7 @@ def fit_modes(model: PointDistributionModel, observed: np.ndarray, *, clamp: boo
     observed = as_finite_array(observed, "observed")
     if observed.ndim not in (1, 2) or observed.shape[-1] != len(model.mean):
         raise ValueError(f"observed must have shape (n, {len(model.mean)}) like the model mean, got {observed.shape}")
+    clamp = check_bool(clamp, "clamp")
     return _fit_modes(model, observed, clamp=clamp)
 
 
@@ -270,7 +271,7 @@ def ppca_log_density(model: PointDistributionModel, observed: np.ndarray) -> np.
     Al-Shaher & Hancock, AMDO 2004, eqs. 6 and 16; Tipping & Bishop, JRSS B 61 (1999).
     """
     model = _check_model(model)
-    observed = as_finite_array(observed, "observed", shape=(None, len(model.mean)))
+    observed = _check_magnitude(as_finite_array(observed, "observed", shape=(None, len(model.mean))), "observed")
     return _ppca_log_density(model, observed)
 
 
@@ -314,8 +315,23 @@ def _normalise_shape(points: np.ndarray) -> np.ndarray:
     return centred / np.sqrt(np.sum(centred**2))
 
 
+#: Largest accepted magnitude of a coordinate or feature: squares and sums of squares of larger
+#: numbers (covariances, distances, centroid sizes) overflow float64 (max about 1.8e308).
+MAX_MAGNITUDE = 1e150
+
+
+def _check_magnitude(array: np.ndarray, name: str) -> np.ndarray:
+    """Refuse values whose squares would overflow to inf (and then NaN) inside the computation."""
+    if array.size and np.max(np.abs(array)) > MAX_MAGNITUDE:
+        raise ValueError(f"{name} must be at most {MAX_MAGNITUDE:g} in magnitude (squares would overflow), "
+                         f"got {np.max(np.abs(array)):g}")
+    return array
+
+
 def _check_point_set_sizes(point_sets: np.ndarray, name: str) -> None:
-    """Refuse point sets whose points all coincide: they have no size to normalise or align."""
+    """Refuse point sets whose points all coincide (they have no size to normalise or align), or
+    whose coordinates are too large to square."""
+    _check_magnitude(point_sets, name)
     # compared exactly: a centroid size computed from such a set is round-off, not always zero
     coincident = np.all(point_sets == point_sets[:, :1], axis=(1, 2))
     if np.any(coincident):
@@ -328,8 +344,8 @@ def _check_labels(labels: object, n_shapes: int) -> np.ndarray:
     labels = np.asarray(labels)
     if labels.shape != (n_shapes,):
         raise ValueError(f"labels must have shape ({n_shapes},) (one per shape), got {labels.shape}")
-    if labels.dtype.kind == "f" and np.isnan(labels).any():
-        raise ValueError("labels must not contain NaN (every shape needs a class)")
+    if labels.dtype.kind == "f" and not np.isfinite(labels).all():
+        raise ValueError("labels must not contain NaN or inf (every shape needs a finite class id)")
     return labels
 
 

@@ -6,7 +6,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 
-from amdo_lab.common import as_finite_array, check_axes
+from amdo_lab.common import as_finite_array, check_axes, check_in_range, check_positive
 
 __all__ = ["draw_shape"]
 
@@ -24,7 +24,7 @@ def draw_shape(ax: Axes, shape: np.ndarray, *, color: str = "black", linewidth: 
     color : str
         Matplotlib colour of every stroke.
     linewidth : float
-        Stroke width in points.
+        Stroke width in points (positive).
     alpha : float
         Opacity in [0, 1].
     label : str, optional
@@ -37,6 +37,8 @@ def draw_shape(ax: Axes, shape: np.ndarray, *, color: str = "black", linewidth: 
     """
     check_axes(ax)
     shape = as_finite_array(shape, "shape", shape=(13, None, 2))
+    linewidth = check_positive(linewidth, "linewidth")
+    alpha = check_in_range(alpha, "alpha", 0, 1, closed="both")
     # one collection of 13 polylines: drawing a training set is then one artist per shape
     ax.add_collection(LineCollection(list(shape), colors=color, linewidths=linewidth, alpha=alpha, label=label))
     ax.autoscale_view()

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive, check_positive_int, make_rng
 from amdo_lab.common.geometry import _apply_similarity_2d
 
 __all__ = [
@@ -222,6 +222,12 @@ def _skeleton_strokes(directions_deg: np.ndarray, lengths: np.ndarray, landmarks
     return starts[:, :, None, :] + fractions[None, None, :, None] * vectors[:, :, None, :]
 
 
+def _check_overflow(drawn: np.ndarray, name: str, value: float) -> None:
+    """Refuse a parameter so large that the values drawn with it overflow to inf or NaN."""
+    if not np.all(np.isfinite(drawn)):
+        raise ValueError(f"{name}={value:g} is too large: the values drawn with it overflow")
+
+
 def generate_pose_dataset(
     classes: tuple[str, ...] | list[str],
     n_per_class: int,
@@ -245,7 +251,10 @@ def generate_pose_dataset(
     rng : int or numpy.random.Generator
         Seed or generator of every draw (keyword-only, no default; via ``make_rng``).
     noise : float
-        Std of isotropic landmark noise, in units of the skeleton (height about 1.7) before scaling.
+        Std of isotropic landmark noise, in units of the skeleton (height about 1.7) before scaling;
+        non-negative, and small enough that the noisy landmarks stay finite (each of ``noise``,
+        ``joint_jitter_deg``, ``length_jitter`` and ``mode_separation`` is refused by name when the
+        values drawn with it overflow).
     joint_jitter_deg : float
         Std (degrees) of the Gaussian perturbation of a limb direction, times ``JITTER_SCALE``
         per limb (arms 1.4x, torso 0.6x); with the modes it sets the class overlap.
@@ -254,7 +263,7 @@ def generate_pose_dataset(
     landmarks_per_limb : int
         Landmarks per stroke (>= 2).
     max_rotation_deg : float
-        Global rotation drawn uniformly in +-this; scale in [0.8, 1.25]; translation in [-1, 1]^2.
+        Global rotation drawn uniformly in +-this, in [0, 180] (180 covers every rotation); scale in [0.8, 1.25]; translation in [-1, 1]^2.
     mode_separation : float
         Non-negative factor on each class's articulation modes about their mean direction vector:
         0 merges a class's modes into one, 1 (default) keeps ``POSE_MODES`` as written, 2 doubles
@@ -284,7 +293,7 @@ def generate_pose_dataset(
     noise = check_positive(noise, "noise", allow_zero=True)
     joint_jitter_deg = check_positive(joint_jitter_deg, "joint_jitter_deg", allow_zero=True)
     length_jitter = check_positive(length_jitter, "length_jitter", allow_zero=True)
-    max_rotation_deg = check_positive(max_rotation_deg, "max_rotation_deg", allow_zero=True)
+    max_rotation_deg = check_in_range(max_rotation_deg, "max_rotation_deg", 0, 180, closed="both")
     mode_separation = check_positive(mode_separation, "mode_separation", allow_zero=True)
     generator = make_rng(rng, "rng")
     n = n_per_class * len(names)
@@ -301,10 +310,15 @@ def generate_pose_dataset(
         # mode + (s - 1)(mode - centre) = centre + s (mode - centre); exactly the mode when s = 1
         mode_directions = mode_directions + (mode_separation - 1.0) * (mode_directions - mode_directions.mean(axis=0))
         base[rows] = mode_directions[picks]
+    # Each draw is checked where it could overflow, so the error names the parameter that drove it.
+    _check_overflow(base, "mode_separation", mode_separation)
     directions = base + joint_jitter_deg * JITTER_SCALE * generator.standard_normal((n, 13))
+    _check_overflow(directions, "joint_jitter_deg", joint_jitter_deg)
     lengths = MEAN_LENGTHS * np.exp(length_jitter * generator.standard_normal((n, 13)))
+    _check_overflow(lengths, "length_jitter", length_jitter)
     strokes = _skeleton_strokes(directions, lengths, landmarks_per_limb)
     strokes = strokes + noise * generator.standard_normal(strokes.shape)
+    _check_overflow(strokes, "noise", noise)
     scales = generator.uniform(0.8, 1.25, n)
     rotations = np.deg2rad(generator.uniform(-max_rotation_deg, max_rotation_deg, n))
     translations = generator.uniform(-1.0, 1.0, (n, 2))

@@ -8,6 +8,7 @@ import numpy as np
 
 from amdo_lab.common import (
     as_finite_array,
+    check_bool,
     check_choice,
     check_fitted,
     check_in_range,
@@ -22,6 +23,7 @@ from amdo_lab.pdm_mixtures.pdm import (
     PointDistributionModel,
     _align_to_reference,
     _check_labels,
+    _check_magnitude,
     _check_point_set_sizes,
     _fit_modes,
     _pdm_from_moments,
@@ -76,7 +78,10 @@ def hamming_distance(label_strings: np.ndarray, dictionary: np.ndarray) -> np.nd
     array([[0, 1]])
     """
     strings = as_finite_array(label_strings, "label_strings", ndim=2, dtype=int)
-    dictionary = as_finite_array(dictionary, "dictionary", shape=(None, strings.shape[1]), dtype=int)
+    dictionary = as_finite_array(dictionary, "dictionary", ndim=2, dtype=int)
+    if dictionary.shape[1] != strings.shape[1]:
+        raise ValueError(f"label_strings and dictionary must have as many columns (limbs), "
+                         f"got {strings.shape[1]} and {dictionary.shape[1]}")
     return _hamming_distance(strings, dictionary)
 
 
@@ -200,7 +205,7 @@ class PolarPDM:
 
     def _check_deviation(self, deviation: object) -> np.ndarray:
         width = max(block.stop for block in self.blocks)
-        return as_finite_array(deviation, "deviation", shape=(None, width))
+        return _check_magnitude(as_finite_array(deviation, "deviation", shape=(None, width)), "deviation")
 
     def _project(self, deviation: np.ndarray) -> np.ndarray:
         return np.concatenate([_reconstruct(pdm, _fit_modes(pdm, deviation[:, block]))
@@ -713,6 +718,7 @@ class ArticulatedShapeRecogniser:
             ``(n, K, n_limb_labels)`` posteriors (rows sum to 1), or their logarithms.
         """
         check_fitted(self, "classes_")
+        log = check_bool(log, "log")
         log_posteriors = self._limb_log_posteriors(self.align(shapes))
         return log_posteriors if log else np.exp(log_posteriors)
 
@@ -964,7 +970,8 @@ def held_out_log_likelihood(
     Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4, eqs. 2-8 (the mixture it scores); the criterion is ours.
     """
-    vectors = as_finite_array(polar_vectors, "polar_vectors", shape=(None, 3 * N_LIMBS))
+    vectors = _check_magnitude(as_finite_array(polar_vectors, "polar_vectors", shape=(None, 3 * N_LIMBS)),
+                               "polar_vectors")
     n_components = check_positive_int(n_components, "n_components")
     shape_ridge = check_positive(shape_ridge, "shape_ridge")
     n_folds = check_positive_int(n_folds, "n_folds", minimum=2)
