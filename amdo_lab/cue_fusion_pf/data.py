@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_choice, make_rng
+from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive, check_positive_int, make_rng
 
 __all__ = ["HEAD_AXES", "HeadSequence", "SEQUENCE_KINDS", "ellipse_iou", "head_views", "make_head_sequence"]
 
@@ -73,7 +73,13 @@ class HeadSequence:
         numpy.ndarray
             (N,) log-likelihoods (0 at the truth).
         """
-        states = np.atleast_2d(np.asarray(states, float))
+        t = check_positive_int(t, "t", minimum=0)
+        if t >= len(self.truth):
+            raise ValueError(f"t must be a frame index below {len(self.truth)}, got {t}")
+        states = as_finite_array(states, "states", allow_empty=True)
+        if states.ndim not in (1, 2) or states.shape[-1] != 3:
+            raise ValueError(f"states must have shape (3,) or (N, 3), got shape {states.shape}")
+        states = np.atleast_2d(states)
         centre_sd, scale_sd = self.oracle_std
         squared = np.sum((states[:, :2] - self.truth[t, :2]) ** 2, axis=1) / centre_sd**2
         return -0.5 * (squared + (states[:, 2] - self.truth[t, 2]) ** 2 / scale_sd**2)
@@ -217,10 +223,8 @@ def make_head_sequence(kind: str, rng: int | np.random.Generator, *, noise_std: 
     """
     kind = check_choice(kind, "kind", SEQUENCE_KINDS)
     generator = make_rng(rng, "rng")
-    if noise_std < 0 or not np.isfinite(noise_std):
-        raise ValueError(f"noise_std must be finite and non-negative, got {noise_std}")
-    if not 0.0 <= cast_strength <= 1.5:
-        raise ValueError(f"cast_strength must be in [0, 1.5], got {cast_strength}")
+    noise_std = check_positive(noise_std, "noise_std", allow_zero=True)
+    cast_strength = check_in_range(cast_strength, "cast_strength", 0.0, 1.5, closed="both")
     width, height = 256, 192
     n_frames = {"fusion": 128, "edges": 100, "twin": 80}[kind]
     background = _background(generator, height, width)
@@ -280,6 +284,7 @@ def ellipse_iou(first: np.ndarray, second: np.ndarray, *, step: float = 0.5) -> 
     """
     first = as_finite_array(first, "first")
     second = as_finite_array(second, "second")
+    step = check_positive(step, "step")
     single = first.ndim == 1
     first, second = np.atleast_2d(first), np.atleast_2d(second)
     if first.shape[1] != 5 or second.shape != first.shape:
@@ -334,6 +339,7 @@ def head_views(yaws: np.ndarray, *, rng: int | np.random.Generator, noise_std: f
     Li & Chaumette, AMDO 2004, Fig. 4 (the structure cue as the head turns).
     """
     yaws = as_finite_array(yaws, "yaws", ndim=1)
+    noise_std = check_positive(noise_std, "noise_std", allow_zero=True)
     generator = make_rng(rng, "rng")
     frames, states = [], []
     for yaw in yaws:

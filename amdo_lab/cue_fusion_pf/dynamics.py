@@ -17,7 +17,7 @@ import numbers
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive, check_positive_int, make_rng
 
 __all__ = ["ARDynamics", "ar2_coefficients", "ar2_stationary_variance"]
 
@@ -72,6 +72,9 @@ def ar2_stationary_variance(first_lag: float, second_lag: float, gain: float) ->
     ----------
     Li & Chaumette, AMDO 2004, eq. (4): with the corrected order, b0 gives unit variance.
     """
+    first_lag = check_in_range(first_lag, "first_lag", -np.inf, np.inf)  # any finite real number
+    second_lag = check_in_range(second_lag, "second_lag", -np.inf, np.inf)
+    gain = check_in_range(gain, "gain", -np.inf, np.inf)
     roots = np.roots([1.0, -first_lag, -second_lag])
     if np.max(np.abs(roots)) >= 1.0:
         return float("inf")
@@ -110,14 +113,17 @@ class ARDynamics:
         self.beta = as_finite_array(beta, "beta", ndim=1)
         if np.any(self.beta < 0):
             raise ValueError(f"beta must be non-negative, got {self.beta}")
-        d = self.beta.size
-        self.omega = as_finite_array(omega, "omega", shape=(d,))
+        self.omega = as_finite_array(omega, "omega", ndim=1)
         self.tau = check_positive(tau, "tau")
-        self.stationary_std = as_finite_array(stationary_std, "stationary_std", shape=(d,))
+        self.stationary_std = as_finite_array(stationary_std, "stationary_std", ndim=1)
         if np.any(self.stationary_std <= 0):
             raise ValueError(f"stationary_std must be positive, got {self.stationary_std}")
-        self.mean = as_finite_array(mean, "mean", shape=(d,))
-        self.printed_order = bool(printed_order)
+        self.mean = as_finite_array(mean, "mean", ndim=1)
+        lengths = (self.beta.size, self.omega.size, self.stationary_std.size, self.mean.size)
+        if len(set(lengths)) > 1:
+            raise ValueError(f"beta, omega, stationary_std and mean must have one entry per state component, got lengths {lengths}")
+        self.printed_order = check_bool(printed_order, "printed_order")
+        allow_unstable = check_bool(allow_unstable, "allow_unstable")
         coefficients = np.array([ar2_coefficients(b, w, self.tau) for b, w in zip(self.beta, self.omega)])
         self.a1, self.a0, self.b0 = coefficients.T
         # the weights of x_{k-1} and x_{k-2}
@@ -156,6 +162,9 @@ class ARDynamics:
         numpy.ndarray
             (N, d) states X_k.
         """
+        previous = as_finite_array(previous, "previous", shape=(None, self.mean.size))
+        before = as_finite_array(before, "before", shape=previous.shape)
+        noise = as_finite_array(noise, "noise", shape=previous.shape)
         return (self.mean + self.first_lag * (previous - self.mean) + self.second_lag * (before - self.mean)
                 + self.step_std * noise)
 
@@ -174,7 +183,8 @@ class ARDynamics:
         numpy.ndarray
             (N, d) sampled states X_k.
         """
-        previous = np.asarray(previous, float)
+        previous = as_finite_array(previous, "previous", shape=(None, self.mean.size))
+        before = as_finite_array(before, "before", shape=previous.shape)
         return self.propagate(previous, before, make_rng(rng, "rng").standard_normal(previous.shape))
 
     def simulate(self, n_steps: int, start: np.ndarray, *, rng: int | np.random.Generator) -> np.ndarray:
@@ -194,8 +204,10 @@ class ARDynamics:
         numpy.ndarray
             (n_steps, d) states.
         """
+        n_steps = check_positive_int(n_steps, "n_steps")
+        start = as_finite_array(start, "start", shape=(self.mean.size,))
         generator = make_rng(rng, "rng")
-        path = [np.asarray(start, float), np.asarray(start, float)]
+        path = [start, start.copy()]
         for _ in range(n_steps - 2):
             path.append(self.step(path[-1][None], path[-2][None], rng=generator)[0])
         return np.array(path[:n_steps])

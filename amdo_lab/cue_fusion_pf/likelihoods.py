@@ -5,13 +5,12 @@ Every cue has ``.log_likelihood(frame, states) -> (N,)``; the fusion of eq. (6) 
 
 from __future__ import annotations
 
-import numbers
 from dataclasses import dataclass
 
 import cv2
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 
 __all__ = [
@@ -26,12 +25,20 @@ PAPER_SIGMAS = {"color": 5.0, "structure": float(np.sqrt(15.0))}
 
 # --- colour: eqs. (7)-(11) ----------------------------------------------------------------------
 
+def _check_shape_space(shape_space: object) -> ShapeSpace:
+    if not isinstance(shape_space, ShapeSpace):
+        raise TypeError(f"shape_space must be a ShapeSpace, got {type(shape_space).__name__}")
+    return shape_space
+
+
 def _check_frame(frame: np.ndarray, name: str = "frame") -> np.ndarray:
     frame = np.asarray(frame)
     if frame.ndim != 3 or frame.shape[2] != 3:
         raise ValueError(f"{name} must be an (H, W, 3) RGB image, got shape {frame.shape}")
     if frame.dtype != np.uint8:
         raise TypeError(f"{name} must be uint8 RGB, got dtype {frame.dtype}")
+    if frame.size == 0:
+        raise ValueError(f"{name} must not be empty, got shape {frame.shape}")
     return frame
 
 
@@ -110,7 +117,13 @@ def bhattacharyya(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     ----------
     Li & Chaumette, AMDO 2004, eq. (10).
     """
-    return np.sum(np.sqrt(np.asarray(p) * np.asarray(q)), axis=-1)
+    p = as_finite_array(p, "p")
+    q = as_finite_array(q, "q")
+    if p.shape[-1] != q.shape[-1]:
+        raise ValueError(f"p and q must have the same number of bins, got shapes {p.shape} and {q.shape}")
+    if np.any(p < 0) or np.any(q < 0):
+        raise ValueError("p and q must be histograms, with no negative bin")
+    return np.sum(np.sqrt(p * q), axis=-1)
 
 
 class ColorLikelihood:
@@ -144,7 +157,7 @@ class ColorLikelihood:
 
     def __init__(self, shape_space: ShapeSpace, reference_frame: np.ndarray, reference_state: np.ndarray, *,
                  bins: int = 32, sigma: float = 5.0, stride: float = 2.0):
-        self.shape_space = shape_space
+        self.shape_space = _check_shape_space(shape_space)
         self.bins = _check_bins(bins)
         self.sigma = check_positive(sigma, "sigma")
         self.stride = check_positive(stride, "stride")
@@ -262,7 +275,10 @@ def edge_line_likelihood(offsets: np.ndarray, p0: float, clutter_density: float,
     ----------
     Li & Chaumette, AMDO 2004, eq. (13); MacCormick, PhD thesis, Oxford (2000).
     """
-    offsets = np.asarray(offsets, float)
+    offsets = as_finite_array(offsets, "offsets", ndim=1, allow_empty=True)
+    p0 = check_in_range(p0, "p0", 0.0, 1.0)
+    clutter_density = check_positive(clutter_density, "clutter_density")
+    sigma_e = check_positive(sigma_e, "sigma_e")
     gauss = np.exp(-offsets**2 / (2.0 * sigma_e**2)) / (np.sqrt(2.0 * np.pi) * sigma_e)
     return float(p0 + (1.0 - p0) / clutter_density * gauss.sum())
 
@@ -279,13 +295,13 @@ def simulate_measurement_lines(n_lines: int, *, half_length: float, p0: float, c
     n_lines : int
         Number of lines.
     half_length : float
-        L/2 in pixels.
+        L/2 in pixels, > 0.
     p0 : float
-        P0, the probability that the edge is missed.
+        P0, the probability that the edge is missed, in (0, 1).
     clutter_density : float
-        λ, clutter features per pixel.
+        λ, clutter features per pixel, >= 0.
     sigma_e : float
-        σ_e in pixels.
+        σ_e in pixels, > 0.
     rng : int or numpy.random.Generator
         Source of the draws.
 
@@ -300,6 +316,10 @@ def simulate_measurement_lines(n_lines: int, *, half_length: float, p0: float, c
     """
     generator = make_rng(rng, "rng")
     n_lines = check_positive_int(n_lines, "n_lines")
+    half_length = check_positive(half_length, "half_length")
+    p0 = check_in_range(p0, "p0", 0.0, 1.0)
+    clutter_density = check_positive(clutter_density, "clutter_density", allow_zero=True)
+    sigma_e = check_positive(sigma_e, "sigma_e")
     counts = generator.poisson(clutter_density * 2.0 * half_length, n_lines)
     clutter = generator.uniform(-half_length, half_length, counts.sum())
     edges = generator.normal(0.0, sigma_e, n_lines)
@@ -343,12 +363,10 @@ class EdgeLikelihood:
 
     def __init__(self, shape_space: ShapeSpace, *, n_lines: int = 40, half_length: int = 12, p0: float = 0.2,
                  sigma_e: float = float(np.sqrt(2.0)), threshold: float = 6.0, smoothing: float = 1.0):
-        self.shape_space = shape_space
+        self.shape_space = _check_shape_space(shape_space)
         self.n_lines = check_positive_int(n_lines, "n_lines", minimum=3)
         self.half_length = check_positive_int(half_length, "half_length", minimum=2)
-        if isinstance(p0, bool) or not isinstance(p0, numbers.Real) or not 0.0 < p0 < 1.0:
-            raise ValueError(f"p0 must be a probability in (0, 1), got {p0!r}")
-        self.p0 = float(p0)
+        self.p0 = check_in_range(p0, "p0", 0.0, 1.0)
         self.sigma_e = check_positive(sigma_e, "sigma_e")
         self.threshold = check_positive(threshold, "threshold")
         self.smoothing = check_positive(smoothing, "smoothing")
@@ -394,6 +412,9 @@ class EdgeLikelihood:
         """
         grey = self.grey(frame)
         states = np.atleast_2d(self.shape_space._check_states(states))
+        reference = check_bool(reference, "reference")
+        if len(states) == 0:  # no particles: no lines to read (cv2.remap refuses an empty map)
+            return np.empty((0, self.n_lines, self.offsets.size), np.float32)
         if reference:
             scale = 1.0 + states[:, 2]
             centres = states[:, None, :2] + scale[:, None, None] * self._points  # (N, N_e, 2)
@@ -459,8 +480,11 @@ class EdgeLikelihood:
         numpy.ndarray
             (N,) log-likelihoods (λ of this frame is kept in ``clutter_density``).
         """
-        n = len(np.atleast_2d(states))
+        states = np.atleast_2d(self.shape_space._check_states(states))
+        n = len(states)
         state_index, line_index, offsets = self.features(frame, states, reference=reference)
+        if n == 0:  # no particles (λ of this frame is left as it was)
+            return np.empty(0)
         length = 2.0 * self.half_length
         self.clutter_density = max(len(offsets) / (n * self.n_lines), 0.5) / length  # λ per pixel, this frame
         gauss = np.exp(-offsets**2 / (2.0 * self.sigma_e**2)) / (np.sqrt(2.0 * np.pi) * self.sigma_e)
@@ -504,6 +528,12 @@ def fused_log_likelihood(cues: dict, frame: np.ndarray, states: np.ndarray) -> n
     ----------
     Li & Chaumette, AMDO 2004, eq. (6).
     """
+    if not isinstance(cues, dict) or not all(hasattr(cue, "log_likelihood") for cue in cues.values()):
+        raise TypeError(f"cues must be a dict of likelihood objects (with .log_likelihood), got {type(cues).__name__}")
+    frame = _check_frame(frame)
+    states = as_finite_array(states, "states", allow_empty=True)
+    if states.ndim not in (1, 2):
+        raise ValueError(f"states must have shape (d,) or (N, d), got shape {states.shape}")
     total = np.zeros(len(np.atleast_2d(states)))
     for cue in cues.values():
         total += cue.log_likelihood(frame, states)
@@ -563,7 +593,10 @@ def calibrate_sigma(distances_true: np.ndarray, distances_prior: np.ndarray, gri
     Li & Chaumette, AMDO 2004, eqs. (11)-(12) and Table 1.
     """
     distances_true = as_finite_array(distances_true, "distances_true", ndim=1)
-    distances_prior = as_finite_array(distances_prior, "distances_prior", shape=(distances_true.size, None))
+    distances_prior = as_finite_array(distances_prior, "distances_prior", ndim=2)
+    if len(distances_prior) != distances_true.size:
+        raise ValueError(f"distances_true and distances_prior must have one row per frame, got {distances_true.size} and "
+                         f"{len(distances_prior)}")
     grid = np.geomspace(0.005, 10.0, 60) if grid is None else as_finite_array(grid, "grid", ndim=1)
     if np.any(grid <= 0):
         raise ValueError("grid must hold positive values of sigma")

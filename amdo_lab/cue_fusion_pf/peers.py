@@ -157,16 +157,14 @@ def track_pfilter(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.
     """
     from pfilter import ParticleFilter, systematic_resample as pfilter_systematic
 
-    from amdo_lab.cue_fusion_pf.tracker import (
-        _PARAMS, CALIBRATED_SIGMAS, _shape_space_of, build_cues, default_dynamics,
-    )
-    from amdo_lab.cue_fusion_pf.likelihoods import PAPER_SIGMAS
+    from amdo_lab.cue_fusion_pf.tracker import _PARAMS, _check_cues, _shape_space_of, _sigma_table, build_cues, default_dynamics
 
     frames = _check_frames(frames)
+    _check_cues(cues)
     n_particles = check_positive_int(n_particles, "n_particles", minimum=2)
+    sigma_table = _sigma_table(sigmas)
     global_seed = int(make_rng(rng, "rng").integers(2**32 - 1))
     space, start = _shape_space_of(init, frames.shape[1:3])
-    sigma_table = {"calibrated": CALIBRATED_SIGMAS, "paper": PAPER_SIGMAS}[sigmas] if isinstance(sigmas, str) else sigmas
     cue_objects = build_cues(cues, space, frames[0], start, sigma_table, _PARAMS)
     dynamics = default_dynamics(start)
     spread = np.asarray(_PARAMS["init_spread"])

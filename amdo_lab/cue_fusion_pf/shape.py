@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_choice, check_positive_int
+from amdo_lab.common import as_finite_array, check_bool, check_choice, check_positive_int
 
 __all__ = ["SHAPE_KINDS", "ShapeSpace", "bspline_basis", "ellipse_points"]
 
@@ -39,6 +39,7 @@ def bspline_basis(s: np.ndarray, n_control: int, derivative: bool = False) -> np
     Blake & Isard, Active Contours (1998), ch. 3; Li & Chaumette, AMDO 2004, eq. (1).
     """
     n_control = check_positive_int(n_control, "n_control", minimum=3)
+    derivative = check_bool(derivative, "derivative")
     s = np.mod(as_finite_array(s, "s", ndim=1), n_control)
     span = np.floor(s).astype(int)
     u = s - span
@@ -72,7 +73,8 @@ def ellipse_points(ellipse: np.ndarray, n_points: int) -> np.ndarray:
     ----------
     Li & Chaumette, AMDO 2004, Sec. 2.1 (the ellipse fitted to each contour).
     """
-    cx, cy, a, b, angle = ellipse
+    cx, cy, a, b, angle = as_finite_array(ellipse, "ellipse", shape=(5,))
+    n_points = check_positive_int(n_points, "n_points")
     theta = np.linspace(0.0, 2.0 * np.pi, n_points, endpoint=False)
     local = np.stack([a * np.cos(theta), b * np.sin(theta)], axis=1)
     rotation = np.array([[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]])
@@ -195,6 +197,7 @@ class ShapeSpace:
         numpy.ndarray
             (N, n_points, 2) curve points in pixels.
         """
+        n_points = check_positive_int(n_points, "n_points")
         basis = bspline_basis(np.linspace(0, self.n_control, n_points, endpoint=False), self.n_control)
         return np.einsum("pj,njd->npd", basis, self.control_points(states))
 
@@ -211,6 +214,7 @@ class ShapeSpace:
         tuple of numpy.ndarray
             (n_lines, 2) points relative to the state's centre at scale 1, and (n_lines, 2) normals.
         """
+        n_lines = check_positive_int(n_lines, "n_lines")
         s = np.linspace(0, self.n_control, n_lines, endpoint=False)
         points = bspline_basis(s, self.n_control) @ self.template
         tangents = bspline_basis(s, self.n_control, derivative=True) @ self.template
@@ -256,7 +260,7 @@ class ShapeSpace:
         return np.array([ellipse[0], ellipse[1], max(ellipse[2], ellipse[3]) / max(self.template_ellipse[2:4]) - 1.0])
 
     def _check_states(self, states: np.ndarray) -> np.ndarray:
-        states = np.asarray(states, dtype=float)
-        if states.shape[-1] != self.state_dim:
-            raise ValueError(f"states must have length {self.state_dim} on the last axis, got shape {states.shape}")
+        states = as_finite_array(states, "states", allow_empty=True)
+        if states.ndim not in (1, 2) or states.shape[-1] != self.state_dim:
+            raise ValueError(f"states must have shape ({self.state_dim},) or (N, {self.state_dim}), got shape {states.shape}")
         return states

@@ -17,8 +17,9 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf import data as _data
+from amdo_lab.cue_fusion_pf.likelihoods import _check_frame, _check_shape_space
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 
 __all__ = ["BoostedCascade", "HaarFeatures", "StructureLikelihood", "TrainingSet", "haar_features",
@@ -51,7 +52,9 @@ def integral_image(images: np.ndarray) -> np.ndarray:
     ----------
     Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
     """
-    images = np.asarray(images, np.float64)
+    images = as_finite_array(images, "images", allow_empty=True)
+    if images.ndim < 2:
+        raise ValueError(f"images must have shape (..., H, W), got shape {images.shape}")
     padded = np.zeros(images.shape[:-2] + (images.shape[-2] + 1, images.shape[-1] + 1), np.float32 if images.ndim > 2 else np.float64)
     padded[..., 1:, 1:] = images.cumsum(axis=-2).cumsum(axis=-1)
     return padded
@@ -112,8 +115,14 @@ def haar_features(window: tuple[int, int] = WINDOW, *, n_features: int | None = 
     ----------
     Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
     """
-    features = _all_haar_features(*window)
+    width, height = as_finite_array(window, "window", shape=(2,), dtype=int)
+    if width < 2 or height < 2:
+        raise ValueError(f"window must be at least 2 pixels wide and high, got {tuple(window)}")
+    features = _all_haar_features(int(width), int(height))
     if n_features is not None:
+        n_features = check_positive_int(n_features, "n_features")
+        if n_features > len(features):
+            raise ValueError(f"n_features must be at most {len(features)} (all features of the window), got {n_features}")
         if rng is None:
             raise ValueError("rng is needed to draw a random subset of features")
         features = features.subset(np.sort(make_rng(rng, "rng").choice(len(features), n_features, replace=False)))
@@ -186,7 +195,7 @@ def make_training_set(rng: int | np.random.Generator, *, n_scenes: int = 40, per
     per_scene : int
         Positive windows per head.
     negatives_per_scene : int
-        Negative windows per scene.
+        Negative windows per scene, at least 3.
 
     Returns
     -------
@@ -198,6 +207,9 @@ def make_training_set(rng: int | np.random.Generator, *, n_scenes: int = 40, per
     Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
     """
     generator = make_rng(rng, "rng")
+    n_scenes = check_positive_int(n_scenes, "n_scenes")
+    per_scene = check_positive_int(per_scene, "per_scene")
+    negatives_per_scene = check_positive_int(negatives_per_scene, "negatives_per_scene", minimum=3)
     height, width = 192, 256
     positives = {view: [] for view in VIEWS}
     negatives, near_misses = [], []
@@ -342,6 +354,7 @@ class BoostedCascade:
         numpy.ndarray
             (N,) stages passed, in [0, N_s].
         """
+        patches = as_finite_array(patches, "patches", shape=(None, self.window[1], self.window[0]), allow_empty=True)
         integrals = integral_image(patches)
         passed = np.zeros(len(patches))
         alive = np.arange(len(patches))
@@ -379,10 +392,14 @@ class BoostedCascade:
         numpy.ndarray
             (N,) stages passed.
         """
-        boxes = as_finite_array(boxes, "boxes", shape=(None, 4))
+        as_finite_array(image, "image")  # checked, not converted: the patches are read from the image as given
+        image = np.asarray(image)
+        if not (image.ndim == 2 or (image.ndim == 3 and image.shape[2] == 3)):
+            raise ValueError(f"image must be an (H, W, 3) RGB or (H, W) grey image, got shape {image.shape}")
+        boxes = as_finite_array(boxes, "boxes", shape=(None, 4), allow_empty=True)
         if np.any(boxes[:, 2:] <= 0):
             raise ValueError("boxes must have positive width and height")
-        return self.stages_passed_patches(normalised_patches(np.asarray(image), boxes, self.window))
+        return self.stages_passed_patches(normalised_patches(image, boxes, self.window))
 
 
 def _train_cascade_level(features, positives, negative_pool, *, n_stages, n_negatives,
@@ -432,9 +449,9 @@ def train_cascade(training: TrainingSet, *, rng: int | np.random.Generator, firs
     max_stumps : int
         Most decision stumps per stage.
     min_detection : float
-        Share of the positives each stage keeps.
+        Share of the positives each stage keeps, in (0, 1].
     max_false_positive : float
-        A stage stops adding stumps once it passes at most this share of its negatives.
+        A stage stops adding stumps once it passes at most this share of its negatives, in [0, 1].
 
     Returns
     -------
@@ -445,9 +462,15 @@ def train_cascade(training: TrainingSet, *, rng: int | np.random.Generator, firs
     ----------
     Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
     """
+    if not isinstance(training, TrainingSet):
+        raise TypeError(f"training must be a TrainingSet (see make_training_set), got {type(training).__name__}")
     generator = make_rng(rng, "rng")
     first_stages = check_positive_int(first_stages, "first_stages")
     second_stages = check_positive_int(second_stages, "second_stages")
+    n_negatives = check_positive_int(n_negatives, "n_negatives")
+    max_stumps = check_positive_int(max_stumps, "max_stumps")
+    min_detection = check_in_range(min_detection, "min_detection", 0.0, 1.0, closed="right")
+    max_false_positive = check_in_range(max_false_positive, "max_false_positive", 0.0, 1.0, closed="both")
     began = time.perf_counter()
     features = haar_features(WINDOW, n_features=check_positive_int(n_features, "n_features"), rng=generator)
     everyone = np.concatenate(list(training.positives.values()))
@@ -493,6 +516,7 @@ def load_or_train_cascade(rng: int, *, cache: bool = True) -> BoostedCascade:
 
     if isinstance(rng, bool) or not isinstance(rng, (int, np.integer)) or rng < 0:
         raise TypeError(f"rng must be a non-negative int (it names the cache file), got {rng!r}")
+    cache = check_bool(cache, "cache")
     seed = int(rng)
     path = CACHE / f"cascade_{seed}.pkl"
     if cache and path.exists():
@@ -526,7 +550,9 @@ class StructureLikelihood:
     """
 
     def __init__(self, shape_space: ShapeSpace, cascade: BoostedCascade, *, sigma: float = float(np.sqrt(15.0))):
-        self.shape_space = shape_space
+        self.shape_space = _check_shape_space(shape_space)
+        if not isinstance(cascade, BoostedCascade):
+            raise TypeError(f"cascade must be a BoostedCascade (see train_cascade), got {type(cascade).__name__}")
         self.cascade = cascade
         self.sigma = check_positive(sigma, "sigma")
 
@@ -564,6 +590,7 @@ class StructureLikelihood:
         numpy.ndarray
             (N,) distances in [0, 1].
         """
+        frame = _check_frame(frame)
         return 1.0 - self.cascade.stages_passed(frame, self.boxes(states)) / self.cascade.n_stages
 
     def log_likelihood(self, frame: np.ndarray, states: np.ndarray) -> np.ndarray:

@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import functools
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_positive, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
 from amdo_lab.cue_fusion_pf.likelihoods import PAPER_SIGMAS, ColorLikelihood, EdgeLikelihood
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
@@ -69,6 +70,20 @@ class TrackResult:
         return 1000.0 * self.seconds / len(self.states)
 
 
+def _checked_weights_and_u(resample: Callable) -> Callable:
+    """Check :func:`systematic_resample`'s input before it runs (the chapter prints that function's body)."""
+
+    @functools.wraps(resample)
+    def checked(weights: np.ndarray, u: float) -> np.ndarray:
+        weights = as_finite_array(weights, "weights", ndim=1)
+        if np.any(weights < 0) or not np.isclose(weights.sum(), 1.0, rtol=0.0, atol=1e-6):
+            raise ValueError(f"weights must be non-negative and sum to 1, got sum {weights.sum():.6g}")
+        return resample(weights, check_in_range(u, "u", 0.0, 1.0, closed="left"))
+
+    return checked
+
+
+@_checked_weights_and_u
 def systematic_resample(weights: np.ndarray, u: float) -> np.ndarray:
     """Indices drawn by systematic resampling (Fig. 1, step 5) with one uniform ``u`` in [0, 1).
 
@@ -78,7 +93,7 @@ def systematic_resample(weights: np.ndarray, u: float) -> np.ndarray:
     Parameters
     ----------
     weights : numpy.ndarray
-        (N,) normalised weights.
+        (N,) normalised weights (non-negative, summing to 1).
     u : float
         One uniform number in [0, 1).
 
@@ -121,6 +136,8 @@ def default_dynamics(mean: np.ndarray, *, beta=(2.0, 2.0, 10.0), stationary_std=
     ----------
     Li & Chaumette, AMDO 2004, eqs. (4)-(5) and Table 1.
     """
+    printed_order = check_bool(printed_order, "printed_order")
+    mean = as_finite_array(mean, "mean", shape=(3,))
     return ARDynamics(beta, (0.0, 0.0, 0.0), FRAME_PERIOD, stationary_std, mean, printed_order=printed_order,
                       allow_unstable=printed_order)
 
@@ -141,7 +158,7 @@ def _check_frames(frames: object) -> np.ndarray:
 
 
 def _shape_space_of(init: object, frame_shape: tuple[int, int]) -> tuple[ShapeSpace, np.ndarray]:
-    init = np.asarray(init, dtype=float)
+    init = as_finite_array(init, "init")
     if init.shape == (5,):
         init = as_finite_array(init, "init", shape=(5,))
         if init[2] <= 0 or init[3] <= 0:
@@ -158,6 +175,25 @@ def _shape_space_of(init: object, frame_shape: tuple[int, int]) -> tuple[ShapeSp
     if not (0 <= start[0] < width and 0 <= start[1] < height):
         raise ValueError(f"init must lie on the frame ({width}×{height}), centre at ({start[0]:.1f}, {start[1]:.1f})")
     return space, start
+
+
+def _check_cues(cues: object) -> None:
+    if isinstance(cues, str) or not isinstance(cues, Sequence) or len(cues) == 0:
+        raise ValueError(f"cues must be a non-empty sequence of cue names, got {cues!r}")
+    for name in cues:
+        check_choice(name, "cues", CUES)
+
+
+def _sigma_table(sigmas: object) -> dict[str, float]:
+    """σ_c and σ_s from ``"calibrated"``, ``"paper"`` or a dict of positive values."""
+    if isinstance(sigmas, str):
+        return dict({"calibrated": CALIBRATED_SIGMAS, "paper": PAPER_SIGMAS}[check_choice(sigmas, "sigmas", ("calibrated", "paper"))])
+    if isinstance(sigmas, dict):
+        sigma_table = {**CALIBRATED_SIGMAS, **sigmas}
+        for key, value in sigma_table.items():
+            check_positive(value, f"sigmas[{key!r}]")
+        return sigma_table
+    raise TypeError(f"sigmas must be 'calibrated', 'paper' or a dict, got {type(sigmas).__name__}")
 
 
 def build_cues(cues: Sequence[str], space: ShapeSpace, first_frame: np.ndarray, start: np.ndarray,
@@ -212,23 +248,16 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
     Li & Chaumette, AMDO 2004, Fig. 1 and eq. (6).
     """
     frames = _check_frames(frames)
-    if isinstance(cues, str) or not isinstance(cues, Sequence) or len(cues) == 0:
-        raise ValueError(f"cues must be a non-empty sequence of cue names, got {cues!r}")
-    for name in cues:
-        check_choice(name, "cues", CUES)
+    _check_cues(cues)
     n_particles = check_positive_int(n_particles, "n_particles", minimum=2)
     unknown = set(params) - set(_PARAMS)
     if unknown:
         raise TypeError(f"track() got unknown parameter(s) {sorted(unknown)}; known: {sorted(_PARAMS)}")
     options = {**_PARAMS, **params}
-    if isinstance(sigmas, str):
-        sigma_table = dict({"calibrated": CALIBRATED_SIGMAS, "paper": PAPER_SIGMAS}[check_choice(sigmas, "sigmas", ("calibrated", "paper"))])
-    elif isinstance(sigmas, dict):
-        sigma_table = {**CALIBRATED_SIGMAS, **sigmas}
-        for key, value in sigma_table.items():
-            check_positive(value, f"sigmas[{key!r}]")
-    else:
-        raise TypeError(f"sigmas must be 'calibrated', 'paper' or a dict, got {type(sigmas).__name__}")
+    sigma_table = _sigma_table(sigmas)
+    init_spread = as_finite_array(options["init_spread"], "init_spread", shape=(3,))
+    if np.any(init_spread < 0):
+        raise ValueError(f"init_spread must be non-negative, got {init_spread}")
     if "oracle" in cues and not callable(options["oracle"]):
         raise ValueError("cues include 'oracle' but no oracle=callable(t, states) was given")
     generator = make_rng(rng, "rng")
@@ -237,8 +266,7 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
     dynamics = default_dynamics(start, beta=options["beta"], stationary_std=options["stationary_std"],
                                 printed_order=options["printed_order"])
     oracle: Callable | None = options["oracle"] if "oracle" in cues else None
-    return _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles,
-                       np.asarray(options["init_spread"], float), generator)
+    return _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles, init_spread, generator)
 
 
 def _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles, init_spread, generator) -> TrackResult:
@@ -311,6 +339,10 @@ def calibration_distances(sequences: Sequence, cue: str, *, rng: int | np.random
     ----------
     Li & Chaumette, AMDO 2004, eqs. (11)-(12) (the σ being calibrated) and Table 1.
     """
+    if isinstance(sequences, str) or not isinstance(sequences, Sequence) or len(sequences) == 0 or not all(
+            hasattr(sequence, name) for sequence in sequences for name in ("frames", "truth", "true_ellipses")):
+        raise TypeError("sequences must be a non-empty sequence of HeadSequence (objects with .frames, .truth and "
+                        f".true_ellipses), got {type(sequences).__name__}")
     check_choice(cue, "cue", ("color", "structure"))
     n_samples = check_positive_int(n_samples, "n_samples", minimum=2)
     frame_step = check_positive_int(frame_step, "frame_step")
