@@ -32,7 +32,10 @@ RESULT_MODULES = ("amdo_lab.face_glmm.experiment", "amdo_lab.face_glmm.populatio
 def _module_source(module: str | ModuleType) -> str:
     """The source text of a module given as an object or a dotted name."""
     if isinstance(module, str):
-        module = importlib.import_module(module)
+        try:
+            module = importlib.import_module(module)
+        except ImportError as error:
+            raise ValueError(f"modules must hold importable module names, got {module!r}: {error}") from None
     if not isinstance(module, ModuleType):
         raise TypeError(f"modules must hold modules or dotted module names, got {type(module).__name__}")
     return inspect.getsource(module)
@@ -49,7 +52,7 @@ def experiment_cache_key(design: FactorialDesign, *, rng: int | np.random.Genera
     rng : int or numpy.random.Generator
         The experiment's seed: a non-negative int, keyed as the number, or a generator, keyed on its
         seed sequence (entropy, spawn key, children spawned) and its bit generator's state.
-    modules : sequence of modules or dotted names, default RESULT_MODULES
+    modules : tuple of modules or dotted names, default RESULT_MODULES
         Whose source text enters the key; the order matters.
 
     Returns
@@ -62,6 +65,8 @@ def experiment_cache_key(design: FactorialDesign, *, rng: int | np.random.Genera
     Givens et al. (2004), AMDO, LNCS 3179, Sec. 4 and Table 1 (the experiment the key stands for).
     """
     _check_design(design)
+    if isinstance(modules, (str, bytes)) or not isinstance(modules, (tuple, list)):
+        raise TypeError(f"modules must be a tuple of modules or dotted module names, got {type(modules).__name__}")
     digest = hashlib.sha256()
     digest.update(repr((design, sorted(design.population_kwargs.items()), _rng_key(rng))).encode())
     for module in modules:

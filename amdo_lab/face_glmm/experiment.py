@@ -80,6 +80,8 @@ class FactorialDesign:
         if not 2 <= check_positive_int(self.n_train_subjects, "n_train_subjects") <= self.n_subjects:
             raise ValueError(f"n_train_subjects must be in [2, n_subjects={self.n_subjects}], "
                              f"got {self.n_train_subjects}")
+        if not isinstance(self.supplements, (tuple, list, str)):  # a str is refused by name below
+            raise TypeError(f"supplements must be a tuple of str, got {type(self.supplements).__name__}")
         bad = [s for s in self.supplements if s not in SUPPLEMENTS]
         if bad or not self.supplements:
             raise ValueError(f"supplements must be a non-empty subset of {SUPPLEMENTS}, got {self.supplements}")

@@ -241,7 +241,9 @@ def binomial_deviance(y: np.ndarray, n_trials: np.ndarray, eta: np.ndarray) -> f
     dev(y, eta) term of the Laplace deviance of eq. (2) in Givens et al. (2004), AMDO, LNCS 3179.
     """
     y = as_finite_array(y, "y")
-    eta = as_finite_array(eta, "eta", shape=y.shape)
+    eta = as_finite_array(eta, "eta")
+    if eta.shape != y.shape:  # which of the two is at fault is unknowable: name both
+        raise ValueError(f"eta must have shape {y.shape}, the shape of y, got {eta.shape}")
     n_trials = as_finite_array(n_trials, "n_trials")
     if n_trials.shape not in ((), y.shape):
         raise ValueError(f"n_trials must be a number or have the shape of y {y.shape}, got {n_trials.shape}")

@@ -44,7 +44,8 @@ def pca_basis(samples: np.ndarray) -> PcaBasis:
     Parameters
     ----------
     samples : array_like, shape (n, n_pixels)
-        Finite training images as rows, n >= 2.
+        Finite training images as rows, n >= 2, each value at most 1e100 in magnitude (beyond, the
+        variances overflow).
 
     Returns
     -------
@@ -56,7 +57,7 @@ def pca_basis(samples: np.ndarray) -> PcaBasis:
     ----------
     Givens et al. (2004), AMDO, LNCS 3179, Sec. 3.
     """
-    samples = as_finite_array(samples, "samples", ndim=2)
+    samples = _check_magnitude(as_finite_array(samples, "samples", ndim=2), "samples")
     if samples.shape[0] < 2:
         raise ValueError(f"samples must have at least 2 rows for a covariance, got {samples.shape[0]}")
     return _pca_basis(samples)
@@ -167,9 +168,9 @@ class PcaLda:
         Parameters
         ----------
         images : array_like, shape (n, rows, cols) or (n, pixels)
-            Finite training images.
+            Finite training images, each value at most 1e100 in magnitude.
         labels : array_like, shape (n,)
-            Subject of each image (no NaN), at least 2 subjects, with n - C >= C - 1.
+            Subject of each image (finite: no NaN or inf), at least 2 subjects, with n - C >= C - 1.
         basis : PcaBasis, optional
             A precomputed :func:`pca_basis` of the same images (shared between PCA dimensions).
 
@@ -189,8 +190,8 @@ class PcaLda:
         labels = np.asarray(labels)
         if labels.shape != (samples.shape[0],):
             raise ValueError(f"labels must have shape ({samples.shape[0]},), got {labels.shape}")
-        if labels.dtype.kind == "f" and np.isnan(labels).any():
-            raise ValueError("labels must not contain NaN (every image needs a subject)")
+        if labels.dtype.kind in "fc" and not np.isfinite(labels).all():
+            raise ValueError("labels must not contain NaN or inf (every image needs a finite subject id)")
         if basis is not None and not isinstance(basis, PcaBasis):
             raise TypeError(f"basis must be a PcaBasis (from pca_basis), got {type(basis).__name__}")
         if basis is not None and basis.mean.shape != (samples.shape[1],):
@@ -215,7 +216,11 @@ class PcaLda:
         self.n_pca_ = int(min(k, cap))
         pca_vectors = self.basis_.vectors[:, : self.n_pca_]
         projected = (samples - self.basis_.mean) @ pca_vectors
-        fisher, eigenvalues = fisher_basis(projected, labels)
+        try:
+            fisher, eigenvalues = fisher_basis(projected, labels)
+        except np.linalg.LinAlgError:  # scipy's eigh: S_w not positive definite
+            raise ValueError("images give a singular within-class scatter in PCA space (identical or constant "
+                             "images?): LDA needs images that vary within each subject") from None
         projection = pca_vectors @ fisher
         self.projection_ = projection / np.linalg.norm(projection, axis=0)
         self.eigenvalues_ = eigenvalues
@@ -227,7 +232,7 @@ class PcaLda:
         Parameters
         ----------
         images : array_like, shape (n, rows, cols) or (n, pixels)
-            Finite images with the training images' number of pixels.
+            Finite images (each value at most 1e100 in magnitude) with the training images' number of pixels.
 
         Returns
         -------
@@ -235,9 +240,13 @@ class PcaLda:
             (image - mean) projected on the unit-length PCA+LDA axes.
         """
         check_fitted(self, ("basis_", "projection_", "eigenvalues_"))
-        samples = _as_samples(images)
+        return self._project(images, "images")
+
+    def _project(self, images: np.ndarray, name: str) -> np.ndarray:
+        """:meth:`transform`, with errors naming the caller's argument ``name``."""
+        samples = _as_samples(images, name)
         if samples.shape[1] != self.projection_.shape[0]:
-            raise ValueError(f"images must have {self.projection_.shape[0]} pixels, got {samples.shape[1]}")
+            raise ValueError(f"{name} must have {self.projection_.shape[0]} pixels, got {samples.shape[1]}")
         return (samples - self.basis_.mean) @ self.projection_
 
     def distances(self, probes: np.ndarray, gallery: np.ndarray, metric: str = "l2") -> np.ndarray:
@@ -258,7 +267,8 @@ class PcaLda:
             Weighted squared distances, >= 0.
         """
         check_choice(metric, "metric", METRICS)
-        return _weighted_sq_distances(self.transform(probes), self.transform(gallery),
+        check_fitted(self, ("basis_", "projection_", "eigenvalues_"))
+        return _weighted_sq_distances(self._project(probes, "probes"), self._project(gallery, "gallery"),
                                      self.metric_weights(metric))
 
     def metric_weights(self, metric: str) -> np.ndarray:
@@ -318,10 +328,22 @@ def _weighted_sq_distances(a: np.ndarray, b: np.ndarray, weights: np.ndarray) ->
     return np.maximum(sq, 0.0)
 
 
-def _as_samples(images: np.ndarray) -> np.ndarray:
-    images = as_finite_array(images, "images")
+#: Largest pixel magnitude accepted: squares and sums of squares of such values stay finite.
+_MAX_MAGNITUDE = 1e100
+
+
+def _check_magnitude(array: np.ndarray, name: str) -> np.ndarray:
+    """``array`` if no value exceeds _MAX_MAGNITUDE (else its variances would overflow to inf)."""
+    if array.size and np.abs(array).max() > _MAX_MAGNITUDE:
+        raise ValueError(f"{name} must be at most {_MAX_MAGNITUDE:g} in magnitude (variances overflow beyond), "
+                         f"got {np.abs(array).max():g}")
+    return array
+
+
+def _as_samples(images: np.ndarray, name: str = "images") -> np.ndarray:
+    images = _check_magnitude(as_finite_array(images, name), name)
     if images.ndim == 3:
         return images.reshape(images.shape[0], -1)
     if images.ndim != 2:
-        raise ValueError(f"images must have shape (n, rows, cols) or (n, pixels), got {images.shape}")
+        raise ValueError(f"{name} must have shape (n, rows, cols) or (n, pixels), got {images.shape}")
     return images

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_in_range, check_positive_int, make_rng
 
 __all__ = [
     "FacePopulation",
@@ -96,19 +96,19 @@ def generate_face_population(
     shape : tuple of int, default STANDARD_SHAPE
         Image size (rows, cols) in pixels, each at least 8.
     nuisance : float, default 1.0
-        Global scale of the per-image variation, >= 0; the calibration knob that sets the
+        Global scale of the per-image variation, in [0, 100]; the calibration knob that sets the
         overall rank-1 rate (the chapter calibrates it to about 76 %).
     difficulty_spread : float, default 0.25
-        Standard deviation of log difficulty across subjects, >= 0.
+        Standard deviation of log difficulty across subjects, in [0, 10].
     noise_sd : float, default 0.05
-        Pixel noise standard deviation, >= 0 (grey values; face contrast is about 1).
+        Pixel noise standard deviation, in [0, 1e6] (grey values; face contrast is about 1).
     texture_slope : float or None, default None
         None (default): identity texture is the 6 x 6 low-frequency cosine basis only, whose image
-        power spectrum falls about as f^-4.5. A number s > 0 adds a Gaussian random texture with power
+        power spectrum falls about as f^-4.5. A number s in (0, 20] adds a Gaussian random texture with power
         spectrum f^-s at every frequency (real faces, e.g. scikit-image's ``lfw_subset``, fall about
         as f^-2.3): one per subject (mostly left-right symmetric) plus a weaker one per image.
     texture_amplitude : float, default 0.5
-        Standard deviation of that subject texture, >= 0 (the per-image one is half of it, times
+        Standard deviation of that subject texture, in [0, 1e6] (the per-image one is half of it, times
         the image's nuisance scale); used only when ``texture_slope`` is given.
 
     Returns
@@ -133,9 +133,10 @@ def generate_face_population(
     """
     n_subjects = check_positive_int(n_subjects, "n_subjects", minimum=2)
     images_per_subject = check_positive_int(images_per_subject, "images_per_subject", minimum=2)
-    nuisance = check_positive(nuisance, "nuisance", allow_zero=True)
-    difficulty_spread = check_positive(difficulty_spread, "difficulty_spread", allow_zero=True)
-    noise_sd = check_positive(noise_sd, "noise_sd", allow_zero=True)
+    # upper ends: beyond them the images overflow to inf or NaN (see the docstring's ranges)
+    nuisance = check_in_range(nuisance, "nuisance", 0.0, 100.0, closed="both")
+    difficulty_spread = check_in_range(difficulty_spread, "difficulty_spread", 0.0, 10.0, closed="both")
+    noise_sd = check_in_range(noise_sd, "noise_sd", 0.0, 1e6, closed="both")
     _check_image_shape(shape, minimum=8)
     gen = make_rng(rng, "rng")
     rows, cols = int(shape[0]), int(shape[1])
@@ -192,8 +193,8 @@ def generate_face_population(
     images = face * (1.0 + 0.5 * texture + illumination) - 0.8 * eyes - 0.3 * nose - 0.6 * mouth
     images = images + noise_sd * gen.standard_normal(images.shape)
     if texture_slope is not None:  # drawn last, so the default population is unchanged
-        texture_slope = check_positive(texture_slope, "texture_slope")
-        texture_amplitude = check_positive(texture_amplitude, "texture_amplitude", allow_zero=True)
+        texture_slope = check_in_range(texture_slope, "texture_slope", 0.0, 20.0, closed="right")
+        texture_amplitude = check_in_range(texture_amplitude, "texture_amplitude", 0.0, 1e6, closed="both")
         identity = _power_law_field(gen, n_subjects, (rows, cols), texture_slope)
         identity = symmetric * (identity + identity[:, :, ::-1]) / 2 + (1 - symmetric) * identity
         per_image = _power_law_field(gen, n_img, (rows, cols), texture_slope)
