@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_bool, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive, check_positive_int, make_rng
 from amdo_lab.common.geometry import rigid_transform, rotation_matrix, skew
 
 __all__ = ["HandModel", "PART_NAMES"]
@@ -40,6 +40,10 @@ _DEG = np.pi / 180.0
 # THJ5 -60..60, THJ4 0..70, THJ3 -12..12, THJ2 -30..30, THJ1 -15..90 degrees).
 _FINGER_LIMITS = ((-20, 20), (-15, 90), (0, 90), (0, 90))
 _THUMB_LIMITS = ((-60, 60), (0, 70), (-12, 12), (-30, 30), (-15, 90))
+
+#: Largest length parameter (ν, σ, noise, offsets) the chapter's functions accept, mm: a kilometre, far
+#: beyond any hand and far below where squares and exponentials of it overflow to inf.
+MAX_LENGTH_MM = 1e6
 
 _X = np.array([1.0, 0.0, 0.0])
 _Y = np.array([0.0, 1.0, 0.0])
@@ -78,7 +82,7 @@ class HandModel:
     Parameters
     ----------
     nu : float, default 4.0
-        Field fall-off ν of eq. (1), mm (> 0).
+        Field fall-off ν of eq. (1), mm, in (0, 1e6].
 
     References
     ----------
@@ -90,7 +94,7 @@ class HandModel:
     n_dof = 27
 
     def __init__(self, nu: float = 4.0) -> None:
-        self.nu = check_positive(nu, "nu")
+        self.nu = check_in_range(nu, "nu", 0.0, MAX_LENGTH_MM, closed="right")
         parts: list[_Part] = []
         limits = [(-np.inf, np.inf)] * 3 + [(-np.pi, np.pi), (-np.pi / 2, np.pi / 2), (-np.pi, np.pi)]
         parts.append(_Part(-1, np.eye(4), (3, 4, 5), (_Z, _Y, _X), np.array([0.0, 0.0, 0.0]),

@@ -11,8 +11,8 @@ from scipy.special import logsumexp
 from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive, check_positive_int
 from amdo_lab.common.threads import one_blas_thread
 
-from amdo_lab.em_articulated.hand import (DIGIT_DOFS, FINGERS, SIDEWAYS_DOFS, HandModel, TextureBinding, check_binding,
-                                          check_hand)
+from amdo_lab.em_articulated.hand import (DIGIT_DOFS, FINGERS, MAX_LENGTH_MM, SIDEWAYS_DOFS, HandModel, TextureBinding,
+                                          check_binding, check_hand)
 
 __all__ = ["EMResult", "register_em", "e_step_statistics_kdtree", "dof_lever_arms", "PAPER_SETTINGS",
            "OUR_SETTINGS", "fit_surface", "softassign_register", "PAPER_C", "e_step_statistics",
@@ -42,8 +42,8 @@ _DENSE_PAIR_FRACTION = 0.15
 #: The EM at one σ stops when no DOF moves by more than this (radians, or mm for the palm).
 DEFAULT_TOL = 1e-3
 
-#: Largest σ accepted, mm: a kilometre, far beyond any hand, and far below where σ² overflows.
-MAX_SIGMA_MM = 1e6
+#: Largest σ accepted, mm (σ² and the energies overflow long before 1e308).
+MAX_SIGMA_MM = MAX_LENGTH_MM
 
 
 def check_settings(value: object, name: str) -> dict:
