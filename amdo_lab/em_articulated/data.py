@@ -6,9 +6,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int, make_rng
+from amdo_lab.common import (as_finite_array, check_bool, check_choice, check_in_range, check_positive,
+                             check_positive_int, make_rng)
 
-from amdo_lab.em_articulated.hand import SIDEWAYS_DOFS, HandModel, TextureBinding, check_hand
+from amdo_lab.em_articulated.hand import MAX_LENGTH_MM, SIDEWAYS_DOFS, HandModel, TextureBinding, check_hand
 
 __all__ = ["RegistrationProblem", "make_registration_problem", "perturb_pose", "visible_points",
            "make_tracking_sequence", "TrackingSequence", "joint_rmse_deg", "worst_joint_deg", "SkinTexture", "make_skin_texture",
@@ -108,7 +109,7 @@ def perturb_pose(hand: HandModel, theta: np.ndarray, joint_error_deg: float, *, 
     palm_rotation_deg : float, default 5.0
         RMS of the palm's rotation offset over its three angles, degrees (≥ 0).
     palm_translation_mm : float, default 5.0
-        RMS length of the palm's translation offset, mm (≥ 0).
+        RMS length of the palm's translation offset, mm, in [0, 1e6].
 
     Returns
     -------
@@ -130,7 +131,7 @@ def perturb_pose(hand: HandModel, theta: np.ndarray, joint_error_deg: float, *, 
     theta = hand.check_theta(theta, "theta")
     joint_error_deg = check_positive(joint_error_deg, "joint_error_deg", allow_zero=True)
     palm_rotation_deg = check_positive(palm_rotation_deg, "palm_rotation_deg", allow_zero=True)
-    palm_translation_mm = check_positive(palm_translation_mm, "palm_translation_mm", allow_zero=True)
+    palm_translation_mm = check_in_range(palm_translation_mm, "palm_translation_mm", 0.0, MAX_LENGTH_MM, closed="both")
     rng = make_rng(rng, "rng")
     limits = hand.joint_limits()
     lo, hi = limits[_ARTICULATION, 0], limits[_ARTICULATION, 1]
@@ -274,7 +275,7 @@ class SkinTexture:
         numpy.ndarray, shape (K, 3)
             Feature positions, mm.
         """
-        return hand.transform_texture(self.binding, hand.check_theta(theta))
+        return check_hand(hand).transform_texture(self.binding, hand.check_theta(theta))
 
 
 def make_skin_texture(hand: HandModel, n_features: int, *, rng: np.random.Generator | int,
@@ -302,6 +303,7 @@ def make_skin_texture(hand: HandModel, n_features: int, *, rng: np.random.Genera
     Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
     bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 3 (texture) and eq. (3).
     """
+    check_hand(hand)
     rng = make_rng(rng, "rng")
     rest = hand.rest_pose()
     points = hand.sample_surface(rest, check_positive_int(n_features, "n_features"), rng=rng)
@@ -371,6 +373,9 @@ class RegistrationProblem:
 
 
 _CAMERA = np.array([0.0, 40.0, 500.0])
+#: Most outliers per inlier make_registration_problem draws (a bound on its memory, far above any
+#: clutter the chapter studies).
+_MAX_OUTLIER_RATIO = 1000.0
 
 
 def make_registration_problem(hand: HandModel, *, rng: np.random.Generator | int, joint_error_deg: float = 20.0,
@@ -401,9 +406,9 @@ def make_registration_problem(hand: HandModel, *, rng: np.random.Generator | int
     joint_error_deg : float, default 20.0
         Offset of every joint of the start pose from the true pose, degrees (≥ 0; :func:`perturb_pose`).
     noise_mm : float, default 2.0
-        Standard deviation of the Gaussian noise per coordinate on the data, mm (≥ 0).
+        Standard deviation of the Gaussian noise per coordinate on the data, mm, in [0, 1e6].
     outlier_ratio : float, default 1.0
-        Uniform outliers per inlier data point (≥ 0).
+        Uniform outliers per inlier data point, in [0, 1000].
     n_model : int, default 500
         Texture points N (≥ 1).
     n_data : int, default 500
@@ -413,7 +418,7 @@ def make_registration_problem(hand: HandModel, *, rng: np.random.Generator | int
     repeatability : float, default DEFAULT_REPEATABILITY
         Share of the data with a true match, in [0, 1]; 0 draws independent samples.
     texture_noise_mm : float or None, default None
-        Noise per coordinate on the texture, mm (≥ 0); None: ``noise_mm``.
+        Noise per coordinate on the texture, mm, in [0, 1e6]; None: ``noise_mm``.
 
     Returns
     -------
@@ -432,11 +437,13 @@ def make_registration_problem(hand: HandModel, *, rng: np.random.Generator | int
     Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
     bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 5 (synthetic experiments).
     """
+    check_hand(hand)
     rng = make_rng(rng, "rng")
-    noise_mm = check_positive(noise_mm, "noise_mm", allow_zero=True)
-    texture_noise_mm = noise_mm if texture_noise_mm is None else check_positive(texture_noise_mm, "texture_noise_mm",
-                                                                                 allow_zero=True)
-    outlier_ratio = check_positive(outlier_ratio, "outlier_ratio", allow_zero=True)
+    noise_mm = check_in_range(noise_mm, "noise_mm", 0.0, MAX_LENGTH_MM, closed="both")
+    texture_noise_mm = noise_mm if texture_noise_mm is None else check_in_range(texture_noise_mm, "texture_noise_mm",
+                                                                                 0.0, MAX_LENGTH_MM, closed="both")
+    outlier_ratio = check_in_range(outlier_ratio, "outlier_ratio", 0.0, _MAX_OUTLIER_RATIO, closed="both")
+    occlusion = check_bool(occlusion, "occlusion")
     n_model, n_data = check_positive_int(n_model, "n_model"), check_positive_int(n_data, "n_data")
     repeatability = check_positive(repeatability, "repeatability", allow_zero=True)
     if repeatability > 1:
@@ -533,7 +540,7 @@ def make_tracking_sequence(hand: HandModel, *, rng: np.random.Generator | int, n
     n_features : int, default 1500
         Skin features on the hand (≥ 1).
     noise_mm : float, default 2.0
-        Standard deviation of the Gaussian noise per coordinate, mm (≥ 0).
+        Standard deviation of the Gaussian noise per coordinate, mm, in [0, 1e6].
     n_clutter : int, default 150
         Forearm clutter points per frame (≥ 0).
     repeatability : float, default DEFAULT_REPEATABILITY
@@ -553,11 +560,13 @@ def make_tracking_sequence(hand: HandModel, *, rng: np.random.Generator | int, n
     Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
     bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 5 and Fig. 3.
     """
+    check_hand(hand)
     rng = make_rng(rng, "rng")
     n_frames = check_positive_int(n_frames, "n_frames", minimum=2)
+    n_clutter = check_positive_int(n_clutter, "n_clutter", minimum=0)
     check_choice(motion, "motion", ("turn", "bend"))
     camera = _CAMERA if camera is None else as_finite_array(camera, "camera", ndim=1, shape=(3,))
-    noise_mm = check_positive(noise_mm, "noise_mm", allow_zero=True)
+    noise_mm = check_in_range(noise_mm, "noise_mm", 0.0, MAX_LENGTH_MM, closed="both")
     repeatability = check_positive(repeatability, "repeatability")
     if repeatability > 1:
         raise ValueError(f"repeatability must lie in (0, 1], got {repeatability}")

@@ -7,13 +7,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import RateInterval, check_positive_int, make_rng, rate_interval, spawn_rngs
+from amdo_lab.common import RateInterval, check_positive, check_positive_int, make_rng, rate_interval, spawn_rngs
 
 from amdo_lab.em_articulated.data import (RegistrationProblem, joint_rmse_deg, make_registration_problem,
                                           worst_joint_deg)
-from amdo_lab.em_articulated.hand import HandModel
-from amdo_lab.em_articulated.registration import (climb_objective, fit_known_correspondences, fit_surface,
-                                                  refine_digits, register_em, robust_log_likelihood)
+from amdo_lab.em_articulated.hand import HandModel, check_hand
+from amdo_lab.em_articulated.registration import (check_settings, climb_objective, fit_known_correspondences,
+                                                  fit_surface, refine_digits, register_em, robust_log_likelihood)
 
 __all__ = ["TrialSummary", "run_registration_trials", "SUCCESS_DEG", "ObjectiveCheck", "objective_check"]
 
@@ -124,9 +124,11 @@ def noise_floor_trials(hand: HandModel, n_trials: int, *, rng: np.random.Generat
     Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
     bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, eq. (20) with known matches.
     """
+    check_hand(hand)
     rng = make_rng(rng, "rng")
     n_trials = check_positive_int(n_trials, "n_trials")
-    errors = [_floor_errors(hand, make_registration_problem(hand, rng=trial_rng, **(problem or {})))
+    problem = check_settings(problem, "problem")
+    errors = [_floor_errors(hand, make_registration_problem(hand, rng=trial_rng, **problem))
               for trial_rng in spawn_rngs(rng, n_trials)]
     return np.array([e[0] for e in errors]), np.array([e[1] for e in errors])
 
@@ -171,17 +173,22 @@ def run_registration_trials(hand: HandModel, n_trials: int, *, rng: np.random.Ge
     Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
     bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 3 (eqs. 17-22) and Sec. 5.
     """
+    check_hand(hand)
     rng = make_rng(rng, "rng")
     n_trials = check_positive_int(n_trials, "n_trials")
+    problem, em_settings = check_settings(problem, "problem"), check_settings(em_settings, "em_settings")
+    digit_search = None if digit_search is None else check_settings(digit_search, "digit_search")
+    surface_max_iter = check_positive_int(surface_max_iter, "surface_max_iter", minimum=0)
+    epsilon_mm = check_positive(epsilon_mm, "epsilon_mm")
     rmse, worst, seconds, oracle, oracle_worst = [], [], [], [], []
     for trial_rng in spawn_rngs(rng, n_trials):
-        case = make_registration_problem(hand, rng=trial_rng, **(problem or {}))
+        case = make_registration_problem(hand, rng=trial_rng, **problem)
         start = time.perf_counter()
-        em = register_em(case.model_points, case.data_points, hand, case.theta_init, **(em_settings or {}))
+        em = register_em(case.model_points, case.data_points, hand, case.theta_init, **em_settings)
         theta, inlier_prob = em.theta, em.inlier_prob
         if digit_search is not None:
             search = refine_digits(case.model_points, case.data_points, hand, case.theta_init, theta,
-                                   **digit_search, **(em_settings or {}))
+                                   **digit_search, **em_settings)
             theta, inlier_prob = search.theta, search.inlier_prob
         if surface_max_iter:
             theta = fit_surface(case.data_points, hand, theta, weights=inlier_prob, max_iter=surface_max_iter,
@@ -265,13 +272,14 @@ def objective_check(hand: HandModel, n_trials: int, *, rng: np.random.Generator 
     ----------
     Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eqs. (9), (17)-(18) (the objective).
     """
+    check_hand(hand)
     rng = make_rng(rng, "rng")
     n_trials = check_positive_int(n_trials, "n_trials")
-    settings = em_settings or {}
+    problem, settings = check_settings(problem, "problem"), check_settings(em_settings, "em_settings")
     sigma = float(settings.get("sigma_min", 3.0))
     rows = []
     for trial_rng in spawn_rngs(rng, n_trials):
-        case = make_registration_problem(hand, rng=trial_rng, **(problem or {}))
+        case = make_registration_problem(hand, rng=trial_rng, **problem)
         em = register_em(case.model_points, case.data_points, hand, case.theta_init, **settings)
         model_index, data_index = case.true_matches()
         floor = fit_known_correspondences(case.model_points[model_index], case.data_points[data_index], hand,

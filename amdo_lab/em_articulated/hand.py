@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive, check_positive_int, make_rng
 from amdo_lab.common.geometry import rigid_transform, rotation_matrix, skew
 
 __all__ = ["HandModel", "PART_NAMES"]
@@ -40,6 +40,10 @@ _DEG = np.pi / 180.0
 # THJ5 -60..60, THJ4 0..70, THJ3 -12..12, THJ2 -30..30, THJ1 -15..90 degrees).
 _FINGER_LIMITS = ((-20, 20), (-15, 90), (0, 90), (0, 90))
 _THUMB_LIMITS = ((-60, 60), (0, 70), (-12, 12), (-30, 30), (-15, 90))
+
+#: Largest length parameter (ν, σ, noise, offsets) the chapter's functions accept, mm: a kilometre, far
+#: beyond any hand and far below where squares and exponentials of it overflow to inf.
+MAX_LENGTH_MM = 1e6
 
 _X = np.array([1.0, 0.0, 0.0])
 _Y = np.array([0.0, 1.0, 0.0])
@@ -78,7 +82,7 @@ class HandModel:
     Parameters
     ----------
     nu : float, default 4.0
-        Field fall-off ν of eq. (1), mm (> 0).
+        Field fall-off ν of eq. (1), mm, in (0, 1e6].
 
     References
     ----------
@@ -90,7 +94,7 @@ class HandModel:
     n_dof = 27
 
     def __init__(self, nu: float = 4.0) -> None:
-        self.nu = check_positive(nu, "nu")
+        self.nu = check_in_range(nu, "nu", 0.0, MAX_LENGTH_MM, closed="right")
         parts: list[_Part] = []
         limits = [(-np.inf, np.inf)] * 3 + [(-np.pi, np.pi), (-np.pi / 2, np.pi / 2), (-np.pi, np.pi)]
         parts.append(_Part(-1, np.eye(4), (3, 4, 5), (_Z, _Y, _X), np.array([0.0, 0.0, 0.0]),
@@ -207,7 +211,7 @@ class HandModel:
             ``theta`` as a float array.
         """
         theta = as_finite_array(theta, name, ndim=1, shape=(self.n_dof,))
-        if within_limits:
+        if check_bool(within_limits, "within_limits"):
             lo, hi = self._limits[:, 0], self._limits[:, 1]
             bad = np.flatnonzero((theta < lo - 1e-9) | (theta > hi + 1e-9))
             if bad.size:
@@ -358,6 +362,7 @@ class HandModel:
         numpy.ndarray, shape (M,)
             The fused field φ (1 on the surface).
         """
+        neighbour_rule = check_bool(neighbour_rule, "neighbour_rule")
         fields = self.part_fields(points, theta)
         if not neighbour_rule:
             return fields.sum(axis=1)
@@ -381,6 +386,7 @@ class HandModel:
         numpy.ndarray, shape (M,)
             Signed distances, mm.
         """
+        neighbour_rule = check_bool(neighbour_rule, "neighbour_rule")
         return -self.nu * np.log(self.fused_field(points, theta, neighbour_rule=neighbour_rule))
 
     def surface_distance_jacobian(self, points: object, theta: object) -> tuple[np.ndarray, np.ndarray]:
@@ -446,7 +452,7 @@ class HandModel:
         rng : int or numpy.random.Generator
             Seed (≥ 0) or generator of the points.
         newton_steps : int, default 4
-            Newton steps that project each drawn point onto the surface.
+            Newton steps that project each drawn point onto the surface (≥ 1).
 
         Returns
         -------
@@ -456,6 +462,7 @@ class HandModel:
         theta = self.check_theta(theta)
         n = check_positive_int(n, "n")
         rng = make_rng(rng, "rng")
+        newton_steps = check_positive_int(newton_steps, "newton_steps")
         frames = self._forward(theta)[0]
         radii = np.array([part.radii for part in self._parts])
         area = (radii[:, 0] * radii[:, 1] + radii[:, 1] * radii[:, 2] + radii[:, 0] * radii[:, 2])
@@ -591,7 +598,8 @@ class HandModel:
         numpy.ndarray, shape (N, 3)
             The moved texture, mm.
         """
-        frames = self._forward(theta)[0]
+        binding = check_binding(binding)
+        frames = self._forward(self.check_theta(theta))[0]
         world_p, world_r = binding.world_points(frames)
         w = binding.weight_p[:, None]
         return w * world_p + (1 - w) * world_r
@@ -617,7 +625,8 @@ class HandModel:
         jacobian : numpy.ndarray, shape (N, 3, 27)
             dT/dΘ: mm per mm for the palm translation, mm per radian for the rest.
         """
-        frames, axes, origins = self._forward(theta)
+        binding = check_binding(binding)
+        frames, axes, origins = self._forward(self.check_theta(theta))
         world_p, world_r = binding.world_points(frames)
         w = binding.weight_p[:, None]
         jac = np.empty((len(w), 3, self.n_dof))
@@ -649,7 +658,7 @@ class HandModel:
         numpy.ndarray, shape (N, 3)
             The moved points, mm.
         """
-        binding = self.texture_binding(points, theta_from, a)
+        binding = self.texture_binding(points, self.check_theta(theta_from, "theta_from"), a)
         return self.transform_texture(binding, self.check_theta(theta_to, "theta_to"))
 
 
@@ -697,6 +706,7 @@ class TextureBinding:
         world_r : numpy.ndarray, shape (N, 3)
             The points moved with part r, mm.
         """
+        frames = as_finite_array(frames, "frames", shape=(HandModel.n_parts, 4, 4))
         world_p = np.einsum("nij,nj->ni", frames[self.part_p, :3, :3], self.local_p) + frames[self.part_p, :3, 3]
         world_r = np.einsum("nij,nj->ni", frames[self.part_r, :3, :3], self.local_r) + frames[self.part_r, :3, 3]
         return world_p, world_r
@@ -707,3 +717,10 @@ def check_hand(hand: object) -> HandModel:
     if not isinstance(hand, HandModel):
         raise TypeError(f"hand must be a HandModel, got {type(hand).__name__}")
     return hand
+
+
+def check_binding(binding: object) -> TextureBinding:
+    """``binding`` itself, or a ``TypeError`` when it is not a :class:`TextureBinding`."""
+    if not isinstance(binding, TextureBinding):
+        raise TypeError(f"binding must be a TextureBinding (HandModel.texture_binding), got {type(binding).__name__}")
+    return binding

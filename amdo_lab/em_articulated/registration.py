@@ -8,10 +8,11 @@ import numpy as np
 from scipy.spatial import cKDTree
 from scipy.special import logsumexp
 
-from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
+from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive, check_positive_int
 from amdo_lab.common.threads import one_blas_thread
 
-from amdo_lab.em_articulated.hand import DIGIT_DOFS, FINGERS, SIDEWAYS_DOFS, HandModel, TextureBinding, check_hand
+from amdo_lab.em_articulated.hand import (DIGIT_DOFS, FINGERS, MAX_LENGTH_MM, SIDEWAYS_DOFS, HandModel, TextureBinding,
+                                          check_binding, check_hand)
 
 __all__ = ["EMResult", "register_em", "e_step_statistics_kdtree", "dof_lever_arms", "PAPER_SETTINGS",
            "OUR_SETTINGS", "fit_surface", "softassign_register", "PAPER_C", "e_step_statistics",
@@ -40,6 +41,16 @@ _DENSE_PAIR_FRACTION = 0.15
 
 #: The EM at one σ stops when no DOF moves by more than this (radians, or mm for the palm).
 DEFAULT_TOL = 1e-3
+
+#: Largest σ accepted, mm (σ² and the energies overflow long before 1e308).
+MAX_SIGMA_MM = MAX_LENGTH_MM
+
+
+def check_settings(value: object, name: str) -> dict:
+    """A copy of ``value`` (a dict of keyword arguments, or None for none), or a ``TypeError`` naming ``name``."""
+    if value is not None and not isinstance(value, dict):
+        raise TypeError(f"{name} must be a dict of keyword arguments or None, got {type(value).__name__}")
+    return dict(value or {})
 
 
 @dataclass(frozen=True)
@@ -74,7 +85,7 @@ def _check_e_step_inputs(model_points: object, data_points: object, sigma: objec
     """Validate the arguments shared by the public E-step functions."""
     model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3))
     data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3))
-    sigma = check_positive(sigma, "sigma")
+    sigma = check_in_range(sigma, "sigma", 0.0, MAX_SIGMA_MM, closed="right")
     if not isinstance(log_c, (int, float, np.integer, np.floating)) or isinstance(log_c, (bool, np.bool_)):
         raise TypeError(f"log_c must be a real number, got {type(log_c).__name__}")
     if np.isnan(log_c) or log_c == np.inf:  # -inf is allowed: no outlier class (c = 0)
@@ -96,7 +107,7 @@ def e_step_reference(model_points: object, data_points: object, sigma: float, c:
     data_points : array_like, shape (M, 3)
         Data points Y_j, mm.
     sigma : float
-        σ of the Gaussian of eq. (6), mm (> 0).
+        σ of the Gaussian of eq. (6), mm, in (0, 1e6].
     c : float, default PAPER_C
         The outlier constant of eq. (18) (> 0); 3√(π/2) by default.
 
@@ -177,7 +188,7 @@ def robust_log_likelihood(model_points: object, data_points: object, sigma: floa
     data_points : array_like, shape (M, 3)
         Data points Y_j, mm.
     sigma : float
-        σ, mm (> 0).
+        σ, mm, in (0, 1e6].
     c : float, default PAPER_C
         The outlier constant of eq. (18) (> 0).
 
@@ -220,7 +231,7 @@ def e_step_statistics(model_points: object, data_points: object, sigma: float,
     data_points : array_like, shape (M, 3)
         Data points Y_j, mm.
     sigma : float
-        σ of the Gaussian of eq. (6), mm (> 0).
+        σ of the Gaussian of eq. (6), mm, in (0, 1e6].
     log_c : float
         log of the outlier constant c of eq. (17); -inf for no outlier class.
     chunk : int, default 256
@@ -328,8 +339,7 @@ def dof_lever_arms(hand: HandModel, binding: TextureBinding, theta: np.ndarray) 
     bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; eq. (20) (our coarse-to-fine release, not in the paper).
     """
     check_hand(hand)
-    if not isinstance(binding, TextureBinding):
-        raise TypeError(f"binding must be a TextureBinding (HandModel.texture_binding), got {type(binding).__name__}")
+    check_binding(binding)
     _, jac = hand.texture_jacobian(binding, hand.check_theta(theta, "theta"))
     lever = np.max(np.linalg.norm(jac, axis=1), axis=0)
     lever[:3] = np.inf
@@ -354,7 +364,7 @@ def e_step_statistics_kdtree(model_points: object, data_points: object, sigma: f
     data_points : array_like, shape (M, 3)
         Data points Y_j, mm.
     sigma : float
-        σ of the Gaussian of eq. (6), mm (> 0).
+        σ of the Gaussian of eq. (6), mm, in (0, 1e6].
     log_c : float
         log of the outlier constant c of eq. (17); -inf for no outlier class.
     radius_sigmas : float, default 4.0
@@ -493,7 +503,7 @@ def _check_common(hand: HandModel, model_points: object, data_points: object, th
     model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3))
     data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3))
     theta = hand.check_theta(theta_init, "theta_init", within_limits=True)
-    sigma_max = check_positive(sigma_max, "sigma_max")
+    sigma_max = check_in_range(sigma_max, "sigma_max", 0.0, MAX_SIGMA_MM, closed="right")
     sigma_min = check_positive(sigma_min, "sigma_min")
     if sigma_min >= sigma_max:
         raise ValueError(f"sigma_min must be smaller than sigma_max, got {sigma_min} >= {sigma_max}")
@@ -523,7 +533,7 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
     theta_init : array_like, shape (27,)
         Pose where the texture was observed and the EM starts, inside the joint limits.
     sigma_max : float, default 20.0
-        Largest σ of the annealing, mm (> ``sigma_min``): about the largest expected motion.
+        Largest σ of the annealing, mm (> ``sigma_min``, at most 1e6): about the largest expected motion.
     sigma_min : float, default 3.0
         Smallest σ, mm (> 0): about the noise.
     n_levels : int, default 5
@@ -619,7 +629,7 @@ def register_em_reference(model_points: object, data_points: object, hand: HandM
     theta_init : array_like, shape (27,)
         Pose where the texture was observed and the EM starts, inside the joint limits.
     sigma_max : float, default 20.0
-        Largest σ of the annealing, mm (> ``sigma_min``): about the largest expected motion.
+        Largest σ of the annealing, mm (> ``sigma_min``, at most 1e6): about the largest expected motion.
     sigma_min : float, default 3.0
         Smallest σ, mm (> 0): about the noise.
     n_levels : int, default 5
@@ -650,7 +660,10 @@ def register_em_reference(model_points: object, data_points: object, hand: HandM
                                                              sigma_max, sigma_min)
     n_levels = check_positive_int(n_levels, "n_levels")
     max_iter = check_positive_int(max_iter, "max_iter")
+    tol = check_positive(tol, "tol", allow_zero=True)
     check_choice(targets, "targets", ("paper", "debiased"))
+    gauss_newton_steps = check_positive_int(gauss_newton_steps, "gauss_newton_steps")
+    damping = check_positive(damping, "damping", allow_zero=True)
     binding = hand.texture_binding(model, theta, a)  # eq. (3): the texture's blend weights, fixed at Θ_init
     with one_blas_thread():
         # Sec. 3.3: σ falls geometrically from the largest motion σ_max to the noise level σ_min
@@ -797,7 +810,7 @@ def climb_objective(model_points: object, data_points: object, hand: HandModel, 
     theta_start : array_like, shape (27,)
         Pose the climb starts from, inside the joint limits.
     sigma : float, default 3.0
-        The fixed σ, mm (> 0).
+        The fixed σ, mm, in (0, 5e5].
     max_iter : int, default 60
         Most EM iterations (≥ 1).
     tol : float, default 1e-5
@@ -812,7 +825,8 @@ def climb_objective(model_points: object, data_points: object, hand: HandModel, 
     ----------
     Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eqs. (9), (17), (20).
     """
-    setup = _em_setup(hand, model_points, data_points, theta_init, sigma_max=2.0 * check_positive(sigma, "sigma"),
+    sigma = check_in_range(sigma, "sigma", 0.0, MAX_SIGMA_MM / 2, closed="right")
+    setup = _em_setup(hand, model_points, data_points, theta_init, sigma_max=2.0 * sigma,
                       sigma_min=sigma, n_levels=1, max_iter=check_positive_int(max_iter, "max_iter"),
                       tol=tol, targets="paper", e_step="dense")
     start = hand.check_theta(theta_start, "theta_start", within_limits=True)
@@ -1074,11 +1088,11 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
     weights : array_like, shape (M,), optional
         Non-negative per-point weights multiplying β_j (None: all 1).
     sigma : float or None, default 3.0
-        σ of eq. (22), mm (> 0); None drops eq. (22).
+        σ of eq. (22), mm, in (0, 1e6]; None drops eq. (22).
     max_iter : int, default 3
         Most Gauss-Newton steps (≥ 0); the fit stops earlier when no step lowers the loss.
     damping : float, default 1e-2
-        Initial Levenberg-Marquardt damping, relative to the normal equations' diagonal.
+        Initial Levenberg-Marquardt damping, relative to the normal equations' diagonal (≥ 0).
     epsilon_mm : float or None, default None
         Use only the points within this distance of the current surface, mm (> 0); None: all.
 
@@ -1101,7 +1115,8 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
     if np.any(w < 0):
         raise ValueError("weights must be non-negative")
     if sigma is not None:
-        sigma = check_positive(sigma, "sigma")
+        sigma = check_in_range(sigma, "sigma", 0.0, MAX_SIGMA_MM, closed="right")
+    damping = check_positive(damping, "damping", allow_zero=True)
     if epsilon_mm is not None:
         epsilon_mm = check_positive(epsilon_mm, "epsilon_mm")
     max_iter = check_positive_int(max_iter, "max_iter", minimum=0)
@@ -1183,7 +1198,7 @@ def softassign_register(model_points: object, data_points: object, hand: HandMod
     theta_init : array_like, shape (27,)
         Pose where the texture was observed and the EM starts, inside the joint limits.
     sigma_max : float, default 20.0
-        Largest σ of the annealing, mm (> ``sigma_min``).
+        Largest σ of the annealing, mm (> ``sigma_min``, at most 1e6).
     sigma_min : float, default 2.0
         Smallest σ, mm (> 0).
     slack : float, default 1e-2

@@ -6,10 +6,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import check_positive, check_positive_int
+from amdo_lab.common import as_finite_array, check_positive, check_positive_int
 
-from amdo_lab.em_articulated.hand import HandModel
-from amdo_lab.em_articulated.registration import OUR_SETTINGS, fit_surface, register_em
+from amdo_lab.em_articulated.hand import HandModel, check_hand
+from amdo_lab.em_articulated.registration import OUR_SETTINGS, check_settings, fit_surface, register_em
 
 __all__ = ["TrackingResult", "track_sequence", "TRACKING_SETTINGS"]
 
@@ -89,6 +89,9 @@ def track_sequence(frames: list, hand: HandModel, theta_start: np.ndarray, *, ep
     """
     if not hasattr(frames, "__len__") or len(frames) == 0:
         raise ValueError("frames must be a non-empty list of (n, 3) point arrays, one per frame")
+    frames = [as_finite_array(data, f"frames[{f}]", ndim=2, shape=(None, 3)) for f, data in enumerate(frames)]
+    check_hand(hand)
+    em_settings = check_settings(em_settings, "em_settings")
     epsilon_mm = check_positive(epsilon_mm, "epsilon_mm")
     max_texture = check_positive_int(max_texture, "max_texture")
     surface_max_iter = check_positive_int(surface_max_iter, "surface_max_iter", minimum=0)
@@ -97,7 +100,7 @@ def track_sequence(frames: list, hand: HandModel, theta_start: np.ndarray, *, ep
     poses, counts = [theta], [len(texture)]
     for data in frames[1:]:
         texture = texture[:: max(1, int(np.ceil(len(texture) / max_texture)))]
-        settings = {**TRACKING_SETTINGS, **(em_settings or {})}
+        settings = {**TRACKING_SETTINGS, **em_settings}
         result = register_em(texture, data, hand, theta, sigma_max, sigma_min, **settings)
         theta = result.theta
         if surface_max_iter:
