@@ -494,8 +494,7 @@ class EarMatcher:
         EarTemplate
             The enrolled features.
         """
-        if subject_id is None:
-            raise ValueError("subject_id must not be None (None means rejection)")
+        _check_subject_id(subject_id, "subject_id")
         return self.enroll_template(subject_id, self.extract(image))
 
     def enroll_template(self, subject_id: object, template: EarTemplate) -> EarTemplate:
@@ -513,8 +512,7 @@ class EarMatcher:
         EarTemplate
             ``template``, now enrolled.
         """
-        if subject_id is None:
-            raise ValueError("subject_id must not be None (None means rejection)")
+        _check_subject_id(subject_id, "subject_id")
         if not isinstance(template, EarTemplate):
             raise TypeError(f"template must be an EarTemplate, got {type(template).__name__}")
         if len(template.circles.counts) != self.n_circles:
@@ -553,13 +551,15 @@ class EarMatcher:
         EarMatcher
             ``self``, with ``subject_ids_`` and ``templates_`` learned.
         """
-        if len(subject_ids) != len(images):
+        _check_images(images)
+        if len(_check_subject_ids(subject_ids, "subject_ids")) != len(images):
             raise ValueError(f"subject_ids must give one subject per image ({len(images)}), got {len(subject_ids)}")
-        if len(images) == 0:
-            raise ValueError("images must not be empty")
         self.subject_ids_, self.templates_ = None, None
-        for subject_id, image in zip(subject_ids, images):
-            self.enroll(subject_id, image)
+        for index, (subject_id, image) in enumerate(zip(subject_ids, images)):
+            try:
+                self.enroll(subject_id, image)
+            except ValueError as error:  # name the image at fault (its features could not be extracted)
+                raise ValueError(f"images[{index}]: {error}") from error
         return self
 
     def identify(self, image: object, *, shortlist: int = 10) -> IdentificationResult:
@@ -695,6 +695,7 @@ class HogNearestNeighbour:
         image : array_like, shape (rows, cols)
             Grey levels, of the shape of the images enrolled before.
         """
+        _check_subject_id(subject_id, "subject_id")
         self._check_size(image)
         descriptor = self.describe(image)[None]
         if self.descriptors_ is None:
@@ -718,13 +719,15 @@ class HogNearestNeighbour:
         HogNearestNeighbour
             ``self``, with ``subject_ids_``, ``descriptors_`` and ``image_shape_`` learned.
         """
-        if len(subject_ids) != len(images):
+        _check_images(images)
+        if len(_check_subject_ids(subject_ids, "subject_ids")) != len(images):
             raise ValueError(f"subject_ids must give one subject per image ({len(images)}), got {len(subject_ids)}")
-        if len(images) == 0:
-            raise ValueError("images must not be empty")
         self.subject_ids_, self.descriptors_, self.image_shape_ = None, None, None
-        for subject_id, image in zip(subject_ids, images):
-            self.enroll(subject_id, image)
+        for index, (subject_id, image) in enumerate(zip(subject_ids, images)):
+            try:
+                self.enroll(subject_id, image)
+            except ValueError as error:  # name the image at fault (its features could not be extracted)
+                raise ValueError(f"images[{index}]: {error}") from error
         return self
 
     def distances(self, image: object) -> np.ndarray:
@@ -821,7 +824,7 @@ def open_set_rates(matcher: EarMatcher, genuine: list, genuine_ids: list, impost
     check_fitted(matcher, "templates_")
     for templates, name in ((genuine, "genuine"), (impostors, "impostors")):
         _check_templates(templates, name)
-    if len(genuine_ids) != len(genuine):
+    if len(_check_subject_ids(genuine_ids, "genuine_ids")) != len(genuine):
         raise ValueError(f"genuine_ids must give one subject per genuine template ({len(genuine)}), "
                          f"got {len(genuine_ids)}")
     values = np.asarray(thresholds, dtype=object)
@@ -865,9 +868,10 @@ def rank_of_truth(scores: np.ndarray, enrolled_ids: np.ndarray, true_id: object)
     LNCS 3179, pp. 51-61, Sec. 6 (the identification rates; ranks are our measure of the ranking of steps 6-9).
     """
     scores = as_finite_array(scores, "scores", ndim=1)
-    enrolled_ids = np.asarray(enrolled_ids)
+    enrolled_ids = _check_subject_ids(enrolled_ids, "enrolled_ids")
+    _check_subject_id(true_id, "true_id")
     if enrolled_ids.shape != scores.shape:
-        raise ValueError(f"enrolled_ids must have one subject per score, shape {scores.shape}, "
+        raise ValueError(f"enrolled_ids must have one subject per score (scores has shape {scores.shape}), "
                          f"got {enrolled_ids.shape}")
     own = enrolled_ids == true_id
     if not np.any(own):
@@ -920,3 +924,34 @@ def _check_templates(templates: object, name: str) -> None:
     wrong = [type(t).__name__ for t in templates if not isinstance(t, EarTemplate)]
     if wrong:
         raise TypeError(f"{name} must hold EarTemplate objects (from EarMatcher.extract), got {wrong[0]}")
+
+
+def _check_subject_id(value: object, name: str) -> object:
+    """A subject id: a str or a finite real number; None (rejection), booleans and NaN are refused."""
+    if value is None:
+        raise ValueError(f"{name} must not be None (None means rejection)")
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (str, numbers.Real)):
+        raise TypeError(f"{name} must be a str or a real number, got {type(value).__name__}")
+    if isinstance(value, numbers.Real) and not np.isfinite(value):
+        raise ValueError(f"{name} must be finite, got {value}")
+    return value
+
+
+def _check_subject_ids(values: object, name: str) -> np.ndarray:
+    """A 1-D sequence of subject ids (each as in :func:`_check_subject_id`), as an array."""
+    ids = np.asarray(values)
+    if ids.ndim != 1:
+        raise ValueError(f"{name} must be a 1-D sequence of subject ids, got shape {ids.shape}")
+    for index, value in enumerate(ids.tolist()):
+        _check_subject_id(value, f"{name}[{index}]")
+    return ids
+
+
+def _check_images(images: object, name: str = "images") -> None:
+    """A non-empty sequence of grey-level images (each as in :func:`as_grey_image`)."""
+    if isinstance(images, (str, bytes)) or not hasattr(images, "__len__"):
+        raise TypeError(f"{name} must be a sequence of grey-level images, got {type(images).__name__}")
+    if len(images) == 0:
+        raise ValueError(f"{name} must not be empty")
+    for index, image in enumerate(images):
+        as_grey_image(image, f"{name}[{index}]")
