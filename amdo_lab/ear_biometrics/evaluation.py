@@ -54,7 +54,7 @@ def genuine_impostor_separation(distances: object, enrolled_ids: object, query_i
     distances : array_like, shape (n_queries, n_enrolled)
         Finite distances, lower = more alike.
     enrolled_ids : array_like, shape (n_enrolled,)
-        Subject of each enrolled template.
+        Subject of each enrolled template (str or finite real ids).
     query_ids : array_like, shape (n_queries,)
         Subject of each query; every one must be enrolled, together with at least one other subject.
 
@@ -177,7 +177,7 @@ def closed_set(matcher: EarMatcher, templates: list[EarTemplate], subject_ids: o
     templates : list of EarTemplate
         Two per subject, capture 0 then capture 1 (from :meth:`EarMatcher.extract`).
     subject_ids : array_like, shape (n,)
-        Subject of each template; n even, the same length as ``templates``.
+        Subject of each template (str or finite real ids); n even, the same length as ``templates``.
 
     Returns
     -------
@@ -216,7 +216,7 @@ def hog_closed_set(images: np.ndarray, subject_ids: object, pixels_per_cell: int
     images : array_like, shape (n, rows, cols)
         Two images per subject, capture 0 then capture 1.
     subject_ids : array_like, shape (n,)
-        Subject of each image; n even.
+        Subject of each image (str or finite real ids); n even.
     pixels_per_cell : int or None
         HOG cell side, pixels, >= 2; None for an eighth of the image side (16 px at 128, 32 px at
         256), so the HOG grid covers the ear the same way at every resolution.

@@ -9,7 +9,8 @@ import cv2
 import numpy as np
 from skimage.feature import hog
 
-from amdo_lab.common import as_finite_array, check_choice, check_fitted, check_positive, check_positive_int
+from amdo_lab.common import (as_finite_array, check_choice, check_fitted, check_in_range, check_positive,
+                             check_positive_int)
 from amdo_lab.ear_biometrics.features import (
     CROSSING_READINGS,
     NORMALISATION_MODES,
@@ -259,7 +260,7 @@ class EarMatcher:
         Window side of eqs. (1)-(3), odd, >= 3.
     smoothing : float
         Gaussian blur before contour detection, sigma in pixels, >= 0 (0, the default, follows the
-        paper).
+        paper) and at most the image's larger side (checked when an image is processed).
     n_circles : int
         Number of circles N_r of eq. (7), >= 1.
     step : float
@@ -412,6 +413,7 @@ class EarMatcher:
     def _contours(self, image: np.ndarray) -> np.ndarray:
         """Step 1: optional smoothing, contours (eqs. 1-5) and the clean-up."""
         if self.smoothing > 0:  # image normalisation step before contour detection (Fig. 3)
+            check_in_range(self.smoothing, "smoothing", 0, max(image.shape), closed="right")  # a wider blur is flat
             image = cv2.GaussianBlur(np.asarray(image, float), (0, 0), self.smoothing)
         contours = clean_contours(detect_contours(image, self.k, self.window), self.min_component_size, self.closing)
         if not contours.any():
@@ -485,7 +487,7 @@ class EarMatcher:
         Parameters
         ----------
         subject_id : object
-            The subject's id (any value but None, which means rejection).
+            The subject's id: a str or a finite real number (not None, which means rejection, nor a bool).
         image : array_like, shape (rows, cols)
             Grey levels holding the subject's ear; an image without contours raises ValueError.
 
@@ -503,7 +505,7 @@ class EarMatcher:
         Parameters
         ----------
         subject_id : object
-            The subject's id (any value but None).
+            The subject's id: a str or a finite real number (not None nor a bool).
         template : EarTemplate
             Features with ``n_circles`` circles.
 
@@ -544,7 +546,7 @@ class EarMatcher:
         images : sequence of array_like
             Grey-level images (8-bit or float), each holding an ear.
         subject_ids : sequence
-            The subject of each image (no None), as many as ``images``.
+            The subject of each image (ids as for :meth:`enroll`), as many as ``images``.
 
         Returns
         -------
@@ -691,7 +693,7 @@ class HogNearestNeighbour:
         Parameters
         ----------
         subject_id : object
-            The subject's id.
+            The subject's id: a str or a finite real number (not None nor a bool).
         image : array_like, shape (rows, cols)
             Grey levels, of the shape of the images enrolled before.
         """
@@ -712,7 +714,7 @@ class HogNearestNeighbour:
         images : sequence of array_like
             Grey-level images, all of one shape.
         subject_ids : sequence
-            The subject of each image, as many as ``images``.
+            The subject of each image (str or finite real ids), as many as ``images``.
 
         Returns
         -------
@@ -803,7 +805,7 @@ def open_set_rates(matcher: EarMatcher, genuine: list, genuine_ids: list, impost
     genuine : list of EarTemplate
         Non-empty: templates of enrolled subjects.
     genuine_ids : sequence
-        The subject of each genuine template.
+        The subject of each genuine template (str or finite real ids).
     impostors : list of EarTemplate
         Non-empty: templates of subjects never enrolled.
     thresholds : sequence of float
@@ -853,9 +855,9 @@ def rank_of_truth(scores: np.ndarray, enrolled_ids: np.ndarray, true_id: object)
     scores : array_like, shape (n,)
         Finite scores, lower is better (a NaN would compare as neither better nor worse).
     enrolled_ids : array_like, shape (n,)
-        The subject of each template; must include ``true_id``.
+        The subject of each template (str or finite real ids); must include ``true_id``.
     true_id : object
-        The query's true subject.
+        The query's true subject: a str or a finite real number (not None nor a bool).
 
     Returns
     -------
