@@ -6,8 +6,10 @@ wrongly accepted stays cheap.
 
 from __future__ import annotations
 
+import atexit
 import copy
 import functools
+import shutil
 import tempfile
 from pathlib import Path
 
@@ -61,6 +63,7 @@ def _context():
     matcher.fit(images[0::2], ids[0::2])
     baseline = eb.HogNearestNeighbour().fit(images[0::2], ids[0::2])
     folder = Path(tempfile.mkdtemp(prefix="ears"))
+    atexit.register(shutil.rmtree, folder, True)
     cv2.imwrite(str(folder / "001_a.png"), np.full((16, 16), 100, np.uint8))
     skeleton = eb.prune_spurs(features.skeleton, 0) if features.skeleton.any() else features.skeleton
     nodes, edges = eb.skeleton_graph(skeleton)
