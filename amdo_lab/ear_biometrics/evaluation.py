@@ -9,7 +9,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import as_finite_array, check_positive_int, make_rng
-from amdo_lab.ear_biometrics.matcher import EarMatcher, EarTemplate, HogNearestNeighbour, _check_templates, rank_of_truth
+from amdo_lab.ear_biometrics.matcher import (EarMatcher, EarTemplate, HogNearestNeighbour, _check_images,
+                                             _check_subject_ids, _check_templates, rank_of_truth)
 from amdo_lab.ear_biometrics.synthetic import check_disable, generate_ear_database
 
 
@@ -53,7 +54,7 @@ def genuine_impostor_separation(distances: object, enrolled_ids: object, query_i
     distances : array_like, shape (n_queries, n_enrolled)
         Finite distances, lower = more alike.
     enrolled_ids : array_like, shape (n_enrolled,)
-        Subject of each enrolled template.
+        Subject of each enrolled template (str or finite real ids).
     query_ids : array_like, shape (n_queries,)
         Subject of each query; every one must be enrolled, together with at least one other subject.
 
@@ -68,13 +69,17 @@ def genuine_impostor_separation(distances: object, enrolled_ids: object, query_i
     LNCS 3179, pp. 51-61, Sec. 5, step 4.
     """
     distances = as_finite_array(distances, "distances", ndim=2)
-    enrolled_ids, query_ids = np.asarray(enrolled_ids), np.asarray(query_ids)
-    if distances.shape != (len(query_ids), len(enrolled_ids)):
-        raise ValueError(f"distances must have shape (n_queries, n_enrolled) = ({len(query_ids)}, "
-                         f"{len(enrolled_ids)}), got {distances.shape}")
+    enrolled_ids = _check_subject_ids(enrolled_ids, "enrolled_ids")
+    query_ids = _check_subject_ids(query_ids, "query_ids")
+    if distances.shape[1] != len(enrolled_ids):
+        raise ValueError(f"enrolled_ids must give one subject per column of distances (shape {distances.shape}), "
+                         f"got {len(enrolled_ids)}")
+    if distances.shape[0] != len(query_ids):
+        raise ValueError(f"query_ids must give one subject per row of distances (shape {distances.shape}), "
+                         f"got {len(query_ids)}")
     own = query_ids[:, None] == enrolled_ids[None, :]
     if not own.any(axis=1).all() or own.all(axis=1).any():
-        raise ValueError("every query's subject must be enrolled, together with at least one other subject")
+        raise ValueError("every subject of query_ids must be in enrolled_ids, together with at least one other subject")
     genuine = np.where(own, distances, np.inf).min(axis=1)
     impostor = np.where(own, np.nan, distances)
     wins = (distances > genuine[:, None]) + 0.5 * (distances == genuine[:, None])
@@ -172,7 +177,7 @@ def closed_set(matcher: EarMatcher, templates: list[EarTemplate], subject_ids: o
     templates : list of EarTemplate
         Two per subject, capture 0 then capture 1 (from :meth:`EarMatcher.extract`).
     subject_ids : array_like, shape (n,)
-        Subject of each template; n even, the same length as ``templates``.
+        Subject of each template (str or finite real ids); n even, the same length as ``templates``.
 
     Returns
     -------
@@ -188,7 +193,8 @@ def closed_set(matcher: EarMatcher, templates: list[EarTemplate], subject_ids: o
         raise TypeError(f"matcher must be an EarMatcher, got {type(matcher).__name__}")
     if matcher.n_enrolled:
         raise ValueError("matcher must be empty (a fresh EarMatcher)")
-    ids = np.asarray(subject_ids)
+    _check_templates(templates, "templates")
+    ids = _check_subject_ids(subject_ids, "subject_ids")
     if len(ids) != len(templates) or len(ids) % 2:
         raise ValueError("templates and subject_ids must have the same even length (two captures per subject)")
     for template, subject in zip(templates[0::2], ids[0::2]):
@@ -210,7 +216,7 @@ def hog_closed_set(images: np.ndarray, subject_ids: object, pixels_per_cell: int
     images : array_like, shape (n, rows, cols)
         Two images per subject, capture 0 then capture 1.
     subject_ids : array_like, shape (n,)
-        Subject of each image; n even.
+        Subject of each image (str or finite real ids); n even.
     pixels_per_cell : int or None
         HOG cell side, pixels, >= 2; None for an eighth of the image side (16 px at 128, 32 px at
         256), so the HOG grid covers the ear the same way at every resolution.
@@ -228,8 +234,9 @@ def hog_closed_set(images: np.ndarray, subject_ids: object, pixels_per_cell: int
     LNCS 3179, pp. 51-61, Sec. 6 (the protocol).
     N. Dalal, B. Triggs, "Histograms of Oriented Gradients for Human Detection", CVPR 2005.
     """
-    ids = np.asarray(subject_ids)
-    if ids.ndim != 1 or len(ids) != len(images) or len(ids) % 2:
+    _check_images(images)
+    ids = _check_subject_ids(subject_ids, "subject_ids")
+    if len(ids) != len(images) or len(ids) % 2:
         raise ValueError("images and subject_ids must have the same even length (two captures per subject), "
                          f"got {len(images)} images and subject_ids of shape {ids.shape}")
     if pixels_per_cell is None:

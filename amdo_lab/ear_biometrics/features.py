@@ -11,7 +11,8 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from skimage.morphology import skeletonize
 
-from amdo_lab.common import as_bool_mask, as_finite_array, check_choice, check_positive, check_positive_int
+from amdo_lab.common import (as_bool_mask, as_finite_array, check_choice, check_in_range, check_positive,
+                             check_positive_int)
 
 
 def _as_bool_image(value: object, name: str) -> np.ndarray:
@@ -190,7 +191,8 @@ def canny_contours(image: object, sigma: float = 1.5, low: float = 20, high: flo
     image : array_like, shape (rows, cols)
         Grey levels on the 0-255 scale, as :func:`as_grey_image` accepts them.
     sigma : float
-        Standard deviation of the Gaussian smoothing, pixels, > 0.
+        Standard deviation of the Gaussian smoothing, pixels, > 0 and at most the image's larger
+        side (a wider blur leaves a flat image).
     low : float
         Lower hysteresis threshold of the gradient magnitude, >= 0 (grey levels per pixel).
     high : float
@@ -210,7 +212,8 @@ def canny_contours(image: object, sigma: float = 1.5, low: float = 20, high: flo
     grey = as_grey_image(image)
     check_positive(low, "low", allow_zero=True)
     check_positive(high, "high", allow_zero=True)
-    smooth = cv2.GaussianBlur(grey, (0, 0), check_positive(sigma, "sigma"))
+    sigma = check_in_range(check_positive(sigma, "sigma"), "sigma", 0, max(grey.shape), closed="right")
+    smooth = cv2.GaussianBlur(grey, (0, 0), sigma)
     return cv2.Canny(np.clip(smooth, 0, 255).astype(np.uint8), low, high) > 0
 
 
@@ -694,7 +697,8 @@ def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *,
     n_circles : int
         Number of circles N_r, >= 1.
     step : float
-        Radius step alpha between circles, normalised units, > 0.
+        Radius step alpha between circles, normalised units, > 0; the first circle must reach into
+        the image (step times the larger normalisation spread at most the image diagonal).
     mode : {"principal", "axes", "isotropic"}
         Reading of eq. (6) (see :func:`normalise_coordinates`); unused with ``normalisation``.
     min_gap_px : float
@@ -751,6 +755,8 @@ def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *,
         norm = normalisation
     else:
         raise TypeError(f"normalisation must be a Normalisation or None, got {type(normalisation).__name__}")
+    # the first circle must reach into the image (beyond it every count is 0 and the sampling grows without bound)
+    check_in_range(step, "step", 0, np.hypot(*array.shape) / norm.spread.max(), closed="right")
     radii = step * np.arange(1, n_circles + 1)
     if crossings == "pixels":
         rows, theta = _pixel_crossings(array, norm, radii, min_gap_px)
@@ -779,7 +785,8 @@ def circle_features_reference(contours: object, n_circles: int = 8, step: float 
     n_circles : int
         Number of circles N_r, >= 1.
     step : float
-        Radius step alpha between circles, normalised units, > 0.
+        Radius step alpha between circles, normalised units, > 0; the first circle must reach into
+        the image (step times the larger normalisation spread at most the image diagonal).
 
     Returns
     -------
@@ -799,6 +806,7 @@ def circle_features_reference(contours: object, n_circles: int = 8, step: float 
     centroid = rows_cols.mean(axis=0)  # (I, J)
     sigma = rows_cols.std(axis=0)  # (sigma_i, sigma_j)
     norm = Normalisation(centroid, sigma, _image_axes_matrix(sigma))  # x = (j - J)/sigma_j, y = -(i - I)/sigma_i
+    check_in_range(step, "step", 0, np.hypot(*array.shape) / sigma.max(), closed="right")  # as in circle_features
     radii = step * np.arange(1, n_circles + 1)  # r_m = m * alpha, normalised units
     n_samples = int(8 * np.ceil(4 * np.pi * radii[-1] * sigma.max() / 8)) + 8  # >= 2 samples per pixel
     angles = 2 * np.pi * np.arange(n_samples) / n_samples
@@ -966,7 +974,7 @@ def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, 
     n_circles : int
         Number of circles N_r, >= 1.
     step : float
-        Radius step between circles, normalised units, > 0.
+        Radius step between circles, normalised units, > 0, as in :func:`circle_features`.
     mode : {"principal", "axes", "isotropic"}
         Reading of eq. (6); unused with ``normalisation``.
     min_gap_px : float

@@ -17,7 +17,8 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int, make_rng
+from amdo_lab.common import (as_finite_array, check_choice, check_in_range, check_positive, check_positive_int,
+                             make_rng)
 from amdo_lab.ear_biometrics.features import Normalisation, as_grey_image, check_normalisation_mode
 
 FRAME_SOURCES = ("image", "silhouette", "contours")
@@ -85,7 +86,7 @@ def silhouette(image: np.ndarray, sigma: float = 2.0, closing: int = 7) -> np.nd
     image : array_like, shape (rows, cols)
         Grey levels, as :func:`~amdo_lab.ear_biometrics.features.as_grey_image` accepts them.
     sigma : float
-        Standard deviation of the Gaussian blur, pixels, > 0.
+        Standard deviation of the Gaussian blur, pixels, > 0 and at most the image's larger side.
     closing : int
         Side of the elliptic closing element, pixels, >= 1.
 
@@ -100,8 +101,9 @@ def silhouette(image: np.ndarray, sigma: float = 2.0, closing: int = 7) -> np.nd
     LNCS 3179, pp. 51-61, Sec. 3. Beyond the paper: its Sec. 3 moments (eq. 6) taken of the silhouette and applied to the image.
     N. Otsu, "A Threshold Selection Method from Gray-Level Histograms", IEEE SMC 9(1), 1979.
     """
-    as_grey_image(image)
-    return _silhouette(np.asarray(image), check_positive(sigma, "sigma"), check_positive_int(closing, "closing"))
+    grey = as_grey_image(image)
+    sigma = check_in_range(check_positive(sigma, "sigma"), "sigma", 0, max(grey.shape), closed="right")
+    return _silhouette(np.asarray(image), sigma, check_positive_int(closing, "closing"))
 
 
 def _silhouette(array: np.ndarray, sigma: float = 2.0, closing: int = 7) -> np.ndarray:
@@ -338,11 +340,11 @@ def similarity_copy(image: object, *, rng: int | np.random.Generator, max_rotati
         Seed or generator of the rotation, scale and shift; a generator is advanced (the rotation is
         drawn even when ``rotation_deg`` is given, so the stream does not depend on it).
     max_rotation_deg : float
-        Largest rotation, degrees, >= 0.
+        Largest rotation, degrees, in [0, 180].
     scale_range : tuple of float
         (low, high) of the scale factor, 0 < low <= high.
     max_shift_px : float
-        Largest shift per axis, pixels, >= 0.
+        Largest shift per axis, pixels, >= 0 and at most the image's larger side.
     rotation_deg : float or None
         A fixed rotation, degrees, in place of the drawn one.
 
@@ -359,11 +361,13 @@ def similarity_copy(image: object, *, rng: int | np.random.Generator, max_rotati
     as_grey_image(image)
     array = np.asarray(image)
     rng = make_rng(rng, "rng")
-    check_positive(max_rotation_deg, "max_rotation_deg", allow_zero=True)
+    check_in_range(check_positive(max_rotation_deg, "max_rotation_deg", allow_zero=True), "max_rotation_deg", 0, 180,
+                   closed="both")
     low, high = as_finite_array(scale_range, "scale_range", shape=(2,))
     if not 0 < low <= high:
         raise ValueError(f"scale_range must be (low, high) with 0 < low <= high, got {tuple(scale_range)}")
-    check_positive(max_shift_px, "max_shift_px", allow_zero=True)
+    check_in_range(check_positive(max_shift_px, "max_shift_px", allow_zero=True), "max_shift_px", 0, max(array.shape),
+                   closed="both")
     angle = rng.uniform(-max_rotation_deg, max_rotation_deg)
     if rotation_deg is not None:
         angle = float(as_finite_array(rotation_deg, "rotation_deg", ndim=0))

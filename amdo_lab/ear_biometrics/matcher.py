@@ -9,7 +9,8 @@ import cv2
 import numpy as np
 from skimage.feature import hog
 
-from amdo_lab.common import as_finite_array, check_choice, check_fitted, check_positive, check_positive_int
+from amdo_lab.common import (as_finite_array, check_choice, check_fitted, check_in_range, check_positive,
+                             check_positive_int)
 from amdo_lab.ear_biometrics.features import (
     CROSSING_READINGS,
     NORMALISATION_MODES,
@@ -259,7 +260,7 @@ class EarMatcher:
         Window side of eqs. (1)-(3), odd, >= 3.
     smoothing : float
         Gaussian blur before contour detection, sigma in pixels, >= 0 (0, the default, follows the
-        paper).
+        paper) and at most the image's larger side (checked when an image is processed).
     n_circles : int
         Number of circles N_r of eq. (7), >= 1.
     step : float
@@ -412,6 +413,7 @@ class EarMatcher:
     def _contours(self, image: np.ndarray) -> np.ndarray:
         """Step 1: optional smoothing, contours (eqs. 1-5) and the clean-up."""
         if self.smoothing > 0:  # image normalisation step before contour detection (Fig. 3)
+            check_in_range(self.smoothing, "smoothing", 0, max(image.shape), closed="right")  # a wider blur is flat
             image = cv2.GaussianBlur(np.asarray(image, float), (0, 0), self.smoothing)
         contours = clean_contours(detect_contours(image, self.k, self.window), self.min_component_size, self.closing)
         if not contours.any():
@@ -485,7 +487,7 @@ class EarMatcher:
         Parameters
         ----------
         subject_id : object
-            The subject's id (any value but None, which means rejection).
+            The subject's id: a str or a finite real number (not None, which means rejection, nor a bool).
         image : array_like, shape (rows, cols)
             Grey levels holding the subject's ear; an image without contours raises ValueError.
 
@@ -494,8 +496,7 @@ class EarMatcher:
         EarTemplate
             The enrolled features.
         """
-        if subject_id is None:
-            raise ValueError("subject_id must not be None (None means rejection)")
+        _check_subject_id(subject_id, "subject_id")
         return self.enroll_template(subject_id, self.extract(image))
 
     def enroll_template(self, subject_id: object, template: EarTemplate) -> EarTemplate:
@@ -504,7 +505,7 @@ class EarMatcher:
         Parameters
         ----------
         subject_id : object
-            The subject's id (any value but None).
+            The subject's id: a str or a finite real number (not None nor a bool).
         template : EarTemplate
             Features with ``n_circles`` circles.
 
@@ -513,8 +514,7 @@ class EarMatcher:
         EarTemplate
             ``template``, now enrolled.
         """
-        if subject_id is None:
-            raise ValueError("subject_id must not be None (None means rejection)")
+        _check_subject_id(subject_id, "subject_id")
         if not isinstance(template, EarTemplate):
             raise TypeError(f"template must be an EarTemplate, got {type(template).__name__}")
         if len(template.circles.counts) != self.n_circles:
@@ -546,20 +546,22 @@ class EarMatcher:
         images : sequence of array_like
             Grey-level images (8-bit or float), each holding an ear.
         subject_ids : sequence
-            The subject of each image (no None), as many as ``images``.
+            The subject of each image (ids as for :meth:`enroll`), as many as ``images``.
 
         Returns
         -------
         EarMatcher
             ``self``, with ``subject_ids_`` and ``templates_`` learned.
         """
-        if len(subject_ids) != len(images):
+        _check_images(images)
+        if len(_check_subject_ids(subject_ids, "subject_ids")) != len(images):
             raise ValueError(f"subject_ids must give one subject per image ({len(images)}), got {len(subject_ids)}")
-        if len(images) == 0:
-            raise ValueError("images must not be empty")
         self.subject_ids_, self.templates_ = None, None
-        for subject_id, image in zip(subject_ids, images):
-            self.enroll(subject_id, image)
+        for index, (subject_id, image) in enumerate(zip(subject_ids, images)):
+            try:
+                self.enroll(subject_id, image)
+            except ValueError as error:  # name the image at fault (its features could not be extracted)
+                raise ValueError(f"images[{index}]: {error}") from error
         return self
 
     def identify(self, image: object, *, shortlist: int = 10) -> IdentificationResult:
@@ -691,10 +693,11 @@ class HogNearestNeighbour:
         Parameters
         ----------
         subject_id : object
-            The subject's id.
+            The subject's id: a str or a finite real number (not None nor a bool).
         image : array_like, shape (rows, cols)
             Grey levels, of the shape of the images enrolled before.
         """
+        _check_subject_id(subject_id, "subject_id")
         self._check_size(image)
         descriptor = self.describe(image)[None]
         if self.descriptors_ is None:
@@ -711,20 +714,22 @@ class HogNearestNeighbour:
         images : sequence of array_like
             Grey-level images, all of one shape.
         subject_ids : sequence
-            The subject of each image, as many as ``images``.
+            The subject of each image (str or finite real ids), as many as ``images``.
 
         Returns
         -------
         HogNearestNeighbour
             ``self``, with ``subject_ids_``, ``descriptors_`` and ``image_shape_`` learned.
         """
-        if len(subject_ids) != len(images):
+        _check_images(images)
+        if len(_check_subject_ids(subject_ids, "subject_ids")) != len(images):
             raise ValueError(f"subject_ids must give one subject per image ({len(images)}), got {len(subject_ids)}")
-        if len(images) == 0:
-            raise ValueError("images must not be empty")
         self.subject_ids_, self.descriptors_, self.image_shape_ = None, None, None
-        for subject_id, image in zip(subject_ids, images):
-            self.enroll(subject_id, image)
+        for index, (subject_id, image) in enumerate(zip(subject_ids, images)):
+            try:
+                self.enroll(subject_id, image)
+            except ValueError as error:  # name the image at fault (its features could not be extracted)
+                raise ValueError(f"images[{index}]: {error}") from error
         return self
 
     def distances(self, image: object) -> np.ndarray:
@@ -800,7 +805,7 @@ def open_set_rates(matcher: EarMatcher, genuine: list, genuine_ids: list, impost
     genuine : list of EarTemplate
         Non-empty: templates of enrolled subjects.
     genuine_ids : sequence
-        The subject of each genuine template.
+        The subject of each genuine template (str or finite real ids).
     impostors : list of EarTemplate
         Non-empty: templates of subjects never enrolled.
     thresholds : sequence of float
@@ -821,7 +826,7 @@ def open_set_rates(matcher: EarMatcher, genuine: list, genuine_ids: list, impost
     check_fitted(matcher, "templates_")
     for templates, name in ((genuine, "genuine"), (impostors, "impostors")):
         _check_templates(templates, name)
-    if len(genuine_ids) != len(genuine):
+    if len(_check_subject_ids(genuine_ids, "genuine_ids")) != len(genuine):
         raise ValueError(f"genuine_ids must give one subject per genuine template ({len(genuine)}), "
                          f"got {len(genuine_ids)}")
     values = np.asarray(thresholds, dtype=object)
@@ -850,9 +855,9 @@ def rank_of_truth(scores: np.ndarray, enrolled_ids: np.ndarray, true_id: object)
     scores : array_like, shape (n,)
         Finite scores, lower is better (a NaN would compare as neither better nor worse).
     enrolled_ids : array_like, shape (n,)
-        The subject of each template; must include ``true_id``.
+        The subject of each template (str or finite real ids); must include ``true_id``.
     true_id : object
-        The query's true subject.
+        The query's true subject: a str or a finite real number (not None nor a bool).
 
     Returns
     -------
@@ -865,9 +870,10 @@ def rank_of_truth(scores: np.ndarray, enrolled_ids: np.ndarray, true_id: object)
     LNCS 3179, pp. 51-61, Sec. 6 (the identification rates; ranks are our measure of the ranking of steps 6-9).
     """
     scores = as_finite_array(scores, "scores", ndim=1)
-    enrolled_ids = np.asarray(enrolled_ids)
+    enrolled_ids = _check_subject_ids(enrolled_ids, "enrolled_ids")
+    _check_subject_id(true_id, "true_id")
     if enrolled_ids.shape != scores.shape:
-        raise ValueError(f"enrolled_ids must have one subject per score, shape {scores.shape}, "
+        raise ValueError(f"enrolled_ids must have one subject per score (scores has shape {scores.shape}), "
                          f"got {enrolled_ids.shape}")
     own = enrolled_ids == true_id
     if not np.any(own):
@@ -920,3 +926,34 @@ def _check_templates(templates: object, name: str) -> None:
     wrong = [type(t).__name__ for t in templates if not isinstance(t, EarTemplate)]
     if wrong:
         raise TypeError(f"{name} must hold EarTemplate objects (from EarMatcher.extract), got {wrong[0]}")
+
+
+def _check_subject_id(value: object, name: str) -> object:
+    """A subject id: a str or a finite real number; None (rejection), booleans and NaN are refused."""
+    if value is None:
+        raise ValueError(f"{name} must not be None (None means rejection)")
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (str, numbers.Real)):
+        raise TypeError(f"{name} must be a str or a real number, got {type(value).__name__}")
+    if isinstance(value, numbers.Real) and not np.isfinite(value):
+        raise ValueError(f"{name} must be finite, got {value}")
+    return value
+
+
+def _check_subject_ids(values: object, name: str) -> np.ndarray:
+    """A 1-D sequence of subject ids (each as in :func:`_check_subject_id`), as an array."""
+    ids = np.asarray(values)
+    if ids.ndim != 1:
+        raise ValueError(f"{name} must be a 1-D sequence of subject ids, got shape {ids.shape}")
+    for index, value in enumerate(ids.tolist()):
+        _check_subject_id(value, f"{name}[{index}]")
+    return ids
+
+
+def _check_images(images: object, name: str = "images") -> None:
+    """A non-empty sequence of grey-level images (each as in :func:`as_grey_image`)."""
+    if isinstance(images, (str, bytes)) or not hasattr(images, "__len__"):
+        raise TypeError(f"{name} must be a sequence of grey-level images, got {type(images).__name__}")
+    if len(images) == 0:
+        raise ValueError(f"{name} must not be empty")
+    for index, image in enumerate(images):
+        as_grey_image(image, f"{name}[{index}]")

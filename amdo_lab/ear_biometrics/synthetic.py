@@ -16,7 +16,8 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int, make_rng
+from amdo_lab.common import (as_finite_array, check_choice, check_in_range, check_positive, check_positive_int,
+                             make_rng)
 
 DIFFICULTIES = ("easy", "difficult")
 NUISANCE_FACTORS = ("rotation", "scale", "translation", "yaw", "illumination", "noise", "jitter")
@@ -475,7 +476,7 @@ def draw_capture_pose(*, rng: int | np.random.Generator, frontal: bool, size: in
     max_yaw_deg : float
         Largest yaw of a non-frontal capture, degrees, in [0, 90).
     max_rotation_deg : float or None
-        Largest in-plane rotation, degrees, >= 0; None for the default of ``difficulty``.
+        Largest in-plane rotation, degrees, in [0, 180]; None for the default of ``difficulty``.
 
     Returns
     -------
@@ -498,11 +499,12 @@ def draw_capture_pose(*, rng: int | np.random.Generator, frontal: bool, size: in
 
 
 def _check_pose_ranges(max_yaw_deg: object, max_rotation_deg: object) -> tuple[object, object]:
-    """``max_yaw_deg`` in [0, 90) degrees (at 90 the ear is seen edge-on) and a non-negative ``max_rotation_deg``."""
+    """``max_yaw_deg`` in [0, 90) degrees (at 90 the ear is seen edge-on) and ``max_rotation_deg`` in [0, 180]."""
     if not check_positive(max_yaw_deg, "max_yaw_deg", allow_zero=True) < 90:
         raise ValueError(f"max_yaw_deg must be below 90 degrees, got {max_yaw_deg}")
     if max_rotation_deg is not None:
-        check_positive(max_rotation_deg, "max_rotation_deg", allow_zero=True)
+        check_in_range(check_positive(max_rotation_deg, "max_rotation_deg", allow_zero=True), "max_rotation_deg", 0,
+                       180, closed="both")
     return max_yaw_deg, max_rotation_deg
 
 
@@ -563,7 +565,7 @@ def generate_ear_database(
     max_yaw_deg : float
         Largest yaw of the non-frontal captures, degrees, in [0, 90).
     max_rotation_deg : float or None
-        Largest in-plane rotation, degrees, >= 0; None for 10 (easy) or 20 (difficult).
+        Largest in-plane rotation, degrees, in [0, 180]; None for 10 (easy) or 20 (difficult).
     disable : collection of str
         Nuisance factors switched off (names from :data:`NUISANCE_FACTORS`); the random stream is
         unchanged, so a database with a factor disabled differs from the default one only in that
