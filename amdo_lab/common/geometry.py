@@ -226,7 +226,10 @@ def apply_similarity_2d(
     scale = check_positive(scale, "scale")
     angle = as_finite_array(angle, "angle", ndim=0)
     translation = as_finite_array(translation, "translation", shape=(2,))
-    return _apply_similarity_2d(points, scale, angle, translation)
+    mapped = _apply_similarity_2d(points, scale, angle, translation)
+    if not np.all(np.isfinite(mapped)):  # finite input whose product overflows a float
+        raise ValueError("points, scale and translation are too large: the mapped points overflow a float")
+    return mapped
 
 
 def _apply_similarity_2d(points: np.ndarray, scale: float, angle: float | np.ndarray,
@@ -313,4 +316,6 @@ def procrustes_align(
     translation = mu_target - scale * rotation @ mu_source
     aligned = scale * source @ rotation.T + translation
     rms = float(np.sqrt(np.mean(np.sum((aligned - target) ** 2, axis=1))))
+    if not (np.all(np.isfinite(aligned)) and np.isfinite(rms)):  # finite input whose squares overflow
+        raise ValueError("source and target are too large: their squared distances overflow a float")
     return ProcrustesResult(aligned, scale, rotation, translation, rms)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -22,6 +23,32 @@ class Case:
     accept: frozenset[tuple[str, str]] = frozenset()
 
 
+#: A finite value far out of any range: a function must either refuse it by name or return finite
+#: output (the overflow policy of CONTRIBUTING.md), never NaN or inf.
+HUGE = 1e308
+#: Spoiled labels that are finite input: a call that returns finite output for them is sensible.
+FINITE_LABELS = frozenset({"huge", "huge inside"})
+
+
+def all_finite(value: object, depth: int = 0) -> bool:
+    """Whether every number in ``value`` (arrays, numbers, containers, dataclasses, tables) is finite."""
+    if depth > 4 or value is None or isinstance(value, (str, bytes, bool)):
+        return True
+    if isinstance(value, (int, float, np.number)):
+        return bool(np.isfinite(value))
+    if isinstance(value, np.ndarray):
+        return not np.issubdtype(value.dtype, np.number) or bool(np.all(np.isfinite(value)))
+    if hasattr(value, "select_dtypes"):  # a pandas DataFrame
+        return bool(np.all(np.isfinite(value.select_dtypes("number").to_numpy(dtype=float))))
+    if isinstance(value, dict):
+        return all(all_finite(v, depth + 1) for v in value.values())
+    if isinstance(value, (list, tuple)):
+        return all(all_finite(v, depth + 1) for v in value)
+    if dataclasses.is_dataclass(value):
+        return all(all_finite(getattr(value, f.name), depth + 1) for f in dataclasses.fields(value))
+    return True
+
+
 def spoil(kind: str, valid: object) -> list[tuple[str, object]]:
     """Bad values of one kind of argument, each with a label."""
     common = [("None", None), ("a string", "abc")]
@@ -33,16 +60,16 @@ def spoil(kind: str, valid: object) -> list[tuple[str, object]]:
             bad.append(("a wrong trailing axis", np.zeros(array.shape[:-1] + (array.shape[-1] + 1,), array.dtype)))
         if kind == "bool_array":
             return bad + [("numbers for a mask", array.astype(float))]
-        with_nan, with_inf = array.astype(float), array.astype(float)
-        with_nan.flat[0], with_inf.flat[-1] = np.nan, np.inf
-        return bad + [("NaN inside", with_nan), ("inf inside", with_inf)]
+        with_nan, with_inf, with_huge = array.astype(float), array.astype(float), array.astype(float)
+        with_nan.flat[0], with_inf.flat[-1], with_huge.flat[-1] = np.nan, np.inf, HUGE
+        return bad + [("NaN inside", with_nan), ("inf inside", with_inf), ("huge inside", with_huge)]
     if kind == "count":
         return common + [("zero", 0), ("negative", -1), ("a float", 2.5), ("a bool", True)]
     if kind in ("positive", "non_negative"):
-        bad = common + [("negative", -1.0), ("NaN", math.nan), ("inf", math.inf), ("a bool", True)]
+        bad = common + [("negative", -1.0), ("NaN", math.nan), ("inf", math.inf), ("a bool", True), ("huge", HUGE)]
         return bad + ([("zero", 0.0)] if kind == "positive" else [])
     if kind == "real":
-        return common + [("NaN", math.nan), ("inf", math.inf), ("a bool", True)]
+        return common + [("NaN", math.nan), ("inf", math.inf), ("a bool", True), ("huge", HUGE)]
     if kind == "probability":
         return common + [("below 0", -0.1), ("above 1", 1.5), ("NaN", math.nan), ("a bool", True)]
     if kind == "flag":

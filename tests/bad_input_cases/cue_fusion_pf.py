@@ -13,7 +13,57 @@ from bad_input_cases._core import Case
 
 #: (callable, argument, spoiled label) calls known to fail the test, with the reason; each must
 #: still fail (remove it once fixed).
-KNOWN_FAILURES: dict[tuple[str, str, str], str] = {}
+KNOWN_FAILURES: dict[tuple[str, str, str], str] = {
+    # a finite 1e308 not yet refused by name (the overflow policy of CONTRIBUTING.md)
+    ('ShapeSpace.ellipses', 'states', 'huge inside'):
+        'silent accept: returned NaN or inf from finite input',
+    ('ShapeSpace.control_points', 'states', 'huge inside'):
+        'silent accept: returned NaN or inf from finite input',
+    ('ShapeSpace.curve', 'states', 'huge inside'):
+        'silent accept: returned NaN or inf from finite input',
+    ('ar2_stationary_variance', 'first_lag', 'huge'):
+        'silent accept: returned NaN or inf from finite input',
+    ('ar2_stationary_variance', 'second_lag', 'huge'):
+        'silent accept: returned NaN or inf from finite input',
+    ('ar2_stationary_variance', 'gain', 'huge'):
+        "crash: OverflowError: (34, 'Numerical result out of range')",
+    ('ColorLikelihood', 'reference_state', 'huge inside'):
+        'wrong name: ValueError: ellipse must be finite, got 2 NaN or infinite value(s)',
+    ('edge_line_likelihood', 'sigma_e', 'huge'):
+        "crash: OverflowError: (34, 'Numerical result out of range')",
+    ('simulate_measurement_lines', 'half_length', 'huge'):
+        'wrong name: ValueError: lam value too large',
+    ('simulate_measurement_lines', 'clutter_density', 'huge'):
+        'wrong name: ValueError: lam value too large',
+    ('integral_image', 'images', 'huge inside'):
+        'silent accept: returned NaN or inf from finite input',
+    ('BoostedCascade.stages_passed', 'boxes', 'huge inside'):
+        'wrong name: ValueError: patches must be finite, got 320 NaN or infinite value(s)',
+    ('StructureLikelihood.log_likelihood', 'states', 'huge inside'):
+        'wrong name: ValueError: boxes must be finite, got 4 NaN or infinite value(s)',
+    ('StructureLikelihood.distance', 'states', 'huge inside'):
+        'wrong name: ValueError: boxes must be finite, got 4 NaN or infinite value(s)',
+    ('StructureLikelihood.boxes', 'states', 'huge inside'):
+        'silent accept: returned NaN or inf from finite input',
+    ('calibrate_sigma', 'distances_true', 'huge inside'):
+        'silent accept: returned NaN or inf from finite input',
+    ('track', 'stride', 'huge'):
+        'wrong name: ValueError: weights must be finite, got 6 NaN or infinite value(s)',
+    ('track', 'sigma_e', 'huge'):
+        "crash: OverflowError: (34, 'Numerical result out of range')",
+    ('track', 'stationary_std', 'huge inside'):
+        'crash: RuntimeError: the filter diverged at frame 1: no particle has a finite state of a plausibl',
+    ('track', 'init_spread', 'huge inside'):
+        'crash: RuntimeError: the filter diverged at frame 0: no particle has a finite state of a plausibl',
+    ('HeadSequence.oracle_log_likelihood', 'states', 'huge inside'):
+        'silent accept: returned NaN or inf from finite input',
+    ('ellipse_iou', 'step', 'huge'):
+        "crash: OverflowError: (34, 'Numerical result out of range')",
+    ('track_camshift', 'init', 'huge inside'):
+        'silent accept: returned NaN or inf from finite input',
+    ('track_mil', 'init', 'huge inside'):
+        'silent accept: returned NaN or inf from finite input',
+}
 
 #: Public names not called with user input, with the reason.
 EXEMPT = {
