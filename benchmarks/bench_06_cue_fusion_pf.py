@@ -74,9 +74,9 @@ def subsets_and_peers(bench: Benchmark, args) -> None:
     success = {name: [] for name in names}
     errors = {name: [] for name in names}
     ms = {name: [] for name in names}
-    cf.load_or_train_cascade(cf.CASCADE_SEED)  # train (or load) before timing
+    cf.load_or_train_cascade(rng=cf.CASCADE_SEED)  # train (or load) before timing
     for seed in range(args.seed, args.seed + args.seeds):
-        sequence = cf.make_head_sequence("fusion", seed)
+        sequence = cf.make_head_sequence("fusion", rng=seed)
         init = sequence.true_ellipses[0]
         runs = {}
         for subset in subsets:
@@ -142,7 +142,7 @@ def lighting_sweep(bench: Benchmark, args) -> None:
     for strength in (0.0, 0.25, 0.5, 0.75, 1.0):
         colour, three = [], []
         for seed in range(args.seed, args.seed + args.seeds):
-            sequence = cf.make_head_sequence("fusion", seed, cast_strength=strength)
+            sequence = cf.make_head_sequence("fusion", rng=seed, cast_strength=strength)
             start, stop = sequence.segments["lighting"]
             for cues, store in ((("color",), colour), (CUES, three)):
                 result = cf.track(sequence.frames[:stop], sequence.true_ellipses[0], rng=10_000 + seed, cues=cues,

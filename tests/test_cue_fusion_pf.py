@@ -11,7 +11,7 @@ from amdo_lab.common import make_rng
 
 @pytest.fixture(scope="module")
 def sequence():
-    return cf.make_head_sequence("fusion", 0)
+    return cf.make_head_sequence("fusion", rng=0)
 
 
 @pytest.fixture(scope="module")
@@ -119,7 +119,7 @@ def test_head_sequence_layout(sequence):
     cx, cy = sequence.truth[50, :2].astype(int)
     assert sequence.frames[50, cy, cx, 0] < 0.7 * sequence.frames[10, sequence.truth[10, 1].astype(int), sequence.truth[10, 0].astype(int), 0]
     with pytest.raises(ValueError, match="kind"):
-        cf.make_head_sequence("walker", 0)
+        cf.make_head_sequence("walker", rng=0)
 
 
 def test_ellipse_iou():
@@ -215,7 +215,7 @@ def test_printed_sigmas_make_the_fusion_edge_only(sequence, space):
 
 @pytest.mark.parametrize("cue", ["color", "structure"])
 def test_calibrated_sigma_is_what_the_calibration_gives(cue):
-    sequences = [cf.make_head_sequence("fusion", seed) for seed in range(100, 105)]
+    sequences = [cf.make_head_sequence("fusion", rng=seed) for seed in range(100, 105)]
     at_truth, at_prior = cf.calibration_distances(sequences, cue, rng=0)
     result = cf.calibrate_sigma(at_truth, at_prior)
     assert result.sigma == pytest.approx(cf.CALIBRATED_SIGMAS[cue], rel=0.01)
@@ -302,13 +302,13 @@ def test_integral_image_and_haar_features_match_scikit_image():
 @pytest.fixture(scope="module")
 def cascade():
     from amdo_lab.cue_fusion_pf import structure as st
-    return st.load_or_train_cascade(st.CASCADE_SEED)
+    return st.load_or_train_cascade(rng=st.CASCADE_SEED)
 
 
 def test_cascade_accepts_held_out_heads_and_rejects_background(cascade):
     from amdo_lab.cue_fusion_pf import structure as st
 
-    held_out = st.make_training_set(99, n_scenes=10)
+    held_out = st.make_training_set(rng=99, n_scenes=10)
     for view, patches in held_out.positives.items():
         assert np.mean(cascade.stages_passed_patches(patches) == cascade.n_stages) >= 0.85, view
     assert np.mean(cascade.stages_passed_patches(held_out.negatives) == cascade.n_stages) <= 0.01
@@ -348,13 +348,13 @@ def test_pfilter_peer_runs_our_likelihood(sequence):
 
 
 def test_cast_strength_scales_the_lighting_change():
-    mild = cf.make_head_sequence("fusion", 0, cast_strength=0.0)
-    full = cf.make_head_sequence("fusion", 0)
+    mild = cf.make_head_sequence("fusion", rng=0, cast_strength=0.0)
+    full = cf.make_head_sequence("fusion", rng=0)
     np.testing.assert_array_equal(mild.truth, full.truth)
     assert abs(int(mild.frames[50, 5, 5, 0]) - int(mild.frames[10, 5, 5, 0])) < 30
     assert full.frames[50, 5, 5, 0] < 0.7 * full.frames[10, 5, 5, 0]
     with pytest.raises(ValueError, match="cast_strength"):
-        cf.make_head_sequence("fusion", 0, cast_strength=-1.0)
+        cf.make_head_sequence("fusion", rng=0, cast_strength=-1.0)
 
 
 def test_track_accepts_control_points(sequence, space):

@@ -194,7 +194,7 @@ def _trajectory(kind: str, rng: np.random.Generator, n_frames: int, width: int, 
     return np.stack([cx, cy, scale], axis=1)
 
 
-def make_head_sequence(kind: str, rng: int | np.random.Generator, *, noise_std: float = 5.0,
+def make_head_sequence(kind: str, *, rng: int | np.random.Generator, noise_std: float = 5.0,
                        cast_strength: float = 1.0) -> HeadSequence:
     """A seeded 256×192 RGB head sequence at 25 fps with its ground truth.
 

@@ -178,7 +178,7 @@ def _head_box(cx: float, cy: float, scale: float) -> np.ndarray:
     return np.array([cx - a, cy - b, 2 * a, 2 * b])
 
 
-def make_training_set(rng: int | np.random.Generator, *, n_scenes: int = 40, per_scene: int = 8,
+def make_training_set(*, rng: int | np.random.Generator, n_scenes: int = 40, per_scene: int = 8,
                       negatives_per_scene: int = 300) -> TrainingSet:
     """Rendered heads (three views, random lighting and noise) and negative windows around them.
 
@@ -492,7 +492,7 @@ def train_cascade(training: TrainingSet, *, rng: int | np.random.Generator, firs
     return BoostedCascade(first, second, WINDOW, time.perf_counter() - began)
 
 
-def load_or_train_cascade(rng: int, *, cache: bool = True) -> BoostedCascade:
+def load_or_train_cascade(*, rng: int, cache: bool = True) -> BoostedCascade:
     """The cascade trained from the integer seed ``rng``, read from (or written to) a cache under build/.
 
     Parameters
@@ -522,7 +522,7 @@ def load_or_train_cascade(rng: int, *, cache: bool = True) -> BoostedCascade:
     if cache and path.exists():
         with open(path, "rb") as handle:
             return pickle.load(handle)
-    cascade = train_cascade(make_training_set(seed), rng=seed + 1)
+    cascade = train_cascade(make_training_set(rng=seed), rng=seed + 1)
     if cache:
         path.parent.mkdir(parents=True, exist_ok=True)
         with open(path, "wb") as handle:

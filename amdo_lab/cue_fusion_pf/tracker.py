@@ -205,7 +205,7 @@ def build_cues(cues: Sequence[str], space: ShapeSpace, first_frame: np.ndarray, 
             built[name] = ColorLikelihood(space, first_frame, start, bins=params["bins"], sigma=sigmas["color"],
                                           stride=params["stride"])
         elif name == "structure":
-            built[name] = StructureLikelihood(space, load_or_train_cascade(CASCADE_SEED), sigma=sigmas["structure"])
+            built[name] = StructureLikelihood(space, load_or_train_cascade(rng=CASCADE_SEED), sigma=sigmas["structure"])
         elif name == "edge":
             built[name] = EdgeLikelihood(space, n_lines=params["n_lines"], half_length=params["half_length"],
                                          p0=params["p0"], sigma_e=params["sigma_e"], threshold=params["threshold"])

@@ -80,13 +80,13 @@ def cases() -> dict[str, Case]:
     """The public callables of ``amdo_lab.cue_fusion_pf``, by name."""
     from amdo_lab import cue_fusion_pf as cf
 
-    sequence = cf.make_head_sequence("twin", 0)
+    sequence = cf.make_head_sequence("twin", rng=0)
     frames = sequence.frames[:2]
     frame = frames[0]
     ellipse = sequence.true_ellipses[0]
     space = cf.ShapeSpace.from_ellipse(ellipse)
     states = sequence.truth[:3] + np.array([[0.0, 0.0, 0.0], [3.0, -2.0, 0.05], [-4.0, 1.0, -0.05]])
-    training = cf.make_training_set(0, n_scenes=1, per_scene=2, negatives_per_scene=30)
+    training = cf.make_training_set(rng=0, n_scenes=1, per_scene=2, negatives_per_scene=30)
     tiny = {"first_stages": 1, "second_stages": 1, "n_features": 40, "n_negatives": 20, "max_stumps": 2,
             "min_detection": 0.99, "max_false_positive": 0.6}
     cascade = cf.train_cascade(training, rng=1, **tiny)
