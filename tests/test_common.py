@@ -378,6 +378,8 @@ _REJECTED = [
      r"template and study must have the same shape, got \(2, 2\) and \(2, 3\)"),
     (lambda: as_image_pair(np.ones((2, 2)), [[1.0, np.nan], [0, 0]]), ValueError, "study must be finite"),
     (lambda: check_axes("not axes"), TypeError, "ax must be a matplotlib Axes, got str"),
+    (lambda: as_finite_array([1.0, 1e200], "points", max_abs=1e150), ValueError,
+     r"points must be at most 1e\+150 in magnitude .* got 1e\+200"),
     (lambda: make_rng(-1, "rng"), ValueError, "rng must be non-negative, got -1"),
     (lambda: make_rng(1.5, "rng"), TypeError, "rng must be a non-negative int or a numpy.random.Generator"),
 ]

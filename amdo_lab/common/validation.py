@@ -32,6 +32,7 @@ def as_finite_array(
     shape: Sequence[int | None] | None = None,
     allow_empty: bool = False,
     dtype: type = float,
+    max_abs: float | None = None,
 ) -> np.ndarray:
     """Convert ``value`` to a finite numeric array, or raise an error naming ``name``.
 
@@ -50,6 +51,10 @@ def as_finite_array(
     dtype : type
         Target dtype (float by default). Booleans and non-numeric inputs raise ``TypeError``; an
         integer ``dtype`` refuses fractional values instead of truncating them.
+    max_abs : float, optional
+        Largest accepted magnitude. A computation that squares or sums its input overflows
+        float64 (about 1.8e308) beyond about 1e150, so such a function passes a bound and refuses
+        the input by name instead of returning inf or NaN (the overflow policy of CONTRIBUTING.md).
 
     Returns
     -------
@@ -84,6 +89,9 @@ def as_finite_array(
     array = array.astype(dtype, copy=True)
     if np.issubdtype(array.dtype, np.floating):
         _check_finite(array, name)
+    if max_abs is not None and array.size and np.max(np.abs(array)) > max_abs:
+        raise ValueError(f"{name} must be at most {max_abs:g} in magnitude (larger values overflow in the "
+                         f"computation), got {np.max(np.abs(array)):g}")
     return array
 
 

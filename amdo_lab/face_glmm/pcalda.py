@@ -57,7 +57,7 @@ def pca_basis(samples: np.ndarray) -> PcaBasis:
     ----------
     Givens et al. (2004), AMDO, LNCS 3179, Sec. 3.
     """
-    samples = _check_magnitude(as_finite_array(samples, "samples", ndim=2), "samples")
+    samples = as_finite_array(samples, "samples", ndim=2, max_abs=_MAX_MAGNITUDE)
     if samples.shape[0] < 2:
         raise ValueError(f"samples must have at least 2 rows for a covariance, got {samples.shape[0]}")
     return _pca_basis(samples)
@@ -332,16 +332,8 @@ def _weighted_sq_distances(a: np.ndarray, b: np.ndarray, weights: np.ndarray) ->
 _MAX_MAGNITUDE = 1e100
 
 
-def _check_magnitude(array: np.ndarray, name: str) -> np.ndarray:
-    """``array`` if no value exceeds _MAX_MAGNITUDE (else its variances would overflow to inf)."""
-    if array.size and np.abs(array).max() > _MAX_MAGNITUDE:
-        raise ValueError(f"{name} must be at most {_MAX_MAGNITUDE:g} in magnitude (variances overflow beyond), "
-                         f"got {np.abs(array).max():g}")
-    return array
-
-
 def _as_samples(images: np.ndarray, name: str = "images") -> np.ndarray:
-    images = _check_magnitude(as_finite_array(images, name), name)
+    images = as_finite_array(images, name, max_abs=_MAX_MAGNITUDE)
     if images.ndim == 3:
         return images.reshape(images.shape[0], -1)
     if images.ndim != 2:

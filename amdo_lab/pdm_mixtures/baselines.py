@@ -7,7 +7,7 @@ import numpy as np
 from amdo_lab.common import as_finite_array, check_choice, check_fitted, check_positive_int, make_rng, procrustes_align
 from amdo_lab.pdm_mixtures.pdm import (
     _check_labels,
-    _check_magnitude,
+    MAX_MAGNITUDE,
     _align_to_reference,
     _check_point_set_sizes,
     _check_variance_fraction,
@@ -317,7 +317,7 @@ def pairwise_distances(vectors: np.ndarray) -> np.ndarray:
     """
     from scipy.spatial.distance import cdist
 
-    vectors = _check_magnitude(as_finite_array(vectors, "vectors", ndim=2), "vectors")
+    vectors = as_finite_array(vectors, "vectors", ndim=2, max_abs=MAX_MAGNITUDE)
     return cdist(vectors, vectors)
 
 
@@ -344,7 +344,7 @@ def classical_mds(distances: np.ndarray, n_dims: int = 3) -> np.ndarray:
     Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 7, Figs. 7 and 9 (MDS embeddings); Torgerson, Psychometrika 17 (1952).
     """
-    distances = _check_magnitude(as_finite_array(distances, "distances", ndim=2), "distances")
+    distances = as_finite_array(distances, "distances", ndim=2, max_abs=MAX_MAGNITUDE)
     n = distances.shape[0]
     if distances.shape != (n, n):
         raise ValueError(f"distances must be a square (n, n) matrix, got shape {distances.shape}")
@@ -383,7 +383,7 @@ def pca_embedding(vectors: np.ndarray, n_dims: int = 3) -> np.ndarray:
     Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 7, Fig. 8 (PCA embedding).
     """
-    vectors = _check_magnitude(as_finite_array(vectors, "vectors", ndim=2), "vectors")
+    vectors = as_finite_array(vectors, "vectors", ndim=2, max_abs=MAX_MAGNITUDE)
     n_dims = check_positive_int(n_dims, "n_dims")
     if n_dims > min(vectors.shape):
         raise ValueError(f"n_dims must be at most min(n, d) = {min(vectors.shape)} for vectors of shape "

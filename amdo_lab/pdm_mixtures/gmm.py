@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import as_finite_array, check_positive, check_positive_int
-from amdo_lab.pdm_mixtures.pdm import _check_magnitude
+from amdo_lab.pdm_mixtures.pdm import MAX_MAGNITUDE
 
 __all__ = ["GaussianMixtureResult", "fit_gaussian_mixture", "gaussian_log_density"]
 
@@ -64,8 +64,8 @@ def gaussian_log_density(points: np.ndarray, means: np.ndarray, covariances: np.
     Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4, eq. 6.
     """
-    points = _check_magnitude(as_finite_array(points, "points", ndim=2), "points")
-    means = _check_magnitude(as_finite_array(means, "means", ndim=2), "means")
+    points = as_finite_array(points, "points", ndim=2, max_abs=MAX_MAGNITUDE)
+    means = as_finite_array(means, "means", ndim=2, max_abs=MAX_MAGNITUDE)
     if means.shape[1] != points.shape[1]:
         raise ValueError(f"points and means must have as many columns, got {points.shape[1]} and {means.shape[1]}")
     covariances = as_finite_array(covariances, "covariances", shape=(len(means), points.shape[1], points.shape[1]))
@@ -147,14 +147,14 @@ def fit_gaussian_mixture(
     Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4, eqs. 2-8 (E-step eq. 4, M-step eqs. 5, 7, 8).
     """
-    points = _check_magnitude(as_finite_array(X, "X", ndim=2), "X")
+    points = as_finite_array(X, "X", ndim=2, max_abs=MAX_MAGNITUDE)
     k = check_positive_int(n_components, "n_components")
     n_iter = check_positive_int(n_iter, "n_iter")
     reg_covar = check_positive(reg_covar, "reg_covar", allow_zero=True)
     t, d = points.shape
     if t < k:
         raise ValueError(f"X must have at least n_components={k} rows, got {t}")
-    means = _check_magnitude(as_finite_array(means_init, "means_init", shape=(k, None)), "means_init")
+    means = as_finite_array(means_init, "means_init", shape=(k, None), max_abs=MAX_MAGNITUDE)
     if means.shape[1] != d:
         raise ValueError(f"X and means_init must have as many columns, got {d} and {means.shape[1]}")
     covariances = as_finite_array(covariances_init, "covariances_init", shape=(k, d, d))

@@ -150,7 +150,7 @@ def fit_pdm(long_vectors: np.ndarray, *, variance_fraction: float = 0.95, max_mo
     >>> pdm.n_modes, pdm.variances.round(2).tolist()
     (1, [7.74])
     """
-    vectors = _check_magnitude(as_finite_array(long_vectors, "long_vectors", ndim=2), "long_vectors")
+    vectors = as_finite_array(long_vectors, "long_vectors", ndim=2, max_abs=MAX_MAGNITUDE)
     t = vectors.shape[0]
     if t < 3:
         raise ValueError(f"long_vectors needs at least 3 training examples for a covariance, got {t}")
@@ -271,7 +271,7 @@ def ppca_log_density(model: PointDistributionModel, observed: np.ndarray) -> np.
     Al-Shaher & Hancock, AMDO 2004, eqs. 6 and 16; Tipping & Bishop, JRSS B 61 (1999).
     """
     model = _check_model(model)
-    observed = _check_magnitude(as_finite_array(observed, "observed", shape=(None, len(model.mean))), "observed")
+    observed = as_finite_array(observed, "observed", shape=(None, len(model.mean)), max_abs=MAX_MAGNITUDE)
     return _ppca_log_density(model, observed)
 
 
@@ -320,18 +320,10 @@ def _normalise_shape(points: np.ndarray) -> np.ndarray:
 MAX_MAGNITUDE = 1e150
 
 
-def _check_magnitude(array: np.ndarray, name: str) -> np.ndarray:
-    """Refuse values whose squares would overflow to inf (and then NaN) inside the computation."""
-    if array.size and np.max(np.abs(array)) > MAX_MAGNITUDE:
-        raise ValueError(f"{name} must be at most {MAX_MAGNITUDE:g} in magnitude (squares would overflow), "
-                         f"got {np.max(np.abs(array)):g}")
-    return array
-
-
 def _check_point_set_sizes(point_sets: np.ndarray, name: str) -> None:
     """Refuse point sets whose points all coincide (they have no size to normalise or align), or
     whose coordinates are too large to square."""
-    _check_magnitude(point_sets, name)
+    as_finite_array(point_sets, name, max_abs=MAX_MAGNITUDE)
     # compared exactly: a centroid size computed from such a set is round-off, not always zero
     coincident = np.all(point_sets == point_sets[:, :1], axis=(1, 2))
     if np.any(coincident):

@@ -23,7 +23,7 @@ from amdo_lab.pdm_mixtures.pdm import (
     PointDistributionModel,
     _align_to_reference,
     _check_labels,
-    _check_magnitude,
+    MAX_MAGNITUDE,
     _check_point_set_sizes,
     _fit_modes,
     _pdm_from_moments,
@@ -205,7 +205,7 @@ class PolarPDM:
 
     def _check_deviation(self, deviation: object) -> np.ndarray:
         width = max(block.stop for block in self.blocks)
-        return _check_magnitude(as_finite_array(deviation, "deviation", shape=(None, width)), "deviation")
+        return as_finite_array(deviation, "deviation", shape=(None, width), max_abs=MAX_MAGNITUDE)
 
     def _project(self, deviation: np.ndarray) -> np.ndarray:
         return np.concatenate([_reconstruct(pdm, _fit_modes(pdm, deviation[:, block]))
@@ -970,8 +970,7 @@ def held_out_log_likelihood(
     Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4, eqs. 2-8 (the mixture it scores); the criterion is ours.
     """
-    vectors = _check_magnitude(as_finite_array(polar_vectors, "polar_vectors", shape=(None, 3 * N_LIMBS)),
-                               "polar_vectors")
+    vectors = as_finite_array(polar_vectors, "polar_vectors", shape=(None, 3 * N_LIMBS), max_abs=MAX_MAGNITUDE)
     n_components = check_positive_int(n_components, "n_components")
     shape_ridge = check_positive(shape_ridge, "shape_ridge")
     n_folds = check_positive_int(n_folds, "n_folds", minimum=2)
