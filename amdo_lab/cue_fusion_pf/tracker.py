@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import functools
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -70,20 +69,6 @@ class TrackResult:
         return 1000.0 * self.seconds / len(self.states)
 
 
-def _checked_weights_and_u(resample: Callable) -> Callable:
-    """Check :func:`systematic_resample`'s input before it runs (the chapter prints that function's body)."""
-
-    @functools.wraps(resample)
-    def checked(weights: np.ndarray, u: float) -> np.ndarray:
-        weights = as_finite_array(weights, "weights", ndim=1)
-        if np.any(weights < 0) or not np.isclose(weights.sum(), 1.0, rtol=0.0, atol=1e-6):
-            raise ValueError(f"weights must be non-negative and sum to 1, got sum {weights.sum():.6g}")
-        return resample(weights, check_in_range(u, "u", 0.0, 1.0, closed="left"))
-
-    return checked
-
-
-@_checked_weights_and_u
 def systematic_resample(weights: np.ndarray, u: float) -> np.ndarray:
     """Indices drawn by systematic resampling (Fig. 1, step 5) with one uniform ``u`` in [0, 1).
 
@@ -106,6 +91,10 @@ def systematic_resample(weights: np.ndarray, u: float) -> np.ndarray:
     ----------
     Li & Chaumette, AMDO 2004, Fig. 1, step 5.
     """
+    weights = as_finite_array(weights, "weights", ndim=1)
+    if np.any(weights < 0) or not np.isclose(weights.sum(), 1.0, rtol=0.0, atol=1e-6):
+        raise ValueError(f"weights must be non-negative and sum to 1, got sum {weights.sum():.6g}")
+    u = check_in_range(u, "u", 0.0, 1.0, closed="left")
     n = len(weights)
     cumulative = np.cumsum(weights)
     cumulative[-1] = 1.0  # guard against round-off
