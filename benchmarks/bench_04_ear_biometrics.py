@@ -88,7 +88,7 @@ def speed(bench: Benchmark, args) -> None:
     import numpy as np
 
     from amdo_lab import ear_biometrics as eb
-    from amdo_lab.ear_biometrics.frame import _moment_frame_fast, _silhouette, _to_canonical
+    from amdo_lab.ear_biometrics.frame import moment_frame_fast
 
     database = eb.generate_ear_database(args.enrolled, 2, "easy", rng=args.seed, size=args.size)
     gallery = database.images[0::2]
@@ -134,7 +134,7 @@ def speed(bench: Benchmark, args) -> None:
                     polyline_smoothing=ours.polyline_smoothing, band_px=ours.band_px, spur_length_px=ours.spur_length_px)
 
     def canonical(image):
-        return _to_canonical(image, _moment_frame_fast(_silhouette(image), image.shape))
+        return eb.to_canonical(image, moment_frame_fast(eb.silhouette(image), image.shape))
 
     canonical_time = best_time(canonical, gallery)
     gallery = [canonical(image) for image in gallery]  # the stages below run on canonical images

@@ -633,11 +633,11 @@ def test_silhouette_covers_the_ear_and_is_empty_on_a_blank_image(small_database)
 
 
 def test_moment_frame_fast_path_equals_the_reference(small_database):
-    from amdo_lab.ear_biometrics.frame import _moment_frame_fast
+    from amdo_lab.ear_biometrics.frame import moment_frame_fast
 
     for image in small_database.images[:4]:
         mask = eb.silhouette(image)
-        reference, fast = eb.moment_frame(mask, image.shape), _moment_frame_fast(mask, image.shape)
+        reference, fast = eb.moment_frame(mask, image.shape), moment_frame_fast(mask, image.shape)
         np.testing.assert_allclose(fast.matrix, reference.matrix, atol=1e-9)
         assert fast.third_moment == pytest.approx(reference.third_moment, abs=1e-9) and reference.third_moment >= 0
 
@@ -910,3 +910,25 @@ def test_hog_parameters_are_stored_as_given_and_checked_when_used(small_database
     assert baseline.pixels_per_cell == 1
     with pytest.raises(ValueError, match="pixels_per_cell must be at least 2"):
         baseline.describe(images[0])
+
+
+def test_module_level_checks_name_the_argument(small_database):
+    """The checks that evaluation.py and plotting.py share with matcher.py and features.py."""
+    from amdo_lab.ear_biometrics.features import as_bool_image
+    from amdo_lab.ear_biometrics.frame import moment_frame_fast
+    from amdo_lab.ear_biometrics.matcher import check_images, check_subject_id, check_subject_ids, check_templates
+
+    assert check_subject_id("ann", "who") == "ann" and check_subject_ids([1, 2], "ids").tolist() == [1, 2]
+    check_images(small_database.images[:2])
+    for call, error, text in [(lambda: check_subject_id(None, "who"), ValueError, "who"),
+                              (lambda: check_subject_id(True, "who"), TypeError, "who"),
+                              (lambda: check_subject_ids([1, np.nan], "ids"), ValueError, r"ids\[1\]"),
+                              (lambda: check_images([], "pictures"), ValueError, "pictures"),
+                              (lambda: check_images([np.zeros((3, 3))], "pictures"), ValueError, r"pictures\[0\]"),
+                              (lambda: check_templates([small_database.images[0]], "gallery"), TypeError, "gallery"),
+                              (lambda: as_bool_image(np.zeros((0, 5), bool), "edges"), ValueError, "edges"),
+                              (lambda: as_bool_image(np.zeros((5, 5)), "edges"), TypeError, "edges"),
+                              (lambda: moment_frame_fast(np.ones((9, 9)), (64, 64)), TypeError, "mask"),
+                              (lambda: moment_frame_fast(np.ones((9, 9), bool), (64, 64), 0.7), ValueError, "spread_fraction")]:
+        with pytest.raises(error, match=text):
+            call()

@@ -15,9 +15,24 @@ from amdo_lab.common import (as_bool_mask, as_finite_array, check_choice, check_
                              check_positive_int)
 
 
-def _as_bool_image(value: object, name: str) -> np.ndarray:
-    """A non-empty 2-D boolean image (contours, a skeleton): OpenCV's morphology and component
-    labelling crash the interpreter on an image with zero rows, so empty images are refused here."""
+def as_bool_image(value: object, name: str) -> np.ndarray:
+    """Check a non-empty 2-D boolean image (contours, a skeleton).
+
+    OpenCV's morphology and component labelling crash the interpreter on an image with zero rows,
+    so empty images are refused here.
+
+    Parameters
+    ----------
+    value : object
+        The argument to check.
+    name : str
+        The argument's name in error messages.
+
+    Returns
+    -------
+    numpy.ndarray, shape (rows, cols), bool
+        The image as an array.
+    """
     array = np.asarray(value)
     if array.dtype != bool or array.ndim != 2:
         raise TypeError(f"{name} must be a 2-D boolean image, got dtype {array.dtype}, shape {array.shape}")
@@ -169,7 +184,7 @@ def clean_contours(contours: object, min_size: int = 20, closing: int = 1) -> np
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 1, Fig. 3 (binarisation before the features).
     """
-    array = _as_bool_image(contours, "contours")
+    array = as_bool_image(contours, "contours")
     min_size = check_positive_int(min_size, "min_size")
     closing = check_positive_int(closing, "closing", minimum=0)
     if closing:
@@ -463,7 +478,7 @@ def skeleton_graph(skeleton: object) -> tuple[np.ndarray, np.ndarray]:
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 4 (the contours traced for eq. (9), read here as polylines).
     """
-    thin = _as_bool_image(skeleton, "skeleton")
+    thin = as_bool_image(skeleton, "skeleton")
     h, w = thin.shape
     index = np.full((h + 2, w + 2), -1, np.int64)
     nodes = np.argwhere(thin)
@@ -622,7 +637,7 @@ def prune_spurs(skeleton: object, length_px: int) -> np.ndarray:
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 4 (beyond the paper: endings of eq. (9) that a ragged contour would add).
     """
-    thin = _as_bool_image(skeleton, "skeleton")
+    thin = as_bool_image(skeleton, "skeleton")
     length = check_positive_int(length_px, "length_px", minimum=0)
     kernel = np.ones((3, 3), np.uint8)
 
@@ -861,7 +876,7 @@ def crossing_number(skeleton: np.ndarray) -> np.ndarray:
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 4, eq. (8) and Fig. 7.
     """
-    thin = _as_bool_image(skeleton, "skeleton")
+    thin = as_bool_image(skeleton, "skeleton")
     return _crossing_number(thin)
 
 

@@ -28,9 +28,9 @@ from amdo_lab.ear_biometrics.frame import (
     check_frame_source,
     check_spread_fraction,
     frame_normalisation,
-    _moment_frame_fast,
-    _silhouette,
-    _to_canonical,
+    moment_frame_fast,
+    silhouette,
+    to_canonical,
 )
 
 
@@ -401,10 +401,10 @@ class EarMatcher:
 
     def _frame_of(self, work: np.ndarray) -> CanonicalFrame:
         """:meth:`canonical_frame` of validated input (8-bit or float)."""
-        mask = _silhouette(work) if self.frame == "silhouette" else self._contours(work)
+        mask = silhouette(work) if self.frame == "silhouette" else self._contours(work)
         if np.count_nonzero(mask) < 3:
             raise ValueError("image has no contour (blank, constant or too smooth image): no ear silhouette")
-        return _moment_frame_fast(mask, work.shape, self.canonical_spread)
+        return moment_frame_fast(mask, work.shape, self.canonical_spread)
 
     def _input(self, image: object, grey: np.ndarray) -> np.ndarray:
         """8-bit input keeps the detector's fast uint8 path; anything else is used as float."""
@@ -456,7 +456,7 @@ class EarMatcher:
         work, normalisation = self._input(image, grey), None
         if self.frame != "image":
             frame = self._frame_of(work)
-            work = _to_canonical(work, frame)
+            work = to_canonical(work, frame)
             if self.origin == "frame":
                 normalisation = frame_normalisation(frame, grey.shape, self.mode, self.canonical_spread)
         return work, normalisation
@@ -496,7 +496,7 @@ class EarMatcher:
         EarTemplate
             The enrolled features.
         """
-        _check_subject_id(subject_id, "subject_id")
+        check_subject_id(subject_id, "subject_id")
         return self.enroll_template(subject_id, self.extract(image))
 
     def enroll_template(self, subject_id: object, template: EarTemplate) -> EarTemplate:
@@ -514,7 +514,7 @@ class EarMatcher:
         EarTemplate
             ``template``, now enrolled.
         """
-        _check_subject_id(subject_id, "subject_id")
+        check_subject_id(subject_id, "subject_id")
         if not isinstance(template, EarTemplate):
             raise TypeError(f"template must be an EarTemplate, got {type(template).__name__}")
         if len(template.circles.counts) != self.n_circles:
@@ -553,8 +553,8 @@ class EarMatcher:
         EarMatcher
             ``self``, with ``subject_ids_`` and ``templates_`` learned.
         """
-        _check_images(images)
-        if len(_check_subject_ids(subject_ids, "subject_ids")) != len(images):
+        check_images(images)
+        if len(check_subject_ids(subject_ids, "subject_ids")) != len(images):
             raise ValueError(f"subject_ids must give one subject per image ({len(images)}), got {len(subject_ids)}")
         self.subject_ids_, self.templates_ = None, None
         for index, (subject_id, image) in enumerate(zip(subject_ids, images)):
@@ -697,7 +697,7 @@ class HogNearestNeighbour:
         image : array_like, shape (rows, cols)
             Grey levels, of the shape of the images enrolled before.
         """
-        _check_subject_id(subject_id, "subject_id")
+        check_subject_id(subject_id, "subject_id")
         self._check_size(image)
         descriptor = self.describe(image)[None]
         if self.descriptors_ is None:
@@ -721,8 +721,8 @@ class HogNearestNeighbour:
         HogNearestNeighbour
             ``self``, with ``subject_ids_``, ``descriptors_`` and ``image_shape_`` learned.
         """
-        _check_images(images)
-        if len(_check_subject_ids(subject_ids, "subject_ids")) != len(images):
+        check_images(images)
+        if len(check_subject_ids(subject_ids, "subject_ids")) != len(images):
             raise ValueError(f"subject_ids must give one subject per image ({len(images)}), got {len(subject_ids)}")
         self.subject_ids_, self.descriptors_, self.image_shape_ = None, None, None
         for index, (subject_id, image) in enumerate(zip(subject_ids, images)):
@@ -825,8 +825,8 @@ def open_set_rates(matcher: EarMatcher, genuine: list, genuine_ids: list, impost
         raise TypeError(f"matcher must be an EarMatcher, got {type(matcher).__name__}")
     check_fitted(matcher, "templates_")
     for templates, name in ((genuine, "genuine"), (impostors, "impostors")):
-        _check_templates(templates, name)
-    if len(_check_subject_ids(genuine_ids, "genuine_ids")) != len(genuine):
+        check_templates(templates, name)
+    if len(check_subject_ids(genuine_ids, "genuine_ids")) != len(genuine):
         raise ValueError(f"genuine_ids must give one subject per genuine template ({len(genuine)}), "
                          f"got {len(genuine_ids)}")
     values = np.asarray(thresholds, dtype=object)
@@ -870,8 +870,8 @@ def rank_of_truth(scores: np.ndarray, enrolled_ids: np.ndarray, true_id: object)
     LNCS 3179, pp. 51-61, Sec. 6 (the identification rates; ranks are our measure of the ranking of steps 6-9).
     """
     scores = as_finite_array(scores, "scores", ndim=1)
-    enrolled_ids = _check_subject_ids(enrolled_ids, "enrolled_ids")
-    _check_subject_id(true_id, "true_id")
+    enrolled_ids = check_subject_ids(enrolled_ids, "enrolled_ids")
+    check_subject_id(true_id, "true_id")
     if enrolled_ids.shape != scores.shape:
         raise ValueError(f"enrolled_ids must have one subject per score (scores has shape {scores.shape}), "
                          f"got {enrolled_ids.shape}")
@@ -919,8 +919,23 @@ def _check_distance_threshold(value: object, name: str) -> float:
     return check_positive(value, name, allow_zero=True)
 
 
-def _check_templates(templates: object, name: str) -> None:
-    """A non-empty list of :class:`EarTemplate` (features, not images)."""
+def check_templates(templates: object, name: str) -> None:
+    """Refuse anything but a non-empty list of :class:`EarTemplate` (features, not images).
+
+    Parameters
+    ----------
+    templates : object
+        The argument to check.
+    name : str
+        The argument's name in error messages.
+
+    Raises
+    ------
+    ValueError
+        Not a sized sequence, or empty.
+    TypeError
+        An element is not an :class:`EarTemplate`.
+    """
     if isinstance(templates, (str, np.ndarray)) or not hasattr(templates, "__len__") or not len(templates):
         raise ValueError(f"{name} must be a non-empty list of EarTemplate")
     wrong = [type(t).__name__ for t in templates if not isinstance(t, EarTemplate)]
@@ -928,8 +943,21 @@ def _check_templates(templates: object, name: str) -> None:
         raise TypeError(f"{name} must hold EarTemplate objects (from EarMatcher.extract), got {wrong[0]}")
 
 
-def _check_subject_id(value: object, name: str) -> object:
-    """A subject id: a str or a finite real number; None (rejection), booleans and NaN are refused."""
+def check_subject_id(value: object, name: str) -> object:
+    """Check one subject id: a str or a finite real number; None (rejection), booleans and NaN are refused.
+
+    Parameters
+    ----------
+    value : object
+        The id to check.
+    name : str
+        The argument's name in error messages.
+
+    Returns
+    -------
+    object
+        ``value``, unchanged.
+    """
     if value is None:
         raise ValueError(f"{name} must not be None (None means rejection)")
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (str, numbers.Real)):
@@ -939,18 +967,39 @@ def _check_subject_id(value: object, name: str) -> object:
     return value
 
 
-def _check_subject_ids(values: object, name: str) -> np.ndarray:
-    """A 1-D sequence of subject ids (each as in :func:`_check_subject_id`), as an array."""
+def check_subject_ids(values: object, name: str) -> np.ndarray:
+    """Check a 1-D sequence of subject ids (each as in :func:`check_subject_id`).
+
+    Parameters
+    ----------
+    values : object
+        The ids to check.
+    name : str
+        The argument's name in error messages (an element is named ``name[index]``).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,)
+        The ids as an array.
+    """
     ids = np.asarray(values)
     if ids.ndim != 1:
         raise ValueError(f"{name} must be a 1-D sequence of subject ids, got shape {ids.shape}")
     for index, value in enumerate(ids.tolist()):
-        _check_subject_id(value, f"{name}[{index}]")
+        check_subject_id(value, f"{name}[{index}]")
     return ids
 
 
-def _check_images(images: object, name: str = "images") -> None:
-    """A non-empty sequence of grey-level images (each as in :func:`as_grey_image`)."""
+def check_images(images: object, name: str = "images") -> None:
+    """Refuse anything but a non-empty sequence of grey-level images (each as :func:`as_grey_image` accepts).
+
+    Parameters
+    ----------
+    images : object
+        The argument to check.
+    name : str
+        The argument's name in error messages (an image is named ``name[index]``).
+    """
     if isinstance(images, (str, bytes)) or not hasattr(images, "__len__"):
         raise TypeError(f"{name} must be a sequence of grey-level images, got {type(images).__name__}")
     if len(images) == 0:
