@@ -922,6 +922,8 @@ def test_module_level_checks_name_the_argument(small_database):
     check_images(small_database.images[:2])
     for call, error, text in [(lambda: check_subject_id(None, "who"), ValueError, "who"),
                               (lambda: check_subject_id(True, "who"), TypeError, "who"),
+                              (lambda: check_subject_id(1e308, "who"), ValueError, "who"),
+                              (lambda: eb.as_grey_image(np.full((9, 9), 1e308), "photo"), ValueError, "photo"),
                               (lambda: check_subject_ids([1, np.nan], "ids"), ValueError, r"ids\[1\]"),
                               (lambda: check_images([], "pictures"), ValueError, "pictures"),
                               (lambda: check_images([np.zeros((3, 3))], "pictures"), ValueError, r"pictures\[0\]"),

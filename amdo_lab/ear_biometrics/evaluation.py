@@ -52,7 +52,7 @@ def genuine_impostor_separation(distances: object, enrolled_ids: object, query_i
     Parameters
     ----------
     distances : array_like, shape (n_queries, n_enrolled)
-        Finite distances, lower = more alike.
+        Finite distances within +-1e150 (their variances must stay finite), lower = more alike.
     enrolled_ids : array_like, shape (n_enrolled,)
         Subject of each enrolled template (str or finite real ids).
     query_ids : array_like, shape (n_queries,)
@@ -68,7 +68,7 @@ def genuine_impostor_separation(distances: object, enrolled_ids: object, query_i
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 5, step 4.
     """
-    distances = as_finite_array(distances, "distances", ndim=2)
+    distances = as_finite_array(distances, "distances", ndim=2, max_abs=1e150)  # squared in the variances
     enrolled_ids = check_subject_ids(enrolled_ids, "enrolled_ids")
     query_ids = check_subject_ids(query_ids, "query_ids")
     if distances.shape[1] != len(enrolled_ids):

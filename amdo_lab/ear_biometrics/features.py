@@ -39,6 +39,11 @@ def as_bool_image(value: object, name: str) -> np.ndarray:
     return as_bool_mask(array, name)
 
 
+MAX_GREY_LEVEL = 1e6
+"""Largest grey level of an image: 8- and 16-bit images and float images fit with room to spare;
+the squared window sums of eq. (2) and the HOG gradients stay exact and finite far beyond it."""
+
+
 def as_grey_image(image: object, name: str = "image") -> np.ndarray:
     """Validate a 2-D grey-level image (uint8 or float) and return it as float64.
 
@@ -48,8 +53,8 @@ def as_grey_image(image: object, name: str = "image") -> np.ndarray:
     Parameters
     ----------
     image : array_like, shape (rows, cols)
-        Grey levels: real, finite, non-negative (0-255 for 8-bit images), at least 8 x 8 pixels;
-        booleans are refused.
+        Grey levels: real, finite, non-negative and at most :data:`MAX_GREY_LEVEL` (0-255 for 8-bit
+        images), at least 8 x 8 pixels; booleans are refused.
     name : str
         The argument's name in error messages.
 
@@ -77,6 +82,8 @@ def as_grey_image(image: object, name: str = "image") -> np.ndarray:
         raise ValueError(f"{name} must be finite, got NaN or infinite values")
     if array.min() < 0:
         raise ValueError(f"{name} must hold non-negative intensities, got minimum {array.min():.3g}")
+    if array.max() > MAX_GREY_LEVEL:
+        raise ValueError(f"{name} must hold intensities of at most {MAX_GREY_LEVEL:g}, got maximum {array.max():.3g}")
     return array
 
 
@@ -264,7 +271,7 @@ class Normalisation:
         Parameters
         ----------
         rows_cols : array_like, shape (n, 2) or (2,)
-            Pixel positions (row, col), finite.
+            Pixel positions (row, col), finite, within +-1e6 pixels.
 
         Returns
         -------
@@ -279,7 +286,7 @@ class Normalisation:
         Parameters
         ----------
         xy : array_like, shape (n, 2) or (2,)
-            Normalised (x, y), finite.
+            Normalised (x, y), finite, within +-1e6 (a contour lies within a few units of the origin).
 
         Returns
         -------
@@ -289,9 +296,14 @@ class Normalisation:
         return _check_points(xy, "xy") @ np.linalg.inv(self.matrix).T + self.centroid
 
 
+# Largest coordinate accepted by Normalisation's maps, pixels or normalised units: far beyond any
+# image, and far enough below overflow that a map through an extreme spread stays finite.
+MAX_COORDINATE = 1e6
+
+
 def _check_points(points: object, name: str) -> np.ndarray:
     """Finite 2-D points as rows; an (n, 3) array is refused rather than silently re-cut into pairs."""
-    array = as_finite_array(points, name, allow_empty=True)
+    array = as_finite_array(points, name, allow_empty=True, max_abs=MAX_COORDINATE)
     if array.ndim not in (1, 2) or array.shape[-1] != 2:
         raise ValueError(f"{name} must have shape (n, 2) or (2,), got {array.shape}")
     return array.reshape(-1, 2)

@@ -487,7 +487,7 @@ class EarMatcher:
         Parameters
         ----------
         subject_id : object
-            The subject's id: a str or a finite real number (not None, which means rejection, nor a bool).
+            The subject's id: a str or a real number within +-2**53 (not None, which means rejection, nor a bool).
         image : array_like, shape (rows, cols)
             Grey levels holding the subject's ear; an image without contours raises ValueError.
 
@@ -505,7 +505,7 @@ class EarMatcher:
         Parameters
         ----------
         subject_id : object
-            The subject's id: a str or a finite real number (not None nor a bool).
+            The subject's id: a str or a real number within +-2**53 (not None nor a bool).
         template : EarTemplate
             Features with ``n_circles`` circles.
 
@@ -693,7 +693,7 @@ class HogNearestNeighbour:
         Parameters
         ----------
         subject_id : object
-            The subject's id: a str or a finite real number (not None nor a bool).
+            The subject's id: a str or a real number within +-2**53 (not None nor a bool).
         image : array_like, shape (rows, cols)
             Grey levels, of the shape of the images enrolled before.
         """
@@ -857,7 +857,7 @@ def rank_of_truth(scores: np.ndarray, enrolled_ids: np.ndarray, true_id: object)
     enrolled_ids : array_like, shape (n,)
         The subject of each template (str or finite real ids); must include ``true_id``.
     true_id : object
-        The query's true subject: a str or a finite real number (not None nor a bool).
+        The query's true subject: a str or a real number within +-2**53 (not None nor a bool).
 
     Returns
     -------
@@ -943,8 +943,13 @@ def check_templates(templates: object, name: str) -> None:
         raise TypeError(f"{name} must hold EarTemplate objects (from EarMatcher.extract), got {wrong[0]}")
 
 
+MAX_NUMERIC_ID = 2.0**53
+"""Largest magnitude of a numeric subject id: every integer up to it is exact in float64, so two
+different ids never compare equal after a conversion to float."""
+
+
 def check_subject_id(value: object, name: str) -> object:
-    """Check one subject id: a str or a finite real number; None (rejection), booleans and NaN are refused.
+    """Check one subject id: a str or a real number within +-2**53; None (rejection), booleans and NaN are refused.
 
     Parameters
     ----------
@@ -964,6 +969,8 @@ def check_subject_id(value: object, name: str) -> object:
         raise TypeError(f"{name} must be a str or a real number, got {type(value).__name__}")
     if isinstance(value, numbers.Real) and not np.isfinite(value):
         raise ValueError(f"{name} must be finite, got {value}")
+    if isinstance(value, numbers.Real) and abs(value) > MAX_NUMERIC_ID:
+        raise ValueError(f"{name} must be at most 2**53 in magnitude (beyond, distinct ids share one float), got {value}")
     return value
 
 
