@@ -86,6 +86,7 @@ def speed(bench: Benchmark, args) -> None:
     then our feature time split into its stages."""
     import time
 
+    import cv2
     import numpy as np
 
     from amdo_lab import ear_biometrics as eb
@@ -137,11 +138,17 @@ def speed(bench: Benchmark, args) -> None:
     def canonical(image):
         return eb.to_canonical(image, moment_frame_fast(eb.silhouette(image), image.shape))
 
+    def blur(image):  # the matcher's blur before eqs. 1-5 (EarMatcher.smoothing)
+        return cv2.GaussianBlur(np.asarray(image, float), (0, 0), ours.smoothing) if ours.smoothing > 0 else image
+
     canonical_time = best_time(canonical, gallery)
     gallery = [canonical(image) for image in gallery]  # the stages below run on canonical images
+    blur_time = best_time(blur, gallery)
+    gallery = [blur(image) for image in gallery]
     contours = [clean(eb.detect_contours(image, ours.k)) for image in gallery]
     stages = {
         "canonical frame (silhouette, warp)": canonical_time,
+        f"blur (sigma {ours.smoothing:g} px)": blur_time,
         "contours, eqs. 1-5": best_time(lambda image: eb.detect_contours(image, ours.k), gallery),
         "clean-up (closing, small parts)": best_time(clean, [eb.detect_contours(im, ours.k) for im in gallery]),
         f"V ({ours.crossings} crossings)": best_time(lambda c: eb.circle_features(c, ours.n_circles, ours.step, **settings), contours),
