@@ -934,3 +934,19 @@ def test_module_level_checks_name_the_argument(small_database):
                               (lambda: moment_frame_fast(np.ones((9, 9), bool), (64, 64), 0.7), ValueError, "spread_fraction")]:
         with pytest.raises(error, match=text):
             call()
+
+
+def test_a_similarity_copy_moves_the_points_of_f_less_than_new_noise():
+    """The default pipeline (canonical frame, blur before eqs. 1-5) on 12 ears drawn inside the image:
+    a random similarity of the reference image changes F (the point distance D) less, on average,
+    than a second capture that differs only by its sensor noise."""
+    rng = np.random.default_rng(314)
+    matcher, pose = eb.EarMatcher(), eb.CapturePose(0.0, 0.85, np.zeros(2), 0.0)
+    noise, copy = [], []
+    for _ in range(12):
+        shape = eb.draw_ear_shape(rng=rng)
+        reference, again = eb.render_ear(shape, pose, rng=rng), eb.render_ear(shape, pose, rng=rng)
+        base = matcher.extract(reference).topology
+        noise.append(eb.point_distance(matcher.extract(again).topology, base))
+        copy.append(eb.point_distance(matcher.extract(eb.similarity_copy(reference, rng=rng)).topology, base))
+    assert np.mean(copy) < np.mean(noise)
