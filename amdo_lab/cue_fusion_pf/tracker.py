@@ -18,7 +18,7 @@ __all__ = ["CALIBRATED_SIGMAS", "CUES", "TrackResult", "calibration_distances", 
 
 CUES = ("color", "edge", "structure", "oracle")
 #: σ_c and σ_s chosen by :func:`calibrate_sigma` on held-out "fusion" seeds (seeds 100-104, rng=0, every 4th frame; the tests re-run it).
-CALIBRATED_SIGMAS = {"color": 0.066, "structure": 0.238}
+CALIBRATED_SIGMAS = {"color": 0.075, "structure": 0.271}
 FRAME_PERIOD = 1.0 / 25.0
 #: Particles smaller or larger than these multiples of the template get weight 0 (not a head on the frame).
 MIN_SCALE, MAX_SCALE = 0.1, 10.0
