@@ -13,7 +13,9 @@ three-cue likelihood inside the generic pfilter package (linear weights exp(log 
 global generator seeded per run). ``--lighting`` instead measures Fig. 3: colour-only success on the
 lighting frames against the size of the colour cast. Ablations: ``--sigmas paper`` (Table 1's σ),
 ``--bins 8`` (colour histogram), ``--printed-ar2`` (eq. 4 as printed; a diverged run counts as lost),
-``--particles``.
+``--particles``, ``--color-space hsv``, ``--stride 1`` (the colour histogram over every pixel instead
+of a grid of every other pixel), ``--fusion layered`` (one cue at a time, resampling between them, in
+the order given by ``--subsets``).
 
 Times are each run's own wall clock per frame (one BLAS thread, benchmarks/_harness.py), median over
 seeds; ``--repeats`` is not used (every run is a different seeded problem). ``--json PATH`` writes the tables.
@@ -49,6 +51,11 @@ def main() -> None:
     parser.add_argument("--subsets", default="all", help="'all' (7 subsets) or e.g. 'color+edge,structure'")
     parser.add_argument("--bins", type=int, default=32, help="colour histogram bins per channel (default 32, Table 1)")
     parser.add_argument("--printed-ar2", action="store_true", help="eq. (4) as printed (unstable) in our filter")
+    parser.add_argument("--color-space", choices=("rgb", "hsv"), default="rgb", help="colour histogram space (default rgb)")
+    parser.add_argument("--stride", type=float, default=2.0,
+                        help="colour sample grid spacing, px (default 2: sampled; 1: every pixel, the exact histogram)")
+    parser.add_argument("--fusion", choices=("product", "layered"), default="product",
+                        help="eq. (6)'s product, or one cue at a time with resampling between (order of --subsets)")
     parser.add_argument("--no-slow-peers", action="store_true", help="skip TrackerMIL and pfilter")
     parser.add_argument("--lighting", action="store_true", help="Fig. 3: colour only against the cast strength")
     args = bench.parse()
@@ -84,7 +91,8 @@ def subsets_and_peers(bench: Benchmark, args) -> None:
             try:
                 runs["+".join(subset)] = cf.track(sequence.frames, init, rng=10_000 + seed, cues=subset,
                                                   n_particles=args.particles, sigmas=args.sigmas, bins=args.bins,
-                                                  printed_order=args.printed_ar2)
+                                                  printed_order=args.printed_ar2, color_space=args.color_space,
+                                                  stride=args.stride, fusion=args.fusion)
             except RuntimeError as error:  # a diverging filter (eq. 4 as printed) counts as lost on every frame
                 bench.note(f"seed {seed}, {'+'.join(subset)}: {error}")
                 lost = np.full((len(sequence.frames), 5), [0.0, 0.0, 1.0, 1.0, 0.0])
@@ -107,7 +115,8 @@ def subsets_and_peers(bench: Benchmark, args) -> None:
 
     table = bench.table("method", "median seed", "pooled rate", "95 % low", "95 % high", "median err px", "ms/frame",
                         title=f"'fusion' sequence, {args.seeds} seeds, N = {args.particles}, sigmas = {args.sigmas}, "
-                              f"{args.bins}^3 bins{', eq. (4) as printed' if args.printed_ar2 else ''}")
+                              f"{args.bins}^3 {args.color_space} bins, stride {args.stride:g}, {args.fusion} fusion"
+                              f"{', eq. (4) as printed' if args.printed_ar2 else ''}")
     for name in names:
         pooled = rate_interval(np.concatenate(success[name]))
         table.add(name, round(float(np.median([s.mean() for s in success[name]])), 3), round(pooled.rate, 3),
