@@ -11,7 +11,8 @@ sequence (each segment defeats one cue: lighting colour, turned away structure, 
 Peers on the same frames: cv2.CamShift, cv2.TrackerMIL (not seedable: its runs vary a little), and our
 three-cue likelihood inside the generic pfilter package (linear weights exp(log L - max log L), numpy's
 global generator seeded per run). ``--lighting`` instead measures Fig. 3: colour-only success on the
-lighting frames against the size of the colour cast. Ablations: ``--sigmas paper`` (Table 1's σ),
+lighting frames against the size of the colour cast. ``--kind lighting|turn|edges`` runs the same
+tables on the sequences of Figs. 3, 4 and 2 (e.g. ``--kind turn --subsets structure,color+edge+structure``). Ablations: ``--sigmas paper`` (Table 1's σ),
 ``--bins 8`` (colour histogram), ``--printed-ar2`` (eq. 4 as printed; a diverged run counts as lost),
 ``--particles``, ``--color-space hsv``, ``--stride 1`` (the colour histogram over every pixel instead
 of a grid of every other pixel), ``--fusion layered`` (one cue at a time, resampling between them, in
@@ -46,6 +47,8 @@ def main() -> None:
     bench = Benchmark(__doc__, seed=0)
     parser = bench.parser
     parser.add_argument("--seeds", type=int, default=20, help="number of sequences/seeds from --seed (default 20)")
+    parser.add_argument("--kind", choices=("fusion", "lighting", "turn", "edges"), default="fusion",
+                        help="head sequence kind (default fusion; lighting: Fig. 3, turn: Fig. 4, edges: Fig. 2)")
     parser.add_argument("--particles", type=int, default=300, help="N_w (default 300)")
     parser.add_argument("--sigmas", choices=("calibrated", "paper"), default="calibrated")
     parser.add_argument("--subsets", default="all", help="'all' (7 subsets) or e.g. 'color+edge,structure'")
@@ -84,7 +87,7 @@ def subsets_and_peers(bench: Benchmark, args) -> None:
     ms = {name: [] for name in names}
     cf.load_or_train_cascade(rng=cf.CASCADE_SEED)  # train (or load) before timing
     for seed in range(args.seed, args.seed + args.seeds):
-        sequence = cf.make_head_sequence("fusion", rng=seed)
+        sequence = cf.make_head_sequence(args.kind, rng=seed)
         init = sequence.true_ellipses[0]
         runs = {}
         for subset in subsets:
@@ -114,7 +117,7 @@ def subsets_and_peers(bench: Benchmark, args) -> None:
         print(f"seed {seed}: " + "  ".join(f"{n}={np.mean(success[n][-1]):.2f}" for n in names), flush=True)
 
     table = bench.table("method", "median seed", "pooled rate", "95 % low", "95 % high", "median err px", "ms/frame",
-                        title=f"'fusion' sequence, {args.seeds} seeds, N = {args.particles}, sigmas = {args.sigmas}, "
+                        title=f"'{args.kind}' sequence, {args.seeds} seeds, N = {args.particles}, sigmas = {args.sigmas}, "
                               f"{args.bins}^3 {args.color_space} bins, stride {args.stride:g}, {args.fusion} fusion"
                               f"{', eq. (4) as printed' if args.printed_ar2 else ''}")
     for name in names:
@@ -122,7 +125,7 @@ def subsets_and_peers(bench: Benchmark, args) -> None:
         table.add(name, round(float(np.median([s.mean() for s in success[name]])), 3), round(pooled.rate, 3),
                   round(pooled.low, 3), round(pooled.high, 3), round(finite_median(errors[name]), 2),
                   round(finite_median(ms[name]), 1))
-    segments = cf.make_head_sequence("fusion", rng=args.seed).segments
+    segments = cf.make_head_sequence(args.kind, rng=args.seed).segments
     per_segment = bench.table("method", *segments, title="success per segment, pooled over seeds: rate [95 % Wilson interval]")
     for name in names:
         pooled = np.stack(success[name])
