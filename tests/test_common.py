@@ -433,3 +433,11 @@ def test_check_names_returns_distinct_names_and_refuses_by_name():
         check_names(["fist", "wave"], "classes", allowed=("fist", "open"))
     with pytest.raises(ValueError, match="random must not repeat a name"):
         check_names(["t", "t"], "random")
+
+
+def test_as_finite_array_refuses_integers_out_of_range_before_the_cast():
+    with pytest.raises(ValueError, match="counts must be at most"):
+        as_finite_array([1e308], "counts", dtype=int)  # the cast alone gives an arbitrary integer
+    with pytest.raises(ValueError, match="counts must be at most 3"):
+        as_finite_array([5.0], "counts", dtype=int, max_abs=3)
+    assert as_finite_array([2.0, -3.0], "counts", dtype=int).tolist() == [2, -3]

@@ -87,6 +87,10 @@ def as_finite_array(
         _check_finite(array, name)
         if np.any(array != np.trunc(array)):
             raise ValueError(f"{name} must hold whole numbers, got a fractional value")
+        # and before the cast, which would turn 1e308 into an arbitrary integer
+        limit = min(max_abs if max_abs is not None else np.inf, float(np.iinfo(np.dtype(dtype)).max))
+        if array.size and np.max(np.abs(array)) > limit:
+            raise ValueError(f"{name} must be at most {limit:g} in magnitude, got {np.max(np.abs(array)):g}")
     array = array.astype(dtype, copy=True)
     if np.issubdtype(array.dtype, np.floating):
         _check_finite(array, name)
