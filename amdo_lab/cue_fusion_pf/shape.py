@@ -188,7 +188,7 @@ class ShapeSpace:
         Parameters
         ----------
         states : numpy.ndarray
-            (N, 3) or (3,) states.
+            (N, 3) or (3,) states, entries within ±1e6.
         n_points : int
             Points per curve.
 
@@ -230,7 +230,7 @@ class ShapeSpace:
         Parameters
         ----------
         states : numpy.ndarray
-            (N, 3) or (3,) states.
+            (N, 3) or (3,) states, entries within ±1e6.
 
         Returns
         -------
@@ -260,7 +260,9 @@ class ShapeSpace:
         return np.array([ellipse[0], ellipse[1], max(ellipse[2], ellipse[3]) / max(self.template_ellipse[2:4]) - 1.0])
 
     def _check_states(self, states: np.ndarray) -> np.ndarray:
-        states = as_finite_array(states, "states", allow_empty=True)
+        """States as a float array, every entry within ±1e6 (pixels, relative scale): far beyond any
+        frame, and the contours' pixel coordinates stay finite and within int32."""
+        states = as_finite_array(states, "states", allow_empty=True, max_abs=1e6)
         if states.ndim not in (1, 2) or states.shape[-1] != self.state_dim:
             raise ValueError(f"states must have shape ({self.state_dim},) or (N, {self.state_dim}), got shape {states.shape}")
         return states
