@@ -291,6 +291,18 @@ def test_overflow_bounds_name_the_argument_and_leave_the_defaults_alone(sequence
         cf.edge_line_likelihood([0.5], 0.2, 0.1, 2e6)
     with pytest.raises(ValueError, match="init"):
         cf.track_camshift(sequence.frames[:2], sequence.true_ellipses[0] + [0, 0, 0, 0, 2e6])
+    # σ of a cue: 1e308 squared overflowed (OverflowError), 1e-200 squared underflowed to 0 (-inf weights)
+    for sigma in (1e308, 1e-200):
+        with pytest.raises(ValueError, match="sigma"):
+            cf.ColorLikelihood(space, sequence.frames[0], sequence.truth[0], sigma=sigma)
+        with pytest.raises(ValueError, match=r"sigmas\['color'\]"):
+            cf.track(sequence.frames[:2], sequence.true_ellipses[0], rng=0, n_particles=10, sigmas={"color": sigma})
+        with pytest.raises(ValueError, match="grid"):
+            cf.calibrate_sigma([0.1], [[0.2, 0.3]], grid=[sigma])
+    with pytest.raises(ValueError, match="smoothing"):  # cv2.GaussianBlur failed on a huge σ
+        cf.EdgeLikelihood(space, smoothing=1e308)
+    with pytest.raises(ValueError, match="beta"):  # no damping: a random walk, unstable
+        cf.track(sequence.frames[:2], sequence.true_ellipses[0], rng=0, n_particles=10, beta=(2.0, 2.0, 0.0))
 
 
 def test_camshift_peer_tracks_the_calm_frames(sequence):

@@ -137,8 +137,8 @@ class ARDynamics:
         # the weights of x_{k-1} and x_{k-2}
         self.first_lag, self.second_lag = (self.a1, self.a0) if printed_order else (self.a0, self.a1)
         if not allow_unstable and self.spectral_radius() >= 1.0:
-            raise ValueError(f"AR(2) model is unstable (spectral radius {self.spectral_radius():.3f}); "
-                             "pass allow_unstable=True to use it anyway")
+            raise ValueError(f"AR(2) model is unstable (spectral radius {self.spectral_radius():.3f}): beta too small "
+                             "(no damping) or printed_order; pass allow_unstable=True to use it anyway")
 
     @property
     def step_std(self) -> np.ndarray:

@@ -14,7 +14,7 @@ from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_p
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 
 __all__ = [
-    "CalibrationResult", "ColorLikelihood", "EdgeLikelihood", "MAX_CLUTTER_DENSITY", "MAX_DISTANCE", "MAX_PIXELS", "PAPER_SIGMAS", "bhattacharyya",
+    "CalibrationResult", "ColorLikelihood", "EdgeLikelihood", "MAX_CLUTTER_DENSITY", "MAX_DISTANCE", "MAX_PIXELS", "PAPER_SIGMAS", "SIGMA_RANGE", "bhattacharyya",
     "calibrate_sigma", "check_frame", "check_shape_space", "edge_line_likelihood", "fused_log_likelihood",
     "kernel_histogram", "simulate_measurement_lines",
 ]
@@ -24,6 +24,9 @@ PAPER_SIGMAS = {"color": 5.0, "structure": float(np.sqrt(15.0))}
 #: Largest length or coordinate in pixels the chapter accepts (its frames are a few hundred pixels
 #: wide): beyond it squared lengths overflow and pixel indices leave int32 (the overflow policy).
 MAX_PIXELS = 1e6
+#: Range of the σ of a cue's likelihood ``exp(-d / 2σ²)`` (σ_c, σ_s), with d in [0, 1]: below it every
+#: particle but the best gets weight 0, above it the cue is switched off (and σ² leaves float64 far beyond).
+SIGMA_RANGE = (1e-6, 1e6)
 #: Largest distance :func:`calibrate_sigma` accepts (the cues' distances 1 - ρ and 1 - n_s/N_s are in [0, 1]).
 MAX_DISTANCE = 1e6
 #: Largest clutter density λ, features per pixel: a 1-D edge detector finds at most one per pixel.
@@ -181,7 +184,7 @@ class ColorLikelihood:
     bins : int
         Bins per channel (32 for the head, Table 1); must divide 256.
     sigma : float
-        σ_c, > 0.
+        σ_c, in :data:`SIGMA_RANGE`.
     stride : float
         Spacing of the sample grid in pixels at scale 1 (see Notes), > 0 and small enough to leave
         a grid point inside the template's ellipse (at most about its smaller semi-axis).
@@ -202,7 +205,7 @@ class ColorLikelihood:
                  bins: int = 32, sigma: float = 5.0, stride: float = 2.0):
         self.shape_space = check_shape_space(shape_space)
         self.bins = _check_bins(bins)
-        self.sigma = check_positive(sigma, "sigma")
+        self.sigma = check_in_range(sigma, "sigma", *SIGMA_RANGE, closed="both")
         self.stride = check_positive(stride, "stride")
         reference_frame = check_frame(reference_frame, "reference_frame")
         reference_state = as_finite_array(reference_state, "reference_state", shape=(shape_space.state_dim,),
@@ -348,7 +351,7 @@ def simulate_measurement_lines(n_lines: int, *, half_length: float, p0: float, c
     clutter_density : float
         λ, clutter features per pixel, in [0, :data:`MAX_CLUTTER_DENSITY`] (at most one per pixel).
     sigma_e : float
-        σ_e in pixels, > 0.
+        σ_e in pixels, in (0, :data:`MAX_PIXELS`].
     rng : int or numpy.random.Generator
         Source of the draws.
 
@@ -366,7 +369,7 @@ def simulate_measurement_lines(n_lines: int, *, half_length: float, p0: float, c
     half_length = check_in_range(half_length, "half_length", 0.0, MAX_PIXELS, closed="right")
     p0 = check_in_range(p0, "p0", 0.0, 1.0)
     clutter_density = check_in_range(clutter_density, "clutter_density", 0.0, MAX_CLUTTER_DENSITY, closed="both")
-    sigma_e = check_positive(sigma_e, "sigma_e")
+    sigma_e = check_in_range(sigma_e, "sigma_e", 0.0, MAX_PIXELS, closed="right")
     counts = generator.poisson(clutter_density * 2.0 * half_length, n_lines)
     clutter = generator.uniform(-half_length, half_length, counts.sum())
     edges = generator.normal(0.0, sigma_e, n_lines)
@@ -394,7 +397,8 @@ class EdgeLikelihood:
     threshold : float
         Smallest gradient magnitude of a feature, grey levels per pixel, > 0.
     smoothing : float
-        σ of the Gaussian applied to the grey image before the 1-D derivative, pixels, > 0.
+        σ of the Gaussian applied to the grey image before the 1-D derivative, pixels, in
+        (0, half_length] (a wider blur erases the edges the lines look for).
 
     Notes
     -----
@@ -416,7 +420,7 @@ class EdgeLikelihood:
         self.p0 = check_in_range(p0, "p0", 0.0, 1.0)
         self.sigma_e = check_in_range(sigma_e, "sigma_e", 0.0, MAX_PIXELS, closed="right")
         self.threshold = check_positive(threshold, "threshold")
-        self.smoothing = check_positive(smoothing, "smoothing")
+        self.smoothing = check_in_range(smoothing, "smoothing", 0.0, float(self.half_length), closed="right")
         self._points, self._normals = shape_space.template_normals(self.n_lines)
         self.offsets = np.arange(-self.half_length, self.half_length + 1, dtype=float)
         self.clutter_density = float("nan")  # λ of the last frame seen
@@ -629,7 +633,7 @@ def calibrate_sigma(distances_true: np.ndarray, distances_prior: np.ndarray, gri
     distances_prior : numpy.ndarray
         (T, N) distances at the prior samples, likewise bounded.
     grid : numpy.ndarray, optional
-        σ values to try, > 0 (default: 60 log-spaced values from 0.005 to 10).
+        σ values to try, in :data:`SIGMA_RANGE` (default: 60 log-spaced values from 0.005 to 10).
 
     Returns
     -------
@@ -646,8 +650,9 @@ def calibrate_sigma(distances_true: np.ndarray, distances_prior: np.ndarray, gri
         raise ValueError(f"distances_true and distances_prior must have one row per frame, got {distances_true.size} and "
                          f"{len(distances_prior)}")
     grid = np.geomspace(0.005, 10.0, 60) if grid is None else as_finite_array(grid, "grid", ndim=1)
-    if np.any(grid <= 0):
-        raise ValueError("grid must hold positive values of sigma")
+    if np.any(grid < SIGMA_RANGE[0]) or np.any(grid > SIGMA_RANGE[1]):
+        raise ValueError(f"grid must hold values of sigma in [{SIGMA_RANGE[0]:g}, {SIGMA_RANGE[1]:g}], got {grid.min():g} to "
+                         f"{grid.max():g}")
     scores = []
     for sigma in grid:
         log_prior = -distances_prior / (2.0 * sigma**2)

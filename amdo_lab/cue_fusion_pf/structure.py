@@ -17,9 +17,9 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf import data as _data
-from amdo_lab.cue_fusion_pf.likelihoods import check_frame, check_shape_space
+from amdo_lab.cue_fusion_pf.likelihoods import SIGMA_RANGE, check_frame, check_shape_space
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 
 __all__ = ["BoostedCascade", "HaarFeatures", "StructureLikelihood", "TrainingSet", "haar_features",
@@ -567,7 +567,7 @@ class StructureLikelihood:
     cascade : BoostedCascade
         The detector.
     sigma : float
-        σ_s, > 0.
+        σ_s, in :data:`~amdo_lab.cue_fusion_pf.likelihoods.SIGMA_RANGE`.
 
     References
     ----------
@@ -579,7 +579,7 @@ class StructureLikelihood:
         if not isinstance(cascade, BoostedCascade):
             raise TypeError(f"cascade must be a BoostedCascade (see train_cascade), got {type(cascade).__name__}")
         self.cascade = cascade
-        self.sigma = check_positive(sigma, "sigma")
+        self.sigma = check_in_range(sigma, "sigma", *SIGMA_RANGE, closed="both")
 
     def boxes(self, states: np.ndarray) -> np.ndarray:
         """The circumscribed rectangles of the states' ellipses.

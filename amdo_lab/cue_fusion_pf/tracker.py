@@ -8,9 +8,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
-from amdo_lab.cue_fusion_pf.likelihoods import MAX_PIXELS, PAPER_SIGMAS, ColorLikelihood, EdgeLikelihood
+from amdo_lab.cue_fusion_pf.likelihoods import MAX_PIXELS, PAPER_SIGMAS, SIGMA_RANGE, ColorLikelihood, EdgeLikelihood
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 from amdo_lab.cue_fusion_pf.structure import CASCADE_SEED, StructureLikelihood, load_or_train_cascade
 
@@ -281,8 +281,8 @@ def resolve_sigmas(sigmas: object) -> dict[str, float]:
     Parameters
     ----------
     sigmas : str or dict
-        ``"calibrated"`` (:data:`CALIBRATED_SIGMAS`), ``"paper"`` (Table 1) or a dict of positive
-        values overriding the calibrated ones.
+        ``"calibrated"`` (:data:`CALIBRATED_SIGMAS`), ``"paper"`` (Table 1) or a dict of values in
+        :data:`SIGMA_RANGE` overriding the calibrated ones.
 
     Returns
     -------
@@ -298,7 +298,7 @@ def resolve_sigmas(sigmas: object) -> dict[str, float]:
     if isinstance(sigmas, dict):
         sigma_table = {**CALIBRATED_SIGMAS, **sigmas}
         for key, value in sigma_table.items():
-            check_positive(value, f"sigmas[{key!r}]")
+            check_in_range(value, f"sigmas[{key!r}]", *SIGMA_RANGE, closed="both")
         return sigma_table
     raise TypeError(f"sigmas must be 'calibrated', 'paper' or a dict, got {type(sigmas).__name__}")
 
@@ -366,7 +366,7 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
         N_w, at least 2.
     sigmas : str or dict
         ``"calibrated"`` (:data:`CALIBRATED_SIGMAS`), ``"paper"`` (Table 1: σ_c = 5, σ_s = √15) or a
-        dict of positive values.
+        dict of values in :data:`SIGMA_RANGE`.
     **params
         bins, stride (colour); n_lines, half_length, p0, sigma_e, threshold (edges); beta,
         stationary_std, printed_order (dynamics); init_spread (std of the initial particles);
