@@ -301,6 +301,12 @@ def test_overflow_bounds_name_the_argument_and_leave_the_defaults_alone(sequence
             cf.calibrate_sigma([0.1], [[0.2, 0.3]], grid=[sigma])
     with pytest.raises(ValueError, match="smoothing"):  # cv2.GaussianBlur failed on a huge σ
         cf.EdgeLikelihood(space, smoothing=1e308)
+    with pytest.raises(ValueError, match="threshold"):  # above any grey-level gradient: no feature, ever
+        cf.EdgeLikelihood(space, threshold=300.0)
+    with pytest.raises(ValueError, match="offsets"):
+        cf.edge_line_likelihood([2e6], 0.2, 0.1, 1.5)
+    with pytest.raises(ValueError, match="window"):  # features grow as the side to the fourth power
+        cf.haar_features((64, 64))
     with pytest.raises(ValueError, match="beta"):  # no damping: a random walk, unstable
         cf.track(sequence.frames[:2], sequence.true_ellipses[0], rng=0, n_particles=10, beta=(2.0, 2.0, 0.0))
 

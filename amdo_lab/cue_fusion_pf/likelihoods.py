@@ -308,7 +308,8 @@ def edge_line_likelihood(offsets: np.ndarray, p0: float, clutter_density: float,
     Parameters
     ----------
     offsets : array_like
-        Distances z_j of the line's features from the contour, pixels (may be empty).
+        Distances z_j of the line's features from the contour, pixels (may be empty), within
+        ±:data:`MAX_PIXELS`.
     p0 : float
         P0, in (0, 1).
     clutter_density : float
@@ -325,7 +326,7 @@ def edge_line_likelihood(offsets: np.ndarray, p0: float, clutter_density: float,
     ----------
     Li & Chaumette, AMDO 2004, eq. (13); MacCormick, PhD thesis, Oxford (2000).
     """
-    offsets = as_finite_array(offsets, "offsets", ndim=1, allow_empty=True)
+    offsets = as_finite_array(offsets, "offsets", ndim=1, allow_empty=True, max_abs=MAX_PIXELS)
     p0 = check_in_range(p0, "p0", 0.0, 1.0)
     clutter_density = check_positive(clutter_density, "clutter_density")
     sigma_e = check_in_range(sigma_e, "sigma_e", 0.0, MAX_PIXELS, closed="right")
@@ -395,7 +396,8 @@ class EdgeLikelihood:
     sigma_e : float
         σ_e in pixels, in (0, :data:`MAX_PIXELS`] (√2).
     threshold : float
-        Smallest gradient magnitude of a feature, grey levels per pixel, > 0.
+        Smallest gradient magnitude of a feature, grey levels per pixel, in (0, 255] (the central
+        difference of grey levels never exceeds 127.5 per pixel).
     smoothing : float
         σ of the Gaussian applied to the grey image before the 1-D derivative, pixels, in
         (0, half_length] (a wider blur erases the edges the lines look for).
@@ -419,7 +421,7 @@ class EdgeLikelihood:
         self.half_length = check_positive_int(half_length, "half_length", minimum=2)
         self.p0 = check_in_range(p0, "p0", 0.0, 1.0)
         self.sigma_e = check_in_range(sigma_e, "sigma_e", 0.0, MAX_PIXELS, closed="right")
-        self.threshold = check_positive(threshold, "threshold")
+        self.threshold = check_in_range(threshold, "threshold", 0.0, 255.0, closed="right")
         self.smoothing = check_in_range(smoothing, "smoothing", 0.0, float(self.half_length), closed="right")
         self._points, self._normals = shape_space.template_normals(self.n_lines)
         self.offsets = np.arange(-self.half_length, self.half_length + 1, dtype=float)

@@ -87,7 +87,7 @@ class ShapeSpace:
     Parameters
     ----------
     template : numpy.ndarray
-        (J, 2) control points ``Q̄`` in pixels; they are centred on their mean, which becomes the
+        (J, 2) control points ``Q̄`` in pixels, within ±1e6; they are centred on their mean, which becomes the
         state's origin.
     kind : str
         ``"translation_scale"`` (the head space of eq. 3, state ``(t_x, t_y, s)``).
@@ -107,7 +107,7 @@ class ShapeSpace:
     """
 
     def __init__(self, template: np.ndarray, kind: str = "translation_scale", *, _ellipse: np.ndarray | None = None):
-        template = as_finite_array(template, "template", shape=(None, 2))
+        template = as_finite_array(template, "template", shape=(None, 2), max_abs=1e6)  # its covariance stays finite
         check_positive_int(template.shape[0], "template length", minimum=3)
         self.kind = check_choice(kind, "kind", SHAPE_KINDS)
         self.centre = template.mean(axis=0)

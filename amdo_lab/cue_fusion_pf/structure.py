@@ -35,6 +35,8 @@ CASCADE_SEED = 2004
 #: Largest pixel value :func:`integral_image` accepts: far beyond grey levels (0-255) and normalised
 #: patches, and the sums of a stack, kept in float32, stay finite.
 MAX_PIXEL_VALUE = 1e6
+#: Largest side of a Haar window in pixels (Viola & Jones use 24; ours is :data:`WINDOW`).
+MAX_WINDOW = 32
 #: Largest box coordinate or size in pixels (boxes of states within the shape space's bound stay inside).
 MAX_BOX_PIXELS = 1e9
 
@@ -105,7 +107,8 @@ def haar_features(window: tuple[int, int] = WINDOW) -> HaarFeatures:
     Parameters
     ----------
     window : tuple of int
-        (width, height) of the detector window in pixels, each at least 2.
+        (width, height) of the detector window in pixels, each in [2, :data:`MAX_WINDOW`]: the
+        number of features grows as the fourth power of the side (510,112 at 32 × 32).
 
     Returns
     -------
@@ -116,6 +119,7 @@ def haar_features(window: tuple[int, int] = WINDOW) -> HaarFeatures:
     ----------
     Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
     """
+    as_finite_array(window, "window", shape=(2,), max_abs=MAX_WINDOW)  # bounded before the cast to int
     width, height = as_finite_array(window, "window", shape=(2,), dtype=int)
     if width < 2 or height < 2:
         raise ValueError(f"window must be at least 2 pixels wide and high, got {tuple(window)}")
@@ -407,7 +411,7 @@ class BoostedCascade:
         Parameters
         ----------
         image : numpy.ndarray
-            (H, W, 3) or (H, W) image.
+            (H, W, 3) or (H, W) image, values within ±:data:`MAX_PIXEL_VALUE`.
         boxes : numpy.ndarray
             (N, 4) boxes ``(x, y, width, height)`` in pixels, sizes > 0, entries within
             ±:data:`MAX_BOX_PIXELS`.
@@ -417,7 +421,7 @@ class BoostedCascade:
         numpy.ndarray
             (N,) stages passed.
         """
-        as_finite_array(image, "image")  # checked, not converted: the patches are read from the image as given
+        as_finite_array(image, "image", max_abs=MAX_PIXEL_VALUE)  # checked, not converted: the patches are read from the image as given
         image = np.asarray(image)
         if not (image.ndim == 2 or (image.ndim == 3 and image.shape[2] == 3)):
             raise ValueError(f"image must be an (H, W, 3) RGB or (H, W) grey image, got shape {image.shape}")
