@@ -87,7 +87,7 @@ class ShapeSpace:
     Parameters
     ----------
     template : numpy.ndarray
-        (J, 2) control points ``Q̄`` in pixels; they are centred on their mean, which becomes the
+        (J, 2) control points ``Q̄`` in pixels, within ±1e6; they are centred on their mean, which becomes the
         state's origin.
     kind : str
         ``"translation_scale"`` (the head space of eq. 3, state ``(t_x, t_y, s)``).
@@ -107,7 +107,7 @@ class ShapeSpace:
     """
 
     def __init__(self, template: np.ndarray, kind: str = "translation_scale", *, _ellipse: np.ndarray | None = None):
-        template = as_finite_array(template, "template", shape=(None, 2))
+        template = as_finite_array(template, "template", shape=(None, 2), max_abs=1e6)  # its covariance stays finite
         check_positive_int(template.shape[0], "template length", minimum=3)
         self.kind = check_choice(kind, "kind", SHAPE_KINDS)
         self.centre = template.mean(axis=0)
@@ -188,7 +188,7 @@ class ShapeSpace:
         Parameters
         ----------
         states : numpy.ndarray
-            (N, 3) or (3,) states.
+            (N, 3) or (3,) states, entries within ±1e6.
         n_points : int
             Points per curve.
 
@@ -230,7 +230,7 @@ class ShapeSpace:
         Parameters
         ----------
         states : numpy.ndarray
-            (N, 3) or (3,) states.
+            (N, 3) or (3,) states, entries within ±1e6.
 
         Returns
         -------
@@ -260,7 +260,9 @@ class ShapeSpace:
         return np.array([ellipse[0], ellipse[1], max(ellipse[2], ellipse[3]) / max(self.template_ellipse[2:4]) - 1.0])
 
     def _check_states(self, states: np.ndarray) -> np.ndarray:
-        states = as_finite_array(states, "states", allow_empty=True)
+        """States as a float array, every entry within ±1e6 (pixels, relative scale): far beyond any
+        frame, and the contours' pixel coordinates stay finite and within int32."""
+        states = as_finite_array(states, "states", allow_empty=True, max_abs=1e6)
         if states.ndim not in (1, 2) or states.shape[-1] != self.state_dim:
             raise ValueError(f"states must have shape ({self.state_dim},) or (N, {self.state_dim}), got shape {states.shape}")
         return states
