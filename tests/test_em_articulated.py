@@ -257,6 +257,10 @@ def test_hand_bad_input(hand):
         hand.part_transforms(np.zeros(5))
     with pytest.raises(ValueError, match="points"):
         hand.surface_distance(np.array([[np.inf, 0, 0]]), hand.rest_pose())
+    with pytest.raises(ValueError, match="points must be at most"):  # coordinates within ±1e6 mm
+        hand.surface_distance(np.array([[2e6, 0, 0]]), hand.rest_pose())
+    with pytest.raises(ValueError, match="theta must be at most"):  # pose entries within ±1e6
+        hand.part_transforms(np.full(27, 2e6))
     with pytest.raises(TypeError, match="hand"):
         register_em(np.zeros((3, 3)), np.zeros((3, 3)), "hand", np.zeros(27))
 
@@ -381,6 +385,8 @@ def test_fit_surface_eq22_ignores_far_points(hand):
     assert joint_rmse_deg(robust.theta, theta_true) < joint_rmse_deg(plain.theta, theta_true)
     with pytest.raises(ValueError, match="sigma"):
         fit_surface(data, hand, start, sigma=0.0)
+    with pytest.raises(ValueError, match="weights must be at most"):  # relative weights, at most 1e6
+        fit_surface(data, hand, start, weights=np.full(len(data), 1e7))
 
 
 def test_kdtree_e_step_matches_dense(hand):
@@ -720,6 +726,11 @@ def test_m_step_targets_are_weighted_means():
     (lambda: e_step_reference(np.zeros((2, 3)), np.zeros((2, 3)), 1.0, c=0.0), ValueError, "c"),
     (lambda: m_step_targets(np.zeros((2, 4)), np.zeros((3, 3))), ValueError, "alpha"),
     (lambda: robust_log_likelihood(np.zeros((2, 3)), np.full((2, 3), np.nan), 1.0), ValueError, "data_points"),
+    # beyond the documented ranges: posteriors in [0, 1], coordinates within ±1e6 mm
+    (lambda: m_step_targets(np.full((2, 3), 1.5), np.zeros((3, 3))), ValueError, r"alpha must hold posteriors in \[0, 1\]"),
+    (lambda: m_step_targets(np.full((2, 3), -0.1), np.zeros((3, 3))), ValueError, "alpha must hold posteriors"),
+    (lambda: robust_log_likelihood(np.zeros((2, 3)), np.full((2, 3), 2e6), 1.0), ValueError,
+     "data_points must be at most 1e\\+06"),
 ])
 def test_reference_paths_reject_bad_input(call, error, match):
     with pytest.raises(error, match=match):

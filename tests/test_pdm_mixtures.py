@@ -819,3 +819,15 @@ def test_a_refit_forgets_the_previous_fit(small_problem):
     fewer = train.shapes[:, :, :4]  # 4 landmarks per limb instead of 6: accepted by a fresh fit
     model.fit(fewer, train.labels)
     assert model.landmarks_per_limb_ == 4 and model.predict(test.shapes[:3, :, :4]).shape == (3,)
+
+
+def test_check_labels_takes_names_or_integer_ids():
+    from amdo_lab.pdm_mixtures.pdm import check_labels
+
+    assert check_labels(np.array(["a", "b"]), 2).tolist() == ["a", "b"]
+    assert check_labels(np.array([0.0, 3.0]), 2).tolist() == [0.0, 3.0]  # whole floats: ids, kept as given
+    for bad in (np.array([0.0, 0.5]), np.array([0.0, 1e308])):  # no class id: refused by name
+        with pytest.raises(ValueError, match="labels must be class names or integer class ids"):
+            check_labels(bad, 2)
+    with pytest.raises(ValueError, match="labels must not contain NaN"):
+        check_labels(np.array([0.0, np.nan]), 2)

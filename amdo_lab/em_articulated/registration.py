@@ -44,6 +44,9 @@ DEFAULT_TOL = 1e-3
 
 #: Largest σ accepted, mm (σ² and the energies overflow long before 1e308).
 MAX_SIGMA_MM = MAX_LENGTH_MM
+#: Largest per-point weight :func:`fit_surface` accepts (weights are relative: a weight of 1e308 would
+#: overflow the weighted normal equations).
+MAX_WEIGHT = 1e6
 
 
 def check_settings(value: object, name: str) -> dict:
@@ -83,8 +86,8 @@ class EMResult:
 def _check_e_step_inputs(model_points: object, data_points: object, sigma: object,
                          log_c: object) -> tuple[np.ndarray, np.ndarray, float, float]:
     """Validate the arguments shared by the public E-step functions."""
-    model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3))
-    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3))
+    model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
     sigma = check_in_range(sigma, "sigma", 0.0, MAX_SIGMA_MM, closed="right")
     if not isinstance(log_c, (int, float, np.integer, np.floating)) or isinstance(log_c, (bool, np.bool_)):
         raise TypeError(f"log_c must be a real number, got {type(log_c).__name__}")
@@ -103,9 +106,9 @@ def e_step_reference(model_points: object, data_points: object, sigma: float, c:
     Parameters
     ----------
     model_points : array_like, shape (N, 3)
-        Moved texture points T(X_i, Θ), mm.
+        Moved texture points T(X_i, Θ), mm, within ±1e6.
     data_points : array_like, shape (M, 3)
-        Data points Y_j, mm.
+        Data points Y_j, mm, within ±1e6.
     sigma : float
         σ of the Gaussian of eq. (6), mm, in (0, 1e6].
     c : float, default PAPER_C
@@ -151,9 +154,9 @@ def m_step_targets(alpha: object, data_points: object) -> tuple[np.ndarray, np.n
     Parameters
     ----------
     alpha : array_like, shape (N, M)
-        Posteriors α_ij ≥ 0, e.g. :func:`e_step_reference`.
+        Posteriors α_ij in [0, 1], e.g. :func:`e_step_reference`.
     data_points : array_like, shape (M, 3)
-        Data points Y_j, mm.
+        Data points Y_j, mm, within ±1e6.
 
     Returns
     -------
@@ -166,8 +169,10 @@ def m_step_targets(alpha: object, data_points: object) -> tuple[np.ndarray, np.n
     ----------
     Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eq. (20).
     """
-    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3))
+    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
     alpha = as_finite_array(alpha, "alpha", ndim=2, shape=(None, len(data)))
+    if np.any((alpha < 0) | (alpha > 1)):
+        raise ValueError("alpha must hold posteriors in [0, 1], got values outside")
     lam = alpha.sum(axis=1)  # λ_i = Σ_j α_ij
     targets = (alpha @ data) / np.maximum(lam, 1e-300)[:, None]  # G_i = Σ_j α_ij Y_j / λ_i
     return lam, targets
@@ -184,9 +189,9 @@ def robust_log_likelihood(model_points: object, data_points: object, sigma: floa
     Parameters
     ----------
     model_points : array_like, shape (N, 3)
-        Moved texture points T(X_i, Θ), mm.
+        Moved texture points T(X_i, Θ), mm, within ±1e6.
     data_points : array_like, shape (M, 3)
-        Data points Y_j, mm.
+        Data points Y_j, mm, within ±1e6.
     sigma : float
         σ, mm, in (0, 1e6].
     c : float, default PAPER_C
@@ -227,9 +232,9 @@ def e_step_statistics(model_points: object, data_points: object, sigma: float,
     Parameters
     ----------
     model_points : array_like, shape (N, 3)
-        Moved texture points T(X_i, Θ), mm.
+        Moved texture points T(X_i, Θ), mm, within ±1e6.
     data_points : array_like, shape (M, 3)
-        Data points Y_j, mm.
+        Data points Y_j, mm, within ±1e6.
     sigma : float
         σ of the Gaussian of eq. (6), mm, in (0, 1e6].
     log_c : float
@@ -360,9 +365,9 @@ def e_step_statistics_kdtree(model_points: object, data_points: object, sigma: f
     Parameters
     ----------
     model_points : array_like, shape (N, 3)
-        Moved texture points T(X_i, Θ), mm.
+        Moved texture points T(X_i, Θ), mm, within ±1e6.
     data_points : array_like, shape (M, 3)
-        Data points Y_j, mm.
+        Data points Y_j, mm, within ±1e6.
     sigma : float
         σ of the Gaussian of eq. (6), mm, in (0, 1e6].
     log_c : float
@@ -500,8 +505,8 @@ def _m_step(hand: HandModel, binding: TextureBinding, theta: np.ndarray, weights
 def _check_common(hand: HandModel, model_points: object, data_points: object, theta_init: object,
                   sigma_max: object, sigma_min: object) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, float]:
     check_hand(hand)
-    model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3))
-    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3))
+    model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
     theta = hand.check_theta(theta_init, "theta_init", within_limits=True)
     sigma_max = check_in_range(sigma_max, "sigma_max", 0.0, MAX_SIGMA_MM, closed="right")
     sigma_min = check_positive(sigma_min, "sigma_min")
@@ -525,9 +530,9 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
     Parameters
     ----------
     model_points : array_like, shape (N, 3)
-        Texture points X_i lying on the hand at pose ``theta_init``, mm.
+        Texture points X_i lying on the hand at pose ``theta_init``, mm, within ±1e6.
     data_points : array_like, shape (M, 3)
-        Observed points Y_j (inliers and outliers), mm.
+        Observed points Y_j (inliers and outliers), mm, within ±1e6.
     hand : HandModel
         The articulated model.
     theta_init : array_like, shape (27,)
@@ -621,9 +626,9 @@ def register_em_reference(model_points: object, data_points: object, hand: HandM
     Parameters
     ----------
     model_points : array_like, shape (N, 3)
-        Texture points X_i lying on the hand at pose ``theta_init``, mm.
+        Texture points X_i lying on the hand at pose ``theta_init``, mm, within ±1e6.
     data_points : array_like, shape (M, 3)
-        Observed points Y_j (inliers and outliers), mm.
+        Observed points Y_j (inliers and outliers), mm, within ±1e6.
     hand : HandModel
         The articulated model.
     theta_init : array_like, shape (27,)
@@ -716,8 +721,6 @@ def _em_setup(hand: HandModel, model_points: object, data_points: object, theta_
     """Check :func:`register_em`'s arguments (same names, same defaults) and bind the texture at ``theta_init``."""
     model, data, theta, sigma_max, sigma_min = _check_common(hand, model_points, data_points,
                                                              theta_init, sigma_max, sigma_min)
-    if model.shape[0] == 0 or data.shape[0] == 0:
-        raise ValueError("model_points and data_points must be non-empty")
     n_levels = check_positive_int(n_levels, "n_levels")
     max_iter = check_positive_int(max_iter, "max_iter")
     tol = check_positive(tol, "tol", allow_zero=True)
@@ -800,9 +803,9 @@ def climb_objective(model_points: object, data_points: object, hand: HandModel, 
     Parameters
     ----------
     model_points : array_like, shape (N, 3)
-        Texture points X_i lying on the hand at pose ``theta_init``, mm.
+        Texture points X_i lying on the hand at pose ``theta_init``, mm, within ±1e6.
     data_points : array_like, shape (M, 3)
-        Observed points Y_j (inliers and outliers), mm.
+        Observed points Y_j (inliers and outliers), mm, within ±1e6.
     hand : HandModel
         The articulated model.
     theta_init : array_like, shape (27,)
@@ -923,9 +926,9 @@ def refine_digits(model_points: object, data_points: object, hand: HandModel, th
     Parameters
     ----------
     model_points : array_like, shape (N, 3)
-        Texture points X_i at pose ``theta_init``, mm (as for :func:`register_em`).
+        Texture points X_i at pose ``theta_init``, mm, within ±1e6 (as for :func:`register_em`).
     data_points : array_like, shape (M, 3)
-        Observed points Y_j, mm.
+        Observed points Y_j, mm, within ±1e6.
     hand : HandModel
         The articulated model.
     theta_init : array_like, shape (27,)
@@ -1010,9 +1013,9 @@ def fit_known_correspondences(model_points: object, matched_points: object, hand
     Parameters
     ----------
     model_points : array_like, shape (N, 3)
-        Texture points at ``theta_init``, mm.
+        Texture points at ``theta_init``, mm, within ±1e6.
     matched_points : array_like, shape (N, 3)
-        Observation of each texture point at the unknown pose, mm.
+        Observation of each texture point at the unknown pose, mm, within ±1e6.
     hand : HandModel
         The articulated model.
     theta_init : array_like, shape (27,)
@@ -1033,8 +1036,8 @@ def fit_known_correspondences(model_points: object, matched_points: object, hand
     bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; eq. (20) with α_ij = 1 for the true pairs.
     """
     check_hand(hand)
-    model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3))
-    matched = as_finite_array(matched_points, "matched_points", ndim=2, shape=(len(model), 3))
+    model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+    matched = as_finite_array(matched_points, "matched_points", ndim=2, shape=(len(model), 3), max_abs=MAX_LENGTH_MM)
     theta = hand.check_theta(theta_init, "theta_init", within_limits=True)
     max_iter = check_positive_int(max_iter, "max_iter")
     with one_blas_thread():
@@ -1080,13 +1083,14 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
     Parameters
     ----------
     data_points : array_like, shape (M, 3)
-        Data points Y_j, mm; at least one.
+        Data points Y_j, mm, within ±1e6; at least one.
     hand : HandModel
         The articulated model.
     theta_init : array_like, shape (27,)
         Start pose, inside the joint limits.
     weights : array_like, shape (M,), optional
-        Non-negative per-point weights multiplying β_j (None: all 1).
+        Per-point weights multiplying β_j, in [0, 1e6] (relative weights, such as the EM's inlier
+        probabilities in [0, 1]; None: all 1).
     sigma : float or None, default 3.0
         σ of eq. (22), mm, in (0, 1e6]; None drops eq. (22).
     max_iter : int, default 3
@@ -1107,11 +1111,10 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
     bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; Sec. 3.4, eqs. (2), (21)-(22).
     """
     check_hand(hand)
-    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3))
-    if len(data) == 0:
-        raise ValueError("data_points must be non-empty")
+    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
     theta = hand.check_theta(theta_init, "theta_init", within_limits=True)
-    w = np.ones(len(data)) if weights is None else as_finite_array(weights, "weights", ndim=1, shape=(len(data),))
+    w = np.ones(len(data)) if weights is None else as_finite_array(weights, "weights", ndim=1, shape=(len(data),),
+                                                                    max_abs=MAX_WEIGHT)
     if np.any(w < 0):
         raise ValueError("weights must be non-negative")
     if sigma is not None:
@@ -1190,9 +1193,9 @@ def softassign_register(model_points: object, data_points: object, hand: HandMod
     Parameters
     ----------
     model_points : array_like, shape (N, 3)
-        Texture points X_i lying on the hand at pose ``theta_init``, mm.
+        Texture points X_i lying on the hand at pose ``theta_init``, mm, within ±1e6.
     data_points : array_like, shape (M, 3)
-        Observed points Y_j (inliers and outliers), mm.
+        Observed points Y_j (inliers and outliers), mm, within ±1e6.
     hand : HandModel
         The articulated model.
     theta_init : array_like, shape (27,)
@@ -1228,8 +1231,6 @@ def softassign_register(model_points: object, data_points: object, hand: HandMod
     """
     model, data, theta, sigma_max, sigma_min = _check_common(hand, model_points, data_points,
                                                              theta_init, sigma_max, sigma_min)
-    if model.shape[0] == 0 or data.shape[0] == 0:
-        raise ValueError("model_points and data_points must be non-empty")
     slack = check_positive(slack, "slack")
     n_levels = check_positive_int(n_levels, "n_levels")
     n_iter = check_positive_int(n_iter, "n_iter")

@@ -6,7 +6,7 @@ import numpy as np
 
 from amdo_lab.common import as_finite_array, check_choice, check_fitted, check_positive_int, make_rng, procrustes_align
 from amdo_lab.pdm_mixtures.pdm import (
-    _check_labels,
+    check_labels,
     MAX_MAGNITUDE,
     _align_to_reference,
     _check_point_set_sizes,
@@ -78,7 +78,7 @@ class SingleCartesianPDMClassifier:
         shapes = _check(shapes)
         aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
         vectors = aligned.reshape(len(shapes), -1)
-        labels = _check_labels(labels, len(shapes))
+        labels = check_labels(labels, len(shapes))
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
         self.models_ = [fit_pdm(vectors[labels == c], variance_fraction=self.variance_fraction) for c in self.classes_]
         return self
@@ -147,7 +147,7 @@ class NearestProcrustesMeanClassifier:
             This classifier, fitted.
         """
         shapes = _check(shapes)
-        labels = _check_labels(labels, len(shapes))
+        labels = check_labels(labels, len(shapes))
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
         self.means_ = [generalized_procrustes(shapes[labels == c].reshape(-1, shapes.shape[1] * shapes.shape[2], 2))[1]
                        for c in self.classes_]
@@ -263,7 +263,7 @@ class SklearnGMMClassifier:
         shapes = _check(shapes)
         aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
         vectors = aligned.reshape(len(shapes), -1)
-        labels = _check_labels(labels, len(shapes))
+        labels = check_labels(labels, len(shapes))
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
         if isinstance(self.rng, np.random.Generator):  # scikit-learn takes an int seed, not a Generator
             seeds = [int(generator.integers(2**31 - 1)) for _ in self.classes_]

@@ -331,13 +331,46 @@ def _check_point_set_sizes(point_sets: np.ndarray, name: str) -> None:
                          f"(zero centroid size at index {int(np.argmax(coincident))})")
 
 
-def _check_labels(labels: object, n_shapes: int) -> np.ndarray:
-    """One class label per shape; NaN is refused (it matches no class, so its shape would be dropped)."""
+#: Largest float class id accepted: every whole number up to 2**53 is exactly a float64, so no two ids merge.
+MAX_FLOAT_LABEL = 2.0**53
+
+
+def check_labels(labels: object, n_shapes: int) -> np.ndarray:
+    """One class label per shape: class names (str) or integer class ids.
+
+    Ids stored as floats are accepted when they are whole numbers within ±2**53 (exact in float64).
+    NaN and inf are refused (NaN matches no class, so its shape would be dropped), and so are
+    fractional or larger floats, which are no class id.
+
+    Parameters
+    ----------
+    labels : (T,) array_like
+        The class of every shape.
+    n_shapes : int
+        Number of shapes T.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``labels`` as an array (the dtype as given).
+
+    Raises
+    ------
+    ValueError
+        Naming ``labels``, when it breaks one of these rules.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75 (the shape classes recognised).
+    """
     labels = np.asarray(labels)
     if labels.shape != (n_shapes,):
         raise ValueError(f"labels must have shape ({n_shapes},) (one per shape), got {labels.shape}")
     if labels.dtype.kind == "f" and not np.isfinite(labels).all():
         raise ValueError("labels must not contain NaN or inf (every shape needs a finite class id)")
+    if labels.dtype.kind == "f" and np.any((np.abs(labels) > MAX_FLOAT_LABEL) | (labels != np.round(labels))):
+        raise ValueError("labels must be class names or integer class ids (whole numbers within ±2**53)")
     return labels
 
 

@@ -22,7 +22,7 @@ from amdo_lab.pdm_mixtures.gmm import _fit_gaussian_mixtures_batch, fit_gaussian
 from amdo_lab.pdm_mixtures.pdm import (
     PointDistributionModel,
     _align_to_reference,
-    _check_labels,
+    check_labels,
     MAX_MAGNITUDE,
     _check_point_set_sizes,
     _fit_modes,
@@ -486,7 +486,7 @@ class ArticulatedShapeRecogniser:
         for learned in [name for name in vars(self) if name.endswith("_")]:
             delattr(self, learned)  # a refit starts afresh (the landmark count may change)
         shapes = self._check_shapes(shapes)
-        labels = _check_labels(labels, shapes.shape[0])
+        labels = check_labels(labels, shapes.shape[0])
         present = tuple(dict.fromkeys(labels.tolist()))
         if expected_classes is not None:
             unknown = sorted(set(present) - set(expected_classes))
