@@ -702,7 +702,7 @@ def test_mode_separation_trial_is_deterministic_and_validates():
 
 
 def test_batched_mixture_em_equals_one_run_at_a_time():
-    from amdo_lab.pdm_mixtures.gmm import _fit_gaussian_mixtures_batch
+    from amdo_lab.pdm_mixtures.gmm import fit_gaussian_mixtures_batch
 
     rng = make_rng(12)
     points = np.stack([np.concatenate([rng.standard_normal((25, 3)), rng.standard_normal((25, 3)) + 3.0])
@@ -710,7 +710,7 @@ def test_batched_mixture_em_equals_one_run_at_a_time():
     means = points[:, [0, 30]]
     covariances = np.repeat(np.eye(3)[None, None], 4, axis=0).repeat(2, axis=1)
     ridges = np.array([0.0, 1e-3, 1e-2, 0.1])
-    weights, fitted_means, fitted_covariances, responsibilities = _fit_gaussian_mixtures_batch(
+    weights, fitted_means, fitted_covariances, responsibilities = fit_gaussian_mixtures_batch(
         points, means, covariances, 15, ridges)
     for b in range(4):
         one = pm.fit_gaussian_mixture(points[b], 2, means_init=means[b], covariances_init=covariances[b],

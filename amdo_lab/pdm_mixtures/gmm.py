@@ -189,14 +189,43 @@ def fit_gaussian_mixture(
     return GaussianMixtureResult(weights, means, covariances, responsibilities, np.asarray(history))
 
 
-def _fit_gaussian_mixtures_batch(points: np.ndarray, means: np.ndarray, covariances: np.ndarray, n_iter: int,
+def fit_gaussian_mixtures_batch(points: np.ndarray, means: np.ndarray, covariances: np.ndarray, n_iter: int,
                                  reg_covar: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Fast path: B independent runs of :func:`fit_gaussian_mixture` (uniform start weights) at once.
 
-    ``points (B, T, d)``, ``means (B, K, d)``, ``covariances (B, K, d, d)``, ``reg_covar (B,)``;
-    returns ``weights (B, K)``, ``means``, ``covariances`` and ``responsibilities (B, T, K)``. The same
-    E- and M-steps (eqs. 4, 5, 7, 8) with one more leading axis, so the recogniser's 13 limb mixtures
-    cost one loop of ``n_iter`` steps instead of 13; tested equal to the one-run function.
+    The same E- and M-steps (eqs. 4, 5, 7, 8) with one more leading axis, so the recogniser's 13
+    limb mixtures cost one loop of ``n_iter`` steps instead of 13; tested equal to the one-run
+    function. A kernel for callers that have checked their input (the recogniser): nothing is
+    validated here, so a user calls :func:`fit_gaussian_mixture`.
+
+    Parameters
+    ----------
+    points : (B, T, d) numpy.ndarray
+        ``T`` points of dimension ``d`` for each of the ``B`` runs.
+    means : (B, K, d) numpy.ndarray
+        Starting means of the ``K`` components of each run.
+    covariances : (B, K, d, d) numpy.ndarray
+        Starting covariances.
+    n_iter : int
+        Number of EM iterations (fixed, no convergence test).
+    reg_covar : (B,) numpy.ndarray
+        Ridge added to every covariance's diagonal, per run.
+
+    Returns
+    -------
+    weights : (B, K) numpy.ndarray
+        Mixing weights (eq. 5).
+    means : (B, K, d) numpy.ndarray
+        Component means (eq. 7).
+    covariances : (B, K, d, d) numpy.ndarray
+        Component covariances (eq. 8), ridge included.
+    responsibilities : (B, T, K) numpy.ndarray
+        Posteriors of the last E-step (eq. 4).
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4, eqs. 4-8.
     """
     b, t, d = points.shape
     k = means.shape[1]
