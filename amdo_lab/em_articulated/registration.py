@@ -37,7 +37,7 @@ _KDTREE_RADIUS_SIGMAS = 4.0
 #: register_em(e_step="kdtree") switches to the exact dense E-step when more than this share of all
 #: pairs lies within the truncation radius: a pair costs several times more on the sparse path than in
 #: the dense one's matrix products (crossover about 0.13-0.2 in `benchmarks/bench_01_em_articulated.py`).
-_DENSE_PAIR_FRACTION = 0.15
+DENSE_PAIR_FRACTION = 0.15
 
 #: The EM at one σ stops when no DOF moves by more than this (radians, or mm for the palm).
 DEFAULT_TOL = 1e-3
@@ -416,7 +416,7 @@ def _statistics_from_pairs(data_index: np.ndarray, model_index: np.ndarray, dist
     return weights, weighted_data, inlier_prob, float(np.dot(alpha, dist**2))
 
 
-class _ClosePairs:
+class ClosePairs:
     """The (data, model) pairs closer than a radius, for a model that moves a little per EM iteration.
 
     A k-d tree query returns every pair within radius + margin, with the model where it is now;
@@ -424,11 +424,23 @@ class _ClosePairs:
     model point has moved so far that a pair from outside the candidates could have come within
     the radius (more than the margin; half of it when the data are the model itself, whose
     unordered pairs are stored once and mirrored). The pairs returned are exactly those a fresh
-    query would give: this saves time, not accuracy.
+    query would give: this saves time, not accuracy. A cache for :func:`register_em`'s k-d tree
+    E-step, on checked input (not exported).
+
+    Parameters
+    ----------
+    data_points : numpy.ndarray, shape (M, 3), or None
+        The data Y_j, mm; None when the data are the model points themselves.
+    margin_ratio : float, default 0.1
+        Margin of the candidate query, as a share of the radius.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; eq. (17), truncated (ours).
     """
 
     def __init__(self, data_points: np.ndarray | None, margin_ratio: float = 0.1) -> None:
-        """``data_points`` (M, 3), or None when the data are the model points themselves."""
         self._data, self._margin_ratio = data_points, margin_ratio
         self._tree = None if data_points is None else cKDTree(data_points)
         self._radius = self._fraction_radius = -1.0
@@ -437,7 +449,22 @@ class _ClosePairs:
 
     def pair_fraction(self, model_points: np.ndarray, radius: float, n_samples: int = 64) -> float:
         """Share of all (data, model) pairs closer than ``radius``, estimated from about ``n_samples``
-        model points spread through the array; re-estimated only when the radius changes."""
+        model points spread through the array; re-estimated only when the radius changes.
+
+        Parameters
+        ----------
+        model_points : numpy.ndarray, shape (N, 3)
+            Moved texture points, mm.
+        radius : float
+            Pair distance, mm.
+        n_samples : int, default 64
+            About how many model points the estimate queries.
+
+        Returns
+        -------
+        float
+            The share, in [0, 1].
+        """
         if radius != self._fraction_radius:
             sample = model_points[::max(1, len(model_points) // n_samples)]
             tree, n_data = ((cKDTree(model_points), len(model_points)) if self._data is None
@@ -746,12 +773,12 @@ def _em_levels(setup: _EMSetup, theta: np.ndarray, sigmas: np.ndarray) -> tuple[
     Returns the pose, the inlier probabilities Σ_i α_ij of the last E-step and the history rows.
     """
     hand, data, binding = setup.hand, setup.data, setup.binding
-    data_pairs = _ClosePairs(data) if setup.e_step == "kdtree" else None
-    self_pairs = _ClosePairs(None) if setup.e_step == "kdtree" else None
+    data_pairs = ClosePairs(data) if setup.e_step == "kdtree" else None
+    self_pairs = ClosePairs(None) if setup.e_step == "kdtree" else None
 
     def statistics(points: np.ndarray, observed: np.ndarray, sigma: float, log_c: float, pairs=None) -> tuple:
         radius = _KDTREE_RADIUS_SIGMAS * sigma
-        if setup.e_step == "kdtree" and pairs.pair_fraction(points, radius) <= _DENSE_PAIR_FRACTION:
+        if setup.e_step == "kdtree" and pairs.pair_fraction(points, radius) <= DENSE_PAIR_FRACTION:
             # truncated at 4σ, as e_step_statistics_kdtree
             return _statistics_from_pairs(*pairs(points, radius), observed, len(points), sigma, log_c)
         return _dense_statistics(points, observed, sigma, log_c, setup.chunk, "single")
@@ -885,13 +912,37 @@ def _robust_log_likelihood(model_points: np.ndarray, data_points: np.ndarray, si
     return log_likelihood, inlier_prob
 
 
-def _digit_starts(hand: HandModel, theta: np.ndarray, digit: int, abduction_step: float,
+def digit_starts(hand: HandModel, theta: np.ndarray, digit: int, abduction_step: float,
                   flexion_step: float) -> np.ndarray:
     """Alternative starts (K, 27) that differ from ``theta`` in one digit's joint angles only.
 
     The digit at its rest pose; swung sideways by ± ``abduction_step`` (towards either neighbour);
     its knuckle flexed by ± ``flexion_step``; all its flexion joints by ± ``flexion_step``. Clipped to
-    the joint limits; a start the clip brings back onto ``theta`` is dropped.
+    the joint limits; a start the clip brings back onto ``theta`` is dropped. The restarts of
+    :func:`refine_digits`, on its checked input (not exported).
+
+    Parameters
+    ----------
+    hand : HandModel
+        The articulated model.
+    theta : numpy.ndarray, shape (27,)
+        The pose to start from, inside the joint limits.
+    digit : int
+        0 (thumb) to 4 (little finger).
+    abduction_step : float
+        Sideways swing, radians.
+    flexion_step : float
+        Flexion step, radians.
+
+    Returns
+    -------
+    numpy.ndarray, shape (K, 27)
+        The starts, 1 ≤ K ≤ 7.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eq. (17) (the criterion the restarts climb); the
+    search is ours, not in the paper.
     """
     dofs, abduction, flexion = _DIGIT_DOFS[digit], _DIGIT_ABDUCTION[digit], _DIGIT_FLEXION[digit]
     shifts = np.zeros((7, hand.n_dof))
@@ -991,7 +1042,7 @@ def refine_digits(model_points: object, data_points: object, hand: HandModel, th
     for _ in range(max_passes):
         changed = False
         for digit, name in enumerate(FINGERS):
-            restarts = [restart(start) for start in _digit_starts(hand, theta, digit, abduction_step, flexion_step)]
+            restarts = [restart(start) for start in digit_starts(hand, theta, digit, abduction_step, flexion_step)]
             if not restarts:
                 continue
             pose, value, prob = max(restarts, key=lambda result: result[1])

@@ -75,11 +75,31 @@ def gaussian_log_density(points: np.ndarray, means: np.ndarray, covariances: np.
         raise ValueError("covariances must be positive definite (every (d, d) matrix)") from None
 
 
-def _gaussian_log_density_reference(points: np.ndarray, means: np.ndarray, covariances: np.ndarray) -> np.ndarray:
-    """Eq. 6 as printed, one component at a time: the reference path of :func:`_gaussian_log_density`.
+def gaussian_log_density_reference(points: np.ndarray, means: np.ndarray, covariances: np.ndarray) -> np.ndarray:
+    """Eq. 6 as printed, one component at a time: the reference path of :func:`gaussian_log_density`.
 
     ``ln p(X_t | Y_w, Sigma_w) = -1/2 [ d ln(2 pi) + ln|Sigma_w| + (X_t - Y_w)^T Sigma_w^-1 (X_t - Y_w) ]``
     (the paper's ``(2 pi)^L`` is ``(2 pi)^(d/2)`` for long vectors of ``d = 2L`` coordinates).
+    Plain numpy for reading and for the tests (not exported; nothing is validated here).
+
+    Parameters
+    ----------
+    points : (T, d) numpy.ndarray
+        Long-vectors ``X_t`` as rows.
+    means : (K, d) numpy.ndarray
+        Component means ``Y_w``.
+    covariances : (K, d, d) numpy.ndarray
+        Symmetric positive-definite component covariances ``Sigma_w``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(T, K)`` log-densities, nats.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4, eq. 6.
     """
     n_dim = points.shape[1]
     out = np.empty((len(points), len(means)))

@@ -433,7 +433,7 @@ def align_to_reference(point_sets: np.ndarray, reference: np.ndarray) -> np.ndar
 
 def _align_to_reference(point_sets: np.ndarray, reference: np.ndarray) -> np.ndarray:
     """:func:`align_to_reference` on validated arrays: the closed form of 2-D similarity
-    Procrustes, all sets at once (fast path of :func:`_align_to_reference_loop`).
+    Procrustes, all sets at once (fast path of :func:`align_to_reference_loop`).
 
     Written as complex numbers ``z = x + iy`` with centred source ``z`` and target ``y``, the best
     ``s R`` is the complex factor ``a = sum conj(z_i) y_i / sum |z_i|^2`` (a least-squares fit of
@@ -448,6 +448,26 @@ def _align_to_reference(point_sets: np.ndarray, reference: np.ndarray) -> np.nda
     return np.stack([aligned.real, aligned.imag], axis=-1)
 
 
-def _align_to_reference_loop(point_sets: np.ndarray, reference: np.ndarray) -> np.ndarray:
-    """Reference path of :func:`_align_to_reference`: one SVD Procrustes fit per set (Umeyama)."""
+def align_to_reference_loop(point_sets: np.ndarray, reference: np.ndarray) -> np.ndarray:
+    """Reference path of :func:`align_to_reference`: one SVD Procrustes fit per set (Umeyama).
+
+    Plain loop for reading and for the tests (not exported; nothing is validated here).
+
+    Parameters
+    ----------
+    point_sets : (T, L, 2) numpy.ndarray
+        ``T`` sets of ``L`` landmarks.
+    reference : (L, 2) numpy.ndarray
+        The target landmarks.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(T, L, 2)``: each set under its least-squares similarity onto ``reference``.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (aligned landmarks); Umeyama, IEEE PAMI 13 (1991).
+    """
     return np.stack([procrustes_align(points, reference).aligned for points in point_sets])

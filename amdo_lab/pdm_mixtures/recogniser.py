@@ -86,12 +86,33 @@ def hamming_distance(label_strings: np.ndarray, dictionary: np.ndarray) -> np.nd
 
 
 def _hamming_distance(label_strings: np.ndarray, dictionary: np.ndarray) -> np.ndarray:
-    """Fast path of :func:`_hamming_distance_reference`: all pairs at once by broadcasting."""
+    """Fast path of :func:`hamming_distance_reference`: all pairs at once by broadcasting."""
     return np.sum(label_strings[:, None, :] != dictionary[None, :, :], axis=2)
 
 
-def _hamming_distance_reference(label_strings: np.ndarray, dictionary: np.ndarray) -> np.ndarray:
-    """Eq. 17 read as a distance, one pair at a time: ``H(L, Lambda) = sum_i (1 - delta(l_i, lambda_i))``."""
+def hamming_distance_reference(label_strings: np.ndarray, dictionary: np.ndarray) -> np.ndarray:
+    """Eq. 17 read as a distance, one pair at a time: ``H(L, Lambda) = sum_i (1 - delta(l_i, lambda_i))``.
+
+    The reference path of :func:`hamming_distance`, for reading and for the tests (not exported;
+    nothing is validated here).
+
+    Parameters
+    ----------
+    label_strings : (n, K) numpy.ndarray of int
+        Limb-label indices of ``n`` shapes.
+    dictionary : (C, K) numpy.ndarray of int
+        Permissible label strings.
+
+    Returns
+    -------
+    numpy.ndarray of int
+        ``(n, C)`` distances.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 6, eq. 17.
+    """
     distances = np.zeros((len(label_strings), len(dictionary)), dtype=int)
     for a, string in enumerate(label_strings):
         for b, item in enumerate(dictionary):
@@ -337,7 +358,24 @@ def _circular_mean(angles: np.ndarray) -> np.ndarray:
     return np.arctan2(np.sin(angles).mean(axis=0), np.cos(angles).mean(axis=0))
 
 
-def _polar_blocks(polar_model: str) -> tuple[slice, ...]:
+def polar_blocks(polar_model: str) -> tuple[slice, ...]:
+    """The column blocks of the polar vector S that get one PDM each (not exported).
+
+    Parameters
+    ----------
+    polar_model : {"block", "joint"}
+        "block": the 13 angles and the 26 centre coordinates apart; "joint": all 39 together.
+
+    Returns
+    -------
+    tuple of slice
+        The blocks, in column order.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 3 (the vector S).
+    """
     if polar_model == "block":
         return (slice(0, N_LIMBS), slice(N_LIMBS, 3 * N_LIMBS))
     return (slice(0, 3 * N_LIMBS),)
@@ -567,7 +605,7 @@ class ArticulatedShapeRecogniser:
         class's circular mean angles; EM starts from a seeded k-means++ partition. Returns each
         class's training responsibilities ``(T_c, M)``."""
         vectors = polar_shape_vector(aligned)
-        blocks = _polar_blocks(self.polar_model)
+        blocks = polar_blocks(self.polar_model)
         rng = make_rng(self.rng, "rng")
         self.angle_means_ = []
         self.shape_models_: list[list[PolarPDM]] = []
@@ -578,7 +616,7 @@ class ArticulatedShapeRecogniser:
             angle_mean = _circular_mean(class_vectors[:, :N_LIMBS])
             self.angle_means_.append(angle_mean)
             deviation = self._deviation(class_vectors, angle_mean)
-            models, weights, resp = _fit_polar_mixture(deviation, self.n_shape_components, blocks, rng,
+            models, weights, resp = fit_polar_mixture(deviation, self.n_shape_components, blocks, rng,
                                                        self.n_em_iter, self.variance_fraction,
                                                        ridge=self.shape_ridge, n_restarts=self.n_restarts)
             self.shape_models_.append(models)
@@ -882,7 +920,7 @@ def _kmeans_partition(data: np.ndarray, n_clusters: int, rng: np.random.Generato
     return assign
 
 
-def _fit_polar_mixture(data: np.ndarray, n_components: int, blocks: tuple[slice, ...], rng: np.random.Generator,
+def fit_polar_mixture(data: np.ndarray, n_components: int, blocks: tuple[slice, ...], rng: np.random.Generator,
                        n_iter: int, variance_fraction: float, *, ridge: float = 1e-3,
                        n_restarts: int = 1) -> tuple[list[PolarPDM], np.ndarray, np.ndarray]:
     """Mixture of polar PDMs on ``data (T, 3K)`` by EM (eqs. 2-8); returns the components, the
@@ -895,7 +933,41 @@ def _fit_polar_mixture(data: np.ndarray, n_components: int, blocks: tuple[slice,
     ``ridge`` times the mean variance (T < 3K makes component covariances singular). With
     ``n_restarts`` > 1, EM runs from that many k-means++ starts drawn in turn from ``rng`` and the
     run with the highest final log-likelihood (eq. 3) is kept. Each component's mean and covariance
-    blocks, scaled back, become one PDM per block (at most ``round(T pi_m) - 1`` modes).
+    blocks, scaled back, become one PDM per block (at most ``round(T pi_m) - 1`` modes). The
+    recogniser's shape layer on its checked input (not exported).
+
+    Parameters
+    ----------
+    data : (T, 3K) numpy.ndarray
+        Polar vectors, angles relative to the class's circular mean.
+    n_components : int
+        Number of mixture components M.
+    blocks : tuple of slice
+        Column blocks, from :func:`polar_blocks`.
+    rng : numpy.random.Generator
+        Source of the k-means++ starts.
+    n_iter : int
+        EM iterations per run.
+    variance_fraction : float
+        Fraction of the variance each PDM keeps, in (0, 1].
+    ridge : float, default 1e-3
+        Ridge on the covariances, relative to the mean variance.
+    n_restarts : int, default 1
+        EM runs from independent starts; the most likely is kept.
+
+    Returns
+    -------
+    models : list of PolarPDM
+        The components.
+    weights : numpy.ndarray
+        ``(M,)`` mixing weights.
+    responsibilities : numpy.ndarray
+        ``(T, M)`` posteriors of the training vectors.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, eqs. 1-8 (the PDM and its Gaussian mixture, applied to S).
     """
     if n_components == 1:
         pdms = tuple(fit_pdm(data[:, block], variance_fraction=variance_fraction) for block in blocks)
@@ -976,7 +1048,7 @@ def held_out_log_likelihood(
     n_folds = check_positive_int(n_folds, "n_folds", minimum=2)
     variance_fraction = check_in_range(variance_fraction, "variance_fraction", 0, 1, closed="right")
     n_em_iter = check_positive_int(n_em_iter, "n_em_iter")
-    blocks = _polar_blocks(check_choice(polar_model, "polar_model", ("block", "joint")))
+    blocks = polar_blocks(check_choice(polar_model, "polar_model", ("block", "joint")))
     t = len(vectors)
     smallest_split = t - -(-t // n_folds)
     if smallest_split < MIN_PER_CLASS * n_components:
@@ -988,7 +1060,7 @@ def held_out_log_likelihood(
     total = 0.0
     for fold in range(n_folds):
         held = folds == fold
-        models, weights, _ = _fit_polar_mixture(vectors[~held], n_components, blocks, rng, n_em_iter,
+        models, weights, _ = fit_polar_mixture(vectors[~held], n_components, blocks, rng, n_em_iter,
                                                 variance_fraction, ridge=shape_ridge)
         scores = np.stack([np.log(w) + model._log_density(vectors[held]) for model, w in zip(models, weights)], axis=1)
         total += float(np.logaddexp.reduce(scores, axis=1).sum())
