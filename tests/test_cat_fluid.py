@@ -649,3 +649,18 @@ def test_docstring_examples_run(module):
 
     result = doctest.testmod(importlib.import_module(f"amdo_lab.cat_fluid.{module}"))
     assert result.attempted > 0 and result.failed == 0
+
+
+def test_registration_images_are_checked_by_name_and_grey_level_range():
+    from amdo_lab.cat_fluid.registration import MAX_GREY_LEVEL, check_registration_images
+
+    template, study = make_rng(0).random((8, 8)), make_rng(1).random((8, 8))
+    checked = check_registration_images(template, study)
+    assert all(np.array_equal(a, b) for a, b in zip(checked, (template, study)))
+    huge = study.copy()
+    huge[0, 0] = 10 * MAX_GREY_LEVEL  # beyond dipy's single precision margin: refused before dipy runs
+    for function in (check_registration_images, cf.register_fluid, cf.register_dipy):
+        with pytest.raises(ValueError, match="study must be at most"):
+            function(template, huge)
+    with pytest.raises(ValueError, match="same shape"):
+        check_registration_images(template, study[:, :6])

@@ -33,7 +33,6 @@ from amdo_lab.pdm_mixtures import (
     wrap_angle,
 )
 from amdo_lab.pdm_mixtures.poses import MEAN_LENGTHS
-from amdo_lab.pdm_mixtures.representation import polar_shape_vector as _polar
 
 
 @pytest.fixture(scope="module")
@@ -297,7 +296,7 @@ def test_block_polar_pdm_models_angles_and_centres_separately(small_problem):
     j = single.classes_.index("stretching")
     model = single.shape_models_[j][0]
     assert [b.stop - b.start for b in model.blocks] == [13, 26]
-    deviation = single._deviation(_polar(single.align(train.shapes[train.labels == "stretching"])), single.angle_means_[j])
+    deviation = single._deviation(polar_shape_vector(single.align(train.shapes[train.labels == "stretching"])), single.angle_means_[j])
     # The angle PDM's eigenvalues are those of the angle covariance alone (the alpha_k that clamp Gamma).
     angle_cov = np.cov(deviation[:, :13].T, bias=True)
     top = np.sort(np.linalg.eigvalsh(angle_cov))[::-1][: model.pdms[0].n_modes]
@@ -324,7 +323,7 @@ def test_limb_likelihood_options_give_label_posteriors(small_problem):
 
 def test_shape_level_mixture_separates_articulation_modes(small_problem):
     train, _, recogniser = small_problem
-    vectors = _polar(recogniser.align(train.shapes))
+    vectors = polar_shape_vector(recogniser.align(train.shapes))
     for j, name in enumerate(recogniser.classes_):
         assert len(recogniser.shape_models_[j]) == recogniser.n_shape_components == 2
         np.testing.assert_allclose(recogniser.shape_weights_[j].sum(), 1.0)
@@ -343,7 +342,7 @@ def test_shape_level_mixture_separates_articulation_modes(small_problem):
 def test_single_component_is_one_polar_pdm_per_class(small_problem):
     train, test, _ = small_problem
     single = ArticulatedShapeRecogniser(rng=0, n_shape_components=1).fit(train.shapes, train.labels)
-    vectors = _polar(single.align(train.shapes))
+    vectors = polar_shape_vector(single.align(train.shapes))
     j = single.classes_.index("kicking")
     deviation = single._deviation(vectors[train.labels == "kicking"], single.angle_means_[j])
     np.testing.assert_allclose(single.shape_models_[j][0].mean, deviation.mean(axis=0), atol=1e-12)
@@ -365,13 +364,13 @@ def test_generator_rejects_bad_parameters():
 
 
 def test_polar_mixture_components_are_weighted_moments_in_original_units():
-    from amdo_lab.pdm_mixtures.recogniser import _fit_polar_mixture, _polar_blocks
+    from amdo_lab.pdm_mixtures.recogniser import fit_polar_mixture, polar_blocks
 
     rng = make_rng(3)
     # Two clusters; angles (radians) and centres (small units) on very different scales.
     data = np.concatenate([rng.standard_normal((15, 39)), rng.standard_normal((15, 39)) + 4.0])
     data[:, 13:] *= 1e-2
-    models, weights, resp = _fit_polar_mixture(data, 2, _polar_blocks("block"), make_rng(0), 20, 0.95)
+    models, weights, resp = fit_polar_mixture(data, 2, polar_blocks("block"), make_rng(0), 20, 0.95)
     np.testing.assert_allclose(weights.sum(), 1.0)
     np.testing.assert_allclose(resp.sum(axis=1), 1.0)
     for m, model in enumerate(models):
@@ -418,13 +417,13 @@ def test_em_restarts_keep_the_start_with_the_highest_training_likelihood(monkeyp
         return result
 
     monkeypatch.setattr(module, "fit_gaussian_mixture", recording_em)
-    _, weights, resp = module._fit_polar_mixture(data, 2, module._polar_blocks("block"), make_rng(0), 15, 0.95,
+    _, weights, resp = module.fit_polar_mixture(data, 2, module.polar_blocks("block"), make_rng(0), 15, 0.95,
                                                  n_restarts=4)
     assert len(runs) == 4
     best = max(runs, key=lambda run: run.log_likelihood[-1])
     np.testing.assert_array_equal(resp, best.responsibilities)
     runs.clear()
-    _, _, first = module._fit_polar_mixture(data, 2, module._polar_blocks("block"), make_rng(0), 15, 0.95)
+    _, _, first = module.fit_polar_mixture(data, 2, module.polar_blocks("block"), make_rng(0), 15, 0.95)
     assert len(runs) == 1  # one start by default, the same first start
     assert best.log_likelihood[-1] >= runs[0].log_likelihood[-1]
 
@@ -434,7 +433,7 @@ def test_held_out_log_likelihood_is_deterministic_and_validates(small_problem):
 
     train, _, recogniser = small_problem
     j = recogniser.classes_.index("boxing")
-    vectors = recogniser._deviation(_polar(recogniser.align(train.shapes[train.labels == "boxing"])),
+    vectors = recogniser._deviation(polar_shape_vector(recogniser.align(train.shapes[train.labels == "boxing"])),
                                     recogniser.angle_means_[j])  # 12 shapes
     one = held_out_log_likelihood(vectors, 1, n_folds=4, rng=0)
     assert np.isfinite(one) and one == held_out_log_likelihood(vectors, 1, n_folds=4, rng=0)
@@ -653,21 +652,21 @@ def test_single_cartesian_pdm_scores_with_the_one_ppca_density(small_problem):
 
 
 def test_reference_paths_equal_fast_paths():
-    from amdo_lab.pdm_mixtures.gmm import _gaussian_log_density, _gaussian_log_density_reference
-    from amdo_lab.pdm_mixtures.pdm import _align_to_reference, _align_to_reference_loop
-    from amdo_lab.pdm_mixtures.recogniser import _hamming_distance, _hamming_distance_reference
+    from amdo_lab.pdm_mixtures.gmm import gaussian_log_density_reference
+    from amdo_lab.pdm_mixtures.pdm import align_to_reference_loop
+    from amdo_lab.pdm_mixtures.recogniser import hamming_distance_reference
 
     rng = make_rng(8)
     points, means = rng.standard_normal((30, 4)), rng.standard_normal((3, 4))
     factors = rng.standard_normal((3, 4, 4))
     covariances = factors @ np.swapaxes(factors, 1, 2) + 0.1 * np.eye(4)
-    assert np.allclose(_gaussian_log_density(points, means, covariances),
-                       _gaussian_log_density_reference(points, means, covariances))
+    assert np.allclose(pm.gaussian_log_density(points, means, covariances),
+                       gaussian_log_density_reference(points, means, covariances))
     strings, dictionary = rng.integers(0, 4, (7, 13)), rng.integers(0, 4, (5, 13))
-    assert np.array_equal(_hamming_distance(strings, dictionary), _hamming_distance_reference(strings, dictionary))
+    assert np.array_equal(pm.hamming_distance(strings, dictionary), hamming_distance_reference(strings, dictionary))
     sets = generate_pose_dataset(TABLE1_CLASSES, 3, rng=5).shapes.reshape(18, -1, 2)
     reference = pm.normalise_shape(sets[0])
-    assert np.allclose(_align_to_reference(sets, reference), _align_to_reference_loop(sets, reference), atol=1e-12)
+    assert np.allclose(pm.align_to_reference(sets, reference), align_to_reference_loop(sets, reference), atol=1e-12)
 
 
 def test_limb_label_posteriors_are_distributions(small_problem):
@@ -702,7 +701,7 @@ def test_mode_separation_trial_is_deterministic_and_validates():
 
 
 def test_batched_mixture_em_equals_one_run_at_a_time():
-    from amdo_lab.pdm_mixtures.gmm import _fit_gaussian_mixtures_batch
+    from amdo_lab.pdm_mixtures.gmm import fit_gaussian_mixtures_batch
 
     rng = make_rng(12)
     points = np.stack([np.concatenate([rng.standard_normal((25, 3)), rng.standard_normal((25, 3)) + 3.0])
@@ -710,7 +709,7 @@ def test_batched_mixture_em_equals_one_run_at_a_time():
     means = points[:, [0, 30]]
     covariances = np.repeat(np.eye(3)[None, None], 4, axis=0).repeat(2, axis=1)
     ridges = np.array([0.0, 1e-3, 1e-2, 0.1])
-    weights, fitted_means, fitted_covariances, responsibilities = _fit_gaussian_mixtures_batch(
+    weights, fitted_means, fitted_covariances, responsibilities = fit_gaussian_mixtures_batch(
         points, means, covariances, 15, ridges)
     for b in range(4):
         one = pm.fit_gaussian_mixture(points[b], 2, means_init=means[b], covariances_init=covariances[b],
@@ -819,3 +818,15 @@ def test_a_refit_forgets_the_previous_fit(small_problem):
     fewer = train.shapes[:, :, :4]  # 4 landmarks per limb instead of 6: accepted by a fresh fit
     model.fit(fewer, train.labels)
     assert model.landmarks_per_limb_ == 4 and model.predict(test.shapes[:3, :, :4]).shape == (3,)
+
+
+def test_check_labels_takes_names_or_integer_ids():
+    from amdo_lab.pdm_mixtures.pdm import check_labels
+
+    assert check_labels(np.array(["a", "b"]), 2).tolist() == ["a", "b"]
+    assert check_labels(np.array([0.0, 3.0]), 2).tolist() == [0.0, 3.0]  # whole floats: ids, kept as given
+    for bad in (np.array([0.0, 0.5]), np.array([0.0, 1e308])):  # no class id: refused by name
+        with pytest.raises(ValueError, match="labels must be class names or integer class ids"):
+            check_labels(bad, 2)
+    with pytest.raises(ValueError, match="labels must not contain NaN"):
+        check_labels(np.array([0.0, np.nan]), 2)

@@ -50,6 +50,9 @@ _HALF_FACES = (  # (point on the half-face, outward normal, length)
 #: Largest Lamé constant accepted: the Fourier solve multiplies two symbol entries of about
 #: 8 (λ + 2μ), which would overflow a float (1.8e308) above about 1e153.
 MAX_MODULUS = 1e150
+#: Largest entry of a velocity or force field the solvers accept: times moduli of at most
+#: MAX_MODULUS, the stencil's sums stay near 1e250, below a float's overflow (1.8e308).
+MAX_FIELD = 1e100
 
 
 def check_moduli(lam: object, mu: object, *, require_positive_mu: bool = False) -> tuple[float, float]:
@@ -208,7 +211,7 @@ def apply_stencil(stencil: object, velocity: object) -> np.ndarray:
         Finite stencil in the layout of eq. (15): column ``2 p + c`` multiplies velocity component c
         at the neighbour ``NEIGHBOUR_OFFSETS[p]``.
     velocity : array_like, shape (2, H, W)
-        Finite velocity field.
+        Finite velocity field, each component within ±1e100.
 
     Returns
     -------
@@ -222,7 +225,7 @@ def apply_stencil(stencil: object, velocity: object) -> np.ndarray:
     eq. (15).
     """
     blocks = stencil_blocks(stencil)
-    velocity = as_finite_array(velocity, "velocity", shape=(2, None, None))
+    velocity = as_finite_array(velocity, "velocity", shape=(2, None, None), max_abs=MAX_FIELD)
     out = np.zeros_like(velocity)
     for block, (d0, d1) in zip(blocks, NEIGHBOUR_OFFSETS):
         shifted = np.roll(velocity, (-d0, -d1), axis=(1, 2))  # value at x + offset

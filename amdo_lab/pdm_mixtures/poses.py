@@ -18,8 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive, check_positive_int, make_rng
-from amdo_lab.common.geometry import _apply_similarity_2d
+from amdo_lab.common import (apply_similarity_2d, as_finite_array, check_choice, check_in_range, check_positive,
+                             check_positive_int, make_rng)
 
 __all__ = [
     "LIMB_NAMES",
@@ -323,8 +323,8 @@ def generate_pose_dataset(
     rotations = np.deg2rad(generator.uniform(-max_rotation_deg, max_rotation_deg, n))
     translations = generator.uniform(-1.0, 1.0, (n, 2))
     shapes = np.empty_like(strokes)
-    for i in range(n):  # one similarity per example; all finite by construction, so unchecked
-        shapes[i] = _apply_similarity_2d(strokes[i].reshape(-1, 2), scales[i], rotations[i], translations[i]).reshape(
+    for i in range(n):  # one similarity per example
+        shapes[i] = apply_similarity_2d(strokes[i].reshape(-1, 2), scales[i], rotations[i], translations[i]).reshape(
             strokes.shape[1:]
         )
     return PoseDataset(shapes, labels, names, modes.astype(str), lengths * scales[:, None], scales, rotations, translations)
