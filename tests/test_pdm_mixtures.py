@@ -223,7 +223,7 @@ def test_baseline_and_mds_sanity(small_problem):
 # ---------------------------------------------------------------- bad input
 def test_bad_input_raises_clear_errors(small_problem):
     train, test, recogniser = small_problem
-    with pytest.raises(ValueError, match="unknown pose"):
+    with pytest.raises(ValueError, match=r"classes holds unknown name\(s\) \[.dancing.\]"):
         generate_pose_dataset(["boxing", "dancing"], 3, rng=0)
     with pytest.raises(ValueError, match="shapes"):
         recogniser.predict(test.shapes[:, :12])
