@@ -1,0 +1,171 @@
+"""Every equation a chapter cites can be found in its package: plain numpy, numbered, tested.
+
+One table per chapter maps every equation number the chapter's notebook cites to either
+
+- ``("amdo_lab.<sub>.<module>.<function>", "<test>")``: the readable reference path, whose source
+  carries a comment naming the equation (``# eq. (17): ...``), and the test in the chapter's test
+  file that checks it (against the fast path where there is one, else against an independent
+  computation); or
+- ``(None, "<reason>")``: the equation has no code of its own (notation, a definition the chapter
+  only discusses, a printed form the chapter shows only to explain why it is not used).
+
+The tables list equations in their order. A notebook that cites a new equation, or stops citing
+one, fails here until the table follows; so does a reference function that loses its comment or a
+test that is renamed. The tests named are not run here (their own files run them).
+"""
+
+from __future__ import annotations
+
+import ast
+import importlib
+import inspect
+import io
+import json
+import re
+import textwrap
+import tokenize
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+# ---------------------------------------------------------------------------------------------
+# Which equations a notebook cites: ``\tag{N}`` in its LaTeX, and "eq. N", "eqs. N–M", "Eq. (N)",
+# "equations N and M" in its prose (markdown cells). "\simeq 3" is not a citation.
+
+_CITATION = re.compile(r"(?<![A-Za-z\\])[Ee]q(?:s|uations?)?\.?\s*((?:\(?\d+[a-z]?\)?(?:\s*(?:[-–,]|and|or|to)\s*)?)+)")
+
+
+def _expand(numbers: str) -> set[int]:
+    """Every number of "4–9", "(17)-(18)", "7, 8 and 10"; ranges are inclusive."""
+    found = {int(n) for n in re.findall(r"\d+", numbers)}
+    for first, last in re.findall(r"(\d+)\s*\)?\s*[-–]\s*\(?(\d+)", numbers):
+        found |= set(range(int(first), int(last) + 1))
+    return found
+
+
+def cited_equations(text: str) -> set[int]:
+    """Equation numbers cited in a text (LaTeX tags and prose citations)."""
+    found = {int(n) for n in re.findall(r"\\tag\{(\d+)\}", text)}
+    for match in _CITATION.finditer(text):
+        found |= _expand(match.group(1))
+    return found
+
+
+def notebook_citations(chapter: int) -> set[int]:
+    (path,) = sorted((ROOT / "notebooks").glob(f"{chapter:02d}_*.ipynb"))
+    cells = json.loads(path.read_text(encoding="utf-8"))["cells"]
+    return cited_equations("\n".join("".join(c["source"]) for c in cells if c["cell_type"] == "markdown"))
+
+
+def comments_of(source: str) -> str:
+    """The ``#`` comments of a piece of source code (not its strings or docstrings)."""
+    tokens = tokenize.generate_tokens(io.StringIO(source).readline)
+    return "\n".join(tok.string for tok in tokens if tok.type == tokenize.COMMENT)
+
+
+def resolve(dotted: str) -> object:
+    """The object named ``amdo_lab.sub.module.function`` or ``amdo_lab.sub.module.Class.method``."""
+    parts = dotted.split(".")
+    for split in range(len(parts), 0, -1):
+        try:
+            obj = importlib.import_module(".".join(parts[:split]))
+        except ModuleNotFoundError:
+            continue
+        for name in parts[split:]:
+            obj = getattr(obj, name)
+        return obj
+    raise ImportError(dotted)
+
+
+def tests_in(test_file: str) -> dict[str, str]:
+    """{name: source} of the top-level ``test_*`` functions of a test file (parsed, not imported)."""
+    source = (ROOT / "tests" / test_file).read_text(encoding="utf-8")
+    return {node.name: ast.get_source_segment(source, node) for node in ast.parse(source).body
+            if isinstance(node, ast.FunctionDef) and node.name.startswith("test_")}
+
+
+# ---------------------------------------------------------------------------------------------
+# Chapter 1, Dewaele et al. 2006: amdo_lab.em_articulated
+
+_EM = "amdo_lab.em_articulated"
+_FOLDED_INTO_C = ("no code of its own: the priors v/V and (V - nv)/V (eqs. 4-5) and the outlier density 1/V "
+                  "(eq. 7) are divided out of eqs. (15) and (9); what remains is the one constant c of eq. (18), "
+                  "PAPER_C, so the code never computes v or V")
+CHAPTER_1 = {
+    1: (f"{_EM}.hand.HandModel.part_fields", "test_part_fields_are_eq1_of_the_part_distances"),
+    2: (f"{_EM}.hand.HandModel.surface_distance", "test_surface_distance_jacobian_matches_finite_differences"),
+    3: (f"{_EM}.hand.HandModel.transform_texture", "test_transform_texture_is_eq3_blend_of_the_two_part_motions"),
+    4: (None, _FOLDED_INTO_C),
+    5: (None, _FOLDED_INTO_C),
+    6: (f"{_EM}.registration.e_step_reference", "test_e_step_reference_equals_the_streamed_e_step"),
+    7: (None, _FOLDED_INTO_C),
+    8: (f"{_EM}.registration.robust_log_likelihood_reference",
+        "test_robust_log_likelihood_reference_equals_the_streamed_path"),
+    9: (f"{_EM}.registration.robust_log_likelihood_reference",
+        "test_robust_log_likelihood_reference_equals_the_streamed_path"),
+    15: (f"{_EM}.registration.e_step_reference", "test_e_step_reference_equals_the_streamed_e_step"),
+    16: (f"{_EM}.registration.e_step_reference", "test_e_step_reference_equals_the_streamed_e_step"),
+    17: (f"{_EM}.registration.e_step_reference", "test_e_step_reference_equals_the_streamed_e_step"),
+    18: (f"{_EM}.registration.e_step_reference", "test_e_step_reference_single_exact_match_is_one_over_one_plus_c"),
+    19: (f"{_EM}.registration.register_em_reference", "test_register_em_reference_equals_the_fast_em"),
+    20: (f"{_EM}.registration.register_em_reference", "test_register_em_reference_equals_the_fast_em"),
+    21: (f"{_EM}.registration.fit_surface", "test_fit_surface_reduces_distance"),
+    22: (f"{_EM}.registration.fit_surface", "test_fit_surface_eq22_ignores_far_points"),
+}
+
+# ---------------------------------------------------------------------------------------------
+
+CHAPTERS = {
+    1: (CHAPTER_1, "test_em_articulated.py"),
+}
+
+
+def _rows():
+    for chapter, (table, test_file) in CHAPTERS.items():
+        for equation, (dotted, second) in table.items():
+            if dotted is not None:
+                yield pytest.param(chapter, equation, dotted, second, test_file, id=f"ch{chapter}-eq{equation}")
+
+
+@pytest.mark.parametrize("chapter", sorted(CHAPTERS))
+def test_every_cited_equation_is_in_the_table(chapter):
+    table = CHAPTERS[chapter][0]
+    cited = notebook_citations(chapter)
+    assert cited, "no citation found: the extraction is broken"
+    assert not cited - set(table), f"chapter {chapter} cites equations missing from its table: {sorted(cited - set(table))}"
+    assert not set(table) - cited, f"chapter {chapter}'s table lists equations it no longer cites: {sorted(set(table) - cited)}"
+
+
+@pytest.mark.parametrize("chapter", sorted(CHAPTERS))
+def test_tables_are_in_equation_order_and_reasons_are_given(chapter):
+    table = CHAPTERS[chapter][0]
+    assert list(table) == sorted(table)
+    for equation, (dotted, second) in table.items():
+        assert isinstance(second, str) and second.strip(), f"eq. {equation}: name a test or give a reason"
+        if dotted is None:
+            assert len(second.split()) >= 5, f"eq. {equation}: say why it has no code"
+
+
+@pytest.mark.parametrize("chapter, equation, dotted, test_name, test_file", list(_rows()))
+def test_reference_path_names_the_equation_in_a_comment(chapter, equation, dotted, test_name, test_file):
+    assert dotted.startswith("amdo_lab."), dotted
+    function = resolve(dotted)
+    assert callable(function), dotted
+    comments = comments_of(textwrap.dedent(inspect.getsource(function)))
+    assert equation in cited_equations(comments), f"no comment of {dotted} names eq. ({equation})"
+
+
+@pytest.mark.parametrize("chapter, equation, dotted, test_name, test_file", list(_rows()))
+def test_reference_path_has_a_test_that_calls_it(chapter, equation, dotted, test_name, test_file):
+    tests = tests_in(test_file)
+    assert test_name in tests, f"{test_name} not found in tests/{test_file}"
+    short_name = dotted.rsplit(".", 1)[1]
+    assert re.search(rf"\b{short_name}\b", tests[test_name]), f"{test_name} never mentions {short_name}"
+
+
+def test_citation_extraction():
+    text = r"eqs. 4–9, eq. (17), Eqs. (17)–(18), eqs. 7, 8 and 10, $a \simeq 3$, $$x \tag{21}$$"
+    assert cited_equations(text) == {4, 5, 6, 7, 8, 9, 10, 17, 18, 21}
+    assert comments_of("x = 1  # eq. (3): blend\ny = '# eq. (4)'\n") == "# eq. (3): blend"
