@@ -79,7 +79,7 @@ def resolve(dotted: str) -> object:
     raise ImportError(dotted)
 
 
-def tests_in(test_file: str) -> dict[str, str]:
+def _test_sources(test_file: str) -> dict[str, str]:
     """{name: source} of the top-level ``test_*`` functions of a test file (parsed, not imported)."""
     source = (ROOT / "tests" / test_file).read_text(encoding="utf-8")
     return {node.name: ast.get_source_segment(source, node) for node in ast.parse(source).body
@@ -159,7 +159,7 @@ def test_reference_path_names_the_equation_in_a_comment(chapter, equation, dotte
 
 @pytest.mark.parametrize("chapter, equation, dotted, test_name, test_file", list(_rows()))
 def test_reference_path_has_a_test_that_calls_it(chapter, equation, dotted, test_name, test_file):
-    tests = tests_in(test_file)
+    tests = _test_sources(test_file)
     assert test_name in tests, f"{test_name} not found in tests/{test_file}"
     short_name = dotted.rsplit(".", 1)[1]
     assert re.search(rf"\b{short_name}\b", tests[test_name]), f"{test_name} never mentions {short_name}"
