@@ -819,3 +819,41 @@ def test_a_refit_forgets_the_previous_fit(small_problem):
     fewer = train.shapes[:, :, :4]  # 4 landmarks per limb instead of 6: accepted by a fresh fit
     model.fit(fewer, train.labels)
     assert model.landmarks_per_limb_ == 4 and model.predict(test.shapes[:3, :, :4]).shape == (3,)
+
+
+def test_recognise_relabels_the_limbs_by_eq14(small_problem):
+    """Eq. (14) computed by hand from the first iteration's terms gives the labels of the second."""
+    _, test, recogniser = small_problem
+    shapes = test.shapes[:30]
+    trace = recogniser.recognise(shapes)
+    parts = recogniser.score_components(shapes)
+    log_post = recogniser.limb_label_posteriors(shapes, log=True)
+    joint = parts.log_weights[None] + parts.shape + parts.limb_gate + parts.label_string  # (n, C, M)
+    best = trace.posteriors[0].argmax(axis=1)  # eq. (13)
+    component = np.argmax(joint[np.arange(len(shapes)), best], axis=1)
+    p = recogniser.label_error_probability
+    # ln P(λ | z_k) + ln P(L(λ, k) | Λ_ω): a label off the winner's dictionary string costs k_p = ln((1-p)/p)
+    off_string = recogniser.dictionary_[best, component][:, :, None] != np.arange(recogniser.n_limb_labels)
+    expected = np.argmax(log_post - np.log((1 - p) / p) * off_string, axis=2)
+    moved = trace.n_iter > 1
+    assert moved, "the test set should need a relabelling"
+    np.testing.assert_array_equal(trace.label_strings[1], expected)
+    assert np.any(trace.label_strings[1] != trace.label_strings[0])
+
+
+def test_model_limbs_are_each_label_pdm_fitted_to_the_observed_limb_eq15(small_problem):
+    """Eq. (15): a limb that is an instance of its label's PDM (within the clamp) is drawn exactly."""
+    _, _, recogniser = small_problem
+    rng = make_rng(30)
+    labels = rng.integers(0, recogniser.n_limb_labels, 13)
+    observed = []
+    for k, label in enumerate(labels):
+        model = recogniser.limb_models_[k][label]
+        gamma = rng.uniform(-1.0, 1.0, model.n_modes) * np.sqrt(model.variances)  # inside ±3√α
+        observed.append(reconstruct(model, gamma[None])[0])
+    observed = np.stack(observed)
+    vector = np.concatenate([np.zeros(13), rng.normal(size=26)])
+    drawn = recogniser.model_limbs(vector, labels, observed)
+    np.testing.assert_allclose(drawn, observed.reshape(13, -1, 2) + vector[13:].reshape(13, 1, 2), atol=1e-9)
+    means = recogniser.model_limbs(vector, labels)
+    assert np.max(np.abs(means - drawn)) > 1e-3  # the fit moved the limbs away from their mean strokes

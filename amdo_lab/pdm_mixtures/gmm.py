@@ -85,6 +85,7 @@ def _gaussian_log_density_reference(points: np.ndarray, means: np.ndarray, covar
     out = np.empty((len(points), len(means)))
     for w, (mean, covariance) in enumerate(zip(means, covariances)):
         diff = points - mean  # X_t - Y_w
+        # ln of eq. (6): -1/2 [d ln 2π + ln|Σ_w| + (X_t - Y_w)^T Σ_w^-1 (X_t - Y_w)]
         mahalanobis = np.sum(diff @ np.linalg.inv(covariance) * diff, axis=1)
         out[:, w] = -0.5 * (n_dim * np.log(2 * np.pi) + np.linalg.slogdet(covariance)[1] + mahalanobis)
     return out
@@ -174,8 +175,8 @@ def fit_gaussian_mixture(
         log_joint = _gaussian_log_density(points, means, covariances) + np.log(weights)
         log_norm = np.logaddexp.reduce(log_joint, axis=1)
         responsibilities = np.exp(log_joint - log_norm[:, None])
-        history.append(float(np.mean(log_norm)))
-        # M-step. Eq. 5: pi_w = (1/T) sum_t P(t in w | X_t).
+        history.append(float(np.mean(log_norm)))  # ln of eq. (2) per pattern, with the weights of eq. (5)
+        # M-step: the updates that maximise Q of eq. (3) at fixed posteriors. Eq. 5: pi_w = (1/T) sum_t P(t in w | X_t).
         counts = responsibilities.sum(axis=0) + 10 * np.finfo(float).eps
         weights = counts / t
         # Eq. 7, normalised: Y_w = sum_t P(t in w | X_t) X_t / sum_t P(t in w | X_t).
