@@ -17,6 +17,7 @@ test that is renamed. The tests named are not run here (their own files run them
 from __future__ import annotations
 
 import ast
+import functools
 import importlib
 import inspect
 import io
@@ -79,10 +80,12 @@ def resolve(dotted: str) -> object:
     raise ImportError(dotted)
 
 
+@functools.lru_cache(maxsize=None)
 def _test_sources(test_file: str) -> dict[str, str]:
     """{name: source} of the top-level ``test_*`` functions of a test file (parsed, not imported)."""
     source = (ROOT / "tests" / test_file).read_text(encoding="utf-8")
-    return {node.name: ast.get_source_segment(source, node) for node in ast.parse(source).body
+    lines = source.splitlines()
+    return {node.name: "\n".join(lines[node.lineno - 1:node.end_lineno]) for node in ast.parse(source).body
             if isinstance(node, ast.FunctionDef) and node.name.startswith("test_")}
 
 
