@@ -166,11 +166,64 @@ CHAPTER_3 = {
 }
 
 # ---------------------------------------------------------------------------------------------
+# Chapter 4, Choraś 2004: amdo_lab.ear_biometrics
+
+_EB = "amdo_lab.ear_biometrics"
+_DETECTOR = (f"{_EB}.features.detect_contours_reference", "test_detect_contours_reference_equals_the_filtered_detector")
+CHAPTER_4 = {
+    1: _DETECTOR,
+    2: _DETECTOR,
+    3: _DETECTOR,
+    4: _DETECTOR,
+    5: _DETECTOR,
+    6: (f"{_EB}.features.circle_features_reference", "test_reference_of_eqs_6_and_7_equals_the_vectorised_path"),
+    7: (f"{_EB}.features.circle_features_reference", "test_reference_of_eqs_6_and_7_equals_the_vectorised_path"),
+    8: (f"{_EB}.features._crossing_number", "test_crossing_number_endings_and_bifurcation"),
+    9: (f"{_EB}.features.topology_features", "test_topology_features_of_a_y_contour"),
+}
+
+# ---------------------------------------------------------------------------------------------
+# Chapter 5, Givens et al. 2004: amdo_lab.face_glmm
+
+_FG = "amdo_lab.face_glmm"
+CHAPTER_5 = {
+    1: (f"{_FG}.pcalda._weighted_sq_distances", "test_distances_l2_and_soft_l2"),
+    2: (f"{_FG}.glmm._laplace_deviance_reference", "test_fast_laplace_deviance_equals_dense_reference"),
+}
+
+# ---------------------------------------------------------------------------------------------
+# Chapter 6, Li & Chaumette 2004: amdo_lab.cue_fusion_pf
+
+_PF = "amdo_lab.cue_fusion_pf"
+_SHAPE = "test_template_spline_fits_its_ellipse_and_eq2_is_w_x_plus_template"
+CHAPTER_6 = {
+    1: (f"{_PF}.shape.ShapeSpace.curve", _SHAPE),
+    2: (f"{_PF}.shape.ShapeSpace.control_points", _SHAPE),
+    3: (f"{_PF}.shape.ShapeSpace.shape_matrix", _SHAPE),
+    4: (f"{_PF}.dynamics.ARDynamics.propagate", "test_printed_eq4_is_unstable_and_the_corrected_one_is_stable"),
+    5: (f"{_PF}.dynamics.ARDynamics.step", "test_corrected_dynamics_reach_their_stationary_std"),
+    6: (f"{_PF}.likelihoods.fused_log_likelihood", "test_printed_sigmas_make_the_fusion_edge_only"),
+    7: (f"{_PF}.likelihoods.kernel_histogram", "test_fast_colour_path_equals_the_per_pixel_histogram"),
+    8: (f"{_PF}.likelihoods.kernel_histogram", "test_fast_colour_path_equals_the_per_pixel_histogram"),
+    9: (f"{_PF}.likelihoods.ColorLikelihood.distance", "test_colour_distance_and_likelihood_are_eqs_9_and_11"),
+    10: (f"{_PF}.likelihoods.bhattacharyya", "test_fast_colour_path_equals_the_per_pixel_histogram"),
+    11: (f"{_PF}.likelihoods.ColorLikelihood.log_likelihood", "test_colour_distance_and_likelihood_are_eqs_9_and_11"),
+    12: (f"{_PF}.structure.StructureLikelihood.log_likelihood", "test_structure_likelihood_is_eq12_of_the_stages_passed"),
+    13: (f"{_PF}.likelihoods.edge_line_likelihood", "test_eq13_matches_simulated_lines"),
+    14: (f"{_PF}.likelihoods.EdgeLikelihood.log_likelihood", "test_fast_edge_path_equals_the_numpy_reference"),
+    15: (f"{_PF}.tracker._run_filter", "test_track_follows_the_head_and_is_seeded"),
+    16: (f"{_PF}.tracker._run_filter", "test_track_follows_the_head_and_is_seeded"),
+}
+
+# ---------------------------------------------------------------------------------------------
 
 CHAPTERS = {
     1: (CHAPTER_1, "test_em_articulated.py"),
     2: (CHAPTER_2, "test_pdm_mixtures.py"),
     3: (CHAPTER_3, "test_cat_fluid.py"),
+    4: (CHAPTER_4, "test_ear_biometrics.py"),
+    5: (CHAPTER_5, "test_face_glmm.py"),
+    6: (CHAPTER_6, "test_cue_fusion_pf.py"),
 }
 
 
@@ -216,9 +269,17 @@ def names_that_reach(dotted: str) -> set[str]:
     names = {short_name}
     if short_name.startswith("_"):
         owner = resolve(owner_name)
-        for name, member in vars(owner).items():
-            if not name.startswith("_") and inspect.isfunction(member) and \
-                    re.search(rf"\b{short_name}\(", inspect.getsource(member)):
+        members = list(vars(owner).items())
+        for cls in [m for n, m in members if inspect.isclass(m) and not n.startswith("_")]:
+            members += list(vars(cls).items())  # the public methods of the module's classes
+        for name, member in members:
+            if name.startswith("_") or not inspect.isfunction(member):
+                continue
+            try:
+                source = inspect.getsource(member)
+            except OSError:  # generated (a dataclass's methods): calls nothing of ours
+                continue
+            if re.search(rf"\b{short_name}\(", source):
                 names.add(name)
     return names
 
