@@ -857,3 +857,22 @@ def test_model_limbs_are_each_label_pdm_fitted_to_the_observed_limb_eq15(small_p
     np.testing.assert_allclose(drawn, observed.reshape(13, -1, 2) + vector[13:].reshape(13, 1, 2), atol=1e-9)
     means = recogniser.model_limbs(vector, labels)
     assert np.max(np.abs(means - drawn)) > 1e-3  # the fit moved the limbs away from their mean strokes
+
+
+def test_limb_posteriors_are_eq10_bayes_rule_over_the_eq16_residual(small_problem):
+    """With ``limb_likelihood="residual"`` the limb-label posterior is Bayes' rule over eq. (16)'s
+    isotropic Gaussian of the clamped fit residual, computed here from the public PDM functions."""
+    from amdo_lab.pdm_mixtures.representation import centred_limbs
+
+    train, test, _ = small_problem
+    residual = ArticulatedShapeRecogniser(rng=0, limb_likelihood="residual").fit(train.shapes, train.labels)
+    aligned = residual.align(test.shapes[:6])
+    limbs = centred_limbs(aligned)  # (n, K, 2m)
+    for k in (0, 6, 12):
+        errors = np.stack([np.sum((limbs[:, k] - reconstruct(model, fit_modes(model, limbs[:, k]))) ** 2, axis=1)
+                           for model in residual.limb_models_[k]], axis=1)
+        log_joint = -errors / (2 * residual.limb_noise_[k]) + np.log(residual.limb_weights_[k])  # eq. (16) x prior
+        expected = log_joint - np.logaddexp.reduce(log_joint, axis=1, keepdims=True)
+        np.testing.assert_allclose(residual._limb_log_posteriors(aligned)[:, k], expected, atol=1e-10)
+    labels = np.argmax(residual._limb_log_posteriors(aligned), axis=2)  # eq. (10)
+    np.testing.assert_array_equal(residual.recognise(test.shapes[:6]).label_strings[0], labels)
