@@ -892,3 +892,22 @@ def test_robust_log_likelihood_reference_equals_the_streamed_path():
     assert robust_log_likelihood_reference(model, data + 1e4, 2.0) == pytest.approx(80 * np.log(PAPER_C))
     with pytest.raises(ValueError, match="sigma"):
         robust_log_likelihood_reference(model, data, 0.0)
+
+
+def test_fit_surface_eq21_reaches_the_minimum_scipy_finds(hand):
+    """Without eq. (22)'s weights, eq. (21) is plain least squares in d(Y_j, Θ): fit_surface's
+    Gauss-Newton and scipy's trust-region least squares reach the same pose."""
+    from scipy.optimize import least_squares
+
+    rng = make_rng(45)
+    theta_true = random_pose(hand, rng=rng)
+    data = hand.sample_surface(theta_true, 300, rng=rng) + rng.normal(scale=0.5, size=(300, 3))
+    start = perturb_pose(hand, theta_true, 3.0, rng=rng, palm_rotation_deg=1.0, palm_translation_mm=1.0)
+    ours = fit_surface(data, hand, start, sigma=None, max_iter=30)
+    limits = hand.joint_limits()
+    peer = least_squares(lambda theta: hand.surface_distance(data, theta), start,
+                         jac=lambda theta: hand.surface_distance_jacobian(data, theta)[1],
+                         bounds=(limits[:, 0], limits[:, 1]), xtol=1e-12, ftol=1e-12, gtol=1e-12)
+    assert np.max(np.abs(ours.theta - peer.x)) < 1e-6
+    assert ours.rms_distance == pytest.approx(np.sqrt(np.mean(peer.fun**2)), rel=1e-9)
+    assert joint_rmse_deg(ours.theta, start) > 1.0  # the fit moved

@@ -114,7 +114,7 @@ CHAPTER_1 = {
     18: (f"{_EM}.registration.e_step_reference", "test_e_step_reference_single_exact_match_is_one_over_one_plus_c"),
     19: (f"{_EM}.registration.register_em_reference", "test_register_em_reference_equals_the_fast_em"),
     20: (f"{_EM}.registration.register_em_reference", "test_register_em_reference_equals_the_fast_em"),
-    21: (f"{_EM}.registration.fit_surface", "test_fit_surface_reduces_distance"),
+    21: (f"{_EM}.registration.fit_surface", "test_fit_surface_eq21_reaches_the_minimum_scipy_finds"),
     22: (f"{_EM}.registration.fit_surface", "test_fit_surface_eq22_ignores_far_points"),
 }
 
