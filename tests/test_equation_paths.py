@@ -32,7 +32,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 
 # ---------------------------------------------------------------------------------------------
-# Which equations a notebook cites: ``\tag{N}`` in its LaTeX, and "eq. N", "eqs. N–M", "Eq. (N)",
+# Which equations a notebook cites: ``\tag{N}`` (or ``\qquad (N)``) in its LaTeX, and "eq. N", "eqs. N–M", "Eq. (N)",
 # "equations N and M" in its prose (markdown cells). "\simeq 3" is not a citation.
 
 _CITATION = re.compile(r"(?<![A-Za-z\\])[Ee]q(?:s|uations?)?\.?\s*((?:\(?\d+[a-z]?\)?(?:\s*(?:[-–,]|and|or|to)\s*)?)+)")
@@ -49,6 +49,7 @@ def _expand(numbers: str) -> set[int]:
 def cited_equations(text: str) -> set[int]:
     """Equation numbers cited in a text (LaTeX tags and prose citations)."""
     found = {int(n) for n in re.findall(r"\\tag\{(\d+)\}", text)}
+    found |= {int(n) for n in re.findall(r"\\qquad\s*\((\d+)\)", text)}  # a display numbered by hand
     for match in _CITATION.finditer(text):
         found |= _expand(match.group(1))
     return found
@@ -294,6 +295,6 @@ def test_reference_path_has_a_test_that_calls_it(chapter, equation, dotted, test
 
 
 def test_citation_extraction():
-    text = r"eqs. 4–9, eq. (17), Eqs. (17)–(18), eqs. 7, 8 and 10, $a \simeq 3$, $$x \tag{21}$$"
-    assert cited_equations(text) == {4, 5, 6, 7, 8, 9, 10, 17, 18, 21}
+    text = r"eqs. 4–9, eq. (17), Eqs. (17)–(18), eqs. 7, 8 and 10, $a \simeq 3$, $$x \tag{21}$$ $$y \qquad (23)$$"
+    assert cited_equations(text) == {4, 5, 6, 7, 8, 9, 10, 17, 18, 21, 23}
     assert comments_of("x = 1  # eq. (3): blend\ny = '# eq. (4)'\n") == "# eq. (3): blend"
