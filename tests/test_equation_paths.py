@@ -32,10 +32,11 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 
 # ---------------------------------------------------------------------------------------------
-# Which equations a notebook cites: ``\tag{N}`` (or ``\qquad (N)``) in its LaTeX, and "eq. N", "eqs. N–M", "Eq. (N)",
-# "equations N and M" in its prose (markdown cells). "\simeq 3" is not a citation.
+# Which equations a notebook cites: ``\tag{N}`` (or ``\qquad (N)``) in its LaTeX, and "eq. N",
+# "eqs. N–M", "Eq. (N)", "equations N and M" in its prose (markdown cells). "\simeq 3" is not one.
 
-_CITATION = re.compile(r"(?<![A-Za-z\\])[Ee]q(?:s|uations?)?\.?\s*((?:\(?\d+[a-z]?\)?(?:\s*(?:[-–,]|and|or|to)\s*)?)+)")
+_CITATION = re.compile(r"(?<![A-Za-z\\])[Ee]q(?:s|uations?)?\.?\s*"
+                       r"((?:\(?\d+[a-z]?\)?(?:\s*(?:[-–,]|and|or|to)\s*)?)+)")
 
 
 def _expand(numbers: str) -> set[int]:
@@ -152,7 +153,8 @@ _CF = "amdo_lab.cat_fluid"
 _STEPS = "test_stencil_steps_follow_eqs_5_12_and_14_on_polynomial_fields"
 CHAPTER_3 = {
     5: (f"{_CF}.stencil._bilinear_gradient", _STEPS),
-    7: (f"{_CF}.complex.CubicalComplex.coboundary", "test_coboundary_of_a_zero_cochain_is_the_difference_of_end_values"),
+    7: (f"{_CF}.complex.CubicalComplex.coboundary",
+        "test_coboundary_of_a_zero_cochain_is_the_difference_of_end_values"),
     8: (f"{_CF}.stencil._flux", _STEPS),
     9: (f"{_CF}.stencil._flux", _STEPS),
     10: (f"{_CF}.stencil._flux", _STEPS),
@@ -209,7 +211,8 @@ CHAPTER_6 = {
     9: (f"{_PF}.likelihoods.ColorLikelihood.distance", "test_colour_distance_and_likelihood_are_eqs_9_and_11"),
     10: (f"{_PF}.likelihoods.bhattacharyya", "test_fast_colour_path_equals_the_per_pixel_histogram"),
     11: (f"{_PF}.likelihoods.ColorLikelihood.log_likelihood", "test_colour_distance_and_likelihood_are_eqs_9_and_11"),
-    12: (f"{_PF}.structure.StructureLikelihood.log_likelihood", "test_structure_likelihood_is_eq12_of_the_stages_passed"),
+    12: (f"{_PF}.structure.StructureLikelihood.log_likelihood",
+         "test_structure_likelihood_is_eq12_of_the_stages_passed"),
     13: (f"{_PF}.likelihoods.edge_line_likelihood", "test_eq13_matches_simulated_lines"),
     14: (f"{_PF}.likelihoods.EdgeLikelihood.log_likelihood", "test_fast_edge_path_equals_the_numpy_reference"),
     15: (f"{_PF}.tracker._run_filter", "test_track_follows_the_head_and_is_seeded"),
@@ -240,8 +243,9 @@ def test_every_cited_equation_is_in_the_table(chapter):
     table = CHAPTERS[chapter][0]
     cited = notebook_citations(chapter)
     assert cited, "no citation found: the extraction is broken"
-    assert not cited - set(table), f"chapter {chapter} cites equations missing from its table: {sorted(cited - set(table))}"
-    assert not set(table) - cited, f"chapter {chapter}'s table lists equations it no longer cites: {sorted(set(table) - cited)}"
+    missing, stale = sorted(cited - set(table)), sorted(set(table) - cited)
+    assert not missing, f"chapter {chapter} cites equations missing from its table: {missing}"
+    assert not stale, f"chapter {chapter}'s table lists equations it no longer cites: {stale}"
 
 
 @pytest.mark.parametrize("chapter", sorted(CHAPTERS))
