@@ -1176,7 +1176,8 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
         dist, jac = hand.surface_distance_jacobian(data, theta)
         current = cost(dist)
         for _ in range(max_iter):
-            # eq. (21): Σ_j β_j d(Y_j, Θ)² as least squares in √β_j d_j, one Gauss-Newton step on its normal equations
+            # eq. (21): Σ_j β_j d(Y_j, Θ)² as least squares in √β_j d_j, one Gauss-Newton step on its
+            # normal equations
             sqrt_w = np.sqrt(step_weights(dist))
             jac_w = sqrt_w[:, None] * jac
             normal = jac_w.T @ jac_w
