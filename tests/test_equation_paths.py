@@ -110,8 +110,10 @@ CHAPTER_1 = {
         "test_robust_log_likelihood_reference_equals_the_streamed_path"),
     9: (f"{_EM}.registration.robust_log_likelihood_reference",
         "test_robust_log_likelihood_reference_equals_the_streamed_path"),
-    15: (f"{_EM}.registration.e_step_reference", "test_e_step_reference_equals_the_streamed_e_step"),
-    16: (f"{_EM}.registration.e_step_reference", "test_e_step_reference_equals_the_streamed_e_step"),
+    15: (None, "Bayes' rule in its general form, which the chapter divides through to eq. (17); the code "
+               "implements eq. (17), in e_step_reference"),
+    16: (None, "the normalised Gaussian of eq. (6) written out; its normalisation cancels into c (eq. 18), so "
+               "the code evaluates only its exponential, in e_step_reference (eq. 17)"),
     17: (f"{_EM}.registration.e_step_reference", "test_e_step_reference_equals_the_streamed_e_step"),
     18: (f"{_EM}.registration.e_step_reference", "test_e_step_reference_single_exact_match_is_one_over_one_plus_c"),
     19: (f"{_EM}.registration.register_em_reference", "test_register_em_reference_equals_the_fast_em"),

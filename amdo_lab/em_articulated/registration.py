@@ -136,7 +136,6 @@ def e_step_reference(model_points: object, data_points: object, sigma: float, c:
     c = check_positive(c, "c")
     # ||Y_j - T(X_i)||² for every pair (i, j)
     sq_dist = np.sum((model[:, None, :] - data[None, :, :]) ** 2, axis=2)
-    # eq. (15), Bayes' rule, with the Gaussian of eq. (16) and both sides divided by Π_i (2πσ²)^(-3/2):
     # numerator of eq. (17): the Gaussian of eq. (6) without its normalisation (it cancels into c)
     kernel = np.exp(-sq_dist / (2.0 * sigma**2))
     # denominator of eq. (17): Σ_k over the texture points, plus c for the outlier class (eq. 18)

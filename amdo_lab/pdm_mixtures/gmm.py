@@ -169,14 +169,16 @@ def fit_gaussian_mixture(
         weights = as_finite_array(weights_init, "weights_init", shape=(k,))
         if np.any(weights <= 0) or not np.isclose(weights.sum(), 1.0):
             raise ValueError("weights_init must be positive and sum to 1")
+    # history: the mean over the patterns of ln sum_w pi_w p(X_t | w), the log-likelihood of eq. (2) with the
+    # weights of eq. (5); each M-step below maximises Q of eq. (3) at the posteriors of the E-step.
     history = []
     for _ in range(n_iter):
         # E-step (eq. 4): P(t in w | X_t) = pi_w p(X_t | w) / sum_w' pi_w' p(X_t | w'), in log space.
         log_joint = _gaussian_log_density(points, means, covariances) + np.log(weights)
         log_norm = np.logaddexp.reduce(log_joint, axis=1)
         responsibilities = np.exp(log_joint - log_norm[:, None])
-        history.append(float(np.mean(log_norm)))  # ln of eq. (2) per pattern, with the weights of eq. (5)
-        # M-step: the updates that maximise Q of eq. (3) at fixed posteriors. Eq. 5: pi_w = (1/T) sum_t P(t in w | X_t).
+        history.append(float(np.mean(log_norm)))
+        # M-step. Eq. 5: pi_w = (1/T) sum_t P(t in w | X_t).
         counts = responsibilities.sum(axis=0) + 10 * np.finfo(float).eps
         weights = counts / t
         # Eq. 7, normalised: Y_w = sum_t P(t in w | X_t) X_t / sum_t P(t in w | X_t).
