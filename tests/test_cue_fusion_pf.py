@@ -424,3 +424,24 @@ def test_track_with_printed_eq4_diverges(sequence):
     with pytest.raises(RuntimeError, match="diverged"):
         cf.track(sequence.frames[:60], sequence.true_ellipses[0], rng=1, cues=("color",), n_particles=50,
                  printed_order=True)
+
+
+def test_colour_distance_and_likelihood_are_eqs_9_and_11(sequence, space):
+    colour = cf.ColorLikelihood(space, sequence.frames[0], sequence.truth[0], sigma=0.1)
+    states = sequence.truth[5] + make_rng(7).normal(size=(20, 3)) * [6, 6, 0.05]
+    rho = colour.bhattacharyya(sequence.frames[5], states)
+    np.testing.assert_allclose(colour.distance(sequence.frames[5], states), 1.0 - rho)  # eq. (9), squared
+    expected = np.log(np.exp(-(1.0 - rho) / (2 * 0.1**2)) / (np.sqrt(2 * np.pi) * 0.1))  # eq. (11)
+    np.testing.assert_allclose(colour.log_likelihood(sequence.frames[5], states), expected, rtol=1e-12)
+    assert np.ptp(rho) > 0.01  # the states differ: not a constant check
+
+
+def test_structure_likelihood_is_eq12_of_the_stages_passed(sequence, space, cascade):
+    from amdo_lab.cue_fusion_pf import structure as st
+
+    likelihood = st.StructureLikelihood(space, cascade, sigma=0.5)
+    states = np.stack([sequence.truth[40], sequence.truth[40] + [15, 0, 0], sequence.truth[40] + [0, 40, 0]])
+    passed = cascade.stages_passed(sequence.frames[40], likelihood.boxes(states))
+    expected = -(1.0 - passed / cascade.n_stages) / (2 * 0.5**2) - np.log(np.sqrt(2 * np.pi) * 0.5)  # eq. (12)
+    np.testing.assert_allclose(likelihood.log_likelihood(sequence.frames[40], states), expected, rtol=1e-12)
+    assert len(set(passed.tolist())) > 1

@@ -853,3 +853,74 @@ def test_docstring_examples_run_and_print_what_they_show(name):
     for test in tests:
         runner.run(test)
     assert runner.failures == 0
+
+
+def test_part_fields_are_eq1_of_the_part_distances(hand):
+    """Eq. (1): φ_p = exp(-d/ν), so φ_p = 1 on part p's own ellipsoid and falls by e every ν outside."""
+    theta = hand.rest_pose()
+    frames = hand.part_transforms(theta)
+    directions = make_rng(40).normal(size=(20, 3))
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    part = 5
+    # points on ellipsoid p: x = R_p (c_p + radii_p ∘ u) + t_p, the inverse of the part frame's local coordinates
+    on_surface = (hand._centres[part] + hand._radii[part] * directions) @ frames[part, :3, :3].T + frames[part, :3, 3]
+    np.testing.assert_allclose(hand.part_fields(on_surface, theta)[:, part], 1.0, atol=1e-9)
+    points = hand.sample_surface(theta, 50, rng=make_rng(41)) + make_rng(42).normal(scale=5.0, size=(50, 3))
+    expected = np.exp(-hand.part_distances(points, theta) / hand.nu)
+    np.testing.assert_allclose(hand.part_fields(points, theta), expected, rtol=1e-12)
+
+
+def test_transform_texture_is_eq3_blend_of_the_two_part_motions(hand):
+    """Eq. (3) computed from the part fields and part motions by hand equals transform_texture and the
+    positions of the analytic-Jacobian path."""
+    rng = make_rng(43)
+    theta_from = random_pose(hand, rng=rng)
+    theta_to = perturb_pose(hand, theta_from, 15.0, rng=rng)
+    points = hand.sample_surface(theta_from, 80, rng=rng)
+    a = 2.0
+    binding = hand.texture_binding(points, theta_from, a)
+    fields = hand.part_fields(points, theta_from)
+    rows = np.arange(len(points))
+    phi_p, phi_r = fields[rows, binding.part_p] ** a, fields[rows, binding.part_r] ** a
+    old, new = hand.part_transforms(theta_from), hand.part_transforms(theta_to)
+
+    def rigid(part):  # T_p(Θ_to) T_p(Θ_from)^-1 X: the point carried rigidly by one part
+        local = np.einsum("nji,nj->ni", old[part, :3, :3], points - old[part, :3, 3])
+        return np.einsum("nij,nj->ni", new[part, :3, :3], local) + new[part, :3, 3]
+
+    expected = (phi_p[:, None] * rigid(binding.part_p) + phi_r[:, None] * rigid(binding.part_r)) \
+        / (phi_p + phi_r)[:, None]
+    np.testing.assert_allclose(hand.transform_texture(binding, theta_to), expected, atol=1e-9)
+    np.testing.assert_allclose(hand.texture_jacobian(binding, theta_to)[0], expected, atol=1e-9)
+    assert np.max(np.linalg.norm(expected - points, axis=1)) > 1.0  # the texture moved: not a trivial check
+
+
+def test_robust_log_likelihood_reference_equals_the_streamed_path():
+    from amdo_lab.em_articulated.registration import robust_log_likelihood_reference
+    rng = np.random.default_rng(44)
+    model, data = rng.normal(0, 15, (50, 3)), rng.normal(0, 15, (80, 3))
+    for sigma in (2.0, 6.0):
+        assert robust_log_likelihood_reference(model, data, sigma) == pytest.approx(
+            robust_log_likelihood(model, data, sigma), rel=1e-10)
+    assert robust_log_likelihood_reference(model, data + 1e4, 2.0) == pytest.approx(80 * np.log(PAPER_C))
+    with pytest.raises(ValueError, match="sigma"):
+        robust_log_likelihood_reference(model, data, 0.0)
+
+
+def test_fit_surface_eq21_reaches_the_minimum_scipy_finds(hand):
+    """Without eq. (22)'s weights, eq. (21) is plain least squares in d(Y_j, Θ): fit_surface's
+    Gauss-Newton and scipy's trust-region least squares reach the same pose."""
+    from scipy.optimize import least_squares
+
+    rng = make_rng(45)
+    theta_true = random_pose(hand, rng=rng)
+    data = hand.sample_surface(theta_true, 300, rng=rng) + rng.normal(scale=0.5, size=(300, 3))
+    start = perturb_pose(hand, theta_true, 3.0, rng=rng, palm_rotation_deg=1.0, palm_translation_mm=1.0)
+    ours = fit_surface(data, hand, start, sigma=None, max_iter=30)
+    limits = hand.joint_limits()
+    peer = least_squares(lambda theta: hand.surface_distance(data, theta), start,
+                         jac=lambda theta: hand.surface_distance_jacobian(data, theta)[1],
+                         bounds=(limits[:, 0], limits[:, 1]), xtol=1e-12, ftol=1e-12, gtol=1e-12)
+    assert np.max(np.abs(ours.theta - peer.x)) < 1e-6
+    assert ours.rms_distance == pytest.approx(np.sqrt(np.mean(peer.fun**2)), rel=1e-9)
+    assert joint_rmse_deg(ours.theta, start) > 1.0  # the fit moved

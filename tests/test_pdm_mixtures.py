@@ -830,3 +830,60 @@ def test_check_labels_takes_names_or_integer_ids():
             check_labels(bad, 2)
     with pytest.raises(ValueError, match="labels must not contain NaN"):
         check_labels(np.array([0.0, np.nan]), 2)
+
+
+def test_recognise_relabels_the_limbs_by_eq14(small_problem):
+    """Eq. (14) computed by hand from the first iteration's terms gives the labels of the second."""
+    _, test, recogniser = small_problem
+    shapes = test.shapes[:30]
+    trace = recogniser.recognise(shapes)
+    parts = recogniser.score_components(shapes)
+    log_post = recogniser.limb_label_posteriors(shapes, log=True)
+    joint = parts.log_weights[None] + parts.shape + parts.limb_gate + parts.label_string  # (n, C, M)
+    best = trace.posteriors[0].argmax(axis=1)  # eq. (13)
+    component = np.argmax(joint[np.arange(len(shapes)), best], axis=1)
+    p = recogniser.label_error_probability
+    # ln P(λ | z_k) + ln P(L(λ, k) | Λ_ω): a label off the winner's dictionary string costs k_p = ln((1-p)/p)
+    off_string = recogniser.dictionary_[best, component][:, :, None] != np.arange(recogniser.n_limb_labels)
+    expected = np.argmax(log_post - np.log((1 - p) / p) * off_string, axis=2)
+    moved = trace.n_iter > 1
+    assert moved, "the test set should need a relabelling"
+    np.testing.assert_array_equal(trace.label_strings[1], expected)
+    assert np.any(trace.label_strings[1] != trace.label_strings[0])
+
+
+def test_model_limbs_are_each_label_pdm_fitted_to_the_observed_limb_eq15(small_problem):
+    """Eq. (15): a limb that is an instance of its label's PDM (within the clamp) is drawn exactly."""
+    _, _, recogniser = small_problem
+    rng = make_rng(30)
+    labels = rng.integers(0, recogniser.n_limb_labels, 13)
+    observed = []
+    for k, label in enumerate(labels):
+        model = recogniser.limb_models_[k][label]
+        gamma = rng.uniform(-1.0, 1.0, model.n_modes) * np.sqrt(model.variances)  # inside ±3√α
+        observed.append(reconstruct(model, gamma[None])[0])
+    observed = np.stack(observed)
+    vector = np.concatenate([np.zeros(13), rng.normal(size=26)])
+    drawn = recogniser.model_limbs(vector, labels, observed)
+    np.testing.assert_allclose(drawn, observed.reshape(13, -1, 2) + vector[13:].reshape(13, 1, 2), atol=1e-9)
+    means = recogniser.model_limbs(vector, labels)
+    assert np.max(np.abs(means - drawn)) > 1e-3  # the fit moved the limbs away from their mean strokes
+
+
+def test_limb_posteriors_are_eq10_bayes_rule_over_the_eq16_residual(small_problem):
+    """With ``limb_likelihood="residual"`` the limb-label posterior is Bayes' rule over eq. (16)'s
+    isotropic Gaussian of the clamped fit residual, computed here from the public PDM functions."""
+    from amdo_lab.pdm_mixtures.representation import centred_limbs
+
+    train, test, _ = small_problem
+    residual = ArticulatedShapeRecogniser(rng=0, limb_likelihood="residual").fit(train.shapes, train.labels)
+    aligned = residual.align(test.shapes[:6])
+    limbs = centred_limbs(aligned)  # (n, K, 2m)
+    for k in (0, 6, 12):
+        errors = np.stack([np.sum((limbs[:, k] - reconstruct(model, fit_modes(model, limbs[:, k]))) ** 2, axis=1)
+                           for model in residual.limb_models_[k]], axis=1)
+        log_joint = -errors / (2 * residual.limb_noise_[k]) + np.log(residual.limb_weights_[k])  # eq. (16) x prior
+        expected = log_joint - np.logaddexp.reduce(log_joint, axis=1, keepdims=True)
+        np.testing.assert_allclose(residual._limb_log_posteriors(aligned)[:, k], expected, atol=1e-10)
+    labels = np.argmax(residual._limb_log_posteriors(aligned), axis=2)  # eq. (10)
+    np.testing.assert_array_equal(residual.recognise(test.shapes[:6]).label_strings[0], labels)

@@ -288,6 +288,8 @@ def solve_stencil_reference(stencil: object, force: object) -> np.ndarray:
     h, w = force.shape[1:]
     matrix = stencil_matrix(stencil, (h, w)).toarray()
     rhs = (force - force.mean(axis=(1, 2), keepdims=True)).ravel()
+    # eq. (15) at every pixel, K v = F_ext, as one dense linear system (least squares: K is singular
+    # on the uniform velocity, which the mean-free force does not excite)
     velocity = np.linalg.lstsq(matrix, rhs, rcond=None)[0].reshape(2, h, w)
     return velocity - velocity.mean(axis=(1, 2), keepdims=True)
 

@@ -173,6 +173,8 @@ class ARDynamics:
         previous = as_finite_array(previous, "previous", shape=(None, self.mean.size))
         before = as_finite_array(before, "before", shape=previous.shape)
         noise = as_finite_array(noise, "noise", shape=previous.shape)
+        # eq. (4) for every component (eq. 5 for the state), about the mean: X_k = a_0 X_{k-1} + a_1 X_{k-2} + b_0 ν
+        # in our order of the lags (printed_order=True: the printed a_1 X_{k-1} + a_0 X_{k-2}, which explodes)
         return (self.mean + self.first_lag * (previous - self.mean) + self.second_lag * (before - self.mean)
                 + self.step_std * noise)
 
@@ -193,6 +195,7 @@ class ARDynamics:
         """
         previous = as_finite_array(previous, "previous", shape=(None, self.mean.size))
         before = as_finite_array(before, "before", shape=previous.shape)
+        # eq. (5): one draw from the transition prior p(X_k | X_{k-1}, X_{k-2}), ν standard normal
         return self.propagate(previous, before, make_rng(rng, "rng").standard_normal(previous.shape))
 
     def simulate(self, n_steps: int, start: np.ndarray, *, rng: int | np.random.Generator) -> np.ndarray:

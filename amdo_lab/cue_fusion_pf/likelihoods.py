@@ -139,6 +139,7 @@ def kernel_histogram(frame: np.ndarray, ellipse: np.ndarray, bins: int = 32) -> 
     r_squared = u**2 + v**2
     inside = r_squared < 1.0
     weights = 1.0 - r_squared[inside]  # eq. (7), constant c cancels in eq. (8)
+    # eq. (8): kernel-weighted count of the pixels of each colour bin, normalised by the total weight
     histogram = np.bincount(bin_index_image(frame, bins)[inside], weights=weights, minlength=bins**3)
     total = histogram.sum()
     return histogram / total if total > 0 else histogram
@@ -167,7 +168,7 @@ def bhattacharyya(p: np.ndarray, q: np.ndarray) -> np.ndarray:
         raise ValueError(f"p and q must have the same number of bins, got shapes {p.shape} and {q.shape}")
     if np.any(p < 0) or np.any(q < 0):
         raise ValueError("p and q must be histograms, with no negative bin")
-    return np.sum(np.sqrt(p * q), axis=-1)
+    return np.sum(np.sqrt(p * q), axis=-1)  # eq. (10): ρ = Σ_u √(p_u q_u)
 
 
 class ColorLikelihood:
@@ -275,7 +276,7 @@ class ColorLikelihood:
         numpy.ndarray
             (N,) distances in [0, 1].
         """
-        return 1.0 - self.bhattacharyya(frame, states)
+        return 1.0 - self.bhattacharyya(frame, states)  # eq. (9) squared: d² = 1 - ρ
 
     def log_likelihood(self, frame: np.ndarray, states: np.ndarray) -> np.ndarray:
         """Eq. (11) in the log domain, for each state.
@@ -292,6 +293,7 @@ class ColorLikelihood:
         numpy.ndarray
             (N,) log-likelihoods.
         """
+        # ln of eq. (11): p_c = exp(-(1 - ρ)/2σ_c²) / (√(2π) σ_c)
         return -self.distance(frame, states) / (2.0 * self.sigma**2) - np.log(np.sqrt(2.0 * np.pi) * self.sigma)
 
 
@@ -331,6 +333,7 @@ def edge_line_likelihood(offsets: np.ndarray, p0: float, clutter_density: float,
     clutter_density = check_positive(clutter_density, "clutter_density")
     sigma_e = check_in_range(sigma_e, "sigma_e", 0.0, MAX_PIXELS, closed="right")
     gauss = np.exp(-offsets**2 / (2.0 * sigma_e**2)) / (np.sqrt(2.0 * np.pi) * sigma_e)
+    # eq. (13): p_0 + (1 - p_0)/λ Σ_m N(z_m; 0, σ_e²), the likelihood ratio of one measurement line
     return float(p0 + (1.0 - p0) / clutter_density * gauss.sum())
 
 
@@ -588,7 +591,7 @@ def fused_log_likelihood(cues: dict, frame: np.ndarray, states: np.ndarray) -> n
     if states.ndim not in (1, 2):
         raise ValueError(f"states must have shape (d,) or (N, d), got shape {states.shape}")
     total = np.zeros(len(np.atleast_2d(states)))
-    for cue in cues.values():
+    for cue in cues.values():  # eq. (6) in the log domain: the product of the cues' likelihoods is a sum
         total += cue.log_likelihood(frame, states)
     return total
 

@@ -162,6 +162,7 @@ class ShapeSpace:
             (2J, 3) with columns (1, 0), (0, 1) and (Q̄^x, Q̄^y) stacked x over y.
         """
         ones, zeros = np.ones(self.n_control), np.zeros(self.n_control)
+        # eq. (3), left: columns for x-translation, y-translation and scale about the template Q̄
         return np.stack([np.concatenate([ones, zeros]), np.concatenate([zeros, ones]),
                          np.concatenate([self.template[:, 0], self.template[:, 1]])], axis=1)
 
@@ -179,6 +180,7 @@ class ShapeSpace:
             (N, J, 2) control points in pixels.
         """
         states = np.atleast_2d(self._check_states(states))
+        # eq. (2): Q = W X + Q̄, with Q stacked as (Q^x, Q^y)
         stacked = states @ self.shape_matrix().T + np.concatenate([self.template[:, 0], self.template[:, 1]])
         return np.stack([stacked[:, : self.n_control], stacked[:, self.n_control :]], axis=2)
 
@@ -199,6 +201,7 @@ class ShapeSpace:
         """
         n_points = check_positive_int(n_points, "n_points")
         basis = bspline_basis(np.linspace(0, self.n_control, n_points, endpoint=False), self.n_control)
+        # eq. (1): r(s) = (B(s)ᵀ Q^x, B(s)ᵀ Q^y), the quadratic B-spline through the control points
         return np.einsum("pj,njd->npd", basis, self.control_points(states))
 
     def template_normals(self, n_lines: int) -> tuple[np.ndarray, np.ndarray]:

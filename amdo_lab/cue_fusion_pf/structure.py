@@ -637,4 +637,5 @@ class StructureLikelihood:
         numpy.ndarray
             (N,) log-likelihoods.
         """
+        # ln of eq. (12): p_s = exp(-(1 - n_s/N_s)/2σ_s²) / (√(2π) σ_s), distance = 1 - n_s/N_s
         return -self.distance(frame, states) / (2.0 * self.sigma**2) - np.log(np.sqrt(2.0 * np.pi) * self.sigma)

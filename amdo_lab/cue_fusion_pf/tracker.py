@@ -405,6 +405,9 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
 def _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles, init_spread, generator) -> TrackResult:
     n_frames = len(frames)
     began = time.perf_counter()
+    # The loop approximates the Bayesian recursion by Monte Carlo: moving the particles through the
+    # dynamics samples the prediction integral of eq. (16), and weighting them by the likelihood and
+    # normalising is Bayes' rule, eq. (15); the weighted particles are a sample of p(X_k | Y_1:k).
     # 1. initialisation: particles around the initial state, at rest (X_{k-1} = X_{k-2})
     current = start + init_spread * generator.standard_normal((n_particles, 3))
     previous = current.copy()

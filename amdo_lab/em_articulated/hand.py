@@ -343,6 +343,7 @@ class HandModel:
         numpy.ndarray, shape (M, 16)
             φ_p per point and part (1 on an ellipsoid, > 1 inside, clipped at d = -20ν).
         """
+        # eq. (1): φ_p(X) = exp(-d(X, Q_p)/ν), d clipped deep inside so that exp cannot overflow
         return np.exp(-np.clip(self.part_distances(points, theta), -20 * self.nu, None) / self.nu)
 
     def fused_field(self, points: np.ndarray, theta: object, *, neighbour_rule: bool = True) -> np.ndarray:
@@ -388,6 +389,7 @@ class HandModel:
             Signed distances, mm.
         """
         neighbour_rule = check_bool(neighbour_rule, "neighbour_rule")
+        # eq. (2): d(X, Θ) = -ν log φ(X), φ = Σ_p φ_p the fused field
         return -self.nu * np.log(self.fused_field(points, theta, neighbour_rule=neighbour_rule))
 
     def surface_distance_jacobian(self, points: object, theta: object) -> tuple[np.ndarray, np.ndarray]:
@@ -578,6 +580,7 @@ class HandModel:
         part_r = np.argmax(neighbour_fields, axis=1)
         log_p = a * np.log(fields[np.arange(len(points)), part_p])
         log_r = a * np.log(np.maximum(fields[np.arange(len(points)), part_r], 1e-300))
+        # the weight of part p in eq. (3), φ_p^a / (φ_p^a + φ_r^a), written to stay finite in the log domain
         weight_p = 1.0 / (1.0 + np.exp(np.clip(log_r - log_p, -50, 50)))
         frames = self._forward(theta)[0]
         local_p = np.einsum("nji,nj->ni", frames[part_p, :3, :3], points - frames[part_p, :3, 3])
@@ -603,6 +606,7 @@ class HandModel:
         frames = self._forward(self.check_theta(theta))[0]
         world_p, world_r = binding.world_points(frames)
         w = binding.weight_p[:, None]
+        # eq. (3): T(X, Θ) = (φ_p^a T_p X + φ_r^a T_r X) / (φ_p^a + φ_r^a), with w = φ_p^a / (φ_p^a + φ_r^a)
         return w * world_p + (1 - w) * world_r
 
     def texture_jacobian(self, binding: "TextureBinding", theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

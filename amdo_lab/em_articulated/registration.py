@@ -173,8 +173,8 @@ def m_step_targets(alpha: object, data_points: object) -> tuple[np.ndarray, np.n
     alpha = as_finite_array(alpha, "alpha", ndim=2, shape=(None, len(data)))
     if np.any((alpha < 0) | (alpha > 1)):
         raise ValueError("alpha must hold posteriors in [0, 1], got values outside")
-    lam = alpha.sum(axis=1)  # λ_i = Σ_j α_ij
-    targets = (alpha @ data) / np.maximum(lam, 1e-300)[:, None]  # G_i = Σ_j α_ij Y_j / λ_i
+    lam = alpha.sum(axis=1)  # eq. (20): λ_i = Σ_j α_ij
+    targets = (alpha @ data) / np.maximum(lam, 1e-300)[:, None]  # eq. (20): G_i = Σ_j α_ij Y_j / λ_i
     return lam, targets
 
 
@@ -210,6 +210,43 @@ def robust_log_likelihood(model_points: object, data_points: object, sigma: floa
     log_c = float(np.log(check_positive(c, "c")))
     with one_blas_thread():
         return _dense_pass(model, data, sigma, log_c, 256, "double")[4]
+
+
+def robust_log_likelihood_reference(model_points: object, data_points: object, sigma: float,
+                                    c: float = PAPER_C) -> float:
+    """The objective of :func:`robust_log_likelihood` in plain numpy, every pair at once.
+
+    The readable path of the streamed, log-domain :func:`robust_log_likelihood` (tested equal to
+    it); memory O(N·M), and the plain exponentials underflow for data far from every texture point
+    (each term then falls back to log c, as the streamed path's does).
+
+    Parameters
+    ----------
+    model_points : array_like, shape (N, 3)
+        Moved texture points T(X_i, Θ), mm.
+    data_points : array_like, shape (M, 3)
+        Data points Y_j, mm.
+    sigma : float
+        σ of the Gaussian of eq. (6), mm, in (0, 1e6].
+    c : float, default PAPER_C
+        The outlier constant of eq. (18) (> 0).
+
+    Returns
+    -------
+    float
+        Σ_j log(c + Σ_i exp(-||Y_j - T(X_i)||²/2σ²)), nats.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eqs. (9) and (18).
+    """
+    model, data, sigma, _ = _check_e_step_inputs(model_points, data_points, sigma, 0.0)
+    c = check_positive(c, "c")
+    sq_dist = np.sum((model[:, None, :] - data[None, :, :]) ** 2, axis=2)
+    # eq. (8), the mixture f_j = Σ_i Π_i f(Y_j|X_i) + Π_outlier f(Y_j|outlier), written out as eq. (9) and
+    # divided by Π_i (2πσ²)^(-3/2) (eq. 18): f_j ∝ Σ_i exp(-||Y_j - T(X_i)||²/2σ²) + c
+    mixture = np.exp(-sq_dist / (2.0 * sigma**2)).sum(axis=0) + c
+    return float(np.sum(np.log(mixture)))  # the log-likelihood of the data, Σ_j log f_j, up to a constant
 
 
 def e_step_statistics(model_points: object, data_points: object, sigma: float,
@@ -707,7 +744,8 @@ def register_em_reference(model_points: object, data_points: object, hand: HandM
                 if targets == "debiased":  # ours: subtract the texture's own blur B_i
                     _, blurred = m_step_targets(e_step_reference(moved, moved, sigma), moved)
                     goal = moved + goal - blurred
-                # M-step: minimise E(Θ) = Σ_i λ_i ||T(X_i, Θ) - G_i||² (eq. 20) by Gauss-Newton
+                # M-step: maximising Q of eq. (19) is, up to terms free of Θ, minimising
+                # E(Θ) = Σ_i λ_i ||T(X_i, Θ) - G_i||² (eq. 20), here by Gauss-Newton
                 new_theta = _m_step(hand, binding, theta, lam, goal, gauss_newton_steps, damping)
                 change, theta = float(np.max(np.abs(new_theta - theta))), new_theta
                 if change <= tol:  # the paper's stopping rule: Θ no longer changes
@@ -1177,7 +1215,7 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
     limits = hand.joint_limits()
 
     def step_weights(dist: np.ndarray) -> np.ndarray:
-        beta = w if sigma is None else w * np.exp(-dist**2 / sigma**2)
+        beta = w if sigma is None else w * np.exp(-dist**2 / sigma**2)  # eq. (22): β_j = exp(-d(Y_j)²/σ²)
         return beta if epsilon_mm is None else beta * (np.abs(dist) < epsilon_mm)
 
     def cost(dist: np.ndarray) -> float:
@@ -1191,6 +1229,8 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
         dist, jac = hand.surface_distance_jacobian(data, theta)
         current = cost(dist)
         for _ in range(max_iter):
+            # eq. (21): Σ_j β_j d(Y_j, Θ)² as least squares in √β_j d_j, one Gauss-Newton step on its
+            # normal equations
             sqrt_w = np.sqrt(step_weights(dist))
             jac_w = sqrt_w[:, None] * jac
             normal = jac_w.T @ jac_w

@@ -105,6 +105,7 @@ def gaussian_log_density_reference(points: np.ndarray, means: np.ndarray, covari
     out = np.empty((len(points), len(means)))
     for w, (mean, covariance) in enumerate(zip(means, covariances)):
         diff = points - mean  # X_t - Y_w
+        # ln of eq. (6): -1/2 [d ln 2π + ln|Σ_w| + (X_t - Y_w)^T Σ_w^-1 (X_t - Y_w)]
         mahalanobis = np.sum(diff @ np.linalg.inv(covariance) * diff, axis=1)
         out[:, w] = -0.5 * (n_dim * np.log(2 * np.pi) + np.linalg.slogdet(covariance)[1] + mahalanobis)
     return out
@@ -188,6 +189,8 @@ def fit_gaussian_mixture(
         weights = as_finite_array(weights_init, "weights_init", shape=(k,))
         if np.any(weights <= 0) or not np.isclose(weights.sum(), 1.0):
             raise ValueError("weights_init must be positive and sum to 1")
+    # history: the mean over the patterns of ln sum_w pi_w p(X_t | w), the log-likelihood of eq. (2) with the
+    # weights of eq. (5); each M-step below maximises Q of eq. (3) at the posteriors of the E-step.
     history = []
     for _ in range(n_iter):
         # E-step (eq. 4): P(t in w | X_t) = pi_w p(X_t | w) / sum_w' pi_w' p(X_t | w'), in log space.

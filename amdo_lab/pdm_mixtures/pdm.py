@@ -186,6 +186,7 @@ def fit_modes(model: PointDistributionModel, observed: np.ndarray, *, clamp: boo
     if observed.ndim not in (1, 2) or observed.shape[-1] != len(model.mean):
         raise ValueError(f"observed must have shape (n, {len(model.mean)}) like the model mean, got {observed.shape}")
     clamp = check_bool(clamp, "clamp")
+    # eqs. (9) and (15): the best-fit γ = argmax_γ p(z | Φ, γ), for a Gaussian the least-squares γ = Φ^T (X_o - Y)
     gamma = (observed - model.mean) @ model.modes  # gamma = Phi^T (X_o - Y), least squares (Sec. 2)
     if clamp:  # -3 sqrt(alpha_k) <= gamma_k <= 3 sqrt(alpha_k) (Sec. 4)
         bound = 3.0 * np.sqrt(model.variances)

@@ -596,8 +596,9 @@ class ArticulatedShapeRecogniser:
                 log_lik[:, k] = np.stack([ppca_log_density(model, data) for model in self.limb_models_[k]], axis=1)
             else:
                 errors = np.stack([_fit_error(mdl, data) for mdl in self.limb_models_[k]], axis=1)
-                log_lik[:, k] = -errors / (2 * self.limb_noise_[k])
+                log_lik[:, k] = -errors / (2 * self.limb_noise_[k])  # ln of eq. (16): isotropic fit residual
             log_lik[:, k] += np.log(self.limb_weights_[k])
+        # Bayes' rule over the labels: ln P(λ | z_k, γ_λ, Φ_λ), the posterior that eq. (10) maximises
         return log_lik - np.logaddexp.reduce(log_lik, axis=2, keepdims=True)
 
     def _fit_shape_layer(self, aligned: np.ndarray, labels: np.ndarray) -> list[np.ndarray]:
@@ -901,7 +902,7 @@ class ArticulatedShapeRecogniser:
             model = self.limb_models_[k][label_string[k]]
             if observed_limbs is None:
                 strokes.append(model.mean)
-            else:
+            else:  # eq. (15): the limb's label PDM at its best-fit (clamped) parameters γ_k
                 strokes.append(reconstruct(model, fit_modes(model, observed_limbs[k][None]))[0])
         return np.stack(strokes).reshape(N_LIMBS, -1, 2) + centres[:, None, :]
 
