@@ -77,13 +77,13 @@ def main() -> None:
         line = [name, len(table), cells, f"{ours_s:.2f}/{ours_cpu:.2f}"]
         if use_lme4:
             peer = fg.fit_with_lme4(table, formula, random, 30)
-            coef = np.max(np.abs(fit.coefficients.to_numpy() - peer["coefficients"].to_numpy()))
-            rel = max(abs(fit.variance_components[k] / peer["variance_components"][k] - 1) for k in random)
+            coef = np.max(np.abs(fit.coefficients.to_numpy() - peer.estimate.to_numpy()))
+            rel = max(abs(fit.variance_components[k] / peer.variance_components[k] - 1) for k in random)
             sds = [[np.sqrt(fit.variance_components[k]) for k in random],
-                   [np.sqrt(peer["variance_components"][k]) for k in random]]
+                   [np.sqrt(peer.variance_components[k]) for k in random]]
             dev_ours, dev_lme4 = fg.laplace_deviance(table, formula, random, sds, 30)
-            lme4_s = f"{peer['seconds']:.2f}/{peer['cpu_seconds']:.2f}"
-            line += [lme4_s, round(peer["cpu_seconds"] / ours_cpu, 1), f"{coef:.1e}", f"{rel:.1e}",
+            lme4_s = f"{peer.seconds:.2f}/{peer.cpu_seconds:.2f}"
+            line += [lme4_s, round(peer.cpu_seconds / ours_cpu, 1), f"{coef:.1e}", f"{rel:.1e}",
                      round(float(dev_ours), 4), round(float(dev_lme4), 4)]
         else:
             line += ["(lme4 not run)"] + [""] * 5

@@ -14,10 +14,10 @@ import pandas as pd
 
 from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng
 from amdo_lab.common.threads import one_blas_thread
-from amdo_lab.face_glmm.pcalda import METRICS, PcaLda, _pca_basis, _weighted_sq_distances
+from amdo_lab.face_glmm.pcalda import METRICS, PcaLda, pca_basis, weighted_sq_distances
 from amdo_lab.face_glmm.population import (
     STANDARD_SHAPE,
-    _check_image_shape,
+    check_image_shape,
     downsample_by_two,
     elliptical_mask,
     generate_face_population,
@@ -88,7 +88,7 @@ class FactorialDesign:
         if len(set(self.supplements)) != len(self.supplements):
             raise ValueError(f"supplements must not repeat a supplement, got {self.supplements}")
         # checked here rather than after the population is drawn: the small size halves each side
-        rows, cols = _check_image_shape(self.shape, minimum=8)
+        rows, cols = check_image_shape(self.shape, minimum=8)
         if rows % 2 or cols % 2:
             raise ValueError(f"shape must have even rows and cols (the small size halves them), got {self.shape}")
         if not isinstance(self.population_kwargs, dict):
@@ -298,13 +298,13 @@ def _run(design: FactorialDesign, rng) -> pd.DataFrame:
                     train = np.concatenate([base, extra])
                     labels = np.concatenate([base_labels, base_labels])
                 samples = train.reshape(train.shape[0], -1)
-                basis = _pca_basis(samples)  # shared by both PCA dimensions
+                basis = pca_basis(samples)  # shared by both PCA dimensions
                 for d in DIMENSIONS:
                     model = PcaLda(d).fit(samples, labels, basis=basis)
                     probe_feat = model.transform(probes)
                     cand_feat = model.transform(candidates.reshape(n * 3, -1))
                     for m in METRICS:
-                        dist = _weighted_sq_distances(probe_feat, cand_feat, model.metric_weights(m))
+                        dist = weighted_sq_distances(probe_feat, cand_feat, model.metric_weights(m))
                         y = _rank1_counts(dist.reshape(n, n, 3), gallery_choice)
                         blocks.append(pd.DataFrame({
                             "t": t, "p": np.arange(n), "U": u, "M": m, "D": d, "S": size,

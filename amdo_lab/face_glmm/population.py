@@ -24,6 +24,7 @@ __all__ = [
     "generate_face_population",
     "preprocess_images",
     "downsample_by_two",
+    "check_image_shape",
 ]
 
 #: Our "standard" image (rows, cols): FERET's 150 x 130 scaled by 1/2.5 so the whole
@@ -137,7 +138,7 @@ def generate_face_population(
     nuisance = check_in_range(nuisance, "nuisance", 0.0, 100.0, closed="both")
     difficulty_spread = check_in_range(difficulty_spread, "difficulty_spread", 0.0, 10.0, closed="both")
     noise_sd = check_in_range(noise_sd, "noise_sd", 0.0, 1e6, closed="both")
-    _check_image_shape(shape, minimum=8)
+    check_image_shape(shape, minimum=8)
     gen = make_rng(rng, "rng")
     rows, cols = int(shape[0]), int(shape[1])
     n_img = n_subjects * images_per_subject
@@ -216,8 +217,36 @@ def _power_law_field(gen: np.random.Generator, n: int, shape: tuple[int, int], s
     return field / field.std(axis=(1, 2), keepdims=True)
 
 
-def _check_image_shape(shape: object, *, minimum: int) -> tuple[int, int]:
-    """An image size (rows, cols) of ints, each at least ``minimum`` (a float would be truncated)."""
+def check_image_shape(shape: object, *, minimum: int) -> tuple[int, int]:
+    """Check an image size (rows, cols): a pair of ints, each at least ``minimum``.
+
+    Shared by the generator, :func:`elliptical_mask` and :class:`FactorialDesign` (a float size
+    would be truncated silently, so it is refused).
+
+    Parameters
+    ----------
+    shape : pair of int
+        The size to check, named ``shape`` in the messages.
+    minimum : int
+        Smallest number of rows and of columns accepted.
+
+    Returns
+    -------
+    tuple of int
+        ``(rows, cols)`` as Python ints.
+
+    Raises
+    ------
+    ValueError
+        When ``shape`` is not a pair or a side is below ``minimum``.
+    TypeError
+        When a side is not an int.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, Sec. 2 (the image sizes of the FERET images this population
+    stands in for).
+    """
     if isinstance(shape, (str, bytes)) or not hasattr(shape, "__len__") or len(shape) != 2:
         raise ValueError(f"shape must be a pair (rows, cols), got {shape!r}")
     return (check_positive_int(shape[0], "shape[0]", minimum=minimum),
@@ -241,7 +270,7 @@ def elliptical_mask(shape: tuple[int, int]) -> np.ndarray:
     ----------
     Givens et al. (2004), AMDO, LNCS 3179, Sec. 2 step 3 (the elliptical mask).
     """
-    rows, cols = _check_image_shape(shape, minimum=1)
+    rows, cols = check_image_shape(shape, minimum=1)
     yy = (np.arange(rows) - (rows - 1) / 2) / (rows / 2)
     xx = (np.arange(cols) - (cols - 1) / 2) / (cols / 2)
     return (yy[:, None] ** 2 + xx[None, :] ** 2) <= 1.0
