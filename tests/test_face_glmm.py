@@ -76,10 +76,12 @@ def test_power_law_texture_spreads_the_pca_spectrum():
         images = preprocess_images(pop.images).reshape(48, 4, -1)[:, 1:].reshape(144, -1)
         return e90_dimension(pca_basis(images).eigenvalues)
 
-    smooth = generate_face_population(48, 4, rng=2, shape=(40, 36))
+    smooth = generate_face_population(48, 4, rng=2, shape=(40, 36), texture_slope=None)
     textured = generate_face_population(48, 4, rng=2, shape=(40, 36), texture_slope=2.0, texture_amplitude=0.7)
     np.testing.assert_array_equal(smooth.difficulty, textured.difficulty)  # drawn after everything else
     assert e90_of(textured) > 2.5 * e90_of(smooth)
+    default = generate_face_population(48, 4, rng=2, shape=(40, 36))  # the chapter's faces: texture on
+    assert e90_of(default) > 2.5 * e90_of(smooth)
     with pytest.raises(ValueError, match="texture_slope"):
         generate_face_population(8, 2, rng=0, texture_slope=-1.0)
     with pytest.raises(ValueError, match="texture_amplitude"):
@@ -702,3 +704,12 @@ def test_shared_checks_are_public_module_level_names():
     np.testing.assert_array_equal(response_counts(table, "Y", 30), [0.0, 3.0, 30.0])
     with pytest.raises(ValueError, match=r"integer counts in \[0, n_trials=10\]"):
         response_counts(table, "Y", 10)
+
+
+def test_findings_show_the_numbers_they_compare(reduced_table):
+    fit = fit_binomial_glmm(reduced_table[reduced_table.S == "standard"], PAPER_FORMULA, ["t", "p"], 10)
+    out = fg.findings(fit)
+    assert list(out.columns) == ["holds for ours", "measured"] and len(out) == 11
+    soft, l2 = (float(fit.predict_marginal(pd.DataFrame({"M": [m]})).p.iloc[0]) for m in ("soft_l2", "l2"))
+    row = out.loc["soft L2 beats L2 overall"]
+    assert row["measured"] == f"soft L2 {soft:.3f}, L2 {l2:.3f}" and row["holds for ours"] == (soft > l2)
