@@ -61,7 +61,7 @@ def main() -> None:
     random = ["t", "p", "t:p"]
     use_lme4 = not args.no_lme4 and fg.lme4_available()
     report = bench.table("table", "rows", "t:p cells", "ours s", "lme4 s", "ratio", "max|dcoef|", "max rel dvar",
-                         "dev ours", "dev lme4",
+                         "dev ours", "dev lme4", "lower dev",
                          title="seconds: wall clock / CPU (user + system), ours the best of --repeats; "
                                "ratio = lme4 / ours, on CPU seconds")
     for name in args.tables:
@@ -84,9 +84,10 @@ def main() -> None:
             dev_ours, dev_lme4 = fg.laplace_deviance(table, formula, random, sds, 30)
             lme4_s = f"{peer.seconds:.2f}/{peer.cpu_seconds:.2f}"
             line += [lme4_s, round(peer.cpu_seconds / ours_cpu, 1), f"{coef:.1e}", f"{rel:.1e}",
-                     round(float(dev_ours), 4), round(float(dev_lme4), 4)]
+                     f"{float(dev_ours):.4f}", f"{float(dev_lme4):.4f}",
+                     "ours" if dev_ours <= dev_lme4 else "lme4"]
         else:
-            line += ["(lme4 not run)"] + [""] * 5
+            line += ["(lme4 not run)"] + [""] * 6
         report.add(*line)
         print(f"table {name} done", flush=True)
     bench.finish()
