@@ -12,9 +12,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from amdo_lab.common import check_choice, check_positive_int
+from amdo_lab.common import check_choice, check_names, check_positive_int
 from amdo_lab.face_glmm.design import build_design, group_indices, parse_formula
-from amdo_lab.face_glmm.glmm import check_random_terms, response_counts
+from amdo_lab.face_glmm.glmm import response_counts
 
 __all__ = ["PeerFit", "lme4_available", "fit_with_lme4", "fit_gee_exchangeable", "fit_naive_logistic"]
 
@@ -151,7 +151,7 @@ def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), n_t
     eq. (2) of Givens et al. (2004), AMDO, LNCS 3179.
     """
     design, _ = _design_and_response(table, fixed, n_trials)
-    random = check_random_terms(random)
+    random = check_names(random, "random", accept_single=True)
     for term in random:
         group_indices(table, term)  # its columns exist and have no missing values
     if not lme4_available():

@@ -28,12 +28,11 @@ from scipy import stats
 from scipy.special import expit, xlogy
 
 
-from amdo_lab.common import as_finite_array, check_in_range, check_positive
+from amdo_lab.common import as_finite_array, check_in_range, check_names, check_positive
 from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.face_glmm.design import DesignMatrix, build_design, group_indices, parse_formula
 
-__all__ = ["GlmmResult", "fit_binomial_glmm", "binomial_deviance", "laplace_deviance", "response_counts",
-           "check_random_terms"]
+__all__ = ["GlmmResult", "fit_binomial_glmm", "binomial_deviance", "laplace_deviance", "response_counts"]
 
 
 @dataclass(frozen=True)
@@ -226,47 +225,6 @@ def response_counts(table: pd.DataFrame, response: str, n_trials: int) -> np.nda
     if np.any(y < 0) or np.any(y > n_trials) or np.any(y != np.round(y)):
         raise ValueError(f"response {response!r} must hold integer counts in [0, n_trials={n_trials}]")
     return y
-
-
-def check_random_terms(random: object) -> tuple[str, ...]:
-    """Check the grouping terms of the random intercepts: distinct names such as "t", "p" or "t:p".
-
-    Shared by :func:`fit_binomial_glmm`, :func:`laplace_deviance` and :func:`fit_with_lme4`.
-
-    Parameters
-    ----------
-    random : str or sequence of str
-        One grouping term, or a non-empty sequence of distinct ones; a term joins columns with ``:``.
-
-    Returns
-    -------
-    tuple of str
-        The terms, in the order given.
-
-    Raises
-    ------
-    TypeError
-        When ``random`` is not a sequence of non-empty strings.
-    ValueError
-        When it is empty or repeats a term.
-
-    References
-    ----------
-    Givens et al. (2004), AMDO, LNCS 3179, eq. (2) (the random effects tau_t and pi_tp).
-    """
-    if isinstance(random, str):
-        random = [random]
-    if not hasattr(random, "__iter__"):
-        raise TypeError(f"random must be a sequence of grouping terms, got {type(random).__name__}")
-    random = tuple(random)
-    if not random:
-        raise ValueError("random must name at least one grouping term")
-    bad = [term for term in random if not isinstance(term, str) or not term.strip()]
-    if bad:
-        raise TypeError(f"random must hold grouping terms as non-empty strings, got {bad[0]!r}")
-    if len(set(random)) != len(random):
-        raise ValueError(f"random must not repeat a grouping term, got {random}")
-    return random
 
 
 #: Largest binomial size accepted by :func:`binomial_deviance` (integers up to it are exact floats).
@@ -705,7 +663,7 @@ def laplace_deviance(table: pd.DataFrame, fixed: str, random: list[str] | tuple[
     Bates et al. (2015), J. Stat. Softw. 67(1), eq. (36) with the profiled fixed effects of nAGQ=0;
     the model is eq. (2) of Givens et al. (2004), AMDO, LNCS 3179.
     """
-    random = check_random_terms(random)
+    random = check_names(random, "random", accept_single=True)  # grouping terms such as "t", "p", "t:p"
     sd = as_finite_array(sd, "sd", max_abs=MAX_SD)
     sd = sd.reshape(1, -1) if sd.ndim == 1 else sd
     if sd.ndim != 2 or sd.shape[1] != len(random):
@@ -808,7 +766,7 @@ def fit_binomial_glmm(
 
 
 def _fit(table, fixed, random, n_trials, start_sd) -> GlmmResult:
-    random = check_random_terms(random)
+    random = check_names(random, "random", accept_single=True)  # grouping terms such as "t", "p", "t:p"
     # L-BFGS-B would clip a negative start silently; a huge one overflows the first penalised IRLS
     start_sd = check_in_range(start_sd, "start_sd", 0.0, MAX_SD, closed="both")
     problem, (beta0, u_rest0, u_big0) = _setup(table, fixed, random, n_trials)
