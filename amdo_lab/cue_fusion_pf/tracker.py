@@ -11,7 +11,7 @@ import numpy as np
 from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_positive, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
 from amdo_lab.cue_fusion_pf.likelihoods import PAPER_SIGMAS, ColorLikelihood, EdgeLikelihood
-from amdo_lab.cue_fusion_pf.shape import ShapeSpace
+from amdo_lab.cue_fusion_pf.shape import SHAPE_KINDS, ShapeSpace
 from amdo_lab.cue_fusion_pf.structure import CASCADE_SEED, StructureLikelihood, load_or_train_cascade
 
 __all__ = ["CALIBRATED_SIGMAS", "CUES", "TrackResult", "calibration_distances", "default_dynamics", "systematic_resample", "track"]
@@ -24,9 +24,12 @@ FRAME_PERIOD = 1.0 / 25.0
 MIN_SCALE, MAX_SCALE = 0.1, 10.0
 #: Our choices for what the paper does not state: stationary std of (t_x, t_y, s) and of the AR(2).
 STATIONARY_STD = (100.0, 100.0, 0.1)
-_PARAMS = {"bins": 32, "stride": 2.0, "n_lines": 40, "half_length": 12, "p0": 0.2, "sigma_e": float(np.sqrt(2.0)),
+#: The same choices in the similarity space (t_x, t_y, s_c, s_s): s_s is a deformation like s_c.
+_SIMILARITY_DEFAULTS = {"beta": (2.0, 2.0, 10.0, 10.0), "stationary_std": (100.0, 100.0, 0.1, 0.1),
+                        "init_spread": (2.0, 2.0, 0.02, 0.02)}
+_PARAMS = {"shape": "translation_scale", "bins": 32, "stride": 2.0, "n_lines": 40, "half_length": 12, "p0": 0.2, "sigma_e": float(np.sqrt(2.0)),
            "threshold": 6.0, "beta": (2.0, 2.0, 10.0), "stationary_std": STATIONARY_STD, "printed_order": False,
-           "oracle": None, "init_spread": (2.0, 2.0, 0.02)}
+           "oracle": None, "init_spread": (2.0, 2.0, 0.02), "mean": None}
 
 
 @dataclass
@@ -36,7 +39,7 @@ class TrackResult:
     Parameters
     ----------
     states : numpy.ndarray
-        (T, 3) weighted-mean states ``(cx, cy, s)`` (Fig. 1, step 4).
+        (T, d) weighted-mean states ``(cx, cy, s)`` or ``(cx, cy, s_c, s_s)`` (Fig. 1, step 4).
     ellipses : numpy.ndarray
         (T, 5) their ellipses ``(cx, cy, a, b, angle)``.
     centers : numpy.ndarray
@@ -46,7 +49,7 @@ class TrackResult:
     seconds : float
         Wall-clock time of the whole run.
     particles : numpy.ndarray
-        (T, N, 3) particles before resampling.
+        (T, N, d) particles before resampling.
     weights : numpy.ndarray
         (T, N) their normalised weights.
 
@@ -103,16 +106,17 @@ def systematic_resample(weights: np.ndarray, u: float) -> np.ndarray:
 
 def default_dynamics(mean: np.ndarray, *, beta=(2.0, 2.0, 10.0), stationary_std=STATIONARY_STD,
                      printed_order: bool = False) -> ARDynamics:
-    """The head's AR(2) of eq. (5): β = 2 (translation), 10 (scale), ω = 0, τ = 1/25 s, about ``mean``.
+    """The AR(2) of eq. (5): β = 2 (translation), 10 (scale), ω = 0, τ = 1/25 s, about ``mean``.
 
     Parameters
     ----------
     mean : numpy.ndarray
-        (3,) the state the process returns to (the initial state).
+        (d,) the state the process returns to (the initial state): d = 3 for the head's space,
+        4 for the similarity space.
     beta : tuple of float
-        Damping of (t_x, t_y, s), 1/s.
+        (d,) damping of (t_x, t_y, s) or (t_x, t_y, s_c, s_s), 1/s.
     stationary_std : tuple of float
-        Stationary standard deviations of (t_x, t_y, s): pixels, pixels, relative scale.
+        (d,) stationary standard deviations: pixels, pixels, then relative scale (and s_s).
     printed_order : bool
         Eq. (4) as printed (unstable; allowed here so that it can be shown).
 
@@ -126,8 +130,8 @@ def default_dynamics(mean: np.ndarray, *, beta=(2.0, 2.0, 10.0), stationary_std=
     Li & Chaumette, AMDO 2004, eqs. (4)-(5) and Table 1.
     """
     printed_order = check_bool(printed_order, "printed_order")
-    mean = as_finite_array(mean, "mean", shape=(3,))
-    return ARDynamics(beta, (0.0, 0.0, 0.0), FRAME_PERIOD, stationary_std, mean, printed_order=printed_order,
+    mean = as_finite_array(mean, "mean", ndim=1)
+    return ARDynamics(beta, np.zeros(mean.size), FRAME_PERIOD, stationary_std, mean, printed_order=printed_order,
                       allow_unstable=printed_order)
 
 
@@ -146,18 +150,20 @@ def _check_frames(frames: object) -> np.ndarray:
     return np.rint(array).astype(np.uint8)
 
 
-def _shape_space_of(init: object, frame_shape: tuple[int, int]) -> tuple[ShapeSpace, np.ndarray]:
+def _shape_space_of(init: object, frame_shape: tuple[int, int], kind: str = "translation_scale") -> tuple[ShapeSpace, np.ndarray]:
     init = as_finite_array(init, "init")
     if init.shape == (5,):
         init = as_finite_array(init, "init", shape=(5,))
         if init[2] <= 0 or init[3] <= 0:
             raise ValueError(f"init ellipse axes must be positive, got a={init[2]}, b={init[3]}")
-        space = ShapeSpace.from_ellipse(init)
-        start = np.array([init[0], init[1], 0.0])
+        space = ShapeSpace.from_ellipse(init, kind=kind)
+        start = np.zeros(space.state_dim)
+        start[:2] = init[:2]
     elif init.ndim == 2 and init.shape[1] == 2:
         init = as_finite_array(init, "init", shape=(None, 2))
-        space = ShapeSpace(init)
-        start = np.array([*space.centre, 0.0])
+        space = ShapeSpace(init, kind)
+        start = np.zeros(space.state_dim)
+        start[:2] = space.centre
     else:
         raise ValueError(f"init must be an ellipse (cx, cy, a, b, angle) or (J, 2) control points, got shape {init.shape}")
     height, width = frame_shape
@@ -183,6 +189,14 @@ def _sigma_table(sigmas: object) -> dict[str, float]:
             check_positive(value, f"sigmas[{key!r}]")
         return sigma_table
     raise TypeError(f"sigmas must be 'calibrated', 'paper' or a dict, got {type(sigmas).__name__}")
+
+
+def _options(params: dict) -> dict:
+    """The parameters of :func:`track`: the defaults, those of the similarity space if chosen, then ``params``."""
+    defaults = dict(_PARAMS)
+    if check_choice(params.get("shape", defaults["shape"]), "shape", SHAPE_KINDS) == "similarity":
+        defaults.update(_SIMILARITY_DEFAULTS)
+    return {**defaults, **params}
 
 
 def build_cues(cues: Sequence[str], space: ShapeSpace, first_frame: np.ndarray, start: np.ndarray,
@@ -226,7 +240,11 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
         dict of positive values.
     **params
         bins, stride (colour); n_lines, half_length, p0, sigma_e, threshold (edges); beta,
-        stationary_std, printed_order (dynamics); init_spread (std of the initial particles).
+        stationary_std, printed_order, mean (dynamics; mean is the state X̄ the AR(2) returns to,
+        default the initial state); init_spread (std of the initial particles);
+        shape, the shape space of eq. (3): ``"translation_scale"`` (head) or ``"similarity"``
+        (walker; beta, stationary_std and init_spread then default to four entries, the scale's
+        value repeated for s_s).
 
     Returns
     -------
@@ -242,17 +260,18 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
     unknown = set(params) - set(_PARAMS)
     if unknown:
         raise TypeError(f"track() got unknown parameter(s) {sorted(unknown)}; known: {sorted(_PARAMS)}")
-    options = {**_PARAMS, **params}
+    options = _options(params)
     sigma_table = _sigma_table(sigmas)
-    init_spread = as_finite_array(options["init_spread"], "init_spread", shape=(3,))
+    init_spread = as_finite_array(options["init_spread"], "init_spread", shape=(4 if options["shape"] == "similarity" else 3,))
     if np.any(init_spread < 0):
         raise ValueError(f"init_spread must be non-negative, got {init_spread}")
     if "oracle" in cues and not callable(options["oracle"]):
         raise ValueError("cues include 'oracle' but no oracle=callable(t, states) was given")
     generator = make_rng(rng, "rng")
-    space, start = _shape_space_of(init, frames.shape[1:3])
+    space, start = _shape_space_of(init, frames.shape[1:3], options["shape"])
     cue_objects = build_cues(cues, space, frames[0], start, sigma_table, options)
-    dynamics = default_dynamics(start, beta=options["beta"], stationary_std=options["stationary_std"],
+    mean = start if options["mean"] is None else as_finite_array(options["mean"], "mean", shape=start.shape, max_abs=1e6)
+    dynamics = default_dynamics(mean, beta=options["beta"], stationary_std=options["stationary_std"],
                                 printed_order=options["printed_order"])
     oracle: Callable | None = options["oracle"] if "oracle" in cues else None
     return _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles, init_spread, generator)
@@ -262,15 +281,16 @@ def _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles
     n_frames = len(frames)
     began = time.perf_counter()
     # 1. initialisation: particles around the initial state, at rest (X_{k-1} = X_{k-2})
-    current = start + init_spread * generator.standard_normal((n_particles, 3))
+    current = start + init_spread * generator.standard_normal((n_particles, start.size))
     previous = current.copy()
-    states, ess = np.empty((n_frames, 3)), np.empty(n_frames)
-    all_particles, all_weights = np.empty((n_frames, n_particles, 3)), np.empty((n_frames, n_particles))
+    states, ess = np.empty((n_frames, start.size)), np.empty(n_frames)
+    all_particles, all_weights = np.empty((n_frames, n_particles, start.size)), np.empty((n_frames, n_particles))
     for k in range(n_frames):
         if k > 0:  # 2. sampling from the transition prior, eq. (5); particles carry X_k and X_{k-1}
             current, previous = dynamics.step(current, previous, rng=generator), current
         # 3a. weights: eq. (6) in the log domain, on the particles that are a contour at all
-        valid = np.all(np.isfinite(current), axis=1) & (current[:, 2] > MIN_SCALE - 1.0) & (current[:, 2] < MAX_SCALE - 1.0)
+        scale = 1.0 + current[:, 2] if start.size == 3 else np.hypot(1.0 + current[:, 2], current[:, 3])
+        valid = np.all(np.isfinite(current), axis=1) & (scale > MIN_SCALE) & (scale < MAX_SCALE)
         if not valid.any():
             raise RuntimeError(f"the filter diverged at frame {k}: no particle has a finite state of a plausible size "
                                "(unstable dynamics?)")
@@ -316,7 +336,8 @@ def calibration_distances(sequences: Sequence, cue: str, *, rng: int | np.random
     frame_step : int
         Use every ``frame_step``-th frame.
     **params
-        Cue and dynamics parameters, as for :func:`track`.
+        Cue and dynamics parameters, as for :func:`track`; with ``shape="similarity"`` the
+        sequences are walker sequences (``.template`` gives the outline on frame 0).
 
     Returns
     -------
@@ -335,12 +356,13 @@ def calibration_distances(sequences: Sequence, cue: str, *, rng: int | np.random
     check_choice(cue, "cue", ("color", "structure"))
     n_samples = check_positive_int(n_samples, "n_samples", minimum=2)
     frame_step = check_positive_int(frame_step, "frame_step")
-    options = {**_PARAMS, **params}
+    options = _options(params)
     generator = make_rng(rng, "rng")
     at_truth, at_prior = [], []
     for sequence in sequences:
-        init = sequence.true_ellipses[0]
-        space, start = _shape_space_of(init, sequence.frames.shape[1:3])
+        # the walker's truth is a similarity state of its outline on frame 0 (WalkerSequence.template)
+        init = sequence.template if options["shape"] == "similarity" else sequence.true_ellipses[0]
+        space, start = _shape_space_of(init, sequence.frames.shape[1:3], options["shape"])
         likelihood = build_cues([cue], space, sequence.frames[0], start, {"color": 1.0, "structure": 1.0}, options)[cue]
         dynamics = default_dynamics(start, beta=options["beta"], stationary_std=options["stationary_std"])
         for t in range(2, len(sequence.frames), frame_step):
