@@ -258,7 +258,7 @@ def _body_parts(hips: np.ndarray, phase: float) -> list[tuple[str, list[np.ndarr
              ("torso", [shoulders + np.array([0.0, 0.03 * h]), hips - np.array([0.0, 0.02 * h])], 0.2 * h, SHIRT),
              ("neck", [shoulders, shoulders - np.array([0.0, 0.06 * h])], 0.06 * h, SKIN),
              ("head", [shoulders - np.array([0.0, 0.12 * h])], 0.105 * h, SKIN),
-             ("hair", [shoulders - np.array([0.0, 0.15 * h])], 0.09 * h, HAIR),
+             ("hair", [shoulders - np.array([0.0, 0.16 * h])], 0.085 * h, HAIR),  # a cap: the face stays skin
              parts[3], parts[4], parts[5]]
     return order
 
