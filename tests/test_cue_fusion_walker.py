@@ -147,6 +147,17 @@ def test_track_in_the_similarity_space_follows_the_walker(sequence):
     assert np.array_equal(again.states, result.states)
 
 
+def test_track_mean_defaults_to_the_initial_state(sequence):
+    frames = sequence.frames[:4]
+    default = cf.track(frames, sequence.template, rng=3, shape="similarity", n_particles=40, n_lines=20, bins=16)
+    explicit = cf.track(frames, sequence.template, rng=3, shape="similarity", n_particles=40, n_lines=20, bins=16,
+                        mean=sequence.truth[0])
+    elsewhere = cf.track(frames, sequence.template, rng=3, shape="similarity", n_particles=40, n_lines=20, bins=16,
+                         mean=sequence.truth[0] + [300.0, 0.0, 0.0, 0.0])
+    np.testing.assert_allclose(explicit.states, default.states)
+    assert not np.allclose(elsewhere.states, default.states)
+
+
 def test_oracle_tracks_the_walker_to_a_pixel(sequence):
     result = cf.track(sequence.frames, sequence.template, rng=0, cues=("oracle",), shape="similarity",
                       oracle=sequence.oracle_log_likelihood)
