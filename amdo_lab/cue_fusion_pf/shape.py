@@ -89,7 +89,7 @@ class ShapeSpace:
     Parameters
     ----------
     template : numpy.ndarray
-        (J, 2) control points ``Q̄`` in pixels; they are centred on their mean, which becomes the
+        (J, 2) control points ``Q̄`` in pixels, within ±1e6; they are centred on their mean, which becomes the
         state's origin.
     kind : str
         ``"translation_scale"`` (the head space of eq. 3, left, state ``(t_x, t_y, s)``) or
@@ -118,7 +118,7 @@ class ShapeSpace:
     """
 
     def __init__(self, template: np.ndarray, kind: str = "translation_scale", *, _ellipse: np.ndarray | None = None):
-        template = as_finite_array(template, "template", shape=(None, 2))
+        template = as_finite_array(template, "template", shape=(None, 2), max_abs=1e6)  # its covariance stays finite
         check_positive_int(template.shape[0], "template length", minimum=3)
         self.kind = check_choice(kind, "kind", SHAPE_KINDS)
         self.centre = template.mean(axis=0)
@@ -177,10 +177,11 @@ class ShapeSpace:
             space adds a fourth column (-Q̄^y, Q̄^x).
         """
         ones, zeros = np.ones(self.n_control), np.zeros(self.n_control)
+        # eq. (3): columns for x-translation, y-translation and scale about the template Q̄ (left) ...
         qx, qy = self.template[:, 0], self.template[:, 1]
         columns = [np.concatenate([ones, zeros]), np.concatenate([zeros, ones]), np.concatenate([qx, qy])]
         if self.kind == "similarity":
-            columns.append(np.concatenate([-qy, qx]))  # the template turned by 90°: rotation
+            columns.append(np.concatenate([-qy, qx]))  # ... and (right) the template turned by 90°: rotation
         return np.stack(columns, axis=1)
 
     def similarity_parts(self, states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -219,6 +220,7 @@ class ShapeSpace:
             (N, J, 2) control points in pixels.
         """
         states = np.atleast_2d(self._check_states(states))
+        # eq. (2): Q = W X + Q̄, with Q stacked as (Q^x, Q^y)
         stacked = states @ self.shape_matrix().T + np.concatenate([self.template[:, 0], self.template[:, 1]])
         return np.stack([stacked[:, : self.n_control], stacked[:, self.n_control :]], axis=2)
 
@@ -228,7 +230,7 @@ class ShapeSpace:
         Parameters
         ----------
         states : numpy.ndarray
-            (N, d) or (d,) states.
+            (N, d) or (d,) states, entries within ±1e6.
         n_points : int
             Points per curve.
 
@@ -239,6 +241,7 @@ class ShapeSpace:
         """
         n_points = check_positive_int(n_points, "n_points")
         basis = bspline_basis(np.linspace(0, self.n_control, n_points, endpoint=False), self.n_control)
+        # eq. (1): r(s) = (B(s)ᵀ Q^x, B(s)ᵀ Q^y), the quadratic B-spline through the control points
         return np.einsum("pj,njd->npd", basis, self.control_points(states))
 
     def template_normals(self, n_lines: int) -> tuple[np.ndarray, np.ndarray]:
@@ -270,7 +273,7 @@ class ShapeSpace:
         Parameters
         ----------
         states : numpy.ndarray
-            (N, d) or (d,) states.
+            (N, d) or (d,) states, entries within ±1e6.
 
         Returns
         -------
@@ -308,7 +311,9 @@ class ShapeSpace:
         return np.array([ellipse[0], ellipse[1], relative_size - 1.0])
 
     def _check_states(self, states: np.ndarray) -> np.ndarray:
-        states = as_finite_array(states, "states", allow_empty=True)
+        """States as a float array, every entry within ±1e6 (pixels, relative scale): far beyond any
+        frame, and the contours' pixel coordinates stay finite and within int32."""
+        states = as_finite_array(states, "states", allow_empty=True, max_abs=1e6)
         if states.ndim not in (1, 2) or states.shape[-1] != self.state_dim:
             raise ValueError(f"states must have shape ({self.state_dim},) or (N, {self.state_dim}), got shape {states.shape}")
         return states

@@ -293,6 +293,7 @@ def _laplace_deviance_reference(y: np.ndarray, n_trials: np.ndarray, x: np.ndarr
     """
     n, p = x.shape
     q = z.shape[1]
+    # eq. (2): Y ~ Binomial(n, expit(η)), η = Xβ + Zb with b = Λu, u ~ N(0, I): η = [ZΛ, X] (u, β)
     design = np.hstack([z * lam, x])                 # [Z Lambda, X]: columns u first, then beta
     penalty = np.r_[np.ones(q), np.zeros(p)]         # |u|^2 penalises u only
     coef = np.zeros(q + p)

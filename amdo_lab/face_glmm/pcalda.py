@@ -323,6 +323,8 @@ def weighted_sq_distances(a: np.ndarray, b: np.ndarray, weights: np.ndarray) -> 
 
 def _weighted_sq_distances(a: np.ndarray, b: np.ndarray, weights: np.ndarray) -> np.ndarray:
     """:func:`weighted_sq_distances` on validated arrays (the experiment's inner call)."""
+    # eq. (1): Σ_i w_i (a_i - b_i)² (w = 1: L2; w = λ_i^0.2: soft L2) for every pair, expanded as
+    # Σ_i w_i a_i² + Σ_i w_i b_i² - 2 Σ_i w_i a_i b_i so that the cross term is one matrix product
     aw = a * weights
     sq = np.sum(aw * a, axis=1)[:, None] + np.sum(b * b * weights, axis=1)[None, :] - 2.0 * aw @ b.T
     return np.maximum(sq, 0.0)
