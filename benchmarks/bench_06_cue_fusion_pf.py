@@ -165,6 +165,7 @@ def walker_runs(bench: Benchmark, args) -> None:
     from amdo_lab.common import rate_interval
 
     success, per_seed, fps, recovered = {name: [] for name in cf.WALKER_SEGMENTS}, [], [], []
+    disturbed_then_back = []  # per seed tracked just before the burst and lost in it: back on the last 10 frames?
     for seed in range(args.seed, args.seed + args.seeds):
         sequence = cf.make_walker_sequence(rng=seed)
         result = cf.track(sequence.frames, sequence.template, rng=10_000 + seed, cues=("color", "edge"), bins=16,
@@ -176,6 +177,8 @@ def walker_runs(bench: Benchmark, args) -> None:
         fps.append(1000.0 / result.ms_per_frame)
         start, stop = sequence.segments["clutter"]
         recovered.append(bool(tracked[-10:].all()))
+        if tracked[start - 1] and not tracked[start:stop].all():
+            disturbed_then_back.append(recovered[-1])
         print(f"seed {seed}: success {tracked.mean():.2f}, clutter {tracked[start:stop].mean():.2f}, "
               f"last 10 frames {'tracked' if recovered[-1] else 'lost'}, {fps[-1]:.1f} frames/s", flush=True)
     table = bench.table("segment", "frames", "pooled rate", "95 % low", "95 % high",
@@ -188,6 +191,8 @@ def walker_runs(bench: Benchmark, args) -> None:
     bench.note(f"median seed success {np.median(per_seed):.3f}; seeds tracked on all of the last 10 frames: "
                f"{ends.successes}/{ends.trials} (95 % {ends.low:.2f}-{ends.high:.2f}); "
                f"median speed {np.median(fps):.1f} frames/s (paper: about 9 Hz)")
+    bench.note(f"seeds tracked on the frame before the burst and lost during it: {len(disturbed_then_back)}; "
+               f"of these tracked on all of the last 10 frames: {sum(disturbed_then_back)}")
 
 
 if __name__ == "__main__":
