@@ -471,18 +471,21 @@ class EdgeLikelihood:
         reference = check_bool(reference, "reference")
         if len(states) == 0:  # no particles: no lines to read (cv2.remap refuses an empty map)
             return np.empty((0, self.n_lines, self.offsets.size), np.float32)
-        if reference:
-            scale = 1.0 + states[:, 2]
-            centres = states[:, None, :2] + scale[:, None, None] * self._points  # (N, N_e, 2)
-            samples = centres[:, :, None, :] + self.offsets[:, None] * self._normals[:, None, :]  # (N, N_e, 2L+1, 2)
+        if reference:  # contour point t + k R p and normal R n of each line (eqs. 2-3: k, R of the state)
+            scale, rotation = self.shape_space.similarity_parts(states)
+            centres = states[:, None, :2] + scale[:, None, None] * np.einsum("nij,lj->nli", rotation, self._points)
+            normals = np.einsum("nij,lj->nli", rotation, self._normals)  # (N, N_e, 2)
+            samples = centres[:, :, None, :] + self.offsets[:, None] * normals[:, :, None, :]  # (N, N_e, 2L+1, 2)
             return _bilinear(grey, samples[..., 0], samples[..., 1])
         # the same sample positions, built axis by axis in single precision
         states32 = states.astype(np.float32)
-        scale = (1.0 + states32[:, 2])[:, None, None]
+        scale, rotation = (part.astype(np.float32) for part in self.shape_space.similarity_parts(states32))
+        scale = scale[:, None, None]
+        (r00, r01), (r10, r11) = rotation.transpose(1, 2, 0)[..., None, None]  # each (N, 1, 1)
         offsets = self.offsets.astype(np.float32)[None, None, :]
-        points, normals = self._points.astype(np.float32), self._normals.astype(np.float32)
-        map_x = states32[:, 0, None, None] + scale * points[None, :, 0, None] + offsets * normals[None, :, 0, None]
-        map_y = states32[:, 1, None, None] + scale * points[None, :, 1, None] + offsets * normals[None, :, 1, None]
+        (px, py), (nx, ny) = (part.astype(np.float32).T[:, None, :, None] for part in (self._points, self._normals))
+        map_x = states32[:, 0, None, None] + scale * (r00 * px + r01 * py) + offsets * (r00 * nx + r01 * ny)
+        map_y = states32[:, 1, None, None] + scale * (r10 * px + r11 * py) + offsets * (r10 * nx + r11 * ny)
         n, n_lines, n_offsets = map_x.shape
         sampled = cv2.remap(grey, map_x.reshape(n * n_lines, n_offsets), map_y.reshape(n * n_lines, n_offsets),
                             cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)

@@ -11,7 +11,7 @@ import numpy as np
 from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
 from amdo_lab.cue_fusion_pf.likelihoods import MAX_PIXELS, PAPER_SIGMAS, SIGMA_RANGE, ColorLikelihood, EdgeLikelihood
-from amdo_lab.cue_fusion_pf.shape import ShapeSpace
+from amdo_lab.cue_fusion_pf.shape import SHAPE_KINDS, ShapeSpace
 from amdo_lab.cue_fusion_pf.structure import CASCADE_SEED, StructureLikelihood, load_or_train_cascade
 
 __all__ = ["CALIBRATED_SIGMAS", "CUES", "TRACK_DEFAULTS", "TrackResult", "as_ellipse", "build_cues", "calibration_distances",
@@ -26,10 +26,14 @@ FRAME_PERIOD = 1.0 / 25.0
 MIN_SCALE, MAX_SCALE = 0.1, 10.0
 #: Our choices for what the paper does not state: stationary std of (t_x, t_y, s) and of the AR(2).
 STATIONARY_STD = (100.0, 100.0, 0.1)
+#: The same choices in the similarity space (t_x, t_y, s_c, s_s): s_s is a deformation like s_c.
+_SIMILARITY_DEFAULTS = {"beta": (2.0, 2.0, 10.0, 10.0), "stationary_std": (100.0, 100.0, 0.1, 0.1),
+                        "init_spread": (2.0, 2.0, 0.02, 0.02)}
 #: The defaults of :func:`track`'s keyword parameters (``**params``), which :func:`calibration_distances` and the peers share.
-TRACK_DEFAULTS = {"bins": 32, "stride": 2.0, "n_lines": 40, "half_length": 12, "p0": 0.2, "sigma_e": float(np.sqrt(2.0)),
-           "threshold": 6.0, "beta": (2.0, 2.0, 10.0), "stationary_std": STATIONARY_STD, "printed_order": False,
-           "oracle": None, "init_spread": (2.0, 2.0, 0.02)}
+TRACK_DEFAULTS = {"shape": "translation_scale", "bins": 32, "stride": 2.0, "n_lines": 40, "half_length": 12, "p0": 0.2,
+                  "sigma_e": float(np.sqrt(2.0)), "threshold": 6.0, "beta": (2.0, 2.0, 10.0),
+                  "stationary_std": STATIONARY_STD, "printed_order": False, "oracle": None,
+                  "init_spread": (2.0, 2.0, 0.02), "mean": None}
 
 
 @dataclass
@@ -39,7 +43,7 @@ class TrackResult:
     Parameters
     ----------
     states : numpy.ndarray
-        (T, 3) weighted-mean states ``(cx, cy, s)`` (Fig. 1, step 4).
+        (T, d) weighted-mean states ``(cx, cy, s)`` or ``(cx, cy, s_c, s_s)`` (Fig. 1, step 4).
     ellipses : numpy.ndarray
         (T, 5) their ellipses ``(cx, cy, a, b, angle)``.
     centers : numpy.ndarray
@@ -49,7 +53,7 @@ class TrackResult:
     seconds : float
         Wall-clock time of the whole run.
     particles : numpy.ndarray
-        (T, N, 3) particles before resampling.
+        (T, N, d) particles before resampling.
     weights : numpy.ndarray
         (T, N) their normalised weights.
 
@@ -106,16 +110,17 @@ def systematic_resample(weights: np.ndarray, u: float) -> np.ndarray:
 
 def default_dynamics(mean: np.ndarray, *, beta=(2.0, 2.0, 10.0), stationary_std=STATIONARY_STD,
                      printed_order: bool = False) -> ARDynamics:
-    """The head's AR(2) of eq. (5): β = 2 (translation), 10 (scale), ω = 0, τ = 1/25 s, about ``mean``.
+    """The AR(2) of eq. (5): β = 2 (translation), 10 (scale), ω = 0, τ = 1/25 s, about ``mean``.
 
     Parameters
     ----------
     mean : numpy.ndarray
-        (3,) the state the process returns to (the initial state).
+        (d,) the state the process returns to (the initial state): d = 3 for the head's space,
+        4 for the similarity space.
     beta : tuple of float
-        Damping of (t_x, t_y, s), 1/s.
+        (d,) damping of (t_x, t_y, s) or (t_x, t_y, s_c, s_s), 1/s.
     stationary_std : tuple of float
-        Stationary standard deviations of (t_x, t_y, s): pixels, pixels, relative scale.
+        (d,) stationary standard deviations: pixels, pixels, then relative scale (and s_s).
     printed_order : bool
         Eq. (4) as printed (unstable; allowed here so that it can be shown).
 
@@ -129,8 +134,8 @@ def default_dynamics(mean: np.ndarray, *, beta=(2.0, 2.0, 10.0), stationary_std=
     Li & Chaumette, AMDO 2004, eqs. (4)-(5) and Table 1.
     """
     printed_order = check_bool(printed_order, "printed_order")
-    mean = as_finite_array(mean, "mean", shape=(3,))
-    return ARDynamics(beta, (0.0, 0.0, 0.0), FRAME_PERIOD, stationary_std, mean, printed_order=printed_order,
+    mean = as_finite_array(mean, "mean", ndim=1)
+    return ARDynamics(beta, np.zeros(mean.size), FRAME_PERIOD, stationary_std, mean, printed_order=printed_order,
                       allow_unstable=printed_order)
 
 
@@ -191,7 +196,7 @@ def as_ellipse(ellipse: object, name: str) -> np.ndarray:
     return ellipse
 
 
-def shape_space_of(init: object, frame_shape: tuple[int, int]) -> tuple[ShapeSpace, np.ndarray]:
+def shape_space_of(init: object, frame_shape: tuple[int, int], kind: str = "translation_scale") -> tuple[ShapeSpace, np.ndarray]:
     """The shape space and the initial state of a contour given as an ellipse or as control points.
 
     Parameters
@@ -201,25 +206,30 @@ def shape_space_of(init: object, frame_shape: tuple[int, int]) -> tuple[ShapeSpa
         points in pixels, within ±:data:`MAX_PIXELS`; its centre must lie on the frame.
     frame_shape : tuple of int
         (H, W) of the frames.
+    kind : str
+        ``"translation_scale"`` or ``"similarity"`` (eq. 3, left or right).
 
     Returns
     -------
     tuple
-        The :class:`ShapeSpace` and the (3,) initial state ``(cx, cy, 0)``.
+        The :class:`ShapeSpace` and the initial state ``(cx, cy, 0)`` (``(cx, cy, 0, 0)``).
 
     References
     ----------
     Li & Chaumette, AMDO 2004, eqs. (1)-(3).
     """
     init = as_finite_array(init, "init", max_abs=MAX_PIXELS)
+    kind = check_choice(kind, "kind", SHAPE_KINDS)
     if init.shape == (5,):
         init = as_ellipse(init, "init")
-        space = ShapeSpace.from_ellipse(init)
-        start = np.array([init[0], init[1], 0.0])
+        space = ShapeSpace.from_ellipse(init, kind=kind)
+        start = np.zeros(space.state_dim)
+        start[:2] = init[:2]
     elif init.ndim == 2 and init.shape[1] == 2:
         init = as_finite_array(init, "init", shape=(None, 2))
-        space = ShapeSpace(init)
-        start = np.array([*space.centre, 0.0])
+        space = ShapeSpace(init, kind)
+        start = np.zeros(space.state_dim)
+        start[:2] = space.centre
     else:
         raise ValueError(f"init must be an ellipse (cx, cy, a, b, angle) or (J, 2) control points, got shape {init.shape}")
     height, width = frame_shape
@@ -228,8 +238,8 @@ def shape_space_of(init: object, frame_shape: tuple[int, int]) -> tuple[ShapeSpa
     return space, start
 
 
-def check_state_spread(spread: object, name: str) -> np.ndarray:
-    """Return a spread of the state ``(t_x, t_y, s)`` as a (3,) array after checking its range.
+def check_state_spread(spread: object, name: str, *, state_dim: int = 3) -> np.ndarray:
+    """Return a spread of the state ``(t_x, t_y, s)`` (or ``(t_x, t_y, s_c, s_s)``) after checking its range.
 
     A particle whose scale leaves (MIN_SCALE - 1, MAX_SCALE - 1) or whose centre leaves
     ±:data:`MAX_PIXELS` gets no weight, so a larger spread only throws particles away.
@@ -237,21 +247,25 @@ def check_state_spread(spread: object, name: str) -> np.ndarray:
     Parameters
     ----------
     spread : array_like
-        (3,) standard deviations: of t_x and t_y in pixels, in [0, MAX_PIXELS]; of s in [0, MAX_SCALE].
+        (state_dim,) standard deviations: of t_x and t_y in pixels, in [0, MAX_PIXELS]; of s (and
+        of s_s) in [0, MAX_SCALE].
     name : str
         The argument's name, used in error messages.
+    state_dim : int
+        3 (translation + scale) or 4 (similarity).
 
     Returns
     -------
     numpy.ndarray
-        (3,) the spread.
+        (state_dim,) the spread.
 
     References
     ----------
     Li & Chaumette, AMDO 2004, eq. (5) and Fig. 1, step 1.
     """
-    spread = as_finite_array(spread, name, shape=(3,))
-    if np.any(spread < 0) or np.any(spread > [MAX_PIXELS, MAX_PIXELS, MAX_SCALE]):
+    state_dim = check_choice(state_dim, "state_dim", (3, 4))
+    spread = as_finite_array(spread, name, shape=(state_dim,))
+    if np.any(spread < 0) or np.any(spread > [MAX_PIXELS, MAX_PIXELS] + [MAX_SCALE] * (state_dim - 2)):
         raise ValueError(f"{name} must lie in [0, {MAX_PIXELS:g}] px for the centre and in [0, {MAX_SCALE:g}] for "
                          f"the scale, got {spread}")
     return spread
@@ -301,6 +315,14 @@ def resolve_sigmas(sigmas: object) -> dict[str, float]:
             check_in_range(value, f"sigmas[{key!r}]", *SIGMA_RANGE, closed="both")
         return sigma_table
     raise TypeError(f"sigmas must be 'calibrated', 'paper' or a dict, got {type(sigmas).__name__}")
+
+
+def _options(params: dict) -> dict:
+    """The parameters of :func:`track`: the defaults, those of the similarity space if chosen, then ``params``."""
+    defaults = dict(TRACK_DEFAULTS)
+    if check_choice(params.get("shape", defaults["shape"]), "shape", SHAPE_KINDS) == "similarity":
+        defaults.update(_SIMILARITY_DEFAULTS)
+    return {**defaults, **params}
 
 
 def build_cues(cues: Sequence[str], space: ShapeSpace, first_frame: np.ndarray, start: np.ndarray,
@@ -369,8 +391,11 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
         dict of values in :data:`SIGMA_RANGE`.
     **params
         bins, stride (colour); n_lines, half_length, p0, sigma_e, threshold (edges); beta,
-        stationary_std, printed_order (dynamics); init_spread (std of the initial particles);
-        defaults in :data:`TRACK_DEFAULTS`, ranges in :class:`ColorLikelihood`,
+        stationary_std, printed_order, mean (dynamics; mean is the state X̄ the AR(2) returns to,
+        default the initial state); init_spread (std of the initial particles); shape, the shape
+        space of eq. (3): ``"translation_scale"`` (head) or ``"similarity"`` (walker; beta,
+        stationary_std and init_spread then default to four entries, the scale's value repeated for
+        s_s); defaults in :data:`TRACK_DEFAULTS`, ranges in :class:`ColorLikelihood`,
         :class:`EdgeLikelihood` and :func:`check_state_spread` (stationary_std, init_spread).
 
     Returns
@@ -387,16 +412,19 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
     unknown = set(params) - set(TRACK_DEFAULTS)
     if unknown:
         raise TypeError(f"track() got unknown parameter(s) {sorted(unknown)}; known: {sorted(TRACK_DEFAULTS)}")
-    options = {**TRACK_DEFAULTS, **params}
+    options = _options(params)
+    state_dim = 4 if options["shape"] == "similarity" else 3
     sigma_table = resolve_sigmas(sigmas)
-    init_spread = check_state_spread(options["init_spread"], "init_spread")
-    stationary_std = check_state_spread(options["stationary_std"], "stationary_std")
+    init_spread = check_state_spread(options["init_spread"], "init_spread", state_dim=state_dim)
+    stationary_std = check_state_spread(options["stationary_std"], "stationary_std", state_dim=state_dim)
     if "oracle" in cues and not callable(options["oracle"]):
         raise ValueError("cues include 'oracle' but no oracle=callable(t, states) was given")
     generator = make_rng(rng, "rng")
-    space, start = shape_space_of(init, frames.shape[1:3])
+    space, start = shape_space_of(init, frames.shape[1:3], options["shape"])
     cue_objects = build_cues(cues, space, frames[0], start, sigma_table, options)
-    dynamics = default_dynamics(start, beta=options["beta"], stationary_std=stationary_std,
+    mean = start if options["mean"] is None else as_finite_array(options["mean"], "mean", shape=start.shape,
+                                                                   max_abs=MAX_PIXELS)
+    dynamics = default_dynamics(mean, beta=options["beta"], stationary_std=stationary_std,
                                 printed_order=options["printed_order"])
     oracle: Callable | None = options["oracle"] if "oracle" in cues else None
     return _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles, init_spread, generator)
@@ -409,16 +437,20 @@ def _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles
     # dynamics samples the prediction integral of eq. (16), and weighting them by the likelihood and
     # normalising is Bayes' rule, eq. (15); the weighted particles are a sample of p(X_k | Y_1:k).
     # 1. initialisation: particles around the initial state, at rest (X_{k-1} = X_{k-2})
-    current = start + init_spread * generator.standard_normal((n_particles, 3))
+    current = start + init_spread * generator.standard_normal((n_particles, start.size))
     previous = current.copy()
-    states, ess = np.empty((n_frames, 3)), np.empty(n_frames)
-    all_particles, all_weights = np.empty((n_frames, n_particles, 3)), np.empty((n_frames, n_particles))
+    states, ess = np.empty((n_frames, start.size)), np.empty(n_frames)
+    all_particles, all_weights = np.empty((n_frames, n_particles, start.size)), np.empty((n_frames, n_particles))
     for k in range(n_frames):
         if k > 0:  # 2. sampling from the transition prior, eq. (5); particles carry X_k and X_{k-1}
             current, previous = dynamics.step(current, previous, rng=generator), current
         # 3a. weights: eq. (6) in the log domain, on the particles that are a contour at all
-        valid = (np.all(np.abs(current[:, :2]) <= MAX_PIXELS, axis=1)  # finite and near any frame
-                 & (current[:, 2] > MIN_SCALE - 1.0) & (current[:, 2] < MAX_SCALE - 1.0))
+        if start.size == 3:
+            plausible = (current[:, 2] > MIN_SCALE - 1.0) & (current[:, 2] < MAX_SCALE - 1.0)
+        else:  # the similarity space: the scale is k = |(1 + s_c, s_s)|
+            scale = np.hypot(1.0 + current[:, 2], current[:, 3])
+            plausible = (scale > MIN_SCALE) & (scale < MAX_SCALE)
+        valid = np.all(np.abs(current[:, :2]) <= MAX_PIXELS, axis=1) & plausible  # finite and near any frame
         if not valid.any():
             raise RuntimeError(f"the filter diverged at frame {k}: no particle has a finite state of a plausible size "
                                "(unstable dynamics?)")
@@ -464,7 +496,8 @@ def calibration_distances(sequences: Sequence, cue: str, *, rng: int | np.random
     frame_step : int
         Use every ``frame_step``-th frame.
     **params
-        Cue and dynamics parameters, as for :func:`track`.
+        Cue and dynamics parameters, as for :func:`track`; with ``shape="similarity"`` the
+        sequences are walker sequences (``.template`` gives the outline on frame 0).
 
     Returns
     -------
@@ -483,12 +516,13 @@ def calibration_distances(sequences: Sequence, cue: str, *, rng: int | np.random
     check_choice(cue, "cue", ("color", "structure"))
     n_samples = check_positive_int(n_samples, "n_samples", minimum=2)
     frame_step = check_positive_int(frame_step, "frame_step")
-    options = {**TRACK_DEFAULTS, **params}
+    options = _options(params)
     generator = make_rng(rng, "rng")
     at_truth, at_prior = [], []
     for sequence in sequences:
-        init = sequence.true_ellipses[0]
-        space, start = shape_space_of(init, sequence.frames.shape[1:3])
+        # the walker's truth is a similarity state of its outline on frame 0 (WalkerSequence.template)
+        init = sequence.template if options["shape"] == "similarity" else sequence.true_ellipses[0]
+        space, start = shape_space_of(init, sequence.frames.shape[1:3], options["shape"])
         likelihood = build_cues([cue], space, sequence.frames[0], start, {"color": 1.0, "structure": 1.0}, options)[cue]
         dynamics = default_dynamics(start, beta=options["beta"], stationary_std=options["stationary_std"])
         for t in range(2, len(sequence.frames), frame_step):

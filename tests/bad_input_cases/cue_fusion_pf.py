@@ -21,6 +21,7 @@ EXEMPT = {
     "TrackResult": "a result record, built by track and the peers from checked input",
     "HeadSequence": "a result record, built by make_head_sequence (its oracle method is tabled)",
     "BoostedCascade": "a trained model, built by train_cascade (its stages_passed method is tabled)",
+    "WalkerSequence": "a result record, built by make_walker_sequence (its oracle method is tabled)",
 }
 
 EMPTY = frozenset()
@@ -239,4 +240,44 @@ def cases() -> dict[str, Case]:
                                                  "n_particles": 6, "sigmas": "calibrated"},
                               {"frames": "image", "init": "array", "rng": "seed", "cues": "object",
                                "n_particles": "count", "sigmas": "object"}),
+        **_walker_cases(cf, frames, space),
+    }
+
+
+def _walker_cases(cf, frames: np.ndarray, space) -> dict[str, Case]:
+    """The walker of Fig. 6 and the similarity shape space (eqs. 2-3): a tiny hand-made walker record."""
+    template = space.template + np.array([128.0, 96.0])
+    similarity = cf.ShapeSpace(template, "similarity")
+    outlines = np.stack([template, template + [2.0, 1.0]])
+    truth = cf.fit_similarity(template, outlines)
+    walker = cf.WalkerSequence(frames, truth, similarity.ellipses(truth), outlines, {"walking": (0, 2)}, template)
+    states = truth + np.array([[0.0, 0.0, 0.0, 0.0], [3.0, -2.0, 0.05, 0.1]])
+    tracking = {"frames": frames, "init": template, "rng": 0, "cues": ("color", "edge"), "n_particles": 6,
+                "bins": 16, "n_lines": 12, "shape": "similarity", "mean": truth[0],
+                "init_spread": (2.0, 2.0, 0.02, 0.02), "beta": (2.0, 2.0, 10.0, 10.0),
+                "stationary_std": (100.0, 100.0, 0.1, 0.1)}
+    return {
+        "make_walker_sequence": Case(cf.make_walker_sequence, {"rng": 0, "noise_std": 4.0, "distortion": 0.12,
+                                                               "clutter_strength": 0.85},
+                                     {"rng": "seed", "noise_std": "non_negative", "distortion": "non_negative",
+                                      "clutter_strength": "probability"}),
+        "WalkerSequence.oracle_log_likelihood": Case(lambda **kwargs: walker.oracle_log_likelihood(**kwargs),
+                                                     {"t": 1, "states": states}, {"t": "count", "states": "array"},
+                                                     accept=frozenset({("states", "an empty array"), ("t", "zero")})),
+        "fit_similarity": Case(cf.fit_similarity, {"template": template, "points": outlines[0]},
+                               {"template": "points", "points": "points"},
+                               accept=frozenset({("points", "one more axis")})),  # a stack of one outline
+        "box_iou": Case(cf.box_iou, {"first": outlines[0], "second": outlines[1]}, {"first": "points", "second": "points"},
+                        # a stack of one outline against a stack of one: one IoU
+                        accept=frozenset()),
+        "ShapeSpace.similarity_parts": Case(lambda **kwargs: similarity.similarity_parts(**kwargs), {"states": states},
+                                            {"states": "array"}, accept=frozenset({("states", "an empty array")})),
+        "ShapeSpace.from_ellipse (similarity)": Case(cf.ShapeSpace.from_ellipse,
+                                                     {"ellipse": similarity.template_ellipse + [128.0, 96.0, 0, 0, 0],
+                                                      "n_control": 8, "kind": "similarity"},
+                                                     {"ellipse": "array", "n_control": "count", "kind": "name"}),
+        # (init_spread and stationary_std are spoiled in the head's "track" entry above)
+        "track (similarity)": Case(cf.track, tracking, {"init": "array", "shape": "name", "mean": "array",
+                                                        "beta": "array"},
+                                   accept=frozenset({("mean", "None")})),  # the default: the initial state
     }
