@@ -649,3 +649,37 @@ def test_docstring_examples_run(module):
 
     result = doctest.testmod(importlib.import_module(f"amdo_lab.cat_fluid.{module}"))
     assert result.attempted > 0 and result.failed == 0
+
+
+def test_registration_images_are_checked_by_name_and_grey_level_range():
+    from amdo_lab.cat_fluid.registration import MAX_GREY_LEVEL, check_registration_images
+
+    template, study = make_rng(0).random((8, 8)), make_rng(1).random((8, 8))
+    checked = check_registration_images(template, study)
+    assert all(np.array_equal(a, b) for a, b in zip(checked, (template, study)))
+    huge = study.copy()
+    huge[0, 0] = 10 * MAX_GREY_LEVEL  # beyond dipy's single precision margin: refused before dipy runs
+    for function in (check_registration_images, cf.register_fluid, cf.register_dipy):
+        with pytest.raises(ValueError, match="study must be at most"):
+            function(template, huge)
+    with pytest.raises(ValueError, match="same shape"):
+        check_registration_images(template, study[:, :6])
+
+
+def test_stencil_steps_follow_eqs_5_12_and_14_on_polynomial_fields():
+    """The three steps inside fluid_stencil, each against a hand computation: the gradient (eq. 5) of
+    the bilinear velocity (eq. 13), the stress (eq. 12) and the flux over the dual cell (eqs. 8-11, 14)."""
+    from amdo_lab.cat_fluid.stencil import _bilinear_gradient, _flux, _stress
+
+    gradient = np.array([[0.3, -1.2], [2.0, 0.7]])  # ∂v_i/∂x_j of a linear field: exact at every point
+    linear = lambda i, j: gradient @ np.array([i, j], float) + np.array([5.0, -1.0])  # noqa: E731
+    for point in ([0.25, 0.5], [-0.75, -0.25], [0.1, -0.9]):
+        np.testing.assert_allclose(_bilinear_gradient(linear, np.array(point)), gradient, atol=1e-12)
+    product = lambda i, j: np.array([i * j, 0.0])  # noqa: E731  bilinear: ∂(x1 x2) = (x2, x1)
+    np.testing.assert_allclose(_bilinear_gradient(product, np.array([0.25, 0.75])), [[0.75, 0.25], [0, 0]])
+    strain = (gradient + gradient.T) / 2
+    np.testing.assert_allclose(_stress(gradient, 2.0, 3.0), 2.0 * np.trace(strain) * np.eye(2) + 2 * 3.0 * strain)
+    for kind, field in QUADRATIC_FIELDS.items():
+        corners = lambda i, j, field=field: np.array(field(float(i), float(j)))  # noqa: E731
+        np.testing.assert_allclose(_flux(corners, 2.0, 3.0), continuous_operator(kind, 2.0, 3.0), atol=1e-12)
+    np.testing.assert_allclose(_flux(linear, 2.0, 3.0), 0.0, atol=1e-12)

@@ -22,6 +22,7 @@ from amdo_lab.common import (  # noqa: E402
     check_choice,
     check_fitted,
     check_in_range,
+    check_names,
     check_positive,
     check_positive_int,
     make_rng,
@@ -416,3 +417,27 @@ def test_check_fitted_raises_sklearns_error():
     fitted.coef_ = np.zeros(2)
     assert check_fitted(fitted, ["coef_"]) is None
     assert issubclass(NotFittedError, ValueError)  # callers catching ValueError still catch it
+
+
+def test_check_names_returns_distinct_names_and_refuses_by_name():
+    assert check_names(["t", "p"], "random") == ("t", "p")
+    assert check_names("p", "random", accept_single=True) == ("p",)
+    assert check_names(("fist",), "classes", allowed=("fist", "open")) == ("fist",)
+    with pytest.raises(TypeError, match="classes must be a sequence of names"):
+        check_names("fist", "classes")  # its letters are not names
+    with pytest.raises(ValueError, match="classes must hold at least one name"):
+        check_names([], "classes")
+    with pytest.raises(TypeError, match="random must hold non-empty strings"):
+        check_names(["t", " "], "random")
+    with pytest.raises(ValueError, match=r"classes holds unknown name\(s\) \['wave'\]"):
+        check_names(["fist", "wave"], "classes", allowed=("fist", "open"))
+    with pytest.raises(ValueError, match="random must not repeat a name"):
+        check_names(["t", "t"], "random")
+
+
+def test_as_finite_array_refuses_integers_out_of_range_before_the_cast():
+    with pytest.raises(ValueError, match="counts must be at most"):
+        as_finite_array([1e308], "counts", dtype=int)  # the cast alone gives an arbitrary integer
+    with pytest.raises(ValueError, match="counts must be at most 3"):
+        as_finite_array([5.0], "counts", dtype=int, max_abs=3)
+    assert as_finite_array([2.0, -3.0], "counts", dtype=int).tolist() == [2, -3]

@@ -32,7 +32,8 @@ from amdo_lab.em_articulated import (
     softassign_register,
     track_sequence,
 )
-from amdo_lab.em_articulated.registration import _DIGIT_DOFS, _digit_starts, _robust_log_likelihood
+from amdo_lab.em_articulated.hand import DIGIT_DOFS
+from amdo_lab.em_articulated.registration import digit_starts
 
 
 @pytest.fixture(scope="module")
@@ -257,6 +258,10 @@ def test_hand_bad_input(hand):
         hand.part_transforms(np.zeros(5))
     with pytest.raises(ValueError, match="points"):
         hand.surface_distance(np.array([[np.inf, 0, 0]]), hand.rest_pose())
+    with pytest.raises(ValueError, match="points must be at most"):  # coordinates within ±1e6 mm
+        hand.surface_distance(np.array([[2e6, 0, 0]]), hand.rest_pose())
+    with pytest.raises(ValueError, match="theta must be at most"):  # pose entries within ±1e6
+        hand.part_transforms(np.full(27, 2e6))
     with pytest.raises(TypeError, match="hand"):
         register_em(np.zeros((3, 3)), np.zeros((3, 3)), "hand", np.zeros(27))
 
@@ -381,6 +386,8 @@ def test_fit_surface_eq22_ignores_far_points(hand):
     assert joint_rmse_deg(robust.theta, theta_true) < joint_rmse_deg(plain.theta, theta_true)
     with pytest.raises(ValueError, match="sigma"):
         fit_surface(data, hand, start, sigma=0.0)
+    with pytest.raises(ValueError, match="weights must be at most"):  # relative weights, at most 1e6
+        fit_surface(data, hand, start, weights=np.full(len(data), 1e7))
 
 
 def test_kdtree_e_step_matches_dense(hand):
@@ -429,11 +436,11 @@ def test_batched_kinematics_match_the_part_by_part_chain(hand):
 
 def test_close_pair_cache_returns_the_pairs_of_a_fresh_query(hand):
     from scipy.spatial import cKDTree
-    from amdo_lab.em_articulated.registration import _ClosePairs
+    from amdo_lab.em_articulated.registration import ClosePairs
     rng = make_rng(4)
     data = rng.uniform(-60, 60, size=(400, 3))
     model = rng.uniform(-60, 60, size=(300, 3))
-    to_data, to_self = _ClosePairs(data), _ClosePairs(None)
+    to_data, to_self = ClosePairs(data), ClosePairs(None)
     for step, radius in [(0.0, 12.0), (0.5, 12.0), (1.0, 12.0), (6.0, 12.0), (0.5, 8.0), (20.0, 8.0)]:
         model = model + rng.normal(scale=step / np.sqrt(3), size=model.shape)
         for cache, observed in ((to_data, data), (to_self, model)):
@@ -475,19 +482,19 @@ def test_dense_e_step_matches_a_logsumexp_reference(precision, rtol):
 
 
 def test_pair_fraction_estimate_and_the_dense_switch(hand):
-    from amdo_lab.em_articulated.registration import _DENSE_PAIR_FRACTION, _ClosePairs
+    from amdo_lab.em_articulated.registration import DENSE_PAIR_FRACTION, ClosePairs
     rng = make_rng(13)
     theta = hand.rest_pose()
     model = hand.sample_surface(theta, 300, rng=rng)
     data = model + rng.normal(scale=2.0, size=model.shape)
     for radius in (12.0, 40.0, 80.0):
         exact = np.mean(np.linalg.norm(data[:, None] - model[None], axis=2) <= radius)
-        assert _ClosePairs(data).pair_fraction(model, radius) == pytest.approx(exact, abs=0.05)
+        assert ClosePairs(data).pair_fraction(model, radius) == pytest.approx(exact, abs=0.05)
         exact_self = np.mean(np.linalg.norm(model[:, None] - model[None], axis=2) <= radius)
-        assert _ClosePairs(None).pair_fraction(model, radius) == pytest.approx(exact_self, abs=0.05)
+        assert ClosePairs(None).pair_fraction(model, radius) == pytest.approx(exact_self, abs=0.05)
     # at σ of 15-20 mm the 4σ balls hold more than the switch's share of all pairs, so "kdtree"
     # runs the dense E-step, and the two settings give the same pose
-    assert _ClosePairs(data).pair_fraction(model, 4 * 15.0) > _DENSE_PAIR_FRACTION
+    assert ClosePairs(data).pair_fraction(model, 4 * 15.0) > DENSE_PAIR_FRACTION
     em_dense = register_em(model, data, hand, theta, 20.0, 15.0, n_levels=2)
     em_tree = register_em(model, data, hand, theta, 20.0, 15.0, n_levels=2, e_step="kdtree")
     np.testing.assert_array_equal(em_dense.theta, em_tree.theta)
@@ -606,28 +613,29 @@ def test_robust_log_likelihood_matches_a_logsumexp_reference():
     sigma, log_c = 3.0, np.log(PAPER_C)
     log_kernel = -np.sum((data[:, None] - model[None]) ** 2, axis=2) / (2 * sigma**2)
     per_point = logsumexp(np.column_stack([log_kernel, np.full(len(data), log_c)]), axis=1)
-    value, inlier_prob = _robust_log_likelihood(model, data, sigma, log_c, chunk=16)
+    value = robust_log_likelihood(model, data, sigma, PAPER_C)
+    inlier_prob = e_step_statistics(model, data, sigma, log_c, chunk=16, precision="double")[2]
     assert value == pytest.approx(float(per_point.sum()), rel=1e-10)
     np.testing.assert_allclose(inlier_prob, np.exp(logsumexp(log_kernel, axis=1) - per_point), rtol=1e-9, atol=1e-300)
 
 
 def test_digit_starts_move_one_digit_within_the_limits(hand):
     # the digits' DOF groups cover the 21 joint angles once, and each moves only its own digit's parts
-    assert np.array_equal(np.sort(np.concatenate(_DIGIT_DOFS)), np.arange(6, 27))
-    for digit, dofs in enumerate(_DIGIT_DOFS):
+    assert np.array_equal(np.sort(np.concatenate(DIGIT_DOFS)), np.arange(6, 27))
+    for digit, dofs in enumerate(map(np.array, DIGIT_DOFS)):
         moved_parts = np.flatnonzero(hand._dof_moves_part[dofs].any(axis=0))
         np.testing.assert_array_equal(moved_parts, np.arange(1 + 3 * digit, 4 + 3 * digit))
     limits = hand.joint_limits()
     theta = hand.rest_pose()
     theta[11] = limits[11, 1]  # index abduction at its limit: the move beyond it is dropped
-    for digit, dofs in enumerate(_DIGIT_DOFS):
-        starts = _digit_starts(hand, theta, digit, np.radians(20.0), np.radians(25.0))
+    for digit, dofs in enumerate(map(np.array, DIGIT_DOFS)):
+        starts = digit_starts(hand, theta, digit, np.radians(20.0), np.radians(25.0))
         other = np.setdiff1d(np.arange(27), dofs)
         assert 1 <= len(starts) <= 7
         np.testing.assert_array_equal(starts[:, other], np.broadcast_to(theta[other], (len(starts), len(other))))
         assert np.all((starts >= limits[:, 0]) & (starts <= limits[:, 1]))
         assert np.all(np.max(np.abs(starts - theta), axis=1) > 1e-3)
-    assert len(_digit_starts(hand, theta, 1, np.radians(20.0), np.radians(25.0))) == 6
+    assert len(digit_starts(hand, theta, 1, np.radians(20.0), np.radians(25.0))) == 6
 
 
 @pytest.mark.parametrize("changes, error, match", [
@@ -720,6 +728,11 @@ def test_m_step_targets_are_weighted_means():
     (lambda: e_step_reference(np.zeros((2, 3)), np.zeros((2, 3)), 1.0, c=0.0), ValueError, "c"),
     (lambda: m_step_targets(np.zeros((2, 4)), np.zeros((3, 3))), ValueError, "alpha"),
     (lambda: robust_log_likelihood(np.zeros((2, 3)), np.full((2, 3), np.nan), 1.0), ValueError, "data_points"),
+    # beyond the documented ranges: posteriors in [0, 1], coordinates within ±1e6 mm
+    (lambda: m_step_targets(np.full((2, 3), 1.5), np.zeros((3, 3))), ValueError, r"alpha must hold posteriors in \[0, 1\]"),
+    (lambda: m_step_targets(np.full((2, 3), -0.1), np.zeros((3, 3))), ValueError, "alpha must hold posteriors"),
+    (lambda: robust_log_likelihood(np.zeros((2, 3)), np.full((2, 3), 2e6), 1.0), ValueError,
+     "data_points must be at most 1e\\+06"),
 ])
 def test_reference_paths_reject_bad_input(call, error, match):
     with pytest.raises(error, match=match):
@@ -840,3 +853,74 @@ def test_docstring_examples_run_and_print_what_they_show(name):
     for test in tests:
         runner.run(test)
     assert runner.failures == 0
+
+
+def test_part_fields_are_eq1_of_the_part_distances(hand):
+    """Eq. (1): φ_p = exp(-d/ν), so φ_p = 1 on part p's own ellipsoid and falls by e every ν outside."""
+    theta = hand.rest_pose()
+    frames = hand.part_transforms(theta)
+    directions = make_rng(40).normal(size=(20, 3))
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    part = 5
+    # points on ellipsoid p: x = R_p (c_p + radii_p ∘ u) + t_p, the inverse of the part frame's local coordinates
+    on_surface = (hand._centres[part] + hand._radii[part] * directions) @ frames[part, :3, :3].T + frames[part, :3, 3]
+    np.testing.assert_allclose(hand.part_fields(on_surface, theta)[:, part], 1.0, atol=1e-9)
+    points = hand.sample_surface(theta, 50, rng=make_rng(41)) + make_rng(42).normal(scale=5.0, size=(50, 3))
+    expected = np.exp(-hand.part_distances(points, theta) / hand.nu)
+    np.testing.assert_allclose(hand.part_fields(points, theta), expected, rtol=1e-12)
+
+
+def test_transform_texture_is_eq3_blend_of_the_two_part_motions(hand):
+    """Eq. (3) computed from the part fields and part motions by hand equals transform_texture and the
+    positions of the analytic-Jacobian path."""
+    rng = make_rng(43)
+    theta_from = random_pose(hand, rng=rng)
+    theta_to = perturb_pose(hand, theta_from, 15.0, rng=rng)
+    points = hand.sample_surface(theta_from, 80, rng=rng)
+    a = 2.0
+    binding = hand.texture_binding(points, theta_from, a)
+    fields = hand.part_fields(points, theta_from)
+    rows = np.arange(len(points))
+    phi_p, phi_r = fields[rows, binding.part_p] ** a, fields[rows, binding.part_r] ** a
+    old, new = hand.part_transforms(theta_from), hand.part_transforms(theta_to)
+
+    def rigid(part):  # T_p(Θ_to) T_p(Θ_from)^-1 X: the point carried rigidly by one part
+        local = np.einsum("nji,nj->ni", old[part, :3, :3], points - old[part, :3, 3])
+        return np.einsum("nij,nj->ni", new[part, :3, :3], local) + new[part, :3, 3]
+
+    expected = (phi_p[:, None] * rigid(binding.part_p) + phi_r[:, None] * rigid(binding.part_r)) \
+        / (phi_p + phi_r)[:, None]
+    np.testing.assert_allclose(hand.transform_texture(binding, theta_to), expected, atol=1e-9)
+    np.testing.assert_allclose(hand.texture_jacobian(binding, theta_to)[0], expected, atol=1e-9)
+    assert np.max(np.linalg.norm(expected - points, axis=1)) > 1.0  # the texture moved: not a trivial check
+
+
+def test_robust_log_likelihood_reference_equals_the_streamed_path():
+    from amdo_lab.em_articulated.registration import robust_log_likelihood_reference
+    rng = np.random.default_rng(44)
+    model, data = rng.normal(0, 15, (50, 3)), rng.normal(0, 15, (80, 3))
+    for sigma in (2.0, 6.0):
+        assert robust_log_likelihood_reference(model, data, sigma) == pytest.approx(
+            robust_log_likelihood(model, data, sigma), rel=1e-10)
+    assert robust_log_likelihood_reference(model, data + 1e4, 2.0) == pytest.approx(80 * np.log(PAPER_C))
+    with pytest.raises(ValueError, match="sigma"):
+        robust_log_likelihood_reference(model, data, 0.0)
+
+
+def test_fit_surface_eq21_reaches_the_minimum_scipy_finds(hand):
+    """Without eq. (22)'s weights, eq. (21) is plain least squares in d(Y_j, Θ): fit_surface's
+    Gauss-Newton and scipy's trust-region least squares reach the same pose."""
+    from scipy.optimize import least_squares
+
+    rng = make_rng(45)
+    theta_true = random_pose(hand, rng=rng)
+    data = hand.sample_surface(theta_true, 300, rng=rng) + rng.normal(scale=0.5, size=(300, 3))
+    start = perturb_pose(hand, theta_true, 3.0, rng=rng, palm_rotation_deg=1.0, palm_translation_mm=1.0)
+    ours = fit_surface(data, hand, start, sigma=None, max_iter=30)
+    limits = hand.joint_limits()
+    peer = least_squares(lambda theta: hand.surface_distance(data, theta), start,
+                         jac=lambda theta: hand.surface_distance_jacobian(data, theta)[1],
+                         bounds=(limits[:, 0], limits[:, 1]), xtol=1e-12, ftol=1e-12, gtol=1e-12)
+    assert np.max(np.abs(ours.theta - peer.x)) < 1e-6
+    assert ours.rms_distance == pytest.approx(np.sqrt(np.mean(peer.fun**2)), rel=1e-9)
+    assert joint_rmse_deg(ours.theta, start) > 1.0  # the fit moved

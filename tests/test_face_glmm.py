@@ -13,6 +13,7 @@ from amdo_lab.face_glmm import (
     FactorialDesign,
     PAPER_FORMULA,
     PcaLda,
+    PeerFit,
     build_design,
     downsample_by_two,
     elliptical_mask,
@@ -75,10 +76,12 @@ def test_power_law_texture_spreads_the_pca_spectrum():
         images = preprocess_images(pop.images).reshape(48, 4, -1)[:, 1:].reshape(144, -1)
         return e90_dimension(pca_basis(images).eigenvalues)
 
-    smooth = generate_face_population(48, 4, rng=2, shape=(40, 36))
+    smooth = generate_face_population(48, 4, rng=2, shape=(40, 36), texture_slope=None)
     textured = generate_face_population(48, 4, rng=2, shape=(40, 36), texture_slope=2.0, texture_amplitude=0.7)
     np.testing.assert_array_equal(smooth.difficulty, textured.difficulty)  # drawn after everything else
     assert e90_of(textured) > 2.5 * e90_of(smooth)
+    default = generate_face_population(48, 4, rng=2, shape=(40, 36))  # the chapter's faces: texture on
+    assert e90_of(default) > 2.5 * e90_of(smooth)
     with pytest.raises(ValueError, match="texture_slope"):
         generate_face_population(8, 2, rng=0, texture_slope=-1.0)
     with pytest.raises(ValueError, match="texture_amplitude"):
@@ -266,9 +269,11 @@ def test_agrees_with_lme4(simulated):
     table, _ = simulated
     ours = fit_binomial_glmm(table, "Y ~ M * D + U", ["t", "p", "t:p"], 30)
     theirs = fit_with_lme4(table, "Y ~ M * D + U", ["t", "p", "t:p"], 30)
-    np.testing.assert_allclose(ours.coefficients.to_numpy(), theirs["coefficients"].to_numpy(), atol=1e-3)
+    assert isinstance(theirs, PeerFit) and theirs.method == "lme4 glmer(nAGQ=0)" and theirs.seconds > 0
+    np.testing.assert_allclose(ours.coefficients.to_numpy(), theirs.estimate.to_numpy(), atol=1e-3)
+    assert np.all(theirs.se > 0)
     for term in ("p", "t:p"):
-        assert ours.variance_components[term] == pytest.approx(theirs["variance_components"][term], abs=1e-3)
+        assert ours.variance_components[term] == pytest.approx(theirs.variance_components[term], abs=1e-3)
 
 
 @pytest.mark.parametrize("random", [("t", "p", "t:p"), ("p",), ("t", "p", "t:p", "t:U"), ("t", "p", "t:p", "t:S")],
@@ -324,7 +329,12 @@ def test_peer_fits_run_on_simulated_table(simulated):
     table, _ = simulated
     gee = fit_gee_exchangeable(table, "Y ~ M * D + U", group="p")
     naive = fit_naive_logistic(table, "Y ~ M * D + U")
-    assert gee.attrs["finite"]
+    for peer, method in ((gee, "GEE (exchangeable)"), (naive, "naive logistic")):
+        # one result type for every peer fit: the coefficient table, no variance components, timings
+        assert isinstance(peer, PeerFit) and peer.method == method and peer.finite
+        assert list(peer.coefficients.columns) == ["estimate", "se"] and peer.variance_components is None
+        assert peer.seconds >= 0 and peer.cpu_seconds >= 0
+    assert not PeerFit("x", pd.DataFrame({"estimate": [np.nan], "se": [1.0]}), None, 0.0, 0.0).finite
     # population-averaged effects are attenuated relative to the subject-specific truth
     assert np.all(np.abs(gee.estimate.to_numpy()[1:]) < np.abs(TRUE_BETA[1:]))
     # naive standard errors are too small compared with the cluster-robust ones
@@ -557,10 +567,10 @@ def fitted(simulated, population, reduced_table):
     (lambda f: f.fit.predict(f.cell.iloc[:0]), ValueError, "newdata must have at least one row"),
     (lambda f: f.fit.predict_marginal(pd.DataFrame({"M": ["l2"]}), ci=2.0), ValueError, r"ci must be in \(0, 1\)"),
     (lambda f: fit_binomial_glmm(f.table, "Y ~ M", ["p"], 30, start_sd=np.nan), ValueError, "start_sd must be finite"),
-    (lambda f: fit_binomial_glmm(f.table, "Y ~ M", ["p"], 30, start_sd=-1.0), ValueError, "start_sd must be non-negative"),
-    (lambda f: fit_binomial_glmm(f.table, "Y ~ M", [3], 30), TypeError, "random must hold grouping terms as non-empty strings"),
-    (lambda f: fit_binomial_glmm(f.table, "Y ~ M", None, 30), TypeError, "random must be a sequence of grouping terms"),
-    (lambda f: fit_binomial_glmm(f.table, "Y ~ M", ["p", "p"], 30), ValueError, "random must not repeat a grouping term"),
+    (lambda f: fit_binomial_glmm(f.table, "Y ~ M", ["p"], 30, start_sd=-1.0), ValueError, r"start_sd must be in \[0, 1000\]"),
+    (lambda f: fit_binomial_glmm(f.table, "Y ~ M", [3], 30), TypeError, "random must hold non-empty strings"),
+    (lambda f: fit_binomial_glmm(f.table, "Y ~ M", None, 30), TypeError, "random must be a sequence of names"),
+    (lambda f: fit_binomial_glmm(f.table, "Y ~ M", ["p", "p"], 30), ValueError, "random must not repeat a name"),
     (lambda f: fit_binomial_glmm(f.table.iloc[:0], "Y ~ M", ["p"], 30), ValueError, "table must have at least one row"),
     (lambda f: fit_binomial_glmm(f.table.assign(Y=f.table.Y > 10), "Y ~ M", ["p"], 30), TypeError,
      "response 'Y' must hold counts, got booleans"),
@@ -676,3 +686,27 @@ def test_pcalda_follows_the_estimator_contract(population):
     imgs = preprocess_images(population.images)
     assert model.fit(imgs, population.labels) is model
     assert model.n_pca_ == 20 and model.projection_.shape == (imgs[0].size, min(20, population.n_subjects - 1))
+
+
+def test_shared_checks_are_public_module_level_names():
+    """The checks other modules of the chapter call: valid input returned, bad input named."""
+    from amdo_lab.face_glmm.glmm import response_counts
+    from amdo_lab.face_glmm.population import check_image_shape
+    assert check_image_shape((60, 52), minimum=8) == (60, 52)
+    with pytest.raises(ValueError, match="shape must be a pair"):
+        check_image_shape((60, 52, 3), minimum=8)
+    with pytest.raises(TypeError, match=r"shape\[0\] must be an int"):
+        check_image_shape((60.5, 52), minimum=8)
+    table = pd.DataFrame({"Y": [0, 3, 30]})
+    np.testing.assert_array_equal(response_counts(table, "Y", 30), [0.0, 3.0, 30.0])
+    with pytest.raises(ValueError, match=r"integer counts in \[0, n_trials=10\]"):
+        response_counts(table, "Y", 10)
+
+
+def test_findings_show_the_numbers_they_compare(reduced_table):
+    fit = fit_binomial_glmm(reduced_table[reduced_table.S == "standard"], PAPER_FORMULA, ["t", "p"], 10)
+    out = fg.findings(fit)
+    assert list(out.columns) == ["holds for ours", "measured"] and len(out) == 11
+    soft, l2 = (float(fit.predict_marginal(pd.DataFrame({"M": [m]})).p.iloc[0]) for m in ("soft_l2", "l2"))
+    row = out.loc["soft L2 beats L2 overall"]
+    assert row["measured"] == f"soft L2 {soft:.3f}, L2 {l2:.3f}" and row["holds for ours"] == (soft > l2)

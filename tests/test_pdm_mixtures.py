@@ -33,7 +33,6 @@ from amdo_lab.pdm_mixtures import (
     wrap_angle,
 )
 from amdo_lab.pdm_mixtures.poses import MEAN_LENGTHS
-from amdo_lab.pdm_mixtures.representation import polar_shape_vector as _polar
 
 
 @pytest.fixture(scope="module")
@@ -224,7 +223,7 @@ def test_baseline_and_mds_sanity(small_problem):
 # ---------------------------------------------------------------- bad input
 def test_bad_input_raises_clear_errors(small_problem):
     train, test, recogniser = small_problem
-    with pytest.raises(ValueError, match="unknown pose"):
+    with pytest.raises(ValueError, match=r"classes holds unknown name\(s\) \[.dancing.\]"):
         generate_pose_dataset(["boxing", "dancing"], 3, rng=0)
     with pytest.raises(ValueError, match="shapes"):
         recogniser.predict(test.shapes[:, :12])
@@ -297,7 +296,7 @@ def test_block_polar_pdm_models_angles_and_centres_separately(small_problem):
     j = single.classes_.index("stretching")
     model = single.shape_models_[j][0]
     assert [b.stop - b.start for b in model.blocks] == [13, 26]
-    deviation = single._deviation(_polar(single.align(train.shapes[train.labels == "stretching"])), single.angle_means_[j])
+    deviation = single._deviation(polar_shape_vector(single.align(train.shapes[train.labels == "stretching"])), single.angle_means_[j])
     # The angle PDM's eigenvalues are those of the angle covariance alone (the alpha_k that clamp Gamma).
     angle_cov = np.cov(deviation[:, :13].T, bias=True)
     top = np.sort(np.linalg.eigvalsh(angle_cov))[::-1][: model.pdms[0].n_modes]
@@ -324,7 +323,7 @@ def test_limb_likelihood_options_give_label_posteriors(small_problem):
 
 def test_shape_level_mixture_separates_articulation_modes(small_problem):
     train, _, recogniser = small_problem
-    vectors = _polar(recogniser.align(train.shapes))
+    vectors = polar_shape_vector(recogniser.align(train.shapes))
     for j, name in enumerate(recogniser.classes_):
         assert len(recogniser.shape_models_[j]) == recogniser.n_shape_components == 2
         np.testing.assert_allclose(recogniser.shape_weights_[j].sum(), 1.0)
@@ -343,7 +342,7 @@ def test_shape_level_mixture_separates_articulation_modes(small_problem):
 def test_single_component_is_one_polar_pdm_per_class(small_problem):
     train, test, _ = small_problem
     single = ArticulatedShapeRecogniser(rng=0, n_shape_components=1).fit(train.shapes, train.labels)
-    vectors = _polar(single.align(train.shapes))
+    vectors = polar_shape_vector(single.align(train.shapes))
     j = single.classes_.index("kicking")
     deviation = single._deviation(vectors[train.labels == "kicking"], single.angle_means_[j])
     np.testing.assert_allclose(single.shape_models_[j][0].mean, deviation.mean(axis=0), atol=1e-12)
@@ -365,13 +364,13 @@ def test_generator_rejects_bad_parameters():
 
 
 def test_polar_mixture_components_are_weighted_moments_in_original_units():
-    from amdo_lab.pdm_mixtures.recogniser import _fit_polar_mixture, _polar_blocks
+    from amdo_lab.pdm_mixtures.recogniser import fit_polar_mixture, polar_blocks
 
     rng = make_rng(3)
     # Two clusters; angles (radians) and centres (small units) on very different scales.
     data = np.concatenate([rng.standard_normal((15, 39)), rng.standard_normal((15, 39)) + 4.0])
     data[:, 13:] *= 1e-2
-    models, weights, resp = _fit_polar_mixture(data, 2, _polar_blocks("block"), make_rng(0), 20, 0.95)
+    models, weights, resp = fit_polar_mixture(data, 2, polar_blocks("block"), make_rng(0), 20, 0.95)
     np.testing.assert_allclose(weights.sum(), 1.0)
     np.testing.assert_allclose(resp.sum(axis=1), 1.0)
     for m, model in enumerate(models):
@@ -418,13 +417,13 @@ def test_em_restarts_keep_the_start_with_the_highest_training_likelihood(monkeyp
         return result
 
     monkeypatch.setattr(module, "fit_gaussian_mixture", recording_em)
-    _, weights, resp = module._fit_polar_mixture(data, 2, module._polar_blocks("block"), make_rng(0), 15, 0.95,
+    _, weights, resp = module.fit_polar_mixture(data, 2, module.polar_blocks("block"), make_rng(0), 15, 0.95,
                                                  n_restarts=4)
     assert len(runs) == 4
     best = max(runs, key=lambda run: run.log_likelihood[-1])
     np.testing.assert_array_equal(resp, best.responsibilities)
     runs.clear()
-    _, _, first = module._fit_polar_mixture(data, 2, module._polar_blocks("block"), make_rng(0), 15, 0.95)
+    _, _, first = module.fit_polar_mixture(data, 2, module.polar_blocks("block"), make_rng(0), 15, 0.95)
     assert len(runs) == 1  # one start by default, the same first start
     assert best.log_likelihood[-1] >= runs[0].log_likelihood[-1]
 
@@ -434,7 +433,7 @@ def test_held_out_log_likelihood_is_deterministic_and_validates(small_problem):
 
     train, _, recogniser = small_problem
     j = recogniser.classes_.index("boxing")
-    vectors = recogniser._deviation(_polar(recogniser.align(train.shapes[train.labels == "boxing"])),
+    vectors = recogniser._deviation(polar_shape_vector(recogniser.align(train.shapes[train.labels == "boxing"])),
                                     recogniser.angle_means_[j])  # 12 shapes
     one = held_out_log_likelihood(vectors, 1, n_folds=4, rng=0)
     assert np.isfinite(one) and one == held_out_log_likelihood(vectors, 1, n_folds=4, rng=0)
@@ -653,21 +652,21 @@ def test_single_cartesian_pdm_scores_with_the_one_ppca_density(small_problem):
 
 
 def test_reference_paths_equal_fast_paths():
-    from amdo_lab.pdm_mixtures.gmm import _gaussian_log_density, _gaussian_log_density_reference
-    from amdo_lab.pdm_mixtures.pdm import _align_to_reference, _align_to_reference_loop
-    from amdo_lab.pdm_mixtures.recogniser import _hamming_distance, _hamming_distance_reference
+    from amdo_lab.pdm_mixtures.gmm import gaussian_log_density_reference
+    from amdo_lab.pdm_mixtures.pdm import align_to_reference_loop
+    from amdo_lab.pdm_mixtures.recogniser import hamming_distance_reference
 
     rng = make_rng(8)
     points, means = rng.standard_normal((30, 4)), rng.standard_normal((3, 4))
     factors = rng.standard_normal((3, 4, 4))
     covariances = factors @ np.swapaxes(factors, 1, 2) + 0.1 * np.eye(4)
-    assert np.allclose(_gaussian_log_density(points, means, covariances),
-                       _gaussian_log_density_reference(points, means, covariances))
+    assert np.allclose(pm.gaussian_log_density(points, means, covariances),
+                       gaussian_log_density_reference(points, means, covariances))
     strings, dictionary = rng.integers(0, 4, (7, 13)), rng.integers(0, 4, (5, 13))
-    assert np.array_equal(_hamming_distance(strings, dictionary), _hamming_distance_reference(strings, dictionary))
+    assert np.array_equal(pm.hamming_distance(strings, dictionary), hamming_distance_reference(strings, dictionary))
     sets = generate_pose_dataset(TABLE1_CLASSES, 3, rng=5).shapes.reshape(18, -1, 2)
     reference = pm.normalise_shape(sets[0])
-    assert np.allclose(_align_to_reference(sets, reference), _align_to_reference_loop(sets, reference), atol=1e-12)
+    assert np.allclose(pm.align_to_reference(sets, reference), align_to_reference_loop(sets, reference), atol=1e-12)
 
 
 def test_limb_label_posteriors_are_distributions(small_problem):
@@ -702,7 +701,7 @@ def test_mode_separation_trial_is_deterministic_and_validates():
 
 
 def test_batched_mixture_em_equals_one_run_at_a_time():
-    from amdo_lab.pdm_mixtures.gmm import _fit_gaussian_mixtures_batch
+    from amdo_lab.pdm_mixtures.gmm import fit_gaussian_mixtures_batch
 
     rng = make_rng(12)
     points = np.stack([np.concatenate([rng.standard_normal((25, 3)), rng.standard_normal((25, 3)) + 3.0])
@@ -710,7 +709,7 @@ def test_batched_mixture_em_equals_one_run_at_a_time():
     means = points[:, [0, 30]]
     covariances = np.repeat(np.eye(3)[None, None], 4, axis=0).repeat(2, axis=1)
     ridges = np.array([0.0, 1e-3, 1e-2, 0.1])
-    weights, fitted_means, fitted_covariances, responsibilities = _fit_gaussian_mixtures_batch(
+    weights, fitted_means, fitted_covariances, responsibilities = fit_gaussian_mixtures_batch(
         points, means, covariances, 15, ridges)
     for b in range(4):
         one = pm.fit_gaussian_mixture(points[b], 2, means_init=means[b], covariances_init=covariances[b],
@@ -819,3 +818,72 @@ def test_a_refit_forgets_the_previous_fit(small_problem):
     fewer = train.shapes[:, :, :4]  # 4 landmarks per limb instead of 6: accepted by a fresh fit
     model.fit(fewer, train.labels)
     assert model.landmarks_per_limb_ == 4 and model.predict(test.shapes[:3, :, :4]).shape == (3,)
+
+
+def test_check_labels_takes_names_or_integer_ids():
+    from amdo_lab.pdm_mixtures.pdm import check_labels
+
+    assert check_labels(np.array(["a", "b"]), 2).tolist() == ["a", "b"]
+    assert check_labels(np.array([0.0, 3.0]), 2).tolist() == [0.0, 3.0]  # whole floats: ids, kept as given
+    for bad in (np.array([0.0, 0.5]), np.array([0.0, 1e308])):  # no class id: refused by name
+        with pytest.raises(ValueError, match="labels must be class names or integer class ids"):
+            check_labels(bad, 2)
+    with pytest.raises(ValueError, match="labels must not contain NaN"):
+        check_labels(np.array([0.0, np.nan]), 2)
+
+
+def test_recognise_relabels_the_limbs_by_eq14(small_problem):
+    """Eq. (14) computed by hand from the first iteration's terms gives the labels of the second."""
+    _, test, recogniser = small_problem
+    shapes = test.shapes[:30]
+    trace = recogniser.recognise(shapes)
+    parts = recogniser.score_components(shapes)
+    log_post = recogniser.limb_label_posteriors(shapes, log=True)
+    joint = parts.log_weights[None] + parts.shape + parts.limb_gate + parts.label_string  # (n, C, M)
+    best = trace.posteriors[0].argmax(axis=1)  # eq. (13)
+    component = np.argmax(joint[np.arange(len(shapes)), best], axis=1)
+    p = recogniser.label_error_probability
+    # ln P(λ | z_k) + ln P(L(λ, k) | Λ_ω): a label off the winner's dictionary string costs k_p = ln((1-p)/p)
+    off_string = recogniser.dictionary_[best, component][:, :, None] != np.arange(recogniser.n_limb_labels)
+    expected = np.argmax(log_post - np.log((1 - p) / p) * off_string, axis=2)
+    moved = trace.n_iter > 1
+    assert moved, "the test set should need a relabelling"
+    np.testing.assert_array_equal(trace.label_strings[1], expected)
+    assert np.any(trace.label_strings[1] != trace.label_strings[0])
+
+
+def test_model_limbs_are_each_label_pdm_fitted_to_the_observed_limb_eq15(small_problem):
+    """Eq. (15): a limb that is an instance of its label's PDM (within the clamp) is drawn exactly."""
+    _, _, recogniser = small_problem
+    rng = make_rng(30)
+    labels = rng.integers(0, recogniser.n_limb_labels, 13)
+    observed = []
+    for k, label in enumerate(labels):
+        model = recogniser.limb_models_[k][label]
+        gamma = rng.uniform(-1.0, 1.0, model.n_modes) * np.sqrt(model.variances)  # inside ±3√α
+        observed.append(reconstruct(model, gamma[None])[0])
+    observed = np.stack(observed)
+    vector = np.concatenate([np.zeros(13), rng.normal(size=26)])
+    drawn = recogniser.model_limbs(vector, labels, observed)
+    np.testing.assert_allclose(drawn, observed.reshape(13, -1, 2) + vector[13:].reshape(13, 1, 2), atol=1e-9)
+    means = recogniser.model_limbs(vector, labels)
+    assert np.max(np.abs(means - drawn)) > 1e-3  # the fit moved the limbs away from their mean strokes
+
+
+def test_limb_posteriors_are_eq10_bayes_rule_over_the_eq16_residual(small_problem):
+    """With ``limb_likelihood="residual"`` the limb-label posterior is Bayes' rule over eq. (16)'s
+    isotropic Gaussian of the clamped fit residual, computed here from the public PDM functions."""
+    from amdo_lab.pdm_mixtures.representation import centred_limbs
+
+    train, test, _ = small_problem
+    residual = ArticulatedShapeRecogniser(rng=0, limb_likelihood="residual").fit(train.shapes, train.labels)
+    aligned = residual.align(test.shapes[:6])
+    limbs = centred_limbs(aligned)  # (n, K, 2m)
+    for k in (0, 6, 12):
+        errors = np.stack([np.sum((limbs[:, k] - reconstruct(model, fit_modes(model, limbs[:, k]))) ** 2, axis=1)
+                           for model in residual.limb_models_[k]], axis=1)
+        log_joint = -errors / (2 * residual.limb_noise_[k]) + np.log(residual.limb_weights_[k])  # eq. (16) x prior
+        expected = log_joint - np.logaddexp.reduce(log_joint, axis=1, keepdims=True)
+        np.testing.assert_allclose(residual._limb_log_posteriors(aligned)[:, k], expected, atol=1e-10)
+    labels = np.argmax(residual._limb_log_posteriors(aligned), axis=2)  # eq. (10)
+    np.testing.assert_array_equal(residual.recognise(test.shapes[:6]).label_strings[0], labels)

@@ -67,7 +67,7 @@ class HeadSequence:
         t : int
             Frame index.
         states : numpy.ndarray
-            (N, 3) or (3,) states.
+            (N, 3) or (3,) states, entries within ±1e6.
 
         Returns
         -------
@@ -77,7 +77,7 @@ class HeadSequence:
         t = check_positive_int(t, "t", minimum=0)
         if t >= len(self.truth):
             raise ValueError(f"t must be a frame index below {len(self.truth)}, got {t}")
-        states = as_finite_array(states, "states", allow_empty=True)
+        states = as_finite_array(states, "states", allow_empty=True, max_abs=1e6)  # squares stay finite
         if states.ndim not in (1, 2) or states.shape[-1] != 3:
             raise ValueError(f"states must have shape (3,) or (N, 3), got shape {states.shape}")
         states = np.atleast_2d(states)
@@ -330,7 +330,8 @@ def ellipse_iou(first: np.ndarray, second: np.ndarray, *, step: float = 0.5) -> 
     first, second : numpy.ndarray
         (5,) or (T, 5) ellipses (semi-axes a along x at angle 0, angle in radians).
     step : float
-        Grid spacing in pixels for counting the intersection (its error is about step / min axis).
+        Grid spacing in pixels for counting the intersection (its error is about step / min axis),
+        in (0, 1e6].
 
     Returns
     -------
@@ -343,7 +344,7 @@ def ellipse_iou(first: np.ndarray, second: np.ndarray, *, step: float = 0.5) -> 
     """
     first = as_finite_array(first, "first")
     second = as_finite_array(second, "second")
-    step = check_positive(step, "step")
+    step = check_in_range(step, "step", 0.0, 1e6, closed="right")
     single = first.ndim == 1
     first, second = np.atleast_2d(first), np.atleast_2d(second)
     if first.shape[1] != 5 or second.shape != first.shape:
