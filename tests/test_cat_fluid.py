@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import inspect
 import warnings
 
 import numpy as np
 import pytest
+from rejections import check_rejection, reject
 
 from amdo_lab import cat_fluid as cf
 from amdo_lab.cat_fluid.registration import MAX_GREY_LEVEL, check_registration_images, sample_bilinear
@@ -514,10 +514,6 @@ def _too_bright(small_images):
     return small_images[0], huge
 
 
-def reject(case_id, call, error, message):
-    return pytest.param(call, error, message, id=case_id)
-
-
 REJECTIONS = [
     # --- the cubical complex (Sec. 2)
     reject("CubicalComplex 1-D shape", lambda: cf.CubicalComplex((4,)), ValueError, r"shape must be a pair \(H, W\)"),
@@ -630,7 +626,4 @@ REJECTIONS = [
 
 @pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
 def test_rejections(request, call, error, message):
-    fixtures = {name: request.getfixturevalue(name) for name, parameter in inspect.signature(call).parameters.items()
-                if parameter.default is inspect.Parameter.empty}
-    with pytest.raises(error, match=message):
-        call(**fixtures)
+    check_rejection(request, call, error, message)

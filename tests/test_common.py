@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from rejections import check_rejection, reject
 from scipy.spatial.transform import Rotation
 from sklearn.exceptions import NotFittedError
 
@@ -305,10 +306,6 @@ class _Model:
     coef_ = None
 
 
-def reject(case_id, call, error, message):
-    return pytest.param(call, error, message, id=case_id)
-
-
 REJECTIONS = [
     # --- the shared validators: their wording
     reject("as_finite_array NaN", lambda: as_finite_array([[0, 0, np.nan]], "points", shape=(None, 3)),
@@ -395,6 +392,5 @@ REJECTIONS = [
 
 
 @pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
-def test_rejections(call, error, message):
-    with pytest.raises(error, match=message):
-        call()
+def test_rejections(request, call, error, message):
+    check_rejection(request, call, error, message)

@@ -4,6 +4,7 @@ import inspect
 
 import numpy as np
 import pytest
+from rejections import check_rejection, reject
 from scipy.special import logsumexp
 
 from amdo_lab.common import make_rng
@@ -770,10 +771,6 @@ def _outside_limits(hand):
     return theta
 
 
-def reject(case_id, call, error, message):
-    return pytest.param(call, error, message, id=case_id)
-
-
 REJECTIONS = [
     # the hand model's documented bounds: coordinates and pose entries within ±1e6
     reject("surface_distance points beyond 1e6 mm", lambda hand: hand.surface_distance(
@@ -835,7 +832,4 @@ REJECTIONS = [
 
 @pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
 def test_rejections(request, call, error, message):
-    fixtures = {name: request.getfixturevalue(name) for name, parameter in inspect.signature(call).parameters.items()
-                if parameter.default is inspect.Parameter.empty}
-    with pytest.raises(error, match=message):
-        call(**fixtures)
+    check_rejection(request, call, error, message)

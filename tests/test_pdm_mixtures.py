@@ -6,6 +6,7 @@ import warnings
 
 import numpy as np
 import pytest
+from rejections import check_rejection, reject
 from sklearn.exceptions import NotFittedError
 
 import amdo_lab.pdm_mixtures as pm
@@ -695,10 +696,6 @@ def _boxing_vectors(small_problem):
                                  recogniser.angle_means_[j])
 
 
-def reject(case_id, call, error, message):
-    return pytest.param(call, error, message, id=case_id)
-
-
 REJECTIONS = [
     # ------------------------------------------------------------ generator
     reject("generate_pose_dataset unknown class", lambda: generate_pose_dataset(["boxing", "dancing"], 3, rng=0),
@@ -871,7 +868,4 @@ REJECTIONS = [
 
 @pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
 def test_rejections(request, call, error, message):
-    fixtures = {name: request.getfixturevalue(name) for name, parameter in inspect.signature(call).parameters.items()
-                if parameter.default is inspect.Parameter.empty}
-    with pytest.raises(error, match=message):
-        call(**fixtures)
+    check_rejection(request, call, error, message)
