@@ -1,6 +1,5 @@
 """Tests for Chapter 1 (amdo_lab.em_articulated): Dewaele et al., ECCV 2006."""
 
-import inspect
 
 import numpy as np
 import pytest

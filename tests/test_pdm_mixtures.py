@@ -1,7 +1,6 @@
 """Tests for chapter 2 (amdo_lab.pdm_mixtures): generator invariants, PDM, polar representation,
 Gaussian-mixture EM against scikit-learn, the hierarchical recogniser and bad input."""
 
-import inspect
 import warnings
 
 import numpy as np
