@@ -540,19 +540,22 @@ REJECTIONS = [
     reject("PcaLda basis not a PcaBasis", lambda fitted: PcaLda().fit(fitted.images, fitted.labels, basis="basis"),
            TypeError, "basis must be a PcaBasis"),
     reject("PcaLda basis of other images", lambda fitted: PcaLda().fit(fitted.images, fitted.labels, basis=fg.pca_basis(
-        fitted.images.reshape(len(fitted.images), -1)[:, :10])), ValueError, "basis must be the PcaBasis of images with 480 pixels"),
+        fitted.images.reshape(len(fitted.images), -1)[:, :10])),
+        ValueError, "basis must be the PcaBasis of images with 480 pixels"),
     reject("PcaLda not fitted transform", lambda: PcaLda().transform(np.ones((2, 10))),
            ValueError, "this PcaLda is not fitted yet"),
     reject("PcaLda not fitted metric_weights", lambda: PcaLda().metric_weights("l2"),
            ValueError, "this PcaLda is not fitted yet"),
     # --- the factorial design: its parts must fit together
     reject("FactorialDesign more training subjects than subjects",
-           lambda: FactorialDesign(n_subjects=8, n_train_subjects=9), ValueError, r"n_train_subjects must be in \[2, n_subjects=8\]"),
+           lambda: FactorialDesign(n_subjects=8, n_train_subjects=9),
+           ValueError, r"n_train_subjects must be in \[2, n_subjects=8\]"),
     reject("FactorialDesign supplement blur", lambda: FactorialDesign(supplements=("none", "blur")),
            ValueError, "supplements must be a non-empty subset of"),
     reject("FactorialDesign repeated supplement", lambda: FactorialDesign(supplements=("none", "none")),
            ValueError, "supplements must not repeat"),
-    reject("FactorialDesign odd shape", lambda: FactorialDesign(shape=(15, 14)), ValueError, "shape must have even rows and cols"),
+    reject("FactorialDesign odd shape", lambda: FactorialDesign(shape=(15, 14)),
+           ValueError, "shape must have even rows and cols"),
     reject("FactorialDesign scalar shape", lambda: FactorialDesign(shape=16), ValueError, "shape must be a pair"),
     reject("experiment_cache_key modules holding a number",
            lambda: fg.experiment_cache_key(reduced_design(), rng=1, modules=(3,)), TypeError, "modules must hold modules"),
@@ -566,17 +569,20 @@ REJECTIONS = [
            ValueError, r"y must hold counts in \[0, n_trials\]"),
     reject("binomial_deviance zero trials", lambda: fg.binomial_deviance(_COUNTS, 0.0, np.zeros(20)),
            ValueError, "n_trials must be positive"),
-    reject("binomial_deviance n_trials of another shape", lambda: fg.binomial_deviance(_COUNTS, np.full(3, 30.0), np.zeros(20)),
+    reject("binomial_deviance n_trials of another shape",
+           lambda: fg.binomial_deviance(_COUNTS, np.full(3, 30.0), np.zeros(20)),
            ValueError, "n_trials must be a number or have the shape of y"),
     # --- the GLMM fit: a response of counts, a design of full rank, named random terms
-    reject("fit_binomial_glmm count above n_trials", lambda fitted: fit_binomial_glmm(_response(fitted, 31), "Y ~ M", ["p"], 30),
+    reject("fit_binomial_glmm count above n_trials",
+           lambda fitted: fit_binomial_glmm(_response(fitted, 31), "Y ~ M", ["p"], 30),
            ValueError, r"response 'Y' must hold integer counts in \[0, n_trials=30\]"),
     reject("fit_binomial_glmm negative count", lambda fitted: fit_binomial_glmm(_response(fitted, -1), "Y ~ M", ["p"], 30),
            ValueError, r"response 'Y' must hold integer counts in \[0, n_trials=30\]"),
     reject("fit_binomial_glmm NaN count", lambda fitted: fit_binomial_glmm(_response(fitted, np.nan), "Y ~ M", ["p"], 30),
            ValueError, "response 'Y' must be finite counts"),
     reject("fit_binomial_glmm boolean response", lambda fitted: fit_binomial_glmm(
-        fitted.table.assign(Y=fitted.table.Y > 10), "Y ~ M", ["p"], 30), TypeError, "response 'Y' must hold counts, got booleans"),
+        fitted.table.assign(Y=fitted.table.Y > 10), "Y ~ M", ["p"], 30),
+        TypeError, "response 'Y' must hold counts, got booleans"),
     reject("fit_binomial_glmm duplicated factor", lambda fitted: fit_binomial_glmm(
         fitted.table.assign(M2=fitted.table.M), "Y ~ M + M2", ["p"], 30), ValueError, "fixed design is singular"),
     reject("fit_binomial_glmm level with no rows", lambda fitted: fit_binomial_glmm(fitted.table.assign(
@@ -597,7 +603,8 @@ REJECTIONS = [
     reject("response_counts above n_trials", lambda: fg.glmm.response_counts(pd.DataFrame({"Y": [0, 3, 30]}), "Y", 10),
            ValueError, r"integer counts in \[0, n_trials=10\]"),
     # --- predictions from a fit: an interval strictly inside (0, 1), at least one cell
-    reject("predict ci 0", lambda fitted: fitted.fit.predict(fitted.cell, ci=0.0), ValueError, r"ci must be in \(0, 1\), got 0.0"),
+    reject("predict ci 0", lambda fitted: fitted.fit.predict(fitted.cell, ci=0.0),
+           ValueError, r"ci must be in \(0, 1\), got 0.0"),
     reject("predict no rows", lambda fitted: fitted.fit.predict(fitted.cell.iloc[:0]),
            ValueError, "newdata must have at least one row"),
     # --- simulation and the recovery study: variances of named terms
@@ -606,7 +613,8 @@ REJECTIONS = [
     reject("simulate_binomial_glmm negative variance", lambda fitted: simulate_binomial_glmm(
         fitted.table, "Y ~ M", [0.0, 0.0], {"p": -1.0}, 30, rng=0), ValueError, r"variances\['p'\] must be non-negative"),
     reject("recovery_study no variances", lambda fitted: fg.recovery_study(
-        fitted.table, "Y ~ M * D + U", fitted.fit.coefficients, {}, 1, rng=1), ValueError, "variances must name at least one"),
+        fitted.table, "Y ~ M * D + U", fitted.fit.coefficients, {}, 1, rng=1),
+        ValueError, "variances must name at least one"),
     reject("summarise_recovery one coefficient for two", lambda: fg.summarise_recovery(
         pd.Series([0.5, 0.0]), np.ones((5, 1)), np.ones((5, 1))), ValueError, r"estimates must have shape \(n, 2\)"),
     reject("summarise_recovery ses of another shape", lambda: fg.summarise_recovery(
@@ -614,10 +622,12 @@ REJECTIONS = [
     reject("summarise_recovery negative ses", lambda: fg.summarise_recovery(
         pd.Series([0.5, 0.0]), np.ones((5, 2)), -np.ones((5, 2))), ValueError, "ses must be non-negative"),
     # --- the peers: named columns and terms, counts out of n_trials
-    reject("fit_gee_exchangeable group not a column", lambda fitted: fg.fit_gee_exchangeable(fitted.table, "Y ~ M", group="q"),
+    reject("fit_gee_exchangeable group not a column",
+           lambda fitted: fg.fit_gee_exchangeable(fitted.table, "Y ~ M", group="q"),
            ValueError, "group 'q' is not a column of table"),
     reject("fit_gee_exchangeable count above n_trials", lambda fitted: fg.fit_gee_exchangeable(
-        fitted.table.assign(Y=fitted.table.Y + 100), "Y ~ M"), ValueError, r"response 'Y' must hold integer counts in \[0, n_trials=30\]"),
+        fitted.table.assign(Y=fitted.table.Y + 100), "Y ~ M"),
+        ValueError, r"response 'Y' must hold integer counts in \[0, n_trials=30\]"),
     reject("fit_naive_logistic NaN count", lambda fitted: fg.fit_naive_logistic(_response(fitted, np.nan), "Y ~ M"),
            ValueError, "response 'Y' must be finite counts"),
     reject("fit_naive_logistic response not a column", lambda fitted: fg.fit_naive_logistic(fitted.table, "Z ~ M"),
