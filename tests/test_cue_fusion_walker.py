@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from rejections import check_rejection, reject
 
 from amdo_lab import cue_fusion_pf as cf
 from amdo_lab.cue_fusion_pf import walker
@@ -172,34 +173,48 @@ def test_walker_calibration_distances_run_in_the_similarity_space(sequence):
     assert np.all((at_truth >= 0) & (at_truth <= 1)) and np.all((at_prior >= 0) & (at_prior <= 1))
 
 
-# --- bad input ----------------------------------------------------------------------------------
+# --- rejections: the rules of the walker and its shape space, in one table -------------------
+# The generic promises (NaN, empty or mis-shaped arrays, wrong types, out-of-range numbers, bad seeds,
+# each named by argument) are tests/test_bad_input.py's, for every argument of the walker's entries in
+# tests/bad_input_cases/cue_fusion_pf.py; this table holds what that test cannot know.
 
-@pytest.mark.parametrize(("call", "word"), [
-    (lambda: cf.make_walker_sequence(rng=0, noise_std=-1.0), "noise_std"),
-    (lambda: cf.make_walker_sequence(rng=0, distortion=0.9), "distortion"),
-    (lambda: cf.make_walker_sequence(rng=0, clutter_strength=np.nan), "clutter_strength"),
-    (lambda: cf.make_walker_sequence(rng="zero"), "rng"),
-    (lambda: cf.fit_similarity(np.zeros((5, 2)) + 1.0, np.zeros((5, 2))), "template"),
-    (lambda: cf.fit_similarity(np.eye(3)[:, :2], np.zeros((4, 2))), "points"),
-    (lambda: cf.box_iou(np.zeros((3, 3)), np.zeros((3, 2))), "first"),
-    (lambda: cf.box_iou(np.zeros((3, 2)), np.zeros((2, 3, 2))), "second"),
-    (lambda: cf.ShapeSpace(np.eye(3)[:, :2], "affine"), "kind"),
-    (lambda: cf.ShapeSpace.from_ellipse(np.array([1.0, 1.0, 2.0, 3.0, 0.0]), kind="affine"), "kind"),
-    (lambda: cf.ShapeSpace(np.eye(3)[:, :2], "similarity").control_points(np.zeros(3)), "states"),
-    (lambda: cf.track(np.zeros((2, 20, 30, 3), np.uint8), np.array([15.0, 10.0, 4.0, 5.0, 0.0]), rng=0,
-                      shape="affine"), "shape"),
-    (lambda: cf.track(np.zeros((2, 20, 30, 3), np.uint8), np.array([15.0, 10.0, 4.0, 5.0, 0.0]), rng=0,
-                      shape="similarity", init_spread=(1.0, 1.0, 0.1)), "init_spread"),
-    (lambda: cf.track(np.zeros((2, 20, 30, 3), np.uint8), np.array([15.0, 10.0, 4.0, 5.0, 0.0]), rng=0,
-                      mean=(1.0, 2.0)), "mean"),
-])
-def test_bad_input_is_refused_by_name(call, word):
-    with pytest.raises((ValueError, TypeError), match=word):
-        call()
+_FRAMES, _ELLIPSE = np.zeros((2, 20, 30, 3), np.uint8), np.array([15.0, 10.0, 4.0, 5.0, 0.0])
+
+REJECTIONS = [
+    # --- the sequence: the lens stays mild, the oracle knows its frames and its state size
+    reject("make_walker_sequence distortion 0.9", lambda: cf.make_walker_sequence(rng=0, distortion=0.9),
+           ValueError, r"distortion must be in \[0, 0.5\]"),
+    reject("oracle head states", lambda sequence: sequence.oracle_log_likelihood(0, np.zeros(3)),
+           ValueError, r"states must have shape \(4,\) or \(N, 4\)"),
+    reject("oracle frame 500", lambda sequence: sequence.oracle_log_likelihood(500, np.zeros(4)),
+           ValueError, "t must be a frame index below 130"),
+    # --- the similarity shape space (eqs. 2-3): a template with extent, outlines of its length, the named kinds
+    reject("fit_similarity collapsed template", lambda: cf.fit_similarity(np.zeros((5, 2)) + 1.0, np.zeros((5, 2))),
+           ValueError, "template must not collapse to a single point"),
+    reject("fit_similarity outline of another length", lambda: cf.fit_similarity(np.eye(3)[:, :2], np.zeros((4, 2))),
+           ValueError, r"points must have shape \(3, 2\) or \(T, 3, 2\)"),
+    reject("box_iou stacks that differ", lambda: cf.box_iou(np.zeros((3, 2)), np.zeros((2, 3, 2))),
+           ValueError, "second must have the shape of first up to J"),
+    reject("ShapeSpace kind affine", lambda: cf.ShapeSpace(np.eye(3)[:, :2], "affine"),
+           ValueError, "kind must be one of 'translation_scale', 'similarity'"),
+    reject("ShapeSpace.from_ellipse kind affine",
+           lambda: cf.ShapeSpace.from_ellipse(np.array([1.0, 1.0, 2.0, 3.0, 0.0]), kind="affine"),
+           ValueError, "kind must be one of 'translation_scale', 'similarity'"),
+    reject("similarity control_points of a head state",
+           lambda: cf.ShapeSpace(np.eye(3)[:, :2], "similarity").control_points(np.zeros(3)),
+           ValueError, r"states must have shape \(4,\) or \(N, 4\)"),
+    # --- tracking: the named shape spaces, a spread per state entry of the chosen space
+    reject("track shape affine", lambda: cf.track(_FRAMES, _ELLIPSE, rng=0, shape="affine"),
+           ValueError, "shape must be one of 'translation_scale', 'similarity'"),
+    reject("track similarity with a head's init_spread", lambda: cf.track(
+        _FRAMES, _ELLIPSE, rng=0, shape="similarity", init_spread=(1.0, 1.0, 0.1)),
+        ValueError, r"init_spread must have shape \(4,\)"),
+    # --- the rng convention: errors start with "rng", TypeError for a non-seed, ValueError for a negative seed
+    reject("make_walker_sequence rng 'zero'", lambda: cf.make_walker_sequence(rng="zero"), TypeError, "^rng must be"),
+    reject("make_walker_sequence rng -1", lambda: cf.make_walker_sequence(rng=-1), ValueError, "^rng must be"),
+]
 
 
-def test_oracle_refuses_head_states(sequence):
-    with pytest.raises(ValueError, match="states"):
-        sequence.oracle_log_likelihood(0, np.zeros(3))
-    with pytest.raises(ValueError, match="t must"):
-        sequence.oracle_log_likelihood(500, np.zeros(4))
+@pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
+def test_rejections(request, call, error, message):
+    check_rejection(request, call, error, message)

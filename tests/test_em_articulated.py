@@ -1,7 +1,9 @@
 """Tests for Chapter 1 (amdo_lab.em_articulated): Dewaele et al., ECCV 2006."""
 
+
 import numpy as np
 import pytest
+from rejections import check_rejection, reject
 from scipy.special import logsumexp
 
 from amdo_lab.common import make_rng
@@ -16,6 +18,7 @@ from amdo_lab.em_articulated import (
     robust_log_likelihood,
     register_em_reference,
     climb_objective,
+    dof_lever_arms,
     fit_known_correspondences,
     fit_surface,
     make_skin_texture,
@@ -33,7 +36,7 @@ from amdo_lab.em_articulated import (
     track_sequence,
 )
 from amdo_lab.em_articulated.hand import DIGIT_DOFS
-from amdo_lab.em_articulated.registration import digit_starts
+from amdo_lab.em_articulated.registration import digit_starts, robust_log_likelihood_reference
 
 
 @pytest.fixture(scope="module")
@@ -147,31 +150,6 @@ def test_e_step_chunking_matches_dense(precision, rtol):
     np.testing.assert_allclose(dense[2], alpha.sum(axis=0), rtol=rtol)
 
 
-def test_e_step_precision_is_checked():
-    with pytest.raises(ValueError, match="precision"):
-        e_step_statistics(np.zeros((2, 3)), np.ones((3, 3)), 1.0, 0.0, precision="half")
-
-
-@pytest.mark.parametrize("changes, error, message", [
-    (dict(model_points=np.full((2, 3), np.nan)), ValueError, "model_points must be finite"),
-    (dict(data_points=np.ones((3, 2))), ValueError, "data_points must have"),
-    (dict(data_points=np.zeros((0, 3))), ValueError, "data_points must not be empty"),
-    (dict(sigma=0.0), ValueError, "sigma must be"),
-    (dict(sigma=-1.0), ValueError, "sigma must be"),
-    (dict(log_c=np.nan), ValueError, "log_c"),
-    (dict(log_c=np.inf), ValueError, "log_c"),
-    (dict(log_c="1"), TypeError, "log_c"),
-])
-def test_e_steps_reject_bad_input(changes, error, message):
-    from amdo_lab.em_articulated import e_step_statistics_kdtree
-    arguments = dict(model_points=np.zeros((2, 3)), data_points=np.ones((3, 3)), sigma=1.0, log_c=0.0) | changes
-    for step in (e_step_statistics, e_step_statistics_kdtree):
-        with pytest.raises(error, match=message):
-            step(**arguments)
-    with pytest.raises(ValueError, match="chunk"):
-        e_step_statistics(np.zeros((2, 3)), np.ones((3, 3)), 1.0, 0.0, chunk=0)
-
-
 def test_e_step_without_outlier_class():
     # log c = -inf (c = 0): every data point is fully assigned to the texture, however far it is
     weights, _, inlier, _ = e_step_statistics(np.zeros((2, 3)), np.array([[0.0, 0, 0], [500.0, 0, 0]]), 1.0, -np.inf)
@@ -228,44 +206,6 @@ def test_tracking_sequence_generator(hand):
     assert all(150 < n < 0.8 * 600 for n in n_surface_points)  # only the camera-facing side, 80 % detected
 
 
-@pytest.mark.parametrize(
-    "kwargs, match",
-    [
-        ({"data_points": np.full((5, 3), np.nan)}, "data_points"),
-        ({"data_points": np.zeros((5, 2))}, "data_points"),
-        ({"model_points": np.zeros((0, 3))}, "model_points"),
-        ({"theta_init": np.zeros(26)}, "theta_init"),
-        ({"sigma_min": 30.0}, "sigma_min"),
-        ({"theta_init": "outside"}, "theta_init"),
-    ],
-)
-def test_register_em_bad_input(hand, kwargs, match):
-    rng = make_rng(11)
-    theta = hand.rest_pose()
-    args = {"model_points": rng.normal(size=(5, 3)), "data_points": rng.normal(size=(5, 3)),
-            "theta_init": theta, "sigma_max": 20.0, "sigma_min": 2.0}
-    if isinstance(kwargs.get("theta_init"), str):
-        kwargs = {"theta_init": theta.copy()}
-        kwargs["theta_init"][12] = 3.0
-    args.update(kwargs)
-    with pytest.raises(ValueError, match=match):
-        register_em(args["model_points"], args["data_points"], hand, args["theta_init"],
-                    args["sigma_max"], args["sigma_min"])
-
-
-def test_hand_bad_input(hand):
-    with pytest.raises(ValueError, match="theta"):
-        hand.part_transforms(np.zeros(5))
-    with pytest.raises(ValueError, match="points"):
-        hand.surface_distance(np.array([[np.inf, 0, 0]]), hand.rest_pose())
-    with pytest.raises(ValueError, match="points must be at most"):  # coordinates within ±1e6 mm
-        hand.surface_distance(np.array([[2e6, 0, 0]]), hand.rest_pose())
-    with pytest.raises(ValueError, match="theta must be at most"):  # pose entries within ±1e6
-        hand.part_transforms(np.full(27, 2e6))
-    with pytest.raises(TypeError, match="hand"):
-        register_em(np.zeros((3, 3)), np.zeros((3, 3)), "hand", np.zeros(27))
-
-
 def test_digit_clearance_separates_rest_from_crossed_fingers(hand):
     assert hand.digit_clearance(hand.rest_pose()) > 0
     crossed = hand.rest_pose()
@@ -306,8 +246,6 @@ def test_release_ratio_holds_short_levers_while_sigma_is_large(hand):
     assert np.linalg.norm(held.theta[:3] - moved[:3]) < 1.5
     free = register_em(model, data, hand, theta, 20.0, 19.0, n_levels=2)
     assert np.any(free.theta[6:] != theta[6:])
-    with pytest.raises(ValueError, match="release_ratio"):
-        register_em(model, data, hand, theta, 20.0, 10.0, release_ratio=-1.0)
 
 
 def test_debiased_targets_keep_a_perfect_fit_at_large_sigma(hand):
@@ -321,8 +259,6 @@ def test_debiased_targets_keep_a_perfect_fit_at_large_sigma(hand):
                        targets="debiased")
     assert joint_rmse_deg(paper.theta, theta) > 5.0
     assert joint_rmse_deg(ours.theta, theta) < 0.1
-    with pytest.raises(ValueError, match="targets"):
-        register_em(texture, texture, hand, theta, 20.0, 19.0, targets="mean")
 
 
 def test_register_em_stops_a_level_once_converged(hand):
@@ -349,8 +285,6 @@ def test_skin_texture_features_move_with_eq3_and_matches_are_true(hand):
     assert np.median(np.linalg.norm(moved[model_index] - problem.data_points[data_index], axis=1)) < 1.0
     independent = make_registration_problem(hand, rng=23, n_model=50, n_data=50, repeatability=0.0)
     assert len(independent.true_matches()[0]) == 0
-    with pytest.raises(ValueError, match="repeatability"):
-        make_registration_problem(hand, rng=23, n_model=50, n_data=50, repeatability=1.5)
 
 
 def test_known_correspondences_recover_the_pose(hand):
@@ -384,10 +318,6 @@ def test_fit_surface_eq22_ignores_far_points(hand):
     robust = fit_surface(np.concatenate([data, clutter]), hand, start, max_iter=5, sigma=3.0)
     plain = fit_surface(np.concatenate([data, clutter]), hand, start, max_iter=5, sigma=None)
     assert joint_rmse_deg(robust.theta, theta_true) < joint_rmse_deg(plain.theta, theta_true)
-    with pytest.raises(ValueError, match="sigma"):
-        fit_surface(data, hand, start, sigma=0.0)
-    with pytest.raises(ValueError, match="weights must be at most"):  # relative weights, at most 1e6
-        fit_surface(data, hand, start, weights=np.full(len(data), 1e7))
 
 
 def test_kdtree_e_step_matches_dense(hand):
@@ -457,8 +387,6 @@ def test_texture_noise_can_be_set_apart_from_the_data_noise(hand):
     # the exact texture sits on the surface (up to the slight stretch of eq. 3); 2 mm noise lifts it off
     assert np.median(np.abs(hand.surface_distance(exact.model_points, exact.theta_init))) < 0.1
     assert np.median(np.abs(hand.surface_distance(noisy.model_points, noisy.theta_init))) > 1.0
-    with pytest.raises(ValueError, match="texture_noise_mm"):
-        make_registration_problem(hand, rng=8, texture_noise_mm=-1.0)
 
 
 @pytest.mark.parametrize("precision, rtol", [("double", 1e-9), ("single", 2e-6)])
@@ -500,51 +428,9 @@ def test_pair_fraction_estimate_and_the_dense_switch(hand):
     np.testing.assert_array_equal(em_dense.theta, em_tree.theta)
 
 
-def test_pose_helpers_reject_bad_input(hand):
-    from amdo_lab.em_articulated import dof_lever_arms, perturb_pose, random_pose, visible_points
+def test_an_int_seed_and_the_generator_it_makes_give_the_same_pose(hand):
     theta = hand.rest_pose()
-    points = hand.sample_surface(theta, 20, rng=0)
-    with pytest.raises(ValueError, match="theta_est must be finite"):
-        joint_rmse_deg(np.full(27, np.nan), theta)
-    with pytest.raises(ValueError, match="theta_true must have shape"):
-        joint_rmse_deg(theta, theta[:5])
-    with pytest.raises(ValueError, match="joint_error_deg must be non-negative"):
-        perturb_pose(hand, theta, -5.0, rng=0)
-    with pytest.raises(ValueError, match="joint_error_deg must be finite"):
-        perturb_pose(hand, theta, np.nan, rng=0)
-    with pytest.raises(ValueError, match="theta must have shape"):
-        perturb_pose(hand, theta[:5], 5.0, rng=0)
-    with pytest.raises(TypeError, match="HandModel"):
-        random_pose("hand", rng=0)
-    with pytest.raises(TypeError, match="Generator"):
-        random_pose(hand, rng="seed")
-    with pytest.raises(ValueError, match="camera must have shape"):
-        visible_points(hand, points, theta, np.zeros(2))
-    with pytest.raises(ValueError, match="points must be finite"):
-        visible_points(hand, np.full((3, 3), np.nan), theta, np.array([0.0, 0.0, 500.0]))
-    with pytest.raises(ValueError, match="theta must have shape"):
-        dof_lever_arms(hand, hand.texture_binding(points, theta), theta[:5])
-    with pytest.raises(TypeError, match="binding"):
-        dof_lever_arms(hand, points, theta)
-    # an integer seed and the generator it makes give the same pose
     np.testing.assert_array_equal(perturb_pose(hand, theta, 10.0, rng=3), perturb_pose(hand, theta, 10.0, rng=make_rng(3)))
-
-
-def test_loop_settings_reject_bad_input(hand):
-    theta = hand.rest_pose()
-    points = hand.sample_surface(theta, 30, rng=0)
-    with pytest.raises(ValueError, match="gauss_newton_steps"):
-        register_em(points, points, hand, theta, gauss_newton_steps=0)
-    with pytest.raises(ValueError, match="damping"):
-        register_em(points, points, hand, theta, damping=-1.0)
-    with pytest.raises(ValueError, match="chunk"):
-        register_em(points, points, hand, theta, chunk=0)
-    with pytest.raises(ValueError, match="n_sweeps"):
-        softassign_register(points, points, hand, theta, n_sweeps=0)
-    with pytest.raises(ValueError, match="frames must be a non-empty list"):
-        track_sequence([], hand, theta)
-    with pytest.raises(ValueError, match="max_texture"):
-        track_sequence([points, points], hand, theta, max_texture=0)
 
 
 # ---------------------------------------------------------------- per-digit search (beyond the paper)
@@ -638,29 +524,6 @@ def test_digit_starts_move_one_digit_within_the_limits(hand):
     assert len(digit_starts(hand, theta, 1, np.radians(20.0), np.radians(25.0))) == 6
 
 
-@pytest.mark.parametrize("changes, error, match", [
-    (dict(theta=np.zeros(5)), ValueError, "theta must have shape"),
-    (dict(theta=np.full(27, 3.0)), ValueError, "theta must lie within"),
-    (dict(search_levels=0), ValueError, "search_levels"),
-    (dict(search_levels=6), ValueError, "search_levels must be at most n_levels"),
-    (dict(search_levels=1.5), TypeError, "search_levels"),
-    (dict(abduction_step_deg=0.0), ValueError, "abduction_step_deg"),
-    (dict(flexion_step_deg="25"), TypeError, "flexion_step_deg"),
-    (dict(max_passes=-1), ValueError, "max_passes"),
-    (dict(min_gain=-1.0), ValueError, "min_gain"),
-    (dict(targets="mean"), ValueError, "targets"),
-    (dict(hand="hand"), TypeError, "hand must be a HandModel"),
-    (dict(spread=3), TypeError, "spread"),
-])
-def test_digit_search_rejects_bad_input(hand, changes, error, match):
-    theta = hand.rest_pose()
-    points = hand.sample_surface(theta, 30, rng=0)
-    args = dict(model_points=points, data_points=points, hand=hand, theta_init=theta, theta=theta)
-    args.update(changes)
-    with pytest.raises(error, match=match):
-        refine_digits(**args)
-
-
 def test_trials_run_the_digit_search_only_when_asked(hand):
     problem = dict(joint_error_deg=10.0, n_model=100, n_data=100)
     settings = dict(OUR_SETTINGS, max_iter=2)
@@ -668,8 +531,6 @@ def test_trials_run_the_digit_search_only_when_asked(hand):
     rerun = run_registration_trials(hand, 1, rng=0, problem=problem, em_settings=settings, surface_max_iter=0,
                                     digit_search=dict(max_passes=0))
     assert np.isfinite(rerun.rmse_deg).all() and rerun.rmse_deg[0] != plain.rmse_deg[0]
-    with pytest.raises(TypeError, match="spread"):
-        run_registration_trials(hand, 1, rng=0, problem=problem, em_settings=settings, digit_search=dict(spread=1))
 
 
 def test_trial_summary_success_interval_counts_the_successful_trials():
@@ -722,23 +583,6 @@ def test_m_step_targets_are_weighted_means():
     assert np.all(targets[1] == 0)  # no weight: target unused
 
 
-@pytest.mark.parametrize("call, error, match", [
-    (lambda: e_step_reference(np.zeros((2, 2)), np.zeros((2, 3)), 1.0), ValueError, "model_points"),
-    (lambda: e_step_reference(np.zeros((2, 3)), np.zeros((2, 3)), -1.0), ValueError, "sigma"),
-    (lambda: e_step_reference(np.zeros((2, 3)), np.zeros((2, 3)), 1.0, c=0.0), ValueError, "c"),
-    (lambda: m_step_targets(np.zeros((2, 4)), np.zeros((3, 3))), ValueError, "alpha"),
-    (lambda: robust_log_likelihood(np.zeros((2, 3)), np.full((2, 3), np.nan), 1.0), ValueError, "data_points"),
-    # beyond the documented ranges: posteriors in [0, 1], coordinates within ±1e6 mm
-    (lambda: m_step_targets(np.full((2, 3), 1.5), np.zeros((3, 3))), ValueError, r"alpha must hold posteriors in \[0, 1\]"),
-    (lambda: m_step_targets(np.full((2, 3), -0.1), np.zeros((3, 3))), ValueError, "alpha must hold posteriors"),
-    (lambda: robust_log_likelihood(np.zeros((2, 3)), np.full((2, 3), 2e6), 1.0), ValueError,
-     "data_points must be at most 1e\\+06"),
-])
-def test_reference_paths_reject_bad_input(call, error, match):
-    with pytest.raises(error, match=match):
-        call()
-
-
 def test_public_robust_log_likelihood_matches_logsumexp():
     rng = np.random.default_rng(1)
     model, data = rng.normal(0, 20, (30, 3)), rng.normal(0, 20, (50, 3))
@@ -768,8 +612,6 @@ def test_climb_objective_never_lowers_the_objective(hand):
 
     climbed = climb_objective(case.model_points, case.data_points, hand, case.theta_init, case.theta_true, 3.0)
     assert objective(climbed) >= objective(case.theta_true) - 1e-6
-    with pytest.raises(ValueError, match="sigma"):
-        climb_objective(case.model_points, case.data_points, hand, case.theta_init, case.theta_true, 0.0)
 
 
 def test_objective_check_fields_agree_with_their_definitions(hand):
@@ -779,8 +621,6 @@ def test_objective_check_fields_agree_with_their_definitions(hand):
     assert check.em_rmse_deg.shape == (2,) and check.sigma == OUR_SETTINGS["sigma_min"]
     # the climb starts at the floor pose and only goes up
     assert np.all(check.climbed_log_likelihood >= check.floor_log_likelihood - 1e-6)
-    with pytest.raises(ValueError, match="n_trials"):
-        objective_check(hand, 0, rng=5, problem=problem)
 
 
 def test_per_step_schedule_runs_one_iteration_per_falling_sigma(hand):
@@ -791,8 +631,6 @@ def test_per_step_schedule_runs_one_iteration_per_falling_sigma(hand):
     levels = register_em(case.model_points, case.data_points, hand, case.theta_init, **settings)
     np.testing.assert_allclose(per_step.history[:, 0], np.r_[np.geomspace(20.0, 3.0, 5)[:4], np.full(10, 3.0)])
     assert len(levels.history) == 50
-    with pytest.raises(ValueError, match="schedule"):
-        register_em(case.model_points, case.data_points, hand, case.theta_init, schedule="fast")
 
 
 def test_bend_sequence_keeps_the_palm_still_and_the_camera_selects_the_points(hand):
@@ -802,10 +640,6 @@ def test_bend_sequence_keeps_the_palm_still_and_the_camera_selects_the_points(ha
     assert np.all(above.poses[:, 4] == above.poses[0, 4]) and np.ptp(turn.poses[:, 4]) > 0.1
     np.testing.assert_array_equal(above.poses, side.poses)  # same motion, different view
     assert not np.array_equal(above.frames[1], side.frames[1])
-    with pytest.raises(ValueError, match="motion"):
-        make_tracking_sequence(hand, rng=3, n_frames=4, motion="wave")
-    with pytest.raises(ValueError, match="camera"):
-        make_tracking_sequence(hand, rng=3, n_frames=4, camera=np.zeros(2))
 
 
 #: Every public function of the chapter that draws random numbers, with a cheap call that needs only
@@ -832,13 +666,6 @@ def test_drawing_functions_take_rng_keyword_only_without_default(name):
     parameter = inspect.signature(_DRAWING[name][0]).parameters["rng"]
     assert parameter.kind is inspect.Parameter.KEYWORD_ONLY
     assert parameter.default is inspect.Parameter.empty
-
-
-@pytest.mark.parametrize("name", sorted(_DRAWING))
-@pytest.mark.parametrize("bad, error", [("seed", TypeError), (None, TypeError), (1.5, TypeError), (-1, ValueError)])
-def test_drawing_functions_name_rng_in_errors(hand, name, bad, error):
-    with pytest.raises(error, match="^rng "):
-        _DRAWING[name][1](hand, bad)
 
 
 @pytest.mark.parametrize("name", ["e_step_reference", "make_registration_problem", "register_em"])
@@ -903,8 +730,6 @@ def test_robust_log_likelihood_reference_equals_the_streamed_path():
         assert robust_log_likelihood_reference(model, data, sigma) == pytest.approx(
             robust_log_likelihood(model, data, sigma), rel=1e-10)
     assert robust_log_likelihood_reference(model, data + 1e4, 2.0) == pytest.approx(80 * np.log(PAPER_C))
-    with pytest.raises(ValueError, match="sigma"):
-        robust_log_likelihood_reference(model, data, 0.0)
 
 
 def test_fit_surface_eq21_reaches_the_minimum_scipy_finds(hand):
@@ -924,3 +749,86 @@ def test_fit_surface_eq21_reaches_the_minimum_scipy_finds(hand):
     assert np.max(np.abs(ours.theta - peer.x)) < 1e-6
     assert ours.rms_distance == pytest.approx(np.sqrt(np.mean(peer.fun**2)), rel=1e-9)
     assert joint_rmse_deg(ours.theta, start) > 1.0  # the fit moved
+
+
+# ---------------------------------------------------------------- rejections: one table
+# tests/test_bad_input.py already spoils every argument of every public callable (NaN, inf or 1e308
+# inside, empty, wrong shape, a string, None, a bool, zero/negative/float counts, bad probabilities and
+# seeds) and checks that the error names the argument. This table holds what that test cannot see:
+# the rules of the method (joint limits, σ_min < σ_max, posteriors in [0, 1], the documented ±1e6 bounds),
+# unknown names and settings, shapes that depend on another argument, and the rng convention.
+# A call's parameters without a default name the fixtures it needs.
+def _points(hand):
+    """Thirty points on the rest-pose surface, a valid cloud for the calls below."""
+    return hand.sample_surface(hand.rest_pose(), 30, rng=0)
+
+
+def _outside_limits(hand):
+    """The rest pose with one finger joint (DOF 12) bent far past its limit."""
+    theta = hand.rest_pose()
+    theta[12] = 3.0
+    return theta
+
+
+REJECTIONS = [
+    # the hand model's documented bounds: coordinates and pose entries within ±1e6
+    reject("surface_distance points beyond 1e6 mm", lambda hand: hand.surface_distance(
+        np.array([[2e6, 0, 0]]), hand.rest_pose()), ValueError, "points must be at most"),
+    reject("part_transforms theta beyond 1e6", lambda hand: hand.part_transforms(np.full(27, 2e6)),
+           ValueError, "theta must be at most"),
+    reject("dof_lever_arms points for a binding", lambda hand: dof_lever_arms(hand, _points(hand), hand.rest_pose()),
+           TypeError, "binding must be a TextureBinding"),
+    # E- and M-steps (eqs. 17-20)
+    reject("e_step precision half", lambda: e_step_statistics(np.zeros((2, 3)), np.ones((3, 3)), 1.0, 0.0,
+                                                             precision="half"), ValueError, "precision must be one of"),
+    reject("m_step alpha columns differ from the data", lambda: m_step_targets(np.zeros((2, 4)), np.zeros((3, 3))),
+           ValueError, r"alpha must have shape \(n, 3\)"),
+    reject("m_step alpha above 1", lambda: m_step_targets(np.full((2, 3), 1.5), np.zeros((3, 3))),
+           ValueError, r"alpha must hold posteriors in \[0, 1\]"),
+    reject("m_step alpha below 0", lambda: m_step_targets(np.full((2, 3), -0.1), np.zeros((3, 3))),
+           ValueError, r"alpha must hold posteriors in \[0, 1\]"),
+    reject("robust_log_likelihood data beyond 1e6 mm",
+           lambda: robust_log_likelihood(np.zeros((2, 3)), np.full((2, 3), 2e6), 1.0),
+           ValueError, r"data_points must be at most 1e\+06"),
+    reject("robust_log_likelihood_reference sigma 0", lambda: robust_log_likelihood_reference(
+        np.zeros((2, 3)), np.ones((2, 3)), 0.0), ValueError, r"sigma must be in \(0, 1e\+06\]"),
+    # register_em: the annealing schedule, the joint limits, the named options
+    reject("register_em sigma_min above sigma_max", lambda hand: register_em(
+        _points(hand), _points(hand), hand, hand.rest_pose(), 20.0, 30.0),
+        ValueError, "sigma_min must be smaller than sigma_max"),
+    reject("register_em theta_init outside the limits", lambda hand: register_em(
+        _points(hand), _points(hand), hand, _outside_limits(hand), 20.0, 2.0),
+        ValueError, r"theta_init must lie within joint_limits\(\); DOF \[12\]"),
+    reject("register_em targets mean", lambda hand: register_em(
+        _points(hand), _points(hand), hand, hand.rest_pose(), targets="mean"), ValueError, "targets must be one of"),
+    reject("register_em schedule fast", lambda hand: register_em(
+        _points(hand), _points(hand), hand, hand.rest_pose(), schedule="fast"), ValueError, "schedule must be one of"),
+    reject("fit_surface weights beyond 1e6", lambda hand: fit_surface(
+        _points(hand), hand, hand.rest_pose(), weights=np.full(30, 1e7)), ValueError, "weights must be at most"),
+    reject("track_sequence no frames", lambda hand: track_sequence([], hand, hand.rest_pose()),
+           ValueError, "frames must be a non-empty list"),
+    reject("make_tracking_sequence motion wave", lambda hand: make_tracking_sequence(hand, rng=3, n_frames=4,
+                                                                                     motion="wave"),
+           ValueError, "motion must be one of"),
+    # the per-digit search (beyond the paper) and the trial runner that passes its settings on
+    reject("refine_digits theta outside the limits", lambda hand: refine_digits(
+        _points(hand), _points(hand), hand, hand.rest_pose(), np.full(27, 3.0)), ValueError, "theta must lie within"),
+    reject("refine_digits search_levels above n_levels", lambda hand: refine_digits(
+        _points(hand), _points(hand), hand, hand.rest_pose(), hand.rest_pose(), search_levels=6),
+        ValueError, "search_levels must be at most n_levels"),
+    reject("refine_digits targets mean", lambda hand: refine_digits(
+        _points(hand), _points(hand), hand, hand.rest_pose(), hand.rest_pose(), targets="mean"),
+        ValueError, "targets must be one of"),
+    reject("refine_digits unknown setting", lambda hand: refine_digits(
+        _points(hand), _points(hand), hand, hand.rest_pose(), hand.rest_pose(), spread=3), TypeError, "spread"),
+    reject("run_registration_trials unknown digit_search setting", lambda hand: run_registration_trials(
+        hand, 1, rng=0, problem=dict(n_model=100, n_data=100), digit_search=dict(spread=1)), TypeError, "spread"),
+    # the rng convention: errors start with "rng", TypeError for a non-seed, ValueError for a negative seed
+    *[reject(f"{name} rng {bad!r}", lambda hand, draw=draw, bad=bad: draw(hand, bad), error, "^rng ")
+      for name, (_, draw) in sorted(_DRAWING.items()) for bad, error in (("seed", TypeError), (-1, ValueError))],
+]
+
+
+@pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
+def test_rejections(request, call, error, message):
+    check_rejection(request, call, error, message)

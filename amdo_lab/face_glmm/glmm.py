@@ -28,7 +28,7 @@ from scipy import stats
 from scipy.special import expit, xlogy
 
 
-from amdo_lab.common import as_finite_array, check_in_range, check_names, check_positive
+from amdo_lab.common import as_finite_array, check_in_range, check_names
 from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.face_glmm.design import DesignMatrix, build_design, group_indices, parse_formula
 
