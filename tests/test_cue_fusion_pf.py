@@ -115,9 +115,9 @@ def test_ar2_variance_refuses_what_overflows_by_name():
 # --- data and ellipse overlap ------------------------------------------------------------------
 
 def test_head_sequence_layout(sequence):
-    assert sequence.frames.shape == (128, 192, 256, 3) and sequence.frames.dtype == np.uint8
-    assert sequence.truth.shape == (128, 3) and sequence.true_ellipses.shape == (128, 5)
-    assert list(sequence.segments) == ["calm", "lighting", "distractor", "agile"]
+    assert sequence.frames.shape == (164, 192, 256, 3) and sequence.frames.dtype == np.uint8
+    assert sequence.truth.shape == (164, 3) and sequence.true_ellipses.shape == (164, 5)
+    assert list(sequence.segments) == ["calm", "lighting", "distractor", "turned away", "agile"]
     assert sequence.segments["lighting"] == (29, 81)
     assert np.all(sequence.segment_of_frames() != None)  # noqa: E711  every frame has a segment
     assert np.all((sequence.truth[:, 0] > 30) & (sequence.truth[:, 0] < 226))

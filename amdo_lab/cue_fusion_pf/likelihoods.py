@@ -10,13 +10,13 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_positive, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 
 __all__ = [
-    "CalibrationResult", "ColorLikelihood", "EdgeLikelihood", "MAX_CLUTTER_DENSITY", "MAX_DISTANCE", "MAX_PIXELS", "PAPER_SIGMAS", "SIGMA_RANGE", "bhattacharyya",
+    "COLOR_SPACES", "CalibrationResult", "ColorLikelihood", "EdgeLikelihood", "MAX_CLUTTER_DENSITY", "MAX_DISTANCE", "MAX_PIXELS", "PAPER_SIGMAS", "SIGMA_RANGE", "bhattacharyya",
     "calibrate_sigma", "check_frame", "check_shape_space", "edge_line_likelihood", "fused_log_likelihood",
-    "kernel_histogram", "simulate_measurement_lines",
+    "kernel_histogram", "simulate_measurement_lines", "to_color_space",
 ]
 
 #: Table 1's standard deviations of the colour and structure likelihoods.
@@ -101,6 +101,37 @@ def bin_index_image(frame: np.ndarray, bins: int) -> np.ndarray:
     else:
         q = frame.astype(np.int32) * bins // 256
     return (q[..., 0] * bins + q[..., 1]) * bins + q[..., 2]
+
+
+COLOR_SPACES = ("rgb", "hsv")
+
+
+def to_color_space(frame: np.ndarray, color_space: str) -> np.ndarray:
+    """The frame in the colour space whose channels the histogram bins: RGB as given, or HSV.
+
+    Parameters
+    ----------
+    frame : numpy.ndarray
+        (H, W, 3) uint8 RGB image.
+    color_space : str
+        ``"rgb"`` (returned unchanged) or ``"hsv"`` (OpenCV's full-range HSV: hue, saturation and
+        value each on 0-255).
+
+    Returns
+    -------
+    numpy.ndarray
+        (H, W, 3) uint8 image.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eq. (8) (bins in RGB); Pérez et al., ECCV 2002 (HSV bins), an ablation.
+    """
+    color_space = check_choice(color_space, "color_space", COLOR_SPACES)
+    if color_space == "rgb":
+        return frame
+    import cv2
+
+    return cv2.cvtColor(np.ascontiguousarray(frame, dtype=np.uint8), cv2.COLOR_RGB2HSV_FULL)
 
 
 def kernel_histogram(frame: np.ndarray, ellipse: np.ndarray, bins: int = 32) -> np.ndarray:
@@ -189,6 +220,9 @@ class ColorLikelihood:
     stride : float
         Spacing of the sample grid in pixels at scale 1 (see Notes), > 0 and small enough to leave
         a grid point inside the template's ellipse (at most about its smaller semi-axis).
+    color_space : str
+        ``"rgb"`` (the paper) or ``"hsv"`` (the frames converted by :func:`to_color_space` before
+        binning; an ablation).
 
     Notes
     -----
@@ -203,15 +237,17 @@ class ColorLikelihood:
     """
 
     def __init__(self, shape_space: ShapeSpace, reference_frame: np.ndarray, reference_state: np.ndarray, *,
-                 bins: int = 32, sigma: float = 5.0, stride: float = 2.0):
+                 bins: int = 32, sigma: float = 5.0, stride: float = 2.0, color_space: str = "rgb"):
         self.shape_space = check_shape_space(shape_space)
         self.bins = _check_bins(bins)
         self.sigma = check_in_range(sigma, "sigma", *SIGMA_RANGE, closed="both")
         self.stride = check_positive(stride, "stride")
+        self.color_space = check_choice(color_space, "color_space", COLOR_SPACES)
         reference_frame = check_frame(reference_frame, "reference_frame")
         reference_state = as_finite_array(reference_state, "reference_state", shape=(shape_space.state_dim,),
                                           max_abs=MAX_PIXELS)
-        self.target = kernel_histogram(reference_frame, shape_space.ellipses(reference_state)[0], self.bins)
+        self.target = kernel_histogram(to_color_space(reference_frame, self.color_space),
+                                       shape_space.ellipses(reference_state)[0], self.bins)
         support = np.flatnonzero(self.target)
         self._sqrt_target = np.sqrt(self.target[support])
         # lookup: bin -> position in the target's support, or len(support) for "any other bin"
@@ -252,7 +288,7 @@ class ColorLikelihood:
         ys = np.rint(ellipses[:, 1:2] + u * sin + v * cos).astype(np.int32)
         on_frame = (xs >= 0) & (xs < width) & (ys >= 0) & (ys < height)
         support = self._sqrt_target.size
-        compact = self._lookup[bin_index_image(frame, self.bins)]
+        compact = self._lookup[bin_index_image(to_color_space(frame, self.color_space), self.bins)]
         # off-frame points go to the "other bins" slot: they lower ρ as missing colour would
         slot = np.where(on_frame, compact[np.clip(ys, 0, height - 1), np.clip(xs, 0, width - 1)], support)
         flat = slot + (support + 1) * np.arange(n)[:, None]

@@ -10,17 +10,17 @@ import numpy as np
 
 from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
-from amdo_lab.cue_fusion_pf.likelihoods import MAX_PIXELS, PAPER_SIGMAS, SIGMA_RANGE, ColorLikelihood, EdgeLikelihood
+from amdo_lab.cue_fusion_pf.likelihoods import COLOR_SPACES, MAX_PIXELS, PAPER_SIGMAS, SIGMA_RANGE, ColorLikelihood, EdgeLikelihood
 from amdo_lab.cue_fusion_pf.shape import SHAPE_KINDS, ShapeSpace
 from amdo_lab.cue_fusion_pf.structure import CASCADE_SEED, StructureLikelihood, load_or_train_cascade
 
-__all__ = ["CALIBRATED_SIGMAS", "CUES", "TRACK_DEFAULTS", "TrackResult", "as_ellipse", "build_cues", "calibration_distances",
+__all__ = ["CALIBRATED_SIGMAS", "CUES", "FUSIONS", "TRACK_DEFAULTS", "TrackResult", "as_ellipse", "build_cues", "calibration_distances",
            "check_cues", "check_frames", "check_state_spread", "default_dynamics", "resolve_sigmas", "shape_space_of",
            "systematic_resample", "track"]
 
 CUES = ("color", "edge", "structure", "oracle")
 #: σ_c and σ_s chosen by :func:`calibrate_sigma` on held-out "fusion" seeds (seeds 100-104, rng=0, every 4th frame; the tests re-run it).
-CALIBRATED_SIGMAS = {"color": 0.066, "structure": 0.238}
+CALIBRATED_SIGMAS = {"color": 0.075, "structure": 0.271}
 FRAME_PERIOD = 1.0 / 25.0
 #: Particles smaller or larger than these multiples of the template get weight 0 (not a head on the frame).
 MIN_SCALE, MAX_SCALE = 0.1, 10.0
@@ -33,7 +33,9 @@ _SIMILARITY_DEFAULTS = {"beta": (2.0, 2.0, 10.0, 10.0), "stationary_std": (100.0
 TRACK_DEFAULTS = {"shape": "translation_scale", "bins": 32, "stride": 2.0, "n_lines": 40, "half_length": 12, "p0": 0.2,
                   "sigma_e": float(np.sqrt(2.0)), "threshold": 6.0, "beta": (2.0, 2.0, 10.0),
                   "stationary_std": STATIONARY_STD, "printed_order": False, "oracle": None,
-                  "init_spread": (2.0, 2.0, 0.02), "mean": None}
+                  "init_spread": (2.0, 2.0, 0.02), "mean": None, "color_space": "rgb", "fusion": "product"}
+#: How :func:`track` combines the cues: eq. (6)'s product, or one cue after the other with resampling between them.
+FUSIONS = ("product", "layered")
 
 
 @dataclass
@@ -357,7 +359,7 @@ def build_cues(cues: Sequence[str], space: ShapeSpace, first_frame: np.ndarray, 
     for name in cues:
         if name == "color":
             built[name] = ColorLikelihood(space, first_frame, start, bins=params["bins"], sigma=sigmas["color"],
-                                          stride=params["stride"])
+                                          stride=params["stride"], color_space=params["color_space"])
         elif name == "structure":
             built[name] = StructureLikelihood(space, load_or_train_cascade(rng=CASCADE_SEED), sigma=sigmas["structure"])
         elif name == "edge":
@@ -392,7 +394,10 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
     **params
         bins, stride (colour); n_lines, half_length, p0, sigma_e, threshold (edges); beta,
         stationary_std, printed_order, mean (dynamics; mean is the state X̄ the AR(2) returns to,
-        default the initial state); init_spread (std of the initial particles); shape, the shape
+        default the initial state); init_spread (std of the initial particles); color_space
+        (``"rgb"``, the paper, or ``"hsv"``); fusion (``"product"``, eq. 6, or ``"layered"``: the
+        particles are weighed by one cue at a time, in the order of ``cues``, and resampled between
+        cues, as the sequential schemes of the paper's refs. [6]-[7]); shape, the shape
         space of eq. (3): ``"translation_scale"`` (head) or ``"similarity"`` (walker; beta,
         stationary_std and init_spread then default to four entries, the scale's value repeated for
         s_s); defaults in :data:`TRACK_DEFAULTS`, ranges in :class:`ColorLikelihood`,
@@ -417,6 +422,8 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
     sigma_table = resolve_sigmas(sigmas)
     init_spread = check_state_spread(options["init_spread"], "init_spread", state_dim=state_dim)
     stationary_std = check_state_spread(options["stationary_std"], "stationary_std", state_dim=state_dim)
+    layered = check_choice(options["fusion"], "fusion", FUSIONS) == "layered"
+    check_choice(options["color_space"], "color_space", COLOR_SPACES)
     if "oracle" in cues and not callable(options["oracle"]):
         raise ValueError("cues include 'oracle' but no oracle=callable(t, states) was given")
     generator = make_rng(rng, "rng")
@@ -427,10 +434,11 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
     dynamics = default_dynamics(mean, beta=options["beta"], stationary_std=stationary_std,
                                 printed_order=options["printed_order"])
     oracle: Callable | None = options["oracle"] if "oracle" in cues else None
-    return _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles, init_spread, generator)
+    return _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles, init_spread, generator, layered)
 
 
-def _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles, init_spread, generator) -> TrackResult:
+def _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles, init_spread, generator,
+                layered: bool = False) -> TrackResult:
     n_frames = len(frames)
     began = time.perf_counter()
     # The loop approximates the Bayesian recursion by Monte Carlo: moving the particles through the
@@ -454,9 +462,18 @@ def _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles
         if not valid.any():
             raise RuntimeError(f"the filter diverged at frame {k}: no particle has a finite state of a plausible size "
                                "(unstable dynamics?)")
+        cues = list(cue_objects.values())
+        if layered:  # all cues but the last: weigh by that cue alone, then resample (a layer)
+            for cue in cues[:-1]:
+                layer_weights = np.full(n_particles, -np.inf)
+                layer_weights[valid] = cue.log_likelihood(frames[k], current[valid])
+                layer_weights = np.exp(layer_weights - layer_weights.max())
+                chosen = systematic_resample(layer_weights / layer_weights.sum(), generator.random())
+                current, previous, valid = current[chosen], previous[chosen], valid[chosen]
+            cues = cues[-1:]
         log_weights = np.full(n_particles, -np.inf)
         log_weights[valid] = 0.0
-        for cue in cue_objects.values():
+        for cue in cues:
             log_weights[valid] += cue.log_likelihood(frames[k], current[valid])
         if oracle is not None:
             log_weights[valid] += oracle(k, current[valid])
