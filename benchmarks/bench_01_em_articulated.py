@@ -142,8 +142,8 @@ def e_step_table(bench: Benchmark, hand) -> None:
     from threadpoolctl import threadpool_limits
 
     from amdo_lab.em_articulated import PAPER_C, e_step_statistics, e_step_statistics_kdtree, make_registration_problem
-    # No public name exposes the pair-share estimate and the dense/k-d tree switch register_em uses.
-    from amdo_lab.em_articulated.registration import _DENSE_PAIR_FRACTION, _ClosePairs
+    # Not exported by the subpackage: the pair-share estimate and the dense/k-d tree switch register_em uses.
+    from amdo_lab.em_articulated.registration import DENSE_PAIR_FRACTION, ClosePairs
 
     problem = make_registration_problem(hand, rng=0, joint_error_deg=0.0, noise_mm=2.0, outlier_ratio=1.0)
     model, data = problem.model_points, problem.data_points
@@ -154,7 +154,7 @@ def e_step_table(bench: Benchmark, hand) -> None:
     with threadpool_limits(1):
         for sigma in (20.0, 8.0, 3.0):
             log_c = np.log(PAPER_C)
-            share = _ClosePairs(data).pair_fraction(model, 4 * sigma)
+            share = ClosePairs(data).pair_fraction(model, 4 * sigma)
             single = _per_call_ms(bench, lambda: e_step_statistics(model, data, sigma, log_c))
             double = _per_call_ms(bench, lambda: e_step_statistics(model, data, sigma, log_c, precision="double"))
             tree = _per_call_ms(bench, lambda: e_step_statistics_kdtree(model, data, sigma, log_c))
@@ -168,7 +168,7 @@ def e_step_table(bench: Benchmark, hand) -> None:
 
             peer_e = _per_call_ms(bench, peer_registration.expectation)
             peer_iter = _per_call_ms(bench, peer_iteration)
-            ours, name = (single, "f32") if share > _DENSE_PAIR_FRACTION else (tree, "tree")
+            ours, name = (single, "f32") if share > DENSE_PAIR_FRACTION else (tree, "tree")
             table.add(round(sigma, 1), round(share, 2), round(single, 1), round(double, 1), round(tree, 1),
                       round(peer_e, 1), round(peer_iter, 1), name, round(peer_iter / ours, 1))
 

@@ -99,7 +99,6 @@ def noise_seeds(bench: Benchmark, pairs: list[str], seeds: list[int], cat_iterat
     table = bench.table("pair", "seed", "true warp", "CAT res", "SOR res", "CAT-SOR", "CAT RMSE", "SOR RMSE",
                         title=f"CAT {cat_iterations} iterations, SOR {sor_iterations}x{sor_sweeps}; residual = mean "
                               "|deformed - study| in grey levels, RMSE = displacement error on the mask in pixels")
-    summary = []
     for name in pairs:
         differences = []
         for seed in seeds:

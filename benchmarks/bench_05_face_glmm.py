@@ -61,7 +61,7 @@ def main() -> None:
     random = ["t", "p", "t:p"]
     use_lme4 = not args.no_lme4 and fg.lme4_available()
     report = bench.table("table", "rows", "t:p cells", "ours s", "lme4 s", "ratio", "max|dcoef|", "max rel dvar",
-                         "dev ours", "dev lme4",
+                         "dev ours", "dev lme4", "lower dev",
                          title="seconds: wall clock / CPU (user + system), ours the best of --repeats; "
                                "ratio = lme4 / ours, on CPU seconds")
     for name in args.tables:
@@ -77,16 +77,17 @@ def main() -> None:
         line = [name, len(table), cells, f"{ours_s:.2f}/{ours_cpu:.2f}"]
         if use_lme4:
             peer = fg.fit_with_lme4(table, formula, random, 30)
-            coef = np.max(np.abs(fit.coefficients.to_numpy() - peer["coefficients"].to_numpy()))
-            rel = max(abs(fit.variance_components[k] / peer["variance_components"][k] - 1) for k in random)
+            coef = np.max(np.abs(fit.coefficients.to_numpy() - peer.estimate.to_numpy()))
+            rel = max(abs(fit.variance_components[k] / peer.variance_components[k] - 1) for k in random)
             sds = [[np.sqrt(fit.variance_components[k]) for k in random],
-                   [np.sqrt(peer["variance_components"][k]) for k in random]]
+                   [np.sqrt(peer.variance_components[k]) for k in random]]
             dev_ours, dev_lme4 = fg.laplace_deviance(table, formula, random, sds, 30)
-            lme4_s = f"{peer['seconds']:.2f}/{peer['cpu_seconds']:.2f}"
-            line += [lme4_s, round(peer["cpu_seconds"] / ours_cpu, 1), f"{coef:.1e}", f"{rel:.1e}",
-                     round(float(dev_ours), 4), round(float(dev_lme4), 4)]
+            lme4_s = f"{peer.seconds:.2f}/{peer.cpu_seconds:.2f}"
+            line += [lme4_s, round(peer.cpu_seconds / ours_cpu, 1), f"{coef:.1e}", f"{rel:.1e}",
+                     f"{float(dev_ours):.4f}", f"{float(dev_lme4):.4f}",
+                     "ours" if dev_ours <= dev_lme4 else "lme4"]
         else:
-            line += ["(lme4 not run)"] + [""] * 5
+            line += ["(lme4 not run)"] + [""] * 6
         report.add(*line)
         print(f"table {name} done", flush=True)
     bench.finish()

@@ -1,24 +1,29 @@
 """Chapter 6 benchmark: cue subsets × seeds on the "fusion" head sequence, peers and speed (Li & Chaumette 2004).
 
 For every seed (a new sequence and a new filter seed) and every non-empty subset of the three cues,
-the filter of Fig. 1 (N = 300, calibrated σ) tracks the 128 frames; a frame is a success when the
+the filter of Fig. 1 (N = 300, calibrated σ) tracks the 164 frames; a frame is a success when the
 tracked ellipse overlaps the true one with IoU >= 0.5. Table 1, per method: the median seed's
 success rate, the pooled rate with its Wilson interval, the median centre error on tracked frames,
 and milliseconds per frame. Table 2: the paired Wilcoxon test of all three cues against each single
-cue on per-seed success. Then the oracle filter's centre error (same filter, true likelihood).
+cue on per-seed success. Then the oracle filter's centre error (same filter, true likelihood). Table 3: success per segment of the
+sequence (each segment defeats one cue: lighting colour, turned away structure, agile edges).
 
 Peers on the same frames: cv2.CamShift, cv2.TrackerMIL (not seedable: its runs vary a little), and our
 three-cue likelihood inside the generic pfilter package (linear weights exp(log L - max log L), numpy's
 global generator seeded per run). ``--lighting`` instead measures Fig. 3: colour-only success on the
-lighting frames against the size of the colour cast. Ablations: ``--sigmas paper`` (Table 1's σ),
+lighting frames against the size of the colour cast. ``--kind lighting|turn|edges`` runs the same
+tables on the sequences of Figs. 3, 4 and 2 (e.g. ``--kind turn --subsets structure,color+edge+structure``). Ablations: ``--sigmas paper`` (Table 1's σ),
 ``--bins 8`` (colour histogram), ``--printed-ar2`` (eq. 4 as printed; a diverged run counts as lost),
-``--particles``.
+``--particles``, ``--color-space hsv``, ``--stride 1`` (the colour histogram over every pixel instead
+of a grid of every other pixel), ``--fusion layered`` (one cue at a time, resampling between them, in
+the order given by ``--subsets``).
 
 Times are each run's own wall clock per frame (one BLAS thread, benchmarks/_harness.py), median over
 seeds; ``--repeats`` is not used (every run is a different seeded problem). ``--json PATH`` writes the tables.
 
 Run:  .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --seeds 20        (about 15-25 min)
       .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --lighting --seeds 4 [--bins 8]
+      .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --walker --seeds 20   (Fig. 6, about 5 min)
 """
 
 from __future__ import annotations
@@ -43,15 +48,25 @@ def main() -> None:
     bench = Benchmark(__doc__, seed=0)
     parser = bench.parser
     parser.add_argument("--seeds", type=int, default=20, help="number of sequences/seeds from --seed (default 20)")
+    parser.add_argument("--kind", choices=("fusion", "lighting", "turn", "edges"), default="fusion",
+                        help="head sequence kind (default fusion; lighting: Fig. 3, turn: Fig. 4, edges: Fig. 2)")
     parser.add_argument("--particles", type=int, default=300, help="N_w (default 300)")
     parser.add_argument("--sigmas", choices=("calibrated", "paper"), default="calibrated")
     parser.add_argument("--subsets", default="all", help="'all' (7 subsets) or e.g. 'color+edge,structure'")
     parser.add_argument("--bins", type=int, default=32, help="colour histogram bins per channel (default 32, Table 1)")
     parser.add_argument("--printed-ar2", action="store_true", help="eq. (4) as printed (unstable) in our filter")
+    parser.add_argument("--color-space", choices=("rgb", "hsv"), default="rgb", help="colour histogram space (default rgb)")
+    parser.add_argument("--stride", type=float, default=2.0,
+                        help="colour sample grid spacing, px (default 2: sampled; 1: every pixel, the exact histogram)")
+    parser.add_argument("--fusion", choices=("product", "layered"), default="product",
+                        help="eq. (6)'s product, or one cue at a time with resampling between (order of --subsets)")
     parser.add_argument("--no-slow-peers", action="store_true", help="skip TrackerMIL and pfilter")
     parser.add_argument("--lighting", action="store_true", help="Fig. 3: colour only against the cast strength")
+    parser.add_argument("--walker", action="store_true", help="Fig. 6: colour + edges on the walker sequence")
     args = bench.parse()
-    if args.lighting:
+    if args.walker:
+        walker_runs(bench, args)
+    elif args.lighting:
         lighting_sweep(bench, args)
     else:
         subsets_and_peers(bench, args)
@@ -76,14 +91,15 @@ def subsets_and_peers(bench: Benchmark, args) -> None:
     ms = {name: [] for name in names}
     cf.load_or_train_cascade(rng=cf.CASCADE_SEED)  # train (or load) before timing
     for seed in range(args.seed, args.seed + args.seeds):
-        sequence = cf.make_head_sequence("fusion", rng=seed)
+        sequence = cf.make_head_sequence(args.kind, rng=seed)
         init = sequence.true_ellipses[0]
         runs = {}
         for subset in subsets:
             try:
                 runs["+".join(subset)] = cf.track(sequence.frames, init, rng=10_000 + seed, cues=subset,
                                                   n_particles=args.particles, sigmas=args.sigmas, bins=args.bins,
-                                                  printed_order=args.printed_ar2)
+                                                  printed_order=args.printed_ar2, color_space=args.color_space,
+                                                  stride=args.stride, fusion=args.fusion)
             except RuntimeError as error:  # a diverging filter (eq. 4 as printed) counts as lost on every frame
                 bench.note(f"seed {seed}, {'+'.join(subset)}: {error}")
                 lost = np.full((len(sequence.frames), 5), [0.0, 0.0, 1.0, 1.0, 0.0])
@@ -105,13 +121,20 @@ def subsets_and_peers(bench: Benchmark, args) -> None:
         print(f"seed {seed}: " + "  ".join(f"{n}={np.mean(success[n][-1]):.2f}" for n in names), flush=True)
 
     table = bench.table("method", "median seed", "pooled rate", "95 % low", "95 % high", "median err px", "ms/frame",
-                        title=f"'fusion' sequence, {args.seeds} seeds, N = {args.particles}, sigmas = {args.sigmas}, "
-                              f"{args.bins}^3 bins{', eq. (4) as printed' if args.printed_ar2 else ''}")
+                        title=f"'{args.kind}' sequence, {args.seeds} seeds, N = {args.particles}, sigmas = {args.sigmas}, "
+                              f"{args.bins}^3 {args.color_space} bins, stride {args.stride:g}, {args.fusion} fusion"
+                              f"{', eq. (4) as printed' if args.printed_ar2 else ''}")
     for name in names:
         pooled = rate_interval(np.concatenate(success[name]))
         table.add(name, round(float(np.median([s.mean() for s in success[name]])), 3), round(pooled.rate, 3),
                   round(pooled.low, 3), round(pooled.high, 3), round(finite_median(errors[name]), 2),
                   round(finite_median(ms[name]), 1))
+    segments = cf.make_head_sequence(args.kind, rng=args.seed).segments
+    per_segment = bench.table("method", *segments, title="success per segment, pooled over seeds: rate [95 % Wilson interval]")
+    for name in names:
+        pooled = np.stack(success[name])
+        cells = [rate_interval(pooled[:, start:stop].ravel()) for start, stop in segments.values()]
+        per_segment.add(name, *(f"{r.rate:.2f} [{r.low:.2f}, {r.high:.2f}]" for r in cells))
     best = "+".join(CUES)
     if best in success and args.seeds >= 6 and any(c in success for c in CUES):
         tests = bench.table("three cues vs", "median difference", "one-sided Wilcoxon p",
@@ -151,6 +174,44 @@ def lighting_sweep(bench: Benchmark, args) -> None:
         c, t = rate_interval(np.concatenate(colour)), rate_interval(np.concatenate(three))
         table.add(strength, round(c.rate, 3), round(c.low, 3), round(c.high, 3), round(t.rate, 3))
         print(f"cast {strength}: colour {c.rate:.3f}, three cues {t.rate:.3f}", flush=True)
+
+
+def walker_runs(bench: Benchmark, args) -> None:
+    """Fig. 6: colour (16^3 bins) + edges (N_e = 70) in the similarity space on the walker, per segment, and speed."""
+    import numpy as np
+
+    from amdo_lab import cue_fusion_pf as cf
+    from amdo_lab.common import rate_interval
+
+    success, per_seed, fps, recovered = {name: [] for name in cf.WALKER_SEGMENTS}, [], [], []
+    disturbed_then_back = []  # per seed tracked just before the burst and lost in it: back on the last 10 frames?
+    for seed in range(args.seed, args.seed + args.seeds):
+        sequence = cf.make_walker_sequence(rng=seed)
+        result = cf.track(sequence.frames, sequence.template, rng=10_000 + seed, cues=("color", "edge"), bins=16,
+                          n_lines=70, shape="similarity", n_particles=args.particles, sigmas=args.sigmas)
+        tracked = cf.box_iou(sequence.shape_space().control_points(result.states), sequence.true_control_points) >= 0.5
+        for name, (start, stop) in sequence.segments.items():
+            success[name].append(tracked[start:stop])
+        per_seed.append(tracked.mean())
+        fps.append(1000.0 / result.ms_per_frame)
+        start, stop = sequence.segments["clutter"]
+        recovered.append(bool(tracked[-10:].all()))
+        if tracked[start - 1] and not tracked[start:stop].all():
+            disturbed_then_back.append(recovered[-1])
+        print(f"seed {seed}: success {tracked.mean():.2f}, clutter {tracked[start:stop].mean():.2f}, "
+              f"last 10 frames {'tracked' if recovered[-1] else 'lost'}, {fps[-1]:.1f} frames/s", flush=True)
+    table = bench.table("segment", "frames", "pooled rate", "95 % low", "95 % high",
+                        title=f"Fig. 6 walker, {args.seeds} seeds, colour + edges, N = {args.particles}, "
+                              f"sigmas = {args.sigmas}: box IoU >= 0.5")
+    for name, outcomes in success.items():
+        pooled = rate_interval(np.concatenate(outcomes))
+        table.add(name, pooled.trials, round(pooled.rate, 3), round(pooled.low, 3), round(pooled.high, 3))
+    ends = rate_interval(np.array(recovered))
+    bench.note(f"median seed success {np.median(per_seed):.3f}; seeds tracked on all of the last 10 frames: "
+               f"{ends.successes}/{ends.trials} (95 % {ends.low:.2f}-{ends.high:.2f}); "
+               f"median speed {np.median(fps):.1f} frames/s (paper: about 9 Hz)")
+    bench.note(f"seeds tracked on the frame before the burst and lost during it: {len(disturbed_then_back)}; "
+               f"of these tracked on all of the last 10 frames: {sum(disturbed_then_back)}")
 
 
 if __name__ == "__main__":

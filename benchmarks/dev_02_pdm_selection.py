@@ -51,12 +51,12 @@ BASELINES = {"single Cartesian PDM": ("SingleCartesianPDMClassifier", {}),  # cl
 def held_out_study(bench: Benchmark) -> None:
     """Held-out log-likelihood (nats per shape) of each class's polar-PDM mixture, per setting."""
     from amdo_lab import pdm_mixtures as pm
-    from amdo_lab.common import spawn_rngs as _spawn
+    from amdo_lab.common import spawn_rngs
 
     settings = {"M=1": dict(n_components=1), "M=2 (ours)": dict(n_components=2), "M=3": dict(n_components=3),
                 "M=2, ridge 1e-2": dict(n_components=2, shape_ridge=1e-2),
                 "M=2, ridge 1e-1": dict(n_components=2, shape_ridge=1e-1)}
-    train = pm.generate_pose_dataset(pm.TABLE1_CLASSES, 20, rng=_spawn(2004, 4)[0])
+    train = pm.generate_pose_dataset(pm.TABLE1_CLASSES, 20, rng=spawn_rngs(2004, 4)[0])
     recogniser = pm.ArticulatedShapeRecogniser(rng=0).fit(train.shapes, train.labels)
     polar = pm.polar_shape_vector(recogniser.align(train.shapes))
     table = bench.table("class", *settings, "preferred",
@@ -75,9 +75,9 @@ def em_restarts_study(bench: Benchmark, n_starts: int = 12) -> None:
     from sklearn.metrics import adjusted_rand_score
 
     from amdo_lab import pdm_mixtures as pm
-    from amdo_lab.common import spawn_rngs as _spawn
+    from amdo_lab.common import spawn_rngs
 
-    train = pm.generate_pose_dataset(pm.TABLE1_CLASSES, 20, rng=_spawn(2004, 4)[0])
+    train = pm.generate_pose_dataset(pm.TABLE1_CLASSES, 20, rng=spawn_rngs(2004, 4)[0])
     recogniser = pm.ArticulatedShapeRecogniser(rng=0).fit(train.shapes, train.labels)
 
     def run_em(scaled: np.ndarray, partition: np.ndarray) -> pm.GaussianMixtureResult:

@@ -6,9 +6,10 @@ import warnings
 
 import numpy as np
 import pytest
+from rejections import check_rejection, reject
 
 from amdo_lab import cat_fluid as cf
-from amdo_lab.cat_fluid.registration import sample_bilinear
+from amdo_lab.cat_fluid.registration import MAX_GREY_LEVEL, check_registration_images, sample_bilinear
 from amdo_lab.common import make_rng
 
 LAM, MU = 1.0, 5.0
@@ -54,15 +55,6 @@ def test_coboundary_of_a_one_cochain_is_its_circulation():
     circulation = mid[:, 0] * step[:, 1] - mid[:, 1] * step[:, 0]
     # the square's orientation is counter-clockwise in the (axis 1, axis 0) plane: curl -2 per unit area
     np.testing.assert_allclose(complex_.coboundary(1) @ circulation, -2.0)
-
-
-def test_complex_rejects_bad_shapes():
-    with pytest.raises(ValueError, match="shape"):
-        cf.CubicalComplex((4,))
-    with pytest.raises(ValueError, match="shape"):
-        cf.CubicalComplex((1, 4))
-    with pytest.raises(ValueError, match="q must be"):
-        cf.CubicalComplex((3, 3)).boundary(3)
 
 
 # --- the stencil (Sec. 4, eqs. 8-15) ---------------------------------------------------------
@@ -145,29 +137,12 @@ def test_printed_stencil_fails_the_consistency_checks():
     assert not np.allclose(cf.rotate_stencil(printed), printed)
 
 
-@pytest.mark.parametrize("lam, mu, message", [(-1.0, 5.0, "lam"), (1.0, -5.0, "mu"), (np.nan, 5.0, "lam"),
-                                               (1.0, np.inf, "mu")])
-def test_stencil_rejects_negative_or_non_finite_moduli(lam, mu, message):
-    with pytest.raises(ValueError, match=message):
-        cf.fluid_stencil(lam, mu)
-    with pytest.raises(ValueError, match=message):
-        cf.finite_difference_symbol((8, 8), lam, mu)
-
-
-def test_stencil_symbol_of_the_printed_stencil_and_its_checks():
+def test_stencil_symbol_of_the_printed_stencil():
     """At ω = 0 the symbol is the sum of the nine blocks: the force on a uniform velocity."""
     printed = cf.printed_stencil(LAM, MU)
     symbol = cf.stencil_symbol(printed, (8, 8))
     np.testing.assert_allclose(symbol[:, :, 0, 0], cf.stencil_blocks(printed).sum(axis=0))
     np.testing.assert_allclose(cf.stencil_symbol(cf.fluid_stencil(LAM, MU), (8, 8))[:, :, 0, 0], 0.0, atol=1e-12)
-    lopsided = cf.fluid_stencil(LAM, MU)
-    lopsided[0, 2] += 1.0  # neighbour (0, 1) only: no longer centro-symmetric
-    with pytest.raises(ValueError, match="centro-symmetric"):
-        cf.stencil_symbol(lopsided, (8, 8))
-    with pytest.raises(ValueError, match="shape"):
-        cf.stencil_symbol(printed, (8,))
-    with pytest.raises(ValueError, match="stencil"):
-        cf.stencil_symbol(printed[:, :9], (8, 8))
 
 
 def test_periodic_stencil_conserves_momentum_and_matches_its_symbol():
@@ -234,29 +209,6 @@ def test_sor_error_shrinks_with_sweeps_and_warm_start_continues():
     assert errors[0] > errors[1] > errors[2]
     warm = cf.sor_solve(force, LAM, MU, n_sweeps=60, initial=cf.sor_solve(force, LAM, MU, n_sweeps=20))
     assert np.linalg.norm(warm - exact) < errors[1]
-
-
-def test_apply_finite_difference_validates_its_inputs():
-    with pytest.raises(ValueError, match="velocity"):
-        cf.apply_finite_difference(np.zeros((3, 8, 8)), LAM, MU)
-    with pytest.raises(ValueError, match="finite"):
-        cf.apply_finite_difference(np.full((2, 8, 8), np.nan), LAM, MU)
-    with pytest.raises(ValueError, match="lam"):
-        cf.apply_finite_difference(np.zeros((2, 8, 8)), -1.0, MU)
-
-
-def test_sor_rejects_bad_settings():
-    force = np.zeros((2, 8, 8))
-    with pytest.raises(ValueError, match="omega"):
-        cf.sor_solve(force, LAM, MU, omega=2.0)
-    with pytest.raises(ValueError, match="ordering"):
-        cf.sor_solve(force, LAM, MU, ordering="lexicographic")
-    with pytest.raises(ValueError, match="even"):
-        cf.sor_solve(np.zeros((2, 7, 8)), LAM, MU)
-    with pytest.raises(ValueError, match="mu"):
-        cf.solve_velocity(force, "fft", LAM, 0.0)
-    with pytest.raises(ValueError, match="method"):
-        cf.solve_velocity(force, "multigrid")
 
 
 # --- registration pieces -----------------------------------------------------------------
@@ -377,96 +329,11 @@ def test_grey_level_difference_in_a_mask():
     image, reference = np.arange(16.0).reshape(4, 4), np.zeros((4, 4))
     mask = image >= 8
     assert cf.grey_level_difference(image, reference, mask) == (pytest.approx(11.5), pytest.approx(np.std(np.arange(8.0, 16))))
-    with pytest.raises(TypeError, match="mask must be a boolean array"):
-        cf.grey_level_difference(image, reference, mask.astype(int))
-    with pytest.raises(ValueError, match="at least one pixel"):
-        cf.grey_level_difference(image, reference, np.zeros((4, 4), bool))
-    with pytest.raises(ValueError, match="scale"):
-        cf.grey_level_difference(image, reference, scale=-255)
 
 
-def test_displacement_measures_validate_the_mask():
+def test_displacement_rmse_in_a_mask():
     zero, one = np.zeros((2, 4, 4)), np.ones((2, 4, 4))
     assert cf.displacement_rmse(zero, one, np.eye(4, dtype=bool)) == pytest.approx(np.sqrt(2))
-    for bad, error, message in [(np.eye(4), TypeError, "boolean"), (np.ones((3, 3), bool), ValueError, "shape"),
-                                (np.zeros((4, 4), bool), ValueError, "at least one")]:
-        with pytest.raises(error, match=message):
-            cf.displacement_rmse(zero, one, bad)
-        with pytest.raises(error, match=message):
-            cf.inverse_consistency_error(zero, one, bad)
-
-
-# --- bad input ---------------------------------------------------------------------------
-
-@pytest.fixture(scope="module")
-def small_images():
-    rng = make_rng(6)
-    return rng.random((16, 16)), rng.random((16, 16))
-
-
-@pytest.mark.parametrize("change, message", [
-    (lambda t, s: (t, s[:, :-2]), "same shape"),
-    (lambda t, s: (t[None], s), "template must have shape"),
-    (lambda t, s: (t, s.ravel()), "study must have shape"),
-    (lambda t, s: (np.where(t > 0.9, np.nan, t), s), "finite"),
-    (lambda t, s: (t, np.where(s > 0.9, np.inf, s)), "finite"),
-    (lambda t, s: (np.full_like(t, 0.3), s), "template is constant"),
-    (lambda t, s: (t, np.zeros_like(s)), "study is constant"),
-])
-def test_register_fluid_rejects_bad_images(small_images, change, message):
-    template, study = change(*small_images)
-    with pytest.raises(ValueError, match=message):
-        cf.register_fluid(template, study)
-
-
-@pytest.mark.parametrize("options, message", [
-    ({"lam": -1.0}, "lam"), ({"mu": -5.0}, "mu"), ({"mu": 0.0}, "mu"), ({"method": "demons"}, "method"),
-    ({"max_step_px": 0.0}, "max_step_px"), ({"regrid_threshold": 1.5}, "regrid_threshold"),
-    ({"sor_omega": 2.5}, "sor_omega"),
-])
-def test_register_fluid_rejects_bad_settings(small_images, options, message):
-    with pytest.raises(ValueError, match=message):
-        cf.register_fluid(*small_images, **options)
-
-
-def test_public_helpers_validate_their_inputs(small_images):
-    with pytest.raises(TypeError, match="backtrack"):
-        cf.register_fluid(*small_images, backtrack=1)
-    with pytest.raises(ValueError, match="study"):
-        cf.external_force(np.zeros((8, 8)), np.zeros((8, 7)))
-    with pytest.raises(ValueError, match="velocity"):
-        cf.material_update(np.zeros((2, 8, 8)), np.zeros((2, 8, 7)), 0.5)
-    with pytest.raises(ValueError, match="dt"):
-        cf.material_update(np.zeros((2, 8, 8)), np.zeros((2, 8, 8)), -1.0)
-    with pytest.raises(ValueError, match="second"):
-        cf.compose_displacements(np.zeros((2, 8, 8)), np.zeros((3, 8, 8)))
-
-
-@pytest.mark.parametrize("call, error, message", [
-    (lambda: cf.displacement_jacobian(np.zeros((2, 1, 5))), ValueError, "displacement must be at least 2x2 pixels"),
-    (lambda: cf.jacobian_determinant(np.zeros((2, 5, 1))), ValueError, "displacement must be at least 2x2 pixels"),
-    (lambda: cf.material_update(np.zeros((2, 1, 5)), np.zeros((2, 1, 5)), 0.5), ValueError,
-     "displacement must be at least 2x2 pixels"),
-    (lambda: cf.external_force(np.ones((1, 5)), np.ones((1, 5))), ValueError, "deformed_template must be at least 2x2 pixels"),
-    (lambda: cf.stencil_at_origin(cf.fluid_stencil(), 3), TypeError, "velocity must be a function"),
-    (lambda: cf.stencil_at_origin(cf.fluid_stencil(), lambda a, b: (np.nan, 0.0)), ValueError, r"velocity\(0, 0\) must be finite"),
-    (lambda: cf.stencil_at_origin(cf.fluid_stencil(), lambda a, b: (a, b, 0.0)), ValueError, r"velocity\(0, 0\) must have shape \(2,\)"),
-    (lambda: cf.stencil_at_origin(cf.fluid_stencil(), lambda a, b: a), ValueError, r"velocity\(0, 0\) must have shape \(2,\)"),
-    (lambda: cf.CubicalComplex((3, 3)).boundary(True), TypeError, "q must be an int"),
-    (lambda: cf.CubicalComplex((3, 3)).boundary(1.0), TypeError, "q must be an int"),
-    (lambda: cf.CubicalComplex((3, 3)).coboundary("0"), TypeError, "q must be an int"),
-    (lambda: cf.stencil_blocks(np.ones((2, 18), bool)), TypeError, "stencil must be a numeric array"),
-])
-def test_helpers_reject_tiny_images_bad_callables_and_bad_degrees(call, error, message):
-    with pytest.raises(error, match=message):
-        call()
-
-
-def test_warp_image_rejects_a_mismatched_displacement():
-    with pytest.raises(ValueError, match="displacement"):
-        cf.warp_image(np.zeros((8, 8)), np.zeros((2, 8, 9)))
-    with pytest.raises(ValueError, match="finite"):
-        cf.warp_image(np.zeros((8, 8)), np.full((2, 8, 8), np.nan))
 
 
 # --- data ---------------------------------------------------------------------------------
@@ -479,23 +346,6 @@ def test_pairs_are_deterministic_and_their_warps_unfolded():
         assert pair.template.shape == pair.study.shape == (256, 256)
         assert cf.jacobian_determinant(pair.true_displacement).min() > 0.5
         assert 0.1 < pair.mask.mean() < 0.4
-    with pytest.raises(ValueError, match="name"):
-        cf.make_pair("D", rng=0)
-
-
-def test_data_helpers_validate_their_inputs():
-    with pytest.raises(TypeError, match="support must be a boolean array"):
-        cf.smooth_warp((16, 16), rng=0, support=np.ones((16, 16)))
-    with pytest.raises(ValueError, match="support"):
-        cf.smooth_warp((16, 16), rng=0, support=np.zeros((16, 16), bool))
-    with pytest.raises(ValueError, match="shape"):
-        cf.smooth_warp((16,), rng=0)
-    with pytest.raises(ValueError, match="threshold"):
-        cf.foreground_mask(np.ones((8, 8)), threshold=np.nan)
-    with pytest.raises(ValueError, match="name"):
-        cf.load_dipy_image("t2_axial")
-    with pytest.raises(ValueError, match="level_iters"):
-        cf.register_dipy(*[make_rng(0).random((16, 16)) for _ in range(2)], level_iters=())
 
 
 def test_dipy_peer_uses_our_displacement_convention():
@@ -505,7 +355,7 @@ def test_dipy_peer_uses_our_displacement_convention():
     np.testing.assert_allclose(cf.warp_image(template, result.displacement), result.warped, atol=1e-5)
 
 
-def test_sor_cold_start_differs_from_the_warm_start_and_checks_its_flag():
+def test_sor_cold_start_differs_from_the_warm_start():
     pair = cf.make_pair("C", rng=0)
     template, study = pair.template[::4, ::4], pair.study[::4, ::4]
     warm = cf.register_fluid(template, study, method="sor", n_iter=4, sor_n_sweeps=3)
@@ -513,8 +363,6 @@ def test_sor_cold_start_differs_from_the_warm_start_and_checks_its_flag():
     # the first solve starts from zero either way; later ones differ only in their start
     assert not np.allclose(warm.displacement, cold.displacement)
     assert cold.residuals[-1] < cold.residuals[0]
-    with pytest.raises(TypeError, match="sor_warm_start"):
-        cf.register_fluid(template, study, method="sor", n_iter=1, sor_warm_start="no")
 
 
 # --- reference paths beside the fast ones, and the chapter's helpers ---------------------------
@@ -549,10 +397,6 @@ def test_symbol_eigenvalues_along_a_path():
     np.testing.assert_allclose(eigen[0], 0.0, atol=1e-12)  # the uniform velocity costs no stress
     # along x2 the two waves are shear (μ) and compression (λ + 2μ): ratio (λ + 2μ)/μ
     np.testing.assert_allclose(eigen[1:, 0] / eigen[1:, 1], (LAM + 2 * MU) / MU)
-    with pytest.raises(ValueError, match="rows and cols"):
-        cf.symbol_eigenvalues(symbol, [0, 1], [0])
-    with pytest.raises(ValueError, match="symbol"):
-        cf.symbol_eigenvalues(np.zeros((3, 2, 4, 3)), [0], [0])
 
 
 def test_stencil_grid_lays_out_one_block():
@@ -560,8 +404,6 @@ def test_stencil_grid_lays_out_one_block():
     grid = cf.stencil_grid(stencil, 0, 0)
     assert grid[1, 1] == stencil[0, 0] and grid[2, 1] == stencil[0, 4]  # neighbour (1, 0) is column 5
     np.testing.assert_allclose(cf.stencil_grid(stencil, 1, 1), cf.stencil_grid(stencil, 0, 0).T)
-    with pytest.raises(ValueError, match="row"):
-        cf.stencil_grid(stencil, 2, 0)
 
 
 def test_consistency_errors_of_the_derived_and_printed_stencils():
@@ -570,21 +412,6 @@ def test_consistency_errors_of_the_derived_and_printed_stencils():
     assert len(derived) == len(cf.polynomial_test_fields(LAM, MU)) + 1 == 13
     assert max(derived.values()) < 1e-12
     assert sum(error > 1e-9 for error in printed.values()) == 9
-    with pytest.raises(ValueError, match="stencil"):
-        cf.consistency_errors(np.zeros((2, 17)))
-
-
-@pytest.mark.parametrize("draw", [lambda *a, **kw: cf.make_pair("C", *a, **kw),
-                                  lambda *a, **kw: cf.smooth_warp((16, 16), *a, **kw)])
-def test_drawing_functions_take_rng_keyword_only_without_default(draw):
-    with pytest.raises(TypeError, match="rng"):
-        draw()  # no default seed: the caller chooses every draw
-    with pytest.raises(ValueError, match="rng"):
-        draw(rng=-1)
-    with pytest.raises(TypeError, match="rng"):
-        draw(rng=1.5)
-    with pytest.raises(TypeError):
-        draw(0)  # keyword-only
 
 
 def test_make_pair_accepts_a_generator_and_keeps_its_int_seed_streams():
@@ -607,8 +434,6 @@ def test_table1_helpers():
     masked = cf.grey_level_table({"C": pair}, {"C": {"none": pair.template}}, masked=True)
     assert masked.loc["C", ("none", "mean")] > table.loc["C", ("none", "mean")]  # background dilutes the mean
     assert cf.mean_sd_strings(paper).loc["B", "paper CAT"] == "6.80 / 13.80"
-    with pytest.raises(ValueError, match="deformed"):
-        cf.grey_level_table({"C": pair}, {"A": {"none": pair.template}})
     row = cf.accuracy_row(pair, pair.template, np.zeros_like(pair.true_displacement))
     assert row["min det"] == 1.0 and row["folded %"] == 0.0 and np.isnan(row["inverse consistency px"])
 
@@ -621,23 +446,6 @@ def test_regridding_switched_off_lets_a_large_deformation_fold():
     free = cf.register_fluid(disc, band, "cat", n_iter=60, regrid_threshold=0.0)
     assert kept.n_regrids > 0 and kept.history[:, 2].min() > 0
     assert free.n_regrids == 0 and free.history[:, 2].min() <= 0  # without regridding the map folds
-    with pytest.raises(ValueError, match="regrid_threshold"):
-        cf.register_fluid(disc, band, "cat", n_iter=1, regrid_threshold=-0.1)
-
-
-@pytest.mark.parametrize("call, error, message", [
-    (lambda: cf.stencil_matrix(np.zeros((2, 18)), (4,)), ValueError, "shape"),
-    (lambda: cf.stencil_matrix(np.zeros((3, 18)), (4, 4)), ValueError, "stencil"),
-    (lambda: cf.solve_stencil_reference(cf.fluid_stencil(), np.zeros((3, 4, 4))), ValueError, "force"),
-    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 0.0, n_sweeps=1, omega=1.0), ValueError, "mu"),
-    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 5.0, n_sweeps=-1, omega=1.0), ValueError, "n_sweeps"),
-    (lambda: cf.sor_reference(np.zeros((2, 4, 4)), 1.0, 5.0, n_sweeps=1, omega=-1.0), ValueError, "omega"),
-    (lambda: cf.polynomial_test_fields(-1.0, 5.0), ValueError, "lam"),
-    (lambda: cf.grey_level_table({}, {}, scale=0.0), ValueError, "scale"),
-])
-def test_reference_paths_and_helpers_reject_bad_input(call, error, message):
-    with pytest.raises(error, match=message):
-        call()
 
 
 @pytest.mark.parametrize("module", ["stencil", "solvers", "data", "registration"])
@@ -649,3 +457,173 @@ def test_docstring_examples_run(module):
 
     result = doctest.testmod(importlib.import_module(f"amdo_lab.cat_fluid.{module}"))
     assert result.attempted > 0 and result.failed == 0
+
+
+def test_registration_images_pass_the_check_unchanged():
+    from amdo_lab.cat_fluid.registration import check_registration_images
+
+    template, study = make_rng(0).random((8, 8)), make_rng(1).random((8, 8))
+    checked = check_registration_images(template, study)
+    assert all(np.array_equal(a, b) for a, b in zip(checked, (template, study)))
+
+
+def test_stencil_steps_follow_eqs_5_12_and_14_on_polynomial_fields():
+    """The three steps inside fluid_stencil, each against a hand computation: the gradient (eq. 5) of
+    the bilinear velocity (eq. 13), the stress (eq. 12) and the flux over the dual cell (eqs. 8-11, 14)."""
+    from amdo_lab.cat_fluid.stencil import _bilinear_gradient, _flux, _stress
+
+    gradient = np.array([[0.3, -1.2], [2.0, 0.7]])  # ∂v_i/∂x_j of a linear field: exact at every point
+    linear = lambda i, j: gradient @ np.array([i, j], float) + np.array([5.0, -1.0])  # noqa: E731
+    for point in ([0.25, 0.5], [-0.75, -0.25], [0.1, -0.9]):
+        np.testing.assert_allclose(_bilinear_gradient(linear, np.array(point)), gradient, atol=1e-12)
+    product = lambda i, j: np.array([i * j, 0.0])  # noqa: E731  bilinear: ∂(x1 x2) = (x2, x1)
+    np.testing.assert_allclose(_bilinear_gradient(product, np.array([0.25, 0.75])), [[0.75, 0.25], [0, 0]])
+    strain = (gradient + gradient.T) / 2
+    np.testing.assert_allclose(_stress(gradient, 2.0, 3.0), 2.0 * np.trace(strain) * np.eye(2) + 2 * 3.0 * strain)
+    for kind, field in QUADRATIC_FIELDS.items():
+        corners = lambda i, j, field=field: np.array(field(float(i), float(j)))  # noqa: E731
+        np.testing.assert_allclose(_flux(corners, 2.0, 3.0), continuous_operator(kind, 2.0, 3.0), atol=1e-12)
+    np.testing.assert_allclose(_flux(linear, 2.0, 3.0), 0.0, atol=1e-12)
+
+
+# --- rejections: one table -----------------------------------------------------------------
+# tests/test_bad_input.py already spoils every argument of every public callable (NaN, inf or 1e308
+# inside, empty, a wrong trailing axis, one axis more, a string, None, a bool, zero/negative/float counts,
+# probabilities outside [0, 1], bad seeds) and checks that the error names the argument. This table holds
+# what that test cannot see: the rules of the method (a 2-D complex, SOR's ω in (0, 2) and even grids,
+# at least 2x2 pixels, images with structure, a centro-symmetric stencil, the grey-level bound), unknown
+# names, pairs that must agree in shape, one axis too few, a third vector component, and the rng convention.
+# A call's parameters without a default name the fixtures it needs.
+@pytest.fixture(scope="module")
+def small_images():
+    rng = make_rng(6)
+    return rng.random((16, 16)), rng.random((16, 16))
+
+
+def _lopsided_stencil():
+    """The derived stencil with neighbour (0, 1) changed alone: no longer centro-symmetric."""
+    stencil = cf.fluid_stencil(LAM, MU)
+    stencil[0, 2] += 1.0
+    return stencil
+
+
+def _too_bright(small_images):
+    """The study with one pixel beyond dipy's single-precision margin (10 x MAX_GREY_LEVEL)."""
+    huge = small_images[1].copy()
+    huge[0, 0] = 10 * MAX_GREY_LEVEL
+    return small_images[0], huge
+
+
+REJECTIONS = [
+    # --- the cubical complex (Sec. 2)
+    reject("CubicalComplex 1-D shape", lambda: cf.CubicalComplex((4,)), ValueError, r"shape must be a pair \(H, W\)"),
+    reject("CubicalComplex one row", lambda: cf.CubicalComplex((1, 4)), ValueError, r"shape\[0\] must be at least 2"),
+    reject("boundary q 3", lambda: cf.CubicalComplex((3, 3)).boundary(3), ValueError, "q must be 1 or 2 for a 2-D complex"),
+    reject("boundary q 1.0", lambda: cf.CubicalComplex((3, 3)).boundary(1.0), TypeError, "q must be an int"),
+    # --- the stencil and its symbol (Sec. 4)
+    reject("stencil_blocks boolean stencil", lambda: cf.stencil_blocks(np.ones((2, 18), bool)),
+           TypeError, "stencil must be a numeric array"),
+    reject("stencil_symbol not centro-symmetric", lambda: cf.stencil_symbol(_lopsided_stencil(), (8, 8)),
+           ValueError, "centro-symmetric"),
+    reject("stencil_symbol 1-D shape", lambda: cf.stencil_symbol(cf.printed_stencil(LAM, MU), (8,)),
+           ValueError, r"shape must be a pair \(H, W\)"),
+    reject("stencil_grid row 2", lambda: cf.stencil_grid(cf.fluid_stencil(LAM, MU), 2, 0), ValueError, "row must be one of 0, 1"),
+    reject("stencil_at_origin NaN velocity", lambda: cf.stencil_at_origin(cf.fluid_stencil(), lambda a, b: (np.nan, 0.0)),
+           ValueError, r"velocity\(0, 0\) must be finite"),
+    reject("stencil_at_origin 3-vector velocity", lambda: cf.stencil_at_origin(cf.fluid_stencil(), lambda a, b: (a, b, 0.0)),
+           ValueError, r"velocity\(0, 0\) must have shape \(2,\)"),
+    reject("stencil_at_origin scalar velocity", lambda: cf.stencil_at_origin(cf.fluid_stencil(), lambda a, b: a),
+           ValueError, r"velocity\(0, 0\) must have shape \(2,\)"),
+    reject("stencil_matrix 1-D shape", lambda: cf.stencil_matrix(np.zeros((2, 18)), (4,)), ValueError, "shape must be a pair"),
+    reject("stencil_matrix three rows", lambda: cf.stencil_matrix(np.zeros((3, 18)), (4, 4)),
+           ValueError, r"stencil must have shape \(2, 18\)"),
+    # --- the solvers: two velocity components, SOR's ω and grid, the named methods
+    reject("apply_finite_difference three components", lambda: cf.apply_finite_difference(np.zeros((3, 8, 8)), LAM, MU),
+           ValueError, r"velocity must have shape \(2, n, n\)"),
+    reject("solve_stencil_reference three components",
+           lambda: cf.solve_stencil_reference(cf.fluid_stencil(), np.zeros((3, 4, 4))),
+           ValueError, r"force must have shape \(2, n, n\)"),
+    reject("sor_solve omega 2", lambda: cf.sor_solve(np.zeros((2, 8, 8)), LAM, MU, omega=2.0),
+           ValueError, r"omega must be in \(0, 2\)"),
+    reject("sor_solve ordering lexicographic", lambda: cf.sor_solve(np.zeros((2, 8, 8)), LAM, MU, ordering="lexicographic"),
+           ValueError, "ordering"),
+    reject("sor_solve odd grid", lambda: cf.sor_solve(np.zeros((2, 7, 8)), LAM, MU), ValueError, "even H and W"),
+    reject("solve_velocity method multigrid", lambda: cf.solve_velocity(np.zeros((2, 8, 8)), "multigrid"),
+           ValueError, "method must be one of"),
+    reject("symbol_eigenvalues rows and cols differ",
+           lambda: cf.symbol_eigenvalues(cf.cat_symbol((16, 16), LAM, MU), [0, 1], [0]),
+           ValueError, "rows and cols must be 1-D of the same length"),
+    reject("symbol_eigenvalues three rows", lambda: cf.symbol_eigenvalues(np.zeros((3, 2, 4, 3)), [0], [0]),
+           ValueError, r"symbol must have shape \(2, 2, n, n\)"),
+    # --- registration pieces: at least 2x2 pixels, pairs that cover the same pixels
+    reject("displacement_jacobian one row", lambda: cf.displacement_jacobian(np.zeros((2, 1, 5))),
+           ValueError, "displacement must be at least 2x2 pixels"),
+    reject("jacobian_determinant one column", lambda: cf.jacobian_determinant(np.zeros((2, 5, 1))),
+           ValueError, "displacement must be at least 2x2 pixels"),
+    reject("material_update one row", lambda: cf.material_update(np.zeros((2, 1, 5)), np.zeros((2, 1, 5)), 0.5),
+           ValueError, "displacement must be at least 2x2 pixels"),
+    reject("material_update velocity and displacement differ",
+           lambda: cf.material_update(np.zeros((2, 8, 8)), np.zeros((2, 8, 7)), 0.5),
+           ValueError, "velocity and displacement must cover the same pixels"),
+    reject("external_force one row", lambda: cf.external_force(np.ones((1, 5)), np.ones((1, 5))),
+           ValueError, "deformed_template must be at least 2x2 pixels"),
+    reject("external_force images differ", lambda: cf.external_force(np.zeros((8, 8)), np.zeros((8, 7))),
+           ValueError, "deformed_template and study must have the same shape"),
+    reject("compose_displacements three components",
+           lambda: cf.compose_displacements(np.zeros((2, 8, 8)), np.zeros((3, 8, 8))),
+           ValueError, r"second must have shape \(2, n, n\)"),
+    reject("warp_image displacement and image differ", lambda: cf.warp_image(np.zeros((8, 8)), np.zeros((2, 8, 9))),
+           ValueError, "displacement and image must cover the same pixels"),
+    reject("grey_level_difference empty mask",
+           lambda: cf.grey_level_difference(np.zeros((4, 4)), np.zeros((4, 4)), np.zeros((4, 4), bool)),
+           ValueError, "mask must select at least one pixel"),
+    *[case for measure in (cf.displacement_rmse, cf.inverse_consistency_error) for case in (
+        reject(f"{measure.__name__} mask of another size", lambda measure=measure: measure(
+            np.zeros((2, 4, 4)), np.ones((2, 4, 4)), np.ones((3, 3), bool)), ValueError, r"mask must have shape \(4, 4\)"),
+        reject(f"{measure.__name__} empty mask", lambda measure=measure: measure(
+            np.zeros((2, 4, 4)), np.ones((2, 4, 4)), np.zeros((4, 4), bool)), ValueError, "at least one"),
+    )],
+    # --- register_fluid: images of the same shape with structure, the named methods, SOR's ω
+    reject("register_fluid images differ", lambda small_images: cf.register_fluid(
+        small_images[0], small_images[1][:, :-2]), ValueError, "template and study must have the same shape"),
+    reject("register_fluid flat study", lambda small_images: cf.register_fluid(
+        small_images[0], small_images[1].ravel()), ValueError, "study must have shape"),
+    reject("register_fluid constant template", lambda small_images: cf.register_fluid(
+        np.full_like(small_images[0], 0.3), small_images[1]), ValueError, "template is constant"),
+    reject("register_fluid constant study", lambda small_images: cf.register_fluid(
+        small_images[0], np.zeros_like(small_images[1])), ValueError, "study is constant"),
+    reject("register_fluid method demons", lambda small_images: cf.register_fluid(*small_images, method="demons"),
+           ValueError, "method must be one of"),
+    reject("register_fluid sor_omega 2.5", lambda small_images: cf.register_fluid(*small_images, sor_omega=2.5),
+           ValueError, r"sor_omega must be in \(0, 2\)"),
+    *[reject(f"{function.__name__} study beyond the grey-level bound",
+             lambda small_images, function=function: function(*_too_bright(small_images)),
+             ValueError, "study must be at most") for function in
+      (check_registration_images, cf.register_fluid, cf.register_dipy)],
+    reject("check_registration_images images differ", lambda small_images: check_registration_images(
+        small_images[0], small_images[1][:, :6]), ValueError, "same shape"),
+    reject("register_dipy no levels", lambda small_images: cf.register_dipy(*small_images, level_iters=()),
+           ValueError, "level_iters must be a non-empty tuple"),
+    # --- data and tables
+    reject("make_pair D", lambda: cf.make_pair("D", rng=0), ValueError, "name must be one of 'A', 'B', 'C'"),
+    reject("load_dipy_image t2_axial", lambda: cf.load_dipy_image("t2_axial"), ValueError, "name must be one of"),
+    reject("smooth_warp empty support", lambda: cf.smooth_warp((16, 16), rng=0, support=np.zeros((16, 16), bool)),
+           ValueError, "support must contain at least one pixel"),
+    reject("smooth_warp 1-D shape", lambda: cf.smooth_warp((16,), rng=0), ValueError, r"shape must be a pair \(H, W\)"),
+    reject("grey_level_table deformed pair not in pairs", lambda: cf.grey_level_table(
+        {"C": cf.RegistrationPair("C", np.ones((4, 4)), np.ones((4, 4)), np.zeros((2, 4, 4)), np.ones((4, 4), bool))},
+        {"A": {"none": np.ones((4, 4))}}), ValueError, "deformed"),
+    # --- the rng convention: keyword-only, no default, errors naming rng
+    *[case for name, draw in (("make_pair", lambda *a, **kw: cf.make_pair("C", *a, **kw)),
+                              ("smooth_warp", lambda *a, **kw: cf.smooth_warp((16, 16), *a, **kw))) for case in (
+        reject(f"{name} without rng", lambda draw=draw: draw(), TypeError, "rng"),  # the caller chooses every draw
+        reject(f"{name} rng -1", lambda draw=draw: draw(rng=-1), ValueError, "rng"),
+        reject(f"{name} rng 1.5", lambda draw=draw: draw(rng=1.5), TypeError, "rng"),
+        reject(f"{name} positional rng", lambda draw=draw: draw(0), TypeError, "positional argument"),
+    )],
+]
+
+
+@pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
+def test_rejections(request, call, error, message):
+    check_rejection(request, call, error, message)

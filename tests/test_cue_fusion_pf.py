@@ -104,12 +104,20 @@ def test_dynamics_bad_input():
         cf.ARDynamics([1.0], [0.0], 0.04, [0.0], [0.0])
 
 
+def test_ar2_variance_refuses_what_overflows_by_name():
+    assert cf.ar2_stationary_variance(1.8, -0.85, 1e150) < np.inf  # a stable model: the bound is not hit
+    with pytest.raises(ValueError, match="first_lag"):
+        cf.ar2_stationary_variance(2e150, -0.85, 0.1)
+    with pytest.raises(ValueError, match="gain"):  # roots of modulus 1 - 1e-7: the variance overflows
+        cf.ar2_stationary_variance(2 * (1 - 1e-7), -((1 - 1e-7) ** 2), 1e150)
+
+
 # --- data and ellipse overlap ------------------------------------------------------------------
 
 def test_head_sequence_layout(sequence):
-    assert sequence.frames.shape == (128, 192, 256, 3) and sequence.frames.dtype == np.uint8
-    assert sequence.truth.shape == (128, 3) and sequence.true_ellipses.shape == (128, 5)
-    assert list(sequence.segments) == ["calm", "lighting", "distractor", "agile"]
+    assert sequence.frames.shape == (164, 192, 256, 3) and sequence.frames.dtype == np.uint8
+    assert sequence.truth.shape == (164, 3) and sequence.true_ellipses.shape == (164, 5)
+    assert list(sequence.segments) == ["calm", "lighting", "distractor", "turned away", "agile"]
     assert sequence.segments["lighting"] == (29, 81)
     assert np.all(sequence.segment_of_frames() != None)  # noqa: E711  every frame has a segment
     assert np.all((sequence.truth[:, 0] > 30) & (sequence.truth[:, 0] < 226))
@@ -265,6 +273,44 @@ def test_track_bad_input(sequence):
         cf.track(frames.astype(np.int16), init, rng=0)
 
 
+def test_overflow_bounds_name_the_argument_and_leave_the_defaults_alone(sequence, space):
+    from amdo_lab.cue_fusion_pf import tracker
+
+    for name in ("stationary_std", "init_spread"):
+        default = tracker.TRACK_DEFAULTS[name]
+        np.testing.assert_array_equal(tracker.check_state_spread(default, name), default)
+        with pytest.raises(ValueError, match=name):  # a scale spread of 11: no particle of a plausible size
+            cf.track(sequence.frames[:2], sequence.true_ellipses[0], rng=0, n_particles=10, **{name: (2.0, 2.0, 11.0)})
+    with pytest.raises(ValueError, match="stride"):  # no sample point left inside the 20 x 26 px ellipse
+        cf.ColorLikelihood(space, sequence.frames[0], sequence.truth[0], stride=60.0)
+    with pytest.raises(ValueError, match="states"):
+        space.ellipses([0.0, 0.0, 2e6])
+    with pytest.raises(ValueError, match="clutter_density"):
+        cf.simulate_measurement_lines(3, half_length=6.0, p0=0.2, clutter_density=2.0, sigma_e=1.5, rng=0)
+    with pytest.raises(ValueError, match="sigma_e"):
+        cf.edge_line_likelihood([0.5], 0.2, 0.1, 2e6)
+    with pytest.raises(ValueError, match="init"):
+        cf.track_camshift(sequence.frames[:2], sequence.true_ellipses[0] + [0, 0, 0, 0, 2e6])
+    # σ of a cue: 1e308 squared overflowed (OverflowError), 1e-200 squared underflowed to 0 (-inf weights)
+    for sigma in (1e308, 1e-200):
+        with pytest.raises(ValueError, match="sigma"):
+            cf.ColorLikelihood(space, sequence.frames[0], sequence.truth[0], sigma=sigma)
+        with pytest.raises(ValueError, match=r"sigmas\['color'\]"):
+            cf.track(sequence.frames[:2], sequence.true_ellipses[0], rng=0, n_particles=10, sigmas={"color": sigma})
+        with pytest.raises(ValueError, match="grid"):
+            cf.calibrate_sigma([0.1], [[0.2, 0.3]], grid=[sigma])
+    with pytest.raises(ValueError, match="smoothing"):  # cv2.GaussianBlur failed on a huge σ
+        cf.EdgeLikelihood(space, smoothing=1e308)
+    with pytest.raises(ValueError, match="threshold"):  # above any grey-level gradient: no feature, ever
+        cf.EdgeLikelihood(space, threshold=300.0)
+    with pytest.raises(ValueError, match="offsets"):
+        cf.edge_line_likelihood([2e6], 0.2, 0.1, 1.5)
+    with pytest.raises(ValueError, match="window"):  # features grow as the side to the fourth power
+        cf.haar_features((64, 64))
+    with pytest.raises(ValueError, match="beta"):  # no damping: a random walk, unstable
+        cf.track(sequence.frames[:2], sequence.true_ellipses[0], rng=0, n_particles=10, beta=(2.0, 2.0, 0.0))
+
+
 def test_camshift_peer_tracks_the_calm_frames(sequence):
     result = cf.track_camshift(sequence.frames[:25], sequence.true_ellipses[0])
     assert np.mean(cf.ellipse_iou(result.ellipses, sequence.true_ellipses[:25]) > 0.5) > 0.9
@@ -294,9 +340,17 @@ def test_integral_image_and_haar_features_match_scikit_image():
                                    feature_coord=coords[pick])
         mine = every.subset(np.flatnonzero(every.types == kind)[pick]).values(integral[None])[0]
         np.testing.assert_allclose(mine, theirs, atol=1e-9)
-    assert len(st.haar_features((16, 20), n_features=400, rng=6)) == 400
-    with pytest.raises(ValueError, match="rng"):
-        st.haar_features((16, 20), n_features=10)
+    subset = st.sample_haar_features(every, 400, rng=6)
+    assert len(subset) == 400 and len(st.haar_features((16, 20))) == len(every)  # listing draws nothing
+    assert np.all(np.isin(subset.types, every.types))
+    again = st.sample_haar_features(every, 400, rng=6)
+    assert all(np.array_equal(getattr(subset, name), getattr(again, name)) for name in ("rows0", "cols0", "weights"))
+    with pytest.raises(TypeError, match="rng"):
+        st.sample_haar_features(every, 10)  # rng is keyword-only with no default
+    with pytest.raises(ValueError, match="n_features"):
+        st.sample_haar_features(every, len(every) + 1, rng=0)
+    with pytest.raises(TypeError, match="features"):
+        st.sample_haar_features((16, 20), 10, rng=0)
 
 
 @pytest.fixture(scope="module")
@@ -312,7 +366,6 @@ def test_cascade_accepts_held_out_heads_and_rejects_background(cascade):
     for view, patches in held_out.positives.items():
         assert np.mean(cascade.stages_passed_patches(patches) == cascade.n_stages) >= 0.85, view
     assert np.mean(cascade.stages_passed_patches(held_out.negatives) == cascade.n_stages) <= 0.01
-    assert cascade.training_seconds < 60
 
 
 def test_structure_likelihood_peaks_at_the_head(sequence, space, cascade):
@@ -370,3 +423,24 @@ def test_track_with_printed_eq4_diverges(sequence):
     with pytest.raises(RuntimeError, match="diverged"):
         cf.track(sequence.frames[:60], sequence.true_ellipses[0], rng=1, cues=("color",), n_particles=50,
                  printed_order=True)
+
+
+def test_colour_distance_and_likelihood_are_eqs_9_and_11(sequence, space):
+    colour = cf.ColorLikelihood(space, sequence.frames[0], sequence.truth[0], sigma=0.1)
+    states = sequence.truth[5] + make_rng(7).normal(size=(20, 3)) * [6, 6, 0.05]
+    rho = colour.bhattacharyya(sequence.frames[5], states)
+    np.testing.assert_allclose(colour.distance(sequence.frames[5], states), 1.0 - rho)  # eq. (9), squared
+    expected = np.log(np.exp(-(1.0 - rho) / (2 * 0.1**2)) / (np.sqrt(2 * np.pi) * 0.1))  # eq. (11)
+    np.testing.assert_allclose(colour.log_likelihood(sequence.frames[5], states), expected, rtol=1e-12)
+    assert np.ptp(rho) > 0.01  # the states differ: not a constant check
+
+
+def test_structure_likelihood_is_eq12_of_the_stages_passed(sequence, space, cascade):
+    from amdo_lab.cue_fusion_pf import structure as st
+
+    likelihood = st.StructureLikelihood(space, cascade, sigma=0.5)
+    states = np.stack([sequence.truth[40], sequence.truth[40] + [15, 0, 0], sequence.truth[40] + [0, 40, 0]])
+    passed = cascade.stages_passed(sequence.frames[40], likelihood.boxes(states))
+    expected = -(1.0 - passed / cascade.n_stages) / (2 * 0.5**2) - np.log(np.sqrt(2 * np.pi) * 0.5)  # eq. (12)
+    np.testing.assert_allclose(likelihood.log_likelihood(sequence.frames[40], states), expected, rtol=1e-12)
+    assert len(set(passed.tolist())) > 1

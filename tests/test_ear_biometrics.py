@@ -950,3 +950,20 @@ def test_a_similarity_copy_moves_the_points_of_f_less_than_new_noise():
         noise.append(eb.point_distance(matcher.extract(again).topology, base))
         copy.append(eb.point_distance(matcher.extract(eb.similarity_copy(reference, rng=rng)).topology, base))
     assert np.mean(copy) < np.mean(noise)
+
+
+def test_detect_contours_reference_equals_the_filtered_detector():
+    """Eqs. (1)-(5) one window at a time equal the box-filter path, for float and 8-bit images."""
+    from amdo_lab.ear_biometrics.features import detect_contours_reference
+
+    rng = make_rng(11)
+    image = rng.uniform(10, 200, size=(14, 17))
+    for k in (0.5, 2.5, 8.0):
+        assert np.array_equal(detect_contours_reference(image, k), eb.detect_contours(image, k))
+    eight_bit = rng.integers(0, 256, size=(12, 15)).astype(np.uint8)
+    eight_bit[:4, :5] = 0  # a flat black corner: never a contour
+    expected = eb.detect_contours(eight_bit, 3.0, window=5)
+    assert np.array_equal(detect_contours_reference(eight_bit, 3.0, window=5), expected)
+    assert 0 < expected.sum() < expected.size and not expected[:2, :2].any()
+    with pytest.raises(ValueError, match="window"):
+        detect_contours_reference(image, 2.0, window=4)

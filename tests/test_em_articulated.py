@@ -1,7 +1,9 @@
 """Tests for Chapter 1 (amdo_lab.em_articulated): Dewaele et al., ECCV 2006."""
 
+
 import numpy as np
 import pytest
+from rejections import check_rejection, reject
 from scipy.special import logsumexp
 
 from amdo_lab.common import make_rng
@@ -16,6 +18,7 @@ from amdo_lab.em_articulated import (
     robust_log_likelihood,
     register_em_reference,
     climb_objective,
+    dof_lever_arms,
     fit_known_correspondences,
     fit_surface,
     make_skin_texture,
@@ -32,7 +35,8 @@ from amdo_lab.em_articulated import (
     softassign_register,
     track_sequence,
 )
-from amdo_lab.em_articulated.registration import _DIGIT_DOFS, _digit_starts, _robust_log_likelihood
+from amdo_lab.em_articulated.hand import DIGIT_DOFS
+from amdo_lab.em_articulated.registration import digit_starts, robust_log_likelihood_reference
 
 
 @pytest.fixture(scope="module")
@@ -146,31 +150,6 @@ def test_e_step_chunking_matches_dense(precision, rtol):
     np.testing.assert_allclose(dense[2], alpha.sum(axis=0), rtol=rtol)
 
 
-def test_e_step_precision_is_checked():
-    with pytest.raises(ValueError, match="precision"):
-        e_step_statistics(np.zeros((2, 3)), np.ones((3, 3)), 1.0, 0.0, precision="half")
-
-
-@pytest.mark.parametrize("changes, error, message", [
-    (dict(model_points=np.full((2, 3), np.nan)), ValueError, "model_points must be finite"),
-    (dict(data_points=np.ones((3, 2))), ValueError, "data_points must have"),
-    (dict(data_points=np.zeros((0, 3))), ValueError, "data_points must not be empty"),
-    (dict(sigma=0.0), ValueError, "sigma must be"),
-    (dict(sigma=-1.0), ValueError, "sigma must be"),
-    (dict(log_c=np.nan), ValueError, "log_c"),
-    (dict(log_c=np.inf), ValueError, "log_c"),
-    (dict(log_c="1"), TypeError, "log_c"),
-])
-def test_e_steps_reject_bad_input(changes, error, message):
-    from amdo_lab.em_articulated import e_step_statistics_kdtree
-    arguments = dict(model_points=np.zeros((2, 3)), data_points=np.ones((3, 3)), sigma=1.0, log_c=0.0) | changes
-    for step in (e_step_statistics, e_step_statistics_kdtree):
-        with pytest.raises(error, match=message):
-            step(**arguments)
-    with pytest.raises(ValueError, match="chunk"):
-        e_step_statistics(np.zeros((2, 3)), np.ones((3, 3)), 1.0, 0.0, chunk=0)
-
-
 def test_e_step_without_outlier_class():
     # log c = -inf (c = 0): every data point is fully assigned to the texture, however far it is
     weights, _, inlier, _ = e_step_statistics(np.zeros((2, 3)), np.array([[0.0, 0, 0], [500.0, 0, 0]]), 1.0, -np.inf)
@@ -227,40 +206,6 @@ def test_tracking_sequence_generator(hand):
     assert all(150 < n < 0.8 * 600 for n in n_surface_points)  # only the camera-facing side, 80 % detected
 
 
-@pytest.mark.parametrize(
-    "kwargs, match",
-    [
-        ({"data_points": np.full((5, 3), np.nan)}, "data_points"),
-        ({"data_points": np.zeros((5, 2))}, "data_points"),
-        ({"model_points": np.zeros((0, 3))}, "model_points"),
-        ({"theta_init": np.zeros(26)}, "theta_init"),
-        ({"sigma_min": 30.0}, "sigma_min"),
-        ({"theta_init": "outside"}, "theta_init"),
-    ],
-)
-def test_register_em_bad_input(hand, kwargs, match):
-    rng = make_rng(11)
-    theta = hand.rest_pose()
-    args = {"model_points": rng.normal(size=(5, 3)), "data_points": rng.normal(size=(5, 3)),
-            "theta_init": theta, "sigma_max": 20.0, "sigma_min": 2.0}
-    if isinstance(kwargs.get("theta_init"), str):
-        kwargs = {"theta_init": theta.copy()}
-        kwargs["theta_init"][12] = 3.0
-    args.update(kwargs)
-    with pytest.raises(ValueError, match=match):
-        register_em(args["model_points"], args["data_points"], hand, args["theta_init"],
-                    args["sigma_max"], args["sigma_min"])
-
-
-def test_hand_bad_input(hand):
-    with pytest.raises(ValueError, match="theta"):
-        hand.part_transforms(np.zeros(5))
-    with pytest.raises(ValueError, match="points"):
-        hand.surface_distance(np.array([[np.inf, 0, 0]]), hand.rest_pose())
-    with pytest.raises(TypeError, match="hand"):
-        register_em(np.zeros((3, 3)), np.zeros((3, 3)), "hand", np.zeros(27))
-
-
 def test_digit_clearance_separates_rest_from_crossed_fingers(hand):
     assert hand.digit_clearance(hand.rest_pose()) > 0
     crossed = hand.rest_pose()
@@ -301,8 +246,6 @@ def test_release_ratio_holds_short_levers_while_sigma_is_large(hand):
     assert np.linalg.norm(held.theta[:3] - moved[:3]) < 1.5
     free = register_em(model, data, hand, theta, 20.0, 19.0, n_levels=2)
     assert np.any(free.theta[6:] != theta[6:])
-    with pytest.raises(ValueError, match="release_ratio"):
-        register_em(model, data, hand, theta, 20.0, 10.0, release_ratio=-1.0)
 
 
 def test_debiased_targets_keep_a_perfect_fit_at_large_sigma(hand):
@@ -316,8 +259,6 @@ def test_debiased_targets_keep_a_perfect_fit_at_large_sigma(hand):
                        targets="debiased")
     assert joint_rmse_deg(paper.theta, theta) > 5.0
     assert joint_rmse_deg(ours.theta, theta) < 0.1
-    with pytest.raises(ValueError, match="targets"):
-        register_em(texture, texture, hand, theta, 20.0, 19.0, targets="mean")
 
 
 def test_register_em_stops_a_level_once_converged(hand):
@@ -344,8 +285,6 @@ def test_skin_texture_features_move_with_eq3_and_matches_are_true(hand):
     assert np.median(np.linalg.norm(moved[model_index] - problem.data_points[data_index], axis=1)) < 1.0
     independent = make_registration_problem(hand, rng=23, n_model=50, n_data=50, repeatability=0.0)
     assert len(independent.true_matches()[0]) == 0
-    with pytest.raises(ValueError, match="repeatability"):
-        make_registration_problem(hand, rng=23, n_model=50, n_data=50, repeatability=1.5)
 
 
 def test_known_correspondences_recover_the_pose(hand):
@@ -379,8 +318,6 @@ def test_fit_surface_eq22_ignores_far_points(hand):
     robust = fit_surface(np.concatenate([data, clutter]), hand, start, max_iter=5, sigma=3.0)
     plain = fit_surface(np.concatenate([data, clutter]), hand, start, max_iter=5, sigma=None)
     assert joint_rmse_deg(robust.theta, theta_true) < joint_rmse_deg(plain.theta, theta_true)
-    with pytest.raises(ValueError, match="sigma"):
-        fit_surface(data, hand, start, sigma=0.0)
 
 
 def test_kdtree_e_step_matches_dense(hand):
@@ -429,11 +366,11 @@ def test_batched_kinematics_match_the_part_by_part_chain(hand):
 
 def test_close_pair_cache_returns_the_pairs_of_a_fresh_query(hand):
     from scipy.spatial import cKDTree
-    from amdo_lab.em_articulated.registration import _ClosePairs
+    from amdo_lab.em_articulated.registration import ClosePairs
     rng = make_rng(4)
     data = rng.uniform(-60, 60, size=(400, 3))
     model = rng.uniform(-60, 60, size=(300, 3))
-    to_data, to_self = _ClosePairs(data), _ClosePairs(None)
+    to_data, to_self = ClosePairs(data), ClosePairs(None)
     for step, radius in [(0.0, 12.0), (0.5, 12.0), (1.0, 12.0), (6.0, 12.0), (0.5, 8.0), (20.0, 8.0)]:
         model = model + rng.normal(scale=step / np.sqrt(3), size=model.shape)
         for cache, observed in ((to_data, data), (to_self, model)):
@@ -450,8 +387,6 @@ def test_texture_noise_can_be_set_apart_from_the_data_noise(hand):
     # the exact texture sits on the surface (up to the slight stretch of eq. 3); 2 mm noise lifts it off
     assert np.median(np.abs(hand.surface_distance(exact.model_points, exact.theta_init))) < 0.1
     assert np.median(np.abs(hand.surface_distance(noisy.model_points, noisy.theta_init))) > 1.0
-    with pytest.raises(ValueError, match="texture_noise_mm"):
-        make_registration_problem(hand, rng=8, texture_noise_mm=-1.0)
 
 
 @pytest.mark.parametrize("precision, rtol", [("double", 1e-9), ("single", 2e-6)])
@@ -475,69 +410,27 @@ def test_dense_e_step_matches_a_logsumexp_reference(precision, rtol):
 
 
 def test_pair_fraction_estimate_and_the_dense_switch(hand):
-    from amdo_lab.em_articulated.registration import _DENSE_PAIR_FRACTION, _ClosePairs
+    from amdo_lab.em_articulated.registration import DENSE_PAIR_FRACTION, ClosePairs
     rng = make_rng(13)
     theta = hand.rest_pose()
     model = hand.sample_surface(theta, 300, rng=rng)
     data = model + rng.normal(scale=2.0, size=model.shape)
     for radius in (12.0, 40.0, 80.0):
         exact = np.mean(np.linalg.norm(data[:, None] - model[None], axis=2) <= radius)
-        assert _ClosePairs(data).pair_fraction(model, radius) == pytest.approx(exact, abs=0.05)
+        assert ClosePairs(data).pair_fraction(model, radius) == pytest.approx(exact, abs=0.05)
         exact_self = np.mean(np.linalg.norm(model[:, None] - model[None], axis=2) <= radius)
-        assert _ClosePairs(None).pair_fraction(model, radius) == pytest.approx(exact_self, abs=0.05)
+        assert ClosePairs(None).pair_fraction(model, radius) == pytest.approx(exact_self, abs=0.05)
     # at σ of 15-20 mm the 4σ balls hold more than the switch's share of all pairs, so "kdtree"
     # runs the dense E-step, and the two settings give the same pose
-    assert _ClosePairs(data).pair_fraction(model, 4 * 15.0) > _DENSE_PAIR_FRACTION
+    assert ClosePairs(data).pair_fraction(model, 4 * 15.0) > DENSE_PAIR_FRACTION
     em_dense = register_em(model, data, hand, theta, 20.0, 15.0, n_levels=2)
     em_tree = register_em(model, data, hand, theta, 20.0, 15.0, n_levels=2, e_step="kdtree")
     np.testing.assert_array_equal(em_dense.theta, em_tree.theta)
 
 
-def test_pose_helpers_reject_bad_input(hand):
-    from amdo_lab.em_articulated import dof_lever_arms, perturb_pose, random_pose, visible_points
+def test_an_int_seed_and_the_generator_it_makes_give_the_same_pose(hand):
     theta = hand.rest_pose()
-    points = hand.sample_surface(theta, 20, rng=0)
-    with pytest.raises(ValueError, match="theta_est must be finite"):
-        joint_rmse_deg(np.full(27, np.nan), theta)
-    with pytest.raises(ValueError, match="theta_true must have shape"):
-        joint_rmse_deg(theta, theta[:5])
-    with pytest.raises(ValueError, match="joint_error_deg must be non-negative"):
-        perturb_pose(hand, theta, -5.0, rng=0)
-    with pytest.raises(ValueError, match="joint_error_deg must be finite"):
-        perturb_pose(hand, theta, np.nan, rng=0)
-    with pytest.raises(ValueError, match="theta must have shape"):
-        perturb_pose(hand, theta[:5], 5.0, rng=0)
-    with pytest.raises(TypeError, match="HandModel"):
-        random_pose("hand", rng=0)
-    with pytest.raises(TypeError, match="Generator"):
-        random_pose(hand, rng="seed")
-    with pytest.raises(ValueError, match="camera must have shape"):
-        visible_points(hand, points, theta, np.zeros(2))
-    with pytest.raises(ValueError, match="points must be finite"):
-        visible_points(hand, np.full((3, 3), np.nan), theta, np.array([0.0, 0.0, 500.0]))
-    with pytest.raises(ValueError, match="theta must have shape"):
-        dof_lever_arms(hand, hand.texture_binding(points, theta), theta[:5])
-    with pytest.raises(TypeError, match="binding"):
-        dof_lever_arms(hand, points, theta)
-    # an integer seed and the generator it makes give the same pose
     np.testing.assert_array_equal(perturb_pose(hand, theta, 10.0, rng=3), perturb_pose(hand, theta, 10.0, rng=make_rng(3)))
-
-
-def test_loop_settings_reject_bad_input(hand):
-    theta = hand.rest_pose()
-    points = hand.sample_surface(theta, 30, rng=0)
-    with pytest.raises(ValueError, match="gauss_newton_steps"):
-        register_em(points, points, hand, theta, gauss_newton_steps=0)
-    with pytest.raises(ValueError, match="damping"):
-        register_em(points, points, hand, theta, damping=-1.0)
-    with pytest.raises(ValueError, match="chunk"):
-        register_em(points, points, hand, theta, chunk=0)
-    with pytest.raises(ValueError, match="n_sweeps"):
-        softassign_register(points, points, hand, theta, n_sweeps=0)
-    with pytest.raises(ValueError, match="frames must be a non-empty list"):
-        track_sequence([], hand, theta)
-    with pytest.raises(ValueError, match="max_texture"):
-        track_sequence([points, points], hand, theta, max_texture=0)
 
 
 # ---------------------------------------------------------------- per-digit search (beyond the paper)
@@ -606,51 +499,29 @@ def test_robust_log_likelihood_matches_a_logsumexp_reference():
     sigma, log_c = 3.0, np.log(PAPER_C)
     log_kernel = -np.sum((data[:, None] - model[None]) ** 2, axis=2) / (2 * sigma**2)
     per_point = logsumexp(np.column_stack([log_kernel, np.full(len(data), log_c)]), axis=1)
-    value, inlier_prob = _robust_log_likelihood(model, data, sigma, log_c, chunk=16)
+    value = robust_log_likelihood(model, data, sigma, PAPER_C)
+    inlier_prob = e_step_statistics(model, data, sigma, log_c, chunk=16, precision="double")[2]
     assert value == pytest.approx(float(per_point.sum()), rel=1e-10)
     np.testing.assert_allclose(inlier_prob, np.exp(logsumexp(log_kernel, axis=1) - per_point), rtol=1e-9, atol=1e-300)
 
 
 def test_digit_starts_move_one_digit_within_the_limits(hand):
     # the digits' DOF groups cover the 21 joint angles once, and each moves only its own digit's parts
-    assert np.array_equal(np.sort(np.concatenate(_DIGIT_DOFS)), np.arange(6, 27))
-    for digit, dofs in enumerate(_DIGIT_DOFS):
+    assert np.array_equal(np.sort(np.concatenate(DIGIT_DOFS)), np.arange(6, 27))
+    for digit, dofs in enumerate(map(np.array, DIGIT_DOFS)):
         moved_parts = np.flatnonzero(hand._dof_moves_part[dofs].any(axis=0))
         np.testing.assert_array_equal(moved_parts, np.arange(1 + 3 * digit, 4 + 3 * digit))
     limits = hand.joint_limits()
     theta = hand.rest_pose()
     theta[11] = limits[11, 1]  # index abduction at its limit: the move beyond it is dropped
-    for digit, dofs in enumerate(_DIGIT_DOFS):
-        starts = _digit_starts(hand, theta, digit, np.radians(20.0), np.radians(25.0))
+    for digit, dofs in enumerate(map(np.array, DIGIT_DOFS)):
+        starts = digit_starts(hand, theta, digit, np.radians(20.0), np.radians(25.0))
         other = np.setdiff1d(np.arange(27), dofs)
         assert 1 <= len(starts) <= 7
         np.testing.assert_array_equal(starts[:, other], np.broadcast_to(theta[other], (len(starts), len(other))))
         assert np.all((starts >= limits[:, 0]) & (starts <= limits[:, 1]))
         assert np.all(np.max(np.abs(starts - theta), axis=1) > 1e-3)
-    assert len(_digit_starts(hand, theta, 1, np.radians(20.0), np.radians(25.0))) == 6
-
-
-@pytest.mark.parametrize("changes, error, match", [
-    (dict(theta=np.zeros(5)), ValueError, "theta must have shape"),
-    (dict(theta=np.full(27, 3.0)), ValueError, "theta must lie within"),
-    (dict(search_levels=0), ValueError, "search_levels"),
-    (dict(search_levels=6), ValueError, "search_levels must be at most n_levels"),
-    (dict(search_levels=1.5), TypeError, "search_levels"),
-    (dict(abduction_step_deg=0.0), ValueError, "abduction_step_deg"),
-    (dict(flexion_step_deg="25"), TypeError, "flexion_step_deg"),
-    (dict(max_passes=-1), ValueError, "max_passes"),
-    (dict(min_gain=-1.0), ValueError, "min_gain"),
-    (dict(targets="mean"), ValueError, "targets"),
-    (dict(hand="hand"), TypeError, "hand must be a HandModel"),
-    (dict(spread=3), TypeError, "spread"),
-])
-def test_digit_search_rejects_bad_input(hand, changes, error, match):
-    theta = hand.rest_pose()
-    points = hand.sample_surface(theta, 30, rng=0)
-    args = dict(model_points=points, data_points=points, hand=hand, theta_init=theta, theta=theta)
-    args.update(changes)
-    with pytest.raises(error, match=match):
-        refine_digits(**args)
+    assert len(digit_starts(hand, theta, 1, np.radians(20.0), np.radians(25.0))) == 6
 
 
 def test_trials_run_the_digit_search_only_when_asked(hand):
@@ -660,8 +531,6 @@ def test_trials_run_the_digit_search_only_when_asked(hand):
     rerun = run_registration_trials(hand, 1, rng=0, problem=problem, em_settings=settings, surface_max_iter=0,
                                     digit_search=dict(max_passes=0))
     assert np.isfinite(rerun.rmse_deg).all() and rerun.rmse_deg[0] != plain.rmse_deg[0]
-    with pytest.raises(TypeError, match="spread"):
-        run_registration_trials(hand, 1, rng=0, problem=problem, em_settings=settings, digit_search=dict(spread=1))
 
 
 def test_trial_summary_success_interval_counts_the_successful_trials():
@@ -714,18 +583,6 @@ def test_m_step_targets_are_weighted_means():
     assert np.all(targets[1] == 0)  # no weight: target unused
 
 
-@pytest.mark.parametrize("call, error, match", [
-    (lambda: e_step_reference(np.zeros((2, 2)), np.zeros((2, 3)), 1.0), ValueError, "model_points"),
-    (lambda: e_step_reference(np.zeros((2, 3)), np.zeros((2, 3)), -1.0), ValueError, "sigma"),
-    (lambda: e_step_reference(np.zeros((2, 3)), np.zeros((2, 3)), 1.0, c=0.0), ValueError, "c"),
-    (lambda: m_step_targets(np.zeros((2, 4)), np.zeros((3, 3))), ValueError, "alpha"),
-    (lambda: robust_log_likelihood(np.zeros((2, 3)), np.full((2, 3), np.nan), 1.0), ValueError, "data_points"),
-])
-def test_reference_paths_reject_bad_input(call, error, match):
-    with pytest.raises(error, match=match):
-        call()
-
-
 def test_public_robust_log_likelihood_matches_logsumexp():
     rng = np.random.default_rng(1)
     model, data = rng.normal(0, 20, (30, 3)), rng.normal(0, 20, (50, 3))
@@ -755,8 +612,6 @@ def test_climb_objective_never_lowers_the_objective(hand):
 
     climbed = climb_objective(case.model_points, case.data_points, hand, case.theta_init, case.theta_true, 3.0)
     assert objective(climbed) >= objective(case.theta_true) - 1e-6
-    with pytest.raises(ValueError, match="sigma"):
-        climb_objective(case.model_points, case.data_points, hand, case.theta_init, case.theta_true, 0.0)
 
 
 def test_objective_check_fields_agree_with_their_definitions(hand):
@@ -766,8 +621,6 @@ def test_objective_check_fields_agree_with_their_definitions(hand):
     assert check.em_rmse_deg.shape == (2,) and check.sigma == OUR_SETTINGS["sigma_min"]
     # the climb starts at the floor pose and only goes up
     assert np.all(check.climbed_log_likelihood >= check.floor_log_likelihood - 1e-6)
-    with pytest.raises(ValueError, match="n_trials"):
-        objective_check(hand, 0, rng=5, problem=problem)
 
 
 def test_per_step_schedule_runs_one_iteration_per_falling_sigma(hand):
@@ -778,8 +631,6 @@ def test_per_step_schedule_runs_one_iteration_per_falling_sigma(hand):
     levels = register_em(case.model_points, case.data_points, hand, case.theta_init, **settings)
     np.testing.assert_allclose(per_step.history[:, 0], np.r_[np.geomspace(20.0, 3.0, 5)[:4], np.full(10, 3.0)])
     assert len(levels.history) == 50
-    with pytest.raises(ValueError, match="schedule"):
-        register_em(case.model_points, case.data_points, hand, case.theta_init, schedule="fast")
 
 
 def test_bend_sequence_keeps_the_palm_still_and_the_camera_selects_the_points(hand):
@@ -789,10 +640,6 @@ def test_bend_sequence_keeps_the_palm_still_and_the_camera_selects_the_points(ha
     assert np.all(above.poses[:, 4] == above.poses[0, 4]) and np.ptp(turn.poses[:, 4]) > 0.1
     np.testing.assert_array_equal(above.poses, side.poses)  # same motion, different view
     assert not np.array_equal(above.frames[1], side.frames[1])
-    with pytest.raises(ValueError, match="motion"):
-        make_tracking_sequence(hand, rng=3, n_frames=4, motion="wave")
-    with pytest.raises(ValueError, match="camera"):
-        make_tracking_sequence(hand, rng=3, n_frames=4, camera=np.zeros(2))
 
 
 #: Every public function of the chapter that draws random numbers, with a cheap call that needs only
@@ -821,13 +668,6 @@ def test_drawing_functions_take_rng_keyword_only_without_default(name):
     assert parameter.default is inspect.Parameter.empty
 
 
-@pytest.mark.parametrize("name", sorted(_DRAWING))
-@pytest.mark.parametrize("bad, error", [("seed", TypeError), (None, TypeError), (1.5, TypeError), (-1, ValueError)])
-def test_drawing_functions_name_rng_in_errors(hand, name, bad, error):
-    with pytest.raises(error, match="^rng "):
-        _DRAWING[name][1](hand, bad)
-
-
 @pytest.mark.parametrize("name", ["e_step_reference", "make_registration_problem", "register_em"])
 def test_docstring_examples_run_and_print_what_they_show(name):
     import doctest
@@ -840,3 +680,155 @@ def test_docstring_examples_run_and_print_what_they_show(name):
     for test in tests:
         runner.run(test)
     assert runner.failures == 0
+
+
+def test_part_fields_are_eq1_of_the_part_distances(hand):
+    """Eq. (1): φ_p = exp(-d/ν), so φ_p = 1 on part p's own ellipsoid and falls by e every ν outside."""
+    theta = hand.rest_pose()
+    frames = hand.part_transforms(theta)
+    directions = make_rng(40).normal(size=(20, 3))
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    part = 5
+    # points on ellipsoid p: x = R_p (c_p + radii_p ∘ u) + t_p, the inverse of the part frame's local coordinates
+    on_surface = (hand._centres[part] + hand._radii[part] * directions) @ frames[part, :3, :3].T + frames[part, :3, 3]
+    np.testing.assert_allclose(hand.part_fields(on_surface, theta)[:, part], 1.0, atol=1e-9)
+    points = hand.sample_surface(theta, 50, rng=make_rng(41)) + make_rng(42).normal(scale=5.0, size=(50, 3))
+    expected = np.exp(-hand.part_distances(points, theta) / hand.nu)
+    np.testing.assert_allclose(hand.part_fields(points, theta), expected, rtol=1e-12)
+
+
+def test_transform_texture_is_eq3_blend_of_the_two_part_motions(hand):
+    """Eq. (3) computed from the part fields and part motions by hand equals transform_texture and the
+    positions of the analytic-Jacobian path."""
+    rng = make_rng(43)
+    theta_from = random_pose(hand, rng=rng)
+    theta_to = perturb_pose(hand, theta_from, 15.0, rng=rng)
+    points = hand.sample_surface(theta_from, 80, rng=rng)
+    a = 2.0
+    binding = hand.texture_binding(points, theta_from, a)
+    fields = hand.part_fields(points, theta_from)
+    rows = np.arange(len(points))
+    phi_p, phi_r = fields[rows, binding.part_p] ** a, fields[rows, binding.part_r] ** a
+    old, new = hand.part_transforms(theta_from), hand.part_transforms(theta_to)
+
+    def rigid(part):  # T_p(Θ_to) T_p(Θ_from)^-1 X: the point carried rigidly by one part
+        local = np.einsum("nji,nj->ni", old[part, :3, :3], points - old[part, :3, 3])
+        return np.einsum("nij,nj->ni", new[part, :3, :3], local) + new[part, :3, 3]
+
+    expected = (phi_p[:, None] * rigid(binding.part_p) + phi_r[:, None] * rigid(binding.part_r)) \
+        / (phi_p + phi_r)[:, None]
+    np.testing.assert_allclose(hand.transform_texture(binding, theta_to), expected, atol=1e-9)
+    np.testing.assert_allclose(hand.texture_jacobian(binding, theta_to)[0], expected, atol=1e-9)
+    assert np.max(np.linalg.norm(expected - points, axis=1)) > 1.0  # the texture moved: not a trivial check
+
+
+def test_robust_log_likelihood_reference_equals_the_streamed_path():
+    from amdo_lab.em_articulated.registration import robust_log_likelihood_reference
+    rng = np.random.default_rng(44)
+    model, data = rng.normal(0, 15, (50, 3)), rng.normal(0, 15, (80, 3))
+    for sigma in (2.0, 6.0):
+        assert robust_log_likelihood_reference(model, data, sigma) == pytest.approx(
+            robust_log_likelihood(model, data, sigma), rel=1e-10)
+    assert robust_log_likelihood_reference(model, data + 1e4, 2.0) == pytest.approx(80 * np.log(PAPER_C))
+
+
+def test_fit_surface_eq21_reaches_the_minimum_scipy_finds(hand):
+    """Without eq. (22)'s weights, eq. (21) is plain least squares in d(Y_j, Θ): fit_surface's
+    Gauss-Newton and scipy's trust-region least squares reach the same pose."""
+    from scipy.optimize import least_squares
+
+    rng = make_rng(45)
+    theta_true = random_pose(hand, rng=rng)
+    data = hand.sample_surface(theta_true, 300, rng=rng) + rng.normal(scale=0.5, size=(300, 3))
+    start = perturb_pose(hand, theta_true, 3.0, rng=rng, palm_rotation_deg=1.0, palm_translation_mm=1.0)
+    ours = fit_surface(data, hand, start, sigma=None, max_iter=30)
+    limits = hand.joint_limits()
+    peer = least_squares(lambda theta: hand.surface_distance(data, theta), start,
+                         jac=lambda theta: hand.surface_distance_jacobian(data, theta)[1],
+                         bounds=(limits[:, 0], limits[:, 1]), xtol=1e-12, ftol=1e-12, gtol=1e-12)
+    assert np.max(np.abs(ours.theta - peer.x)) < 1e-6
+    assert ours.rms_distance == pytest.approx(np.sqrt(np.mean(peer.fun**2)), rel=1e-9)
+    assert joint_rmse_deg(ours.theta, start) > 1.0  # the fit moved
+
+
+# ---------------------------------------------------------------- rejections: one table
+# tests/test_bad_input.py already spoils every argument of every public callable (NaN, inf or 1e308
+# inside, empty, wrong shape, a string, None, a bool, zero/negative/float counts, bad probabilities and
+# seeds) and checks that the error names the argument. This table holds what that test cannot see:
+# the rules of the method (joint limits, σ_min < σ_max, posteriors in [0, 1], the documented ±1e6 bounds),
+# unknown names and settings, shapes that depend on another argument, and the rng convention.
+# A call's parameters without a default name the fixtures it needs.
+def _points(hand):
+    """Thirty points on the rest-pose surface, a valid cloud for the calls below."""
+    return hand.sample_surface(hand.rest_pose(), 30, rng=0)
+
+
+def _outside_limits(hand):
+    """The rest pose with one finger joint (DOF 12) bent far past its limit."""
+    theta = hand.rest_pose()
+    theta[12] = 3.0
+    return theta
+
+
+REJECTIONS = [
+    # the hand model's documented bounds: coordinates and pose entries within ±1e6
+    reject("surface_distance points beyond 1e6 mm", lambda hand: hand.surface_distance(
+        np.array([[2e6, 0, 0]]), hand.rest_pose()), ValueError, "points must be at most"),
+    reject("part_transforms theta beyond 1e6", lambda hand: hand.part_transforms(np.full(27, 2e6)),
+           ValueError, "theta must be at most"),
+    reject("dof_lever_arms points for a binding", lambda hand: dof_lever_arms(hand, _points(hand), hand.rest_pose()),
+           TypeError, "binding must be a TextureBinding"),
+    # E- and M-steps (eqs. 17-20)
+    reject("e_step precision half", lambda: e_step_statistics(np.zeros((2, 3)), np.ones((3, 3)), 1.0, 0.0,
+                                                             precision="half"), ValueError, "precision must be one of"),
+    reject("m_step alpha columns differ from the data", lambda: m_step_targets(np.zeros((2, 4)), np.zeros((3, 3))),
+           ValueError, r"alpha must have shape \(n, 3\)"),
+    reject("m_step alpha above 1", lambda: m_step_targets(np.full((2, 3), 1.5), np.zeros((3, 3))),
+           ValueError, r"alpha must hold posteriors in \[0, 1\]"),
+    reject("m_step alpha below 0", lambda: m_step_targets(np.full((2, 3), -0.1), np.zeros((3, 3))),
+           ValueError, r"alpha must hold posteriors in \[0, 1\]"),
+    reject("robust_log_likelihood data beyond 1e6 mm",
+           lambda: robust_log_likelihood(np.zeros((2, 3)), np.full((2, 3), 2e6), 1.0),
+           ValueError, r"data_points must be at most 1e\+06"),
+    reject("robust_log_likelihood_reference sigma 0", lambda: robust_log_likelihood_reference(
+        np.zeros((2, 3)), np.ones((2, 3)), 0.0), ValueError, r"sigma must be in \(0, 1e\+06\]"),
+    # register_em: the annealing schedule, the joint limits, the named options
+    reject("register_em sigma_min above sigma_max", lambda hand: register_em(
+        _points(hand), _points(hand), hand, hand.rest_pose(), 20.0, 30.0),
+        ValueError, "sigma_min must be smaller than sigma_max"),
+    reject("register_em theta_init outside the limits", lambda hand: register_em(
+        _points(hand), _points(hand), hand, _outside_limits(hand), 20.0, 2.0),
+        ValueError, r"theta_init must lie within joint_limits\(\); DOF \[12\]"),
+    reject("register_em targets mean", lambda hand: register_em(
+        _points(hand), _points(hand), hand, hand.rest_pose(), targets="mean"), ValueError, "targets must be one of"),
+    reject("register_em schedule fast", lambda hand: register_em(
+        _points(hand), _points(hand), hand, hand.rest_pose(), schedule="fast"), ValueError, "schedule must be one of"),
+    reject("fit_surface weights beyond 1e6", lambda hand: fit_surface(
+        _points(hand), hand, hand.rest_pose(), weights=np.full(30, 1e7)), ValueError, "weights must be at most"),
+    reject("track_sequence no frames", lambda hand: track_sequence([], hand, hand.rest_pose()),
+           ValueError, "frames must be a non-empty list"),
+    reject("make_tracking_sequence motion wave", lambda hand: make_tracking_sequence(hand, rng=3, n_frames=4,
+                                                                                     motion="wave"),
+           ValueError, "motion must be one of"),
+    # the per-digit search (beyond the paper) and the trial runner that passes its settings on
+    reject("refine_digits theta outside the limits", lambda hand: refine_digits(
+        _points(hand), _points(hand), hand, hand.rest_pose(), np.full(27, 3.0)), ValueError, "theta must lie within"),
+    reject("refine_digits search_levels above n_levels", lambda hand: refine_digits(
+        _points(hand), _points(hand), hand, hand.rest_pose(), hand.rest_pose(), search_levels=6),
+        ValueError, "search_levels must be at most n_levels"),
+    reject("refine_digits targets mean", lambda hand: refine_digits(
+        _points(hand), _points(hand), hand, hand.rest_pose(), hand.rest_pose(), targets="mean"),
+        ValueError, "targets must be one of"),
+    reject("refine_digits unknown setting", lambda hand: refine_digits(
+        _points(hand), _points(hand), hand, hand.rest_pose(), hand.rest_pose(), spread=3), TypeError, "spread"),
+    reject("run_registration_trials unknown digit_search setting", lambda hand: run_registration_trials(
+        hand, 1, rng=0, problem=dict(n_model=100, n_data=100), digit_search=dict(spread=1)), TypeError, "spread"),
+    # the rng convention: errors start with "rng", TypeError for a non-seed, ValueError for a negative seed
+    *[reject(f"{name} rng {bad!r}", lambda hand, draw=draw, bad=bad: draw(hand, bad), error, "^rng ")
+      for name, (_, draw) in sorted(_DRAWING.items()) for bad, error in (("seed", TypeError), (-1, ValueError))],
+]
+
+
+@pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
+def test_rejections(request, call, error, message):
+    check_rejection(request, call, error, message)

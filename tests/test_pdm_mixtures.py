@@ -5,6 +5,7 @@ import warnings
 
 import numpy as np
 import pytest
+from rejections import check_rejection, reject
 from sklearn.exceptions import NotFittedError
 
 import amdo_lab.pdm_mixtures as pm
@@ -32,8 +33,8 @@ from amdo_lab.pdm_mixtures import (
     skeleton_strokes,
     wrap_angle,
 )
+from amdo_lab.pdm_mixtures.pdm import check_labels
 from amdo_lab.pdm_mixtures.poses import MEAN_LENGTHS
-from amdo_lab.pdm_mixtures.representation import polar_shape_vector as _polar
 
 
 @pytest.fixture(scope="module")
@@ -221,47 +222,12 @@ def test_baseline_and_mds_sanity(small_problem):
     np.testing.assert_allclose(pairwise_distances(embedded), pairwise_distances(points), atol=1e-9)
 
 
-# ---------------------------------------------------------------- bad input
-def test_bad_input_raises_clear_errors(small_problem):
-    train, test, recogniser = small_problem
-    with pytest.raises(ValueError, match="unknown pose"):
-        generate_pose_dataset(["boxing", "dancing"], 3, rng=0)
-    with pytest.raises(ValueError, match="shapes"):
-        recogniser.predict(test.shapes[:, :12])
-    with pytest.raises(ValueError, match="landmarks per limb"):
-        recogniser.predict(test.shapes[:, :, :4])
-    bad = test.shapes[:3].copy()
-    bad[0, 2, 1, 0] = np.nan
-    with pytest.raises(ValueError, match="finite"):
-        recogniser.predict(bad)
-    with pytest.raises(ValueError, match="no training examples"):
-        ArticulatedShapeRecogniser(rng=0, classes=TABLE1_CLASSES).fit(train.shapes[train.labels != "boxing"],
-                                                               train.labels[train.labels != "boxing"])
-    with pytest.raises(ValueError, match="not in classes"):
-        ArticulatedShapeRecogniser(rng=0, classes=TABLE1_CLASSES[:5]).fit(train.shapes, train.labels)
-    keep = np.r_[np.flatnonzero(train.labels != "kicking"), np.flatnonzero(train.labels == "kicking")[:2]]
-    with pytest.raises(ValueError, match="at least 6 training examples"):
-        ArticulatedShapeRecogniser(rng=0).fit(train.shapes[keep], train.labels[keep])
-    with pytest.raises(ValueError, match="at least 3 training examples"):
-        ArticulatedShapeRecogniser(rng=0, n_shape_components=1).fit(train.shapes[keep], train.labels[keep])
-    with pytest.raises(ValueError, match="n_shape_components"):
-        ArticulatedShapeRecogniser(rng=0, n_shape_components=0).fit(train.shapes, train.labels)
-    with pytest.raises(ValueError, match="labels"):
-        ArticulatedShapeRecogniser(rng=0).fit(train.shapes, train.labels[:-1])
-    with pytest.raises(NotFittedError, match="not fitted"):
-        ArticulatedShapeRecogniser(rng=0).predict(test.shapes)
-    with pytest.raises(ValueError, match="n_components"):
-        fit_gaussian_mixture(np.zeros((2, 2)), 3, means_init=np.zeros((3, 2)), covariances_init=np.zeros((3, 2, 2)))
-
-
-def test_iterative_alignment_reduces_misfit_and_validates(small_problem):
+def test_iterative_alignment_reduces_misfit(small_problem):
     _, test, recogniser = small_problem
     shape = test.shapes[test.labels == "stretching"][0]
     trace = recogniser.iterative_alignment(shape, "stretching", 4)
     assert trace.model_shapes.shape == (4,) + shape.shape
     assert trace.centre_rms[-1] < trace.centre_rms[0]
-    with pytest.raises(ValueError, match="class_name"):
-        recogniser.iterative_alignment(shape, "dancing")
 
 
 def test_score_components_polar_term_recognises_distinct_classes(small_problem):
@@ -275,8 +241,6 @@ def test_score_components_polar_term_recognises_distinct_classes(small_problem):
     first = recogniser.recognise(test.shapes[:20]).posteriors[0]
     expected = np.exp(full[:20] - np.logaddexp.reduce(full[:20], axis=1, keepdims=True))
     np.testing.assert_allclose(first, expected, atol=1e-12)
-    with pytest.raises(ValueError, match="terms"):
-        parts.class_scores("polar")
 
 
 def test_dictionary_has_one_string_per_class_component(small_problem):
@@ -297,7 +261,7 @@ def test_block_polar_pdm_models_angles_and_centres_separately(small_problem):
     j = single.classes_.index("stretching")
     model = single.shape_models_[j][0]
     assert [b.stop - b.start for b in model.blocks] == [13, 26]
-    deviation = single._deviation(_polar(single.align(train.shapes[train.labels == "stretching"])), single.angle_means_[j])
+    deviation = single._deviation(polar_shape_vector(single.align(train.shapes[train.labels == "stretching"])), single.angle_means_[j])
     # The angle PDM's eigenvalues are those of the angle covariance alone (the alpha_k that clamp Gamma).
     angle_cov = np.cov(deviation[:, :13].T, bias=True)
     top = np.sort(np.linalg.eigvalsh(angle_cov))[::-1][: model.pdms[0].n_modes]
@@ -316,15 +280,11 @@ def test_limb_likelihood_options_give_label_posteriors(small_problem):
     for model in (recogniser, residual):
         posteriors = np.exp(model._limb_log_posteriors(model.align(test.shapes[:5])))
         np.testing.assert_allclose(posteriors.sum(axis=2), 1.0)
-    with pytest.raises(ValueError, match="limb_likelihood"):
-        ArticulatedShapeRecogniser(rng=0, limb_likelihood="hamming").fit(train.shapes, train.labels)
-    with pytest.raises(ValueError, match="polar_model"):
-        ArticulatedShapeRecogniser(rng=0, polar_model="cartesian").fit(train.shapes, train.labels)
 
 
 def test_shape_level_mixture_separates_articulation_modes(small_problem):
     train, _, recogniser = small_problem
-    vectors = _polar(recogniser.align(train.shapes))
+    vectors = polar_shape_vector(recogniser.align(train.shapes))
     for j, name in enumerate(recogniser.classes_):
         assert len(recogniser.shape_models_[j]) == recogniser.n_shape_components == 2
         np.testing.assert_allclose(recogniser.shape_weights_[j].sum(), 1.0)
@@ -343,7 +303,7 @@ def test_shape_level_mixture_separates_articulation_modes(small_problem):
 def test_single_component_is_one_polar_pdm_per_class(small_problem):
     train, test, _ = small_problem
     single = ArticulatedShapeRecogniser(rng=0, n_shape_components=1).fit(train.shapes, train.labels)
-    vectors = _polar(single.align(train.shapes))
+    vectors = polar_shape_vector(single.align(train.shapes))
     j = single.classes_.index("kicking")
     deviation = single._deviation(vectors[train.labels == "kicking"], single.angle_means_[j])
     np.testing.assert_allclose(single.shape_models_[j][0].mean, deviation.mean(axis=0), atol=1e-12)
@@ -353,25 +313,14 @@ def test_single_component_is_one_polar_pdm_per_class(small_problem):
                                   ArticulatedShapeRecogniser(rng=0).fit(train.shapes, train.labels).predict_proba(test.shapes[:10]))
 
 
-def test_generator_rejects_bad_parameters():
-    with pytest.raises(ValueError, match="noise"):
-        generate_pose_dataset(TABLE1_CLASSES, 2, rng=0, noise=-0.1)
-    with pytest.raises(ValueError, match="n_per_class"):
-        generate_pose_dataset(TABLE1_CLASSES, 0, rng=0)
-    with pytest.raises(ValueError, match="empty"):
-        generate_pose_dataset([], 2, rng=0)
-    with pytest.raises(TypeError):
-        generate_pose_dataset(TABLE1_CLASSES, 2, rng=None)
-
-
 def test_polar_mixture_components_are_weighted_moments_in_original_units():
-    from amdo_lab.pdm_mixtures.recogniser import _fit_polar_mixture, _polar_blocks
+    from amdo_lab.pdm_mixtures.recogniser import fit_polar_mixture, polar_blocks
 
     rng = make_rng(3)
     # Two clusters; angles (radians) and centres (small units) on very different scales.
     data = np.concatenate([rng.standard_normal((15, 39)), rng.standard_normal((15, 39)) + 4.0])
     data[:, 13:] *= 1e-2
-    models, weights, resp = _fit_polar_mixture(data, 2, _polar_blocks("block"), make_rng(0), 20, 0.95)
+    models, weights, resp = fit_polar_mixture(data, 2, polar_blocks("block"), make_rng(0), 20, 0.95)
     np.testing.assert_allclose(weights.sum(), 1.0)
     np.testing.assert_allclose(resp.sum(axis=1), 1.0)
     for m, model in enumerate(models):
@@ -381,17 +330,8 @@ def test_polar_mixture_components_are_weighted_moments_in_original_units():
 
 
 # ---------------------------------------------------------------- open choices: ridge, restarts, held-out likelihood
-def test_shape_ridge_and_n_restarts_validate_and_default_to_the_previous_recogniser(small_problem):
+def test_shape_ridge_and_n_restarts_default_to_the_previous_recogniser(small_problem):
     train, test, recogniser = small_problem
-    for bad in (0.0, -1e-3, float("nan")):
-        with pytest.raises(ValueError, match="shape_ridge"):
-            ArticulatedShapeRecogniser(rng=0, shape_ridge=bad).fit(train.shapes, train.labels)
-    with pytest.raises(TypeError, match="shape_ridge"):
-        ArticulatedShapeRecogniser(rng=0, shape_ridge="1e-3").fit(train.shapes, train.labels)
-    with pytest.raises(ValueError, match="n_restarts"):
-        ArticulatedShapeRecogniser(rng=0, n_restarts=0).fit(train.shapes, train.labels)
-    with pytest.raises(TypeError, match="n_restarts"):
-        ArticulatedShapeRecogniser(rng=0, n_restarts=2.0).fit(train.shapes, train.labels)
     explicit = ArticulatedShapeRecogniser(rng=0, shape_ridge=1e-3, n_restarts=1).fit(train.shapes, train.labels)
     np.testing.assert_array_equal(explicit.predict_proba(test.shapes[:20]), recogniser.predict_proba(test.shapes[:20]))
 
@@ -418,136 +358,36 @@ def test_em_restarts_keep_the_start_with_the_highest_training_likelihood(monkeyp
         return result
 
     monkeypatch.setattr(module, "fit_gaussian_mixture", recording_em)
-    _, weights, resp = module._fit_polar_mixture(data, 2, module._polar_blocks("block"), make_rng(0), 15, 0.95,
+    _, weights, resp = module.fit_polar_mixture(data, 2, module.polar_blocks("block"), make_rng(0), 15, 0.95,
                                                  n_restarts=4)
     assert len(runs) == 4
     best = max(runs, key=lambda run: run.log_likelihood[-1])
     np.testing.assert_array_equal(resp, best.responsibilities)
     runs.clear()
-    _, _, first = module._fit_polar_mixture(data, 2, module._polar_blocks("block"), make_rng(0), 15, 0.95)
+    _, _, first = module.fit_polar_mixture(data, 2, module.polar_blocks("block"), make_rng(0), 15, 0.95)
     assert len(runs) == 1  # one start by default, the same first start
     assert best.log_likelihood[-1] >= runs[0].log_likelihood[-1]
 
 
-def test_held_out_log_likelihood_is_deterministic_and_validates(small_problem):
+def test_held_out_log_likelihood_is_deterministic(small_problem):
     from amdo_lab.pdm_mixtures import held_out_log_likelihood
 
     train, _, recogniser = small_problem
     j = recogniser.classes_.index("boxing")
-    vectors = recogniser._deviation(_polar(recogniser.align(train.shapes[train.labels == "boxing"])),
+    vectors = recogniser._deviation(polar_shape_vector(recogniser.align(train.shapes[train.labels == "boxing"])),
                                     recogniser.angle_means_[j])  # 12 shapes
     one = held_out_log_likelihood(vectors, 1, n_folds=4, rng=0)
     assert np.isfinite(one) and one == held_out_log_likelihood(vectors, 1, n_folds=4, rng=0)
     assert np.isfinite(held_out_log_likelihood(vectors, 2, n_folds=3, shape_ridge=1e-2, rng=0))
-    with pytest.raises(ValueError, match="n_folds"):
-        held_out_log_likelihood(vectors, 1, n_folds=1, rng=0)
-    with pytest.raises(ValueError, match="rows outside every fold"):
-        held_out_log_likelihood(vectors, 4, n_folds=4, rng=0)  # 9 rows per training split; 4 components need 12
-    with pytest.raises(ValueError, match="shape_ridge"):
-        held_out_log_likelihood(vectors, 2, shape_ridge=0.0, rng=0)
-    with pytest.raises(ValueError, match="polar_vectors"):
-        held_out_log_likelihood(vectors[:, :13], 1, rng=0)
-    with pytest.raises(ValueError, match="polar_model"):
-        held_out_log_likelihood(vectors, 1, polar_model="both", rng=0)
 
 
-# ---------------------------------------------------------------- bad input at every public entry point
+# ---------------------------------------------------------------- small inputs for the rejection table (end of file)
 _RNG = make_rng(21)
 _VECTORS = _RNG.standard_normal((10, 4))
 _PDM = fit_pdm(_VECTORS)
 _SHAPES = generate_pose_dataset(TABLE1_CLASSES[:1], 2, rng=0).shapes
 _TWO_BOXING = np.array(["boxing", "boxing"])
 _EYES = np.stack([np.eye(2)] * 2)
-
-
-@pytest.mark.parametrize("call, error, message", [
-    # Gaussian mixture
-    (lambda: pm.gaussian_log_density(np.full((3, 2), np.nan), np.zeros((2, 2)), _EYES), ValueError, "points must be finite"),
-    (lambda: pm.gaussian_log_density(np.ones(2), np.zeros((2, 2)), _EYES), ValueError, "points must have 2 dimensions"),
-    (lambda: pm.gaussian_log_density(np.ones((3, 3)), np.zeros((2, 2)), _EYES), ValueError, r"points and means must have as many columns, got 3 and 2"),
-    (lambda: pm.gaussian_log_density(np.ones((3, 2)), np.zeros((3, 2)), _EYES), ValueError, r"covariances must have shape \(3, 2, 2\)"),
-    (lambda: pm.gaussian_log_density(np.ones((3, 2)), np.zeros((2, 2)), -_EYES), ValueError, "covariances must be positive definite"),
-    (lambda: fit_gaussian_mixture(_RNG.standard_normal((6, 2)), 2, means_init=np.zeros((2, 2)), covariances_init=-_EYES),
-     ValueError, "covariances_init must be positive definite"),
-    (lambda: fit_gaussian_mixture(np.ones((6, 2), bool), 2, means_init=np.zeros((2, 2)), covariances_init=_EYES),
-     TypeError, "X must be a numeric array"),
-    # point distribution models
-    (lambda: fit_pdm(_VECTORS, variance_fraction=0.0), ValueError, r"variance_fraction must be in \(0, 1\], got 0.0"),
-    (lambda: fit_pdm(_VECTORS, variance_fraction=1.5), ValueError, r"variance_fraction must be in \(0, 1\]"),
-    (lambda: fit_pdm(_VECTORS, variance_fraction=np.nan), ValueError, "variance_fraction must be finite"),
-    (lambda: fit_pdm(_VECTORS, max_modes=0), ValueError, "max_modes must be at least 1"),
-    (lambda: fit_pdm(_VECTORS, max_modes=1.5), TypeError, "max_modes must be an int"),
-    (lambda: fit_pdm(_VECTORS[:, :1]), ValueError, "long_vectors needs at least 2 columns"),
-    (lambda: pm.pdm_from_moments(np.zeros(4), np.full((4, 4), np.nan)), ValueError, "covariance must be finite"),
-    (lambda: pm.pdm_from_moments(np.zeros(4), np.ones((4, 3))), ValueError, "covariance must be a square"),
-    (lambda: pm.pdm_from_moments(np.zeros(1), np.ones((1, 1))), ValueError, "D >= 2"),
-    (lambda: pm.pdm_from_moments(np.zeros(3), np.eye(4)), ValueError, r"mean must have shape \(4,\)"),
-    (lambda: pm.pdm_from_moments(np.full(4, np.nan), np.eye(4)), ValueError, "mean must be finite"),
-    (lambda: pm.pdm_from_moments(np.zeros(4), np.eye(4), variance_fraction=2.0), ValueError, "variance_fraction"),
-    (lambda: pm.pdm_from_moments(np.zeros(4), np.eye(4), max_modes=-1), ValueError, "max_modes"),
-    (lambda: pm.pdm_from_moments(np.zeros(4), np.eye(4), min_residual_variance=np.nan), ValueError, "min_residual_variance"),
-    (lambda: fit_modes(_PDM, np.full((2, 4), np.nan)), ValueError, "observed must be finite"),
-    (lambda: fit_modes(_PDM, np.ones((2, 3))), ValueError, r"observed must have shape \(n, 4\)"),
-    (lambda: fit_modes("model", np.ones((2, 4))), TypeError, "model must be a PointDistributionModel"),
-    (lambda: reconstruct(_PDM, np.full((2, _PDM.n_modes), np.nan)), ValueError, "gamma must be finite"),
-    (lambda: reconstruct(_PDM, np.zeros((2, _PDM.n_modes + 1))), ValueError, "gamma must have shape"),
-    (lambda: pm.normalise_shape(np.ones((5, 2))), ValueError, "points must not all coincide"),
-    (lambda: pm.normalise_shape(np.full((5, 2), np.nan)), ValueError, "points must be finite"),
-    (lambda: pm.normalise_shape(np.ones((5, 3))), ValueError, r"points must have shape \(n, 2\)"),
-    (lambda: generalized_procrustes(np.ones((3, 4, 2))), ValueError, "point_sets must not contain a point set whose points all coincide"),
-    (lambda: pm.align_to_reference(_RNG.random((3, 4, 2)), _RNG.random((5, 2))), ValueError, r"reference must have shape \(4, 2\)"),
-    (lambda: pm.align_to_reference(np.full((3, 4, 2), np.nan), _RNG.random((4, 2))), ValueError, "point_sets must be finite"),
-    (lambda: pm.align_to_reference(np.zeros((0, 4, 2)), _RNG.random((4, 2))), ValueError, "point_sets must not be empty"),
-    # polar representation
-    (lambda: wrap_angle(np.array([np.nan])), ValueError, "angles must be finite"),
-    (lambda: wrap_angle("a"), TypeError, "angles must be a numeric array"),
-    (lambda: limb_centres(np.full((1, 13, 6, 2), np.nan)), ValueError, "shapes must be finite"),
-    (lambda: limb_centres(np.ones((1, 13, 6, 3))), ValueError, "shapes must have shape"),
-    (lambda: pm.articulation_centre(np.ones((13, 2))), ValueError, "centres must have shape"),
-    (lambda: limb_angles(np.full((1, 13, 2), np.inf)), ValueError, "centres must be finite"),
-    (lambda: polar_shape_vector(_SHAPES[0]), ValueError, "shapes must have shape"),
-    (lambda: pm.centred_limbs(np.full((1, 13, 6, 2), np.nan)), ValueError, "shapes must be finite"),
-    # generator
-    (lambda: pm.pose_modes("dancing"), ValueError, "name must be one of"),
-    (lambda: skeleton_strokes(np.full((1, 13), np.nan), MEAN_LENGTHS[None], 6), ValueError, "directions_deg must be finite"),
-    (lambda: skeleton_strokes(np.zeros((2, 13)), MEAN_LENGTHS[None], 6), ValueError, r"lengths must have shape \(2, 13\)"),
-    (lambda: skeleton_strokes(np.zeros((1, 13)), -MEAN_LENGTHS[None], 6), ValueError, "lengths must be positive"),
-    (lambda: skeleton_strokes(np.zeros((1, 5)), MEAN_LENGTHS[None, :5], 6), ValueError, r"directions_deg must have shape \(n, 13\)"),
-    (lambda: skeleton_strokes(np.zeros((1, 13)), MEAN_LENGTHS[None], 1), ValueError, "landmarks_per_limb must be at least 2"),
-    (lambda: skeleton_strokes(np.zeros((1, 13)), MEAN_LENGTHS[None], 2.5), TypeError, "landmarks_per_limb must be an int"),
-    # label model
-    (lambda: hamming_distance(np.zeros((2, 13), int), np.ones((3, 12), int)), ValueError, r"label_strings and dictionary must have as many columns \(limbs\), got 13 and 12"),
-    (lambda: hamming_distance(np.zeros(13, int), np.ones((3, 13), int)), ValueError, "label_strings must have 2 dimensions"),
-    (lambda: hamming_distance(np.full((2, 13), np.nan), np.ones((3, 13))), ValueError, "label_strings must be finite"),
-    (lambda: hamming_distance(np.full((2, 13), 0.5), np.ones((3, 13))), ValueError, "label_strings must hold whole numbers"),
-    (lambda: label_string_log_prob(np.array([1]), 13, 0.0), ValueError, r"error_probability must be in \(0, 1\), got 0.0"),
-    (lambda: label_string_log_prob(np.array([1]), 13, 1.0), ValueError, r"error_probability must be in \(0, 1\)"),
-    (lambda: label_string_log_prob(np.array([1]), 13, np.nan), ValueError, "error_probability must be finite"),
-    (lambda: label_string_log_prob(np.array([1]), 0, 0.2), ValueError, "n_limbs must be at least 1"),
-    (lambda: label_string_log_prob(np.array([20]), 13, 0.2), ValueError, r"hamming must hold distances in \[0, n_limbs=13\]"),
-    (lambda: label_string_log_prob(np.array([np.nan]), 13, 0.2), ValueError, "hamming must be finite"),
-    # embeddings and distances
-    (lambda: pairwise_distances(np.full((3, 2), np.nan)), ValueError, "vectors must be finite"),
-    (lambda: pairwise_distances(np.ones(3)), ValueError, "vectors must have 2 dimensions"),
-    (lambda: classical_mds(np.full((3, 3), np.nan)), ValueError, "distances must be finite"),
-    (lambda: classical_mds(np.ones((3, 2))), ValueError, "distances must be a square"),
-    (lambda: classical_mds(-np.ones((3, 3))), ValueError, "distances must be non-negative"),
-    (lambda: classical_mds(np.zeros((3, 3)), 4), ValueError, "n_dims must be at most the number of points 3"),
-    (lambda: classical_mds(np.zeros((3, 3)), 0), ValueError, "n_dims must be at least 1"),
-    (lambda: classical_mds(np.zeros((0, 0))), ValueError, "distances must not be empty"),
-    (lambda: pm.pca_embedding(_VECTORS, 5), ValueError, r"n_dims must be at most min\(n, d\) = 4"),
-    (lambda: pm.pca_embedding(_VECTORS, 2.5), TypeError, "n_dims must be an int"),
-    (lambda: pm.pca_embedding(np.full((3, 3), np.nan)), ValueError, "vectors must be finite"),
-    (lambda: pm.SingleCartesianPDMClassifier(variance_fraction=np.nan).fit(_SHAPES, _TWO_BOXING), ValueError, "variance_fraction must be finite"),
-    (lambda: pm.SingleCartesianPDMClassifier(variance_fraction=2.0).fit(_SHAPES, _TWO_BOXING), ValueError, "variance_fraction must be in"),
-    # recogniser settings
-    (lambda: ArticulatedShapeRecogniser(rng=0, classes="boxing").fit(_SHAPES, _TWO_BOXING), TypeError, "classes must be a sequence of class names"),
-    (lambda: ArticulatedShapeRecogniser(rng=0, classes=()).fit(_SHAPES, _TWO_BOXING), ValueError, "classes must name at least one class"),
-    (lambda: ArticulatedShapeRecogniser(rng=0, classes=("boxing", "boxing")).fit(_SHAPES, _TWO_BOXING), ValueError, "classes must not repeat a name"),
-])
-def test_public_functions_reject_bad_input(call, error, message):
-    with pytest.raises(error, match=message):
-        call()
 
 
 @pytest.fixture(scope="module")
@@ -578,39 +418,6 @@ def _make(cls):
     return cls(rng=0) if cls is pm.SklearnGMMClassifier else cls()
 
 
-@pytest.mark.parametrize("call, error, message", [
-    (lambda f: f.recogniser.model_limbs(np.full(39, np.nan), f.labels), ValueError, "polar_vector must be finite"),
-    (lambda f: f.recogniser.model_limbs(f.vector[:20], f.labels), ValueError, r"polar_vector must have shape \(39,\)"),
-    (lambda f: f.recogniser.model_limbs(f.vector, np.full(13, 9)), ValueError, r"label_string must hold limb labels in 0\.\.3"),
-    (lambda f: f.recogniser.model_limbs(f.vector, np.full(13, -1)), ValueError, "label_string must hold limb labels"),
-    (lambda f: f.recogniser.model_limbs(f.vector, f.labels[:5]), ValueError, r"label_string must have shape \(13,\)"),
-    (lambda f: f.recogniser.model_limbs(f.vector, f.labels, np.zeros((13, 5))), ValueError,
-     r"observed_limbs must have shape \(13, 12\)"),
-    (lambda f: f.recogniser.shape_models_[0][0].project(np.full((2, 39), np.nan)), ValueError, "deviation must be finite"),
-    (lambda f: f.recogniser.shape_models_[0][0].log_density(np.zeros((2, 10))), ValueError,
-     r"deviation must have shape \(n, 39\)"),
-    (lambda f: ArticulatedShapeRecogniser(rng=0).align(f.test.shapes), NotFittedError, "is not fitted yet"),
-    (lambda f: ArticulatedShapeRecogniser(rng=0).model_limbs(f.vector, f.labels), NotFittedError, "is not fitted yet"),
-    (lambda f: ArticulatedShapeRecogniser(rng=0).fit(f.train.shapes, f.nan_labels), ValueError, "labels must not contain NaN"),
-    *[case for cls in _BASELINES for case in (
-        (lambda f, cls=cls: _make(cls).fit(f.train.shapes, f.train.labels[:-1]), ValueError, r"labels must have shape \(72,\)"),
-        (lambda f, cls=cls: _make(cls).fit(f.train.shapes, f.nan_labels), ValueError, "labels must not contain NaN"),
-        (lambda f, cls=cls: _make(cls).predict(f.test.shapes), NotFittedError, "is not fitted yet"),
-        (lambda f, cls=cls: f.baselines[cls].predict(f.test.shapes[:, :, :4]), ValueError, "6 landmarks per limb"),
-    )],
-    *[(lambda f, cls=cls: f.baselines[cls].predict(np.r_[np.ones((1, 13, 6, 2)), f.test.shapes[:1]]), ValueError,
-       "shapes must not contain a point set whose points all coincide") for cls in _BASELINES],
-    (lambda f: f.recogniser.predict(np.r_[f.test.shapes[:1], np.ones((1, 13, 6, 2))]), ValueError,
-     r"shapes must not contain a point set whose points all coincide \(zero centroid size at index 1\)"),
-    (lambda f: pm.draw_shape(f.ax, np.full((13, 6, 2), np.nan)), ValueError, "shape must be finite"),
-    (lambda f: pm.draw_shape(f.ax, f.test.shapes[:2]), ValueError, r"shape must have shape \(13, n, 2\)"),
-    (lambda f: pm.draw_shape(None, f.test.shapes[0]), TypeError, "ax must be a matplotlib Axes"),
-])
-def test_fitted_models_reject_bad_input(fitted, call, error, message):
-    with pytest.raises(error, match=message):
-        call(fitted)
-
-
 # ---------------------------------------------------------------- mode separation, reference paths
 def test_mode_separation_default_is_unchanged_and_zero_merges_the_modes():
     default = generate_pose_dataset(TABLE1_CLASSES, 6, rng=11)
@@ -624,8 +431,6 @@ def test_mode_separation_default_is_unchanged_and_zero_merges_the_modes():
     spread = {level: np.ptp(pm.limb_angles(pm.limb_centres(generate_pose_dataset(
         ("boxing",), 8, rng=3, mode_separation=level, **still).shapes))[:, 3]) for level in (1.0, 1.5)}
     assert spread[1.5] > spread[1.0] > 0.1  # the left upper arm's two modes move apart
-    with pytest.raises(ValueError, match="mode_separation"):
-        generate_pose_dataset(TABLE1_CLASSES, 2, rng=0, mode_separation=-1.0)
 
 
 def test_ppca_log_density_is_the_gaussian_of_the_pdm_covariance():
@@ -638,10 +443,6 @@ def test_ppca_log_density_is_the_gaussian_of_the_pdm_covariance():
         + 0.01 * rng.standard_normal((5, 6))
     expected = pm.gaussian_log_density(inside, model.mean[None], covariance[None])[:, 0]
     assert np.allclose(pm.ppca_log_density(model, inside), expected)
-    with pytest.raises(ValueError, match="observed"):
-        pm.ppca_log_density(model, np.zeros((2, 5)))
-    with pytest.raises(TypeError, match="model"):
-        pm.ppca_log_density("pdm", inside)
 
 
 def test_single_cartesian_pdm_scores_with_the_one_ppca_density(small_problem):
@@ -653,21 +454,21 @@ def test_single_cartesian_pdm_scores_with_the_one_ppca_density(small_problem):
 
 
 def test_reference_paths_equal_fast_paths():
-    from amdo_lab.pdm_mixtures.gmm import _gaussian_log_density, _gaussian_log_density_reference
-    from amdo_lab.pdm_mixtures.pdm import _align_to_reference, _align_to_reference_loop
-    from amdo_lab.pdm_mixtures.recogniser import _hamming_distance, _hamming_distance_reference
+    from amdo_lab.pdm_mixtures.gmm import gaussian_log_density_reference
+    from amdo_lab.pdm_mixtures.pdm import align_to_reference_loop
+    from amdo_lab.pdm_mixtures.recogniser import hamming_distance_reference
 
     rng = make_rng(8)
     points, means = rng.standard_normal((30, 4)), rng.standard_normal((3, 4))
     factors = rng.standard_normal((3, 4, 4))
     covariances = factors @ np.swapaxes(factors, 1, 2) + 0.1 * np.eye(4)
-    assert np.allclose(_gaussian_log_density(points, means, covariances),
-                       _gaussian_log_density_reference(points, means, covariances))
+    assert np.allclose(pm.gaussian_log_density(points, means, covariances),
+                       gaussian_log_density_reference(points, means, covariances))
     strings, dictionary = rng.integers(0, 4, (7, 13)), rng.integers(0, 4, (5, 13))
-    assert np.array_equal(_hamming_distance(strings, dictionary), _hamming_distance_reference(strings, dictionary))
+    assert np.array_equal(pm.hamming_distance(strings, dictionary), hamming_distance_reference(strings, dictionary))
     sets = generate_pose_dataset(TABLE1_CLASSES, 3, rng=5).shapes.reshape(18, -1, 2)
     reference = pm.normalise_shape(sets[0])
-    assert np.allclose(_align_to_reference(sets, reference), _align_to_reference_loop(sets, reference), atol=1e-12)
+    assert np.allclose(pm.align_to_reference(sets, reference), align_to_reference_loop(sets, reference), atol=1e-12)
 
 
 def test_limb_label_posteriors_are_distributions(small_problem):
@@ -683,11 +484,9 @@ def test_limb_label_posteriors_are_distributions(small_problem):
         for m in range(n_components):
             string = recogniser.dictionary_[c, m]
             assert np.allclose(log_posteriors[:, np.arange(13), string].sum(axis=1), gates[:, c, m])
-    with pytest.raises(ValueError, match="shapes"):
-        recogniser.limb_label_posteriors(np.zeros((2, 12, 6, 2)))
 
 
-def test_mode_separation_trial_is_deterministic_and_validates():
+def test_mode_separation_trial_is_deterministic():
     first = pm.mode_separation_trial(1.5, rng=3, n_train=6, n_test=2, classes=("boxing", "stretching"))
     again = pm.mode_separation_trial(1.5, rng=3, n_train=6, n_test=2, classes=("boxing", "stretching"))
     assert set(first.correct) == set(pm.SEPARATION_MODELS)
@@ -695,14 +494,10 @@ def test_mode_separation_trial_is_deterministic_and_validates():
         assert first.correct[name].shape == (4,) and first.correct[name].dtype == bool
         assert np.array_equal(first.correct[name], again.correct[name])
         assert 0.0 <= first.rate(name) <= 1.0
-    with pytest.raises(ValueError, match="separation"):
-        pm.mode_separation_trial(-0.5, rng=3)
-    with pytest.raises(ValueError, match="n_train"):
-        pm.mode_separation_trial(1.0, rng=3, n_train=2)
 
 
 def test_batched_mixture_em_equals_one_run_at_a_time():
-    from amdo_lab.pdm_mixtures.gmm import _fit_gaussian_mixtures_batch
+    from amdo_lab.pdm_mixtures.gmm import fit_gaussian_mixtures_batch
 
     rng = make_rng(12)
     points = np.stack([np.concatenate([rng.standard_normal((25, 3)), rng.standard_normal((25, 3)) + 3.0])
@@ -710,7 +505,7 @@ def test_batched_mixture_em_equals_one_run_at_a_time():
     means = points[:, [0, 30]]
     covariances = np.repeat(np.eye(3)[None, None], 4, axis=0).repeat(2, axis=1)
     ridges = np.array([0.0, 1e-3, 1e-2, 0.1])
-    weights, fitted_means, fitted_covariances, responsibilities = _fit_gaussian_mixtures_batch(
+    weights, fitted_means, fitted_covariances, responsibilities = fit_gaussian_mixtures_batch(
         points, means, covariances, 15, ridges)
     for b in range(4):
         one = pm.fit_gaussian_mixture(points[b], 2, means_init=means[b], covariances_init=covariances[b],
@@ -726,7 +521,7 @@ def test_nearest_mean_distances_equal_the_procrustes_loop(small_problem):
     assert np.allclose(classifier.distances(test.shapes[:20]), classifier._distances_loop(test.shapes[:20]))
 
 
-def test_draw_shape_draws_one_collection_and_validates():
+def test_draw_shape_draws_one_collection():
     import matplotlib
 
     matplotlib.use("Agg")
@@ -735,10 +530,6 @@ def test_draw_shape_draws_one_collection_and_validates():
     fig, ax = plt.subplots()
     pm.draw_shape(ax, generate_pose_dataset(("boxing",), 1, rng=0).shapes[0], label="boxing")
     assert len(ax.collections) == 1 and ax.get_legend_handles_labels()[1] == ["boxing"]
-    with pytest.raises(ValueError, match="shape"):
-        pm.draw_shape(ax, np.zeros((12, 6, 2)))
-    with pytest.raises(TypeError, match="ax"):
-        pm.draw_shape("axes", np.zeros((13, 6, 2)))
     plt.close(fig)
 
 
@@ -756,19 +547,12 @@ _DRAWING = {
 
 
 @pytest.mark.parametrize("name", sorted(_DRAWING))
-def test_drawing_functions_take_a_keyword_rng_without_default_and_name_it_in_errors(name):
+def test_drawing_functions_take_a_keyword_rng_without_default(name):
     import inspect
 
-    function, call = _DRAWING[name]
-    parameter = inspect.signature(function).parameters["rng"]
+    parameter = inspect.signature(_DRAWING[name][0]).parameters["rng"]
     assert parameter.kind is inspect.Parameter.KEYWORD_ONLY
     assert parameter.default is inspect.Parameter.empty
-    with pytest.raises(TypeError, match="rng must be"):
-        call("0")
-    with pytest.raises(TypeError, match="rng must be"):
-        call(None)
-    with pytest.raises(ValueError, match="rng must be non-negative"):
-        call(-1)
 
 
 def test_sklearn_baseline_takes_a_generator(fitted):
@@ -809,8 +593,6 @@ def test_estimators_store_settings_as_given_learn_underscored_attributes_and_fit
     unchecked = ArticulatedShapeRecogniser(rng=0, n_limb_labels=0)  # settings are checked by fit
     with pytest.raises(ValueError, match="n_limb_labels"):
         unchecked.fit(fitted.train.shapes, fitted.train.labels)
-    with pytest.raises(ValueError, match="covariance_type"):
-        pm.SklearnGMMClassifier(covariance_type="diagonal", rng=0).fit(fitted.train.shapes, fitted.train.labels)
 
 
 def test_a_refit_forgets_the_previous_fit(small_problem):
@@ -819,3 +601,270 @@ def test_a_refit_forgets_the_previous_fit(small_problem):
     fewer = train.shapes[:, :, :4]  # 4 landmarks per limb instead of 6: accepted by a fresh fit
     model.fit(fewer, train.labels)
     assert model.landmarks_per_limb_ == 4 and model.predict(test.shapes[:3, :, :4]).shape == (3,)
+
+
+def test_check_labels_takes_names_or_integer_ids():
+    from amdo_lab.pdm_mixtures.pdm import check_labels
+
+    assert check_labels(np.array(["a", "b"]), 2).tolist() == ["a", "b"]
+    assert check_labels(np.array([0.0, 3.0]), 2).tolist() == [0.0, 3.0]  # whole floats: ids, kept as given
+
+
+def test_recognise_relabels_the_limbs_by_eq14(small_problem):
+    """Eq. (14) computed by hand from the first iteration's terms gives the labels of the second."""
+    _, test, recogniser = small_problem
+    shapes = test.shapes[:30]
+    trace = recogniser.recognise(shapes)
+    parts = recogniser.score_components(shapes)
+    log_post = recogniser.limb_label_posteriors(shapes, log=True)
+    joint = parts.log_weights[None] + parts.shape + parts.limb_gate + parts.label_string  # (n, C, M)
+    best = trace.posteriors[0].argmax(axis=1)  # eq. (13)
+    component = np.argmax(joint[np.arange(len(shapes)), best], axis=1)
+    p = recogniser.label_error_probability
+    # ln P(λ | z_k) + ln P(L(λ, k) | Λ_ω): a label off the winner's dictionary string costs k_p = ln((1-p)/p)
+    off_string = recogniser.dictionary_[best, component][:, :, None] != np.arange(recogniser.n_limb_labels)
+    expected = np.argmax(log_post - np.log((1 - p) / p) * off_string, axis=2)
+    moved = trace.n_iter > 1
+    assert moved, "the test set should need a relabelling"
+    np.testing.assert_array_equal(trace.label_strings[1], expected)
+    assert np.any(trace.label_strings[1] != trace.label_strings[0])
+
+
+def test_model_limbs_are_each_label_pdm_fitted_to_the_observed_limb_eq15(small_problem):
+    """Eq. (15): a limb that is an instance of its label's PDM (within the clamp) is drawn exactly."""
+    _, _, recogniser = small_problem
+    rng = make_rng(30)
+    labels = rng.integers(0, recogniser.n_limb_labels, 13)
+    observed = []
+    for k, label in enumerate(labels):
+        model = recogniser.limb_models_[k][label]
+        gamma = rng.uniform(-1.0, 1.0, model.n_modes) * np.sqrt(model.variances)  # inside ±3√α
+        observed.append(reconstruct(model, gamma[None])[0])
+    observed = np.stack(observed)
+    vector = np.concatenate([np.zeros(13), rng.normal(size=26)])
+    drawn = recogniser.model_limbs(vector, labels, observed)
+    np.testing.assert_allclose(drawn, observed.reshape(13, -1, 2) + vector[13:].reshape(13, 1, 2), atol=1e-9)
+    means = recogniser.model_limbs(vector, labels)
+    assert np.max(np.abs(means - drawn)) > 1e-3  # the fit moved the limbs away from their mean strokes
+
+
+def test_limb_posteriors_are_eq10_bayes_rule_over_the_eq16_residual(small_problem):
+    """With ``limb_likelihood="residual"`` the limb-label posterior is Bayes' rule over eq. (16)'s
+    isotropic Gaussian of the clamped fit residual, computed here from the public PDM functions."""
+    from amdo_lab.pdm_mixtures.representation import centred_limbs
+
+    train, test, _ = small_problem
+    residual = ArticulatedShapeRecogniser(rng=0, limb_likelihood="residual").fit(train.shapes, train.labels)
+    aligned = residual.align(test.shapes[:6])
+    limbs = centred_limbs(aligned)  # (n, K, 2m)
+    for k in (0, 6, 12):
+        errors = np.stack([np.sum((limbs[:, k] - reconstruct(model, fit_modes(model, limbs[:, k]))) ** 2, axis=1)
+                           for model in residual.limb_models_[k]], axis=1)
+        log_joint = -errors / (2 * residual.limb_noise_[k]) + np.log(residual.limb_weights_[k])  # eq. (16) x prior
+        expected = log_joint - np.logaddexp.reduce(log_joint, axis=1, keepdims=True)
+        np.testing.assert_allclose(residual._limb_log_posteriors(aligned)[:, k], expected, atol=1e-10)
+    labels = np.argmax(residual._limb_log_posteriors(aligned), axis=2)  # eq. (10)
+    np.testing.assert_array_equal(residual.recognise(test.shapes[:6]).label_strings[0], labels)
+
+
+# ---------------------------------------------------------------- rejections: one table
+# tests/test_bad_input.py already spoils every argument of every public callable (NaN, inf or 1e308
+# inside, empty, a wrong trailing axis, one axis more, a string, None, a bool, zero/negative/float counts,
+# probabilities outside [0, 1], bad seeds) and checks that the error names the argument. This table holds
+# what that test cannot see: the rules of the method (13 limbs, enough training examples per class and
+# component, positive-definite covariances, open intervals), unknown names, shapes set by another argument
+# or by the fitted model, one axis too few, not-fitted errors and the rng convention.
+# A call's parameters without a default name the fixtures it needs (``small_problem``, ``fitted``).
+def _without_boxing(small_problem):
+    train, _, _ = small_problem
+    return train.shapes[train.labels != "boxing"], train.labels[train.labels != "boxing"]
+
+
+def _two_kicking(small_problem):
+    """The training set with only two kicking examples: too few for two components of 3 (or 1 of 3)."""
+    train, _, _ = small_problem
+    keep = np.r_[np.flatnonzero(train.labels != "kicking"), np.flatnonzero(train.labels == "kicking")[:2]]
+    return train.shapes[keep], train.labels[keep]
+
+
+def _boxing_vectors(small_problem):
+    """The 12 boxing training shapes as polar deviations from their class mean."""
+    train, _, recogniser = small_problem
+    j = recogniser.classes_.index("boxing")
+    return recogniser._deviation(polar_shape_vector(recogniser.align(train.shapes[train.labels == "boxing"])),
+                                 recogniser.angle_means_[j])
+
+
+REJECTIONS = [
+    # ------------------------------------------------------------ generator
+    reject("generate_pose_dataset unknown class", lambda: generate_pose_dataset(["boxing", "dancing"], 3, rng=0),
+           ValueError, r"classes holds unknown name\(s\) \[.dancing.\]"),
+    reject("generate_pose_dataset no classes", lambda: generate_pose_dataset([], 2, rng=0),
+           ValueError, "classes must hold at least one name"),
+    reject("pose_modes unknown class", lambda: pm.pose_modes("dancing"), ValueError, "name must be one of"),
+    reject("skeleton_strokes two directions, one length",
+           lambda: skeleton_strokes(np.zeros((2, 13)), MEAN_LENGTHS[None], 6), ValueError, r"lengths must have shape \(2, 13\)"),
+    reject("skeleton_strokes negative lengths", lambda: skeleton_strokes(np.zeros((1, 13)), -MEAN_LENGTHS[None], 6),
+           ValueError, "lengths must be positive"),
+    reject("skeleton_strokes one landmark per limb", lambda: skeleton_strokes(np.zeros((1, 13)), MEAN_LENGTHS[None], 1),
+           ValueError, "landmarks_per_limb must be at least 2"),
+    reject("mode_separation_trial n_train 2", lambda: pm.mode_separation_trial(1.0, rng=3, n_train=2),
+           ValueError, "n_train must be at least 6"),
+    # ------------------------------------------------------------ point distribution models
+    reject("fit_pdm variance_fraction 0", lambda: fit_pdm(_VECTORS, variance_fraction=0.0),
+           ValueError, r"variance_fraction must be in \(0, 1\], got 0.0"),
+    reject("fit_pdm one column", lambda: fit_pdm(_VECTORS[:, :1]), ValueError, "long_vectors needs at least 2 columns"),
+    reject("pdm_from_moments D 1", lambda: pm.pdm_from_moments(np.zeros(1), np.ones((1, 1))), ValueError, "D >= 2"),
+    reject("pdm_from_moments mean and covariance differ",
+           lambda: pm.pdm_from_moments(np.zeros(3), np.eye(4)), ValueError, r"mean must have shape \(4,\)"),
+    reject("fit_modes observed longer than the model", lambda: fit_modes(_PDM, np.ones((2, 3))),
+           ValueError, r"observed must have shape \(n, 4\)"),
+    reject("reconstruct gamma longer than the modes", lambda: reconstruct(_PDM, np.zeros((2, _PDM.n_modes + 1))),
+           ValueError, "gamma must have shape"),
+    reject("ppca_log_density observed shorter than the model",
+           lambda: pm.ppca_log_density(fit_pdm(_RNG.standard_normal((10, 6))), np.zeros((2, 5))),
+           ValueError, r"observed must have shape \(n, 6\)"),
+    reject("normalise_shape coinciding points", lambda: pm.normalise_shape(np.ones((5, 2))),
+           ValueError, "points must not all coincide"),
+    reject("generalized_procrustes coinciding set", lambda: generalized_procrustes(np.ones((3, 4, 2))),
+           ValueError, "point_sets must not contain a point set whose points all coincide"),
+    reject("align_to_reference reference of 5 points for sets of 4",
+           lambda: pm.align_to_reference(_RNG.random((3, 4, 2)), _RNG.random((5, 2))),
+           ValueError, r"reference must have shape \(4, 2\)"),
+    # ------------------------------------------------------------ polar representation: one axis too few
+    reject("articulation_centre one shape's centres", lambda: pm.articulation_centre(np.ones((13, 2))),
+           ValueError, "centres must have shape"),
+    reject("polar_shape_vector one shape", lambda: polar_shape_vector(_SHAPES[0]), ValueError, "shapes must have shape"),
+    # ------------------------------------------------------------ Gaussian mixture
+    reject("gaussian_log_density one point", lambda: pm.gaussian_log_density(np.ones(2), np.zeros((2, 2)), _EYES),
+           ValueError, "points must have 2 dimensions"),
+    reject("gaussian_log_density points and means differ",
+           lambda: pm.gaussian_log_density(np.ones((3, 3)), np.zeros((2, 2)), _EYES),
+           ValueError, r"points and means must have as many columns, got 3 and 2"),
+    reject("gaussian_log_density three means, two covariances",
+           lambda: pm.gaussian_log_density(np.ones((3, 2)), np.zeros((3, 2)), _EYES),
+           ValueError, r"covariances must have shape \(3, 2, 2\)"),
+    reject("gaussian_log_density negative definite",
+           lambda: pm.gaussian_log_density(np.ones((3, 2)), np.zeros((2, 2)), -_EYES),
+           ValueError, "covariances must be positive definite"),
+    reject("fit_gaussian_mixture negative definite start",
+           lambda: fit_gaussian_mixture(_RNG.standard_normal((6, 2)), 2, means_init=np.zeros((2, 2)),
+                                        covariances_init=-_EYES), ValueError, "covariances_init must be positive definite"),
+    reject("fit_gaussian_mixture boolean X",
+           lambda: fit_gaussian_mixture(np.ones((6, 2), bool), 2, means_init=np.zeros((2, 2)), covariances_init=_EYES),
+           TypeError, "X must be a numeric array"),
+    reject("fit_gaussian_mixture more components than points",
+           lambda: fit_gaussian_mixture(np.zeros((2, 2)), 3, means_init=np.zeros((3, 2)),
+                                        covariances_init=np.zeros((3, 2, 2))),
+           ValueError, "X must have at least n_components=3 rows"),
+    reject("held_out_log_likelihood one fold", lambda small_problem: pm.held_out_log_likelihood(
+        _boxing_vectors(small_problem), 1, n_folds=1, rng=0), ValueError, "n_folds"),
+    # 9 rows per training split; 4 components need 12
+    reject("held_out_log_likelihood too few rows per fold", lambda small_problem: pm.held_out_log_likelihood(
+        _boxing_vectors(small_problem), 4, n_folds=4, rng=0), ValueError, "rows outside every fold"),
+    reject("held_out_log_likelihood polar_model both", lambda small_problem: pm.held_out_log_likelihood(
+        _boxing_vectors(small_problem), 1, polar_model="both", rng=0), ValueError, "polar_model"),
+    # ------------------------------------------------------------ label model
+    reject("hamming_distance strings and dictionary differ",
+           lambda: hamming_distance(np.zeros((2, 13), int), np.ones((3, 12), int)),
+           ValueError, r"label_strings and dictionary must have as many columns \(limbs\), got 13 and 12"),
+    reject("hamming_distance one string", lambda: hamming_distance(np.zeros(13, int), np.ones((3, 13), int)),
+           ValueError, "label_strings must have 2 dimensions"),
+    reject("hamming_distance fractional labels", lambda: hamming_distance(np.full((2, 13), 0.5), np.ones((3, 13))),
+           ValueError, "label_strings must hold whole numbers"),
+    reject("label_string_log_prob error_probability 0", lambda: label_string_log_prob(np.array([1]), 13, 0.0),
+           ValueError, r"error_probability must be in \(0, 1\), got 0.0"),
+    reject("label_string_log_prob error_probability 1", lambda: label_string_log_prob(np.array([1]), 13, 1.0),
+           ValueError, r"error_probability must be in \(0, 1\)"),
+    reject("label_string_log_prob distance beyond n_limbs", lambda: label_string_log_prob(np.array([20]), 13, 0.2),
+           ValueError, r"hamming must hold distances in \[0, n_limbs=13\]"),
+    reject("check_labels fractional id", lambda: check_labels(np.array([0.0, 0.5]), 2),
+           ValueError, "labels must be class names or integer class ids"),
+    reject("check_labels huge id", lambda: check_labels(np.array([0.0, 1e308]), 2),
+           ValueError, "labels must be class names or integer class ids"),
+    reject("check_labels NaN", lambda: check_labels(np.array([0.0, np.nan]), 2), ValueError, "labels must not contain NaN"),
+    # ------------------------------------------------------------ embeddings
+    reject("pairwise_distances one vector", lambda: pairwise_distances(np.ones(3)), ValueError, "vectors must have 2 dimensions"),
+    reject("classical_mds negative distances", lambda: classical_mds(-np.ones((3, 3))),
+           ValueError, "distances must be non-negative"),
+    reject("classical_mds more dimensions than points", lambda: classical_mds(np.zeros((3, 3)), 4),
+           ValueError, "n_dims must be at most the number of points 3"),
+    reject("pca_embedding more dimensions than min(n, d)", lambda: pm.pca_embedding(_VECTORS, 5),
+           ValueError, r"n_dims must be at most min\(n, d\) = 4"),
+    # ------------------------------------------------------------ the recogniser: settings, training set, fitted state
+    reject("recogniser no classes", lambda: ArticulatedShapeRecogniser(rng=0, classes=()).fit(_SHAPES, _TWO_BOXING),
+           ValueError, "classes must name at least one class"),
+    reject("recogniser repeated class",
+           lambda: ArticulatedShapeRecogniser(rng=0, classes=("boxing", "boxing")).fit(_SHAPES, _TWO_BOXING),
+           ValueError, "classes must not repeat a name"),
+    reject("recogniser limb_likelihood hamming", lambda small_problem: ArticulatedShapeRecogniser(
+        rng=0, limb_likelihood="hamming").fit(small_problem[0].shapes, small_problem[0].labels),
+        ValueError, "limb_likelihood"),
+    reject("recogniser polar_model cartesian", lambda small_problem: ArticulatedShapeRecogniser(
+        rng=0, polar_model="cartesian").fit(small_problem[0].shapes, small_problem[0].labels),
+        ValueError, "polar_model"),
+    reject("recogniser a class without examples", lambda small_problem: ArticulatedShapeRecogniser(
+        rng=0, classes=TABLE1_CLASSES).fit(*_without_boxing(small_problem)), ValueError, "no training examples"),
+    reject("recogniser a label not in classes", lambda small_problem: ArticulatedShapeRecogniser(
+        rng=0, classes=TABLE1_CLASSES[:5]).fit(small_problem[0].shapes, small_problem[0].labels),
+        ValueError, "not in classes"),
+    reject("recogniser two examples for two components", lambda small_problem: ArticulatedShapeRecogniser(
+        rng=0).fit(*_two_kicking(small_problem)), ValueError, "at least 6 training examples"),
+    reject("recogniser two examples for one component", lambda small_problem: ArticulatedShapeRecogniser(
+        rng=0, n_shape_components=1).fit(*_two_kicking(small_problem)), ValueError, "at least 3 training examples"),
+    reject("recogniser one label short", lambda small_problem: ArticulatedShapeRecogniser(rng=0).fit(
+        small_problem[0].shapes, small_problem[0].labels[:-1]), ValueError, "labels"),
+    reject("recogniser not fitted predict", lambda small_problem: ArticulatedShapeRecogniser(rng=0).predict(
+        small_problem[1].shapes), NotFittedError, "not fitted"),
+    reject("recogniser not fitted align", lambda fitted: ArticulatedShapeRecogniser(rng=0).align(fitted.test.shapes),
+           NotFittedError, "is not fitted yet"),
+    reject("recogniser not fitted model_limbs", lambda fitted: ArticulatedShapeRecogniser(rng=0).model_limbs(
+        fitted.vector, fitted.labels), NotFittedError, "is not fitted yet"),
+    reject("recogniser predict 12 limbs", lambda small_problem: small_problem[2].predict(
+        small_problem[1].shapes[:, :12]), ValueError, "shapes"),
+    reject("recogniser predict 4 landmarks per limb after 6", lambda small_problem: small_problem[2].predict(
+        small_problem[1].shapes[:, :, :4]), ValueError, "landmarks per limb"),
+    reject("recogniser predict a coinciding shape", lambda fitted: fitted.recogniser.predict(
+        np.r_[fitted.test.shapes[:1], np.ones((1, 13, 6, 2))]), ValueError,
+        r"shapes must not contain a point set whose points all coincide \(zero centroid size at index 1\)"),
+    reject("recogniser limb_label_posteriors 12 limbs", lambda small_problem: small_problem[2].limb_label_posteriors(
+        np.zeros((2, 12, 6, 2))), ValueError, "shapes"),
+    reject("recogniser iterative_alignment unknown class", lambda small_problem: small_problem[2].iterative_alignment(
+        small_problem[1].shapes[0], "dancing"), ValueError, "class_name"),
+    reject("recogniser class_scores polar", lambda small_problem: small_problem[2].score_components(
+        small_problem[1].shapes[:2]).class_scores("polar"), ValueError, "terms"),
+    reject("model_limbs label 9 of 4", lambda fitted: fitted.recogniser.model_limbs(fitted.vector, np.full(13, 9)),
+           ValueError, r"label_string must hold limb labels in 0\.\.3"),
+    reject("model_limbs label -1", lambda fitted: fitted.recogniser.model_limbs(fitted.vector, np.full(13, -1)),
+           ValueError, "label_string must hold limb labels"),
+    reject("model_limbs observed limbs of 5 values for 6 landmarks", lambda fitted: fitted.recogniser.model_limbs(
+        fitted.vector, fitted.labels, np.zeros((13, 5))), ValueError, r"observed_limbs must have shape \(13, 12\)"),
+    reject("PolarPDM log_density deviation shorter than the model",
+           lambda fitted: fitted.recogniser.shape_models_[0][0].log_density(np.zeros((2, 10))),
+           ValueError, r"deviation must have shape \(n, 39\)"),
+    reject("draw_shape 12 limbs", lambda fitted: pm.draw_shape(fitted.ax, np.zeros((12, 6, 2))), ValueError, "shape"),
+    # ------------------------------------------------------------ baselines
+    *[case for cls in _BASELINES for case in (
+        reject(f"{cls.__name__} one label short", lambda fitted, cls=cls: _make(cls).fit(
+            fitted.train.shapes, fitted.train.labels[:-1]), ValueError, r"labels must have shape \(72,\)"),
+        reject(f"{cls.__name__} not fitted", lambda fitted, cls=cls: _make(cls).predict(fitted.test.shapes),
+               NotFittedError, "is not fitted yet"),
+        reject(f"{cls.__name__} 4 landmarks per limb after 6", lambda fitted, cls=cls: fitted.baselines[cls].predict(
+            fitted.test.shapes[:, :, :4]), ValueError, "6 landmarks per limb"),
+        reject(f"{cls.__name__} a coinciding shape", lambda fitted, cls=cls: fitted.baselines[cls].predict(
+            np.r_[np.ones((1, 13, 6, 2)), fitted.test.shapes[:1]]), ValueError,
+            "shapes must not contain a point set whose points all coincide"),
+    )],
+    reject("SklearnGMMClassifier covariance_type diagonal", lambda fitted: pm.SklearnGMMClassifier(
+        covariance_type="diagonal", rng=0).fit(fitted.train.shapes, fitted.train.labels),
+        ValueError, "covariance_type must be one of"),
+    # ------------------------------------------------------------ the rng convention
+    *[reject(f"{name} rng {bad!r}", lambda draw=draw, bad=bad: draw(bad), error, message)
+      for name, (_, draw) in sorted(_DRAWING.items())
+      for bad, error, message in (("0", TypeError, "rng must be"), (-1, ValueError, "rng must be non-negative"))],
+]
+
+
+@pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
+def test_rejections(request, call, error, message):
+    check_rejection(request, call, error, message)

@@ -120,6 +120,7 @@ class CubicalComplex:
         _check_degree(q)
         if q not in (0, 1):
             raise ValueError(f"q must be 0 or 1 for a 2-D complex, got {q!r}")
+        # eq. (7) for q = 0: D_1(γ) = Ψ_0(∂γ) = Ψ_0(x_*) - Ψ_0(x_#), the transpose of the boundary map
         return self.boundary(q + 1).T.tocsr()
 
 

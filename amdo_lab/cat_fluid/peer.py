@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.cat_fluid.registration import _check_images
+from amdo_lab.cat_fluid.registration import check_registration_images
 from amdo_lab.common import check_choice, check_positive_int
 
 __all__ = ["DipyResult", "register_dipy"]
@@ -54,9 +54,9 @@ def register_dipy(template: object, study: object, metric: str = "cc",
     Parameters
     ----------
     template : array_like, shape (H, W)
-        Finite grey levels, not constant.
+        Finite grey levels within ±1e30 (dipy computes in single precision), not constant, H, W ≥ 4.
     study : array_like, shape (H, W)
-        Finite grey levels, not constant, same shape.
+        Finite grey levels within ±1e30, not constant, same shape.
     metric : str, optional
         "cc" (local cross-correlation, dipy's choice for brain images; default) or "ssd".
     level_iters : tuple of int, optional
@@ -76,7 +76,7 @@ def register_dipy(template: object, study: object, metric: str = "cc",
     "Symmetric diffeomorphic image registration with cross-correlation: evaluating automated
     labeling of elderly and neurodegenerative brain", Medical Image Analysis 12(1), 26-41, 2008 (SyN).
     """
-    template, study = _check_images(template, study)
+    template, study = check_registration_images(template, study)
     check_choice(metric, "metric", ("cc", "ssd"))
     if not isinstance(level_iters, (tuple, list)) or not level_iters:
         raise ValueError(f"level_iters must be a non-empty tuple of iteration counts, got {level_iters!r}")

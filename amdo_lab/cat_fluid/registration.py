@@ -38,9 +38,9 @@ DEFAULT_ITERATIONS = {"cat": 10, "fft": 10, "sor": 100}
 #: Factor by which the step bound grows back after an accepted step (backtracking only).
 STEP_GROWTH = 2.0
 
-
-def _check_image(image: object, name: str) -> np.ndarray:
-    return as_finite_array(image, name, shape=(None, None))
+#: Largest grey level a registration accepts: the peer (dipy) computes in single precision, whose
+#: largest float is about 3.4e38; one bound for both methods, so that they accept the same pairs.
+MAX_GREY_LEVEL = 1e30
 
 
 def _check_displacement(displacement: object, shape: tuple[int, ...], name: str = "displacement",
@@ -113,7 +113,7 @@ def warp_image(image: object, displacement: object) -> np.ndarray:
     G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
     IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
-    image = _check_image(image, "image")
+    image = as_finite_array(image, "image", shape=(None, None))
     return _warp(image, _check_displacement(displacement, image.shape, match="image"))
 
 
@@ -435,9 +435,34 @@ class FluidResult:
         return float(self.history[-1, 1])
 
 
-def _check_images(template: object, study: object) -> tuple[np.ndarray, np.ndarray]:
-    template = _check_image(template, "template")
-    study = _check_image(study, "study")
+def check_registration_images(template: object, study: object) -> tuple[np.ndarray, np.ndarray]:
+    """The input rules of a registration of ``template`` onto ``study``, shared by :func:`register_fluid`
+    and its peer :func:`~amdo_lab.cat_fluid.peer.register_dipy`.
+
+    Parameters
+    ----------
+    template : array_like, shape (H, W)
+        Finite grey levels within ±1e30, not constant, H, W ≥ 4.
+    study : array_like, shape (H, W)
+        Finite grey levels within ±1e30, not constant, same shape as ``template``.
+
+    Returns
+    -------
+    template, study : numpy.ndarray of float, shape (H, W)
+        Float copies of both images.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument at fault.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85, Sec. 5 (the registration task).
+    """
+    template = as_finite_array(template, "template", shape=(None, None), max_abs=MAX_GREY_LEVEL)
+    study = as_finite_array(study, "study", shape=(None, None), max_abs=MAX_GREY_LEVEL)
     if template.shape != study.shape:
         raise ValueError(f"template and study must have the same shape, got {template.shape} and {study.shape}")
     if min(template.shape) < 4:
@@ -470,9 +495,9 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
     Parameters
     ----------
     template : array_like, shape (H, W)
-        Finite grey levels, not constant, H, W ≥ 4 (even for "sor").
+        Finite grey levels within ±1e30, not constant, H, W ≥ 4 (even for "sor").
     study : array_like, shape (H, W)
-        Finite grey levels, not constant, same shape as ``template``.
+        Finite grey levels within ±1e30, not constant, same shape as ``template``.
     method : str, optional
         Velocity solver: "cat" (default), "sor" or "fft".
     lam : float, optional
@@ -527,7 +552,7 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
     >>> bool(result.history[:, 2].min() > 0)  # no folds
     True
     """
-    template, study = _check_images(template, study)
+    template, study = check_registration_images(template, study)
     check_choice(method, "method", SOLVERS)
     lam, mu = check_moduli(lam, mu, require_positive_mu=True)
     check_bool(backtrack, "backtrack")

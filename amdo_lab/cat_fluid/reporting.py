@@ -12,8 +12,8 @@ import numpy as np
 import pandas as pd
 
 from amdo_lab.cat_fluid.data import RegistrationPair
-from amdo_lab.cat_fluid.registration import (displacement_rmse, grey_level_difference, inverse_consistency_error,
-                                             jacobian_determinant)
+from amdo_lab.cat_fluid.registration import (MAX_GREY_LEVEL, displacement_rmse, grey_level_difference,
+                                             inverse_consistency_error, jacobian_determinant)
 from amdo_lab.common import as_finite_array, check_bool, check_positive, check_positive_int
 
 __all__ = ["PAPER_TABLE1", "paper_table1", "grey_level_table", "mean_sd_strings", "accuracy_row"]
@@ -133,7 +133,7 @@ def accuracy_row(pair: RegistrationPair, warped: np.ndarray, displacement: np.nd
     pair : RegistrationPair
         The pair registered (study, true displacement and mask).
     warped : numpy.ndarray of float, shape (H, W)
-        The deformed template.
+        The deformed template, grey levels within ±1e30.
     displacement : numpy.ndarray of float, shape (2, H, W)
         The estimated displacement, pixels.
     backward : numpy.ndarray of float, shape (2, H, W), optional
@@ -156,7 +156,7 @@ def accuracy_row(pair: RegistrationPair, warped: np.ndarray, displacement: np.nd
     """
     if not isinstance(pair, RegistrationPair):
         raise TypeError(f"pair must be a RegistrationPair, got {type(pair).__name__}")
-    warped = as_finite_array(warped, "warped", shape=pair.study.shape)
+    warped = as_finite_array(warped, "warped", shape=pair.study.shape, max_abs=MAX_GREY_LEVEL)
     det = jacobian_determinant(displacement)
     return {"residual (mask)": grey_level_difference(warped, pair.study, pair.mask, scale=scale)[0],
             "RMSE px": displacement_rmse(displacement, pair.true_displacement, pair.mask),

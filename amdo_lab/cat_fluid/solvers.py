@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from amdo_lab.cat_fluid.stencil import NEIGHBOUR_OFFSETS, check_moduli, fluid_stencil, stencil_blocks
+from amdo_lab.cat_fluid.stencil import MAX_FIELD, NEIGHBOUR_OFFSETS, check_moduli, fluid_stencil, stencil_blocks
 from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive_int
 
 __all__ = ["SOLVERS", "stencil_symbol", "cat_symbol", "finite_difference_symbol", "apply_finite_difference",
@@ -148,7 +148,7 @@ def apply_finite_difference(velocity: object, lam: float, mu: float) -> np.ndarr
     Parameters
     ----------
     velocity : array_like, shape (2, H, W)
-        Finite velocity field, pixels per unit time.
+        Finite velocity field, pixels per unit time, each component within ±1e100.
     lam : float
         Lamé constant λ, 0 ≤ λ ≤ 1e150 (the paper: 1).
     mu : float
@@ -167,7 +167,7 @@ def apply_finite_difference(velocity: object, lam: float, mu: float) -> np.ndarr
     G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
     IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
-    velocity = as_finite_array(velocity, "velocity", shape=(2, None, None))
+    velocity = as_finite_array(velocity, "velocity", shape=(2, None, None), max_abs=MAX_FIELD)
     lam, mu = check_moduli(lam, mu)
 
     def shifted(field: np.ndarray, d0: int, d1: int) -> np.ndarray:
@@ -271,7 +271,7 @@ def solve_stencil_reference(stencil: object, force: object) -> np.ndarray:
     stencil : array_like, shape (2, 18)
         Finite stencil in the layout of eq. (15).
     force : array_like, shape (2, H, W)
-        Finite right-hand side F.
+        Finite right-hand side F, each component within ±1e100.
 
     Returns
     -------
@@ -284,10 +284,12 @@ def solve_stencil_reference(stencil: object, force: object) -> np.ndarray:
     AMDO 2004, LNCS 3179, pp. 76-85,
     eq. (15) solved for the velocity.
     """
-    force = as_finite_array(force, "force", shape=(2, None, None))
+    force = as_finite_array(force, "force", shape=(2, None, None), max_abs=MAX_FIELD)
     h, w = force.shape[1:]
     matrix = stencil_matrix(stencil, (h, w)).toarray()
     rhs = (force - force.mean(axis=(1, 2), keepdims=True)).ravel()
+    # eq. (15) at every pixel, K v = F_ext, as one dense linear system (least squares: K is singular
+    # on the uniform velocity, which the mean-free force does not excite)
     velocity = np.linalg.lstsq(matrix, rhs, rcond=None)[0].reshape(2, h, w)
     return velocity - velocity.mean(axis=(1, 2), keepdims=True)
 
@@ -334,7 +336,8 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, n_sweeps: int = 250, 
     Parameters
     ----------
     force : array_like, shape (2, H, W)
-        Finite right-hand side F of L v = F (its mean is removed); H and W even.
+        Finite right-hand side F of L v = F (its mean is removed), each component within ±1e100; H and
+        W even.
     lam : float
         Lamé constant λ, 0 ≤ λ ≤ 1e150 (the paper: 1).
     mu : float
@@ -344,7 +347,7 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, n_sweeps: int = 250, 
     omega : float, optional
         Relaxation factor in (0, 2); default :func:`default_omega`.
     initial : array_like, shape (2, H, W), optional
-        Starting velocity (warm start); zero by default.
+        Starting velocity (warm start), each component within ±1e100; zero by default.
     ordering : str, optional
         "four-colour" (default), "red-black" or "red-black-together" (see above).
 
@@ -361,7 +364,7 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, n_sweeps: int = 250, 
     G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
     IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
-    force = as_finite_array(force, "force", ndim=3, shape=(2, None, None))
+    force = as_finite_array(force, "force", ndim=3, shape=(2, None, None), max_abs=MAX_FIELD)
     lam, mu = check_moduli(lam, mu, require_positive_mu=True)
     n_sweeps = check_positive_int(n_sweeps, "n_sweeps", minimum=0)
     check_choice(ordering, "ordering", SOR_ORDERINGS)
@@ -370,7 +373,8 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, n_sweeps: int = 250, 
     omega = default_omega((h, w)) if omega is None else check_in_range(omega, "omega", 0, 2)
     if h % 2 or w % 2:
         raise ValueError(f"force must have even H and W for SOR's four-colour ordering, got {(h, w)}")
-    start = np.zeros_like(force) if initial is None else as_finite_array(initial, "initial", shape=force.shape)
+    start = (np.zeros_like(force) if initial is None
+             else as_finite_array(initial, "initial", shape=force.shape, max_abs=MAX_FIELD))
     force = force - force.mean(axis=(1, 2), keepdims=True)
     # pad[comp][r][s]: colour-(r, s) pixels (2a + r, 2b + s) of component comp, with a periodic frame
     pad = [[[np.pad(start[comp, r::2, s::2], 1, mode="wrap") for s in (0, 1)] for r in (0, 1)] for comp in (0, 1)]
@@ -440,7 +444,7 @@ def sor_reference(force: object, lam: float, mu: float, *, n_sweeps: int, omega:
     Parameters
     ----------
     force : array_like, shape (2, H, W)
-        Finite right-hand side F (its mean is removed).
+        Finite right-hand side F (its mean is removed), each component within ±1e100.
     lam : float
         Lamé constant λ, 0 ≤ λ ≤ 1e150 (the paper: 1).
     mu : float
@@ -461,7 +465,7 @@ def sor_reference(force: object, lam: float, mu: float, *, n_sweeps: int, omega:
     AMDO 2004, LNCS 3179, pp. 76-85,
     Sec. 5, eq. (17) and its SOR solver (their reference [2]).
     """
-    force = as_finite_array(force, "force", shape=(2, None, None))
+    force = as_finite_array(force, "force", shape=(2, None, None), max_abs=MAX_FIELD)
     lam, mu = check_moduli(lam, mu, require_positive_mu=True)
     n_sweeps = check_positive_int(n_sweeps, "n_sweeps", minimum=0)
     omega = check_in_range(omega, "omega", 0, 2)  # SOR converges for 0 < omega < 2 only
@@ -496,7 +500,8 @@ def solve_velocity(force: object, method: str = "cat", lam: float = 1.0, mu: flo
     Parameters
     ----------
     force : array_like, shape (2, H, W)
-        Finite right-hand side F, e.g. :func:`~amdo_lab.cat_fluid.registration.external_force`.
+        Finite right-hand side F, each component within ±1e100, e.g.
+        :func:`~amdo_lab.cat_fluid.registration.external_force`.
     method : str, optional
         "cat" (the CAT stencil, eq. 15, solved exactly; default), "sor" (eq. 17 by SOR) or "fft"
         (eq. 17 solved exactly).
@@ -530,7 +535,7 @@ def solve_velocity(force: object, method: str = "cat", lam: float = 1.0, mu: flo
     >>> bool(np.allclose(solve_velocity(force, "sor", lam=1.0, mu=5.0, n_sweeps=400), exact))
     True
     """
-    force = as_finite_array(force, "force", ndim=3, shape=(2, None, None))
+    force = as_finite_array(force, "force", ndim=3, shape=(2, None, None), max_abs=MAX_FIELD)
     check_choice(method, "method", SOLVERS)
     lam, mu = check_moduli(lam, mu, require_positive_mu=True)
     if method == "sor":

@@ -50,6 +50,9 @@ _HALF_FACES = (  # (point on the half-face, outward normal, length)
 #: Largest Lamé constant accepted: the Fourier solve multiplies two symbol entries of about
 #: 8 (λ + 2μ), which would overflow a float (1.8e308) above about 1e153.
 MAX_MODULUS = 1e150
+#: Largest entry of a velocity or force field the solvers accept: times moduli of at most
+#: MAX_MODULUS, the stencil's sums stay near 1e250, below a float's overflow (1.8e308).
+MAX_FIELD = 1e100
 
 
 def check_moduli(lam: object, mu: object, *, require_positive_mu: bool = False) -> tuple[float, float]:
@@ -64,6 +67,8 @@ def _bilinear_gradient(corner_velocity: Callable[[int, int], np.ndarray], point:
     a, b = int(np.floor(point[0])), int(np.floor(point[1]))
     s, t = point[0] - a, point[1] - b  # local coordinates in [0, 1]^2
     v00, v10, v01, v11 = (corner_velocity(a + da, b + db) for da, db in ((0, 0), (1, 0), (0, 1), (1, 1)))
+    # eq. (5), d = ∇v, of the bilinear velocity of eq. (13): each partial derivative blends the
+    # differences along two opposite edges of the square, the edge values D_1 of eq. (7)
     d_dx1 = (1 - t) * (v10 - v00) + t * (v11 - v01)
     d_dx2 = (1 - s) * (v01 - v00) + s * (v11 - v10)
     return np.column_stack([d_dx1, d_dx2])
@@ -71,11 +76,16 @@ def _bilinear_gradient(corner_velocity: Callable[[int, int], np.ndarray], point:
 
 def _stress(grad: np.ndarray, lam: float, mu: float) -> np.ndarray:
     """Eq. (12) without the pressure term: σ = λ tr((d + dᵀ)/2) I + μ (d + dᵀ)."""
+    # eq. (12) with ε = (d + dᵀ)/2: σ = λ tr(ε) I + μ (d + dᵀ) (no pressure term, as eq. 17)
     return lam * np.trace(grad) * np.eye(2) + mu * (grad + grad.T)
 
 
 def _flux(corner_velocity: Callable[[int, int], np.ndarray], lam: float, mu: float) -> np.ndarray:
     """∮ σ n dl over ∂γ_F, the sum of the four S_1 of eq. (11), for given corner velocities."""
+    # eqs. (8)-(11): by the divergence theorem the force on the dual cell γ_F is the flux of σ through
+    # its boundary, a sum over its four sides S_i (eq. 11), each split in two halves lying in different
+    # primal squares; σ is linear along a half, so its midpoint value times its length is exact.
+    # Eq. (14) prints a minus sign in front of the sum; we keep the internal force +∮σn dl (see the chapter)
     force = np.zeros(2)
     for point, normal, length in _HALF_FACES:
         grad = _bilinear_gradient(corner_velocity, np.array(point))
@@ -129,6 +139,7 @@ def fluid_stencil(lam: float = 1.0, mu: float = 5.0) -> np.ndarray:
             def corner_velocity(i: int, j: int, offset: tuple[int, int] = offset, unit: np.ndarray = unit) -> np.ndarray:
                 return unit if (i, j) == offset else np.zeros(2)
 
+            # eq. (14) for a unit velocity at one neighbour: column 2p + c of the matrix K of eq. (15)
             stencil[:, 2 * p + c] = _flux(corner_velocity, lam, mu)
     return stencil
 
@@ -208,7 +219,7 @@ def apply_stencil(stencil: object, velocity: object) -> np.ndarray:
         Finite stencil in the layout of eq. (15): column ``2 p + c`` multiplies velocity component c
         at the neighbour ``NEIGHBOUR_OFFSETS[p]``.
     velocity : array_like, shape (2, H, W)
-        Finite velocity field.
+        Finite velocity field, each component within ±1e100.
 
     Returns
     -------
@@ -222,7 +233,7 @@ def apply_stencil(stencil: object, velocity: object) -> np.ndarray:
     eq. (15).
     """
     blocks = stencil_blocks(stencil)
-    velocity = as_finite_array(velocity, "velocity", shape=(2, None, None))
+    velocity = as_finite_array(velocity, "velocity", shape=(2, None, None), max_abs=MAX_FIELD)
     out = np.zeros_like(velocity)
     for block, (d0, d1) in zip(blocks, NEIGHBOUR_OFFSETS):
         shifted = np.roll(velocity, (-d0, -d1), axis=(1, 2))  # value at x + offset

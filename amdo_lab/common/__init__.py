@@ -29,6 +29,7 @@ from amdo_lab.common.validation import (
     check_choice,
     check_fitted,
     check_in_range,
+    check_names,
     check_positive,
     check_positive_int,
 )
@@ -48,6 +49,7 @@ __all__ = [
     "check_choice",
     "check_fitted",
     "check_in_range",
+    "check_names",
     "check_positive",
     "check_positive_int",
     "make_rng",

@@ -226,16 +226,10 @@ def apply_similarity_2d(
     scale = check_positive(scale, "scale")
     angle = as_finite_array(angle, "angle", ndim=0)
     translation = as_finite_array(translation, "translation", shape=(2,))
-    mapped = _apply_similarity_2d(points, scale, angle, translation)
+    mapped = scale * points @ _rotation_2d(angle).T + translation
     if not np.all(np.isfinite(mapped)):  # finite input whose product overflows a float
         raise ValueError("points, scale and translation are too large: the mapped points overflow a float")
     return mapped
-
-
-def _apply_similarity_2d(points: np.ndarray, scale: float, angle: float | np.ndarray,
-                         translation: np.ndarray) -> np.ndarray:
-    """:func:`apply_similarity_2d` on validated input (for loops over many point sets)."""
-    return scale * points @ _rotation_2d(angle).T + translation
 
 
 @dataclass(frozen=True)

@@ -19,6 +19,7 @@ __all__ = [
     "check_choice",
     "check_fitted",
     "check_in_range",
+    "check_names",
     "check_positive",
     "check_positive_int",
 ]
@@ -86,6 +87,10 @@ def as_finite_array(
         _check_finite(array, name)
         if np.any(array != np.trunc(array)):
             raise ValueError(f"{name} must hold whole numbers, got a fractional value")
+        # and before the cast, which would turn 1e308 into an arbitrary integer
+        limit = min(max_abs if max_abs is not None else np.inf, float(np.iinfo(np.dtype(dtype)).max))
+        if array.size and np.max(np.abs(array)) > limit:
+            raise ValueError(f"{name} must be at most {limit:g} in magnitude, got {np.max(np.abs(array)):g}")
     array = array.astype(dtype, copy=True)
     if np.issubdtype(array.dtype, np.floating):
         _check_finite(array, name)
@@ -180,6 +185,48 @@ def check_choice(value: object, name: str, choices: Iterable[object]) -> object:
         listed = ", ".join(repr(option) for option in options)
         raise ValueError(f"{name} must be one of {listed}; got {value!r}")
     return value
+
+
+def check_names(
+    values: object, name: str, *, allowed: Iterable[str] | None = None, accept_single: bool = False
+) -> tuple[str, ...]:
+    """Return ``values`` as a tuple of distinct, non-empty names, or raise an error naming ``name``.
+
+    Parameters
+    ----------
+    values : sequence of str
+        The user's input: pose names, grouping terms, cue names, ...
+    name : str
+        The argument's name, used in error messages.
+    allowed : iterable of str, optional
+        The names accepted; the message lists them. ``None`` accepts any non-empty string.
+    accept_single : bool
+        Whether one bare string stands for a sequence of one name (``"p"`` for ``("p",)``);
+        otherwise a string is refused, since iterating it would give its letters.
+
+    Returns
+    -------
+    tuple of str
+        The names, in the order given.
+    """
+    if isinstance(values, str) and accept_single:
+        values = (values,)
+    if isinstance(values, str) or not isinstance(values, Iterable):
+        raise TypeError(f"{name} must be a sequence of names, got {type(values).__name__}")
+    names = tuple(values)
+    if not names:
+        raise ValueError(f"{name} must hold at least one name, got an empty sequence")
+    bad = [value for value in names if not isinstance(value, str) or not value.strip()]
+    if bad:
+        raise TypeError(f"{name} must hold non-empty strings, got {bad[0]!r}")
+    if allowed is not None:
+        known = list(allowed)
+        unknown = [value for value in names if value not in known]
+        if unknown:
+            raise ValueError(f"{name} holds unknown name(s) {unknown}; known: {sorted(known)}")
+    if len(set(names)) != len(names):
+        raise ValueError(f"{name} must not repeat a name, got {names}")
+    return names
 
 
 def check_bool(value: object, name: str) -> bool:

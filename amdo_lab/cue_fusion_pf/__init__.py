@@ -2,8 +2,9 @@
 
 Shape space and B-spline contour (eqs. 1-3), AR(2) dynamics (eqs. 4-5), colour (eqs. 7-11),
 structure (eq. 12: a two-level boosted Haar cascade trained here) and edge (eqs. 13-14)
-likelihoods fused in the log domain (eq. 6), the filter of Fig. 1, seeded head sequences with
-ground truth, and OpenCV's CamShift and TrackerMIL as peers.
+likelihoods fused in the log domain (eq. 6), the filter of Fig. 1, seeded head sequences and a
+walker sequence (Fig. 6, similarity shape space) with ground truth, and OpenCV's CamShift and
+TrackerMIL as peers.
 """
 
 from amdo_lab.cue_fusion_pf.data import HEAD_AXES, SEQUENCE_KINDS, HeadSequence, ellipse_iou, head_views, make_head_sequence
@@ -42,6 +43,7 @@ from amdo_lab.cue_fusion_pf.tracker import (
     systematic_resample,
     track,
 )
+from amdo_lab.cue_fusion_pf.walker import WALKER_SEGMENTS, WalkerSequence, box_iou, fit_similarity, make_walker_sequence
 
 __all__ = [
     "ARDynamics", "BoostedCascade", "CALIBRATED_SIGMAS", "CASCADE_SEED", "CUES", "CalibrationResult", "ColorLikelihood", "EdgeLikelihood",
@@ -51,4 +53,5 @@ __all__ = [
     "fused_log_likelihood", "haar_features", "head_views", "integral_image", "kernel_histogram", "load_or_train_cascade",
     "make_head_sequence", "make_training_set", "simulate_measurement_lines", "systematic_resample", "track",
     "track_camshift", "track_mil", "track_pfilter", "train_cascade",
+    "WALKER_SEGMENTS", "WalkerSequence", "box_iou", "fit_similarity", "make_walker_sequence",
 ]

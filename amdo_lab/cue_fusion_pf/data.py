@@ -3,7 +3,8 @@
 The paper's videos are not available, so each figure gets a seeded sequence built to show one
 difficulty: an office-like background with strong edges, a head (skin ellipse, hair, eyes, mouth)
 over a shirt, camera noise, and, for the "fusion" kind, a colour cast on frames 29-80, a
-skin-coloured hand crossing in front of the face, and fast jumps at the end.
+skin-coloured hand crossing in front of the face, the head turning its back to the camera, and fast
+jumps at the end; the "lighting" and "turn" kinds isolate the lighting change and the head's pose.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ __all__ = ["HEAD_AXES", "HeadSequence", "SEQUENCE_KINDS", "ellipse_iou", "head_v
 
 #: Semi-axes (a along x, b along y) of the head at scale s = 0, in pixels.
 HEAD_AXES = (20.0, 26.0)
-SEQUENCE_KINDS = ("fusion", "edges", "twin")
+SEQUENCE_KINDS = ("fusion", "edges", "twin", "lighting", "turn")
 FRAME_RATE = 25.0
 SKIN = np.array([214.0, 158.0, 126.0])
 HAIR = np.array([62.0, 42.0, 30.0])
@@ -66,7 +67,7 @@ class HeadSequence:
         t : int
             Frame index.
         states : numpy.ndarray
-            (N, 3) or (3,) states.
+            (N, 3) or (3,) states, entries within ±1e6.
 
         Returns
         -------
@@ -76,7 +77,7 @@ class HeadSequence:
         t = check_positive_int(t, "t", minimum=0)
         if t >= len(self.truth):
             raise ValueError(f"t must be a frame index below {len(self.truth)}, got {t}")
-        states = as_finite_array(states, "states", allow_empty=True)
+        states = as_finite_array(states, "states", allow_empty=True, max_abs=1e6)  # squares stay finite
         if states.ndim not in (1, 2) or states.shape[-1] != 3:
             raise ValueError(f"states must have shape (3,) or (N, 3), got shape {states.shape}")
         states = np.atleast_2d(states)
@@ -143,13 +144,16 @@ def _window(image: np.ndarray, cx: float, cy: float, half_width: float, top: flo
     return image[y0:y1, x0:x1], xs - cx, ys - cy
 
 
-def _draw_head(image: np.ndarray, cx: float, cy: float, scale: float, yaw: float = 0.0) -> None:
-    """A head over shoulders; ``yaw`` in radians turns it (0 frontal, ±π/4 half profiles, π the back)."""
+def _draw_head(image: np.ndarray, cx: float, cy: float, scale: float, yaw: float = 0.0, tilt: float = 0.0) -> None:
+    """A head over shoulders; ``yaw`` in radians turns it (0 frontal, ±π/4 half profiles, π the back),
+    ``tilt`` rolls it in the image plane (radians, clockwise on screen for positive values)."""
     a, b = HEAD_AXES[0] * scale, HEAD_AXES[1] * scale
     window, dx, dy = _window(image, cx, cy, 2.2 * a, -1.1 * b, 4.0 * b)
     # shirt and shoulders below the chin
     shoulders = _coverage(dx, dy - 2.5 * b, 2.0 * a, 1.4 * b) * (dy > 0.85 * b)
     _paint(window, shoulders, SHIRT)
+    if tilt:  # the head's own axes: (dx, dy) rotated by -tilt
+        dx, dy = np.cos(tilt) * dx + np.sin(tilt) * dy, -np.sin(tilt) * dx + np.cos(tilt) * dy
     head = _coverage(dx, dy, a, b)
     radius = np.sqrt((dx / a) ** 2 + (dy / b) ** 2)
     shading = 1.0 - 0.18 * np.clip(radius, 0, 1) ** 2  # brighter in the middle of the face
@@ -167,8 +171,35 @@ def _draw_head(image: np.ndarray, cx: float, cy: float, scale: float, yaw: float
                 (0.38 * facing + shift, -0.05, 0.12 * max(facing, 0.3), 0.07, (40, 30, 30)),
                 (shift, 0.5, 0.3 * facing, 0.06, (140, 60, 60))]  # eyes and mouth
     for ex, ey, ea, eb, colour in features:
-        feature, fx, fy = _window(image, cx + ex * a, cy + ey * b, ea * a + 2, -eb * b - 2, eb * b + 2)
+        # the feature's centre in image offsets (rotated by the tilt; the small features themselves are not)
+        ox, oy = ex * a, ey * b
+        if tilt:
+            ox, oy = np.cos(tilt) * ox - np.sin(tilt) * oy, np.sin(tilt) * ox + np.cos(tilt) * oy
+        feature, fx, fy = _window(image, cx + ox, cy + oy, ea * a + 2, -eb * b - 2, eb * b + 2)
         _paint(feature, _coverage(fx, fy, ea * a, eb * b), np.array(colour, np.float32))
+
+
+#: Frame counts and sizes (width, height) of each kind.
+_LAYOUT = {"fusion": (164, 256, 192), "edges": (100, 256, 192), "twin": (80, 256, 192),
+           "lighting": (100, 320, 240), "turn": (120, 256, 192)}
+#: Frames of the "fusion" kind's three jumps (each about 30 px in two frames).
+_JUMP_STARTS = (144, 151, 158)
+
+
+def _segments(kind: str, n_frames: int) -> dict[str, tuple[int, int]]:
+    """The named frame ranges of each kind: what each stretch of the sequence is built to test."""
+    return {"fusion": {"calm": (0, 29), "lighting": (29, 81), "distractor": (81, 104), "turned away": (104, 140),
+                       "agile": (140, n_frames)},
+            "edges": {"sharp": (0, 40), "weak edges": (40, 80), "sharp again": (80, n_frames)},
+            "twin": {"apart": (0, 30), "crossing": (30, 50), "after": (50, n_frames)},
+            "lighting": {"normal": (0, 20), "mild change": (20, 60), "strong change": (60, n_frames)},
+            "turn": {"frontal": (0, 15), "pose": (15, 55), "tilt": (55, 80), "turning away": (80, 90),
+                     "back": (90, n_frames)}}[kind]
+
+
+def _ramp(t: np.ndarray, start: float, stop: float) -> np.ndarray:
+    """0 before ``start``, 1 after ``stop``, a smooth (half-cosine) rise in between."""
+    return 0.5 - 0.5 * np.cos(np.pi * np.clip((t - start) / (stop - start), 0.0, 1.0))
 
 
 def _trajectory(kind: str, rng: np.random.Generator, n_frames: int, width: int, height: int) -> np.ndarray:
@@ -184,7 +215,7 @@ def _trajectory(kind: str, rng: np.random.Generator, n_frames: int, width: int, 
     if kind == "fusion":  # agile jumps: 14 to 18 px per frame for two frames, back and forth
         jumps = np.zeros((n_frames, 2))
         direction = rng.choice([-1.0, 1.0])
-        for start in (108, 115, 122):
+        for start in _JUMP_STARTS:
             if start + 2 <= n_frames:
                 step = np.array([direction * rng.uniform(28, 36), rng.uniform(-10, 10)])
                 jumps[start : start + 2] += np.outer([0.5, 1.0], step)
@@ -194,28 +225,61 @@ def _trajectory(kind: str, rng: np.random.Generator, n_frames: int, width: int, 
     return np.stack([cx, cy, scale], axis=1)
 
 
+def _pose_and_light(kind: str, rng: np.random.Generator, n_frames: int, cast_strength: float):
+    """Per frame: head yaw and tilt (radians) and the size of the lighting change (0 none, 1 full cast)."""
+    t = np.arange(n_frames, dtype=float)
+    yaw, tilt, cast = np.zeros(n_frames), np.zeros(n_frames), np.zeros(n_frames)
+    if kind == "fusion":
+        # the cast ramps in over 29-33 and out over 77-80; the head turns its back on 104-139
+        cast = np.clip(np.minimum(t - 28, 81 - t) / 4.0, 0.0, 1.0)
+        turn = rng.choice([-1.0, 1.0])
+        yaw = turn * np.pi * (_ramp(t, 104, 112) + _ramp(t, 130, 138))  # frontal, back (112-129), frontal
+    elif kind == "lighting":  # a quarter of the cast on 20-59, the full cast from frame 60 (4-frame ramps)
+        cast = 0.25 * _ramp(t, 18, 22) + 0.75 * _ramp(t, 58, 62)
+    elif kind == "turn":
+        side = rng.choice([-1.0, 1.0])
+        pose = (t >= 15) & (t < 55)
+        yaw[pose] = side * np.pi / 3 * np.sin(2 * np.pi * (t[pose] - 15) / 40)  # half profiles, ±60°
+        rolling = (t >= 55) & (t < 80)
+        tilt[rolling] = np.radians(15.0) * np.sin(2 * np.pi * (t[rolling] - 55) / 25)  # ±15° in the image plane
+        yaw += side * np.pi * _ramp(t, 80, 90)  # turns away: profile near frame 85, the back from 90
+    return yaw, tilt, cast_strength * cast
+
+
 def make_head_sequence(kind: str, *, rng: int | np.random.Generator, noise_std: float = 5.0,
                        cast_strength: float = 1.0) -> HeadSequence:
-    """A seeded 256×192 RGB head sequence at 25 fps with its ground truth.
+    """A seeded RGB head sequence at 25 fps with its ground truth; each kind tests one difficulty per segment.
 
     Parameters
     ----------
-    kind : ``"fusion"`` (128 frames: calm 0-28; colour cast and darkening on 29-80; a skin-coloured
-        hand crossing the face on 81-103; three jumps of about 30 px in two frames on 104-127) or
-        ``"edges"`` (100 frames: the camera loses focus and contrast on 40-79, so edges vanish) or
-        ``"twin"`` (80 frames: the head crosses an identical head walking the other way, in front of
-        it, on frames 30-49).
+    kind : str
+        One of :data:`SEQUENCE_KINDS`; segments are listed in ``.segments``:
+
+        - ``"fusion"`` (256×192, 164 frames), a stretch that defeats each cue: calm 0-28; colour
+          cast and darkening on 29-80 (colour); a skin-coloured hand crossing the face on 81-103;
+          the head turning its back to the camera on 104-139, the back shown on 112-129
+          (structure); three jumps of about 30 px in two frames on 140-163 (edges).
+        - ``"edges"`` (256×192, 100 frames): the camera loses focus and contrast on 40-79, so
+          edges vanish.
+        - ``"twin"`` (256×192, 80 frames): the head crosses an identical head walking the other
+          way, in front of it, on frames 30-49.
+        - ``"lighting"`` (320×240, 100 frames): normal light on 0-19, a quarter of the colour cast
+          on 20-59, the full cast from frame 60.
+        - ``"turn"`` (256×192, 120 frames): frontal on 0-14, half profiles (yaw ±60°) on 15-54,
+          in-plane tilt of ±15° on 55-79, turning away on 80-89, the back of the head on 90-119.
     rng : int or numpy.random.Generator
         Source of the background, the motion and the noise.
     noise_std : float
         Standard deviation of the camera noise, grey levels.
-    cast_strength : size of the "fusion" kind's lighting change, 0 (none) to 1 (channel gains
-        0.45, 0.62, 1.05); values in between scale the gains' departure from 1.
+    cast_strength : float
+        Size of the lighting change, 0 (none) to 1.5; at 1 the full cast has channel gains 0.45,
+        0.62, 1.05, and values in between scale the gains' departure from 1 ("fusion" and
+        "lighting" kinds).
 
     Returns
     -------
     HeadSequence
-        Frames, truth, ellipses and segments.
+        Frames, truth, ellipses (their angle is the head's tilt) and segments.
 
     References
     ----------
@@ -225,31 +289,26 @@ def make_head_sequence(kind: str, *, rng: int | np.random.Generator, noise_std: 
     generator = make_rng(rng, "rng")
     noise_std = check_positive(noise_std, "noise_std", allow_zero=True)
     cast_strength = check_in_range(cast_strength, "cast_strength", 0.0, 1.5, closed="both")
-    width, height = 256, 192
-    n_frames = {"fusion": 128, "edges": 100, "twin": 80}[kind]
+    n_frames, width, height = _LAYOUT[kind]
     background = _background(generator, height, width)
     truth = _trajectory(kind, generator, n_frames, width, height)
-    if kind == "fusion":
-        segments = {"calm": (0, 29), "lighting": (29, 81), "distractor": (81, 104), "agile": (104, n_frames)}
-    elif kind == "edges":
-        segments = {"sharp": (0, 40), "weak edges": (40, 80), "sharp again": (80, n_frames)}
-    else:
-        segments = {"apart": (0, 30), "crossing": (30, 50), "after": (50, n_frames)}
+    yaw, tilt, cast = _pose_and_light(kind, generator, n_frames, cast_strength)
+    segments = _segments(kind, n_frames)
     frames = np.empty((n_frames, height, width, 3), np.uint8)
+    hand_start, hand_stop = segments["distractor"] if kind == "fusion" else (0, 0)
     for t in range(n_frames):
         image = background.copy()
         cx, cy, s = truth[t]
-        _draw_head(image, cx, cy, 1.0 + s)
+        _draw_head(image, cx, cy, 1.0 + s, yaw[t], tilt[t])
         if kind == "twin":  # the twin walks the other way, in front
             _draw_head(image, width - cx, cy, 1.0 + s)
-        if kind == "fusion" and 81 <= t < 104:  # a hand crosses in front of the face
-            progress = (t - 81) / 22.0
+        if hand_start <= t < hand_stop:  # a hand crosses in front of the face
+            progress = (t - hand_start) / (hand_stop - hand_start - 1)
             hx = cx - 70 + 140 * progress
             window, dx, dy = _window(image, hx, cy + 10, 16.0, -20.0, 20.0)
             _paint(window, _coverage(dx, dy, 13.0, 17.0, softness=5.0), SKIN * 0.97)
-        if kind == "fusion":  # colour cast and darkening ramping in over 29-33 and out over 77-80
-            strength = cast_strength * np.clip(min(t - 28, 81 - t) / 4.0, 0.0, 1.0)
-            gain = 1.0 + strength * (np.array([0.45, 0.62, 1.05]) - 1.0)
+        if cast[t] > 0:  # colour cast and darkening
+            gain = 1.0 + cast[t] * (np.array([0.45, 0.62, 1.05]) - 1.0)
             image *= gain.astype(np.float32)
         elif kind == "edges" and 40 <= t < 80:  # defocus and low contrast: the edges fade
             import cv2
@@ -259,7 +318,7 @@ def make_head_sequence(kind: str, *, rng: int | np.random.Generator, noise_std: 
         np.clip(image, 0, 255, out=image)
         frames[t] = (image + 0.5).astype(np.uint8)
     axes = np.outer(1.0 + truth[:, 2], HEAD_AXES)
-    true_ellipses = np.column_stack([truth[:, :2], axes, np.zeros(n_frames)])
+    true_ellipses = np.column_stack([truth[:, :2], axes, tilt])
     return HeadSequence(frames, truth, true_ellipses, segments, kind)
 
 
@@ -271,7 +330,8 @@ def ellipse_iou(first: np.ndarray, second: np.ndarray, *, step: float = 0.5) -> 
     first, second : numpy.ndarray
         (5,) or (T, 5) ellipses (semi-axes a along x at angle 0, angle in radians).
     step : float
-        Grid spacing in pixels for counting the intersection (its error is about step / min axis).
+        Grid spacing in pixels for counting the intersection (its error is about step / min axis),
+        in (0, 1e6].
 
     Returns
     -------
@@ -284,7 +344,7 @@ def ellipse_iou(first: np.ndarray, second: np.ndarray, *, step: float = 0.5) -> 
     """
     first = as_finite_array(first, "first")
     second = as_finite_array(second, "second")
-    step = check_positive(step, "step")
+    step = check_in_range(step, "step", 0.0, 1e6, closed="right")
     single = first.ndim == 1
     first, second = np.atleast_2d(first), np.atleast_2d(second)
     if first.shape[1] != 5 or second.shape != first.shape:

@@ -19,7 +19,11 @@ import numpy as np
 
 from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive, check_positive_int, make_rng
 
-__all__ = ["ARDynamics", "ar2_coefficients", "ar2_stationary_variance"]
+__all__ = ["ARDynamics", "MAX_AR2_MAGNITUDE", "ar2_coefficients", "ar2_stationary_variance"]
+
+#: Largest lag weight or gain :func:`ar2_stationary_variance` accepts: the Yule-Walker formula squares
+#: them, and squares of larger numbers overflow float64 (a stable AR(2) has |weights| below 2).
+MAX_AR2_MAGNITUDE = 1e150
 
 
 def ar2_coefficients(beta: float, omega: float, tau: float) -> tuple[float, float, float]:
@@ -59,27 +63,31 @@ def ar2_stationary_variance(first_lag: float, second_lag: float, gain: float) ->
     Parameters
     ----------
     first_lag, second_lag : float
-        Weights of x_{k-1} and x_{k-2}.
+        Weights of x_{k-1} and x_{k-2}, within ±:data:`MAX_AR2_MAGNITUDE`.
     gain : float
-        Gain of the unit-variance noise ν.
+        Gain of the unit-variance noise ν, within ±:data:`MAX_AR2_MAGNITUDE`; a ValueError names it
+        when the variance of a stable model overflows all the same.
 
     Returns
     -------
     float
-        The variance (Yule-Walker), or inf when a root has modulus >= 1.
+        The variance (Yule-Walker), or inf when a root has modulus >= 1 (an unstable model).
 
     References
     ----------
     Li & Chaumette, AMDO 2004, eq. (4): with the corrected order, b0 gives unit variance.
     """
-    first_lag = check_in_range(first_lag, "first_lag", -np.inf, np.inf)  # any finite real number
-    second_lag = check_in_range(second_lag, "second_lag", -np.inf, np.inf)
-    gain = check_in_range(gain, "gain", -np.inf, np.inf)
+    first_lag = check_in_range(first_lag, "first_lag", -MAX_AR2_MAGNITUDE, MAX_AR2_MAGNITUDE, closed="both")
+    second_lag = check_in_range(second_lag, "second_lag", -MAX_AR2_MAGNITUDE, MAX_AR2_MAGNITUDE, closed="both")
+    gain = check_in_range(gain, "gain", -MAX_AR2_MAGNITUDE, MAX_AR2_MAGNITUDE, closed="both")
     roots = np.roots([1.0, -first_lag, -second_lag])
     if np.max(np.abs(roots)) >= 1.0:
         return float("inf")
     # Yule-Walker: γ0 = (1 - φ2) g² / ((1 + φ2)((1 - φ2)² - φ1²))
-    return float((1.0 - second_lag) * gain**2 / ((1.0 + second_lag) * ((1.0 - second_lag) ** 2 - first_lag**2)))
+    variance = (1.0 - second_lag) * gain**2 / ((1.0 + second_lag) * ((1.0 - second_lag) ** 2 - first_lag**2))
+    if not np.isfinite(variance):  # a huge gain on a model close to the unit circle
+        raise ValueError(f"gain is too large: the stationary variance overflows, got gain={gain:g}")
+    return float(variance)
 
 
 class ARDynamics:
@@ -129,8 +137,8 @@ class ARDynamics:
         # the weights of x_{k-1} and x_{k-2}
         self.first_lag, self.second_lag = (self.a1, self.a0) if printed_order else (self.a0, self.a1)
         if not allow_unstable and self.spectral_radius() >= 1.0:
-            raise ValueError(f"AR(2) model is unstable (spectral radius {self.spectral_radius():.3f}); "
-                             "pass allow_unstable=True to use it anyway")
+            raise ValueError(f"AR(2) model is unstable (spectral radius {self.spectral_radius():.3f}): beta too small "
+                             "(no damping) or printed_order; pass allow_unstable=True to use it anyway")
 
     @property
     def step_std(self) -> np.ndarray:
@@ -165,6 +173,8 @@ class ARDynamics:
         previous = as_finite_array(previous, "previous", shape=(None, self.mean.size))
         before = as_finite_array(before, "before", shape=previous.shape)
         noise = as_finite_array(noise, "noise", shape=previous.shape)
+        # eq. (4) for every component (eq. 5 for the state), about the mean: X_k = a_0 X_{k-1} + a_1 X_{k-2} + b_0 ν
+        # in our order of the lags (printed_order=True: the printed a_1 X_{k-1} + a_0 X_{k-2}, which explodes)
         return (self.mean + self.first_lag * (previous - self.mean) + self.second_lag * (before - self.mean)
                 + self.step_std * noise)
 
@@ -185,6 +195,7 @@ class ARDynamics:
         """
         previous = as_finite_array(previous, "previous", shape=(None, self.mean.size))
         before = as_finite_array(before, "before", shape=previous.shape)
+        # eq. (5): one draw from the transition prior p(X_k | X_{k-1}, X_{k-2}), ν standard normal
         return self.propagate(previous, before, make_rng(rng, "rng").standard_normal(previous.shape))
 
     def simulate(self, n_steps: int, start: np.ndarray, *, rng: int | np.random.Generator) -> np.ndarray:

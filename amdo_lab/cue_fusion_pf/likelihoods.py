@@ -10,28 +10,72 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_positive, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 
 __all__ = [
-    "CalibrationResult", "ColorLikelihood", "EdgeLikelihood", "PAPER_SIGMAS", "bhattacharyya",
-    "calibrate_sigma", "edge_line_likelihood", "fused_log_likelihood", "kernel_histogram",
-    "simulate_measurement_lines",
+    "COLOR_SPACES", "CalibrationResult", "ColorLikelihood", "EdgeLikelihood", "MAX_CLUTTER_DENSITY", "MAX_DISTANCE", "MAX_PIXELS", "PAPER_SIGMAS", "SIGMA_RANGE", "bhattacharyya",
+    "calibrate_sigma", "check_frame", "check_shape_space", "edge_line_likelihood", "fused_log_likelihood",
+    "kernel_histogram", "simulate_measurement_lines", "to_color_space",
 ]
 
 #: Table 1's standard deviations of the colour and structure likelihoods.
 PAPER_SIGMAS = {"color": 5.0, "structure": float(np.sqrt(15.0))}
+#: Largest length or coordinate in pixels the chapter accepts (its frames are a few hundred pixels
+#: wide): beyond it squared lengths overflow and pixel indices leave int32 (the overflow policy).
+MAX_PIXELS = 1e6
+#: Range of the σ of a cue's likelihood ``exp(-d / 2σ²)`` (σ_c, σ_s), with d in [0, 1]: below it every
+#: particle but the best gets weight 0, above it the cue is switched off (and σ² leaves float64 far beyond).
+SIGMA_RANGE = (1e-6, 1e6)
+#: Largest distance :func:`calibrate_sigma` accepts (the cues' distances 1 - ρ and 1 - n_s/N_s are in [0, 1]).
+MAX_DISTANCE = 1e6
+#: Largest clutter density λ, features per pixel: a 1-D edge detector finds at most one per pixel.
+MAX_CLUTTER_DENSITY = 1.0
 
 
 # --- colour: eqs. (7)-(11) ----------------------------------------------------------------------
 
-def _check_shape_space(shape_space: object) -> ShapeSpace:
+def check_shape_space(shape_space: object) -> ShapeSpace:
+    """Return ``shape_space`` after checking it is a :class:`ShapeSpace` (a TypeError names it).
+
+    Parameters
+    ----------
+    shape_space : ShapeSpace
+        The user's shape space.
+
+    Returns
+    -------
+    ShapeSpace
+        ``shape_space``.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eqs. (2)-(3) (the shape space every cue reads its contours from).
+    """
     if not isinstance(shape_space, ShapeSpace):
         raise TypeError(f"shape_space must be a ShapeSpace, got {type(shape_space).__name__}")
     return shape_space
 
 
-def _check_frame(frame: np.ndarray, name: str = "frame") -> np.ndarray:
+def check_frame(frame: np.ndarray, name: str = "frame") -> np.ndarray:
+    """Return ``frame`` as an array after checking it is a non-empty (H, W, 3) uint8 RGB image.
+
+    Parameters
+    ----------
+    frame : numpy.ndarray
+        The user's image.
+    name : str
+        The argument's name, used in error messages.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``frame`` as an (H, W, 3) uint8 array (not copied).
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 2 (every cue reads an RGB frame).
+    """
     frame = np.asarray(frame)
     if frame.ndim != 3 or frame.shape[2] != 3:
         raise ValueError(f"{name} must be an (H, W, 3) RGB image, got shape {frame.shape}")
@@ -59,6 +103,37 @@ def bin_index_image(frame: np.ndarray, bins: int) -> np.ndarray:
     return (q[..., 0] * bins + q[..., 1]) * bins + q[..., 2]
 
 
+COLOR_SPACES = ("rgb", "hsv")
+
+
+def to_color_space(frame: np.ndarray, color_space: str) -> np.ndarray:
+    """The frame in the colour space whose channels the histogram bins: RGB as given, or HSV.
+
+    Parameters
+    ----------
+    frame : numpy.ndarray
+        (H, W, 3) uint8 RGB image.
+    color_space : str
+        ``"rgb"`` (returned unchanged) or ``"hsv"`` (OpenCV's full-range HSV: hue, saturation and
+        value each on 0-255).
+
+    Returns
+    -------
+    numpy.ndarray
+        (H, W, 3) uint8 image.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eq. (8) (bins in RGB); Pérez et al., ECCV 2002 (HSV bins), an ablation.
+    """
+    color_space = check_choice(color_space, "color_space", COLOR_SPACES)
+    if color_space == "rgb":
+        return frame
+    import cv2
+
+    return cv2.cvtColor(np.ascontiguousarray(frame, dtype=np.uint8), cv2.COLOR_RGB2HSV_FULL)
+
+
 def kernel_histogram(frame: np.ndarray, ellipse: np.ndarray, bins: int = 32) -> np.ndarray:
     """Eq. (8), the plain way: the kernel-weighted RGB histogram of the pixels inside an ellipse.
 
@@ -84,7 +159,7 @@ def kernel_histogram(frame: np.ndarray, ellipse: np.ndarray, bins: int = 32) -> 
     ----------
     Li & Chaumette, AMDO 2004, eqs. (7)-(8); Comaniciu, Ramesh & Meer, CVPR 2000.
     """
-    frame = _check_frame(frame)
+    frame = check_frame(frame)
     bins = _check_bins(bins)
     cx, cy, a, b, angle = as_finite_array(ellipse, "ellipse", shape=(5,))
     height, width, _ = frame.shape
@@ -95,6 +170,7 @@ def kernel_histogram(frame: np.ndarray, ellipse: np.ndarray, bins: int = 32) -> 
     r_squared = u**2 + v**2
     inside = r_squared < 1.0
     weights = 1.0 - r_squared[inside]  # eq. (7), constant c cancels in eq. (8)
+    # eq. (8): kernel-weighted count of the pixels of each colour bin, normalised by the total weight
     histogram = np.bincount(bin_index_image(frame, bins)[inside], weights=weights, minlength=bins**3)
     total = histogram.sum()
     return histogram / total if total > 0 else histogram
@@ -123,7 +199,7 @@ def bhattacharyya(p: np.ndarray, q: np.ndarray) -> np.ndarray:
         raise ValueError(f"p and q must have the same number of bins, got shapes {p.shape} and {q.shape}")
     if np.any(p < 0) or np.any(q < 0):
         raise ValueError("p and q must be histograms, with no negative bin")
-    return np.sum(np.sqrt(p * q), axis=-1)
+    return np.sum(np.sqrt(p * q), axis=-1)  # eq. (10): ρ = Σ_u √(p_u q_u)
 
 
 class ColorLikelihood:
@@ -135,13 +211,18 @@ class ColorLikelihood:
         Maps states to ellipses.
     reference_frame, reference_state : numpy.ndarray
         The model histogram q̂ is taken from this (H, W, 3) frame inside this (3,) state's ellipse
-        (the paper uses a face detector for it; we use the initial state).
+        (the paper uses a face detector for it; we use the initial state); the state's entries
+        within ±:data:`MAX_PIXELS`.
     bins : int
         Bins per channel (32 for the head, Table 1); must divide 256.
     sigma : float
-        σ_c, > 0.
+        σ_c, in :data:`SIGMA_RANGE`.
     stride : float
-        Spacing of the sample grid in pixels at scale 1 (see Notes), > 0.
+        Spacing of the sample grid in pixels at scale 1 (see Notes), > 0 and small enough to leave
+        a grid point inside the template's ellipse (at most about its smaller semi-axis).
+    color_space : str
+        ``"rgb"`` (the paper) or ``"hsv"`` (the frames converted by :func:`to_color_space` before
+        binning; an ablation).
 
     Notes
     -----
@@ -156,14 +237,17 @@ class ColorLikelihood:
     """
 
     def __init__(self, shape_space: ShapeSpace, reference_frame: np.ndarray, reference_state: np.ndarray, *,
-                 bins: int = 32, sigma: float = 5.0, stride: float = 2.0):
-        self.shape_space = _check_shape_space(shape_space)
+                 bins: int = 32, sigma: float = 5.0, stride: float = 2.0, color_space: str = "rgb"):
+        self.shape_space = check_shape_space(shape_space)
         self.bins = _check_bins(bins)
-        self.sigma = check_positive(sigma, "sigma")
+        self.sigma = check_in_range(sigma, "sigma", *SIGMA_RANGE, closed="both")
         self.stride = check_positive(stride, "stride")
-        reference_frame = _check_frame(reference_frame, "reference_frame")
-        reference_state = as_finite_array(reference_state, "reference_state", shape=(shape_space.state_dim,))
-        self.target = kernel_histogram(reference_frame, shape_space.ellipses(reference_state)[0], self.bins)
+        self.color_space = check_choice(color_space, "color_space", COLOR_SPACES)
+        reference_frame = check_frame(reference_frame, "reference_frame")
+        reference_state = as_finite_array(reference_state, "reference_state", shape=(shape_space.state_dim,),
+                                          max_abs=MAX_PIXELS)
+        self.target = kernel_histogram(to_color_space(reference_frame, self.color_space),
+                                       shape_space.ellipses(reference_state)[0], self.bins)
         support = np.flatnonzero(self.target)
         self._sqrt_target = np.sqrt(self.target[support])
         # lookup: bin -> position in the target's support, or len(support) for "any other bin"
@@ -172,6 +256,9 @@ class ColorLikelihood:
         _, _, a, b, _ = shape_space.template_ellipse
         gx, gy = np.meshgrid(np.arange(-a, a + 1e-9, self.stride) / a, np.arange(-b, b + 1e-9, self.stride) / b)
         keep = gx**2 + gy**2 < 1.0
+        if not keep.any():  # no sample point: every histogram would be 0/0
+            raise ValueError(f"stride must leave a sample point inside the template ellipse (semi-axes {a:.3g} and "
+                             f"{b:.3g} px), got {self.stride:g}")
         self._unit_points = np.stack([gx[keep], gy[keep]], axis=1)  # points of the unit disc
         self._kernel = 1.0 - np.sum(self._unit_points**2, axis=1)  # eq. (7), profile 1 - r²
 
@@ -190,7 +277,7 @@ class ColorLikelihood:
         numpy.ndarray
             (N,) Bhattacharyya coefficients.
         """
-        frame = _check_frame(frame)
+        frame = check_frame(frame)
         ellipses = self.shape_space.ellipses(states)
         n = len(ellipses)
         height, width, _ = frame.shape
@@ -201,7 +288,7 @@ class ColorLikelihood:
         ys = np.rint(ellipses[:, 1:2] + u * sin + v * cos).astype(np.int32)
         on_frame = (xs >= 0) & (xs < width) & (ys >= 0) & (ys < height)
         support = self._sqrt_target.size
-        compact = self._lookup[bin_index_image(frame, self.bins)]
+        compact = self._lookup[bin_index_image(to_color_space(frame, self.color_space), self.bins)]
         # off-frame points go to the "other bins" slot: they lower ρ as missing colour would
         slot = np.where(on_frame, compact[np.clip(ys, 0, height - 1), np.clip(xs, 0, width - 1)], support)
         flat = slot + (support + 1) * np.arange(n)[:, None]
@@ -225,7 +312,7 @@ class ColorLikelihood:
         numpy.ndarray
             (N,) distances in [0, 1].
         """
-        return 1.0 - self.bhattacharyya(frame, states)
+        return 1.0 - self.bhattacharyya(frame, states)  # eq. (9) squared: d² = 1 - ρ
 
     def log_likelihood(self, frame: np.ndarray, states: np.ndarray) -> np.ndarray:
         """Eq. (11) in the log domain, for each state.
@@ -242,6 +329,7 @@ class ColorLikelihood:
         numpy.ndarray
             (N,) log-likelihoods.
         """
+        # ln of eq. (11): p_c = exp(-(1 - ρ)/2σ_c²) / (√(2π) σ_c)
         return -self.distance(frame, states) / (2.0 * self.sigma**2) - np.log(np.sqrt(2.0 * np.pi) * self.sigma)
 
 
@@ -258,13 +346,14 @@ def edge_line_likelihood(offsets: np.ndarray, p0: float, clutter_density: float,
     Parameters
     ----------
     offsets : array_like
-        Distances z_j of the line's features from the contour, pixels (may be empty).
+        Distances z_j of the line's features from the contour, pixels (may be empty), within
+        ±:data:`MAX_PIXELS`.
     p0 : float
         P0, in (0, 1).
     clutter_density : float
         λ, clutter features per pixel, > 0.
     sigma_e : float
-        σ_e in pixels, > 0.
+        σ_e in pixels, in (0, :data:`MAX_PIXELS`].
 
     Returns
     -------
@@ -275,11 +364,12 @@ def edge_line_likelihood(offsets: np.ndarray, p0: float, clutter_density: float,
     ----------
     Li & Chaumette, AMDO 2004, eq. (13); MacCormick, PhD thesis, Oxford (2000).
     """
-    offsets = as_finite_array(offsets, "offsets", ndim=1, allow_empty=True)
+    offsets = as_finite_array(offsets, "offsets", ndim=1, allow_empty=True, max_abs=MAX_PIXELS)
     p0 = check_in_range(p0, "p0", 0.0, 1.0)
     clutter_density = check_positive(clutter_density, "clutter_density")
-    sigma_e = check_positive(sigma_e, "sigma_e")
+    sigma_e = check_in_range(sigma_e, "sigma_e", 0.0, MAX_PIXELS, closed="right")
     gauss = np.exp(-offsets**2 / (2.0 * sigma_e**2)) / (np.sqrt(2.0 * np.pi) * sigma_e)
+    # eq. (13): p_0 + (1 - p_0)/λ Σ_m N(z_m; 0, σ_e²), the likelihood ratio of one measurement line
     return float(p0 + (1.0 - p0) / clutter_density * gauss.sum())
 
 
@@ -295,13 +385,13 @@ def simulate_measurement_lines(n_lines: int, *, half_length: float, p0: float, c
     n_lines : int
         Number of lines.
     half_length : float
-        L/2 in pixels, > 0.
+        L/2 in pixels, in (0, :data:`MAX_PIXELS`].
     p0 : float
         P0, the probability that the edge is missed, in (0, 1).
     clutter_density : float
-        λ, clutter features per pixel, >= 0.
+        λ, clutter features per pixel, in [0, :data:`MAX_CLUTTER_DENSITY`] (at most one per pixel).
     sigma_e : float
-        σ_e in pixels, > 0.
+        σ_e in pixels, in (0, :data:`MAX_PIXELS`].
     rng : int or numpy.random.Generator
         Source of the draws.
 
@@ -316,10 +406,10 @@ def simulate_measurement_lines(n_lines: int, *, half_length: float, p0: float, c
     """
     generator = make_rng(rng, "rng")
     n_lines = check_positive_int(n_lines, "n_lines")
-    half_length = check_positive(half_length, "half_length")
+    half_length = check_in_range(half_length, "half_length", 0.0, MAX_PIXELS, closed="right")
     p0 = check_in_range(p0, "p0", 0.0, 1.0)
-    clutter_density = check_positive(clutter_density, "clutter_density", allow_zero=True)
-    sigma_e = check_positive(sigma_e, "sigma_e")
+    clutter_density = check_in_range(clutter_density, "clutter_density", 0.0, MAX_CLUTTER_DENSITY, closed="both")
+    sigma_e = check_in_range(sigma_e, "sigma_e", 0.0, MAX_PIXELS, closed="right")
     counts = generator.poisson(clutter_density * 2.0 * half_length, n_lines)
     clutter = generator.uniform(-half_length, half_length, counts.sum())
     edges = generator.normal(0.0, sigma_e, n_lines)
@@ -343,11 +433,13 @@ class EdgeLikelihood:
     p0 : float
         P0, probability that the edge is not detected, in (0, 1) (0.2).
     sigma_e : float
-        σ_e in pixels, > 0 (√2).
+        σ_e in pixels, in (0, :data:`MAX_PIXELS`] (√2).
     threshold : float
-        Smallest gradient magnitude of a feature, grey levels per pixel, > 0.
+        Smallest gradient magnitude of a feature, grey levels per pixel, in (0, 255] (the central
+        difference of grey levels never exceeds 127.5 per pixel).
     smoothing : float
-        σ of the Gaussian applied to the grey image before the 1-D derivative, pixels, > 0.
+        σ of the Gaussian applied to the grey image before the 1-D derivative, pixels, in
+        (0, half_length] (a wider blur erases the edges the lines look for).
 
     Notes
     -----
@@ -363,13 +455,13 @@ class EdgeLikelihood:
 
     def __init__(self, shape_space: ShapeSpace, *, n_lines: int = 40, half_length: int = 12, p0: float = 0.2,
                  sigma_e: float = float(np.sqrt(2.0)), threshold: float = 6.0, smoothing: float = 1.0):
-        self.shape_space = _check_shape_space(shape_space)
+        self.shape_space = check_shape_space(shape_space)
         self.n_lines = check_positive_int(n_lines, "n_lines", minimum=3)
         self.half_length = check_positive_int(half_length, "half_length", minimum=2)
         self.p0 = check_in_range(p0, "p0", 0.0, 1.0)
-        self.sigma_e = check_positive(sigma_e, "sigma_e")
-        self.threshold = check_positive(threshold, "threshold")
-        self.smoothing = check_positive(smoothing, "smoothing")
+        self.sigma_e = check_in_range(sigma_e, "sigma_e", 0.0, MAX_PIXELS, closed="right")
+        self.threshold = check_in_range(threshold, "threshold", 0.0, 255.0, closed="right")
+        self.smoothing = check_in_range(smoothing, "smoothing", 0.0, float(self.half_length), closed="right")
         self._points, self._normals = shape_space.template_normals(self.n_lines)
         self.offsets = np.arange(-self.half_length, self.half_length + 1, dtype=float)
         self.clutter_density = float("nan")  # λ of the last frame seen
@@ -387,7 +479,7 @@ class EdgeLikelihood:
         numpy.ndarray
             (H, W) float32 grey levels.
         """
-        grey = _check_frame(frame).astype(np.float32).mean(axis=2)
+        grey = check_frame(frame).astype(np.float32).mean(axis=2)
         return cv2.GaussianBlur(grey, (0, 0), self.smoothing)
 
     def profiles(self, frame: np.ndarray, states: np.ndarray, *, reference: bool = False) -> np.ndarray:
@@ -415,18 +507,21 @@ class EdgeLikelihood:
         reference = check_bool(reference, "reference")
         if len(states) == 0:  # no particles: no lines to read (cv2.remap refuses an empty map)
             return np.empty((0, self.n_lines, self.offsets.size), np.float32)
-        if reference:
-            scale = 1.0 + states[:, 2]
-            centres = states[:, None, :2] + scale[:, None, None] * self._points  # (N, N_e, 2)
-            samples = centres[:, :, None, :] + self.offsets[:, None] * self._normals[:, None, :]  # (N, N_e, 2L+1, 2)
+        if reference:  # contour point t + k R p and normal R n of each line (eqs. 2-3: k, R of the state)
+            scale, rotation = self.shape_space.similarity_parts(states)
+            centres = states[:, None, :2] + scale[:, None, None] * np.einsum("nij,lj->nli", rotation, self._points)
+            normals = np.einsum("nij,lj->nli", rotation, self._normals)  # (N, N_e, 2)
+            samples = centres[:, :, None, :] + self.offsets[:, None] * normals[:, :, None, :]  # (N, N_e, 2L+1, 2)
             return _bilinear(grey, samples[..., 0], samples[..., 1])
         # the same sample positions, built axis by axis in single precision
         states32 = states.astype(np.float32)
-        scale = (1.0 + states32[:, 2])[:, None, None]
+        scale, rotation = (part.astype(np.float32) for part in self.shape_space.similarity_parts(states32))
+        scale = scale[:, None, None]
+        (r00, r01), (r10, r11) = rotation.transpose(1, 2, 0)[..., None, None]  # each (N, 1, 1)
         offsets = self.offsets.astype(np.float32)[None, None, :]
-        points, normals = self._points.astype(np.float32), self._normals.astype(np.float32)
-        map_x = states32[:, 0, None, None] + scale * points[None, :, 0, None] + offsets * normals[None, :, 0, None]
-        map_y = states32[:, 1, None, None] + scale * points[None, :, 1, None] + offsets * normals[None, :, 1, None]
+        (px, py), (nx, ny) = (part.astype(np.float32).T[:, None, :, None] for part in (self._points, self._normals))
+        map_x = states32[:, 0, None, None] + scale * (r00 * px + r01 * py) + offsets * (r00 * nx + r01 * ny)
+        map_y = states32[:, 1, None, None] + scale * (r10 * px + r11 * py) + offsets * (r10 * nx + r11 * ny)
         n, n_lines, n_offsets = map_x.shape
         sampled = cv2.remap(grey, map_x.reshape(n * n_lines, n_offsets), map_y.reshape(n * n_lines, n_offsets),
                             cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
@@ -530,12 +625,12 @@ def fused_log_likelihood(cues: dict, frame: np.ndarray, states: np.ndarray) -> n
     """
     if not isinstance(cues, dict) or not all(hasattr(cue, "log_likelihood") for cue in cues.values()):
         raise TypeError(f"cues must be a dict of likelihood objects (with .log_likelihood), got {type(cues).__name__}")
-    frame = _check_frame(frame)
+    frame = check_frame(frame)
     states = as_finite_array(states, "states", allow_empty=True)
     if states.ndim not in (1, 2):
         raise ValueError(f"states must have shape (d,) or (N, d), got shape {states.shape}")
     total = np.zeros(len(np.atleast_2d(states)))
-    for cue in cues.values():
+    for cue in cues.values():  # eq. (6) in the log domain: the product of the cues' likelihoods is a sum
         total += cue.log_likelihood(frame, states)
     return total
 
@@ -577,11 +672,12 @@ def calibrate_sigma(distances_true: np.ndarray, distances_prior: np.ndarray, gri
     Parameters
     ----------
     distances_true : numpy.ndarray
-        (T,) distances at the true states.
+        (T,) distances at the true states, within ±:data:`MAX_DISTANCE` (the cues' distances lie
+        in [0, 1]).
     distances_prior : numpy.ndarray
-        (T, N) distances at the prior samples.
+        (T, N) distances at the prior samples, likewise bounded.
     grid : numpy.ndarray, optional
-        σ values to try, > 0 (default: 60 log-spaced values from 0.005 to 10).
+        σ values to try, in :data:`SIGMA_RANGE` (default: 60 log-spaced values from 0.005 to 10).
 
     Returns
     -------
@@ -592,14 +688,15 @@ def calibrate_sigma(distances_true: np.ndarray, distances_prior: np.ndarray, gri
     ----------
     Li & Chaumette, AMDO 2004, eqs. (11)-(12) and Table 1.
     """
-    distances_true = as_finite_array(distances_true, "distances_true", ndim=1)
-    distances_prior = as_finite_array(distances_prior, "distances_prior", ndim=2)
+    distances_true = as_finite_array(distances_true, "distances_true", ndim=1, max_abs=MAX_DISTANCE)
+    distances_prior = as_finite_array(distances_prior, "distances_prior", ndim=2, max_abs=MAX_DISTANCE)
     if len(distances_prior) != distances_true.size:
         raise ValueError(f"distances_true and distances_prior must have one row per frame, got {distances_true.size} and "
                          f"{len(distances_prior)}")
     grid = np.geomspace(0.005, 10.0, 60) if grid is None else as_finite_array(grid, "grid", ndim=1)
-    if np.any(grid <= 0):
-        raise ValueError("grid must hold positive values of sigma")
+    if np.any(grid < SIGMA_RANGE[0]) or np.any(grid > SIGMA_RANGE[1]):
+        raise ValueError(f"grid must hold values of sigma in [{SIGMA_RANGE[0]:g}, {SIGMA_RANGE[1]:g}], got {grid.min():g} to "
+                         f"{grid.max():g}")
     scores = []
     for sigma in grid:
         log_prior = -distances_prior / (2.0 * sigma**2)

@@ -8,8 +8,18 @@ import time
 import cv2
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive_int, make_rng
-from amdo_lab.cue_fusion_pf.tracker import TrackResult, _check_frames
+from amdo_lab.common import check_positive_int, make_rng
+from amdo_lab.cue_fusion_pf.tracker import (
+    TRACK_DEFAULTS,
+    TrackResult,
+    as_ellipse,
+    build_cues,
+    check_cues,
+    check_frames,
+    default_dynamics,
+    resolve_sigmas,
+    shape_space_of,
+)
 
 __all__ = ["track_camshift", "track_mil", "track_pfilter"]
 
@@ -26,7 +36,7 @@ def track_camshift(frames: np.ndarray, init: np.ndarray, *, hue_bins: int = 32) 
     frames : numpy.ndarray
         (T, H, W, 3) uint8 RGB.
     init : numpy.ndarray
-        Initial ellipse ``(cx, cy, a, b, angle)``.
+        Initial ellipse ``(cx, cy, a, b, angle)``, entries within ±1e6 (:func:`as_ellipse`).
     hue_bins : int
         Bins of the hue histogram.
 
@@ -39,10 +49,8 @@ def track_camshift(frames: np.ndarray, init: np.ndarray, *, hue_bins: int = 32) 
     ----------
     Li & Chaumette, AMDO 2004 (the task); Comaniciu, Ramesh & Meer, CVPR 2000 (ref. [13]).
     """
-    frames = _check_frames(frames)
-    init = as_finite_array(init, "init", shape=(5,))
-    if init[2] <= 0 or init[3] <= 0:
-        raise ValueError(f"init ellipse axes must be positive, got a={init[2]}, b={init[3]}")
+    frames = check_frames(frames)
+    init = as_ellipse(init, "init")
     hue_bins = check_positive_int(hue_bins, "hue_bins", minimum=2)
     began = time.perf_counter()
     height, width = frames.shape[1:3]
@@ -87,7 +95,8 @@ def track_mil(frames: np.ndarray, init: np.ndarray) -> TrackResult:
     frames : numpy.ndarray
         (T, H, W, 3) uint8 RGB.
     init : numpy.ndarray
-        Initial ellipse ``(cx, cy, a, b, angle)``; MIL starts from its bounding box.
+        Initial ellipse ``(cx, cy, a, b, angle)``, entries within ±1e6 (:func:`as_ellipse`); MIL
+        starts from its bounding box.
 
     Returns
     -------
@@ -98,10 +107,8 @@ def track_mil(frames: np.ndarray, init: np.ndarray) -> TrackResult:
     ----------
     Li & Chaumette, AMDO 2004 (the task); Babenko, Yang & Belongie, CVPR 2009 (MIL tracking).
     """
-    frames = _check_frames(frames)
-    init = as_finite_array(init, "init", shape=(5,))
-    if init[2] <= 0 or init[3] <= 0:
-        raise ValueError(f"init ellipse axes must be positive, got a={init[2]}, b={init[3]}")
+    frames = check_frames(frames)
+    init = as_ellipse(init, "init")
     began = time.perf_counter()
     cx, cy, a, b, _ = init
     tracker = cv2.TrackerMIL_create()
@@ -157,17 +164,15 @@ def track_pfilter(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.
     """
     from pfilter import ParticleFilter, systematic_resample as pfilter_systematic
 
-    from amdo_lab.cue_fusion_pf.tracker import _PARAMS, _check_cues, _shape_space_of, _sigma_table, build_cues, default_dynamics
-
-    frames = _check_frames(frames)
-    _check_cues(cues)
+    frames = check_frames(frames)
+    check_cues(cues)
     n_particles = check_positive_int(n_particles, "n_particles", minimum=2)
-    sigma_table = _sigma_table(sigmas)
+    sigma_table = resolve_sigmas(sigmas)
     global_seed = int(make_rng(rng, "rng").integers(2**32 - 1))
-    space, start = _shape_space_of(init, frames.shape[1:3])
-    cue_objects = build_cues(cues, space, frames[0], start, sigma_table, _PARAMS)
+    space, start = shape_space_of(init, frames.shape[1:3])
+    cue_objects = build_cues(cues, space, frames[0], start, sigma_table, TRACK_DEFAULTS)
     dynamics = default_dynamics(start)
-    spread = np.asarray(_PARAMS["init_spread"])
+    spread = np.asarray(TRACK_DEFAULTS["init_spread"])
     np.random.seed(global_seed)
 
     def prior(n):

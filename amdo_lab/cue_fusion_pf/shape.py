@@ -3,7 +3,8 @@
 A state ``X`` is a short vector; the spline's control points are ``Q = W X + Q̄`` (eq. 2). For the
 head the shape space is translation + scale (eq. 3, left): ``Q^x = t_x + (1 + s) Q̄^x`` and
 ``Q^y = t_y + (1 + s) Q̄^y`` with the template ``Q̄`` centred on the origin, so ``X = (t_x, t_y, s)``
-is the contour's centre in pixels and its relative change of size.
+is the contour's centre in pixels and its relative change of size. For the walker it is the
+similarity space (eq. 3, right): translation, scale and rotation, state ``(t_x, t_y, s_c, s_s)``.
 """
 
 from __future__ import annotations
@@ -14,7 +15,8 @@ from amdo_lab.common import as_finite_array, check_bool, check_choice, check_pos
 
 __all__ = ["SHAPE_KINDS", "ShapeSpace", "bspline_basis", "ellipse_points"]
 
-SHAPE_KINDS = ("translation_scale",)
+SHAPE_KINDS = ("translation_scale", "similarity")
+STATE_DIMS = {"translation_scale": 3, "similarity": 4}
 
 
 def bspline_basis(s: np.ndarray, n_control: int, derivative: bool = False) -> np.ndarray:
@@ -87,10 +89,11 @@ class ShapeSpace:
     Parameters
     ----------
     template : numpy.ndarray
-        (J, 2) control points ``Q̄`` in pixels; they are centred on their mean, which becomes the
+        (J, 2) control points ``Q̄`` in pixels, within ±1e6; they are centred on their mean, which becomes the
         state's origin.
     kind : str
-        ``"translation_scale"`` (the head space of eq. 3, state ``(t_x, t_y, s)``).
+        ``"translation_scale"`` (the head space of eq. 3, left, state ``(t_x, t_y, s)``) or
+        ``"similarity"`` (the walker space of eq. 3, right, state ``(t_x, t_y, s_c, s_s)``).
     _ellipse : numpy.ndarray, optional
         The template's exact ellipse, when known (set by :meth:`from_ellipse`).
 
@@ -99,7 +102,15 @@ class ShapeSpace:
     The paper fits an ellipse to each particle's contour for the colour cue. In a translation +
     scale space that ellipse is the template's ellipse moved and scaled, so :meth:`ellipses` is
     exact and costs nothing; the template's ellipse comes from the second moments of the curve
-    (exact when the template was made by :meth:`from_ellipse`).
+    (exact when the template was made by :meth:`from_ellipse`). A similarity maps an ellipse to an
+    ellipse too, so the same holds in the similarity space.
+
+    The second W of eq. (3) is printed as ``[[1, 0, Q̄^x - Q̄^y], [0, 1, Q̄^y, Q̄^x]]``: the first
+    row lost a column separator. We read it as the four columns ``(1, 0)``, ``(0, 1)``,
+    ``(Q̄^x, Q̄^y)`` and ``(-Q̄^y, Q̄^x)`` (x stacked over y), the Euclidean similarity space of
+    Blake & Isard (1998, ch. 4): ``Q^x = t_x + (1 + s_c) Q̄^x - s_s Q̄^y`` and
+    ``Q^y = t_y + s_s Q̄^x + (1 + s_c) Q̄^y``, i.e. the template turned by ``θ`` and scaled by
+    ``k`` with ``1 + s_c = k cos θ`` and ``s_s = k sin θ``, then shifted by ``(t_x, t_y)``.
 
     References
     ----------
@@ -107,13 +118,13 @@ class ShapeSpace:
     """
 
     def __init__(self, template: np.ndarray, kind: str = "translation_scale", *, _ellipse: np.ndarray | None = None):
-        template = as_finite_array(template, "template", shape=(None, 2))
+        template = as_finite_array(template, "template", shape=(None, 2), max_abs=1e6)  # its covariance stays finite
         check_positive_int(template.shape[0], "template length", minimum=3)
         self.kind = check_choice(kind, "kind", SHAPE_KINDS)
         self.centre = template.mean(axis=0)
         self.template = template - self.centre  # Q̄, centred
         self.n_control = template.shape[0]
-        self.state_dim = 3
+        self.state_dim = STATE_DIMS[self.kind]
         if _ellipse is None:
             curve = bspline_basis(np.linspace(0, self.n_control, 8 * self.n_control, endpoint=False), self.n_control) @ self.template
             centre = curve.mean(axis=0)
@@ -125,7 +136,7 @@ class ShapeSpace:
         self.template_ellipse = np.asarray(_ellipse, float)
 
     @classmethod
-    def from_ellipse(cls, ellipse: np.ndarray, n_control: int = 12) -> "ShapeSpace":
+    def from_ellipse(cls, ellipse: np.ndarray, n_control: int = 12, kind: str = "translation_scale") -> "ShapeSpace":
         """Template whose B-spline fits the ellipse ``(cx, cy, a, b, angle)`` (least squares on 8J points).
 
         Parameters
@@ -134,14 +145,17 @@ class ShapeSpace:
             (5,) the ellipse; axes must be positive.
         n_control : int
             J, the number of control points.
+        kind : str
+            ``"translation_scale"`` or ``"similarity"``.
 
         Returns
         -------
         ShapeSpace
-            The space; the state of that ellipse is ``(cx, cy, 0)``.
+            The space; the state of that ellipse is ``(cx, cy, 0)`` (``(cx, cy, 0, 0)``).
         """
         ellipse = as_finite_array(ellipse, "ellipse", shape=(5,))
         n_control = check_positive_int(n_control, "n_control", minimum=3)
+        kind = check_choice(kind, "kind", SHAPE_KINDS)
         if ellipse[2] <= 0 or ellipse[3] <= 0:
             raise ValueError(f"ellipse axes must be positive, got a={ellipse[2]}, b={ellipse[3]}")
         centred = ellipse.copy()
@@ -150,20 +164,47 @@ class ShapeSpace:
         points = ellipse_points(centred, n_fit)
         basis = bspline_basis(np.arange(n_fit) * n_control / n_fit, n_control)
         control, *_ = np.linalg.lstsq(basis, points, rcond=None)
-        return cls(control, "translation_scale", _ellipse=centred)
+        return cls(control, kind, _ellipse=centred)
 
     # --- eq. (2): Q = W X + Q̄ ---------------------------------------------------------------
     def shape_matrix(self) -> np.ndarray:
-        """W of eq. (3), left.
+        """W of eq. (3): left for ``"translation_scale"``, right (our reading, see the class) for ``"similarity"``.
 
         Returns
         -------
         numpy.ndarray
-            (2J, 3) with columns (1, 0), (0, 1) and (Q̄^x, Q̄^y) stacked x over y.
+            (2J, 3) with columns (1, 0), (0, 1) and (Q̄^x, Q̄^y) stacked x over y; the similarity
+            space adds a fourth column (-Q̄^y, Q̄^x).
         """
         ones, zeros = np.ones(self.n_control), np.zeros(self.n_control)
-        return np.stack([np.concatenate([ones, zeros]), np.concatenate([zeros, ones]),
-                         np.concatenate([self.template[:, 0], self.template[:, 1]])], axis=1)
+        # eq. (3): columns for x-translation, y-translation and scale about the template Q̄ (left) ...
+        qx, qy = self.template[:, 0], self.template[:, 1]
+        columns = [np.concatenate([ones, zeros]), np.concatenate([zeros, ones]), np.concatenate([qx, qy])]
+        if self.kind == "similarity":
+            columns.append(np.concatenate([-qy, qx]))  # ... and (right) the template turned by 90°: rotation
+        return np.stack(columns, axis=1)
+
+    def similarity_parts(self, states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Scale k and rotation R of each state: its control points are ``t + k R Q̄`` (eqs. 2-3).
+
+        Parameters
+        ----------
+        states : numpy.ndarray
+            (N, d) or (d,) states.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            (N,) scales ``k`` (``1 + s``, or ``hypot(1 + s_c, s_s)``) and (N, 2, 2) rotations
+            (the identity in the translation + scale space).
+        """
+        states = np.atleast_2d(self._check_states(states))
+        if self.kind == "translation_scale":
+            return 1.0 + states[:, 2], np.broadcast_to(np.eye(2), (len(states), 2, 2)).copy()
+        scale = np.hypot(1.0 + states[:, 2], states[:, 3])
+        safe = np.where(scale > 0, scale, 1.0)  # a state of scale 0 has no direction: call it unturned
+        cos, sin = np.where(scale > 0, (1.0 + states[:, 2]) / safe, 1.0), np.where(scale > 0, states[:, 3] / safe, 0.0)
+        return scale, np.stack([np.stack([cos, -sin], axis=1), np.stack([sin, cos], axis=1)], axis=1)
 
     def control_points(self, states: np.ndarray) -> np.ndarray:
         """Control points of the states, eq. (2) written as a matrix product.
@@ -171,7 +212,7 @@ class ShapeSpace:
         Parameters
         ----------
         states : numpy.ndarray
-            (N, 3) or (3,) states ``(t_x, t_y, s)``.
+            (N, d) or (d,) states ``(t_x, t_y, s)`` or ``(t_x, t_y, s_c, s_s)``.
 
         Returns
         -------
@@ -179,6 +220,7 @@ class ShapeSpace:
             (N, J, 2) control points in pixels.
         """
         states = np.atleast_2d(self._check_states(states))
+        # eq. (2): Q = W X + Q̄, with Q stacked as (Q^x, Q^y)
         stacked = states @ self.shape_matrix().T + np.concatenate([self.template[:, 0], self.template[:, 1]])
         return np.stack([stacked[:, : self.n_control], stacked[:, self.n_control :]], axis=2)
 
@@ -188,7 +230,7 @@ class ShapeSpace:
         Parameters
         ----------
         states : numpy.ndarray
-            (N, 3) or (3,) states.
+            (N, d) or (d,) states, entries within ±1e6.
         n_points : int
             Points per curve.
 
@@ -199,6 +241,7 @@ class ShapeSpace:
         """
         n_points = check_positive_int(n_points, "n_points")
         basis = bspline_basis(np.linspace(0, self.n_control, n_points, endpoint=False), self.n_control)
+        # eq. (1): r(s) = (B(s)ᵀ Q^x, B(s)ᵀ Q^y), the quadratic B-spline through the control points
         return np.einsum("pj,njd->npd", basis, self.control_points(states))
 
     def template_normals(self, n_lines: int) -> tuple[np.ndarray, np.ndarray]:
@@ -230,7 +273,7 @@ class ShapeSpace:
         Parameters
         ----------
         states : numpy.ndarray
-            (N, 3) or (3,) states.
+            (N, d) or (d,) states, entries within ±1e6.
 
         Returns
         -------
@@ -238,10 +281,15 @@ class ShapeSpace:
             (N, 5) ellipses ``(cx, cy, a, b, angle)``.
         """
         states = np.atleast_2d(self._check_states(states))
-        scale = 1.0 + states[:, 2]
         e = self.template_ellipse
-        return np.stack([states[:, 0] + scale * e[0], states[:, 1] + scale * e[1],
-                         scale * e[2], scale * e[3], np.full(len(states), e[4])], axis=1)
+        if self.kind == "translation_scale":
+            scale = 1.0 + states[:, 2]
+            return np.stack([states[:, 0] + scale * e[0], states[:, 1] + scale * e[1],
+                             scale * e[2], scale * e[3], np.full(len(states), e[4])], axis=1)
+        scale, rotation = self.similarity_parts(states)  # the ellipse turned by θ and scaled by k
+        centre = states[:, :2] + scale[:, None] * (rotation @ e[:2])
+        angle = e[4] + np.arctan2(rotation[:, 1, 0], rotation[:, 0, 0])
+        return np.stack([centre[:, 0], centre[:, 1], scale * e[2], scale * e[3], angle], axis=1)
 
     def state_of_ellipse(self, ellipse: np.ndarray) -> np.ndarray:
         """The state ``(cx, cy, s)`` whose ellipse has the centre of ``ellipse`` and its major axis.
@@ -254,13 +302,18 @@ class ShapeSpace:
         Returns
         -------
         numpy.ndarray
-            (3,) state.
+            (3,) state; in the similarity space (4,), unturned.
         """
         ellipse = as_finite_array(ellipse, "ellipse", shape=(5,))
-        return np.array([ellipse[0], ellipse[1], max(ellipse[2], ellipse[3]) / max(self.template_ellipse[2:4]) - 1.0])
+        relative_size = max(ellipse[2], ellipse[3]) / max(self.template_ellipse[2:4])
+        if self.kind == "similarity":
+            return np.array([ellipse[0], ellipse[1], relative_size - 1.0, 0.0])
+        return np.array([ellipse[0], ellipse[1], relative_size - 1.0])
 
     def _check_states(self, states: np.ndarray) -> np.ndarray:
-        states = as_finite_array(states, "states", allow_empty=True)
+        """States as a float array, every entry within ±1e6 (pixels, relative scale): far beyond any
+        frame, and the contours' pixel coordinates stay finite and within int32."""
+        states = as_finite_array(states, "states", allow_empty=True, max_abs=1e6)
         if states.ndim not in (1, 2) or states.shape[-1] != self.state_dim:
             raise ValueError(f"states must have shape ({self.state_dim},) or (N, {self.state_dim}), got shape {states.shape}")
         return states

@@ -17,13 +17,14 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf import data as _data
-from amdo_lab.cue_fusion_pf.likelihoods import _check_frame, _check_shape_space
+from amdo_lab.cue_fusion_pf.likelihoods import SIGMA_RANGE, check_frame, check_shape_space
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 
 __all__ = ["BoostedCascade", "HaarFeatures", "StructureLikelihood", "TrainingSet", "haar_features",
-           "CASCADE_SEED", "integral_image", "load_or_train_cascade", "make_training_set", "normalised_patches", "train_cascade"]
+           "CASCADE_SEED", "integral_image", "load_or_train_cascade", "make_training_set", "normalised_patches",
+           "sample_haar_features", "train_cascade"]
 
 #: Detector window (width, height) in pixels: the head's bounding box keeps its 20:26 aspect.
 WINDOW = (16, 20)
@@ -31,6 +32,13 @@ VIEWS = {"frontal": 0.0, "half-left": -0.7, "half-right": 0.7}
 CACHE = Path(__file__).resolve().parents[2] / "build" / "cue_fusion_pf"
 #: Seed of the package's cascade (the one the tracker and the chapter use).
 CASCADE_SEED = 2004
+#: Largest pixel value :func:`integral_image` accepts: far beyond grey levels (0-255) and normalised
+#: patches, and the sums of a stack, kept in float32, stay finite.
+MAX_PIXEL_VALUE = 1e6
+#: Largest side of a Haar window in pixels (Viola & Jones use 24; ours is :data:`WINDOW`).
+MAX_WINDOW = 32
+#: Largest box coordinate or size in pixels (boxes of states within the shape space's bound stay inside).
+MAX_BOX_PIXELS = 1e9
 
 
 def integral_image(images: np.ndarray) -> np.ndarray:
@@ -41,7 +49,7 @@ def integral_image(images: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     images : numpy.ndarray
-        (..., H, W) images.
+        (..., H, W) images, values within ±:data:`MAX_PIXEL_VALUE`.
 
     Returns
     -------
@@ -52,7 +60,7 @@ def integral_image(images: np.ndarray) -> np.ndarray:
     ----------
     Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
     """
-    images = as_finite_array(images, "images", allow_empty=True)
+    images = as_finite_array(images, "images", allow_empty=True, max_abs=MAX_PIXEL_VALUE)
     if images.ndim < 2:
         raise ValueError(f"images must have shape (..., H, W), got shape {images.shape}")
     padded = np.zeros(images.shape[:-2] + (images.shape[-2] + 1, images.shape[-1] + 1), np.float32 if images.ndim > 2 else np.float64)
@@ -93,40 +101,59 @@ _SIGNS = {"type-2-x": (-1, 1), "type-2-y": (-1, 1), "type-3-x": (-1, 1, -1), "ty
           "type-4": (-1, 1, -1, 1)}
 
 
-def haar_features(window: tuple[int, int] = WINDOW, *, n_features: int | None = None,
-                  rng: int | np.random.Generator | None = None) -> HaarFeatures:
-    """All Haar-like features of a ``(width, height)`` window (scikit-image's enumeration), or a random subset.
+def haar_features(window: tuple[int, int] = WINDOW) -> HaarFeatures:
+    """All Haar-like features of a ``(width, height)`` window, in scikit-image's enumeration (no draw).
 
     Parameters
     ----------
     window : tuple of int
-        (width, height) of the detector window in pixels.
-    n_features : int, optional
-        Draw this many features at random (needs ``rng``).
-    rng : int or numpy.random.Generator, optional
-        Source of the subset.
+        (width, height) of the detector window in pixels, each in [2, :data:`MAX_WINDOW`]: the
+        number of features grows as the fourth power of the side (510,112 at 32 × 32).
 
     Returns
     -------
     HaarFeatures
-        The features' rectangles and signs.
+        The features' rectangles and signs (:func:`sample_haar_features` draws a subset).
 
     References
     ----------
     Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
     """
+    as_finite_array(window, "window", shape=(2,), max_abs=MAX_WINDOW)  # bounded before the cast to int
     width, height = as_finite_array(window, "window", shape=(2,), dtype=int)
     if width < 2 or height < 2:
         raise ValueError(f"window must be at least 2 pixels wide and high, got {tuple(window)}")
-    features = _all_haar_features(int(width), int(height))
-    if n_features is not None:
-        n_features = check_positive_int(n_features, "n_features")
-        if n_features > len(features):
-            raise ValueError(f"n_features must be at most {len(features)} (all features of the window), got {n_features}")
-        if rng is None:
-            raise ValueError("rng is needed to draw a random subset of features")
-        features = features.subset(np.sort(make_rng(rng, "rng").choice(len(features), n_features, replace=False)))
-    return features
+    return _all_haar_features(int(width), int(height))
+
+
+def sample_haar_features(features: HaarFeatures, n_features: int, *,
+                         rng: int | np.random.Generator) -> HaarFeatures:
+    """``n_features`` of ``features`` drawn at random without replacement, kept in their order.
+
+    Parameters
+    ----------
+    features : HaarFeatures
+        The features to draw from (e.g. ``haar_features(window)``).
+    n_features : int
+        How many to draw, at most ``len(features)``.
+    rng : int or numpy.random.Generator
+        Source of the subset.
+
+    Returns
+    -------
+    HaarFeatures
+        The subset.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
+    """
+    if not isinstance(features, HaarFeatures):
+        raise TypeError(f"features must be HaarFeatures (see haar_features), got {type(features).__name__}")
+    n_features = check_positive_int(n_features, "n_features")
+    if n_features > len(features):
+        raise ValueError(f"n_features must be at most {len(features)} (all the features given), got {n_features}")
+    return features.subset(np.sort(make_rng(rng, "rng").choice(len(features), n_features, replace=False)))
 
 
 @functools.lru_cache(maxsize=4)
@@ -347,14 +374,15 @@ class BoostedCascade:
         Parameters
         ----------
         patches : numpy.ndarray
-            (N, h, w) patches from :func:`normalised_patches`.
+            (N, h, w) patches from :func:`normalised_patches`, values within ±:data:`MAX_PIXEL_VALUE`.
 
         Returns
         -------
         numpy.ndarray
             (N,) stages passed, in [0, N_s].
         """
-        patches = as_finite_array(patches, "patches", shape=(None, self.window[1], self.window[0]), allow_empty=True)
+        patches = as_finite_array(patches, "patches", shape=(None, self.window[1], self.window[0]), allow_empty=True,
+                                  max_abs=MAX_PIXEL_VALUE)
         integrals = integral_image(patches)
         passed = np.zeros(len(patches))
         alive = np.arange(len(patches))
@@ -383,20 +411,21 @@ class BoostedCascade:
         Parameters
         ----------
         image : numpy.ndarray
-            (H, W, 3) or (H, W) image.
+            (H, W, 3) or (H, W) image, values within ±:data:`MAX_PIXEL_VALUE`.
         boxes : numpy.ndarray
-            (N, 4) boxes ``(x, y, width, height)`` in pixels, sizes > 0.
+            (N, 4) boxes ``(x, y, width, height)`` in pixels, sizes > 0, entries within
+            ±:data:`MAX_BOX_PIXELS`.
 
         Returns
         -------
         numpy.ndarray
             (N,) stages passed.
         """
-        as_finite_array(image, "image")  # checked, not converted: the patches are read from the image as given
+        as_finite_array(image, "image", max_abs=MAX_PIXEL_VALUE)  # checked, not converted: the patches are read from the image as given
         image = np.asarray(image)
         if not (image.ndim == 2 or (image.ndim == 3 and image.shape[2] == 3)):
             raise ValueError(f"image must be an (H, W, 3) RGB or (H, W) grey image, got shape {image.shape}")
-        boxes = as_finite_array(boxes, "boxes", shape=(None, 4), allow_empty=True)
+        boxes = as_finite_array(boxes, "boxes", shape=(None, 4), allow_empty=True, max_abs=MAX_BOX_PIXELS)
         if np.any(boxes[:, 2:] <= 0):
             raise ValueError("boxes must have positive width and height")
         return self.stages_passed_patches(normalised_patches(image, boxes, self.window))
@@ -472,7 +501,7 @@ def train_cascade(training: TrainingSet, *, rng: int | np.random.Generator, firs
     min_detection = check_in_range(min_detection, "min_detection", 0.0, 1.0, closed="right")
     max_false_positive = check_in_range(max_false_positive, "max_false_positive", 0.0, 1.0, closed="both")
     began = time.perf_counter()
-    features = haar_features(WINDOW, n_features=check_positive_int(n_features, "n_features"), rng=generator)
+    features = sample_haar_features(haar_features(WINDOW), check_positive_int(n_features, "n_features"), rng=generator)
     everyone = np.concatenate(list(training.positives.values()))
     options = dict(n_negatives=n_negatives, max_stumps=max_stumps, min_detection=min_detection,
                    max_false_positive=max_false_positive, rng=generator)
@@ -542,7 +571,7 @@ class StructureLikelihood:
     cascade : BoostedCascade
         The detector.
     sigma : float
-        σ_s, > 0.
+        σ_s, in :data:`~amdo_lab.cue_fusion_pf.likelihoods.SIGMA_RANGE`.
 
     References
     ----------
@@ -550,11 +579,11 @@ class StructureLikelihood:
     """
 
     def __init__(self, shape_space: ShapeSpace, cascade: BoostedCascade, *, sigma: float = float(np.sqrt(15.0))):
-        self.shape_space = _check_shape_space(shape_space)
+        self.shape_space = check_shape_space(shape_space)
         if not isinstance(cascade, BoostedCascade):
             raise TypeError(f"cascade must be a BoostedCascade (see train_cascade), got {type(cascade).__name__}")
         self.cascade = cascade
-        self.sigma = check_positive(sigma, "sigma")
+        self.sigma = check_in_range(sigma, "sigma", *SIGMA_RANGE, closed="both")
 
     def boxes(self, states: np.ndarray) -> np.ndarray:
         """The circumscribed rectangles of the states' ellipses.
@@ -590,7 +619,7 @@ class StructureLikelihood:
         numpy.ndarray
             (N,) distances in [0, 1].
         """
-        frame = _check_frame(frame)
+        frame = check_frame(frame)
         return 1.0 - self.cascade.stages_passed(frame, self.boxes(states)) / self.cascade.n_stages
 
     def log_likelihood(self, frame: np.ndarray, states: np.ndarray) -> np.ndarray:
@@ -608,4 +637,5 @@ class StructureLikelihood:
         numpy.ndarray
             (N,) log-likelihoods.
         """
+        # ln of eq. (12): p_s = exp(-(1 - n_s/N_s)/2σ_s²) / (√(2π) σ_s), distance = 1 - n_s/N_s
         return -self.distance(frame, states) / (2.0 * self.sigma**2) - np.log(np.sqrt(2.0 * np.pi) * self.sigma)

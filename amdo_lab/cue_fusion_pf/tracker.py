@@ -8,25 +8,34 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
-from amdo_lab.cue_fusion_pf.likelihoods import PAPER_SIGMAS, ColorLikelihood, EdgeLikelihood
-from amdo_lab.cue_fusion_pf.shape import ShapeSpace
+from amdo_lab.cue_fusion_pf.likelihoods import COLOR_SPACES, MAX_PIXELS, PAPER_SIGMAS, SIGMA_RANGE, ColorLikelihood, EdgeLikelihood
+from amdo_lab.cue_fusion_pf.shape import SHAPE_KINDS, ShapeSpace
 from amdo_lab.cue_fusion_pf.structure import CASCADE_SEED, StructureLikelihood, load_or_train_cascade
 
-__all__ = ["CALIBRATED_SIGMAS", "CUES", "TrackResult", "calibration_distances", "default_dynamics", "systematic_resample", "track"]
+__all__ = ["CALIBRATED_SIGMAS", "CUES", "FUSIONS", "TRACK_DEFAULTS", "TrackResult", "as_ellipse", "build_cues", "calibration_distances",
+           "check_cues", "check_frames", "check_state_spread", "default_dynamics", "resolve_sigmas", "shape_space_of",
+           "systematic_resample", "track"]
 
 CUES = ("color", "edge", "structure", "oracle")
 #: σ_c and σ_s chosen by :func:`calibrate_sigma` on held-out "fusion" seeds (seeds 100-104, rng=0, every 4th frame; the tests re-run it).
-CALIBRATED_SIGMAS = {"color": 0.066, "structure": 0.238}
+CALIBRATED_SIGMAS = {"color": 0.075, "structure": 0.271}
 FRAME_PERIOD = 1.0 / 25.0
 #: Particles smaller or larger than these multiples of the template get weight 0 (not a head on the frame).
 MIN_SCALE, MAX_SCALE = 0.1, 10.0
 #: Our choices for what the paper does not state: stationary std of (t_x, t_y, s) and of the AR(2).
 STATIONARY_STD = (100.0, 100.0, 0.1)
-_PARAMS = {"bins": 32, "stride": 2.0, "n_lines": 40, "half_length": 12, "p0": 0.2, "sigma_e": float(np.sqrt(2.0)),
-           "threshold": 6.0, "beta": (2.0, 2.0, 10.0), "stationary_std": STATIONARY_STD, "printed_order": False,
-           "oracle": None, "init_spread": (2.0, 2.0, 0.02)}
+#: The same choices in the similarity space (t_x, t_y, s_c, s_s): s_s is a deformation like s_c.
+_SIMILARITY_DEFAULTS = {"beta": (2.0, 2.0, 10.0, 10.0), "stationary_std": (100.0, 100.0, 0.1, 0.1),
+                        "init_spread": (2.0, 2.0, 0.02, 0.02)}
+#: The defaults of :func:`track`'s keyword parameters (``**params``), which :func:`calibration_distances` and the peers share.
+TRACK_DEFAULTS = {"shape": "translation_scale", "bins": 32, "stride": 2.0, "n_lines": 40, "half_length": 12, "p0": 0.2,
+                  "sigma_e": float(np.sqrt(2.0)), "threshold": 6.0, "beta": (2.0, 2.0, 10.0),
+                  "stationary_std": STATIONARY_STD, "printed_order": False, "oracle": None,
+                  "init_spread": (2.0, 2.0, 0.02), "mean": None, "color_space": "rgb", "fusion": "product"}
+#: How :func:`track` combines the cues: eq. (6)'s product, or one cue after the other with resampling between them.
+FUSIONS = ("product", "layered")
 
 
 @dataclass
@@ -36,7 +45,7 @@ class TrackResult:
     Parameters
     ----------
     states : numpy.ndarray
-        (T, 3) weighted-mean states ``(cx, cy, s)`` (Fig. 1, step 4).
+        (T, d) weighted-mean states ``(cx, cy, s)`` or ``(cx, cy, s_c, s_s)`` (Fig. 1, step 4).
     ellipses : numpy.ndarray
         (T, 5) their ellipses ``(cx, cy, a, b, angle)``.
     centers : numpy.ndarray
@@ -46,7 +55,7 @@ class TrackResult:
     seconds : float
         Wall-clock time of the whole run.
     particles : numpy.ndarray
-        (T, N, 3) particles before resampling.
+        (T, N, d) particles before resampling.
     weights : numpy.ndarray
         (T, N) their normalised weights.
 
@@ -103,16 +112,17 @@ def systematic_resample(weights: np.ndarray, u: float) -> np.ndarray:
 
 def default_dynamics(mean: np.ndarray, *, beta=(2.0, 2.0, 10.0), stationary_std=STATIONARY_STD,
                      printed_order: bool = False) -> ARDynamics:
-    """The head's AR(2) of eq. (5): β = 2 (translation), 10 (scale), ω = 0, τ = 1/25 s, about ``mean``.
+    """The AR(2) of eq. (5): β = 2 (translation), 10 (scale), ω = 0, τ = 1/25 s, about ``mean``.
 
     Parameters
     ----------
     mean : numpy.ndarray
-        (3,) the state the process returns to (the initial state).
+        (d,) the state the process returns to (the initial state): d = 3 for the head's space,
+        4 for the similarity space.
     beta : tuple of float
-        Damping of (t_x, t_y, s), 1/s.
+        (d,) damping of (t_x, t_y, s) or (t_x, t_y, s_c, s_s), 1/s.
     stationary_std : tuple of float
-        Stationary standard deviations of (t_x, t_y, s): pixels, pixels, relative scale.
+        (d,) stationary standard deviations: pixels, pixels, then relative scale (and s_s).
     printed_order : bool
         Eq. (4) as printed (unstable; allowed here so that it can be shown).
 
@@ -126,12 +136,28 @@ def default_dynamics(mean: np.ndarray, *, beta=(2.0, 2.0, 10.0), stationary_std=
     Li & Chaumette, AMDO 2004, eqs. (4)-(5) and Table 1.
     """
     printed_order = check_bool(printed_order, "printed_order")
-    mean = as_finite_array(mean, "mean", shape=(3,))
-    return ARDynamics(beta, (0.0, 0.0, 0.0), FRAME_PERIOD, stationary_std, mean, printed_order=printed_order,
+    mean = as_finite_array(mean, "mean", ndim=1)
+    return ARDynamics(beta, np.zeros(mean.size), FRAME_PERIOD, stationary_std, mean, printed_order=printed_order,
                       allow_unstable=printed_order)
 
 
-def _check_frames(frames: object) -> np.ndarray:
+def check_frames(frames: object) -> np.ndarray:
+    """Return ``frames`` as a (T, H, W, 3) uint8 array after checking it is a non-empty RGB sequence.
+
+    Parameters
+    ----------
+    frames : array_like
+        (T, H, W, 3) uint8 RGB, or float RGB with whole grey levels in [0, 255] (rounded).
+
+    Returns
+    -------
+    numpy.ndarray
+        (T, H, W, 3) uint8 frames (not copied when already uint8).
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 4 (the tracked sequences).
+    """
     array = np.asarray(frames)
     if array.ndim != 4 or array.shape[-1] != 3:
         raise ValueError(f"frames must be a (T, H, W, 3) RGB array, got shape {array.shape}")
@@ -146,18 +172,66 @@ def _check_frames(frames: object) -> np.ndarray:
     return np.rint(array).astype(np.uint8)
 
 
-def _shape_space_of(init: object, frame_shape: tuple[int, int]) -> tuple[ShapeSpace, np.ndarray]:
-    init = as_finite_array(init, "init")
+def as_ellipse(ellipse: object, name: str) -> np.ndarray:
+    """Return ``ellipse`` as a (5,) float array ``(cx, cy, a, b, angle)`` after checking it.
+
+    Parameters
+    ----------
+    ellipse : array_like
+        (5,) centre and semi-axes in pixels (axes > 0), angle in radians; every entry within
+        ±:data:`MAX_PIXELS`.
+    name : str
+        The argument's name, used in error messages.
+
+    Returns
+    -------
+    numpy.ndarray
+        (5,) the ellipse.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 2.1 (the ellipse of a contour).
+    """
+    ellipse = as_finite_array(ellipse, name, shape=(5,), max_abs=MAX_PIXELS)
+    if ellipse[2] <= 0 or ellipse[3] <= 0:
+        raise ValueError(f"{name} ellipse axes must be positive, got a={ellipse[2]}, b={ellipse[3]}")
+    return ellipse
+
+
+def shape_space_of(init: object, frame_shape: tuple[int, int], kind: str = "translation_scale") -> tuple[ShapeSpace, np.ndarray]:
+    """The shape space and the initial state of a contour given as an ellipse or as control points.
+
+    Parameters
+    ----------
+    init : array_like
+        An ellipse ``(cx, cy, a, b, angle)`` (see :func:`as_ellipse`) or (J, 2) B-spline control
+        points in pixels, within ±:data:`MAX_PIXELS`; its centre must lie on the frame.
+    frame_shape : tuple of int
+        (H, W) of the frames.
+    kind : str
+        ``"translation_scale"`` or ``"similarity"`` (eq. 3, left or right).
+
+    Returns
+    -------
+    tuple
+        The :class:`ShapeSpace` and the initial state ``(cx, cy, 0)`` (``(cx, cy, 0, 0)``).
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eqs. (1)-(3).
+    """
+    init = as_finite_array(init, "init", max_abs=MAX_PIXELS)
+    kind = check_choice(kind, "kind", SHAPE_KINDS)
     if init.shape == (5,):
-        init = as_finite_array(init, "init", shape=(5,))
-        if init[2] <= 0 or init[3] <= 0:
-            raise ValueError(f"init ellipse axes must be positive, got a={init[2]}, b={init[3]}")
-        space = ShapeSpace.from_ellipse(init)
-        start = np.array([init[0], init[1], 0.0])
+        init = as_ellipse(init, "init")
+        space = ShapeSpace.from_ellipse(init, kind=kind)
+        start = np.zeros(space.state_dim)
+        start[:2] = init[:2]
     elif init.ndim == 2 and init.shape[1] == 2:
         init = as_finite_array(init, "init", shape=(None, 2))
-        space = ShapeSpace(init)
-        start = np.array([*space.centre, 0.0])
+        space = ShapeSpace(init, kind)
+        start = np.zeros(space.state_dim)
+        start[:2] = space.centre
     else:
         raise ValueError(f"init must be an ellipse (cx, cy, a, b, angle) or (J, 2) control points, got shape {init.shape}")
     height, width = frame_shape
@@ -166,33 +240,126 @@ def _shape_space_of(init: object, frame_shape: tuple[int, int]) -> tuple[ShapeSp
     return space, start
 
 
-def _check_cues(cues: object) -> None:
+def check_state_spread(spread: object, name: str, *, state_dim: int = 3) -> np.ndarray:
+    """Return a spread of the state ``(t_x, t_y, s)`` (or ``(t_x, t_y, s_c, s_s)``) after checking its range.
+
+    A particle whose scale leaves (MIN_SCALE - 1, MAX_SCALE - 1) or whose centre leaves
+    ±:data:`MAX_PIXELS` gets no weight, so a larger spread only throws particles away.
+
+    Parameters
+    ----------
+    spread : array_like
+        (state_dim,) standard deviations: of t_x and t_y in pixels, in [0, MAX_PIXELS]; of s (and
+        of s_s) in [0, MAX_SCALE].
+    name : str
+        The argument's name, used in error messages.
+    state_dim : int
+        3 (translation + scale) or 4 (similarity).
+
+    Returns
+    -------
+    numpy.ndarray
+        (state_dim,) the spread.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eq. (5) and Fig. 1, step 1.
+    """
+    state_dim = check_choice(state_dim, "state_dim", (3, 4))
+    spread = as_finite_array(spread, name, shape=(state_dim,))
+    if np.any(spread < 0) or np.any(spread > [MAX_PIXELS, MAX_PIXELS] + [MAX_SCALE] * (state_dim - 2)):
+        raise ValueError(f"{name} must lie in [0, {MAX_PIXELS:g}] px for the centre and in [0, {MAX_SCALE:g}] for "
+                         f"the scale, got {spread}")
+    return spread
+
+
+def check_cues(cues: object) -> None:
+    """Check that ``cues`` is a non-empty sequence of names from :data:`CUES`.
+
+    Parameters
+    ----------
+    cues : sequence of str
+        The cue names.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eq. (6) (the cues fused).
+    """
     if isinstance(cues, str) or not isinstance(cues, Sequence) or len(cues) == 0:
         raise ValueError(f"cues must be a non-empty sequence of cue names, got {cues!r}")
     for name in cues:
         check_choice(name, "cues", CUES)
 
 
-def _sigma_table(sigmas: object) -> dict[str, float]:
-    """σ_c and σ_s from ``"calibrated"``, ``"paper"`` or a dict of positive values."""
+def resolve_sigmas(sigmas: object) -> dict[str, float]:
+    """σ_c and σ_s from ``"calibrated"``, ``"paper"`` or a dict of positive values.
+
+    Parameters
+    ----------
+    sigmas : str or dict
+        ``"calibrated"`` (:data:`CALIBRATED_SIGMAS`), ``"paper"`` (Table 1) or a dict of values in
+        :data:`SIGMA_RANGE` overriding the calibrated ones.
+
+    Returns
+    -------
+    dict
+        Cue name -> σ.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eqs. (11)-(12) and Table 1.
+    """
     if isinstance(sigmas, str):
         return dict({"calibrated": CALIBRATED_SIGMAS, "paper": PAPER_SIGMAS}[check_choice(sigmas, "sigmas", ("calibrated", "paper"))])
     if isinstance(sigmas, dict):
         sigma_table = {**CALIBRATED_SIGMAS, **sigmas}
         for key, value in sigma_table.items():
-            check_positive(value, f"sigmas[{key!r}]")
+            check_in_range(value, f"sigmas[{key!r}]", *SIGMA_RANGE, closed="both")
         return sigma_table
     raise TypeError(f"sigmas must be 'calibrated', 'paper' or a dict, got {type(sigmas).__name__}")
 
 
+def _options(params: dict) -> dict:
+    """The parameters of :func:`track`: the defaults, those of the similarity space if chosen, then ``params``."""
+    defaults = dict(TRACK_DEFAULTS)
+    if check_choice(params.get("shape", defaults["shape"]), "shape", SHAPE_KINDS) == "similarity":
+        defaults.update(_SIMILARITY_DEFAULTS)
+    return {**defaults, **params}
+
+
 def build_cues(cues: Sequence[str], space: ShapeSpace, first_frame: np.ndarray, start: np.ndarray,
                sigmas: dict[str, float], params: dict) -> dict:
-    """The likelihood objects of the requested cues."""
+    """The likelihood objects of the requested cues.
+
+    Parameters
+    ----------
+    cues : sequence of str
+        Names from :data:`CUES` (``"oracle"`` builds nothing: it is a callable of the caller's).
+    space : ShapeSpace
+        The shape space of the tracked contour.
+    first_frame : numpy.ndarray
+        (H, W, 3) uint8 frame the colour model is taken from.
+    start : numpy.ndarray
+        (3,) the initial state.
+    sigmas : dict
+        σ per cue, as :func:`resolve_sigmas` returns.
+    params : dict
+        Cue parameters, with the keys of :data:`TRACK_DEFAULTS`.
+
+    Returns
+    -------
+    dict
+        Cue name -> likelihood object.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eqs. (7)-(14).
+    """
     built = {}
     for name in cues:
         if name == "color":
             built[name] = ColorLikelihood(space, first_frame, start, bins=params["bins"], sigma=sigmas["color"],
-                                          stride=params["stride"])
+                                          stride=params["stride"], color_space=params["color_space"])
         elif name == "structure":
             built[name] = StructureLikelihood(space, load_or_train_cascade(rng=CASCADE_SEED), sigma=sigmas["structure"])
         elif name == "edge":
@@ -223,10 +390,18 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
         N_w, at least 2.
     sigmas : str or dict
         ``"calibrated"`` (:data:`CALIBRATED_SIGMAS`), ``"paper"`` (Table 1: σ_c = 5, σ_s = √15) or a
-        dict of positive values.
+        dict of values in :data:`SIGMA_RANGE`.
     **params
         bins, stride (colour); n_lines, half_length, p0, sigma_e, threshold (edges); beta,
-        stationary_std, printed_order (dynamics); init_spread (std of the initial particles).
+        stationary_std, printed_order, mean (dynamics; mean is the state X̄ the AR(2) returns to,
+        default the initial state); init_spread (std of the initial particles); color_space
+        (``"rgb"``, the paper, or ``"hsv"``); fusion (``"product"``, eq. 6, or ``"layered"``: the
+        particles are weighed by one cue at a time, in the order of ``cues``, and resampled between
+        cues, as the sequential schemes of the paper's refs. [6]-[7]); shape, the shape
+        space of eq. (3): ``"translation_scale"`` (head) or ``"similarity"`` (walker; beta,
+        stationary_std and init_spread then default to four entries, the scale's value repeated for
+        s_s); defaults in :data:`TRACK_DEFAULTS`, ranges in :class:`ColorLikelihood`,
+        :class:`EdgeLikelihood` and :func:`check_state_spread` (stationary_std, init_spread).
 
     Returns
     -------
@@ -236,47 +411,69 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
     ----------
     Li & Chaumette, AMDO 2004, Fig. 1 and eq. (6).
     """
-    frames = _check_frames(frames)
-    _check_cues(cues)
+    frames = check_frames(frames)
+    check_cues(cues)
     n_particles = check_positive_int(n_particles, "n_particles", minimum=2)
-    unknown = set(params) - set(_PARAMS)
+    unknown = set(params) - set(TRACK_DEFAULTS)
     if unknown:
-        raise TypeError(f"track() got unknown parameter(s) {sorted(unknown)}; known: {sorted(_PARAMS)}")
-    options = {**_PARAMS, **params}
-    sigma_table = _sigma_table(sigmas)
-    init_spread = as_finite_array(options["init_spread"], "init_spread", shape=(3,))
-    if np.any(init_spread < 0):
-        raise ValueError(f"init_spread must be non-negative, got {init_spread}")
+        raise TypeError(f"track() got unknown parameter(s) {sorted(unknown)}; known: {sorted(TRACK_DEFAULTS)}")
+    options = _options(params)
+    state_dim = 4 if options["shape"] == "similarity" else 3
+    sigma_table = resolve_sigmas(sigmas)
+    init_spread = check_state_spread(options["init_spread"], "init_spread", state_dim=state_dim)
+    stationary_std = check_state_spread(options["stationary_std"], "stationary_std", state_dim=state_dim)
+    layered = check_choice(options["fusion"], "fusion", FUSIONS) == "layered"
+    check_choice(options["color_space"], "color_space", COLOR_SPACES)
     if "oracle" in cues and not callable(options["oracle"]):
         raise ValueError("cues include 'oracle' but no oracle=callable(t, states) was given")
     generator = make_rng(rng, "rng")
-    space, start = _shape_space_of(init, frames.shape[1:3])
+    space, start = shape_space_of(init, frames.shape[1:3], options["shape"])
     cue_objects = build_cues(cues, space, frames[0], start, sigma_table, options)
-    dynamics = default_dynamics(start, beta=options["beta"], stationary_std=options["stationary_std"],
+    mean = start if options["mean"] is None else as_finite_array(options["mean"], "mean", shape=start.shape,
+                                                                   max_abs=MAX_PIXELS)
+    dynamics = default_dynamics(mean, beta=options["beta"], stationary_std=stationary_std,
                                 printed_order=options["printed_order"])
     oracle: Callable | None = options["oracle"] if "oracle" in cues else None
-    return _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles, init_spread, generator)
+    return _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles, init_spread, generator, layered)
 
 
-def _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles, init_spread, generator) -> TrackResult:
+def _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles, init_spread, generator,
+                layered: bool = False) -> TrackResult:
     n_frames = len(frames)
     began = time.perf_counter()
+    # The loop approximates the Bayesian recursion by Monte Carlo: moving the particles through the
+    # dynamics samples the prediction integral of eq. (16), and weighting them by the likelihood and
+    # normalising is Bayes' rule, eq. (15); the weighted particles are a sample of p(X_k | Y_1:k).
     # 1. initialisation: particles around the initial state, at rest (X_{k-1} = X_{k-2})
-    current = start + init_spread * generator.standard_normal((n_particles, 3))
+    current = start + init_spread * generator.standard_normal((n_particles, start.size))
     previous = current.copy()
-    states, ess = np.empty((n_frames, 3)), np.empty(n_frames)
-    all_particles, all_weights = np.empty((n_frames, n_particles, 3)), np.empty((n_frames, n_particles))
+    states, ess = np.empty((n_frames, start.size)), np.empty(n_frames)
+    all_particles, all_weights = np.empty((n_frames, n_particles, start.size)), np.empty((n_frames, n_particles))
     for k in range(n_frames):
         if k > 0:  # 2. sampling from the transition prior, eq. (5); particles carry X_k and X_{k-1}
             current, previous = dynamics.step(current, previous, rng=generator), current
         # 3a. weights: eq. (6) in the log domain, on the particles that are a contour at all
-        valid = np.all(np.isfinite(current), axis=1) & (current[:, 2] > MIN_SCALE - 1.0) & (current[:, 2] < MAX_SCALE - 1.0)
+        if start.size == 3:
+            plausible = (current[:, 2] > MIN_SCALE - 1.0) & (current[:, 2] < MAX_SCALE - 1.0)
+        else:  # the similarity space: the scale is k = |(1 + s_c, s_s)|
+            scale = np.hypot(1.0 + current[:, 2], current[:, 3])
+            plausible = (scale > MIN_SCALE) & (scale < MAX_SCALE)
+        valid = np.all(np.abs(current[:, :2]) <= MAX_PIXELS, axis=1) & plausible  # finite and near any frame
         if not valid.any():
             raise RuntimeError(f"the filter diverged at frame {k}: no particle has a finite state of a plausible size "
                                "(unstable dynamics?)")
+        cues = list(cue_objects.values())
+        if layered:  # all cues but the last: weigh by that cue alone, then resample (a layer)
+            for cue in cues[:-1]:
+                layer_weights = np.full(n_particles, -np.inf)
+                layer_weights[valid] = cue.log_likelihood(frames[k], current[valid])
+                layer_weights = np.exp(layer_weights - layer_weights.max())
+                chosen = systematic_resample(layer_weights / layer_weights.sum(), generator.random())
+                current, previous, valid = current[chosen], previous[chosen], valid[chosen]
+            cues = cues[-1:]
         log_weights = np.full(n_particles, -np.inf)
         log_weights[valid] = 0.0
-        for cue in cue_objects.values():
+        for cue in cues:
             log_weights[valid] += cue.log_likelihood(frames[k], current[valid])
         if oracle is not None:
             log_weights[valid] += oracle(k, current[valid])
@@ -316,7 +513,8 @@ def calibration_distances(sequences: Sequence, cue: str, *, rng: int | np.random
     frame_step : int
         Use every ``frame_step``-th frame.
     **params
-        Cue and dynamics parameters, as for :func:`track`.
+        Cue and dynamics parameters, as for :func:`track`; with ``shape="similarity"`` the
+        sequences are walker sequences (``.template`` gives the outline on frame 0).
 
     Returns
     -------
@@ -335,12 +533,13 @@ def calibration_distances(sequences: Sequence, cue: str, *, rng: int | np.random
     check_choice(cue, "cue", ("color", "structure"))
     n_samples = check_positive_int(n_samples, "n_samples", minimum=2)
     frame_step = check_positive_int(frame_step, "frame_step")
-    options = {**_PARAMS, **params}
+    options = _options(params)
     generator = make_rng(rng, "rng")
     at_truth, at_prior = [], []
     for sequence in sequences:
-        init = sequence.true_ellipses[0]
-        space, start = _shape_space_of(init, sequence.frames.shape[1:3])
+        # the walker's truth is a similarity state of its outline on frame 0 (WalkerSequence.template)
+        init = sequence.template if options["shape"] == "similarity" else sequence.true_ellipses[0]
+        space, start = shape_space_of(init, sequence.frames.shape[1:3], options["shape"])
         likelihood = build_cues([cue], space, sequence.frames[0], start, {"color": 1.0, "structure": 1.0}, options)[cue]
         dynamics = default_dynamics(start, beta=options["beta"], stationary_std=options["stationary_std"])
         for t in range(2, len(sequence.frames), frame_step):

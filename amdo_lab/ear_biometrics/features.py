@@ -165,6 +165,50 @@ def detect_contours(image: object, k: float = 8.0, window: int = 3) -> np.ndarra
     return (spread >= mean - k * sigma) & (spread > 0)  # eqs. 4-5
 
 
+def detect_contours_reference(image: object, k: float = 8.0, window: int = 3) -> np.ndarray:
+    """:func:`detect_contours` written plainly: one window at a time, eqs. (1)-(5) line by line.
+
+    The readable path of the filtered :func:`detect_contours` (tested equal to it); a Python loop
+    over the pixels, so for small images only.
+
+    Parameters
+    ----------
+    image : array_like, shape (rows, cols)
+        Grey levels, as :func:`as_grey_image` accepts them.
+    k : float
+        The threshold's multiple of sigma in eq. (4), >= 0.
+    window : int
+        Side n of the square window, odd, >= 3.
+
+    Returns
+    -------
+    numpy.ndarray, shape (rows, cols), bool
+        True on contour pixels.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 2, eqs. (1)-(5).
+    """
+    grey = as_grey_image(image)
+    k = check_positive(k, "k", allow_zero=True)
+    window = check_positive_int(window, "window", minimum=3)
+    if window % 2 == 0:
+        raise ValueError(f"window must be odd, got {window}")
+    half = window // 2
+    padded = np.pad(grey, half, mode="symmetric")  # borders by reflection, as cv2.BORDER_REFLECT
+    contours = np.zeros(grey.shape, bool)
+    for row in range(grey.shape[0]):
+        for col in range(grey.shape[1]):
+            values = padded[row:row + window, col:col + window]
+            mu = values.mean()  # eq. (1): the window's mean
+            sigma = values.std(ddof=1)  # eq. (2): its standard deviation, n² - 1 in the denominator
+            spread = values.max() - values.min()  # eq. (3): S = I_H - I_L
+            threshold = mu - k * sigma  # eq. (4): T = μ - kσ
+            contours[row, col] = spread >= threshold and spread > 0  # eq. (5): S ≥ T (and not a flat window)
+    return contours
+
+
 def clean_contours(contours: object, min_size: int = 20, closing: int = 1) -> np.ndarray:
     """Binarisation clean-up of a contour image (Fig. 3's "binarization" box, not specified in the paper).
 
@@ -898,6 +942,7 @@ def _crossing_number(skeleton: np.ndarray) -> np.ndarray:
     h, w = skeleton.shape
     ring = [(0, 1), (0, 2), (1, 2), (2, 2), (2, 1), (2, 0), (1, 0), (0, 0)]  # N, NE, E, SE, S, SW, W, NW
     neighbours = np.stack([padded[r:r + h, c:c + w] for r, c in ring])
+    # eq. (8): N_c = 1/2 Σ_k |p_{k+1} - p_k| around the ring, p_9 = p_1
     transitions = np.abs(np.diff(np.concatenate([neighbours, neighbours[:1]]), axis=0)).sum(axis=0) // 2
     return np.where(skeleton, transitions, 0)
 
@@ -1039,7 +1084,7 @@ def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, 
     crop = array[top:rows[-1] + 2, left:cols[-1] + 2]
     offset = np.array([top, left])
     thin = full_skeleton[top:rows[-1] + 2, left:cols[-1] + 2]
-    n_c = _crossing_number(thin)
+    n_c = _crossing_number(thin)  # eq. (8): 1 at an ending, 3 or more at a bifurcation
     endings = _cluster_centres(n_c == 1) + offset
     bifurcations = _cluster_centres(n_c > 2) + offset
     # Thinning preserves 8-connectivity, so a skeleton component is the skeleton of exactly one
@@ -1069,6 +1114,8 @@ def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, 
     inner = np.full(n_components, np.inf)
     np.maximum.at(outer, pixel_labels - 1, radius)
     np.minimum.at(inner, pixel_labels - 1, radius)
+    # eq. (9): F, per contour (outermost first) its endings e, bifurcations b and circle intersections i,
+    # whose counts are the triple (N_E, N_B, N_I)
     result = []
     for label in np.argsort(-outer, kind="stable") + 1:
         if inner[label - 1] > circles.radii[-1]:

@@ -24,7 +24,8 @@ def joint_rmse_deg(theta_est: np.ndarray, theta_true: np.ndarray) -> float:
     Parameters
     ----------
     theta_est : array_like, shape (27,)
-        Estimated pose (mm for DOFs 0-2, radians for the others); only DOFs 6-26 are compared.
+        Estimated pose (mm for DOFs 0-2, radians for the others, each within ±1e6); only DOFs 6-26
+        are compared.
     theta_true : array_like, shape (27,)
         True pose, same layout.
 
@@ -39,8 +40,8 @@ def joint_rmse_deg(theta_est: np.ndarray, theta_true: np.ndarray) -> float:
     bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 5 (joint-angle error of the
     synthetic experiments).
     """
-    theta_est = as_finite_array(theta_est, "theta_est", ndim=1, shape=(27,))
-    theta_true = as_finite_array(theta_true, "theta_true", ndim=1, shape=(27,))
+    theta_est = as_finite_array(theta_est, "theta_est", ndim=1, shape=(27,), max_abs=MAX_LENGTH_MM)
+    theta_true = as_finite_array(theta_true, "theta_true", ndim=1, shape=(27,), max_abs=MAX_LENGTH_MM)
     return float(np.degrees(np.sqrt(np.mean((theta_est[_ARTICULATION] - theta_true[_ARTICULATION]) ** 2))))
 
 
@@ -52,7 +53,8 @@ def worst_joint_deg(theta_est: np.ndarray, theta_true: np.ndarray) -> float:
     Parameters
     ----------
     theta_est : array_like, shape (27,)
-        Estimated pose (mm for DOFs 0-2, radians for the others); only DOFs 6-26 are compared.
+        Estimated pose (mm for DOFs 0-2, radians for the others, each within ±1e6); only DOFs 6-26
+        are compared.
     theta_true : array_like, shape (27,)
         True pose, same layout.
 
@@ -67,8 +69,8 @@ def worst_joint_deg(theta_est: np.ndarray, theta_true: np.ndarray) -> float:
     bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 5 (our success criterion;
     the paper reports errors per sequence, not a success rate).
     """
-    theta_est = as_finite_array(theta_est, "theta_est", ndim=1, shape=(27,))
-    theta_true = as_finite_array(theta_true, "theta_true", ndim=1, shape=(27,))
+    theta_est = as_finite_array(theta_est, "theta_est", ndim=1, shape=(27,), max_abs=MAX_LENGTH_MM)
+    theta_true = as_finite_array(theta_true, "theta_true", ndim=1, shape=(27,), max_abs=MAX_LENGTH_MM)
     return float(np.degrees(np.max(np.abs(theta_est[_ARTICULATION] - theta_true[_ARTICULATION]))))
 
 
@@ -199,11 +201,11 @@ def visible_points(hand: HandModel, points: np.ndarray, theta: np.ndarray, camer
     hand : HandModel
         The hand whose fused surface (eq. 2) gives the normals.
     points : array_like, shape (M, 3)
-        Points on or near the surface at pose ``theta``, mm.
+        Points on or near the surface at pose ``theta``, mm, within ±1e6.
     theta : array_like, shape (27,)
         Pose of the hand.
     camera : array_like, shape (3,)
-        Camera centre, mm.
+        Camera centre, mm, within ±1e6.
 
     Returns
     -------
@@ -217,8 +219,8 @@ def visible_points(hand: HandModel, points: np.ndarray, theta: np.ndarray, camer
     are used) and Sec. 5 (stereo data seen from one side).
     """
     check_hand(hand)
-    points = as_finite_array(points, "points", ndim=2, shape=(None, 3))
-    camera = as_finite_array(camera, "camera", ndim=1, shape=(3,))
+    points = as_finite_array(points, "points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+    camera = as_finite_array(camera, "camera", ndim=1, shape=(3,), max_abs=MAX_LENGTH_MM)
     normals = hand.surface_normals(points, theta)
     return np.sum(normals * (camera - points), axis=1) > 0
 
@@ -548,7 +550,7 @@ def make_tracking_sequence(hand: HandModel, *, rng: np.random.Generator | int, n
     motion : {"turn", "bend"}, default "turn"
         The paper's turning hand, or fingers bending with the palm still.
     camera : array_like, shape (3,), optional
-        Camera centre, mm (default 500 mm above the hand).
+        Camera centre, mm, within ±1e6 (default 500 mm above the hand).
 
     Returns
     -------
@@ -565,7 +567,8 @@ def make_tracking_sequence(hand: HandModel, *, rng: np.random.Generator | int, n
     n_frames = check_positive_int(n_frames, "n_frames", minimum=2)
     n_clutter = check_positive_int(n_clutter, "n_clutter", minimum=0)
     check_choice(motion, "motion", ("turn", "bend"))
-    camera = _CAMERA if camera is None else as_finite_array(camera, "camera", ndim=1, shape=(3,))
+    camera = _CAMERA if camera is None else as_finite_array(camera, "camera", ndim=1, shape=(3,),
+                                                            max_abs=MAX_LENGTH_MM)
     noise_mm = check_in_range(noise_mm, "noise_mm", 0.0, MAX_LENGTH_MM, closed="both")
     repeatability = check_positive(repeatability, "repeatability")
     if repeatability > 1:

@@ -41,8 +41,9 @@ _DEG = np.pi / 180.0
 _FINGER_LIMITS = ((-20, 20), (-15, 90), (0, 90), (0, 90))
 _THUMB_LIMITS = ((-60, 60), (0, 70), (-12, 12), (-30, 30), (-15, 90))
 
-#: Largest length parameter (ν, σ, noise, offsets) the chapter's functions accept, mm: a kilometre, far
-#: beyond any hand and far below where squares and exponentials of it overflow to inf.
+#: Largest length parameter (ν, σ, noise, offsets) and largest coordinate of a point or pose entry the
+#: chapter's functions accept, mm: a kilometre, far beyond any hand and far below where squares and
+#: exponentials of it overflow to inf.
 MAX_LENGTH_MM = 1e6
 
 _X = np.array([1.0, 0.0, 0.0])
@@ -199,7 +200,7 @@ class HandModel:
         Parameters
         ----------
         theta : array_like, shape (27,)
-            The pose to check.
+            The pose to check: every entry within ±1e6 (mm for DOFs 0-2, radians for the others).
         name : str, default "theta"
             Argument name used in error messages.
         within_limits : bool, default False
@@ -210,7 +211,7 @@ class HandModel:
         numpy.ndarray, shape (27,)
             ``theta`` as a float array.
         """
-        theta = as_finite_array(theta, name, ndim=1, shape=(self.n_dof,))
+        theta = as_finite_array(theta, name, ndim=1, shape=(self.n_dof,), max_abs=MAX_LENGTH_MM)
         if check_bool(within_limits, "within_limits"):
             lo, hi = self._limits[:, 0], self._limits[:, 1]
             bad = np.flatnonzero((theta < lo - 1e-9) | (theta > hi + 1e-9))
@@ -311,7 +312,7 @@ class HandModel:
         Parameters
         ----------
         points : array_like, shape (M, 3)
-            Query points in world coordinates, mm.
+            Query points in world coordinates, mm, within ±1e6.
         theta : array_like, shape (27,)
             Pose (mm for DOFs 0-2, radians for the others).
 
@@ -320,7 +321,7 @@ class HandModel:
         numpy.ndarray, shape (M, 16)
             Distances, mm.
         """
-        points = as_finite_array(points, "points", ndim=2, shape=(None, 3))
+        points = as_finite_array(points, "points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
         frames = self._forward(self.check_theta(theta))[0]
         # local[m, p] = R_p^T (x_m - t_p) - c_p
         local = self._local_coordinates(points, frames)
@@ -333,7 +334,7 @@ class HandModel:
         Parameters
         ----------
         points : array_like, shape (M, 3)
-            Query points in world coordinates, mm.
+            Query points in world coordinates, mm, within ±1e6.
         theta : array_like, shape (27,)
             Pose (mm for DOFs 0-2, radians for the others).
 
@@ -342,6 +343,7 @@ class HandModel:
         numpy.ndarray, shape (M, 16)
             φ_p per point and part (1 on an ellipsoid, > 1 inside, clipped at d = -20ν).
         """
+        # eq. (1): φ_p(X) = exp(-d(X, Q_p)/ν), d clipped deep inside so that exp cannot overflow
         return np.exp(-np.clip(self.part_distances(points, theta), -20 * self.nu, None) / self.nu)
 
     def fused_field(self, points: np.ndarray, theta: object, *, neighbour_rule: bool = True) -> np.ndarray:
@@ -350,7 +352,7 @@ class HandModel:
         Parameters
         ----------
         points : array_like, shape (M, 3)
-            Query points in world coordinates, mm.
+            Query points in world coordinates, mm, within ±1e6.
         theta : array_like, shape (27,)
             Pose (mm for DOFs 0-2, radians for the others).
         neighbour_rule : bool, default True
@@ -375,7 +377,7 @@ class HandModel:
         Parameters
         ----------
         points : array_like, shape (M, 3)
-            Query points in world coordinates, mm.
+            Query points in world coordinates, mm, within ±1e6.
         theta : array_like, shape (27,)
             Pose (mm for DOFs 0-2, radians for the others).
         neighbour_rule : bool, default True
@@ -387,6 +389,7 @@ class HandModel:
             Signed distances, mm.
         """
         neighbour_rule = check_bool(neighbour_rule, "neighbour_rule")
+        # eq. (2): d(X, Θ) = -ν log φ(X), φ = Σ_p φ_p the fused field
         return -self.nu * np.log(self.fused_field(points, theta, neighbour_rule=neighbour_rule))
 
     def surface_distance_jacobian(self, points: object, theta: object) -> tuple[np.ndarray, np.ndarray]:
@@ -401,7 +404,7 @@ class HandModel:
         Parameters
         ----------
         points : array_like, shape (M, 3)
-            Query points in world coordinates, mm.
+            Query points in world coordinates, mm, within ±1e6.
         theta : array_like, shape (27,)
             Pose (mm for DOFs 0-2, radians for the others).
 
@@ -412,7 +415,7 @@ class HandModel:
         jacobian : numpy.ndarray, shape (M, 27)
             ∂d/∂Θ: mm per mm for the palm translation, mm per radian for the rest.
         """
-        points = as_finite_array(points, "points", ndim=2, shape=(None, 3))
+        points = as_finite_array(points, "points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
         theta = self.check_theta(theta)
         frames, axes, origins = self._forward(theta)
         rotations = frames[:, :3, :3]
@@ -500,7 +503,7 @@ class HandModel:
         Parameters
         ----------
         points : array_like, shape (M, 3)
-            Query points in world coordinates, mm.
+            Query points in world coordinates, mm, within ±1e6.
         theta : array_like, shape (27,)
             Pose (mm for DOFs 0-2, radians for the others).
 
@@ -509,7 +512,7 @@ class HandModel:
         numpy.ndarray, shape (M, 3)
             Unit vectors (zero where the gradient vanishes).
         """
-        points = as_finite_array(points, "points", ndim=2, shape=(None, 3))
+        points = as_finite_array(points, "points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
         grad = self._distance_gradient(points, self.check_theta(theta))
         return grad / np.maximum(np.linalg.norm(grad, axis=1, keepdims=True), 1e-12)
 
@@ -555,7 +558,7 @@ class HandModel:
         Parameters
         ----------
         points : array_like, shape (N, 3)
-            Texture points X at pose ``theta``, mm.
+            Texture points X at pose ``theta``, mm, within ±1e6.
         theta : array_like, shape (27,)
             Pose (mm for DOFs 0-2, radians for the others).
         a : float, default 2.0
@@ -567,7 +570,7 @@ class HandModel:
         TextureBinding
             Both parts, the weight of the first, and the local coordinates.
         """
-        points = as_finite_array(points, "points", ndim=2, shape=(None, 3))
+        points = as_finite_array(points, "points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
         theta = self.check_theta(theta)
         a = check_positive(a, "a")
         fields = self.part_fields(points, theta)
@@ -577,6 +580,7 @@ class HandModel:
         part_r = np.argmax(neighbour_fields, axis=1)
         log_p = a * np.log(fields[np.arange(len(points)), part_p])
         log_r = a * np.log(np.maximum(fields[np.arange(len(points)), part_r], 1e-300))
+        # the weight of part p in eq. (3), φ_p^a / (φ_p^a + φ_r^a), written to stay finite in the log domain
         weight_p = 1.0 / (1.0 + np.exp(np.clip(log_r - log_p, -50, 50)))
         frames = self._forward(theta)[0]
         local_p = np.einsum("nji,nj->ni", frames[part_p, :3, :3], points - frames[part_p, :3, 3])
@@ -602,6 +606,7 @@ class HandModel:
         frames = self._forward(self.check_theta(theta))[0]
         world_p, world_r = binding.world_points(frames)
         w = binding.weight_p[:, None]
+        # eq. (3): T(X, Θ) = (φ_p^a T_p X + φ_r^a T_r X) / (φ_p^a + φ_r^a), with w = φ_p^a / (φ_p^a + φ_r^a)
         return w * world_p + (1 - w) * world_r
 
     def texture_jacobian(self, binding: "TextureBinding", theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

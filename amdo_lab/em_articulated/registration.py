@@ -37,13 +37,16 @@ _KDTREE_RADIUS_SIGMAS = 4.0
 #: register_em(e_step="kdtree") switches to the exact dense E-step when more than this share of all
 #: pairs lies within the truncation radius: a pair costs several times more on the sparse path than in
 #: the dense one's matrix products (crossover about 0.13-0.2 in `benchmarks/bench_01_em_articulated.py`).
-_DENSE_PAIR_FRACTION = 0.15
+DENSE_PAIR_FRACTION = 0.15
 
 #: The EM at one σ stops when no DOF moves by more than this (radians, or mm for the palm).
 DEFAULT_TOL = 1e-3
 
 #: Largest σ accepted, mm (σ² and the energies overflow long before 1e308).
 MAX_SIGMA_MM = MAX_LENGTH_MM
+#: Largest per-point weight :func:`fit_surface` accepts (weights are relative: a weight of 1e308 would
+#: overflow the weighted normal equations).
+MAX_WEIGHT = 1e6
 
 
 def check_settings(value: object, name: str) -> dict:
@@ -83,8 +86,8 @@ class EMResult:
 def _check_e_step_inputs(model_points: object, data_points: object, sigma: object,
                          log_c: object) -> tuple[np.ndarray, np.ndarray, float, float]:
     """Validate the arguments shared by the public E-step functions."""
-    model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3))
-    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3))
+    model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
     sigma = check_in_range(sigma, "sigma", 0.0, MAX_SIGMA_MM, closed="right")
     if not isinstance(log_c, (int, float, np.integer, np.floating)) or isinstance(log_c, (bool, np.bool_)):
         raise TypeError(f"log_c must be a real number, got {type(log_c).__name__}")
@@ -103,9 +106,9 @@ def e_step_reference(model_points: object, data_points: object, sigma: float, c:
     Parameters
     ----------
     model_points : array_like, shape (N, 3)
-        Moved texture points T(X_i, Θ), mm.
+        Moved texture points T(X_i, Θ), mm, within ±1e6.
     data_points : array_like, shape (M, 3)
-        Data points Y_j, mm.
+        Data points Y_j, mm, within ±1e6.
     sigma : float
         σ of the Gaussian of eq. (6), mm, in (0, 1e6].
     c : float, default PAPER_C
@@ -151,9 +154,9 @@ def m_step_targets(alpha: object, data_points: object) -> tuple[np.ndarray, np.n
     Parameters
     ----------
     alpha : array_like, shape (N, M)
-        Posteriors α_ij ≥ 0, e.g. :func:`e_step_reference`.
+        Posteriors α_ij in [0, 1], e.g. :func:`e_step_reference`.
     data_points : array_like, shape (M, 3)
-        Data points Y_j, mm.
+        Data points Y_j, mm, within ±1e6.
 
     Returns
     -------
@@ -166,10 +169,12 @@ def m_step_targets(alpha: object, data_points: object) -> tuple[np.ndarray, np.n
     ----------
     Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eq. (20).
     """
-    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3))
+    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
     alpha = as_finite_array(alpha, "alpha", ndim=2, shape=(None, len(data)))
-    lam = alpha.sum(axis=1)  # λ_i = Σ_j α_ij
-    targets = (alpha @ data) / np.maximum(lam, 1e-300)[:, None]  # G_i = Σ_j α_ij Y_j / λ_i
+    if np.any((alpha < 0) | (alpha > 1)):
+        raise ValueError("alpha must hold posteriors in [0, 1], got values outside")
+    lam = alpha.sum(axis=1)  # eq. (20): λ_i = Σ_j α_ij
+    targets = (alpha @ data) / np.maximum(lam, 1e-300)[:, None]  # eq. (20): G_i = Σ_j α_ij Y_j / λ_i
     return lam, targets
 
 
@@ -184,9 +189,9 @@ def robust_log_likelihood(model_points: object, data_points: object, sigma: floa
     Parameters
     ----------
     model_points : array_like, shape (N, 3)
-        Moved texture points T(X_i, Θ), mm.
+        Moved texture points T(X_i, Θ), mm, within ±1e6.
     data_points : array_like, shape (M, 3)
-        Data points Y_j, mm.
+        Data points Y_j, mm, within ±1e6.
     sigma : float
         σ, mm, in (0, 1e6].
     c : float, default PAPER_C
@@ -205,6 +210,43 @@ def robust_log_likelihood(model_points: object, data_points: object, sigma: floa
     log_c = float(np.log(check_positive(c, "c")))
     with one_blas_thread():
         return _dense_pass(model, data, sigma, log_c, 256, "double")[4]
+
+
+def robust_log_likelihood_reference(model_points: object, data_points: object, sigma: float,
+                                    c: float = PAPER_C) -> float:
+    """The objective of :func:`robust_log_likelihood` in plain numpy, every pair at once.
+
+    The readable path of the streamed, log-domain :func:`robust_log_likelihood` (tested equal to
+    it); memory O(N·M), and the plain exponentials underflow for data far from every texture point
+    (each term then falls back to log c, as the streamed path's does).
+
+    Parameters
+    ----------
+    model_points : array_like, shape (N, 3)
+        Moved texture points T(X_i, Θ), mm.
+    data_points : array_like, shape (M, 3)
+        Data points Y_j, mm.
+    sigma : float
+        σ of the Gaussian of eq. (6), mm, in (0, 1e6].
+    c : float, default PAPER_C
+        The outlier constant of eq. (18) (> 0).
+
+    Returns
+    -------
+    float
+        Σ_j log(c + Σ_i exp(-||Y_j - T(X_i)||²/2σ²)), nats.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eqs. (9) and (18).
+    """
+    model, data, sigma, _ = _check_e_step_inputs(model_points, data_points, sigma, 0.0)
+    c = check_positive(c, "c")
+    sq_dist = np.sum((model[:, None, :] - data[None, :, :]) ** 2, axis=2)
+    # eq. (8), the mixture f_j = Σ_i Π_i f(Y_j|X_i) + Π_outlier f(Y_j|outlier), written out as eq. (9) and
+    # divided by Π_i (2πσ²)^(-3/2) (eq. 18): f_j ∝ Σ_i exp(-||Y_j - T(X_i)||²/2σ²) + c
+    mixture = np.exp(-sq_dist / (2.0 * sigma**2)).sum(axis=0) + c
+    return float(np.sum(np.log(mixture)))  # the log-likelihood of the data, Σ_j log f_j, up to a constant
 
 
 def e_step_statistics(model_points: object, data_points: object, sigma: float,
@@ -227,9 +269,9 @@ def e_step_statistics(model_points: object, data_points: object, sigma: float,
     Parameters
     ----------
     model_points : array_like, shape (N, 3)
-        Moved texture points T(X_i, Θ), mm.
+        Moved texture points T(X_i, Θ), mm, within ±1e6.
     data_points : array_like, shape (M, 3)
-        Data points Y_j, mm.
+        Data points Y_j, mm, within ±1e6.
     sigma : float
         σ of the Gaussian of eq. (6), mm, in (0, 1e6].
     log_c : float
@@ -360,9 +402,9 @@ def e_step_statistics_kdtree(model_points: object, data_points: object, sigma: f
     Parameters
     ----------
     model_points : array_like, shape (N, 3)
-        Moved texture points T(X_i, Θ), mm.
+        Moved texture points T(X_i, Θ), mm, within ±1e6.
     data_points : array_like, shape (M, 3)
-        Data points Y_j, mm.
+        Data points Y_j, mm, within ±1e6.
     sigma : float
         σ of the Gaussian of eq. (6), mm, in (0, 1e6].
     log_c : float
@@ -411,7 +453,7 @@ def _statistics_from_pairs(data_index: np.ndarray, model_index: np.ndarray, dist
     return weights, weighted_data, inlier_prob, float(np.dot(alpha, dist**2))
 
 
-class _ClosePairs:
+class ClosePairs:
     """The (data, model) pairs closer than a radius, for a model that moves a little per EM iteration.
 
     A k-d tree query returns every pair within radius + margin, with the model where it is now;
@@ -419,11 +461,23 @@ class _ClosePairs:
     model point has moved so far that a pair from outside the candidates could have come within
     the radius (more than the margin; half of it when the data are the model itself, whose
     unordered pairs are stored once and mirrored). The pairs returned are exactly those a fresh
-    query would give: this saves time, not accuracy.
+    query would give: this saves time, not accuracy. A cache for :func:`register_em`'s k-d tree
+    E-step, on checked input (not exported).
+
+    Parameters
+    ----------
+    data_points : numpy.ndarray, shape (M, 3), or None
+        The data Y_j, mm; None when the data are the model points themselves.
+    margin_ratio : float, default 0.1
+        Margin of the candidate query, as a share of the radius.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
+    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; eq. (17), truncated (ours).
     """
 
     def __init__(self, data_points: np.ndarray | None, margin_ratio: float = 0.1) -> None:
-        """``data_points`` (M, 3), or None when the data are the model points themselves."""
         self._data, self._margin_ratio = data_points, margin_ratio
         self._tree = None if data_points is None else cKDTree(data_points)
         self._radius = self._fraction_radius = -1.0
@@ -432,7 +486,22 @@ class _ClosePairs:
 
     def pair_fraction(self, model_points: np.ndarray, radius: float, n_samples: int = 64) -> float:
         """Share of all (data, model) pairs closer than ``radius``, estimated from about ``n_samples``
-        model points spread through the array; re-estimated only when the radius changes."""
+        model points spread through the array; re-estimated only when the radius changes.
+
+        Parameters
+        ----------
+        model_points : numpy.ndarray, shape (N, 3)
+            Moved texture points, mm.
+        radius : float
+            Pair distance, mm.
+        n_samples : int, default 64
+            About how many model points the estimate queries.
+
+        Returns
+        -------
+        float
+            The share, in [0, 1].
+        """
         if radius != self._fraction_radius:
             sample = model_points[::max(1, len(model_points) // n_samples)]
             tree, n_data = ((cKDTree(model_points), len(model_points)) if self._data is None
@@ -500,8 +569,8 @@ def _m_step(hand: HandModel, binding: TextureBinding, theta: np.ndarray, weights
 def _check_common(hand: HandModel, model_points: object, data_points: object, theta_init: object,
                   sigma_max: object, sigma_min: object) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, float]:
     check_hand(hand)
-    model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3))
-    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3))
+    model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
     theta = hand.check_theta(theta_init, "theta_init", within_limits=True)
     sigma_max = check_in_range(sigma_max, "sigma_max", 0.0, MAX_SIGMA_MM, closed="right")
     sigma_min = check_positive(sigma_min, "sigma_min")
@@ -525,9 +594,9 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
     Parameters
     ----------
     model_points : array_like, shape (N, 3)
-        Texture points X_i lying on the hand at pose ``theta_init``, mm.
+        Texture points X_i lying on the hand at pose ``theta_init``, mm, within ±1e6.
     data_points : array_like, shape (M, 3)
-        Observed points Y_j (inliers and outliers), mm.
+        Observed points Y_j (inliers and outliers), mm, within ±1e6.
     hand : HandModel
         The articulated model.
     theta_init : array_like, shape (27,)
@@ -621,9 +690,9 @@ def register_em_reference(model_points: object, data_points: object, hand: HandM
     Parameters
     ----------
     model_points : array_like, shape (N, 3)
-        Texture points X_i lying on the hand at pose ``theta_init``, mm.
+        Texture points X_i lying on the hand at pose ``theta_init``, mm, within ±1e6.
     data_points : array_like, shape (M, 3)
-        Observed points Y_j (inliers and outliers), mm.
+        Observed points Y_j (inliers and outliers), mm, within ±1e6.
     hand : HandModel
         The articulated model.
     theta_init : array_like, shape (27,)
@@ -675,7 +744,8 @@ def register_em_reference(model_points: object, data_points: object, hand: HandM
                 if targets == "debiased":  # ours: subtract the texture's own blur B_i
                     _, blurred = m_step_targets(e_step_reference(moved, moved, sigma), moved)
                     goal = moved + goal - blurred
-                # M-step: minimise E(Θ) = Σ_i λ_i ||T(X_i, Θ) - G_i||² (eq. 20) by Gauss-Newton
+                # M-step: maximising Q of eq. (19) is, up to terms free of Θ, minimising
+                # E(Θ) = Σ_i λ_i ||T(X_i, Θ) - G_i||² (eq. 20), here by Gauss-Newton
                 new_theta = _m_step(hand, binding, theta, lam, goal, gauss_newton_steps, damping)
                 change, theta = float(np.max(np.abs(new_theta - theta))), new_theta
                 if change <= tol:  # the paper's stopping rule: Θ no longer changes
@@ -716,8 +786,6 @@ def _em_setup(hand: HandModel, model_points: object, data_points: object, theta_
     """Check :func:`register_em`'s arguments (same names, same defaults) and bind the texture at ``theta_init``."""
     model, data, theta, sigma_max, sigma_min = _check_common(hand, model_points, data_points,
                                                              theta_init, sigma_max, sigma_min)
-    if model.shape[0] == 0 or data.shape[0] == 0:
-        raise ValueError("model_points and data_points must be non-empty")
     n_levels = check_positive_int(n_levels, "n_levels")
     max_iter = check_positive_int(max_iter, "max_iter")
     tol = check_positive(tol, "tol", allow_zero=True)
@@ -743,12 +811,12 @@ def _em_levels(setup: _EMSetup, theta: np.ndarray, sigmas: np.ndarray) -> tuple[
     Returns the pose, the inlier probabilities Σ_i α_ij of the last E-step and the history rows.
     """
     hand, data, binding = setup.hand, setup.data, setup.binding
-    data_pairs = _ClosePairs(data) if setup.e_step == "kdtree" else None
-    self_pairs = _ClosePairs(None) if setup.e_step == "kdtree" else None
+    data_pairs = ClosePairs(data) if setup.e_step == "kdtree" else None
+    self_pairs = ClosePairs(None) if setup.e_step == "kdtree" else None
 
     def statistics(points: np.ndarray, observed: np.ndarray, sigma: float, log_c: float, pairs=None) -> tuple:
         radius = _KDTREE_RADIUS_SIGMAS * sigma
-        if setup.e_step == "kdtree" and pairs.pair_fraction(points, radius) <= _DENSE_PAIR_FRACTION:
+        if setup.e_step == "kdtree" and pairs.pair_fraction(points, radius) <= DENSE_PAIR_FRACTION:
             # truncated at 4σ, as e_step_statistics_kdtree
             return _statistics_from_pairs(*pairs(points, radius), observed, len(points), sigma, log_c)
         return _dense_statistics(points, observed, sigma, log_c, setup.chunk, "single")
@@ -800,9 +868,9 @@ def climb_objective(model_points: object, data_points: object, hand: HandModel, 
     Parameters
     ----------
     model_points : array_like, shape (N, 3)
-        Texture points X_i lying on the hand at pose ``theta_init``, mm.
+        Texture points X_i lying on the hand at pose ``theta_init``, mm, within ±1e6.
     data_points : array_like, shape (M, 3)
-        Observed points Y_j (inliers and outliers), mm.
+        Observed points Y_j (inliers and outliers), mm, within ±1e6.
     hand : HandModel
         The articulated model.
     theta_init : array_like, shape (27,)
@@ -882,13 +950,37 @@ def _robust_log_likelihood(model_points: np.ndarray, data_points: np.ndarray, si
     return log_likelihood, inlier_prob
 
 
-def _digit_starts(hand: HandModel, theta: np.ndarray, digit: int, abduction_step: float,
+def digit_starts(hand: HandModel, theta: np.ndarray, digit: int, abduction_step: float,
                   flexion_step: float) -> np.ndarray:
     """Alternative starts (K, 27) that differ from ``theta`` in one digit's joint angles only.
 
     The digit at its rest pose; swung sideways by ± ``abduction_step`` (towards either neighbour);
     its knuckle flexed by ± ``flexion_step``; all its flexion joints by ± ``flexion_step``. Clipped to
-    the joint limits; a start the clip brings back onto ``theta`` is dropped.
+    the joint limits; a start the clip brings back onto ``theta`` is dropped. The restarts of
+    :func:`refine_digits`, on its checked input (not exported).
+
+    Parameters
+    ----------
+    hand : HandModel
+        The articulated model.
+    theta : numpy.ndarray, shape (27,)
+        The pose to start from, inside the joint limits.
+    digit : int
+        0 (thumb) to 4 (little finger).
+    abduction_step : float
+        Sideways swing, radians.
+    flexion_step : float
+        Flexion step, radians.
+
+    Returns
+    -------
+    numpy.ndarray, shape (K, 27)
+        The starts, 1 ≤ K ≤ 7.
+
+    References
+    ----------
+    Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eq. (17) (the criterion the restarts climb); the
+    search is ours, not in the paper.
     """
     dofs, abduction, flexion = _DIGIT_DOFS[digit], _DIGIT_ABDUCTION[digit], _DIGIT_FLEXION[digit]
     shifts = np.zeros((7, hand.n_dof))
@@ -923,9 +1015,9 @@ def refine_digits(model_points: object, data_points: object, hand: HandModel, th
     Parameters
     ----------
     model_points : array_like, shape (N, 3)
-        Texture points X_i at pose ``theta_init``, mm (as for :func:`register_em`).
+        Texture points X_i at pose ``theta_init``, mm, within ±1e6 (as for :func:`register_em`).
     data_points : array_like, shape (M, 3)
-        Observed points Y_j, mm.
+        Observed points Y_j, mm, within ±1e6.
     hand : HandModel
         The articulated model.
     theta_init : array_like, shape (27,)
@@ -988,7 +1080,7 @@ def refine_digits(model_points: object, data_points: object, hand: HandModel, th
     for _ in range(max_passes):
         changed = False
         for digit, name in enumerate(FINGERS):
-            restarts = [restart(start) for start in _digit_starts(hand, theta, digit, abduction_step, flexion_step)]
+            restarts = [restart(start) for start in digit_starts(hand, theta, digit, abduction_step, flexion_step)]
             if not restarts:
                 continue
             pose, value, prob = max(restarts, key=lambda result: result[1])
@@ -1010,9 +1102,9 @@ def fit_known_correspondences(model_points: object, matched_points: object, hand
     Parameters
     ----------
     model_points : array_like, shape (N, 3)
-        Texture points at ``theta_init``, mm.
+        Texture points at ``theta_init``, mm, within ±1e6.
     matched_points : array_like, shape (N, 3)
-        Observation of each texture point at the unknown pose, mm.
+        Observation of each texture point at the unknown pose, mm, within ±1e6.
     hand : HandModel
         The articulated model.
     theta_init : array_like, shape (27,)
@@ -1033,8 +1125,8 @@ def fit_known_correspondences(model_points: object, matched_points: object, hand
     bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; eq. (20) with α_ij = 1 for the true pairs.
     """
     check_hand(hand)
-    model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3))
-    matched = as_finite_array(matched_points, "matched_points", ndim=2, shape=(len(model), 3))
+    model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+    matched = as_finite_array(matched_points, "matched_points", ndim=2, shape=(len(model), 3), max_abs=MAX_LENGTH_MM)
     theta = hand.check_theta(theta_init, "theta_init", within_limits=True)
     max_iter = check_positive_int(max_iter, "max_iter")
     with one_blas_thread():
@@ -1080,13 +1172,14 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
     Parameters
     ----------
     data_points : array_like, shape (M, 3)
-        Data points Y_j, mm; at least one.
+        Data points Y_j, mm, within ±1e6; at least one.
     hand : HandModel
         The articulated model.
     theta_init : array_like, shape (27,)
         Start pose, inside the joint limits.
     weights : array_like, shape (M,), optional
-        Non-negative per-point weights multiplying β_j (None: all 1).
+        Per-point weights multiplying β_j, in [0, 1e6] (relative weights, such as the EM's inlier
+        probabilities in [0, 1]; None: all 1).
     sigma : float or None, default 3.0
         σ of eq. (22), mm, in (0, 1e6]; None drops eq. (22).
     max_iter : int, default 3
@@ -1107,11 +1200,10 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
     bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; Sec. 3.4, eqs. (2), (21)-(22).
     """
     check_hand(hand)
-    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3))
-    if len(data) == 0:
-        raise ValueError("data_points must be non-empty")
+    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
     theta = hand.check_theta(theta_init, "theta_init", within_limits=True)
-    w = np.ones(len(data)) if weights is None else as_finite_array(weights, "weights", ndim=1, shape=(len(data),))
+    w = np.ones(len(data)) if weights is None else as_finite_array(weights, "weights", ndim=1, shape=(len(data),),
+                                                                    max_abs=MAX_WEIGHT)
     if np.any(w < 0):
         raise ValueError("weights must be non-negative")
     if sigma is not None:
@@ -1123,7 +1215,7 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
     limits = hand.joint_limits()
 
     def step_weights(dist: np.ndarray) -> np.ndarray:
-        beta = w if sigma is None else w * np.exp(-dist**2 / sigma**2)
+        beta = w if sigma is None else w * np.exp(-dist**2 / sigma**2)  # eq. (22): β_j = exp(-d(Y_j)²/σ²)
         return beta if epsilon_mm is None else beta * (np.abs(dist) < epsilon_mm)
 
     def cost(dist: np.ndarray) -> float:
@@ -1137,6 +1229,8 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
         dist, jac = hand.surface_distance_jacobian(data, theta)
         current = cost(dist)
         for _ in range(max_iter):
+            # eq. (21): Σ_j β_j d(Y_j, Θ)² as least squares in √β_j d_j, one Gauss-Newton step on its
+            # normal equations
             sqrt_w = np.sqrt(step_weights(dist))
             jac_w = sqrt_w[:, None] * jac
             normal = jac_w.T @ jac_w
@@ -1190,9 +1284,9 @@ def softassign_register(model_points: object, data_points: object, hand: HandMod
     Parameters
     ----------
     model_points : array_like, shape (N, 3)
-        Texture points X_i lying on the hand at pose ``theta_init``, mm.
+        Texture points X_i lying on the hand at pose ``theta_init``, mm, within ±1e6.
     data_points : array_like, shape (M, 3)
-        Observed points Y_j (inliers and outliers), mm.
+        Observed points Y_j (inliers and outliers), mm, within ±1e6.
     hand : HandModel
         The articulated model.
     theta_init : array_like, shape (27,)
@@ -1228,8 +1322,6 @@ def softassign_register(model_points: object, data_points: object, hand: HandMod
     """
     model, data, theta, sigma_max, sigma_min = _check_common(hand, model_points, data_points,
                                                              theta_init, sigma_max, sigma_min)
-    if model.shape[0] == 0 or data.shape[0] == 0:
-        raise ValueError("model_points and data_points must be non-empty")
     slack = check_positive(slack, "slack")
     n_levels = check_positive_int(n_levels, "n_levels")
     n_iter = check_positive_int(n_iter, "n_iter")

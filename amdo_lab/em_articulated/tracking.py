@@ -8,7 +8,7 @@ import numpy as np
 
 from amdo_lab.common import as_finite_array, check_positive, check_positive_int
 
-from amdo_lab.em_articulated.hand import HandModel, check_hand
+from amdo_lab.em_articulated.hand import MAX_LENGTH_MM, HandModel, check_hand
 from amdo_lab.em_articulated.registration import OUR_SETTINGS, check_settings, fit_surface, register_em
 
 __all__ = ["TrackingResult", "track_sequence", "TRACKING_SETTINGS"]
@@ -58,7 +58,7 @@ def track_sequence(frames: list, hand: HandModel, theta_start: np.ndarray, *, ep
     Parameters
     ----------
     frames : list of array_like
-        Data of every frame, shape (M_f, 3), mm; at least one frame.
+        Data of every frame, shape (M_f, 3), mm, within ±1e6; at least one frame.
     hand : HandModel
         The hand to track.
     theta_start : array_like, shape (27,)
@@ -89,7 +89,8 @@ def track_sequence(frames: list, hand: HandModel, theta_start: np.ndarray, *, ep
     """
     if not hasattr(frames, "__len__") or len(frames) == 0:
         raise ValueError("frames must be a non-empty list of (n, 3) point arrays, one per frame")
-    frames = [as_finite_array(data, f"frames[{f}]", ndim=2, shape=(None, 3)) for f, data in enumerate(frames)]
+    frames = [as_finite_array(data, f"frames[{f}]", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+              for f, data in enumerate(frames)]
     check_hand(hand)
     em_settings = check_settings(em_settings, "em_settings")
     epsilon_mm = check_positive(epsilon_mm, "epsilon_mm")

@@ -5,16 +5,68 @@ from __future__ import annotations
 import shutil
 import subprocess
 import tempfile
+import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from amdo_lab.common import check_choice, check_positive_int
+from amdo_lab.common import check_choice, check_names, check_positive_int
 from amdo_lab.face_glmm.design import build_design, group_indices, parse_formula
-from amdo_lab.face_glmm.glmm import _check_random_terms, _response_counts
+from amdo_lab.face_glmm.glmm import response_counts
 
-__all__ = ["lme4_available", "fit_with_lme4", "fit_gee_exchangeable", "fit_naive_logistic"]
+__all__ = ["PeerFit", "lme4_available", "fit_with_lme4", "fit_gee_exchangeable", "fit_naive_logistic"]
+
+
+@dataclass(frozen=True)
+class PeerFit:
+    """The result of one peer fit of a binomial table (lme4, GEE or naive logistic regression).
+
+    Parameters
+    ----------
+    method : str
+        Which fit: ``"lme4 glmer(nAGQ=0)"``, ``"GEE (exchangeable)"``, ``"GEE (independence)"`` or
+        ``"naive logistic"``.
+    coefficients : pandas.DataFrame
+        Indexed by design column (the names of :func:`build_design`), with ``estimate`` (logit scale)
+        and ``se`` (its standard error: lme4's model-based, GEE's robust sandwich, the GLM's
+        model-based). Entries are NaN where the peer's iterations diverged (see ``finite``).
+    variance_components : dict or None
+        Grouping term -> variance sigma_k^2 on the logit scale (lme4); None for the fits without
+        random effects.
+    seconds : float
+        Wall-clock time of the fit alone, s (for lme4, measured inside R around ``glmer``).
+    cpu_seconds : float
+        User + system CPU time of that fit, s.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, eq. (2) (the model every peer fits, with or without its
+    random effects); Bates et al. (2015), J. Stat. Softw. 67(1) (lme4); Liang & Zeger (1986),
+    Biometrika 73 (GEE).
+    """
+
+    method: str
+    coefficients: pd.DataFrame
+    variance_components: dict | None
+    seconds: float
+    cpu_seconds: float
+
+    @property
+    def estimate(self) -> pd.Series:
+        """The coefficient estimates (logit scale), by design column."""
+        return self.coefficients["estimate"]
+
+    @property
+    def se(self) -> pd.Series:
+        """Their standard errors, by design column."""
+        return self.coefficients["se"]
+
+    @property
+    def finite(self) -> bool:
+        """False when an estimate or standard error is NaN or inf (the peer's iterations diverged)."""
+        return bool(np.all(np.isfinite(self.coefficients.to_numpy())))
 
 _R_SCRIPT = r"""
 suppressMessages(library(lme4))
@@ -60,7 +112,7 @@ def lme4_available() -> bool:
     return done.returncode == 0
 
 
-def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), n_trials: int = 30) -> dict:
+def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), n_trials: int = 30) -> PeerFit:
     """Fit the GLMM of eq. (2) with R's ``glmer(cbind(Y, n-Y) ~ fixed + (1|...), nAGQ=0)``.
 
     Factors get sum-to-zero contrasts (``contr.sum``), as in our design, so the coefficients are
@@ -81,12 +133,12 @@ def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), n_t
 
     Returns
     -------
-    dict
-        ``coefficients`` and ``standard_errors`` (pandas.Series over our design's column names, in the
-        same order for formulas whose interactions have at most one multi-level factor first),
-        ``variance_components`` (dict, grouping term -> variance sigma_k^2 on the logit scale),
-        ``seconds`` (R's elapsed wall-clock time of ``glmer`` alone, s) and ``cpu_seconds`` (R's user +
-        system CPU time of that fit, s).
+    PeerFit
+        ``method`` "lme4 glmer(nAGQ=0)"; ``coefficients`` with ``estimate`` and model-based ``se`` over
+        our design's column names (in the same order for formulas whose interactions have at most one
+        multi-level factor first); ``variance_components`` (grouping term -> variance sigma_k^2 on the
+        logit scale); ``seconds`` (R's elapsed wall-clock time of ``glmer`` alone) and ``cpu_seconds``
+        (R's user + system CPU time of that fit).
 
     Raises
     ------
@@ -99,7 +151,7 @@ def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), n_t
     eq. (2) of Givens et al. (2004), AMDO, LNCS 3179.
     """
     design, _ = _design_and_response(table, fixed, n_trials)
-    random = _check_random_terms(random)
+    random = check_names(random, "random", accept_single=True)
     for term in random:
         group_indices(table, term)  # its columns exist and have no missing values
     if not lme4_available():
@@ -126,14 +178,10 @@ def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), n_t
     for line in done.stdout.splitlines():
         key, *values = line.split()
         out[key] = values
-    names = list(design.column_names)
-    return {
-        "coefficients": pd.Series(np.array(out["FIXED"], dtype=float), index=names),
-        "standard_errors": pd.Series(np.array(out["SE"], dtype=float), index=names),
-        "variance_components": dict(zip(out["VCNAMES"], np.array(out["VC"], dtype=float))),
-        "seconds": float(out["TIME"][0]),
-        "cpu_seconds": float(out["CPU"][0]),
-    }
+    coefficients = pd.DataFrame({"estimate": np.array(out["FIXED"], dtype=float),
+                                 "se": np.array(out["SE"], dtype=float)}, index=list(design.column_names))
+    variances = {name: float(v) for name, v in zip(out["VCNAMES"], np.array(out["VC"], dtype=float))}
+    return PeerFit("lme4 glmer(nAGQ=0)", coefficients, variances, float(out["TIME"][0]), float(out["CPU"][0]))
 
 
 def _design_and_response(table: object, fixed: str, n_trials: object) -> tuple:
@@ -142,12 +190,12 @@ def _design_and_response(table: object, fixed: str, n_trials: object) -> tuple:
         raise TypeError(f"table must be a pandas DataFrame, got {type(table).__name__}")
     n_trials = check_positive_int(n_trials, "n_trials")
     response, terms = parse_formula(fixed)
-    y = _response_counts(table, response, n_trials)  # proportions above 1 would not be refused by statsmodels
+    y = response_counts(table, response, n_trials)  # proportions above 1 would not be refused by statsmodels
     return build_design(table, terms), y
 
 
 def fit_gee_exchangeable(table: pd.DataFrame, fixed: str, group: str = "p", n_trials: int = 30,
-                         correlation: str = "exchangeable") -> pd.DataFrame:
+                         correlation: str = "exchangeable") -> PeerFit:
     """Population-averaged fit: statsmodels GEE on binomial proportions, correlated within ``group``.
 
     Parameters
@@ -165,9 +213,10 @@ def fit_gee_exchangeable(table: pd.DataFrame, fixed: str, group: str = "p", n_tr
 
     Returns
     -------
-    pandas.DataFrame
-        Indexed by design column, with ``estimate`` (logit scale) and robust sandwich ``se``;
-        ``frame.attrs["finite"]`` is False when statsmodels' iterations diverged (NaN entries).
+    PeerFit
+        ``method`` "GEE (exchangeable)" or "GEE (independence)"; ``coefficients`` with ``estimate``
+        (logit scale) and robust sandwich ``se`` by design column (``finite`` is False when
+        statsmodels' iterations diverged); ``variance_components`` None; the fit's wall and CPU seconds.
 
     References
     ----------
@@ -182,17 +231,18 @@ def fit_gee_exchangeable(table: pd.DataFrame, fixed: str, group: str = "p", n_tr
     if group not in table.columns:
         raise ValueError(f"group {group!r} is not a column of table")
     order = np.argsort(table[group].to_numpy(), kind="stable")
+    wall, cpu = time.perf_counter(), time.process_time()
     model = sm.GEE(y[order] / n_trials, design.matrix[order], groups=table[group].to_numpy()[order],
                    family=sm.families.Binomial(), cov_struct=structure)
     # statsmodels' logit-link derivative overflows harmlessly for cells with p ~ 1
     with np.errstate(over="ignore", invalid="ignore"):
         fitted = model.fit()
+    seconds, cpu_seconds = time.perf_counter() - wall, time.process_time() - cpu
     frame = pd.DataFrame({"estimate": fitted.params, "se": fitted.bse}, index=list(design.column_names))
-    frame.attrs["finite"] = bool(np.all(np.isfinite(frame.to_numpy())))
-    return frame
+    return PeerFit(f"GEE ({correlation})", frame, None, seconds, cpu_seconds)
 
 
-def fit_naive_logistic(table: pd.DataFrame, fixed: str, n_trials: int = 30) -> pd.DataFrame:
+def fit_naive_logistic(table: pd.DataFrame, fixed: str, n_trials: int = 30) -> PeerFit:
     """Ordinary binomial GLM that ignores all grouping (the naive analysis).
 
     Parameters
@@ -206,9 +256,10 @@ def fit_naive_logistic(table: pd.DataFrame, fixed: str, n_trials: int = 30) -> p
 
     Returns
     -------
-    pandas.DataFrame
-        Indexed by design column, with ``estimate`` (logit scale) and model-based ``se``, which are
-        too small when rows of one probe are correlated.
+    PeerFit
+        ``method`` "naive logistic"; ``coefficients`` with ``estimate`` (logit scale) and model-based
+        ``se`` by design column (too small when rows of one probe are correlated);
+        ``variance_components`` None; the fit's wall and CPU seconds.
 
     References
     ----------
@@ -219,5 +270,8 @@ def fit_naive_logistic(table: pd.DataFrame, fixed: str, n_trials: int = 30) -> p
 
     design, y = _design_and_response(table, fixed, n_trials)
     endog = np.column_stack([y, n_trials - y])
+    wall, cpu = time.perf_counter(), time.process_time()
     fitted = sm.GLM(endog, design.matrix, family=sm.families.Binomial()).fit()
-    return pd.DataFrame({"estimate": fitted.params, "se": fitted.bse}, index=list(design.column_names))
+    seconds, cpu_seconds = time.perf_counter() - wall, time.process_time() - cpu
+    frame = pd.DataFrame({"estimate": fitted.params, "se": fitted.bse}, index=list(design.column_names))
+    return PeerFit("naive logistic", frame, None, seconds, cpu_seconds)

@@ -28,11 +28,11 @@ from scipy import stats
 from scipy.special import expit, xlogy
 
 
-from amdo_lab.common import as_finite_array, check_in_range, check_positive
+from amdo_lab.common import as_finite_array, check_in_range, check_names
 from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.face_glmm.design import DesignMatrix, build_design, group_indices, parse_formula
 
-__all__ = ["GlmmResult", "fit_binomial_glmm", "binomial_deviance", "laplace_deviance"]
+__all__ = ["GlmmResult", "fit_binomial_glmm", "binomial_deviance", "laplace_deviance", "response_counts"]
 
 
 @dataclass(frozen=True)
@@ -185,8 +185,36 @@ def _check_ci(ci: object) -> None:
         check_in_range(ci, "ci", 0, 1)
 
 
-def _response_counts(table: pd.DataFrame, response: str, n_trials: int) -> np.ndarray:
-    """The response column as float counts, each an integer in [0, n_trials]."""
+def response_counts(table: pd.DataFrame, response: str, n_trials: int) -> np.ndarray:
+    """The response column of a binomial table as float counts, each an integer in [0, n_trials].
+
+    Shared by :func:`fit_binomial_glmm` and the peer fits of :mod:`amdo_lab.face_glmm.crosscheck`.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The table holding the response column.
+    response : str
+        The response column's name (the left side of the fixed-effects formula).
+    n_trials : int
+        The binomial size n (already checked to be a positive int).
+
+    Returns
+    -------
+    ndarray of float, shape (len(table),)
+        The counts y of eq. (2), each an integer in [0, n_trials].
+
+    Raises
+    ------
+    ValueError
+        When the column is missing, holds NaN or non-numeric values, or counts outside [0, n_trials].
+    TypeError
+        When the column holds booleans.
+
+    References
+    ----------
+    Givens et al. (2004), AMDO, LNCS 3179, eq. (2) (Y, rank-1 matches out of n galleries).
+    """
     if response not in table.columns:
         raise ValueError(f"response {response!r} is not a column of table")
     if pd.api.types.is_bool_dtype(table[response]):
@@ -199,21 +227,13 @@ def _response_counts(table: pd.DataFrame, response: str, n_trials: int) -> np.nd
     return y
 
 
-def _check_random_terms(random: object) -> tuple[str, ...]:
-    """Grouping terms: a non-empty sequence of distinct names such as "t", "p" or "t:p"."""
-    if isinstance(random, str):
-        random = [random]
-    if not hasattr(random, "__iter__"):
-        raise TypeError(f"random must be a sequence of grouping terms, got {type(random).__name__}")
-    random = tuple(random)
-    if not random:
-        raise ValueError("random must name at least one grouping term")
-    bad = [term for term in random if not isinstance(term, str) or not term.strip()]
-    if bad:
-        raise TypeError(f"random must hold grouping terms as non-empty strings, got {bad[0]!r}")
-    if len(set(random)) != len(random):
-        raise ValueError(f"random must not repeat a grouping term, got {random}")
-    return random
+#: Largest binomial size accepted by :func:`binomial_deviance` (integers up to it are exact floats).
+MAX_TRIALS = 1e15
+#: Largest |linear predictor| accepted by :func:`binomial_deviance`, logit units.
+MAX_ABS_ETA = 1e6
+#: Largest random-effect standard deviation accepted (logit units): sd = 1e3 already puts every
+#: probability at 0 or 1 to machine precision, and larger ones overflow the penalised IRLS.
+MAX_SD = 1e3
 
 
 def binomial_deviance(y: np.ndarray, n_trials: np.ndarray, eta: np.ndarray) -> float:
@@ -226,9 +246,11 @@ def binomial_deviance(y: np.ndarray, n_trials: np.ndarray, eta: np.ndarray) -> f
     y : array_like
         Success counts, each in [0, n_trials].
     n_trials : float or array_like
-        Positive binomial sizes n, one per count or one for all.
+        Positive binomial sizes n, one per count or one for all, each at most 1e15 (counts that a
+        float holds exactly; beyond, the deviance can overflow).
     eta : array_like
-        Linear predictor (logit scale), the shape of ``y``.
+        Linear predictor (logit scale), the shape of ``y``, each within +-1e6 (expit is 0 or 1 to
+        machine precision beyond +-40 already; the bound keeps y * eta finite).
 
     Returns
     -------
@@ -241,10 +263,10 @@ def binomial_deviance(y: np.ndarray, n_trials: np.ndarray, eta: np.ndarray) -> f
     dev(y, eta) term of the Laplace deviance of eq. (2) in Givens et al. (2004), AMDO, LNCS 3179.
     """
     y = as_finite_array(y, "y")
-    eta = as_finite_array(eta, "eta")
+    eta = as_finite_array(eta, "eta", max_abs=MAX_ABS_ETA)
     if eta.shape != y.shape:  # which of the two is at fault is unknowable: name both
         raise ValueError(f"eta must have shape {y.shape}, the shape of y, got {eta.shape}")
-    n_trials = as_finite_array(n_trials, "n_trials")
+    n_trials = as_finite_array(n_trials, "n_trials", max_abs=MAX_TRIALS)
     if n_trials.shape not in ((), y.shape):
         raise ValueError(f"n_trials must be a number or have the shape of y {y.shape}, got {n_trials.shape}")
     if np.any(n_trials <= 0):
@@ -293,6 +315,7 @@ def _laplace_deviance_reference(y: np.ndarray, n_trials: np.ndarray, x: np.ndarr
     """
     n, p = x.shape
     q = z.shape[1]
+    # eq. (2): Y ~ Binomial(n, expit(η)), η = Xβ + Zb with b = Λu, u ~ N(0, I): η = [ZΛ, X] (u, β)
     design = np.hstack([z * lam, x])                 # [Z Lambda, X]: columns u first, then beta
     penalty = np.r_[np.ones(q), np.zeros(p)]         # |u|^2 penalises u only
     coef = np.zeros(q + p)
@@ -625,7 +648,8 @@ def laplace_deviance(table: pd.DataFrame, fixed: str, random: list[str] | tuple[
     random : sequence of str
         Distinct grouping terms, each a random intercept.
     sd : array_like, shape (len(random),) or (m, len(random))
-        Finite non-negative standard deviations sigma_k (logit scale), one row per evaluation.
+        Non-negative standard deviations sigma_k (logit scale), each at most 1e3, one row per
+        evaluation.
     n_trials : int, default 30
         Binomial size n of every row, at least 1.
 
@@ -639,8 +663,8 @@ def laplace_deviance(table: pd.DataFrame, fixed: str, random: list[str] | tuple[
     Bates et al. (2015), J. Stat. Softw. 67(1), eq. (36) with the profiled fixed effects of nAGQ=0;
     the model is eq. (2) of Givens et al. (2004), AMDO, LNCS 3179.
     """
-    random = _check_random_terms(random)
-    sd = as_finite_array(sd, "sd")
+    random = check_names(random, "random", accept_single=True)  # grouping terms such as "t", "p", "t:p"
+    sd = as_finite_array(sd, "sd", max_abs=MAX_SD)
     sd = sd.reshape(1, -1) if sd.ndim == 1 else sd
     if sd.ndim != 2 or sd.shape[1] != len(random):
         raise ValueError(f"sd must have {len(random)} columns (one per random term), got shape {sd.shape}")
@@ -665,7 +689,7 @@ def _setup(table, fixed, random, n_trials):
     if not isinstance(n_trials, (int, np.integer)) or isinstance(n_trials, bool) or n_trials < 1:
         raise ValueError(f"n_trials must be a positive int, got {n_trials!r}")
     response, terms = parse_formula(fixed)
-    y = _response_counts(table, response, n_trials)
+    y = response_counts(table, response, n_trials)
     design = build_design(table, terms)
     x = design.matrix
     if np.linalg.matrix_rank(x) < x.shape[1]:
@@ -707,7 +731,7 @@ def fit_binomial_glmm(
         Binomial size n of every row (30 galleries in the paper), at least 1; the response must hold
         integer counts in [0, n_trials].
     start_sd : float, default 0.5
-        Starting value of every random-effect standard deviation (logit scale), >= 0.
+        Starting value of every random-effect standard deviation (logit scale), in [0, 1e3].
 
     Returns
     -------
@@ -742,8 +766,9 @@ def fit_binomial_glmm(
 
 
 def _fit(table, fixed, random, n_trials, start_sd) -> GlmmResult:
-    random = _check_random_terms(random)
-    start_sd = check_positive(start_sd, "start_sd", allow_zero=True)  # L-BFGS-B would clip a negative one silently
+    random = check_names(random, "random", accept_single=True)  # grouping terms such as "t", "p", "t:p"
+    # L-BFGS-B would clip a negative start silently; a huge one overflows the first penalised IRLS
+    start_sd = check_in_range(start_sd, "start_sd", 0.0, MAX_SD, closed="both")
     problem, (beta0, u_rest0, u_big0) = _setup(table, fixed, random, n_trials)
     design = problem.design
     y = problem.y

@@ -298,11 +298,11 @@ def weighted_sq_distances(a: np.ndarray, b: np.ndarray, weights: np.ndarray) -> 
     Parameters
     ----------
     a : array_like, shape (n, k)
-        Points as rows.
+        Points as rows, each coordinate at most 1e100 in magnitude (beyond, the squares overflow).
     b : array_like, shape (m, k)
-        Points as rows.
+        Points as rows, each coordinate at most 1e100 in magnitude.
     weights : array_like, shape (k,)
-        Non-negative per-axis weights (ones: L2; lambda_i ** 0.2: soft L2).
+        Non-negative per-axis weights (ones: L2; lambda_i ** 0.2: soft L2), each at most 1e100.
 
     Returns
     -------
@@ -313,9 +313,9 @@ def weighted_sq_distances(a: np.ndarray, b: np.ndarray, weights: np.ndarray) -> 
     ----------
     Givens et al. (2004), AMDO, LNCS 3179, eq. (1).
     """
-    a = as_finite_array(a, "a", ndim=2)
-    b = as_finite_array(b, "b", shape=(None, a.shape[1]))
-    weights = as_finite_array(weights, "weights", shape=(a.shape[1],))
+    a = as_finite_array(a, "a", ndim=2, max_abs=_MAX_MAGNITUDE)
+    b = as_finite_array(b, "b", shape=(None, a.shape[1]), max_abs=_MAX_MAGNITUDE)
+    weights = as_finite_array(weights, "weights", shape=(a.shape[1],), max_abs=_MAX_MAGNITUDE)
     if np.any(weights < 0):
         raise ValueError("weights must be non-negative (a negative weight gives no distance)")
     return _weighted_sq_distances(a, b, weights)
@@ -323,6 +323,8 @@ def weighted_sq_distances(a: np.ndarray, b: np.ndarray, weights: np.ndarray) -> 
 
 def _weighted_sq_distances(a: np.ndarray, b: np.ndarray, weights: np.ndarray) -> np.ndarray:
     """:func:`weighted_sq_distances` on validated arrays (the experiment's inner call)."""
+    # eq. (1): Σ_i w_i (a_i - b_i)² (w = 1: L2; w = λ_i^0.2: soft L2) for every pair, expanded as
+    # Σ_i w_i a_i² + Σ_i w_i b_i² - 2 Σ_i w_i a_i b_i so that the cross term is one matrix product
     aw = a * weights
     sq = np.sum(aw * a, axis=1)[:, None] + np.sum(b * b * weights, axis=1)[None, :] - 2.0 * aw @ b.T
     return np.maximum(sq, 0.0)

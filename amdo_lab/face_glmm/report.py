@@ -134,7 +134,8 @@ def findings(result: GlmmResult, size_result: GlmmResult | None = None) -> pd.Da
     Returns
     -------
     pandas.DataFrame
-        Indexed by the finding in words, one bool column ``holds for ours``.
+        Indexed by the finding in words, with the bool column ``holds for ours`` and ``measured``, the
+        marginal rank-1 probabilities (or variances, p-values) the verdict compares, as text.
 
     References
     ----------
@@ -155,25 +156,38 @@ def findings(result: GlmmResult, size_result: GlmmResult | None = None) -> pd.Da
     e90_loss = {f: m(D="fixed", F=f) - m(D="e90", F=f) for f in ("yes", "no")}
     incl = {(mm, d): m(M=mm, D=d, F="yes") - m(M=mm, D=d, F="no") for mm in ("l2", "soft_l2")
             for d in ("fixed", "e90")}
+    vc = result.variance_components
+    t_share = vc.get("t", 0.0) / vc.get("p", np.inf)
     rows = [
-        ("shift is the best supplement", max(u_marg, key=u_marg.get) == "shift"),
-        ("reflection is worse than no supplement", u_marg["reflection"] < u_marg["none"]),
-        ("supplement effects mainly for included probes (range yes > 2 x range no)", spread["yes"] > 2 * spread["no"]),
-        ("soft L2 beats L2 overall", m(M="soft_l2") > m(M="l2")),
-        ("soft L2 gain mainly for included probes (gain yes > 2 x gain no)", soft_gain["yes"] > 2 * soft_gain["no"]),
-        ("inclusion in training helps overall (slightly)", m(F="yes") > m(F="no")),
-        ("inclusion helps at 114 dims for both metrics", incl[("l2", "fixed")] > 0 and incl[("soft_l2", "fixed")] > 0),
-        ("at E90: inclusion helps soft L2, hurts L2", incl[("soft_l2", "e90")] > 0 > incl[("l2", "e90")]),
-        ("E90 is worse than 114 dims overall", m(D="e90") < m(D="fixed")),
-        ("E90 loss mainly for included probes (loss yes > 2 x loss no)", e90_loss["yes"] > 2 * e90_loss["no"]),
-        ("training-set variance ~ 0 (< 5 % of probe variance)",
-         result.variance_components.get("t", 0.0) < 0.05 * result.variance_components.get("p", np.inf)),
+        ("shift is the best supplement", max(u_marg, key=u_marg.get) == "shift",
+         ", ".join(f"{u} {p:.3f}" for u, p in u_marg.items())),
+        ("reflection is worse than no supplement", u_marg["reflection"] < u_marg["none"],
+         f"reflection {u_marg['reflection']:.3f}, none {u_marg['none']:.3f}"),
+        ("supplement effects mainly for included probes (range yes > 2 x range no)", spread["yes"] > 2 * spread["no"],
+         f"range yes {spread['yes']:.3f}, no {spread['no']:.3f}"),
+        ("soft L2 beats L2 overall", m(M="soft_l2") > m(M="l2"),
+         f"soft L2 {m(M='soft_l2'):.3f}, L2 {m(M='l2'):.3f}"),
+        ("soft L2 gain mainly for included probes (gain yes > 2 x gain no)", soft_gain["yes"] > 2 * soft_gain["no"],
+         f"gain yes {soft_gain['yes']:+.3f}, no {soft_gain['no']:+.3f}"),
+        ("inclusion in training helps overall (slightly)", m(F="yes") > m(F="no"),
+         f"yes {m(F='yes'):.3f}, no {m(F='no'):.3f}"),
+        ("inclusion helps at 114 dims for both metrics", incl[("l2", "fixed")] > 0 and incl[("soft_l2", "fixed")] > 0,
+         f"L2 {incl[('l2', 'fixed')]:+.3f}, soft L2 {incl[('soft_l2', 'fixed')]:+.3f}"),
+        ("at E90: inclusion helps soft L2, hurts L2", incl[("soft_l2", "e90")] > 0 > incl[("l2", "e90")],
+         f"soft L2 {incl[('soft_l2', 'e90')]:+.3f}, L2 {incl[('l2', 'e90')]:+.3f}"),
+        ("E90 is worse than 114 dims overall", m(D="e90") < m(D="fixed"),
+         f"E90 {m(D='e90'):.3f}, 114 {m(D='fixed'):.3f}"),
+        ("E90 loss mainly for included probes (loss yes > 2 x loss no)", e90_loss["yes"] > 2 * e90_loss["no"],
+         f"loss yes {e90_loss['yes']:+.3f}, no {e90_loss['no']:+.3f}"),
+        ("training-set variance ~ 0 (< 5 % of probe variance)", t_share < 0.05,
+         f"{100 * t_share:.2f} % of the probe variance"),
     ]
     if size_result is not None:
         size_terms = [t for t in size_result.tests.index if "S" in t.split(":")]
-        rows.append(("image size and its interactions not significant (all p > 0.05)",
-                     bool((size_result.tests.loc[size_terms, "p_value"] > 0.05).all())))
-    return pd.DataFrame(rows, columns=["paper's finding", "holds for ours"]).set_index("paper's finding")
+        p_values = size_result.tests.loc[size_terms, "p_value"]
+        rows.append(("image size and its interactions not significant (all p > 0.05)", bool((p_values > 0.05).all()),
+                     f"smallest p {p_values.min():.2g} ({p_values.idxmin()})"))
+    return pd.DataFrame(rows, columns=["paper's finding", "holds for ours", "measured"]).set_index("paper's finding")
 
 
 def _draw(ax, x, p, colours, marker, filled, linestyle):

@@ -87,6 +87,10 @@ class RecoverySummary:
     table: pd.DataFrame  # per coefficient: true, mean estimate, bias, relative bias, coverage
 
 
+#: Largest |estimate| or standard error :func:`summarise_recovery` accepts (logit units).
+MAX_ABS_ESTIMATE = 1e100
+
+
 def summarise_recovery(true: pd.Series, estimates: np.ndarray, ses: np.ndarray, level: float = 0.95) -> RecoverySummary:
     """Per-coefficient bias, relative bias and the share of Wald intervals covering the truth.
 
@@ -95,9 +99,10 @@ def summarise_recovery(true: pd.Series, estimates: np.ndarray, ses: np.ndarray, 
     true : pandas.Series
         The p finite true coefficients, indexed by name.
     estimates : array_like, shape (n_replicates, p)
-        One row of estimates per replicate.
+        One row of estimates per replicate (logit scale), each at most 1e100 in magnitude (beyond,
+        their mean overflows).
     ses : array_like, shape (n_replicates, p)
-        Their standard errors, non-negative.
+        Their standard errors, non-negative and at most 1e100.
     level : float, default 0.95
         Interval level in (0, 1); the interval is estimate +- z se with z the normal quantile.
 
@@ -115,8 +120,8 @@ def summarise_recovery(true: pd.Series, estimates: np.ndarray, ses: np.ndarray, 
     if not isinstance(true, pd.Series):
         raise TypeError(f"true must be a pandas Series of coefficients, got {type(true).__name__}")
     as_finite_array(true.to_numpy(), "true")
-    estimates = as_finite_array(estimates, "estimates", shape=(None, len(true)))
-    ses = as_finite_array(ses, "ses", shape=estimates.shape)
+    estimates = as_finite_array(estimates, "estimates", shape=(None, len(true)), max_abs=MAX_ABS_ESTIMATE)
+    ses = as_finite_array(ses, "ses", shape=estimates.shape, max_abs=MAX_ABS_ESTIMATE)
     if np.any(ses < 0):
         raise ValueError("ses must be non-negative")
     _check_level(level)

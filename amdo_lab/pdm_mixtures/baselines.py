@@ -4,16 +4,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_choice, check_fitted, check_positive_int, make_rng, procrustes_align
+from amdo_lab.common import (as_finite_array, check_choice, check_fitted, check_in_range, check_positive_int, make_rng,
+                             procrustes_align)
 from amdo_lab.pdm_mixtures.pdm import (
-    _check_labels,
     MAX_MAGNITUDE,
-    _align_to_reference,
-    _check_point_set_sizes,
-    _check_variance_fraction,
-    _ppca_log_density,
+    align_to_reference,
+    check_labels,
+    check_point_set_sizes,
     fit_pdm,
     generalized_procrustes,
+    ppca_log_density,
 )
 
 __all__ = [
@@ -28,7 +28,7 @@ __all__ = [
 
 def _check(shapes: object) -> np.ndarray:
     shapes = as_finite_array(shapes, "shapes", shape=(None, 13, None, 2))
-    _check_point_set_sizes(shapes.reshape(len(shapes), -1, 2), "shapes")
+    check_point_set_sizes(shapes.reshape(len(shapes), -1, 2), "shapes")
     return shapes
 
 
@@ -74,11 +74,11 @@ class SingleCartesianPDMClassifier:
         SingleCartesianPDMClassifier
             This classifier, fitted.
         """
-        _check_variance_fraction(self.variance_fraction)
+        check_in_range(self.variance_fraction, "variance_fraction", 0, 1, closed="right")
         shapes = _check(shapes)
         aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
         vectors = aligned.reshape(len(shapes), -1)
-        labels = _check_labels(labels, len(shapes))
+        labels = check_labels(labels, len(shapes))
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
         self.models_ = [fit_pdm(vectors[labels == c], variance_fraction=self.variance_fraction) for c in self.classes_]
         return self
@@ -99,8 +99,8 @@ class SingleCartesianPDMClassifier:
         check_fitted(self, "classes_")
         shapes = _check(shapes)
         _check_landmarks(shapes, len(self.reference_))
-        vectors = _align_to_reference(shapes.reshape(len(shapes), -1, 2), self.reference_).reshape(len(shapes), -1)
-        return np.stack([_ppca_log_density(model, vectors) for model in self.models_], axis=1)
+        vectors = align_to_reference(shapes.reshape(len(shapes), -1, 2), self.reference_).reshape(len(shapes), -1)
+        return np.stack([ppca_log_density(model, vectors) for model in self.models_], axis=1)
 
     def predict(self, shapes: np.ndarray) -> np.ndarray:
         """Class of highest log-likelihood for every shape.
@@ -147,7 +147,7 @@ class NearestProcrustesMeanClassifier:
             This classifier, fitted.
         """
         shapes = _check(shapes)
-        labels = _check_labels(labels, len(shapes))
+        labels = check_labels(labels, len(shapes))
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
         self.means_ = [generalized_procrustes(shapes[labels == c].reshape(-1, shapes.shape[1] * shapes.shape[2], 2))[1]
                        for c in self.classes_]
@@ -263,7 +263,7 @@ class SklearnGMMClassifier:
         shapes = _check(shapes)
         aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
         vectors = aligned.reshape(len(shapes), -1)
-        labels = _check_labels(labels, len(shapes))
+        labels = check_labels(labels, len(shapes))
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
         if isinstance(self.rng, np.random.Generator):  # scikit-learn takes an int seed, not a Generator
             seeds = [int(generator.integers(2**31 - 1)) for _ in self.classes_]
@@ -292,7 +292,7 @@ class SklearnGMMClassifier:
         check_fitted(self, "classes_")
         shapes = _check(shapes)
         _check_landmarks(shapes, len(self.reference_))
-        vectors = _align_to_reference(shapes.reshape(len(shapes), -1, 2), self.reference_).reshape(len(shapes), -1)
+        vectors = align_to_reference(shapes.reshape(len(shapes), -1, 2), self.reference_).reshape(len(shapes), -1)
         scores = np.stack([m.score_samples(vectors) for m in self.models_], axis=1)
         return np.asarray(self.classes_)[np.argmax(scores, axis=1)]
 

@@ -75,16 +75,37 @@ def gaussian_log_density(points: np.ndarray, means: np.ndarray, covariances: np.
         raise ValueError("covariances must be positive definite (every (d, d) matrix)") from None
 
 
-def _gaussian_log_density_reference(points: np.ndarray, means: np.ndarray, covariances: np.ndarray) -> np.ndarray:
-    """Eq. 6 as printed, one component at a time: the reference path of :func:`_gaussian_log_density`.
+def gaussian_log_density_reference(points: np.ndarray, means: np.ndarray, covariances: np.ndarray) -> np.ndarray:
+    """Eq. 6 as printed, one component at a time: the reference path of :func:`gaussian_log_density`.
 
     ``ln p(X_t | Y_w, Sigma_w) = -1/2 [ d ln(2 pi) + ln|Sigma_w| + (X_t - Y_w)^T Sigma_w^-1 (X_t - Y_w) ]``
     (the paper's ``(2 pi)^L`` is ``(2 pi)^(d/2)`` for long vectors of ``d = 2L`` coordinates).
+    Plain numpy for reading and for the tests (not exported; nothing is validated here).
+
+    Parameters
+    ----------
+    points : (T, d) numpy.ndarray
+        Long-vectors ``X_t`` as rows.
+    means : (K, d) numpy.ndarray
+        Component means ``Y_w``.
+    covariances : (K, d, d) numpy.ndarray
+        Symmetric positive-definite component covariances ``Sigma_w``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(T, K)`` log-densities, nats.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4, eq. 6.
     """
     n_dim = points.shape[1]
     out = np.empty((len(points), len(means)))
     for w, (mean, covariance) in enumerate(zip(means, covariances)):
         diff = points - mean  # X_t - Y_w
+        # ln of eq. (6): -1/2 [d ln 2π + ln|Σ_w| + (X_t - Y_w)^T Σ_w^-1 (X_t - Y_w)]
         mahalanobis = np.sum(diff @ np.linalg.inv(covariance) * diff, axis=1)
         out[:, w] = -0.5 * (n_dim * np.log(2 * np.pi) + np.linalg.slogdet(covariance)[1] + mahalanobis)
     return out
@@ -168,6 +189,8 @@ def fit_gaussian_mixture(
         weights = as_finite_array(weights_init, "weights_init", shape=(k,))
         if np.any(weights <= 0) or not np.isclose(weights.sum(), 1.0):
             raise ValueError("weights_init must be positive and sum to 1")
+    # history: the mean over the patterns of ln sum_w pi_w p(X_t | w), the log-likelihood of eq. (2) with the
+    # weights of eq. (5); each M-step below maximises Q of eq. (3) at the posteriors of the E-step.
     history = []
     for _ in range(n_iter):
         # E-step (eq. 4): P(t in w | X_t) = pi_w p(X_t | w) / sum_w' pi_w' p(X_t | w'), in log space.
@@ -189,14 +212,43 @@ def fit_gaussian_mixture(
     return GaussianMixtureResult(weights, means, covariances, responsibilities, np.asarray(history))
 
 
-def _fit_gaussian_mixtures_batch(points: np.ndarray, means: np.ndarray, covariances: np.ndarray, n_iter: int,
+def fit_gaussian_mixtures_batch(points: np.ndarray, means: np.ndarray, covariances: np.ndarray, n_iter: int,
                                  reg_covar: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Fast path: B independent runs of :func:`fit_gaussian_mixture` (uniform start weights) at once.
 
-    ``points (B, T, d)``, ``means (B, K, d)``, ``covariances (B, K, d, d)``, ``reg_covar (B,)``;
-    returns ``weights (B, K)``, ``means``, ``covariances`` and ``responsibilities (B, T, K)``. The same
-    E- and M-steps (eqs. 4, 5, 7, 8) with one more leading axis, so the recogniser's 13 limb mixtures
-    cost one loop of ``n_iter`` steps instead of 13; tested equal to the one-run function.
+    The same E- and M-steps (eqs. 4, 5, 7, 8) with one more leading axis, so the recogniser's 13
+    limb mixtures cost one loop of ``n_iter`` steps instead of 13; tested equal to the one-run
+    function. A kernel for callers that have checked their input (the recogniser): nothing is
+    validated here, so a user calls :func:`fit_gaussian_mixture`.
+
+    Parameters
+    ----------
+    points : (B, T, d) numpy.ndarray
+        ``T`` points of dimension ``d`` for each of the ``B`` runs.
+    means : (B, K, d) numpy.ndarray
+        Starting means of the ``K`` components of each run.
+    covariances : (B, K, d, d) numpy.ndarray
+        Starting covariances.
+    n_iter : int
+        Number of EM iterations (fixed, no convergence test).
+    reg_covar : (B,) numpy.ndarray
+        Ridge added to every covariance's diagonal, per run.
+
+    Returns
+    -------
+    weights : (B, K) numpy.ndarray
+        Mixing weights (eq. 5).
+    means : (B, K, d) numpy.ndarray
+        Component means (eq. 7).
+    covariances : (B, K, d, d) numpy.ndarray
+        Component covariances (eq. 8), ridge included.
+    responsibilities : (B, T, K) numpy.ndarray
+        Posteriors of the last E-step (eq. 4).
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4, eqs. 4-8.
     """
     b, t, d = points.shape
     k = means.shape[1]

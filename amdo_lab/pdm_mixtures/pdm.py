@@ -52,10 +52,6 @@ class PointDistributionModel:
         return int(self.modes.shape[1])
 
 
-def _check_variance_fraction(value: object) -> float:
-    return check_in_range(value, "variance_fraction", 0, 1, closed="right")
-
-
 def _check_model(model: object) -> PointDistributionModel:
     if not isinstance(model, PointDistributionModel):
         raise TypeError(f"model must be a PointDistributionModel, got {type(model).__name__}")
@@ -97,16 +93,10 @@ def pdm_from_moments(
     if covariance.shape[0] != covariance.shape[1] or covariance.shape[0] < 2:
         raise ValueError(f"covariance must be a square (D, D) matrix with D >= 2, got shape {covariance.shape}")
     mean = as_finite_array(mean, "mean", shape=(covariance.shape[0],))
-    variance_fraction = _check_variance_fraction(variance_fraction)
+    variance_fraction = check_in_range(variance_fraction, "variance_fraction", 0, 1, closed="right")
     if max_modes is not None:
         max_modes = check_positive_int(max_modes, "max_modes")
     min_residual_variance = check_positive(min_residual_variance, "min_residual_variance", allow_zero=True)
-    return _pdm_from_moments(mean, covariance, variance_fraction, max_modes, min_residual_variance)
-
-
-def _pdm_from_moments(mean: np.ndarray, covariance: np.ndarray, variance_fraction: float = 0.95,
-                      max_modes: int | None = None, min_residual_variance: float = 1e-12) -> PointDistributionModel:
-    """:func:`pdm_from_moments` on validated input (called for every mixture component)."""
     eigenvalues, eigenvectors = np.linalg.eigh(covariance)  # Sigma phi_i = alpha_i phi_i (Sec. 2)
     order = np.argsort(eigenvalues)[::-1]
     eigenvalues = np.clip(eigenvalues[order], 0.0, None)  # round-off negatives of a PSD matrix
@@ -116,7 +106,7 @@ def _pdm_from_moments(mean: np.ndarray, covariance: np.ndarray, variance_fractio
     limit = len(eigenvalues) - 1 if max_modes is None else min(max_modes, len(eigenvalues) - 1)
     n_modes = max(1, min(n_modes, limit))
     residual = float(max(eigenvalues[n_modes:].mean(), min_residual_variance))
-    return PointDistributionModel(np.asarray(mean, float), eigenvectors[:, :n_modes], eigenvalues[:n_modes], residual)
+    return PointDistributionModel(mean, eigenvectors[:, :n_modes], eigenvalues[:n_modes], residual)
 
 
 def fit_pdm(long_vectors: np.ndarray, *, variance_fraction: float = 0.95, max_modes: int | None = None) -> PointDistributionModel:
@@ -156,14 +146,14 @@ def fit_pdm(long_vectors: np.ndarray, *, variance_fraction: float = 0.95, max_mo
         raise ValueError(f"long_vectors needs at least 3 training examples for a covariance, got {t}")
     if vectors.shape[1] < 2:
         raise ValueError(f"long_vectors needs at least 2 columns (one mode kept, one discarded), got {vectors.shape[1]}")
-    variance_fraction = _check_variance_fraction(variance_fraction)
+    variance_fraction = check_in_range(variance_fraction, "variance_fraction", 0, 1, closed="right")
     if max_modes is not None:
         max_modes = check_positive_int(max_modes, "max_modes")
     mean = vectors.mean(axis=0)  # Y = (1/T) sum_t X_t
     centred = vectors - mean
     covariance = centred.T @ centred / t  # eq. 1
     cap = t - 1 if max_modes is None else min(max_modes, t - 1)
-    return _pdm_from_moments(mean, covariance, variance_fraction=variance_fraction, max_modes=cap)
+    return pdm_from_moments(mean, covariance, variance_fraction=variance_fraction, max_modes=cap)
 
 
 def fit_modes(model: PointDistributionModel, observed: np.ndarray, *, clamp: bool = True) -> np.ndarray:
@@ -196,11 +186,7 @@ def fit_modes(model: PointDistributionModel, observed: np.ndarray, *, clamp: boo
     if observed.ndim not in (1, 2) or observed.shape[-1] != len(model.mean):
         raise ValueError(f"observed must have shape (n, {len(model.mean)}) like the model mean, got {observed.shape}")
     clamp = check_bool(clamp, "clamp")
-    return _fit_modes(model, observed, clamp=clamp)
-
-
-def _fit_modes(model: PointDistributionModel, observed: np.ndarray, *, clamp: bool = True) -> np.ndarray:
-    """:func:`fit_modes` on validated input (the recogniser's inner call)."""
+    # eqs. (9) and (15): the best-fit γ = argmax_γ p(z | Φ, γ), for a Gaussian the least-squares γ = Φ^T (X_o - Y)
     gamma = (observed - model.mean) @ model.modes  # gamma = Phi^T (X_o - Y), least squares (Sec. 2)
     if clamp:  # -3 sqrt(alpha_k) <= gamma_k <= 3 sqrt(alpha_k) (Sec. 4)
         bound = 3.0 * np.sqrt(model.variances)
@@ -232,11 +218,6 @@ def reconstruct(model: PointDistributionModel, gamma: np.ndarray) -> np.ndarray:
     gamma = as_finite_array(gamma, "gamma")
     if gamma.ndim not in (1, 2) or gamma.shape[-1] != model.n_modes:
         raise ValueError(f"gamma must have shape (n, {model.n_modes}) (one coefficient per mode), got {gamma.shape}")
-    return _reconstruct(model, gamma)
-
-
-def _reconstruct(model: PointDistributionModel, gamma: np.ndarray) -> np.ndarray:
-    """:func:`reconstruct` on validated input."""
     return model.mean + gamma @ model.modes.T  # X_hat = Y + Phi gamma (Sec. 2)
 
 
@@ -272,14 +253,9 @@ def ppca_log_density(model: PointDistributionModel, observed: np.ndarray) -> np.
     """
     model = _check_model(model)
     observed = as_finite_array(observed, "observed", shape=(None, len(model.mean)), max_abs=MAX_MAGNITUDE)
-    return _ppca_log_density(model, observed)
-
-
-def _ppca_log_density(model: PointDistributionModel, observed: np.ndarray) -> np.ndarray:
-    """:func:`ppca_log_density` on validated input (the recogniser's inner call)."""
     d, m = observed.shape[1], model.n_modes
-    gamma = _fit_modes(model, observed)  # clamped to +-3 sqrt(alpha_k)
-    residual = np.sum((observed - _reconstruct(model, gamma)) ** 2, axis=1)  # |r|^2, eq. 16
+    gamma = fit_modes(model, observed)  # clamped to +-3 sqrt(alpha_k)
+    residual = np.sum((observed - reconstruct(model, gamma)) ** 2, axis=1)  # |r|^2, eq. 16
     return -0.5 * (
         np.sum(gamma**2 / model.variances, axis=1) + residual / model.residual_variance
         + np.sum(np.log(model.variances)) + (d - m) * np.log(model.residual_variance) + d * np.log(2 * np.pi)
@@ -320,9 +296,27 @@ def _normalise_shape(points: np.ndarray) -> np.ndarray:
 MAX_MAGNITUDE = 1e150
 
 
-def _check_point_set_sizes(point_sets: np.ndarray, name: str) -> None:
+def check_point_set_sizes(point_sets: np.ndarray, name: str) -> None:
     """Refuse point sets whose points all coincide (they have no size to normalise or align), or
-    whose coordinates are too large to square."""
+    whose coordinates are too large to square.
+
+    Parameters
+    ----------
+    point_sets : (T, L, 2) numpy.ndarray
+        Finite point sets (already converted by ``as_finite_array``).
+    name : str
+        The argument's name, used in error messages.
+
+    Raises
+    ------
+    ValueError
+        Naming ``name``, for a coordinate beyond ``MAX_MAGNITUDE`` or a set of coincident points.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (aligned landmarks).
+    """
     as_finite_array(point_sets, name, max_abs=MAX_MAGNITUDE)
     # compared exactly: a centroid size computed from such a set is round-off, not always zero
     coincident = np.all(point_sets == point_sets[:, :1], axis=(1, 2))
@@ -331,13 +325,46 @@ def _check_point_set_sizes(point_sets: np.ndarray, name: str) -> None:
                          f"(zero centroid size at index {int(np.argmax(coincident))})")
 
 
-def _check_labels(labels: object, n_shapes: int) -> np.ndarray:
-    """One class label per shape; NaN is refused (it matches no class, so its shape would be dropped)."""
+#: Largest float class id accepted: every whole number up to 2**53 is exactly a float64, so no two ids merge.
+MAX_FLOAT_LABEL = 2.0**53
+
+
+def check_labels(labels: object, n_shapes: int) -> np.ndarray:
+    """One class label per shape: class names (str) or integer class ids.
+
+    Ids stored as floats are accepted when they are whole numbers within ±2**53 (exact in float64).
+    NaN and inf are refused (NaN matches no class, so its shape would be dropped), and so are
+    fractional or larger floats, which are no class id.
+
+    Parameters
+    ----------
+    labels : (T,) array_like
+        The class of every shape.
+    n_shapes : int
+        Number of shapes T.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``labels`` as an array (the dtype as given).
+
+    Raises
+    ------
+    ValueError
+        Naming ``labels``, when it breaks one of these rules.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75 (the shape classes recognised).
+    """
     labels = np.asarray(labels)
     if labels.shape != (n_shapes,):
         raise ValueError(f"labels must have shape ({n_shapes},) (one per shape), got {labels.shape}")
     if labels.dtype.kind == "f" and not np.isfinite(labels).all():
         raise ValueError("labels must not contain NaN or inf (every shape needs a finite class id)")
+    if labels.dtype.kind == "f" and np.any((np.abs(labels) > MAX_FLOAT_LABEL) | (labels != np.round(labels))):
+        raise ValueError("labels must be class names or integer class ids (whole numbers within ±2**53)")
     return labels
 
 
@@ -368,7 +395,7 @@ def generalized_procrustes(point_sets: np.ndarray, *, n_iter: int = 5) -> tuple[
     """
     sets = as_finite_array(point_sets, "point_sets", shape=(None, None, 2))
     check_positive_int(n_iter, "n_iter")
-    _check_point_set_sizes(sets, "point_sets")
+    check_point_set_sizes(sets, "point_sets")
     reference = _normalise_shape(sets[0])
     aligned = sets
     for _ in range(n_iter):
@@ -401,13 +428,13 @@ def align_to_reference(point_sets: np.ndarray, reference: np.ndarray) -> np.ndar
     """
     sets = as_finite_array(point_sets, "point_sets", shape=(None, None, 2))
     reference = as_finite_array(reference, "reference", shape=(sets.shape[1], 2))
-    _check_point_set_sizes(sets, "point_sets")
+    check_point_set_sizes(sets, "point_sets")
     return _align_to_reference(sets, reference)
 
 
 def _align_to_reference(point_sets: np.ndarray, reference: np.ndarray) -> np.ndarray:
     """:func:`align_to_reference` on validated arrays: the closed form of 2-D similarity
-    Procrustes, all sets at once (fast path of :func:`_align_to_reference_loop`).
+    Procrustes, all sets at once (fast path of :func:`align_to_reference_loop`).
 
     Written as complex numbers ``z = x + iy`` with centred source ``z`` and target ``y``, the best
     ``s R`` is the complex factor ``a = sum conj(z_i) y_i / sum |z_i|^2`` (a least-squares fit of
@@ -422,6 +449,26 @@ def _align_to_reference(point_sets: np.ndarray, reference: np.ndarray) -> np.nda
     return np.stack([aligned.real, aligned.imag], axis=-1)
 
 
-def _align_to_reference_loop(point_sets: np.ndarray, reference: np.ndarray) -> np.ndarray:
-    """Reference path of :func:`_align_to_reference`: one SVD Procrustes fit per set (Umeyama)."""
+def align_to_reference_loop(point_sets: np.ndarray, reference: np.ndarray) -> np.ndarray:
+    """Reference path of :func:`align_to_reference`: one SVD Procrustes fit per set (Umeyama).
+
+    Plain loop for reading and for the tests (not exported; nothing is validated here).
+
+    Parameters
+    ----------
+    point_sets : (T, L, 2) numpy.ndarray
+        ``T`` sets of ``L`` landmarks.
+    reference : (L, 2) numpy.ndarray
+        The target landmarks.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(T, L, 2)``: each set under its least-squares similarity onto ``reference``.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (aligned landmarks); Umeyama, IEEE PAMI 13 (1991).
+    """
     return np.stack([procrustes_align(points, reference).aligned for points in point_sets])

@@ -18,8 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive, check_positive_int, make_rng
-from amdo_lab.common.geometry import _apply_similarity_2d
+from amdo_lab.common import (apply_similarity_2d, as_finite_array, check_choice, check_in_range, check_names, check_positive,
+                             check_positive_int, make_rng)
 
 __all__ = [
     "LIMB_NAMES",
@@ -163,20 +163,6 @@ class PoseDataset:
     translations: np.ndarray
 
 
-def _check_classes(classes: object) -> tuple[str, ...]:
-    if isinstance(classes, str) or not hasattr(classes, "__iter__"):
-        raise TypeError(f"classes must be a sequence of pose names, got {classes!r}")
-    names = tuple(classes)
-    if not names:
-        raise ValueError("classes must name at least one pose, got an empty sequence")
-    unknown = [c for c in names if c not in POSES]
-    if unknown:
-        raise ValueError(f"classes contains unknown pose name(s) {unknown}; known: {sorted(POSES)}")
-    if len(set(names)) != len(names):
-        raise ValueError(f"classes must not repeat a name, got {names}")
-    return names
-
-
 def skeleton_strokes(directions_deg: np.ndarray, lengths: np.ndarray, landmarks_per_limb: int) -> np.ndarray:
     """Landmark strokes of stick-figure skeletons with given limb directions and lengths.
 
@@ -287,7 +273,7 @@ def generate_pose_dataset(
     >>> data.labels.tolist()
     ['boxing', 'boxing', 'boxing', 'kicking', 'kicking', 'kicking']
     """
-    names = _check_classes(classes)
+    names = check_names(classes, "classes", allowed=POSES)
     n_per_class = check_positive_int(n_per_class, "n_per_class")
     landmarks_per_limb = check_positive_int(landmarks_per_limb, "landmarks_per_limb", minimum=2)
     noise = check_positive(noise, "noise", allow_zero=True)
@@ -323,8 +309,8 @@ def generate_pose_dataset(
     rotations = np.deg2rad(generator.uniform(-max_rotation_deg, max_rotation_deg, n))
     translations = generator.uniform(-1.0, 1.0, (n, 2))
     shapes = np.empty_like(strokes)
-    for i in range(n):  # one similarity per example; all finite by construction, so unchecked
-        shapes[i] = _apply_similarity_2d(strokes[i].reshape(-1, 2), scales[i], rotations[i], translations[i]).reshape(
+    for i in range(n):  # one similarity per example
+        shapes[i] = apply_similarity_2d(strokes[i].reshape(-1, 2), scales[i], rotations[i], translations[i]).reshape(
             strokes.shape[1:]
         )
     return PoseDataset(shapes, labels, names, modes.astype(str), lengths * scales[:, None], scales, rotations, translations)

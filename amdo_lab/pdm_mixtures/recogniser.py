@@ -18,21 +18,21 @@ from amdo_lab.common import (
     procrustes_align,
 )
 from amdo_lab.common.threads import one_blas_thread
-from amdo_lab.pdm_mixtures.gmm import _fit_gaussian_mixtures_batch, fit_gaussian_mixture
+from amdo_lab.pdm_mixtures.gmm import fit_gaussian_mixture, fit_gaussian_mixtures_batch
 from amdo_lab.pdm_mixtures.pdm import (
-    PointDistributionModel,
-    _align_to_reference,
-    _check_labels,
     MAX_MAGNITUDE,
-    _check_point_set_sizes,
-    _fit_modes,
-    _pdm_from_moments,
-    _ppca_log_density,
-    _reconstruct,
+    PointDistributionModel,
+    align_to_reference,
+    check_labels,
+    check_point_set_sizes,
+    fit_modes,
     fit_pdm,
     generalized_procrustes,
+    pdm_from_moments,
+    ppca_log_density,
+    reconstruct,
 )
-from amdo_lab.pdm_mixtures.representation import _centred_limbs, _polar_shape_vector, _wrap_angle
+from amdo_lab.pdm_mixtures.representation import centred_limbs, polar_shape_vector, wrap_angle
 
 __all__ = [
     "ArticulatedShapeRecogniser",
@@ -86,12 +86,33 @@ def hamming_distance(label_strings: np.ndarray, dictionary: np.ndarray) -> np.nd
 
 
 def _hamming_distance(label_strings: np.ndarray, dictionary: np.ndarray) -> np.ndarray:
-    """Fast path of :func:`_hamming_distance_reference`: all pairs at once by broadcasting."""
+    """Fast path of :func:`hamming_distance_reference`: all pairs at once by broadcasting."""
     return np.sum(label_strings[:, None, :] != dictionary[None, :, :], axis=2)
 
 
-def _hamming_distance_reference(label_strings: np.ndarray, dictionary: np.ndarray) -> np.ndarray:
-    """Eq. 17 read as a distance, one pair at a time: ``H(L, Lambda) = sum_i (1 - delta(l_i, lambda_i))``."""
+def hamming_distance_reference(label_strings: np.ndarray, dictionary: np.ndarray) -> np.ndarray:
+    """Eq. 17 read as a distance, one pair at a time: ``H(L, Lambda) = sum_i (1 - delta(l_i, lambda_i))``.
+
+    The reference path of :func:`hamming_distance`, for reading and for the tests (not exported;
+    nothing is validated here).
+
+    Parameters
+    ----------
+    label_strings : (n, K) numpy.ndarray of int
+        Limb-label indices of ``n`` shapes.
+    dictionary : (C, K) numpy.ndarray of int
+        Permissible label strings.
+
+    Returns
+    -------
+    numpy.ndarray of int
+        ``(n, C)`` distances.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 6, eq. 17.
+    """
     distances = np.zeros((len(label_strings), len(dictionary)), dtype=int)
     for a, string in enumerate(label_strings):
         for b, item in enumerate(dictionary):
@@ -208,14 +229,14 @@ class PolarPDM:
         return as_finite_array(deviation, "deviation", shape=(None, width), max_abs=MAX_MAGNITUDE)
 
     def _project(self, deviation: np.ndarray) -> np.ndarray:
-        return np.concatenate([_reconstruct(pdm, _fit_modes(pdm, deviation[:, block]))
+        return np.concatenate([reconstruct(pdm, fit_modes(pdm, deviation[:, block]))
                                for pdm, block in zip(self.pdms, self.blocks)], axis=1)
 
     def _log_density(self, deviation: np.ndarray) -> np.ndarray:
         total = np.zeros(deviation.shape[0])
         for pdm, block in zip(self.pdms, self.blocks):
             data = deviation[:, block]
-            total += _ppca_log_density(pdm, data)
+            total += ppca_log_density(pdm, data)
         return total
 
 
@@ -337,7 +358,24 @@ def _circular_mean(angles: np.ndarray) -> np.ndarray:
     return np.arctan2(np.sin(angles).mean(axis=0), np.cos(angles).mean(axis=0))
 
 
-def _polar_blocks(polar_model: str) -> tuple[slice, ...]:
+def polar_blocks(polar_model: str) -> tuple[slice, ...]:
+    """The column blocks of the polar vector S that get one PDM each (not exported).
+
+    Parameters
+    ----------
+    polar_model : {"block", "joint"}
+        "block": the 13 angles and the 26 centre coordinates apart; "joint": all 39 together.
+
+    Returns
+    -------
+    tuple of slice
+        The blocks, in column order.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 3 (the vector S).
+    """
     if polar_model == "block":
         return (slice(0, N_LIMBS), slice(N_LIMBS, 3 * N_LIMBS))
     return (slice(0, 3 * N_LIMBS),)
@@ -455,7 +493,7 @@ class ArticulatedShapeRecogniser:
         array = as_finite_array(shapes, name, shape=(None, N_LIMBS, None, 2))
         if array.shape[2] < 2:
             raise ValueError(f"{name} must have at least 2 landmarks per limb, got {array.shape[2]}")
-        _check_point_set_sizes(array.reshape(len(array), -1, 2), name)
+        check_point_set_sizes(array.reshape(len(array), -1, 2), name)
         if hasattr(self, "landmarks_per_limb_") and array.shape[2] != self.landmarks_per_limb_:
             raise ValueError(
                 f"{name} must have {self.landmarks_per_limb_} landmarks per limb (as in training), got {array.shape[2]}"
@@ -486,7 +524,7 @@ class ArticulatedShapeRecogniser:
         for learned in [name for name in vars(self) if name.endswith("_")]:
             delattr(self, learned)  # a refit starts afresh (the landmark count may change)
         shapes = self._check_shapes(shapes)
-        labels = _check_labels(labels, shapes.shape[0])
+        labels = check_labels(labels, shapes.shape[0])
         present = tuple(dict.fromkeys(labels.tolist()))
         if expected_classes is not None:
             unknown = sorted(set(present) - set(expected_classes))
@@ -527,18 +565,18 @@ class ArticulatedShapeRecogniser:
         """One Gaussian mixture per limb by EM (eqs. 2-8), all 13 limbs in one batched loop (each
         limb's run is :func:`fit_gaussian_mixture` from a farthest-point start and its pooled
         covariance); each component becomes a limb-label PDM."""
-        limbs = np.swapaxes(_centred_limbs(aligned), 0, 1)  # (K, n, 2m)
+        limbs = np.swapaxes(centred_limbs(aligned), 0, 1)  # (K, n, 2m)
         d = limbs.shape[2]
         starts = np.stack([data[_farthest_point_init(data, self.n_limb_labels)] for data in limbs])
         spreads = np.stack([np.cov(data.T, bias=True) + 1e-6 * np.eye(d) for data in limbs])
         ridges = 1e-3 * np.trace(spreads, axis1=1, axis2=2) / d
-        weights, means, covariances, _ = _fit_gaussian_mixtures_batch(
+        weights, means, covariances, _ = fit_gaussian_mixtures_batch(
             limbs, starts, np.repeat(spreads[:, None], self.n_limb_labels, axis=1), self.n_em_iter, ridges)
         self.limb_models_: list[list[PointDistributionModel]] = []
         self.limb_weights_ = weights
         self.limb_noise_ = np.empty(N_LIMBS)
         for k in range(N_LIMBS):
-            models = [_pdm_from_moments(m, c, variance_fraction=self.variance_fraction)
+            models = [pdm_from_moments(m, c, variance_fraction=self.variance_fraction)
                       for m, c in zip(means[k], covariances[k])]
             self.limb_models_.append(models)
             # Isotropic residual variance of eq. 16, from each example's best-fitting label.
@@ -550,24 +588,25 @@ class ArticulatedShapeRecogniser:
 
         The class-conditional density of a label is its PDM's Gaussian (``limb_likelihood=
         "gaussian"``) or the isotropic residual of the clamped fit (``"residual"``, eq. 16)."""
-        limbs = _centred_limbs(aligned)
+        limbs = centred_limbs(aligned)
         log_lik = np.empty((aligned.shape[0], N_LIMBS, self.n_limb_labels))
         for k in range(N_LIMBS):
             data = limbs[:, k]
             if self.limb_likelihood == "gaussian":
-                log_lik[:, k] = np.stack([_ppca_log_density(model, data) for model in self.limb_models_[k]], axis=1)
+                log_lik[:, k] = np.stack([ppca_log_density(model, data) for model in self.limb_models_[k]], axis=1)
             else:
                 errors = np.stack([_fit_error(mdl, data) for mdl in self.limb_models_[k]], axis=1)
-                log_lik[:, k] = -errors / (2 * self.limb_noise_[k])
+                log_lik[:, k] = -errors / (2 * self.limb_noise_[k])  # ln of eq. (16): isotropic fit residual
             log_lik[:, k] += np.log(self.limb_weights_[k])
+        # Bayes' rule over the labels: ln P(λ | z_k, γ_λ, Φ_λ), the posterior that eq. (10) maximises
         return log_lik - np.logaddexp.reduce(log_lik, axis=2, keepdims=True)
 
     def _fit_shape_layer(self, aligned: np.ndarray, labels: np.ndarray) -> list[np.ndarray]:
         """Per class, a mixture of polar PDMs learnt by EM (Sec. 4, eqs. 2-8) on S relative to the
         class's circular mean angles; EM starts from a seeded k-means++ partition. Returns each
         class's training responsibilities ``(T_c, M)``."""
-        vectors = _polar_shape_vector(aligned)
-        blocks = _polar_blocks(self.polar_model)
+        vectors = polar_shape_vector(aligned)
+        blocks = polar_blocks(self.polar_model)
         rng = make_rng(self.rng, "rng")
         self.angle_means_ = []
         self.shape_models_: list[list[PolarPDM]] = []
@@ -578,7 +617,7 @@ class ArticulatedShapeRecogniser:
             angle_mean = _circular_mean(class_vectors[:, :N_LIMBS])
             self.angle_means_.append(angle_mean)
             deviation = self._deviation(class_vectors, angle_mean)
-            models, weights, resp = _fit_polar_mixture(deviation, self.n_shape_components, blocks, rng,
+            models, weights, resp = fit_polar_mixture(deviation, self.n_shape_components, blocks, rng,
                                                        self.n_em_iter, self.variance_fraction,
                                                        ridge=self.shape_ridge, n_restarts=self.n_restarts)
             self.shape_models_.append(models)
@@ -595,7 +634,7 @@ class ArticulatedShapeRecogniser:
     def _deviation(vectors: np.ndarray, angle_mean: np.ndarray) -> np.ndarray:
         """S relative to the class's circular mean angles (wrapped), so the PDM never sees a flip."""
         out = vectors.copy()
-        out[:, :N_LIMBS] = _wrap_angle(vectors[:, :N_LIMBS] - angle_mean)
+        out[:, :N_LIMBS] = wrap_angle(vectors[:, :N_LIMBS] - angle_mean)
         return out
 
     def _component_log_likelihoods(self, deviation: np.ndarray, j: int) -> tuple[np.ndarray, np.ndarray]:
@@ -609,12 +648,12 @@ class ArticulatedShapeRecogniser:
     def _shape_terms(self, aligned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Polar-PDM log-likelihoods ``(n, C, M)`` (without the mixing weights) and model fits
         ``(C, M, n, 3K)`` with the angles put back in absolute terms."""
-        vectors = _polar_shape_vector(aligned)
+        vectors = polar_shape_vector(aligned)
         log_lik, fits = [], []
         for j, angle_mean in enumerate(self.angle_means_):
             scores, component_fits = self._component_log_likelihoods(self._deviation(vectors, angle_mean), j)
             log_lik.append(scores - np.log(self.shape_weights_[j]))
-            component_fits[..., :N_LIMBS] = _wrap_angle(component_fits[..., :N_LIMBS] + angle_mean)
+            component_fits[..., :N_LIMBS] = wrap_angle(component_fits[..., :N_LIMBS] + angle_mean)
             fits.append(component_fits)
         return np.stack(log_lik, axis=1), np.stack(fits)
 
@@ -648,7 +687,7 @@ class ArticulatedShapeRecogniser:
         check_fitted(self, "classes_")
         shapes = self._check_shapes(shapes)
         flat = shapes.reshape(shapes.shape[0], -1, 2)
-        return _align_to_reference(flat, self.reference_).reshape(shapes.shape)
+        return align_to_reference(flat, self.reference_).reshape(shapes.shape)
 
     def recognise(self, shapes: np.ndarray) -> RecognitionTrace:
         """Run the hierarchical EM (eqs. 9-18) and return the full per-iteration trace.
@@ -772,25 +811,25 @@ class ArticulatedShapeRecogniser:
         j = self.classes_.index(class_name)
         angle_mean = self.angle_means_[j]
         # Use the class's mixture component that best explains the shape as first posed.
-        start = self._deviation(_polar_shape_vector(self.align(shape[None])), angle_mean)
+        start = self._deviation(polar_shape_vector(self.align(shape[None])), angle_mean)
         best = int(np.argmax(self._component_log_likelihoods(start, j)[0][0]))
         model, labels = self.shape_models_[j][best], self.dictionary_[j, best]
         data_centres = shape.mean(axis=1)
         model_vector = model.mean.copy()
-        model_vector[:N_LIMBS] = _wrap_angle(model_vector[:N_LIMBS] + angle_mean)
+        model_vector[:N_LIMBS] = wrap_angle(model_vector[:N_LIMBS] + angle_mean)
         drawn, misfit = [], []
         for _ in range(n_iter):
             model_centres = model_vector[N_LIMBS:].reshape(N_LIMBS, 2)
             pose = procrustes_align(model_centres, data_centres)
             # The data mapped into the model frame (inverse of the pose), limbs included.
             shape_in_model = ((shape - pose.translation) @ pose.rotation) / pose.scale
-            limbs_in_model = _centred_limbs(shape_in_model[None])[0]
+            limbs_in_model = centred_limbs(shape_in_model[None])[0]
             model_shape = self._model_limbs(model_vector, labels, None if not drawn else limbs_in_model)
             drawn.append(pose.scale * model_shape @ pose.rotation.T + pose.translation)
             misfit.append(pose.rms_error)
-            deviation = self._deviation(_polar_shape_vector(shape_in_model[None]), angle_mean)
+            deviation = self._deviation(polar_shape_vector(shape_in_model[None]), angle_mean)
             model_vector = model._project(deviation)[0]
-            model_vector[:N_LIMBS] = _wrap_angle(model_vector[:N_LIMBS] + angle_mean)
+            model_vector[:N_LIMBS] = wrap_angle(model_vector[:N_LIMBS] + angle_mean)
         return AlignmentTrace(np.stack(drawn), np.array(misfit))
 
     def predict_proba(self, shapes: np.ndarray) -> np.ndarray:
@@ -863,8 +902,8 @@ class ArticulatedShapeRecogniser:
             model = self.limb_models_[k][label_string[k]]
             if observed_limbs is None:
                 strokes.append(model.mean)
-            else:
-                strokes.append(_reconstruct(model, _fit_modes(model, observed_limbs[k][None]))[0])
+            else:  # eq. (15): the limb's label PDM at its best-fit (clamped) parameters γ_k
+                strokes.append(reconstruct(model, fit_modes(model, observed_limbs[k][None]))[0])
         return np.stack(strokes).reshape(N_LIMBS, -1, 2) + centres[:, None, :]
 
 
@@ -882,7 +921,7 @@ def _kmeans_partition(data: np.ndarray, n_clusters: int, rng: np.random.Generato
     return assign
 
 
-def _fit_polar_mixture(data: np.ndarray, n_components: int, blocks: tuple[slice, ...], rng: np.random.Generator,
+def fit_polar_mixture(data: np.ndarray, n_components: int, blocks: tuple[slice, ...], rng: np.random.Generator,
                        n_iter: int, variance_fraction: float, *, ridge: float = 1e-3,
                        n_restarts: int = 1) -> tuple[list[PolarPDM], np.ndarray, np.ndarray]:
     """Mixture of polar PDMs on ``data (T, 3K)`` by EM (eqs. 2-8); returns the components, the
@@ -895,7 +934,41 @@ def _fit_polar_mixture(data: np.ndarray, n_components: int, blocks: tuple[slice,
     ``ridge`` times the mean variance (T < 3K makes component covariances singular). With
     ``n_restarts`` > 1, EM runs from that many k-means++ starts drawn in turn from ``rng`` and the
     run with the highest final log-likelihood (eq. 3) is kept. Each component's mean and covariance
-    blocks, scaled back, become one PDM per block (at most ``round(T pi_m) - 1`` modes).
+    blocks, scaled back, become one PDM per block (at most ``round(T pi_m) - 1`` modes). The
+    recogniser's shape layer on its checked input (not exported).
+
+    Parameters
+    ----------
+    data : (T, 3K) numpy.ndarray
+        Polar vectors, angles relative to the class's circular mean.
+    n_components : int
+        Number of mixture components M.
+    blocks : tuple of slice
+        Column blocks, from :func:`polar_blocks`.
+    rng : numpy.random.Generator
+        Source of the k-means++ starts.
+    n_iter : int
+        EM iterations per run.
+    variance_fraction : float
+        Fraction of the variance each PDM keeps, in (0, 1].
+    ridge : float, default 1e-3
+        Ridge on the covariances, relative to the mean variance.
+    n_restarts : int, default 1
+        EM runs from independent starts; the most likely is kept.
+
+    Returns
+    -------
+    models : list of PolarPDM
+        The components.
+    weights : numpy.ndarray
+        ``(M,)`` mixing weights.
+    responsibilities : numpy.ndarray
+        ``(T, M)`` posteriors of the training vectors.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, eqs. 1-8 (the PDM and its Gaussian mixture, applied to S).
     """
     if n_components == 1:
         pdms = tuple(fit_pdm(data[:, block], variance_fraction=variance_fraction) for block in blocks)
@@ -921,7 +994,7 @@ def _fit_polar_mixture(data: np.ndarray, n_components: int, blocks: tuple[slice,
     for mean, cov, weight in zip(mixture.means / scale, mixture.covariances / np.outer(scale, scale), mixture.weights):
         cap = max(1, int(round(weight * len(data))) - 1)
         models.append(PolarPDM(blocks, tuple(
-            _pdm_from_moments(mean[block], cov[block, block], variance_fraction=variance_fraction, max_modes=cap)
+            pdm_from_moments(mean[block], cov[block, block], variance_fraction=variance_fraction, max_modes=cap)
             for block in blocks)))
     return models, np.clip(mixture.weights, 1e-12, None), mixture.responsibilities
 
@@ -976,7 +1049,7 @@ def held_out_log_likelihood(
     n_folds = check_positive_int(n_folds, "n_folds", minimum=2)
     variance_fraction = check_in_range(variance_fraction, "variance_fraction", 0, 1, closed="right")
     n_em_iter = check_positive_int(n_em_iter, "n_em_iter")
-    blocks = _polar_blocks(check_choice(polar_model, "polar_model", ("block", "joint")))
+    blocks = polar_blocks(check_choice(polar_model, "polar_model", ("block", "joint")))
     t = len(vectors)
     smallest_split = t - -(-t // n_folds)
     if smallest_split < MIN_PER_CLASS * n_components:
@@ -988,7 +1061,7 @@ def held_out_log_likelihood(
     total = 0.0
     for fold in range(n_folds):
         held = folds == fold
-        models, weights, _ = _fit_polar_mixture(vectors[~held], n_components, blocks, rng, n_em_iter,
+        models, weights, _ = fit_polar_mixture(vectors[~held], n_components, blocks, rng, n_em_iter,
                                                 variance_fraction, ridge=shape_ridge)
         scores = np.stack([np.log(w) + model._log_density(vectors[held]) for model, w in zip(models, weights)], axis=1)
         total += float(np.logaddexp.reduce(scores, axis=1).sum())
@@ -997,7 +1070,7 @@ def held_out_log_likelihood(
 
 def _fit_error(model: PointDistributionModel, data: np.ndarray) -> np.ndarray:
     """Squared residual of the clamped least-squares modal fit, per row."""
-    return np.sum((data - _reconstruct(model, _fit_modes(model, data))) ** 2, axis=1)
+    return np.sum((data - reconstruct(model, fit_modes(model, data))) ** 2, axis=1)
 
 
 def _farthest_point_init(data: np.ndarray, n_components: int) -> np.ndarray:

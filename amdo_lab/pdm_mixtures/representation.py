@@ -39,10 +39,7 @@ def wrap_angle(angles: np.ndarray) -> np.ndarray:
     Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 3 (limb angles in (-180, 180] degrees).
     """
-    return _wrap_angle(as_finite_array(angles, "angles", allow_empty=True))
-
-
-def _wrap_angle(angles: np.ndarray) -> np.ndarray:
+    angles = as_finite_array(angles, "angles", allow_empty=True)
     wrapped = np.mod(angles + np.pi, 2 * np.pi) - np.pi
     return np.where(wrapped == -np.pi, np.pi, wrapped)
 
@@ -123,7 +120,7 @@ def limb_angles(centres: np.ndarray) -> np.ndarray:
 
 def _limb_angles(centres: np.ndarray) -> np.ndarray:
     offsets = _articulation_centre(centres)[..., None, :] - centres
-    return _wrap_angle(np.arctan2(offsets[..., 1], offsets[..., 0]))
+    return wrap_angle(np.arctan2(offsets[..., 1], offsets[..., 0]))
 
 
 def polar_shape_vector(shapes: np.ndarray) -> np.ndarray:
@@ -145,11 +142,7 @@ def polar_shape_vector(shapes: np.ndarray) -> np.ndarray:
     Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 3 (the vector S).
     """
-    return _polar_shape_vector(_check_shapes(shapes))
-
-
-def _polar_shape_vector(shapes: np.ndarray) -> np.ndarray:
-    centres = _limb_centres(shapes)
+    centres = _limb_centres(_check_shapes(shapes))
     return np.concatenate([_limb_angles(centres), centres.reshape(centres.shape[0], -1)], axis=1)
 
 
@@ -171,9 +164,6 @@ def centred_limbs(shapes: np.ndarray) -> np.ndarray:
     Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 3 (the limb long-vector X_k) and Sec. 2 (PDMs of long-vectors).
     """
-    return _centred_limbs(_check_shapes(shapes))
-
-
-def _centred_limbs(shapes: np.ndarray) -> np.ndarray:
+    shapes = _check_shapes(shapes)
     centred = shapes - _limb_centres(shapes)[..., None, :]
     return centred.reshape(shapes.shape[0], shapes.shape[1], -1)

@@ -12,23 +12,7 @@ from bad_input_cases._core import Case
 
 #: (callable, argument, spoiled label) calls known to fail the test, with the reason; each must
 #: still fail (remove it once fixed).
-KNOWN_FAILURES: dict[tuple[str, str, str], str] = {
-    # a finite 1e308 not yet refused by name (the overflow policy of CONTRIBUTING.md)
-    ('apply_stencil', 'velocity', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('apply_finite_difference', 'velocity', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('solve_velocity', 'force', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('sor_solve', 'initial', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('register_dipy', 'template', 'huge inside'):
-        'crash: the interpreter died: /work/main/amdo_lab/common/geometry.py:238: RuntimeWarning: overflow',
-    ('register_dipy', 'study', 'huge inside'):
-        'crash: the interpreter died: /work/main/.venv/lib/python3.11/site-packages/dipy/align/imwarp.py:1',
-    ('accuracy_row', 'warped', 'huge inside'):
-        'wrong name: ValueError: scale, image and reference too large: the result overflows a float (NaN or inf',
-}
+KNOWN_FAILURES: dict[tuple[str, str, str], str] = {}
 
 #: Public names not called with user input, with the reason.
 EXEMPT = {

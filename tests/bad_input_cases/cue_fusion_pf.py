@@ -13,57 +13,7 @@ from bad_input_cases._core import Case
 
 #: (callable, argument, spoiled label) calls known to fail the test, with the reason; each must
 #: still fail (remove it once fixed).
-KNOWN_FAILURES: dict[tuple[str, str, str], str] = {
-    # a finite 1e308 not yet refused by name (the overflow policy of CONTRIBUTING.md)
-    ('ShapeSpace.ellipses', 'states', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('ShapeSpace.control_points', 'states', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('ShapeSpace.curve', 'states', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('ar2_stationary_variance', 'first_lag', 'huge'):
-        'silent accept: returned NaN or inf from finite input',
-    ('ar2_stationary_variance', 'second_lag', 'huge'):
-        'silent accept: returned NaN or inf from finite input',
-    ('ar2_stationary_variance', 'gain', 'huge'):
-        "crash: OverflowError: (34, 'Numerical result out of range')",
-    ('ColorLikelihood', 'reference_state', 'huge inside'):
-        'wrong name: ValueError: ellipse must be finite, got 2 NaN or infinite value(s)',
-    ('edge_line_likelihood', 'sigma_e', 'huge'):
-        "crash: OverflowError: (34, 'Numerical result out of range')",
-    ('simulate_measurement_lines', 'half_length', 'huge'):
-        'wrong name: ValueError: lam value too large',
-    ('simulate_measurement_lines', 'clutter_density', 'huge'):
-        'wrong name: ValueError: lam value too large',
-    ('integral_image', 'images', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('BoostedCascade.stages_passed', 'boxes', 'huge inside'):
-        'wrong name: ValueError: patches must be finite, got 320 NaN or infinite value(s)',
-    ('StructureLikelihood.log_likelihood', 'states', 'huge inside'):
-        'wrong name: ValueError: boxes must be finite, got 4 NaN or infinite value(s)',
-    ('StructureLikelihood.distance', 'states', 'huge inside'):
-        'wrong name: ValueError: boxes must be finite, got 4 NaN or infinite value(s)',
-    ('StructureLikelihood.boxes', 'states', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('calibrate_sigma', 'distances_true', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('track', 'stride', 'huge'):
-        'wrong name: ValueError: weights must be finite, got 6 NaN or infinite value(s)',
-    ('track', 'sigma_e', 'huge'):
-        "crash: OverflowError: (34, 'Numerical result out of range')",
-    ('track', 'stationary_std', 'huge inside'):
-        'crash: RuntimeError: the filter diverged at frame 1: no particle has a finite state of a plausibl',
-    ('track', 'init_spread', 'huge inside'):
-        'crash: RuntimeError: the filter diverged at frame 0: no particle has a finite state of a plausibl',
-    ('HeadSequence.oracle_log_likelihood', 'states', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('ellipse_iou', 'step', 'huge'):
-        "crash: OverflowError: (34, 'Numerical result out of range')",
-    ('track_camshift', 'init', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('track_mil', 'init', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-}
+KNOWN_FAILURES: dict[tuple[str, str, str], str] = {}
 
 #: Public names not called with user input, with the reason.
 EXEMPT = {
@@ -71,6 +21,7 @@ EXEMPT = {
     "TrackResult": "a result record, built by track and the peers from checked input",
     "HeadSequence": "a result record, built by make_head_sequence (its oracle method is tabled)",
     "BoostedCascade": "a trained model, built by train_cascade (its stages_passed method is tabled)",
+    "WalkerSequence": "a result record, built by make_walker_sequence (its oracle method is tabled)",
 }
 
 EMPTY = frozenset()
@@ -79,6 +30,7 @@ EMPTY = frozenset()
 def cases() -> dict[str, Case]:
     """The public callables of ``amdo_lab.cue_fusion_pf``, by name."""
     from amdo_lab import cue_fusion_pf as cf
+    from amdo_lab.cue_fusion_pf import likelihoods as likelihoods_module, structure as structure_module, tracker as tracker_module
 
     sequence = cf.make_head_sequence("twin", rng=0)
     frames = sequence.frames[:2]
@@ -203,9 +155,10 @@ def cases() -> dict[str, Case]:
                                # (..., H, W): a stack of one stack, images one pixel wider, a stack of none
                                accept=frozenset({("images", "one more axis"), ("images", "a wrong trailing axis"),
                                                  ("images", "an empty array")})),
-        "haar_features": Case(cf.haar_features, {"window": (8, 10), "n_features": 5, "rng": 0},
-                              {"window": "array", "n_features": "count", "rng": "seed"},
-                              accept=frozenset({("n_features", "None")})),  # the default: every feature
+        "haar_features": Case(cf.haar_features, {"window": (8, 10)}, {"window": "array"}),
+        "sample_haar_features": Case(structure_module.sample_haar_features,
+                                     {"features": cf.haar_features((8, 10)), "n_features": 5, "rng": 0},
+                                     {"features": "object", "n_features": "count", "rng": "seed"}),
         "make_training_set": Case(cf.make_training_set, {"rng": 0, "n_scenes": 1, "per_scene": 2,
                                                          "negatives_per_scene": 30},
                                   {"rng": "seed", "n_scenes": "count", "per_scene": "count",
@@ -249,6 +202,21 @@ def cases() -> dict[str, Case]:
         "systematic_resample": Case(cf.systematic_resample, {"weights": np.array([0.2, 0.5, 0.3]), "u": 0.4},
                                     {"weights": "array", "u": "probability"}),
         "track": Case(cf.track, tracking, tracking_kinds),
+        # --- the checks the modules share (public, not re-exported): the message names the caller's argument
+        "likelihoods.check_frame": Case(likelihoods_module.check_frame, {"frame": frame, "name": "reference_frame"},
+                                        {"frame": "image"}, names={"frame": "reference_frame"}),
+        "likelihoods.check_shape_space": Case(likelihoods_module.check_shape_space, {"shape_space": space},
+                                              {"shape_space": "object"}),
+        "tracker.check_frames": Case(tracker_module.check_frames, {"frames": frames}, {"frames": "image"}),
+        "tracker.as_ellipse": Case(tracker_module.as_ellipse, {"ellipse": ellipse, "name": "init"}, {"ellipse": "array"},
+                                   names={"ellipse": "init"}),
+        "tracker.shape_space_of": Case(tracker_module.shape_space_of, {"init": ellipse, "frame_shape": frame.shape[:2]},
+                                       {"init": "array"}),
+        "tracker.check_state_spread": Case(tracker_module.check_state_spread, {"spread": (2.0, 2.0, 0.02),
+                                                                               "name": "init_spread"},
+                                           {"spread": "array"}, names={"spread": "init_spread"}),
+        "tracker.check_cues": Case(tracker_module.check_cues, {"cues": ("color",)}, {"cues": "object"}),
+        "tracker.resolve_sigmas": Case(tracker_module.resolve_sigmas, {"sigmas": "calibrated"}, {"sigmas": "object"}),
         # --- data and peers
         "make_head_sequence": Case(cf.make_head_sequence, {"kind": "twin", "rng": 0, "noise_std": 5.0,
                                                            "cast_strength": 1.0},
@@ -272,4 +240,44 @@ def cases() -> dict[str, Case]:
                                                  "n_particles": 6, "sigmas": "calibrated"},
                               {"frames": "image", "init": "array", "rng": "seed", "cues": "object",
                                "n_particles": "count", "sigmas": "object"}),
+        **_walker_cases(cf, frames, space),
+    }
+
+
+def _walker_cases(cf, frames: np.ndarray, space) -> dict[str, Case]:
+    """The walker of Fig. 6 and the similarity shape space (eqs. 2-3): a tiny hand-made walker record."""
+    template = space.template + np.array([128.0, 96.0])
+    similarity = cf.ShapeSpace(template, "similarity")
+    outlines = np.stack([template, template + [2.0, 1.0]])
+    truth = cf.fit_similarity(template, outlines)
+    walker = cf.WalkerSequence(frames, truth, similarity.ellipses(truth), outlines, {"walking": (0, 2)}, template)
+    states = truth + np.array([[0.0, 0.0, 0.0, 0.0], [3.0, -2.0, 0.05, 0.1]])
+    tracking = {"frames": frames, "init": template, "rng": 0, "cues": ("color", "edge"), "n_particles": 6,
+                "bins": 16, "n_lines": 12, "shape": "similarity", "mean": truth[0],
+                "init_spread": (2.0, 2.0, 0.02, 0.02), "beta": (2.0, 2.0, 10.0, 10.0),
+                "stationary_std": (100.0, 100.0, 0.1, 0.1)}
+    return {
+        "make_walker_sequence": Case(cf.make_walker_sequence, {"rng": 0, "noise_std": 4.0, "distortion": 0.12,
+                                                               "clutter_strength": 0.85},
+                                     {"rng": "seed", "noise_std": "non_negative", "distortion": "non_negative",
+                                      "clutter_strength": "probability"}),
+        "WalkerSequence.oracle_log_likelihood": Case(lambda **kwargs: walker.oracle_log_likelihood(**kwargs),
+                                                     {"t": 1, "states": states}, {"t": "count", "states": "array"},
+                                                     accept=frozenset({("states", "an empty array"), ("t", "zero")})),
+        "fit_similarity": Case(cf.fit_similarity, {"template": template, "points": outlines[0]},
+                               {"template": "points", "points": "points"},
+                               accept=frozenset({("points", "one more axis")})),  # a stack of one outline
+        "box_iou": Case(cf.box_iou, {"first": outlines[0], "second": outlines[1]}, {"first": "points", "second": "points"},
+                        # a stack of one outline against a stack of one: one IoU
+                        accept=frozenset()),
+        "ShapeSpace.similarity_parts": Case(lambda **kwargs: similarity.similarity_parts(**kwargs), {"states": states},
+                                            {"states": "array"}, accept=frozenset({("states", "an empty array")})),
+        "ShapeSpace.from_ellipse (similarity)": Case(cf.ShapeSpace.from_ellipse,
+                                                     {"ellipse": similarity.template_ellipse + [128.0, 96.0, 0, 0, 0],
+                                                      "n_control": 8, "kind": "similarity"},
+                                                     {"ellipse": "array", "n_control": "count", "kind": "name"}),
+        # (init_spread and stationary_std are spoiled in the head's "track" entry above)
+        "track (similarity)": Case(cf.track, tracking, {"init": "array", "shape": "name", "mean": "array",
+                                                        "beta": "array"},
+                                   accept=frozenset({("mean", "None")})),  # the default: the initial state
     }

@@ -12,53 +12,7 @@ from bad_input_cases._core import Case
 
 #: (callable, argument, spoiled label) calls known to fail the test, with the reason; each must
 #: still fail (remove it once fixed).
-KNOWN_FAILURES: dict[tuple[str, str, str], str] = {
-    # a finite 1e308 not yet refused by name (the overflow policy of CONTRIBUTING.md)
-    ('HandModel.part_distances', 'points', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('HandModel.surface_distance', 'points', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('HandModel.surface_distance_jacobian', 'points', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('HandModel.surface_normals', 'points', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('joint_rmse_deg', 'theta_est', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('joint_rmse_deg', 'theta_true', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('worst_joint_deg', 'theta_est', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('worst_joint_deg', 'theta_true', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('e_step_statistics', 'model_points', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('e_step_statistics', 'data_points', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('e_step_statistics_kdtree', 'model_points', 'huge inside'):
-        'wrong name: ValueError: Encountering floating point overflow. The value of p too large for this datase',
-    ('e_step_statistics_kdtree', 'data_points', 'huge inside'):
-        'wrong name: ValueError: Encountering floating point overflow. The value of p too large for this datase',
-    ('m_step_targets', 'alpha', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('robust_log_likelihood', 'data_points', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('dof_lever_arms', 'theta', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('register_em', 'model_points', 'huge inside'):
-        'wrong name: ValueError: Encountering floating point overflow. The value of p too large for this datase',
-    ('register_em', 'data_points', 'huge inside'):
-        'wrong name: ValueError: Encountering floating point overflow. The value of p too large for this datase',
-    ('refine_digits', 'data_points', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('fit_known_correspondences', 'model_points', 'huge inside'):
-        'wrong name: ValueError: theta must be finite, got 27 NaN or infinite value(s)',
-    ('fit_known_correspondences', 'matched_points', 'huge inside'):
-        'wrong name: ValueError: theta must be finite, got 27 NaN or infinite value(s)',
-    ('fit_surface', 'data_points', 'huge inside'):
-        'wrong name: ValueError: theta must be finite, got 27 NaN or infinite value(s)',
-    ('fit_surface', 'weights', 'huge inside'):
-        'wrong name: ValueError: theta must be finite, got 27 NaN or infinite value(s)',
-}
+KNOWN_FAILURES: dict[tuple[str, str, str], str] = {}
 
 #: Public names not called with user input, with the reason.
 EXEMPT = {

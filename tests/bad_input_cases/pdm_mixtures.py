@@ -8,15 +8,7 @@ from bad_input_cases._core import Case
 
 #: (callable, argument, spoiled label) calls known to fail the test, with the reason; each must
 #: still fail (remove it once fixed).
-KNOWN_FAILURES: dict[tuple[str, str, str], str] = {
-    # a finite 1e308 not yet refused by name (the overflow policy of CONTRIBUTING.md)
-    ('ArticulatedShapeRecogniser.fit', 'labels', 'huge inside'):
-        'wrong name: ValueError: every class needs at least 3 training examples for a covariance (3 per shape c',
-    ('SingleCartesianPDMClassifier', 'labels', 'huge inside'):
-        'wrong name: ValueError: long_vectors needs at least 3 training examples for a covariance, got 1',
-    ('SklearnGMMClassifier', 'labels', 'huge inside'):
-        'wrong name: ValueError: Found array with 1 sample(s) (shape=(1, 52)) while a minimum of 2 is required ',
-}
+KNOWN_FAILURES: dict[tuple[str, str, str], str] = {}
 
 #: Public names not called with user input, with the reason.
 EXEMPT = {
