@@ -633,11 +633,11 @@ def test_silhouette_covers_the_ear_and_is_empty_on_a_blank_image(small_database)
 
 
 def test_moment_frame_fast_path_equals_the_reference(small_database):
-    from amdo_lab.ear_biometrics.frame import _moment_frame_fast
+    from amdo_lab.ear_biometrics.frame import moment_frame_fast
 
     for image in small_database.images[:4]:
         mask = eb.silhouette(image)
-        reference, fast = eb.moment_frame(mask, image.shape), _moment_frame_fast(mask, image.shape)
+        reference, fast = eb.moment_frame(mask, image.shape), moment_frame_fast(mask, image.shape)
         np.testing.assert_allclose(fast.matrix, reference.matrix, atol=1e-9)
         assert fast.third_moment == pytest.approx(reference.third_moment, abs=1e-9) and reference.third_moment >= 0
 
@@ -910,6 +910,46 @@ def test_hog_parameters_are_stored_as_given_and_checked_when_used(small_database
     assert baseline.pixels_per_cell == 1
     with pytest.raises(ValueError, match="pixels_per_cell must be at least 2"):
         baseline.describe(images[0])
+
+
+def test_module_level_checks_name_the_argument(small_database):
+    """The checks that evaluation.py and plotting.py share with matcher.py and features.py."""
+    from amdo_lab.ear_biometrics.features import as_bool_image
+    from amdo_lab.ear_biometrics.frame import moment_frame_fast
+    from amdo_lab.ear_biometrics.matcher import check_images, check_subject_id, check_subject_ids, check_templates
+
+    assert check_subject_id("ann", "who") == "ann" and check_subject_ids([1, 2], "ids").tolist() == [1, 2]
+    check_images(small_database.images[:2])
+    for call, error, text in [(lambda: check_subject_id(None, "who"), ValueError, "who"),
+                              (lambda: check_subject_id(True, "who"), TypeError, "who"),
+                              (lambda: check_subject_id(1e308, "who"), ValueError, "who"),
+                              (lambda: eb.as_grey_image(np.full((9, 9), 1e308), "photo"), ValueError, "photo"),
+                              (lambda: check_subject_ids([1, np.nan], "ids"), ValueError, r"ids\[1\]"),
+                              (lambda: check_images([], "pictures"), ValueError, "pictures"),
+                              (lambda: check_images([np.zeros((3, 3))], "pictures"), ValueError, r"pictures\[0\]"),
+                              (lambda: check_templates([small_database.images[0]], "gallery"), TypeError, "gallery"),
+                              (lambda: as_bool_image(np.zeros((0, 5), bool), "edges"), ValueError, "edges"),
+                              (lambda: as_bool_image(np.zeros((5, 5)), "edges"), TypeError, "edges"),
+                              (lambda: moment_frame_fast(np.ones((9, 9)), (64, 64)), TypeError, "mask"),
+                              (lambda: moment_frame_fast(np.ones((9, 9), bool), (64, 64), 0.7), ValueError, "spread_fraction")]:
+        with pytest.raises(error, match=text):
+            call()
+
+
+def test_a_similarity_copy_moves_the_points_of_f_less_than_new_noise():
+    """The default pipeline (canonical frame, blur before eqs. 1-5) on 12 ears drawn inside the image:
+    a random similarity of the reference image changes F (the point distance D) less, on average,
+    than a second capture that differs only by its sensor noise."""
+    rng = np.random.default_rng(314)
+    matcher, pose = eb.EarMatcher(), eb.CapturePose(0.0, 0.85, np.zeros(2), 0.0)
+    noise, copy = [], []
+    for _ in range(12):
+        shape = eb.draw_ear_shape(rng=rng)
+        reference, again = eb.render_ear(shape, pose, rng=rng), eb.render_ear(shape, pose, rng=rng)
+        base = matcher.extract(reference).topology
+        noise.append(eb.point_distance(matcher.extract(again).topology, base))
+        copy.append(eb.point_distance(matcher.extract(eb.similarity_copy(reference, rng=rng)).topology, base))
+    assert np.mean(copy) < np.mean(noise)
 
 
 def test_detect_contours_reference_equals_the_filtered_detector():

@@ -9,8 +9,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import as_finite_array, check_positive_int, make_rng
-from amdo_lab.ear_biometrics.matcher import (EarMatcher, EarTemplate, HogNearestNeighbour, _check_images,
-                                             _check_subject_ids, _check_templates, rank_of_truth)
+from amdo_lab.ear_biometrics.matcher import (EarMatcher, EarTemplate, HogNearestNeighbour, check_images,
+                                             check_subject_ids, check_templates, rank_of_truth)
 from amdo_lab.ear_biometrics.synthetic import check_disable, generate_ear_database
 
 
@@ -52,7 +52,7 @@ def genuine_impostor_separation(distances: object, enrolled_ids: object, query_i
     Parameters
     ----------
     distances : array_like, shape (n_queries, n_enrolled)
-        Finite distances, lower = more alike.
+        Finite distances within +-1e150 (their variances must stay finite), lower = more alike.
     enrolled_ids : array_like, shape (n_enrolled,)
         Subject of each enrolled template (str or finite real ids).
     query_ids : array_like, shape (n_queries,)
@@ -68,9 +68,9 @@ def genuine_impostor_separation(distances: object, enrolled_ids: object, query_i
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 5, step 4.
     """
-    distances = as_finite_array(distances, "distances", ndim=2)
-    enrolled_ids = _check_subject_ids(enrolled_ids, "enrolled_ids")
-    query_ids = _check_subject_ids(query_ids, "query_ids")
+    distances = as_finite_array(distances, "distances", ndim=2, max_abs=1e150)  # squared in the variances
+    enrolled_ids = check_subject_ids(enrolled_ids, "enrolled_ids")
+    query_ids = check_subject_ids(query_ids, "query_ids")
     if distances.shape[1] != len(enrolled_ids):
         raise ValueError(f"enrolled_ids must give one subject per column of distances (shape {distances.shape}), "
                          f"got {len(enrolled_ids)}")
@@ -110,8 +110,8 @@ def distance_sum_gaps(queries: list[EarTemplate], references: list[EarTemplate])
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 4, eq. (7) and Sec. 5, step 4.
     """
-    _check_templates(queries, "queries")
-    _check_templates(references, "references")
+    check_templates(queries, "queries")
+    check_templates(references, "references")
     n_circles = {len(t.circles.distance_sums) for t in [*queries, *references]}
     if len(n_circles) > 1:
         raise ValueError(f"queries and references must all have the same number of circles, got {sorted(n_circles)}")
@@ -193,8 +193,8 @@ def closed_set(matcher: EarMatcher, templates: list[EarTemplate], subject_ids: o
         raise TypeError(f"matcher must be an EarMatcher, got {type(matcher).__name__}")
     if matcher.n_enrolled:
         raise ValueError("matcher must be empty (a fresh EarMatcher)")
-    _check_templates(templates, "templates")
-    ids = _check_subject_ids(subject_ids, "subject_ids")
+    check_templates(templates, "templates")
+    ids = check_subject_ids(subject_ids, "subject_ids")
     if len(ids) != len(templates) or len(ids) % 2:
         raise ValueError("templates and subject_ids must have the same even length (two captures per subject)")
     for template, subject in zip(templates[0::2], ids[0::2]):
@@ -234,8 +234,8 @@ def hog_closed_set(images: np.ndarray, subject_ids: object, pixels_per_cell: int
     LNCS 3179, pp. 51-61, Sec. 6 (the protocol).
     N. Dalal, B. Triggs, "Histograms of Oriented Gradients for Human Detection", CVPR 2005.
     """
-    _check_images(images)
-    ids = _check_subject_ids(subject_ids, "subject_ids")
+    check_images(images)
+    ids = check_subject_ids(subject_ids, "subject_ids")
     if len(ids) != len(images) or len(ids) % 2:
         raise ValueError("images and subject_ids must have the same even length (two captures per subject), "
                          f"got {len(images)} images and subject_ids of shape {ids.shape}")

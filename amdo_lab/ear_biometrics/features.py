@@ -15,13 +15,33 @@ from amdo_lab.common import (as_bool_mask, as_finite_array, check_choice, check_
                              check_positive_int)
 
 
-def _as_bool_image(value: object, name: str) -> np.ndarray:
-    """A non-empty 2-D boolean image (contours, a skeleton): OpenCV's morphology and component
-    labelling crash the interpreter on an image with zero rows, so empty images are refused here."""
+def as_bool_image(value: object, name: str) -> np.ndarray:
+    """Check a non-empty 2-D boolean image (contours, a skeleton).
+
+    OpenCV's morphology and component labelling crash the interpreter on an image with zero rows,
+    so empty images are refused here.
+
+    Parameters
+    ----------
+    value : object
+        The argument to check.
+    name : str
+        The argument's name in error messages.
+
+    Returns
+    -------
+    numpy.ndarray, shape (rows, cols), bool
+        The image as an array.
+    """
     array = np.asarray(value)
     if array.dtype != bool or array.ndim != 2:
         raise TypeError(f"{name} must be a 2-D boolean image, got dtype {array.dtype}, shape {array.shape}")
     return as_bool_mask(array, name)
+
+
+MAX_GREY_LEVEL = 1e6
+"""Largest grey level of an image: 8- and 16-bit images and float images fit with room to spare;
+the squared window sums of eq. (2) and the HOG gradients stay exact and finite far beyond it."""
 
 
 def as_grey_image(image: object, name: str = "image") -> np.ndarray:
@@ -33,8 +53,8 @@ def as_grey_image(image: object, name: str = "image") -> np.ndarray:
     Parameters
     ----------
     image : array_like, shape (rows, cols)
-        Grey levels: real, finite, non-negative (0-255 for 8-bit images), at least 8 x 8 pixels;
-        booleans are refused.
+        Grey levels: real, finite, non-negative and at most :data:`MAX_GREY_LEVEL` (0-255 for 8-bit
+        images), at least 8 x 8 pixels; booleans are refused.
     name : str
         The argument's name in error messages.
 
@@ -62,6 +82,8 @@ def as_grey_image(image: object, name: str = "image") -> np.ndarray:
         raise ValueError(f"{name} must be finite, got NaN or infinite values")
     if array.min() < 0:
         raise ValueError(f"{name} must hold non-negative intensities, got minimum {array.min():.3g}")
+    if array.max() > MAX_GREY_LEVEL:
+        raise ValueError(f"{name} must hold intensities of at most {MAX_GREY_LEVEL:g}, got maximum {array.max():.3g}")
     return array
 
 
@@ -213,7 +235,7 @@ def clean_contours(contours: object, min_size: int = 20, closing: int = 1) -> np
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 1, Fig. 3 (binarisation before the features).
     """
-    array = _as_bool_image(contours, "contours")
+    array = as_bool_image(contours, "contours")
     min_size = check_positive_int(min_size, "min_size")
     closing = check_positive_int(closing, "closing", minimum=0)
     if closing:
@@ -293,7 +315,7 @@ class Normalisation:
         Parameters
         ----------
         rows_cols : array_like, shape (n, 2) or (2,)
-            Pixel positions (row, col), finite.
+            Pixel positions (row, col), finite, within +-1e6 pixels.
 
         Returns
         -------
@@ -308,7 +330,7 @@ class Normalisation:
         Parameters
         ----------
         xy : array_like, shape (n, 2) or (2,)
-            Normalised (x, y), finite.
+            Normalised (x, y), finite, within +-1e6 (a contour lies within a few units of the origin).
 
         Returns
         -------
@@ -318,9 +340,14 @@ class Normalisation:
         return _check_points(xy, "xy") @ np.linalg.inv(self.matrix).T + self.centroid
 
 
+# Largest coordinate accepted by Normalisation's maps, pixels or normalised units: far beyond any
+# image, and far enough below overflow that a map through an extreme spread stays finite.
+MAX_COORDINATE = 1e6
+
+
 def _check_points(points: object, name: str) -> np.ndarray:
     """Finite 2-D points as rows; an (n, 3) array is refused rather than silently re-cut into pairs."""
-    array = as_finite_array(points, name, allow_empty=True)
+    array = as_finite_array(points, name, allow_empty=True, max_abs=MAX_COORDINATE)
     if array.ndim not in (1, 2) or array.shape[-1] != 2:
         raise ValueError(f"{name} must have shape (n, 2) or (2,), got {array.shape}")
     return array.reshape(-1, 2)
@@ -507,7 +534,7 @@ def skeleton_graph(skeleton: object) -> tuple[np.ndarray, np.ndarray]:
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 4 (the contours traced for eq. (9), read here as polylines).
     """
-    thin = _as_bool_image(skeleton, "skeleton")
+    thin = as_bool_image(skeleton, "skeleton")
     h, w = thin.shape
     index = np.full((h + 2, w + 2), -1, np.int64)
     nodes = np.argwhere(thin)
@@ -666,7 +693,7 @@ def prune_spurs(skeleton: object, length_px: int) -> np.ndarray:
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 4 (beyond the paper: endings of eq. (9) that a ragged contour would add).
     """
-    thin = _as_bool_image(skeleton, "skeleton")
+    thin = as_bool_image(skeleton, "skeleton")
     length = check_positive_int(length_px, "length_px", minimum=0)
     kernel = np.ones((3, 3), np.uint8)
 
@@ -905,7 +932,7 @@ def crossing_number(skeleton: np.ndarray) -> np.ndarray:
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 4, eq. (8) and Fig. 7.
     """
-    thin = _as_bool_image(skeleton, "skeleton")
+    thin = as_bool_image(skeleton, "skeleton")
     return _crossing_number(thin)
 
 

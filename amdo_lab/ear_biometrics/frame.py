@@ -103,11 +103,8 @@ def silhouette(image: np.ndarray, sigma: float = 2.0, closing: int = 7) -> np.nd
     """
     grey = as_grey_image(image)
     sigma = check_in_range(check_positive(sigma, "sigma"), "sigma", 0, max(grey.shape), closed="right")
-    return _silhouette(np.asarray(image), sigma, check_positive_int(closing, "closing"))
-
-
-def _silhouette(array: np.ndarray, sigma: float = 2.0, closing: int = 7) -> np.ndarray:
-    """:func:`silhouette` of a validated image."""
+    closing = check_positive_int(closing, "closing")
+    array = np.asarray(image)
     blurred = cv2.GaussianBlur(array if array.dtype == np.uint8 else array.astype(np.float32), (0, 0), sigma)
     border = np.r_[blurred[0], blurred[-1], blurred[:, 0], blurred[:, -1]]
     level = np.median(border)
@@ -185,11 +182,34 @@ def _check_frame_input(mask: object, shape: object, spread_fraction: object) -> 
     return array, shape, check_spread_fraction(spread_fraction, "spread_fraction")
 
 
-def _moment_frame_fast(mask: np.ndarray, shape: tuple[int, int], spread_fraction: float = CANONICAL_SPREAD
-                       ) -> CanonicalFrame:
-    """:func:`moment_frame` from OpenCV's image moments (central moments mu_pq in x = col, y = row),
-    the same numbers without listing the pixels; tested equal to the reference."""
-    m = cv2.moments(np.asarray(mask, np.uint8), binaryImage=True)
+def moment_frame_fast(mask: np.ndarray, shape: tuple[int, int], spread_fraction: float = CANONICAL_SPREAD
+                      ) -> CanonicalFrame:
+    """:func:`moment_frame` from OpenCV's image moments (the fast path the matcher uses).
+
+    The same centroid, covariance and third moment as the plain-numpy reference, from the central
+    moments mu_pq (x = col, y = row) without listing the pixels; tested equal to :func:`moment_frame`.
+
+    Parameters
+    ----------
+    mask : array_like, shape (rows, cols), bool
+        The silhouette (or contours): at least 3 pixels, not on one straight line.
+    shape : tuple of int
+        (rows, cols) of the canonical image, each >= 8.
+    spread_fraction : float
+        Spread of the mask in the canonical image, as a fraction of the shorter side, in (0, 0.5).
+
+    Returns
+    -------
+    CanonicalFrame
+        Centroid, signed axis, spread, elongation, third moment and the 2 x 3 map.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 3, eq. (6). Beyond the paper: its Sec. 3 moments (eq. 6) taken of the silhouette and applied to the image.
+    """
+    mask, shape, spread_fraction = _check_frame_input(mask, shape, spread_fraction)
+    m = cv2.moments(mask.astype(np.uint8), binaryImage=True)
     if m["m00"] < 3:
         raise ValueError("mask must hold at least 3 pixels to define a frame (no ear found?)")
     n = m["m00"]
@@ -250,11 +270,7 @@ def to_canonical(image: np.ndarray, frame: CanonicalFrame) -> np.ndarray:
     as_grey_image(image)
     if not isinstance(frame, CanonicalFrame):
         raise TypeError(f"frame must be a CanonicalFrame (from moment_frame), got {type(frame).__name__}")
-    return _to_canonical(np.asarray(image), frame)
-
-
-def _to_canonical(array: np.ndarray, frame: CanonicalFrame) -> np.ndarray:
-    """:func:`to_canonical` of a validated image."""
+    array = np.asarray(image)
     scale = float(np.sqrt(abs(np.linalg.det(frame.matrix[:, :2]))))
     if scale < 1:
         array = cv2.GaussianBlur(array, (0, 0), 0.5 * np.sqrt(1 / scale**2 - 1))

@@ -28,9 +28,9 @@ from amdo_lab.ear_biometrics.frame import (
     check_frame_source,
     check_spread_fraction,
     frame_normalisation,
-    _moment_frame_fast,
-    _silhouette,
-    _to_canonical,
+    moment_frame_fast,
+    silhouette,
+    to_canonical,
 )
 
 
@@ -250,17 +250,24 @@ class EarMatcher:
     Invariance (beyond the paper's text): with a canonical frame (``frame``) the image is resampled
     into the frame of its silhouette (:func:`~amdo_lab.ear_biometrics.frame.moment_frame`) *before*
     step 1, so a rotated, rescaled or shifted copy is detected at the same place, orientation and
-    size.
+    size; the ``smoothing`` blur then makes detection indifferent to the copy's extra resampling.
+    Both need the whole ear inside the image: an ear cut by the image border has a different
+    silhouette in every copy, hence a different frame.
 
     Parameters
     ----------
     k : float
-        Sensitivity of the contour detector, eq. (4), >= 0.
+        Sensitivity of the contour detector, eq. (4), >= 0 (12 with the default smoothing: the blur
+        lowers the local contrast sigma / mu, so the detector is made more sensitive; the paper's
+        figures use 6-10 on unblurred images).
     window : int
         Window side of eqs. (1)-(3), odd, >= 3.
     smoothing : float
-        Gaussian blur before contour detection, sigma in pixels, >= 0 (0, the default, follows the
-        paper) and at most the image's larger side (checked when an image is processed).
+        Gaussian blur before contour detection, sigma in pixels, >= 0 (0 follows the paper) and at
+        most the image's larger side (checked when an image is processed). The default 1.5 makes
+        the contours indifferent to one more interpolation of the image: a rotated or rescaled copy
+        has been resampled once more than the original, which blurs it by about 0.4 pixel and drops
+        weak contour pixels; after a 1.5-pixel blur that extra blur hardly changes the image.
     n_circles : int
         Number of circles N_r of eq. (7), >= 1.
     step : float
@@ -331,9 +338,9 @@ class EarMatcher:
     0
     """
 
-    k: float = 8.0
+    k: float = 12.0
     window: int = 3
-    smoothing: float = 0.0
+    smoothing: float = 1.5
     n_circles: int = 8
     step: float = 0.25
     min_component_size: int = 40
@@ -401,10 +408,10 @@ class EarMatcher:
 
     def _frame_of(self, work: np.ndarray) -> CanonicalFrame:
         """:meth:`canonical_frame` of validated input (8-bit or float)."""
-        mask = _silhouette(work) if self.frame == "silhouette" else self._contours(work)
+        mask = silhouette(work) if self.frame == "silhouette" else self._contours(work)
         if np.count_nonzero(mask) < 3:
             raise ValueError("image has no contour (blank, constant or too smooth image): no ear silhouette")
-        return _moment_frame_fast(mask, work.shape, self.canonical_spread)
+        return moment_frame_fast(mask, work.shape, self.canonical_spread)
 
     def _input(self, image: object, grey: np.ndarray) -> np.ndarray:
         """8-bit input keeps the detector's fast uint8 path; anything else is used as float."""
@@ -456,7 +463,7 @@ class EarMatcher:
         work, normalisation = self._input(image, grey), None
         if self.frame != "image":
             frame = self._frame_of(work)
-            work = _to_canonical(work, frame)
+            work = to_canonical(work, frame)
             if self.origin == "frame":
                 normalisation = frame_normalisation(frame, grey.shape, self.mode, self.canonical_spread)
         return work, normalisation
@@ -487,7 +494,7 @@ class EarMatcher:
         Parameters
         ----------
         subject_id : object
-            The subject's id: a str or a finite real number (not None, which means rejection, nor a bool).
+            The subject's id: a str or a real number within +-2**53 (not None, which means rejection, nor a bool).
         image : array_like, shape (rows, cols)
             Grey levels holding the subject's ear; an image without contours raises ValueError.
 
@@ -496,7 +503,7 @@ class EarMatcher:
         EarTemplate
             The enrolled features.
         """
-        _check_subject_id(subject_id, "subject_id")
+        check_subject_id(subject_id, "subject_id")
         return self.enroll_template(subject_id, self.extract(image))
 
     def enroll_template(self, subject_id: object, template: EarTemplate) -> EarTemplate:
@@ -505,7 +512,7 @@ class EarMatcher:
         Parameters
         ----------
         subject_id : object
-            The subject's id: a str or a finite real number (not None nor a bool).
+            The subject's id: a str or a real number within +-2**53 (not None nor a bool).
         template : EarTemplate
             Features with ``n_circles`` circles.
 
@@ -514,7 +521,7 @@ class EarMatcher:
         EarTemplate
             ``template``, now enrolled.
         """
-        _check_subject_id(subject_id, "subject_id")
+        check_subject_id(subject_id, "subject_id")
         if not isinstance(template, EarTemplate):
             raise TypeError(f"template must be an EarTemplate, got {type(template).__name__}")
         if len(template.circles.counts) != self.n_circles:
@@ -553,8 +560,8 @@ class EarMatcher:
         EarMatcher
             ``self``, with ``subject_ids_`` and ``templates_`` learned.
         """
-        _check_images(images)
-        if len(_check_subject_ids(subject_ids, "subject_ids")) != len(images):
+        check_images(images)
+        if len(check_subject_ids(subject_ids, "subject_ids")) != len(images):
             raise ValueError(f"subject_ids must give one subject per image ({len(images)}), got {len(subject_ids)}")
         self.subject_ids_, self.templates_ = None, None
         for index, (subject_id, image) in enumerate(zip(subject_ids, images)):
@@ -693,11 +700,11 @@ class HogNearestNeighbour:
         Parameters
         ----------
         subject_id : object
-            The subject's id: a str or a finite real number (not None nor a bool).
+            The subject's id: a str or a real number within +-2**53 (not None nor a bool).
         image : array_like, shape (rows, cols)
             Grey levels, of the shape of the images enrolled before.
         """
-        _check_subject_id(subject_id, "subject_id")
+        check_subject_id(subject_id, "subject_id")
         self._check_size(image)
         descriptor = self.describe(image)[None]
         if self.descriptors_ is None:
@@ -721,8 +728,8 @@ class HogNearestNeighbour:
         HogNearestNeighbour
             ``self``, with ``subject_ids_``, ``descriptors_`` and ``image_shape_`` learned.
         """
-        _check_images(images)
-        if len(_check_subject_ids(subject_ids, "subject_ids")) != len(images):
+        check_images(images)
+        if len(check_subject_ids(subject_ids, "subject_ids")) != len(images):
             raise ValueError(f"subject_ids must give one subject per image ({len(images)}), got {len(subject_ids)}")
         self.subject_ids_, self.descriptors_, self.image_shape_ = None, None, None
         for index, (subject_id, image) in enumerate(zip(subject_ids, images)):
@@ -825,8 +832,8 @@ def open_set_rates(matcher: EarMatcher, genuine: list, genuine_ids: list, impost
         raise TypeError(f"matcher must be an EarMatcher, got {type(matcher).__name__}")
     check_fitted(matcher, "templates_")
     for templates, name in ((genuine, "genuine"), (impostors, "impostors")):
-        _check_templates(templates, name)
-    if len(_check_subject_ids(genuine_ids, "genuine_ids")) != len(genuine):
+        check_templates(templates, name)
+    if len(check_subject_ids(genuine_ids, "genuine_ids")) != len(genuine):
         raise ValueError(f"genuine_ids must give one subject per genuine template ({len(genuine)}), "
                          f"got {len(genuine_ids)}")
     values = np.asarray(thresholds, dtype=object)
@@ -857,7 +864,7 @@ def rank_of_truth(scores: np.ndarray, enrolled_ids: np.ndarray, true_id: object)
     enrolled_ids : array_like, shape (n,)
         The subject of each template (str or finite real ids); must include ``true_id``.
     true_id : object
-        The query's true subject: a str or a finite real number (not None nor a bool).
+        The query's true subject: a str or a real number within +-2**53 (not None nor a bool).
 
     Returns
     -------
@@ -870,8 +877,8 @@ def rank_of_truth(scores: np.ndarray, enrolled_ids: np.ndarray, true_id: object)
     LNCS 3179, pp. 51-61, Sec. 6 (the identification rates; ranks are our measure of the ranking of steps 6-9).
     """
     scores = as_finite_array(scores, "scores", ndim=1)
-    enrolled_ids = _check_subject_ids(enrolled_ids, "enrolled_ids")
-    _check_subject_id(true_id, "true_id")
+    enrolled_ids = check_subject_ids(enrolled_ids, "enrolled_ids")
+    check_subject_id(true_id, "true_id")
     if enrolled_ids.shape != scores.shape:
         raise ValueError(f"enrolled_ids must have one subject per score (scores has shape {scores.shape}), "
                          f"got {enrolled_ids.shape}")
@@ -919,8 +926,23 @@ def _check_distance_threshold(value: object, name: str) -> float:
     return check_positive(value, name, allow_zero=True)
 
 
-def _check_templates(templates: object, name: str) -> None:
-    """A non-empty list of :class:`EarTemplate` (features, not images)."""
+def check_templates(templates: object, name: str) -> None:
+    """Refuse anything but a non-empty list of :class:`EarTemplate` (features, not images).
+
+    Parameters
+    ----------
+    templates : object
+        The argument to check.
+    name : str
+        The argument's name in error messages.
+
+    Raises
+    ------
+    ValueError
+        Not a sized sequence, or empty.
+    TypeError
+        An element is not an :class:`EarTemplate`.
+    """
     if isinstance(templates, (str, np.ndarray)) or not hasattr(templates, "__len__") or not len(templates):
         raise ValueError(f"{name} must be a non-empty list of EarTemplate")
     wrong = [type(t).__name__ for t in templates if not isinstance(t, EarTemplate)]
@@ -928,29 +950,70 @@ def _check_templates(templates: object, name: str) -> None:
         raise TypeError(f"{name} must hold EarTemplate objects (from EarMatcher.extract), got {wrong[0]}")
 
 
-def _check_subject_id(value: object, name: str) -> object:
-    """A subject id: a str or a finite real number; None (rejection), booleans and NaN are refused."""
+MAX_NUMERIC_ID = 2.0**53
+"""Largest magnitude of a numeric subject id: every integer up to it is exact in float64, so two
+different ids never compare equal after a conversion to float."""
+
+
+def check_subject_id(value: object, name: str) -> object:
+    """Check one subject id: a str or a real number within +-2**53; None (rejection), booleans and NaN are refused.
+
+    Parameters
+    ----------
+    value : object
+        The id to check.
+    name : str
+        The argument's name in error messages.
+
+    Returns
+    -------
+    object
+        ``value``, unchanged.
+    """
     if value is None:
         raise ValueError(f"{name} must not be None (None means rejection)")
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (str, numbers.Real)):
         raise TypeError(f"{name} must be a str or a real number, got {type(value).__name__}")
     if isinstance(value, numbers.Real) and not np.isfinite(value):
         raise ValueError(f"{name} must be finite, got {value}")
+    if isinstance(value, numbers.Real) and abs(value) > MAX_NUMERIC_ID:
+        raise ValueError(f"{name} must be at most 2**53 in magnitude (beyond, distinct ids share one float), got {value}")
     return value
 
 
-def _check_subject_ids(values: object, name: str) -> np.ndarray:
-    """A 1-D sequence of subject ids (each as in :func:`_check_subject_id`), as an array."""
+def check_subject_ids(values: object, name: str) -> np.ndarray:
+    """Check a 1-D sequence of subject ids (each as in :func:`check_subject_id`).
+
+    Parameters
+    ----------
+    values : object
+        The ids to check.
+    name : str
+        The argument's name in error messages (an element is named ``name[index]``).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,)
+        The ids as an array.
+    """
     ids = np.asarray(values)
     if ids.ndim != 1:
         raise ValueError(f"{name} must be a 1-D sequence of subject ids, got shape {ids.shape}")
     for index, value in enumerate(ids.tolist()):
-        _check_subject_id(value, f"{name}[{index}]")
+        check_subject_id(value, f"{name}[{index}]")
     return ids
 
 
-def _check_images(images: object, name: str = "images") -> None:
-    """A non-empty sequence of grey-level images (each as in :func:`as_grey_image`)."""
+def check_images(images: object, name: str = "images") -> None:
+    """Refuse anything but a non-empty sequence of grey-level images (each as :func:`as_grey_image` accepts).
+
+    Parameters
+    ----------
+    images : object
+        The argument to check.
+    name : str
+        The argument's name in error messages (an image is named ``name[index]``).
+    """
     if isinstance(images, (str, bytes)) or not hasattr(images, "__len__"):
         raise TypeError(f"{name} must be a sequence of grey-level images, got {type(images).__name__}")
     if len(images) == 0:

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from amdo_lab.common import PALETTE, check_axes, check_bool
-from amdo_lab.ear_biometrics.features import CircleFeatures, TopologyFeatures, _as_bool_image
+from amdo_lab.ear_biometrics.features import CircleFeatures, TopologyFeatures, as_bool_image
 
 if TYPE_CHECKING:  # matplotlib is imported by the caller's figure
     from matplotlib.axes import Axes
@@ -45,7 +45,7 @@ def draw_circles(ax: Axes, contours: np.ndarray, features: CircleFeatures, *, sh
     """
     _check_plot_arguments(ax, features, CircleFeatures)
     check_bool(show_crossings, "show_crossings")
-    contours = _as_bool_image(contours, "contours")
+    contours = as_bool_image(contours, "contours")
     ax.imshow(contours, cmap="gray_r", interpolation="nearest")
     centre = features.normalisation.centroid
     for radius in features.radii:

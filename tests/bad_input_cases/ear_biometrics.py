@@ -19,29 +19,7 @@ from bad_input_cases._core import Case
 
 #: (callable, argument, spoiled label) calls known to fail the test, with the reason; each must
 #: still fail (remove it once fixed).
-KNOWN_FAILURES: dict[tuple[str, str, str], str] = {
-    # a finite 1e308 not yet refused by name (the overflow policy of CONTRIBUTING.md)
-    ('Normalisation.to_pixels', 'xy', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('EarMatcher.fit', 'images', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('EarMatcher.fit', 'subject_ids', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('EarMatcher.identify', 'image', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('HogNearestNeighbour.describe', 'image', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('HogNearestNeighbour.distances', 'image', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('genuine_impostor_separation', 'distances', 'huge inside'):
-        'silent accept: returned NaN or inf from finite input',
-    ('closed_set', 'subject_ids', 'huge inside'):
-        'wrong name: ValueError: true_id np.float64(1e+308) is not among enrolled_ids',
-    ('hog_closed_set', 'images', 'huge inside'):
-        'wrong name: ValueError: scores must be finite, got 3 NaN or infinite value(s)',
-    ('hog_closed_set', 'subject_ids', 'huge inside'):
-        'wrong name: ValueError: true_id np.float64(1e+308) is not among enrolled_ids',
-}
+KNOWN_FAILURES: dict[tuple[str, str, str], str] = {}
 
 #: Public names not called with user input, with the reason.
 EXEMPT = {
