@@ -3,9 +3,14 @@
 import cv2
 import numpy as np
 import pytest
+from rejections import check_rejection, reject
+from sklearn.exceptions import NotFittedError
 
 from amdo_lab import ear_biometrics as eb
 from amdo_lab.common import make_rng
+from amdo_lab.ear_biometrics.features import as_bool_image, detect_contours_reference
+from amdo_lab.ear_biometrics.frame import moment_frame_fast
+from amdo_lab.ear_biometrics.matcher import check_images, check_subject_id, check_subject_ids, check_templates
 
 
 @pytest.fixture(scope="module")
@@ -37,17 +42,6 @@ def test_difficult_images_carry_more_clutter_than_easy_ones():
     hard = eb.generate_ear_database(4, 1, "difficult", rng=3).images
     clutter = [np.mean([eb.clean_contours(eb.detect_contours(im)).mean() for im in ims]) for ims in (easy, hard)]
     assert clutter[1] > 1.5 * clutter[0]
-
-
-def test_generator_rejects_bad_arguments():
-    with pytest.raises(ValueError, match="difficulty"):
-        eb.generate_ear_database(2, 2, "medium", rng=0)
-    with pytest.raises(TypeError, match="n_subjects"):
-        eb.generate_ear_database(2.5, 2, "easy", rng=0)
-    with pytest.raises(ValueError, match="disable.*'glare'"):
-        eb.generate_ear_database(2, 2, "easy", rng=0, disable=("glare",))
-    with pytest.raises(TypeError, match="disable"):
-        eb.generate_ear_database(2, 2, "easy", rng=0, disable="yaw")
 
 
 def test_disabling_a_factor_changes_only_that_factor():
@@ -90,16 +84,6 @@ def test_loader_reads_grey_and_colour_files(tmp_path):
     assert loaded[1].ndim == 2 and np.abs(loaded[1].astype(int) - images[1]).max() <= 1
     resized, _ = eb.load_ear_folder(tmp_path, size=64)
     assert resized[0].shape == (64, 64)
-    with pytest.raises(ValueError, match="no image files"):
-        eb.load_ear_folder(_empty(tmp_path))
-    with pytest.raises(ValueError, match="directory"):
-        eb.load_ear_folder(tmp_path / "missing")
-
-
-def _empty(tmp_path):
-    folder = tmp_path / "empty"
-    folder.mkdir()
-    return folder
 
 
 def test_detector_matches_a_literal_loop_of_eqs_1_to_5():
@@ -132,23 +116,6 @@ def test_detector_finds_a_step_edge_and_is_monotone_in_k():
     assert not eb.detect_contours(np.zeros((16, 16)), 5.0).any()  # flat black: S = 0, no contour
 
 
-@pytest.mark.parametrize("bad, error", [
-    (np.full((16, 16), np.nan), ValueError),
-    (np.zeros((16, 16, 3)), ValueError),
-    (np.zeros(16), ValueError),
-    (np.zeros((16, 16), bool), TypeError),
-    (np.array([["a"] * 16] * 16), TypeError),
-])
-def test_detector_rejects_bad_images(bad, error):
-    with pytest.raises(error, match="image"):
-        eb.detect_contours(bad)
-
-
-def test_detector_rejects_even_window():
-    with pytest.raises(ValueError, match="window"):
-        eb.detect_contours(np.ones((16, 16)), window=4)
-
-
 def test_circle_features_of_a_plus_sign():
     contours = np.zeros((101, 101), bool)
     contours[50, 10:91] = True
@@ -172,8 +139,6 @@ def test_min_gap_merges_a_ragged_double_line():
     assert eb.circle_features(contours, n_circles=3, step=0.5, mode="isotropic").counts.tolist() == [8, 8, 8]
     merged = eb.circle_features(contours, n_circles=3, step=0.5, mode="isotropic", min_gap_px=3)
     assert merged.counts.tolist() == [4, 4, 4]
-    with pytest.raises(ValueError, match="min_gap_px"):
-        eb.circle_features(contours, min_gap_px=-1)
 
 
 def _plus(size: int = 201, arm: int = 90) -> np.ndarray:
@@ -196,8 +161,6 @@ def test_skeleton_graph_reads_a_staircase_as_one_path():
     corner = np.zeros((3, 3), bool)
     corner[0, 0] = corner[0, 1] = corner[1, 1] = True  # an L: the diagonal (0,0)-(1,1) is redundant
     assert len(eb.skeleton_graph(corner)[1]) == 2
-    with pytest.raises(TypeError, match="skeleton"):
-        eb.skeleton_graph(np.zeros((3, 3)))
 
 
 def test_polyline_crossings_of_a_plus_sign_and_a_jagged_line():
@@ -232,12 +195,6 @@ def test_dead_band_ignores_a_graze_and_keeps_a_crossing():
     plain = eb.circle_features(plus, band_px=0.0, **common).counts
     banded = eb.circle_features(plus, band_px=3.0, **common).counts
     assert plain.tolist() == [4, 6] and banded.tolist() == [4, 4]
-    with pytest.raises(ValueError, match="band_px"):
-        eb.circle_features(plus, crossings="polyline", band_px=-1.0)
-    with pytest.raises(ValueError, match="crossings"):
-        eb.circle_features(plus, crossings="subpixel")
-    with pytest.raises(ValueError, match="skeleton"):
-        eb.circle_features(plus, crossings="polyline", skeleton=np.zeros((5, 5), bool))
 
 
 def test_prune_spurs_removes_short_branches_and_keeps_line_length():
@@ -258,19 +215,6 @@ def test_smooth_polylines_keeps_ends_and_straightens_a_zigzag():
     smoothed = eb.smooth_polylines(nodes, edges, 4)
     np.testing.assert_array_equal(smoothed[[0, -1]], nodes[[0, -1]])
     assert np.ptp(smoothed[2:-2, 0]) < 0.5 * np.ptp(nodes[2:-2, 0])
-    with pytest.raises(ValueError, match="edges must index"):
-        eb.smooth_polylines(nodes, edges + 1, 2)
-    with pytest.raises(ValueError, match="edges"):
-        eb.smooth_polylines(nodes, edges.astype(float), 2)
-    with pytest.raises(ValueError, match="nodes"):
-        eb.smooth_polylines(np.full((9, 2), np.nan), edges, 2)
-
-
-def test_prune_spurs_rejects_bad_input():
-    with pytest.raises(TypeError, match="skeleton"):
-        eb.prune_spurs(np.zeros((5, 5), np.uint8), 3)
-    with pytest.raises(ValueError, match="length"):
-        eb.prune_spurs(np.zeros((5, 5), bool), -1)
 
 
 def test_principal_normalisation_whitens_and_round_trips(clean_ear_contours):
@@ -283,15 +227,6 @@ def test_principal_normalisation_whitens_and_round_trips(clean_ear_contours):
     np.testing.assert_allclose(norm.to_pixels(norm.to_normalised(pixels)), pixels)
     upright = eb.normalise_coordinates(clean_ear_contours, "axes")
     np.testing.assert_allclose(np.sort(norm.spread), np.sort(upright.spread), rtol=0.1)  # ear is near upright
-    with pytest.raises(ValueError, match="mode"):
-        eb.normalise_coordinates(clean_ear_contours, "whiten")
-
-
-def test_circle_features_reject_empty_and_non_boolean():
-    with pytest.raises(ValueError, match="no contour"):
-        eb.circle_features(np.zeros((20, 20), bool))
-    with pytest.raises(TypeError, match="boolean"):
-        eb.circle_features(np.ones((20, 20)))
 
 
 def test_exact_invariance_to_quarter_turns_shifts(clean_ear_contours):
@@ -386,22 +321,6 @@ def test_matcher_finds_an_enrolled_image_and_rejects_blank(small_database):
     assert strict.identify(images[3]).subject_id is None
 
 
-def test_matcher_bad_input(small_database):
-    images, _ = small_database
-    matcher = eb.EarMatcher()
-    with pytest.raises(ValueError, match="not fitted yet"):  # NotFittedError is a ValueError
-        matcher.identify(images[0])
-    with pytest.raises(ValueError, match="no contour"):
-        matcher.enroll(1, np.zeros((64, 64), np.uint8))
-    matcher.enroll(1, images[0])
-    with pytest.raises(ValueError, match="finite"):
-        matcher.identify(np.full((64, 64), np.nan))
-    with pytest.raises(TypeError, match="dtype"):
-        matcher.identify(images[0] > 100)
-    with pytest.raises(ValueError, match="2-D"):
-        matcher.identify(np.stack([images[0]] * 3, axis=-1))
-
-
 def test_hog_baseline_and_cmc(small_database):
     images, ids = small_database
     baseline = eb.HogNearestNeighbour()
@@ -424,10 +343,6 @@ def test_separation_of_a_known_distance_matrix():
     genuine = np.array([0.1, 0.2, 0.7])
     expected = (impostor.mean() - genuine.mean()) / np.sqrt(0.5 * (genuine.var() + impostor.var()))
     assert sep.d_prime == pytest.approx(expected)
-    with pytest.raises(ValueError, match="enrolled"):
-        eb.genuine_impostor_separation(distances, [0, 1, 2], [0, 1, 5])
-    with pytest.raises(ValueError, match="shape"):
-        eb.genuine_impostor_separation(distances[:2], [0, 1, 2], [0, 1, 2])
 
 
 def test_closed_set_protocol(small_database):
@@ -445,19 +360,11 @@ def test_closed_set_protocol(small_database):
     assert self_match.recognised.all()
     hog_ranks, hog_sep = eb.hog_closed_set(images, ids)
     assert hog_ranks.shape == (6,) and 0 <= hog_sep.auc <= 1
-    full = eb.EarMatcher()
-    full.enroll_template(0, templates[0])
-    with pytest.raises(ValueError, match="empty"):
-        eb.closed_set(full, templates, ids)
 
 
-def test_enroll_template_checks_and_open_set_rates(small_database):
+def test_open_set_rates_of_enrolled_templates(small_database):
     images, ids = small_database
     matcher = eb.EarMatcher()
-    with pytest.raises(TypeError, match="template"):
-        matcher.enroll_template(0, images[0])
-    with pytest.raises(ValueError, match="circles"):
-        matcher.enroll_template(0, eb.EarMatcher(n_circles=4).extract(images[0]))
     templates = [matcher.extract(im) for im in images]
     for t, s in zip(templates[0:6:2], ids[0:6:2]):  # subjects 0-2 enrolled, 3-5 never seen
         matcher.enroll_template(s, t)
@@ -468,141 +375,6 @@ def test_enroll_template_checks_and_open_set_rates(small_database):
     np.testing.assert_allclose(rates.false_reject, [1.0, 0.0])
     np.testing.assert_allclose(rates.misidentified, [0.0, 0.0])
     assert np.all(np.diff(rates.false_accept) >= 0)
-
-
-# --- bad input at every public entry point ------------------------------------------------------
-
-@pytest.mark.parametrize("settings, error, message", [
-    ({"k": np.nan}, ValueError, "k must be finite"),
-    ({"window": 4}, ValueError, "window must be odd"),
-    ({"smoothing": -1.0}, ValueError, "smoothing must be non-negative"),
-    ({"smoothing": np.nan}, ValueError, "smoothing must be finite"),
-    ({"n_circles": 0}, ValueError, "n_circles must be at least 1"),
-    ({"min_component_size": 0}, ValueError, "min_component_size must be at least 1"),
-    ({"count_tolerance": -1}, ValueError, "count_tolerance must be at least 0"),
-    ({"count_tolerance": 1.5}, TypeError, "count_tolerance must be an int"),
-    ({"max_count_violations": -1}, ValueError, "max_count_violations must be at least 0"),
-    ({"distance_threshold": np.nan}, ValueError, "distance_threshold must be a non-negative number or inf"),
-    ({"distance_threshold": -1.0}, ValueError, "distance_threshold must be non-negative"),
-    ({"distance_threshold": "1"}, TypeError, "distance_threshold must be a real number"),
-    ({"topology_weight": np.nan}, ValueError, "topology_weight must be finite"),
-    ({"topology_weight": -1.0}, ValueError, "topology_weight must be non-negative"),
-    ({"mode": "affine"}, ValueError, "mode must be one of"),
-    ({"crossings": "edges"}, ValueError, "crossings must be one of"),
-    ({"band_px": -1.0}, ValueError, "band_px must be non-negative"),
-    ({"spur_length_px": -1}, ValueError, "spur_length_px must be at least 0"),
-])
-def test_matcher_settings_are_checked_when_it_is_built(settings, error, message):
-    with pytest.raises(error, match=message):
-        eb.EarMatcher(**settings)
-
-
-@pytest.fixture(scope="module")
-def bad_input_context(clean_ear_contours, small_database, tmp_path_factory):
-    """Features, a matcher with three subjects, a HOG baseline, a folder and axes for the cases below."""
-    import types
-
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    images, ids = small_database
-    templates = [eb.EarMatcher().extract(im) for im in images[:6]]
-    matcher = eb.EarMatcher()
-    for t, s in zip(templates[0::2], ids[0:6:2]):
-        matcher.enroll_template(s, t)
-    baseline = eb.HogNearestNeighbour()
-    baseline.enroll(0, images[0])
-    folder = tmp_path_factory.mktemp("ears")
-    cv2.imwrite(str(folder / "001_a.png"), np.full((16, 16), 100, np.uint8))
-    rng = make_rng(0)
-    fig, ax = plt.subplots()
-    yield types.SimpleNamespace(
-        norm=eb.normalise_coordinates(clean_ear_contours), features=eb.topology_features(clean_ear_contours),
-        images=images, ids=ids, templates=templates, matcher=matcher, baseline=baseline,
-        five_circles=eb.EarMatcher(n_circles=5).extract(images[1]), folder=folder, rng=rng,
-        shape=eb.draw_ear_shape(rng=rng), pose=eb.CapturePose(0.0, 1.0, np.zeros(2), 0.0), ax=ax)
-    plt.close(fig)
-
-
-@pytest.mark.parametrize("call, error, message", [
-    # features
-    (lambda c: eb.canny_contours(np.full((16, 16), 100.0), low=np.nan), ValueError, "low must be finite"),
-    (lambda c: eb.canny_contours(np.full((16, 16), 100.0), high=-1.0), ValueError, "high must be non-negative"),
-    (lambda c: c.norm.to_normalised(np.ones((2, 3))), ValueError, r"rows_cols must have shape \(n, 2\)"),
-    (lambda c: c.norm.to_normalised([[np.nan, 1.0]]), ValueError, "rows_cols must be finite"),
-    (lambda c: c.norm.to_pixels(np.ones(4)), ValueError, r"xy must have shape \(n, 2\)"),
-    (lambda c: eb.crossing_number(np.ones(5, bool)), TypeError, "skeleton must be a 2-D boolean image"),
-    (lambda c: eb.crossing_number(np.full((5, 5), 0.5)), TypeError, "skeleton must be a 2-D boolean image"),
-    (lambda c: eb.topology_similarity(c.features, c.features, np.nan), ValueError, "coordinate_tolerance must be finite"),
-    (lambda c: eb.topology_similarity(c.features, c.features, -0.1), ValueError, "coordinate_tolerance must be non-negative"),
-    (lambda c: eb.topology_similarity(c.features.circles, c.features), TypeError, "query must be TopologyFeatures"),
-    # matching and evaluation
-    (lambda c: eb.EarMatcher().identify_template(c.templates[0]), ValueError, "EarMatcher is not fitted yet"),
-    (lambda c: c.matcher.identify_template(c.images[0]), TypeError, "query must be an EarTemplate"),
-    (lambda c: c.matcher.identify_template(c.five_circles), ValueError, "query has 5 circles, matcher expects 8"),
-    (lambda c: c.baseline.enroll(1, c.images[1][:128, :128]), ValueError,
-     r"image must have the enrolled images' shape \(256, 256\)"),
-    (lambda c: c.baseline.distances(c.images[1][:128, :128]), ValueError, "image must have the enrolled images' shape"),
-    (lambda c: eb.open_set_rates(c.matcher, c.templates[1::2], [0], c.templates[:1], [1.0]), ValueError,
-     "genuine_ids must give one subject per genuine template"),
-    (lambda c: eb.open_set_rates(c.matcher, c.templates[1::2], c.ids[1:6:2], c.templates[:1], [np.nan]), ValueError,
-     "thresholds must be a non-negative number or inf"),
-    (lambda c: eb.open_set_rates(c.matcher, c.templates[1::2], c.ids[1:6:2], c.templates[:1], 1.0), ValueError,
-     "thresholds must be a non-empty 1-D sequence"),
-    (lambda c: eb.open_set_rates(c.matcher, c.templates[1::2], c.ids[1:6:2], [], [1.0]), ValueError,
-     "impostors must be a non-empty list of EarTemplate"),
-    (lambda c: eb.open_set_rates(c.matcher, list(c.images[1:6:2]), c.ids[1:6:2], c.templates[:1], [1.0]), TypeError,
-     "genuine must hold EarTemplate objects"),
-    (lambda c: eb.open_set_rates(eb.EarMatcher(), c.templates[1::2], c.ids[1:6:2], c.templates[:1], [1.0]), ValueError,
-     "EarMatcher is not fitted yet"),
-    (lambda c: eb.rank_of_truth([0.1, 0.5], [0, 1], 7), ValueError, "true_id 7 is not among enrolled_ids"),
-    (lambda c: eb.rank_of_truth([0.1, 0.5, 0.3], [0, 1], 1), ValueError, "enrolled_ids must have one subject per score"),
-    (lambda c: eb.rank_of_truth([np.nan, 0.5], [0, 1], 1), ValueError, "scores must be finite"),
-    (lambda c: eb.cumulative_match([], 3), ValueError, "ranks must not be empty"),
-    (lambda c: eb.cumulative_match([np.nan, 1], 3), ValueError, "ranks must be finite"),
-    (lambda c: eb.cumulative_match([0, 1], 3), ValueError, r"ranks must be 1-based"),
-    (lambda c: eb.cumulative_match([1.5, 1], 3), ValueError, "ranks must hold whole numbers"),
-    (lambda c: eb.distance_sum_gaps([], c.templates), ValueError, "queries must be a non-empty list of EarTemplate"),
-    (lambda c: eb.distance_sum_gaps([c.five_circles], c.templates), ValueError,
-     "queries and references must all have the same number of circles"),
-    (lambda c: eb.closed_set("matcher", c.templates, c.ids[:6]), TypeError, "matcher must be an EarMatcher"),
-    (lambda c: eb.hog_closed_set(c.images[:5], c.ids[:5]), ValueError, "images and subject_ids must have the same even length"),
-    (lambda c: eb.hog_closed_set(c.images, c.ids[:4]), ValueError, "images and subject_ids must have the same even length"),
-    (lambda c: eb.nuisance_study(2, ["baseline"], rng=0), TypeError, "conditions must map row names"),
-    (lambda c: eb.nuisance_study(2, {"a": ()}, rng=0, relaxed_violations=-1), ValueError, "relaxed_violations must be at least 0"),
-    (lambda c: eb.nuisance_study(2, {"a": ()}, rng=0, size=64, topology_weight=np.nan), ValueError,
-     "topology_weight must be finite"),
-    # generator, loader and plots
-    (lambda c: eb.draw_capture_pose(rng=c.rng, frontal=True, size=128, difficulty="hard"), ValueError, "difficulty must be one of"),
-    (lambda c: eb.draw_capture_pose(rng=c.rng, frontal="no", size=128, difficulty="easy"), TypeError, "frontal must be a bool"),
-    (lambda c: eb.draw_capture_pose(rng=c.rng, frontal=True, size=0, difficulty="easy"), ValueError, "size must be at least 32"),
-    (lambda c: eb.draw_capture_pose(rng=c.rng, frontal=False, size=128, difficulty="easy", max_yaw_deg=np.nan), ValueError,
-     "max_yaw_deg must be finite"),
-    (lambda c: eb.draw_capture_pose(rng=c.rng, frontal=False, size=128, difficulty="easy", max_yaw_deg=120), ValueError,
-     "max_yaw_deg must be below 90 degrees"),
-    (lambda c: eb.generate_ear_database(1, 2, rng=0, max_yaw_deg=-30), ValueError, "max_yaw_deg must be non-negative"),
-    (lambda c: eb.generate_ear_database(1, 2, rng=0, max_rotation_deg=np.nan), ValueError, "max_rotation_deg must be finite"),
-    (lambda c: eb.render_ear("shape", c.pose, rng=c.rng), TypeError, "shape must be an EarShape"),
-    (lambda c: eb.render_ear(c.shape, (0.0, 1.0), rng=c.rng), TypeError, "pose must be a CapturePose"),
-    (lambda c: eb.render_ear(c.shape, eb.CapturePose(np.nan, 1.0, np.zeros(2), 0.0), rng=c.rng), ValueError,
-     "pose.rotation must be finite"),
-    (lambda c: eb.render_ear(c.shape, eb.CapturePose(0.0, 0.0, np.zeros(2), 0.0), rng=c.rng), ValueError,
-     "pose.scale must be positive"),
-    (lambda c: eb.render_ear(c.shape, eb.CapturePose(0.0, 1.0, np.zeros(2), 2.0), rng=c.rng), ValueError,
-     r"pose.yaw must be within \(-pi/2, pi/2\)"),
-    (lambda c: eb.ear_curves(eb.EarShape(**{**vars(c.shape), "lobule_depth": np.nan})), ValueError,
-     "shape.lobule_depth must be finite"),
-    (lambda c: eb.load_ear_folder(c.folder, size=0), ValueError, "size must be at least 1"),
-    (lambda c: eb.load_ear_folder(c.folder, size=2.5), TypeError, "size must be an int"),
-    (lambda c: eb.load_ear_folder(3), TypeError, "folder must be a path"),
-    (lambda c: eb.draw_circles(c.ax, np.zeros((8, 8), bool), "features"), TypeError, "features must be CircleFeatures"),
-    (lambda c: eb.draw_topology(None, "features"), TypeError, "ax must be a matplotlib Axes"),
-])
-def test_public_functions_reject_bad_input(bad_input_context, call, error, message):
-    with pytest.raises(error, match=message):
-        call(bad_input_context)
 
 
 # --- canonical frame (silhouette moments before contour detection) and the point ranking of F ---
@@ -633,8 +405,6 @@ def test_silhouette_covers_the_ear_and_is_empty_on_a_blank_image(small_database)
 
 
 def test_moment_frame_fast_path_equals_the_reference(small_database):
-    from amdo_lab.ear_biometrics.frame import moment_frame_fast
-
     for image in small_database.images[:4]:
         mask = eb.silhouette(image)
         reference, fast = eb.moment_frame(mask, image.shape), moment_frame_fast(mask, image.shape)
@@ -696,17 +466,13 @@ def test_frame_normalisation_divides_by_the_silhouette_spreads(small_database):
 
 
 def test_point_distance_reference_equals_the_matcher_vectorised_path(small_database):
-    from amdo_lab.ear_biometrics.matcher import _point_distances
-
     matcher = eb.EarMatcher()
     templates = [matcher.extract(image) for image in small_database.images[:5]]
     for subject, template in enumerate(templates[:4]):
         matcher.enroll_template(subject, template)
     query = templates[4]
     reference = [eb.point_distance(query.topology, t.topology) for t in templates[:4]]
-    fast = _point_distances(eb.characteristic_points(query.topology), matcher._points, matcher._point_starts,
-                            eb.POINT_DISTANCE_CAP)
-    np.testing.assert_allclose(fast, reference, atol=1e-12)
+    assert matcher.ranking == "points"  # identify_template scores by the vectorised point distances
     np.testing.assert_allclose(matcher.identify_template(query).scores, reference, atol=1e-12)
     assert eb.point_distance(query.topology, query.topology) == 0.0
     assert 0 < min(reference) <= max(reference) <= eb.POINT_DISTANCE_CAP
@@ -725,32 +491,6 @@ def test_similarity_copies_of_enrolled_images_are_identified(small_database):
         assert np.argmin(result.scores) == list(ids[0::2]).index(subject)
 
 
-@pytest.mark.parametrize("call, error, message", [
-    (lambda im: eb.silhouette(im > 100), TypeError, "image must be a real numeric"),
-    (lambda im: eb.silhouette(im, sigma=0), ValueError, "sigma must be positive"),
-    (lambda im: eb.moment_frame(im, im.shape), TypeError, "mask must be a 2-D boolean image"),
-    (lambda im: eb.moment_frame(np.zeros((32, 32), bool), (32, 32)), ValueError, "mask must hold at least 3 pixels"),
-    (lambda im: eb.moment_frame(im > 100, [256, 256]), TypeError, r"shape must be a \(rows, cols\) tuple"),
-    (lambda im: eb.moment_frame(im > 100, im.shape, 0.7), ValueError, "spread_fraction must be below 0.5"),
-    (lambda im: eb.to_canonical(im, "frame"), TypeError, "frame must be a CanonicalFrame"),
-    (lambda im: eb.frame_normalisation(eb.moment_frame(im > 100, im.shape), im.shape, "affine"), ValueError,
-     "mode must be one of"),
-    (lambda im: eb.point_distance(eb.EarMatcher().extract(im).circles, None), TypeError,
-     "query must be TopologyFeatures"),
-    (lambda im: eb.characteristic_points(im), TypeError, "features must be TopologyFeatures"),
-    (lambda im: eb.similarity_copy(im, rng=0, scale_range=(1.2, 0.9)), ValueError, "scale_range must be"),
-    (lambda im: eb.similarity_copy(im, rng=0, max_shift_px=-1), ValueError, "max_shift_px must be non-negative"),
-    (lambda im: eb.similarity_copy(im, rng=0, rotation_deg=np.nan), ValueError, "rotation_deg must be finite"),
-    (lambda im: eb.EarMatcher(frame="affine"), ValueError, "frame must be one of"),
-    (lambda im: eb.EarMatcher(origin="centre"), ValueError, "origin must be one of"),
-    (lambda im: eb.EarMatcher(ranking="votes"), ValueError, "ranking must be one of"),
-    (lambda im: eb.EarMatcher(canonical_spread=0.6), ValueError, "canonical_spread must be below 0.5"),
-])
-def test_canonical_frame_functions_reject_bad_input(small_database, call, error, message):
-    with pytest.raises(error, match=message):
-        call(small_database.images[0])
-
-
 def test_reference_of_eqs_6_and_7_equals_the_vectorised_path(clean_ear_contours):
     """The plain-numpy, one-circle-at-a-time reading equals circle_features with the literal
     settings (image axes, pixel runs, no gap merging), on an ear and on a rotated "+" with a ring."""
@@ -765,8 +505,6 @@ def test_reference_of_eqs_6_and_7_equals_the_vectorised_path(clean_ear_contours)
         assert np.array_equal(reference.counts, fast.counts)
         np.testing.assert_allclose(reference.distance_sums, fast.distance_sums, atol=1e-9)
         np.testing.assert_allclose(reference.normalisation.matrix, fast.normalisation.matrix)
-    with pytest.raises(ValueError, match="no contour"):
-        eb.circle_features_reference(np.zeros((9, 9), bool))
 
 
 def test_similarity_copy_is_seeded_and_exact_for_a_quarter_turn():
@@ -819,32 +557,13 @@ def test_drawing_functions_take_rng_keyword_only_without_default(name):
     assert parameter.default is inspect.Parameter.empty
 
 
-@pytest.mark.parametrize("name", sorted(RNG_CALLS))
-@pytest.mark.parametrize("bad, error", [("7", TypeError), (1.5, TypeError), (None, TypeError), (-1, ValueError)])
-def test_a_bad_rng_is_refused_by_name(name, bad, error):
-    with pytest.raises(error, match="^rng must be"):
-        RNG_CALLS[name](bad)
-
-
 def test_an_int_seed_and_its_generator_draw_the_same_ears():
     by_seed = eb.generate_ear_database(2, 2, rng=21, size=64).images
     np.testing.assert_array_equal(by_seed, eb.generate_ear_database(2, 2, rng=make_rng(21), size=64).images)
     np.testing.assert_array_equal(eb.similarity_copy(by_seed[0], rng=3), eb.similarity_copy(by_seed[0], rng=make_rng(3)))
 
 
-@pytest.mark.parametrize("shape", [(0, 0), (0, 5), (5, 0)])
-@pytest.mark.parametrize("call", [
-    lambda image: eb.clean_contours(image),  # OpenCV's closing crashed the interpreter on these
-    lambda image: eb.prune_spurs(image, 2),  # OpenCV's dilation raised cv2.error
-    lambda image: eb.skeleton_graph(image),
-    lambda image: eb.crossing_number(image),
-], ids=["clean_contours", "prune_spurs", "skeleton_graph", "crossing_number"])
-def test_empty_boolean_images_are_refused(call, shape):
-    with pytest.raises(ValueError, match="must not be empty"):
-        call(np.zeros(shape, bool))
-
-
-def test_draw_circles_draws_and_refuses_a_non_bool_flag(clean_ear_contours):
+def test_draw_circles_draws_the_circles_and_the_centroid(clean_ear_contours):
     import matplotlib
 
     matplotlib.use("Agg")
@@ -855,8 +574,6 @@ def test_draw_circles_draws_and_refuses_a_non_bool_flag(clean_ear_contours):
     try:
         eb.draw_circles(ax, clean_ear_contours, features, show_crossings=True)
         assert len(ax.lines) >= 3 + 1  # three circles and the centroid, plus the polygons
-        with pytest.raises(TypeError, match="show_crossings must be True or False"):
-            eb.draw_circles(ax, clean_ear_contours, features, show_crossings="yes")
     finally:
         plt.close(fig)
 
@@ -873,23 +590,15 @@ def test_docstring_examples_run(module):
 # --- scikit-learn's estimator contract for the two matchers --------------------------------------
 
 def test_matchers_fit_returns_self_and_learns_underscore_attributes(small_database):
-    from sklearn.exceptions import NotFittedError
-
     images, ids = small_database
     gallery, gallery_ids = images[0::2], ids[0::2]
     for matcher, learned in ((eb.EarMatcher(), "templates_"), (eb.HogNearestNeighbour(), "descriptors_")):
         assert getattr(matcher, learned) is None and matcher.subject_ids_ is None
-        with pytest.raises(NotFittedError, match="not fitted yet"):
-            matcher.identify(images[1])
         assert matcher.fit(gallery, gallery_ids) is matcher
         assert len(getattr(matcher, learned)) == len(gallery) and list(matcher.subject_ids_) == list(gallery_ids)
         first = matcher.identify(images[1])
         matcher.fit(gallery[:2], gallery_ids[:2])  # a second fit forgets the first
         assert len(matcher.subject_ids_) == 2
-        with pytest.raises(ValueError, match="subject_ids must give one subject per image"):
-            matcher.fit(gallery, gallery_ids[:2])
-        with pytest.raises(ValueError, match="images must not be empty"):
-            matcher.fit([], [])
     assert first == ids[1]  # the HOG baseline on this easy pair
 
 
@@ -904,36 +613,14 @@ def test_ear_matcher_fit_equals_enrolling_one_by_one(small_database):
     np.testing.assert_array_equal(a.scores, b.scores)
 
 
-def test_hog_parameters_are_stored_as_given_and_checked_when_used(small_database):
-    images, _ = small_database
-    baseline = eb.HogNearestNeighbour(pixels_per_cell=1)
-    assert baseline.pixels_per_cell == 1
-    with pytest.raises(ValueError, match="pixels_per_cell must be at least 2"):
-        baseline.describe(images[0])
+def test_hog_parameters_are_stored_as_given():
+    assert eb.HogNearestNeighbour(pixels_per_cell=1).pixels_per_cell == 1  # checked when used: see REJECTIONS
 
 
-def test_module_level_checks_name_the_argument(small_database):
+def test_module_level_checks_return_valid_input(small_database):
     """The checks that evaluation.py and plotting.py share with matcher.py and features.py."""
-    from amdo_lab.ear_biometrics.features import as_bool_image
-    from amdo_lab.ear_biometrics.frame import moment_frame_fast
-    from amdo_lab.ear_biometrics.matcher import check_images, check_subject_id, check_subject_ids, check_templates
-
     assert check_subject_id("ann", "who") == "ann" and check_subject_ids([1, 2], "ids").tolist() == [1, 2]
     check_images(small_database.images[:2])
-    for call, error, text in [(lambda: check_subject_id(None, "who"), ValueError, "who"),
-                              (lambda: check_subject_id(True, "who"), TypeError, "who"),
-                              (lambda: check_subject_id(1e308, "who"), ValueError, "who"),
-                              (lambda: eb.as_grey_image(np.full((9, 9), 1e308), "photo"), ValueError, "photo"),
-                              (lambda: check_subject_ids([1, np.nan], "ids"), ValueError, r"ids\[1\]"),
-                              (lambda: check_images([], "pictures"), ValueError, "pictures"),
-                              (lambda: check_images([np.zeros((3, 3))], "pictures"), ValueError, r"pictures\[0\]"),
-                              (lambda: check_templates([small_database.images[0]], "gallery"), TypeError, "gallery"),
-                              (lambda: as_bool_image(np.zeros((0, 5), bool), "edges"), ValueError, "edges"),
-                              (lambda: as_bool_image(np.zeros((5, 5)), "edges"), TypeError, "edges"),
-                              (lambda: moment_frame_fast(np.ones((9, 9)), (64, 64)), TypeError, "mask"),
-                              (lambda: moment_frame_fast(np.ones((9, 9), bool), (64, 64), 0.7), ValueError, "spread_fraction")]:
-        with pytest.raises(error, match=text):
-            call()
 
 
 def test_a_similarity_copy_moves_the_points_of_f_less_than_new_noise():
@@ -954,8 +641,6 @@ def test_a_similarity_copy_moves_the_points_of_f_less_than_new_noise():
 
 def test_detect_contours_reference_equals_the_filtered_detector():
     """Eqs. (1)-(5) one window at a time equal the box-filter path, for float and 8-bit images."""
-    from amdo_lab.ear_biometrics.features import detect_contours_reference
-
     rng = make_rng(11)
     image = rng.uniform(10, 200, size=(14, 17))
     for k in (0.5, 2.5, 8.0):
@@ -965,5 +650,240 @@ def test_detect_contours_reference_equals_the_filtered_detector():
     expected = eb.detect_contours(eight_bit, 3.0, window=5)
     assert np.array_equal(detect_contours_reference(eight_bit, 3.0, window=5), expected)
     assert 0 < expected.sum() < expected.size and not expected[:2, :2].any()
-    with pytest.raises(ValueError, match="window"):
-        detect_contours_reference(image, 2.0, window=4)
+
+
+# --- rejections: the rules of the method, one table ----------------------------------------------
+# The generic promises (NaN, empty, wrong shape or type, named by argument) are the bad-input test's
+# (tests/test_bad_input.py, table tests/bad_input_cases/ear_biometrics.py); the rows below are the
+# rules of this chapter. A call's parameters without a default name the fixtures it needs.
+
+@pytest.fixture(scope="module")
+def ctx(clean_ear_contours, small_database):
+    """Features, a matcher with three subjects, a HOG baseline, a one-image folder and axes for the rows below."""
+    import types
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    images, ids = small_database
+    templates = [eb.EarMatcher().extract(im) for im in images[:6]]
+    matcher = eb.EarMatcher()
+    for t, s in zip(templates[0::2], ids[0:6:2]):
+        matcher.enroll_template(s, t)
+    baseline = eb.HogNearestNeighbour()
+    baseline.enroll(0, images[0])
+    fig, ax = plt.subplots()
+    yield types.SimpleNamespace(
+        features=eb.topology_features(clean_ear_contours), image=images[0], images=images, ids=ids,
+        templates=templates, matcher=matcher, baseline=baseline,
+        five_circles=eb.EarMatcher(n_circles=5).extract(images[1]), shape=eb.draw_ear_shape(rng=0),
+        pose=eb.CapturePose(0.0, 1.0, np.zeros(2), 0.0), ax=ax)
+    plt.close(fig)
+
+
+def _enrolled(matcher, templates):
+    """``matcher`` with the first template enrolled, for protocols that need an empty one."""
+    matcher.enroll_template(0, templates[0])
+    return matcher
+
+
+REJECTIONS = [
+    # --- the synthetic ears: named difficulties and nuisance factors, pose records in range
+    reject("generate_ear_database difficulty medium", lambda: eb.generate_ear_database(2, 2, "medium", rng=0),
+           ValueError, "difficulty must be one of"),
+    reject("generate_ear_database disable glare", lambda: eb.generate_ear_database(2, 2, "easy", rng=0,
+                                                                                   disable=("glare",)),
+           ValueError, r"disable holds unknown nuisance factors \['glare'\]"),
+    reject("draw_capture_pose difficulty hard", lambda: eb.draw_capture_pose(rng=0, frontal=True, size=128,
+                                                                             difficulty="hard"),
+           ValueError, "difficulty must be one of"),
+    reject("draw_capture_pose size 31", lambda: eb.draw_capture_pose(rng=0, frontal=True, size=31, difficulty="easy"),
+           ValueError, "size must be at least 32"),
+    reject("draw_capture_pose max_yaw_deg 120", lambda: eb.draw_capture_pose(
+        rng=0, frontal=False, size=128, difficulty="easy", max_yaw_deg=120),
+        ValueError, "max_yaw_deg must be below 90"),
+    reject("render_ear tuple for a pose", lambda ctx: eb.render_ear(ctx.shape, (0.0, 1.0), rng=0),
+           TypeError, "pose must be a CapturePose"),
+    reject("render_ear NaN pose.rotation", lambda ctx: eb.render_ear(
+        ctx.shape, eb.CapturePose(np.nan, 1.0, np.zeros(2), 0.0), rng=0), ValueError, "pose.rotation must be finite"),
+    reject("render_ear pose.scale 0", lambda ctx: eb.render_ear(
+        ctx.shape, eb.CapturePose(0.0, 0.0, np.zeros(2), 0.0), rng=0), ValueError, "pose.scale must be positive"),
+    reject("render_ear pose.yaw 2 rad", lambda ctx: eb.render_ear(
+        ctx.shape, eb.CapturePose(0.0, 1.0, np.zeros(2), 2.0), rng=0),
+        ValueError, r"pose.yaw must be within \(-pi/2, pi/2\)"),
+    reject("ear_curves NaN shape.lobule_depth", lambda ctx: eb.ear_curves(
+        eb.EarShape(**{**vars(ctx.shape), "lobule_depth": np.nan})), ValueError, "shape.lobule_depth must be finite"),
+    reject("load_ear_folder no image files", lambda tmp_path: eb.load_ear_folder(tmp_path),
+           ValueError, "folder contains no image files"),
+    reject("load_ear_folder missing folder", lambda tmp_path: eb.load_ear_folder(tmp_path / "missing"),
+           ValueError, "folder must be an existing directory"),
+    # --- the contour detector (eqs. 1-5): a grey 2-D image, an odd window
+    reject("detect_contours 1-D image", lambda: eb.detect_contours(np.zeros(16)),
+           ValueError, "image must be a 2-D grey-level image"),
+    reject("detect_contours boolean image", lambda: eb.detect_contours(np.zeros((16, 16), bool)),
+           TypeError, "image must be a real numeric"),
+    reject("detect_contours window 4", lambda: eb.detect_contours(np.ones((16, 16)), window=4),
+           ValueError, "window must be odd"),
+    reject("detect_contours_reference window 4", lambda: detect_contours_reference(np.ones((16, 16)), 2.0, window=4),
+           ValueError, "window must be odd"),
+    *[reject(f"{name} image of shape {shape}", lambda function=function, shape=shape: function(
+        np.zeros(shape, bool)), ValueError, "must not be empty")  # OpenCV crashed the interpreter on these
+      for name, function in (("clean_contours", eb.clean_contours),
+                             ("prune_spurs", lambda image: eb.prune_spurs(image, 2)),
+                             ("skeleton_graph", eb.skeleton_graph), ("crossing_number", eb.crossing_number))
+      for shape in ((0, 0), (5, 0))],
+    # --- V and F (eqs. 6-9): contours to measure, named readings, a skeleton of the contours' size
+    reject("normalise_coordinates mode whiten", lambda clean_ear_contours: eb.normalise_coordinates(
+        clean_ear_contours, "whiten"), ValueError, "mode must be one of"),
+    reject("circle_features no contour", lambda: eb.circle_features(np.zeros((20, 20), bool)), ValueError, "no contour"),
+    reject("circle_features_reference no contour", lambda: eb.circle_features_reference(np.zeros((9, 9), bool)),
+           ValueError, "no contour"),
+    reject("circle_features crossings subpixel", lambda: eb.circle_features(_plus(), crossings="subpixel"),
+           ValueError, "crossings must be one of"),
+    reject("circle_features skeleton of another size", lambda: eb.circle_features(
+        _plus(), crossings="polyline", skeleton=np.zeros((5, 5), bool)),
+        ValueError, "skeleton must be a boolean image of the contours' shape"),
+    reject("smooth_polylines edges beyond the nodes", lambda: eb.smooth_polylines(
+        np.zeros((3, 2)), np.array([[0, 1], [1, 3]]), 2), ValueError, "edges must index"),
+    reject("smooth_polylines float edges", lambda: eb.smooth_polylines(np.zeros((3, 2)), np.array([[0.0, 1.0]]), 2),
+           ValueError, r"edges must be an \(m, 2\) integer array"),
+    reject("to_pixels 1-D xy", lambda clean_ear_contours: eb.normalise_coordinates(clean_ear_contours).to_pixels(
+        np.ones(4)), ValueError, r"xy must have shape \(n, 2\)"),
+    reject("crossing_number 1-D skeleton", lambda: eb.crossing_number(np.ones(5, bool)),
+           TypeError, "skeleton must be a 2-D boolean image"),
+    reject("topology_similarity circles for topology", lambda ctx: eb.topology_similarity(
+        ctx.features.circles, ctx.features), TypeError, "query must be TopologyFeatures"),
+    reject("point_distance circles for topology", lambda ctx: eb.point_distance(ctx.templates[0].circles, None),
+           TypeError, "query must be TopologyFeatures"),
+    reject("characteristic_points image for features", lambda ctx: eb.characteristic_points(ctx.image),
+           TypeError, "features must be TopologyFeatures"),
+    # --- the canonical frame (beyond the paper): a boolean silhouette of at least 3 pixels, spreads below 0.5
+    reject("silhouette boolean image", lambda ctx: eb.silhouette(ctx.image > 100),
+           TypeError, "image must be a real numeric"),
+    reject("moment_frame empty mask", lambda: eb.moment_frame(np.zeros((32, 32), bool), (32, 32)),
+           ValueError, "mask must hold at least 3 pixels"),
+    reject("moment_frame list for shape", lambda ctx: eb.moment_frame(ctx.image > 100, [256, 256]),
+           TypeError, r"shape must be a \(rows, cols\) tuple"),
+    reject("moment_frame spread_fraction 0.7", lambda ctx: eb.moment_frame(ctx.image > 100, ctx.image.shape, 0.7),
+           ValueError, "spread_fraction must be below 0.5"),
+    reject("frame_normalisation mode affine", lambda ctx: eb.frame_normalisation(
+        eb.moment_frame(ctx.image > 100, ctx.image.shape), ctx.image.shape, "affine"),
+        ValueError, "mode must be one of"),
+    reject("similarity_copy scale_range reversed", lambda: eb.similarity_copy(np.zeros((16, 16)), rng=0,
+                                                                              scale_range=(1.2, 0.9)),
+           ValueError, "scale_range must be"),
+    reject("similarity_copy NaN rotation_deg", lambda: eb.similarity_copy(np.zeros((16, 16)), rng=0,
+                                                                          rotation_deg=np.nan),
+           ValueError, "rotation_deg must be finite"),
+    # --- EarMatcher's settings: an odd window, the named readings, frames, origins and rankings
+    reject("EarMatcher window 4", lambda: eb.EarMatcher(window=4), ValueError, "window must be odd"),
+    reject("EarMatcher mode affine", lambda: eb.EarMatcher(mode="affine"), ValueError, "mode must be one of"),
+    reject("EarMatcher crossings edges", lambda: eb.EarMatcher(crossings="edges"), ValueError, "crossings must be one of"),
+    reject("EarMatcher frame affine", lambda: eb.EarMatcher(frame="affine"), ValueError, "frame must be one of"),
+    reject("EarMatcher origin centre", lambda: eb.EarMatcher(origin="centre"), ValueError, "origin must be one of"),
+    reject("EarMatcher ranking votes", lambda: eb.EarMatcher(ranking="votes"), ValueError, "ranking must be one of"),
+    reject("EarMatcher canonical_spread 0.6", lambda: eb.EarMatcher(canonical_spread=0.6),
+           ValueError, "canonical_spread must be below 0.5"),
+    # --- matching: fitted first (scikit-learn's NotFittedError), templates of the matcher's settings
+    reject("EarMatcher.identify not fitted", lambda ctx: eb.EarMatcher().identify(ctx.image),
+           NotFittedError, "not fitted yet"),
+    reject("HogNearestNeighbour.identify not fitted", lambda ctx: eb.HogNearestNeighbour().identify(ctx.image),
+           NotFittedError, "not fitted yet"),
+    reject("EarMatcher.identify_template not fitted", lambda ctx: eb.EarMatcher().identify_template(ctx.templates[0]),
+           ValueError, "EarMatcher is not fitted yet"),  # NotFittedError is a ValueError
+    reject("EarMatcher.identify boolean image", lambda ctx: ctx.matcher.identify(ctx.image > 100), TypeError,
+           "image must be a real numeric"),
+    reject("EarMatcher.fit one id for two images", lambda ctx: eb.EarMatcher().fit(
+        ctx.images[0::2], ctx.ids[0::2][:2]),
+           ValueError, "subject_ids must give one subject per image"),
+    reject("HogNearestNeighbour.fit one id for two images", lambda ctx: eb.HogNearestNeighbour().fit(
+        ctx.images[0::2], ctx.ids[0::2][:2]), ValueError, "subject_ids must give one subject per image"),
+    reject("EarMatcher.enroll blank image", lambda: eb.EarMatcher().enroll(1, np.zeros((64, 64), np.uint8)),
+           ValueError, "image has no contour"),
+    reject("EarMatcher.enroll_template image for a template", lambda ctx: eb.EarMatcher().enroll_template(
+        0, ctx.image),
+           TypeError, "template must be an EarTemplate"),
+    reject("EarMatcher.enroll_template 4 circles for 8", lambda ctx: eb.EarMatcher().enroll_template(
+        0, eb.EarMatcher(n_circles=4).extract(ctx.image)), ValueError, "template has 4 circles, matcher expects 8"),
+    reject("EarMatcher.identify_template image for a template", lambda ctx: ctx.matcher.identify_template(ctx.image),
+           TypeError, "query must be an EarTemplate"),
+    reject("EarMatcher.identify_template 5 circles for 8", lambda ctx: ctx.matcher.identify_template(
+        ctx.five_circles),
+           ValueError, "query has 5 circles, matcher expects 8"),
+    reject("HogNearestNeighbour pixels_per_cell 1 when used", lambda ctx: eb.HogNearestNeighbour(
+        pixels_per_cell=1).describe(ctx.image), ValueError, "pixels_per_cell must be at least 2"),
+    reject("HogNearestNeighbour.enroll image of another size", lambda ctx: ctx.baseline.enroll(
+        1, ctx.images[1][:128, :128]), ValueError, r"image must have the enrolled images' shape \(256, 256\)"),
+    reject("HogNearestNeighbour.distances image of another size", lambda ctx: ctx.baseline.distances(
+        ctx.images[1][:128, :128]), ValueError, "image must have the enrolled images' shape"),
+    # --- evaluation protocols: ids that match the scores, thresholds, 1-based ranks, an empty matcher
+    reject("open_set_rates one id for three templates", lambda ctx: eb.open_set_rates(
+        ctx.matcher, ctx.templates[1::2], [0], ctx.templates[:1], [1.0]),
+        ValueError, "genuine_ids must give one subject per genuine template"),
+    reject("open_set_rates scalar thresholds", lambda ctx: eb.open_set_rates(
+        ctx.matcher, ctx.templates[1::2], ctx.ids[1:6:2], ctx.templates[:1], 1.0),
+        ValueError, "thresholds must be a non-empty 1-D sequence"),
+    reject("open_set_rates no impostors", lambda ctx: eb.open_set_rates(
+        ctx.matcher, ctx.templates[1::2], ctx.ids[1:6:2], [], [1.0]),
+        ValueError, "impostors must be a non-empty list of EarTemplate"),
+    reject("open_set_rates images for templates", lambda ctx: eb.open_set_rates(
+        ctx.matcher, list(ctx.images[1:6:2]), ctx.ids[1:6:2], ctx.templates[:1], [1.0]),
+        TypeError, "genuine must hold EarTemplate objects"),
+    reject("open_set_rates matcher not fitted", lambda ctx: eb.open_set_rates(
+        eb.EarMatcher(), ctx.templates[1::2], ctx.ids[1:6:2], ctx.templates[:1], [1.0]),
+        ValueError, "EarMatcher is not fitted yet"),
+    reject("rank_of_truth true_id not enrolled", lambda: eb.rank_of_truth([0.1, 0.5], [0, 1], 7),
+           ValueError, "true_id 7 is not among enrolled_ids"),
+    reject("rank_of_truth three scores two ids", lambda: eb.rank_of_truth([0.1, 0.5, 0.3], [0, 1], 1),
+           ValueError, "enrolled_ids must have one subject per score"),
+    reject("cumulative_match rank 0", lambda: eb.cumulative_match([0, 1], 3), ValueError, "ranks must be 1-based"),
+    reject("cumulative_match rank 1.5", lambda: eb.cumulative_match([1.5, 1], 3), ValueError,
+           "ranks must hold whole numbers"),
+    reject("genuine_impostor_separation query id not enrolled", lambda: eb.genuine_impostor_separation(
+        np.eye(3), [0, 1, 2], [0, 1, 5]),
+        ValueError, "every subject of query_ids must be in enrolled_ids"),
+    reject("genuine_impostor_separation two rows three ids", lambda: eb.genuine_impostor_separation(
+        np.eye(3)[:2], [0, 1, 2], [0, 1, 2]),
+        ValueError, "query_ids must give one subject per row of distances"),
+    reject("distance_sum_gaps no queries", lambda ctx: eb.distance_sum_gaps([], ctx.templates),
+           ValueError, "queries must be a non-empty list of EarTemplate"),
+    reject("distance_sum_gaps 5 circles for 8", lambda ctx: eb.distance_sum_gaps([ctx.five_circles], ctx.templates),
+           ValueError, "queries and references must all have the same number of circles"),
+    reject("closed_set matcher already enrolled", lambda ctx: eb.closed_set(
+        _enrolled(eb.EarMatcher(), ctx.templates), ctx.templates, ctx.ids[:6]),
+        ValueError, r"matcher must be empty \(a fresh EarMatcher\)"),
+    reject("hog_closed_set odd number of images", lambda ctx: eb.hog_closed_set(ctx.images[:5], ctx.ids[:5]),
+           ValueError, "images and subject_ids must have the same even length"),
+    reject("hog_closed_set ids of another length", lambda ctx: eb.hog_closed_set(ctx.images, ctx.ids[:4]),
+           ValueError, "images and subject_ids must have the same even length"),
+    reject("nuisance_study list for conditions", lambda: eb.nuisance_study(2, ["baseline"], rng=0),
+           TypeError, "conditions must map row names"),
+    reject("nuisance_study NaN topology_weight passed on", lambda: eb.nuisance_study(
+        2, {"a": ()}, rng=0, size=64, topology_weight=np.nan), ValueError, "topology_weight must be finite"),
+    # --- the checks evaluation.py and plotting.py share with matcher.py and features.py name what they are given
+    reject("check_subject_id None", lambda: check_subject_id(None, "who"), ValueError, "who"),
+    reject("check_subject_id bool", lambda: check_subject_id(True, "who"), TypeError, "who"),
+    reject("check_subject_id 1e308", lambda: check_subject_id(1e308, "who"), ValueError, "who"),
+    reject("as_grey_image 1e308", lambda: eb.as_grey_image(np.full((9, 9), 1e308), "photo"), ValueError, "photo"),
+    reject("check_subject_ids NaN", lambda: check_subject_ids([1, np.nan], "ids"), ValueError, r"ids\[1\]"),
+    reject("check_images empty", lambda: check_images([], "pictures"), ValueError, "pictures"),
+    reject("check_images 3x3 image", lambda: check_images([np.zeros((3, 3))], "pictures"),
+           ValueError, r"pictures\[0\]"),
+    reject("check_templates image", lambda ctx: check_templates([ctx.image], "gallery"), TypeError, "gallery"),
+    reject("as_bool_image empty", lambda: as_bool_image(np.zeros((0, 5), bool), "edges"), ValueError, "edges"),
+    reject("as_bool_image numbers", lambda: as_bool_image(np.zeros((5, 5)), "edges"), TypeError, "edges"),
+    reject("moment_frame_fast numbers for a mask", lambda: moment_frame_fast(np.ones((9, 9)), (64, 64)),
+           TypeError, "mask"),
+    reject("moment_frame_fast spread_fraction 0.7", lambda: moment_frame_fast(np.ones((9, 9), bool), (64, 64), 0.7),
+           ValueError, "spread_fraction"),
+    # --- the rng convention: errors start with "rng", TypeError for a non-seed, ValueError for a negative seed
+    *[reject(f"{name} rng {bad!r}", lambda draw=draw, bad=bad: draw(bad), error, "^rng must be")
+      for name, draw in sorted(RNG_CALLS.items()) for bad, error in (("7", TypeError), (-1, ValueError))],
+]
+
+
+@pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
+def test_rejections(request, call, error, message):
+    check_rejection(request, call, error, message)
