@@ -14,13 +14,16 @@ from amdo_lab.cue_fusion_pf.likelihoods import COLOR_SPACES, MAX_PIXELS, PAPER_S
 from amdo_lab.cue_fusion_pf.shape import SHAPE_KINDS, ShapeSpace
 from amdo_lab.cue_fusion_pf.structure import CASCADE_SEED, StructureLikelihood, load_or_train_cascade
 
-__all__ = ["CALIBRATED_SIGMAS", "CUES", "FUSIONS", "TRACK_DEFAULTS", "TrackResult", "as_ellipse", "build_cues", "calibration_distances",
+__all__ = ["CALIBRATED_SIGMAS", "CUES", "FUSIONS", "TRACK_DEFAULTS", "TrackResult", "WALKER_SIGMAS", "as_ellipse", "build_cues", "calibration_distances",
            "check_cues", "check_frames", "check_state_spread", "default_dynamics", "resolve_sigmas", "shape_space_of",
            "systematic_resample", "track"]
 
 CUES = ("color", "edge", "structure", "oracle")
 #: σ_c and σ_s chosen by :func:`calibrate_sigma` on held-out "fusion" seeds (seeds 100-104, rng=0, every 4th frame; the tests re-run it).
 CALIBRATED_SIGMAS = {"color": 0.075, "structure": 0.271}
+#: σ_c for the walker (16³ bins, its own colours), chosen the same way on held-out walker seeds
+#: (make_walker_sequence seeds 100-104, rng=0, every 4th frame, shape="similarity", bins=16; the tests re-run it).
+WALKER_SIGMAS = {"color": 0.125}
 FRAME_PERIOD = 1.0 / 25.0
 #: Particles smaller or larger than these multiples of the template get weight 0 (not a head on the frame).
 MIN_SCALE, MAX_SCALE = 0.1, 10.0
