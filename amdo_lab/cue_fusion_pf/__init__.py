@@ -35,9 +35,9 @@ from amdo_lab.cue_fusion_pf.structure import (
 )
 from amdo_lab.cue_fusion_pf.tracker import (
     CALIBRATED_SIGMAS,
-    WALKER_SIGMAS,
     CUES,
     STATIONARY_STD,
+    WALKER_SIGMAS,
     TrackResult,
     calibration_distances,
     default_dynamics,

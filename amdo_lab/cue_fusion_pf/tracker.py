@@ -14,7 +14,8 @@ from amdo_lab.cue_fusion_pf.likelihoods import COLOR_SPACES, MAX_PIXELS, PAPER_S
 from amdo_lab.cue_fusion_pf.shape import SHAPE_KINDS, ShapeSpace
 from amdo_lab.cue_fusion_pf.structure import CASCADE_SEED, StructureLikelihood, load_or_train_cascade
 
-__all__ = ["CALIBRATED_SIGMAS", "CUES", "FUSIONS", "TRACK_DEFAULTS", "TrackResult", "WALKER_SIGMAS", "as_ellipse", "build_cues", "calibration_distances",
+__all__ = ["CALIBRATED_SIGMAS", "CUES", "FUSIONS", "TRACK_DEFAULTS", "TrackResult", "WALKER_SIGMAS", "as_ellipse",
+           "build_cues", "calibration_distances",
            "check_frames", "check_state_spread", "default_dynamics", "resolve_sigmas", "shape_space_of",
            "systematic_resample", "track"]
 
