@@ -23,7 +23,7 @@ seeds; ``--repeats`` is not used (every run is a different seeded problem). ``--
 
 Run:  .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --seeds 20        (about 15-25 min)
       .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --lighting --seeds 4 [--bins 8]
-      .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --walker --seeds 20   (Fig. 6, about 5 min)
+      .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --walker --seeds 20   (Fig. 6, about 1-2 min)
       .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --walker --seeds 20 --walker-sigma-c 0.075  (the heads' sigma_c)
 """
 
