@@ -173,6 +173,17 @@ def test_walker_calibration_distances_run_in_the_similarity_space(sequence):
     assert np.all((at_truth >= 0) & (at_truth <= 1)) and np.all((at_prior >= 0) & (at_prior <= 1))
 
 
+
+def test_walker_sigma_is_what_the_calibration_gives_on_held_out_walker_seeds():
+    """WALKER_SIGMAS is calibrate_sigma's choice on walker seeds 100-104, which neither the chapter nor the benchmark tracks."""
+    sequences = [cf.make_walker_sequence(rng=seed) for seed in range(100, 105)]
+    at_truth, at_prior = cf.calibration_distances(sequences, "color", rng=0, shape="similarity", bins=16)
+    result = cf.calibrate_sigma(at_truth, at_prior)
+    assert result.sigma == pytest.approx(cf.WALKER_SIGMAS["color"], rel=0.01)
+    assert result.scores.max() > 0 > result.scores[0]
+    # the walker's colours and 16^3 bins give a σ_c of its own, not the heads' one
+    assert abs(result.sigma - cf.CALIBRATED_SIGMAS["color"]) > 0.2 * cf.CALIBRATED_SIGMAS["color"]
+
 # --- rejections: the rules of the walker and its shape space, in one table -------------------
 # The generic promises (NaN, empty or mis-shaped arrays, wrong types, out-of-range numbers, bad seeds,
 # each named by argument) are tests/test_bad_input.py's, for every argument of the walker's entries in

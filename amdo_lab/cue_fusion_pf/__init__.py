@@ -37,6 +37,7 @@ from amdo_lab.cue_fusion_pf.tracker import (
     CALIBRATED_SIGMAS,
     CUES,
     STATIONARY_STD,
+    WALKER_SIGMAS,
     TrackResult,
     calibration_distances,
     default_dynamics,
@@ -46,7 +47,7 @@ from amdo_lab.cue_fusion_pf.tracker import (
 from amdo_lab.cue_fusion_pf.walker import WALKER_SEGMENTS, WalkerSequence, box_iou, fit_similarity, make_walker_sequence
 
 __all__ = [
-    "ARDynamics", "BoostedCascade", "CALIBRATED_SIGMAS", "CASCADE_SEED", "CUES", "CalibrationResult", "ColorLikelihood", "EdgeLikelihood",
+    "ARDynamics", "BoostedCascade", "CALIBRATED_SIGMAS", "WALKER_SIGMAS", "CASCADE_SEED", "CUES", "CalibrationResult", "ColorLikelihood", "EdgeLikelihood",
     "HEAD_AXES", "HeadSequence", "PAPER_SIGMAS", "SEQUENCE_KINDS", "STATIONARY_STD", "ShapeSpace", "StructureLikelihood",
     "TrackResult", "ar2_coefficients", "ar2_stationary_variance", "bhattacharyya", "bspline_basis",
     "calibrate_sigma", "calibration_distances", "default_dynamics", "edge_line_likelihood", "ellipse_iou", "ellipse_points",

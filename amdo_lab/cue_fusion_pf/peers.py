@@ -8,13 +8,13 @@ import time
 import cv2
 import numpy as np
 
-from amdo_lab.common import check_positive_int, make_rng
+from amdo_lab.common import check_names, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf.tracker import (
+    CUES,
     TRACK_DEFAULTS,
     TrackResult,
     as_ellipse,
     build_cues,
-    check_cues,
     check_frames,
     default_dynamics,
     resolve_sigmas,
@@ -165,7 +165,7 @@ def track_pfilter(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.
     from pfilter import ParticleFilter, systematic_resample as pfilter_systematic
 
     frames = check_frames(frames)
-    check_cues(cues)
+    cues = check_names(cues, "cues", allowed=CUES)
     n_particles = check_positive_int(n_particles, "n_particles", minimum=2)
     sigma_table = resolve_sigmas(sigmas)
     global_seed = int(make_rng(rng, "rng").integers(2**32 - 1))

@@ -8,19 +8,23 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_names, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
 from amdo_lab.cue_fusion_pf.likelihoods import COLOR_SPACES, MAX_PIXELS, PAPER_SIGMAS, SIGMA_RANGE, ColorLikelihood, EdgeLikelihood
 from amdo_lab.cue_fusion_pf.shape import SHAPE_KINDS, ShapeSpace
 from amdo_lab.cue_fusion_pf.structure import CASCADE_SEED, StructureLikelihood, load_or_train_cascade
 
-__all__ = ["CALIBRATED_SIGMAS", "CUES", "FUSIONS", "TRACK_DEFAULTS", "TrackResult", "as_ellipse", "build_cues", "calibration_distances",
-           "check_cues", "check_frames", "check_state_spread", "default_dynamics", "resolve_sigmas", "shape_space_of",
+__all__ = ["CALIBRATED_SIGMAS", "CUES", "FUSIONS", "TRACK_DEFAULTS", "TrackResult", "WALKER_SIGMAS", "as_ellipse",
+           "build_cues", "calibration_distances",
+           "check_frames", "check_state_spread", "default_dynamics", "resolve_sigmas", "shape_space_of",
            "systematic_resample", "track"]
 
 CUES = ("color", "edge", "structure", "oracle")
 #: σ_c and σ_s chosen by :func:`calibrate_sigma` on held-out "fusion" seeds (seeds 100-104, rng=0, every 4th frame; the tests re-run it).
 CALIBRATED_SIGMAS = {"color": 0.075, "structure": 0.271}
+#: σ_c for the walker (16³ bins, its own colours), chosen the same way on held-out walker seeds
+#: (make_walker_sequence seeds 100-104, rng=0, every 4th frame, shape="similarity", bins=16; the tests re-run it).
+WALKER_SIGMAS = {"color": 0.125}
 FRAME_PERIOD = 1.0 / 25.0
 #: Particles smaller or larger than these multiples of the template get weight 0 (not a head on the frame).
 MIN_SCALE, MAX_SCALE = 0.1, 10.0
@@ -273,24 +277,6 @@ def check_state_spread(spread: object, name: str, *, state_dim: int = 3) -> np.n
     return spread
 
 
-def check_cues(cues: object) -> None:
-    """Check that ``cues`` is a non-empty sequence of names from :data:`CUES`.
-
-    Parameters
-    ----------
-    cues : sequence of str
-        The cue names.
-
-    References
-    ----------
-    Li & Chaumette, AMDO 2004, eq. (6) (the cues fused).
-    """
-    if isinstance(cues, str) or not isinstance(cues, Sequence) or len(cues) == 0:
-        raise ValueError(f"cues must be a non-empty sequence of cue names, got {cues!r}")
-    for name in cues:
-        check_choice(name, "cues", CUES)
-
-
 def resolve_sigmas(sigmas: object) -> dict[str, float]:
     """σ_c and σ_s from ``"calibrated"``, ``"paper"`` or a dict of positive values.
 
@@ -412,7 +398,7 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
     Li & Chaumette, AMDO 2004, Fig. 1 and eq. (6).
     """
     frames = check_frames(frames)
-    check_cues(cues)
+    cues = check_names(cues, "cues", allowed=CUES)
     n_particles = check_positive_int(n_particles, "n_particles", minimum=2)
     unknown = set(params) - set(TRACK_DEFAULTS)
     if unknown:

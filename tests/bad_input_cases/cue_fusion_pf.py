@@ -215,7 +215,6 @@ def cases() -> dict[str, Case]:
         "tracker.check_state_spread": Case(tracker_module.check_state_spread, {"spread": (2.0, 2.0, 0.02),
                                                                                "name": "init_spread"},
                                            {"spread": "array"}, names={"spread": "init_spread"}),
-        "tracker.check_cues": Case(tracker_module.check_cues, {"cues": ("color",)}, {"cues": "object"}),
         "tracker.resolve_sigmas": Case(tracker_module.resolve_sigmas, {"sigmas": "calibrated"}, {"sigmas": "object"}),
         # --- data and peers
         "make_head_sequence": Case(cf.make_head_sequence, {"kind": "twin", "rng": 0, "noise_std": 5.0,
