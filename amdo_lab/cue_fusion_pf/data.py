@@ -99,8 +99,27 @@ class HeadSequence:
         return names
 
 
-def _background(rng: np.random.Generator, height: int, width: int) -> np.ndarray:
-    """An office-like wall: a shelf of books, framed pictures, a window, a desk; no skin colours."""
+def office_background(rng: np.random.Generator, height: int, width: int) -> np.ndarray:
+    """An office-like wall: a shelf of books, framed pictures, a window, a desk; no skin colours.
+
+    Shared by the head sequences and the cascade's training scenes (:mod:`.structure`).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        Source of the books, pictures and their colours (already made by the caller).
+    height, width : int
+        Image size in pixels.
+
+    Returns
+    -------
+    numpy.ndarray
+        (height, width, 3) float32 RGB grey levels in [0, 255].
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 4 (heads tracked over office clutter).
+    """
     ys, xs = np.mgrid[0:height, 0:width]
     image = np.empty((height, width, 3), np.float32)
     image[:] = np.array([150.0, 155.0, 150.0]) + 0.15 * (ys[..., None] - height / 2)
@@ -144,9 +163,28 @@ def _window(image: np.ndarray, cx: float, cy: float, half_width: float, top: flo
     return image[y0:y1, x0:x1], xs - cx, ys - cy
 
 
-def _draw_head(image: np.ndarray, cx: float, cy: float, scale: float, yaw: float = 0.0, tilt: float = 0.0) -> None:
-    """A head over shoulders; ``yaw`` in radians turns it (0 frontal, ±π/4 half profiles, π the back),
-    ``tilt`` rolls it in the image plane (radians, clockwise on screen for positive values)."""
+def draw_head(image: np.ndarray, cx: float, cy: float, scale: float, yaw: float = 0.0, tilt: float = 0.0) -> None:
+    """Paint a head over shoulders into ``image``, in place.
+
+    Shared by the head sequences and the cascade's training scenes (:mod:`.structure`).
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        (H, W, 3) float32 RGB, modified in place.
+    cx, cy : float
+        Centre of the head ellipse, pixels.
+    scale : float
+        Size relative to ``HEAD_AXES``.
+    yaw : float
+        Turn in radians: 0 frontal, ±π/4 half profiles, π the back of the head.
+    tilt : float
+        Roll in the image plane, radians, clockwise on screen for positive values.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 4 and Figs. 4-5 (heads seen from the front, the side and the back).
+    """
     a, b = HEAD_AXES[0] * scale, HEAD_AXES[1] * scale
     window, dx, dy = _window(image, cx, cy, 2.2 * a, -1.1 * b, 4.0 * b)
     # shirt and shoulders below the chin
@@ -290,7 +328,7 @@ def make_head_sequence(kind: str, *, rng: int | np.random.Generator, noise_std: 
     noise_std = check_positive(noise_std, "noise_std", allow_zero=True)
     cast_strength = check_in_range(cast_strength, "cast_strength", 0.0, 1.5, closed="both")
     n_frames, width, height = _LAYOUT[kind]
-    background = _background(generator, height, width)
+    background = office_background(generator, height, width)
     truth = _trajectory(kind, generator, n_frames, width, height)
     yaw, tilt, cast = _pose_and_light(kind, generator, n_frames, cast_strength)
     segments = _segments(kind, n_frames)
@@ -299,9 +337,9 @@ def make_head_sequence(kind: str, *, rng: int | np.random.Generator, noise_std: 
     for t in range(n_frames):
         image = background.copy()
         cx, cy, s = truth[t]
-        _draw_head(image, cx, cy, 1.0 + s, yaw[t], tilt[t])
+        draw_head(image, cx, cy, 1.0 + s, yaw[t], tilt[t])
         if kind == "twin":  # the twin walks the other way, in front
-            _draw_head(image, width - cx, cy, 1.0 + s)
+            draw_head(image, width - cx, cy, 1.0 + s)
         if hand_start <= t < hand_stop:  # a hand crosses in front of the face
             progress = (t - hand_start) / (hand_stop - hand_start - 1)
             hx = cx - 70 + 140 * progress
@@ -403,9 +441,9 @@ def head_views(yaws: np.ndarray, *, rng: int | np.random.Generator, noise_std: f
     generator = make_rng(rng, "rng")
     frames, states = [], []
     for yaw in yaws:
-        image = _background(generator, 192, 256)
+        image = office_background(generator, 192, 256)
         state = np.array([generator.uniform(70, 186), generator.uniform(70, 110), generator.uniform(-0.1, 0.1)])
-        _draw_head(image, state[0], state[1], 1.0 + state[2], float(yaw))
+        draw_head(image, state[0], state[1], 1.0 + state[2], float(yaw))
         image += noise_std * generator.standard_normal(image.shape, dtype=np.float32)
         frames.append(np.clip(image + 0.5, 0, 255).astype(np.uint8))
         states.append(state)

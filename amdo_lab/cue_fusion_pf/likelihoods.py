@@ -503,7 +503,7 @@ class EdgeLikelihood:
             (N, N_e, 2L+1) grey levels.
         """
         grey = self.grey(frame)
-        states = np.atleast_2d(self.shape_space._check_states(states))
+        states = np.atleast_2d(self.shape_space.check_states(states))
         reference = check_bool(reference, "reference")
         if len(states) == 0:  # no particles: no lines to read (cv2.remap refuses an empty map)
             return np.empty((0, self.n_lines, self.offsets.size), np.float32)
@@ -575,7 +575,7 @@ class EdgeLikelihood:
         numpy.ndarray
             (N,) log-likelihoods (λ of this frame is kept in ``clutter_density``).
         """
-        states = np.atleast_2d(self.shape_space._check_states(states))
+        states = np.atleast_2d(self.shape_space.check_states(states))
         n = len(states)
         state_index, line_index, offsets = self.features(frame, states, reference=reference)
         if n == 0:  # no particles (λ of this frame is left as it was)

@@ -198,7 +198,7 @@ class ShapeSpace:
             (N,) scales ``k`` (``1 + s``, or ``hypot(1 + s_c, s_s)``) and (N, 2, 2) rotations
             (the identity in the translation + scale space).
         """
-        states = np.atleast_2d(self._check_states(states))
+        states = np.atleast_2d(self.check_states(states))
         if self.kind == "translation_scale":
             return 1.0 + states[:, 2], np.broadcast_to(np.eye(2), (len(states), 2, 2)).copy()
         scale = np.hypot(1.0 + states[:, 2], states[:, 3])
@@ -219,7 +219,7 @@ class ShapeSpace:
         numpy.ndarray
             (N, J, 2) control points in pixels.
         """
-        states = np.atleast_2d(self._check_states(states))
+        states = np.atleast_2d(self.check_states(states))
         # eq. (2): Q = W X + Q̄, with Q stacked as (Q^x, Q^y)
         stacked = states @ self.shape_matrix().T + np.concatenate([self.template[:, 0], self.template[:, 1]])
         return np.stack([stacked[:, : self.n_control], stacked[:, self.n_control :]], axis=2)
@@ -280,7 +280,7 @@ class ShapeSpace:
         numpy.ndarray
             (N, 5) ellipses ``(cx, cy, a, b, angle)``.
         """
-        states = np.atleast_2d(self._check_states(states))
+        states = np.atleast_2d(self.check_states(states))
         e = self.template_ellipse
         if self.kind == "translation_scale":
             scale = 1.0 + states[:, 2]
@@ -310,9 +310,24 @@ class ShapeSpace:
             return np.array([ellipse[0], ellipse[1], relative_size - 1.0, 0.0])
         return np.array([ellipse[0], ellipse[1], relative_size - 1.0])
 
-    def _check_states(self, states: np.ndarray) -> np.ndarray:
-        """States as a float array, every entry within ±1e6 (pixels, relative scale): far beyond any
-        frame, and the contours' pixel coordinates stay finite and within int32."""
+    def check_states(self, states: np.ndarray) -> np.ndarray:
+        """Return ``states`` as a float array after checking its shape and range (the cues call it too).
+
+        Parameters
+        ----------
+        states : array_like
+            (state_dim,) or (N, state_dim) states; every entry within ±1e6 (pixels, relative scale):
+            far beyond any frame, so the contours' pixel coordinates stay finite and within int32.
+
+        Returns
+        -------
+        numpy.ndarray
+            The states, float, shape as given.
+
+        References
+        ----------
+        Li & Chaumette, AMDO 2004, eqs. (2)-(3) (the state of a shape space).
+        """
         states = as_finite_array(states, "states", allow_empty=True, max_abs=1e6)
         if states.ndim not in (1, 2) or states.shape[-1] != self.state_dim:
             raise ValueError(f"states must have shape ({self.state_dim},) or (N, {self.state_dim}), got shape {states.shape}")

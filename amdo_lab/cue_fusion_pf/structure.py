@@ -18,7 +18,7 @@ import cv2
 import numpy as np
 
 from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive_int, make_rng
-from amdo_lab.cue_fusion_pf import data as _data
+from amdo_lab.cue_fusion_pf import data as head_data
 from amdo_lab.cue_fusion_pf.likelihoods import SIGMA_RANGE, check_frame, check_shape_space
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 
@@ -201,7 +201,7 @@ class TrainingSet:
 
 
 def _head_box(cx: float, cy: float, scale: float) -> np.ndarray:
-    a, b = _data.HEAD_AXES[0] * scale, _data.HEAD_AXES[1] * scale
+    a, b = head_data.HEAD_AXES[0] * scale, head_data.HEAD_AXES[1] * scale
     return np.array([cx - a, cy - b, 2 * a, 2 * b])
 
 
@@ -241,11 +241,11 @@ def make_training_set(*, rng: int | np.random.Generator, n_scenes: int = 40, per
     positives = {view: [] for view in VIEWS}
     negatives, near_misses = [], []
     for _ in range(n_scenes):
-        background = _data._background(generator, height, width)
+        background = head_data.office_background(generator, height, width)
         for view, yaw in VIEWS.items():
             scene = background.copy()
             cx, cy, scale = generator.uniform(50, 206), generator.uniform(60, 120), generator.uniform(0.85, 1.2)
-            _data._draw_head(scene, cx, cy, scale, yaw + generator.normal(0, 0.1))
+            head_data.draw_head(scene, cx, cy, scale, yaw + generator.normal(0, 0.1))
             scene *= generator.uniform(0.45, 1.25, 3).astype(np.float32)  # lighting gain and colour cast
             scene += generator.normal(0, 5, scene.shape).astype(np.float32)
             frame = np.clip(scene, 0, 255).astype(np.uint8)
