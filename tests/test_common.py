@@ -23,6 +23,7 @@ from amdo_lab.common import (  # noqa: E402
     check_bool,
     check_choice,
     check_fitted,
+    check_image_shape,
     check_in_range,
     check_names,
     check_positive,
@@ -394,3 +395,13 @@ REJECTIONS = [
 @pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
 def test_rejections(request, call, error, message):
     check_rejection(request, call, error, message)
+
+
+def test_check_image_shape_returns_python_ints_and_names_the_argument():
+    assert check_image_shape(np.array([6, 5]), "size", minimum=2) == (6, 5)
+    with pytest.raises(ValueError, match=r"size must be a pair \(H, W\)"):
+        check_image_shape((6, 5, 3), "size", axes="H, W")
+    with pytest.raises(ValueError, match=r"size\[1\] must be at least 2"):
+        check_image_shape((6, 1), "size", minimum=2)
+    with pytest.raises(TypeError, match=r"size\[0\] must be an int"):
+        check_image_shape((6.5, 5), "size")

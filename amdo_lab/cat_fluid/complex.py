@@ -14,7 +14,7 @@ import numbers
 import numpy as np
 import scipy.sparse as sp
 
-from amdo_lab.common import check_positive_int
+from amdo_lab.common import check_image_shape
 
 __all__ = ["CubicalComplex"]
 
@@ -39,10 +39,7 @@ class CubicalComplex:
     """
 
     def __init__(self, shape: tuple[int, int]) -> None:
-        if not isinstance(shape, (tuple, list)) or len(shape) != 2:
-            raise ValueError(f"shape must be a pair (H, W), got {shape!r}")
-        self.shape = (check_positive_int(shape[0], "shape[0]", minimum=2),
-                      check_positive_int(shape[1], "shape[1]", minimum=2))
+        self.shape = check_image_shape(shape, minimum=2, axes="H, W")
 
     @property
     def n_pixels(self) -> tuple[int, int, int]:

@@ -16,8 +16,8 @@ import numpy as np
 from scipy.ndimage import binary_fill_holes, gaussian_filter
 
 from amdo_lab.cat_fluid.registration import warp_image
-from amdo_lab.common import (as_bool_mask, as_finite_array, check_choice, check_in_range, check_positive,
-                             check_positive_int, make_rng)
+from amdo_lab.common import (as_bool_mask, as_finite_array, check_choice, check_image_shape, check_in_range,
+                             check_positive, make_rng)
 
 __all__ = ["PAIR_NAMES", "DIPY_IMAGES", "BLOB_CENTRE_FRACTION", "BLOB_SD", "BLOB_HEIGHT", "RegistrationPair", "load_dipy_image", "smooth_warp", "foreground_mask",
            "make_pair"]
@@ -96,9 +96,7 @@ def smooth_warp(shape: tuple[int, int], *, rng: int | np.random.Generator, ampli
     AMDO 2004, LNCS 3179, pp. 76-85,
     Sec. 5 (the known warps stand in for its pairs of real slices).
     """
-    if not isinstance(shape, (tuple, list)) or len(shape) != 2:
-        raise ValueError(f"shape must be a pair (H, W), got {shape!r}")
-    shape = (check_positive_int(shape[0], "shape[0]"), check_positive_int(shape[1], "shape[1]"))
+    shape = check_image_shape(shape, axes="H, W")
     rng = make_rng(rng, "rng")
     amplitude_px = check_positive(amplitude_px, "amplitude_px")
     smoothness_px = check_in_range(smoothness_px, "smoothness_px", 0, MAX_SMOOTHNESS_PX, closed="right")

@@ -24,7 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from amdo_lab.cat_fluid.stencil import MAX_FIELD, NEIGHBOUR_OFFSETS, check_moduli, fluid_stencil, stencil_blocks
-from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive_int
+from amdo_lab.common import as_finite_array, check_choice, check_image_shape, check_in_range, check_positive_int
 
 __all__ = ["SOLVERS", "stencil_symbol", "cat_symbol", "finite_difference_symbol", "apply_finite_difference",
            "solve_symbol", "sor_solve", "solve_velocity", "default_omega", "SOR_ORDERINGS", "symbol_eigenvalues",
@@ -33,12 +33,6 @@ __all__ = ["SOLVERS", "stencil_symbol", "cat_symbol", "finite_difference_symbol"
 SOLVERS = ("cat", "sor", "fft")
 SOR_ORDERINGS = ("four-colour", "red-black", "red-black-together")
 RED_BLACK = (((0, 0), (1, 1)), ((0, 1), (1, 0)))  # colours (row parity, column parity) of each half
-
-
-def _check_shape(shape: object) -> tuple[int, int]:
-    if not isinstance(shape, (tuple, list)) or len(shape) != 2:
-        raise ValueError(f"shape must be a pair (H, W), got {shape!r}")
-    return check_positive_int(shape[0], "shape[0]"), check_positive_int(shape[1], "shape[1]")
 
 
 def _frequencies(shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
@@ -76,7 +70,7 @@ def stencil_symbol(stencil: object, shape: tuple[int, int]) -> np.ndarray:
     blocks = stencil_blocks(stencil)
     if not np.allclose(blocks, blocks[[NEIGHBOUR_OFFSETS.index((-d0, -d1)) for d0, d1 in NEIGHBOUR_OFFSETS]]):
         raise ValueError("stencil must be centro-symmetric (K(d) = K(-d)) for a real symbol")
-    w0, w1 = _frequencies(_check_shape(shape))
+    w0, w1 = _frequencies(check_image_shape(shape, axes="H, W"))
     phases = np.stack([np.cos(w0 * d0 + w1 * d1) for d0, d1 in NEIGHBOUR_OFFSETS])  # (9, H, W//2+1)
     return np.einsum("pij,phw->ijhw", blocks, phases)
 
@@ -133,7 +127,7 @@ def finite_difference_symbol(shape: tuple[int, int], lam: float, mu: float) -> n
     IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
     lam, mu = check_moduli(lam, mu)
-    w0, w1 = _frequencies(_check_shape(shape))
+    w0, w1 = _frequencies(check_image_shape(shape, axes="H, W"))
     d00 = 2 * np.cos(w0) - 2 + 0 * w1
     d11 = 2 * np.cos(w1) - 2 + 0 * w0
     d01 = -np.sin(w0) * np.sin(w1)  # (i sin ω0)(i sin ω1)
@@ -245,7 +239,7 @@ def stencil_matrix(stencil: object, shape: tuple[int, int]) -> sp.csr_matrix:
     eq. (15).
     """
     blocks = stencil_blocks(stencil)
-    h, w = _check_shape(shape)
+    h, w = check_image_shape(shape, axes="H, W")
     pixel = np.arange(h * w).reshape(h, w)
     rows, cols, values = [], [], []
     for block, (d0, d1) in zip(blocks, NEIGHBOUR_OFFSETS):

@@ -18,6 +18,7 @@ __all__ = [
     "check_bool",
     "check_choice",
     "check_fitted",
+    "check_image_shape",
     "check_in_range",
     "check_names",
     "check_positive",
@@ -185,6 +186,35 @@ def check_choice(value: object, name: str, choices: Iterable[object]) -> object:
         listed = ", ".join(repr(option) for option in options)
         raise ValueError(f"{name} must be one of {listed}; got {value!r}")
     return value
+
+
+def check_image_shape(
+    shape: object, name: str = "shape", *, minimum: int = 1, axes: str = "rows, cols"
+) -> tuple[int, int]:
+    """Return an image size as ``(rows, cols)`` Python ints, or raise an error naming ``name``.
+
+    Parameters
+    ----------
+    shape : pair of int
+        The user's input: a tuple, list or array of two ints (a float size would be truncated
+        silently, so it is refused).
+    name : str
+        The argument's name, used in error messages.
+    minimum : int
+        Smallest number of rows and of columns accepted.
+    axes : str
+        How the message spells the pair, in the words of the caller's docstring (``"rows, cols"``
+        or ``"H, W"``).
+
+    Returns
+    -------
+    tuple of int
+        ``(rows, cols)``.
+    """
+    if isinstance(shape, (str, bytes)) or not hasattr(shape, "__len__") or len(shape) != 2:
+        raise ValueError(f"{name} must be a pair ({axes}), got {shape!r}")
+    return (check_positive_int(shape[0], f"{name}[0]", minimum=minimum),
+            check_positive_int(shape[1], f"{name}[1]", minimum=minimum))
 
 
 def check_names(

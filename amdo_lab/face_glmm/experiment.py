@@ -12,12 +12,11 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_image_shape, check_positive, check_positive_int, make_rng
 from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.face_glmm.pcalda import METRICS, PcaLda, pca_basis, weighted_sq_distances
 from amdo_lab.face_glmm.population import (
     STANDARD_SHAPE,
-    check_image_shape,
     downsample_by_two,
     elliptical_mask,
     generate_face_population,

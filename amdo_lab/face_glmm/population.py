@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_in_range, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_image_shape, check_in_range, check_positive_int, make_rng
 
 __all__ = [
     "FacePopulation",
@@ -26,7 +26,6 @@ __all__ = [
     "generate_face_population",
     "preprocess_images",
     "downsample_by_two",
-    "check_image_shape",
     "TEXTURE_SLOPE",
     "TEXTURE_AMPLITUDE",
 ]
@@ -228,42 +227,6 @@ def _power_law_field(gen: np.random.Generator, n: int, shape: tuple[int, int], s
     amplitude = (fy**2 + fx**2 + (1.0 / max(rows, cols)) ** 2) ** (-slope / 4)
     field = np.fft.ifft2(np.fft.fft2(gen.standard_normal((n, rows, cols))) * amplitude).real
     return field / field.std(axis=(1, 2), keepdims=True)
-
-
-def check_image_shape(shape: object, *, minimum: int) -> tuple[int, int]:
-    """Check an image size (rows, cols): a pair of ints, each at least ``minimum``.
-
-    Shared by the generator, :func:`elliptical_mask` and :class:`FactorialDesign` (a float size
-    would be truncated silently, so it is refused).
-
-    Parameters
-    ----------
-    shape : pair of int
-        The size to check, named ``shape`` in the messages.
-    minimum : int
-        Smallest number of rows and of columns accepted.
-
-    Returns
-    -------
-    tuple of int
-        ``(rows, cols)`` as Python ints.
-
-    Raises
-    ------
-    ValueError
-        When ``shape`` is not a pair or a side is below ``minimum``.
-    TypeError
-        When a side is not an int.
-
-    References
-    ----------
-    Givens et al. (2004), AMDO, LNCS 3179, Sec. 2 (the image sizes of the FERET images this population
-    stands in for).
-    """
-    if isinstance(shape, (str, bytes)) or not hasattr(shape, "__len__") or len(shape) != 2:
-        raise ValueError(f"shape must be a pair (rows, cols), got {shape!r}")
-    return (check_positive_int(shape[0], "shape[0]", minimum=minimum),
-            check_positive_int(shape[1], "shape[1]", minimum=minimum))
 
 
 def elliptical_mask(shape: tuple[int, int]) -> np.ndarray:

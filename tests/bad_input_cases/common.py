@@ -63,6 +63,8 @@ def cases() -> dict[str, Case]:
                              {"value": "object"}, names={"value": "metric"}),
         "check_fitted": Case(c.check_fitted, {"estimator": Fitted(), "attributes": "coef_"},
                              {"estimator": "object"}, names={"estimator": "not fitted"}),
+        "check_image_shape": Case(c.check_image_shape, {"shape": (6, 5), "name": "size", "minimum": 2},
+                                  {"shape": "object"}, names={"shape": "size"}),
         "check_in_range": Case(c.check_in_range, {"value": 0.5, "name": "p", "low": 0, "high": 1},
                                {"value": "probability"}, names={"value": "p"}),
         "check_names": Case(c.check_names, {"values": ("fist", "point"), "name": "classes",
