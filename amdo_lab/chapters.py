@@ -22,6 +22,8 @@ class Chapter:
     title: str
     summary: str
     paper: str
+    exercises: str = ""
+    """Module holding the chapter's :class:`~amdo_lab.common.exercises.ExerciseSet` as ``EXERCISES``."""
 
     @property
     def slug(self) -> str:
@@ -41,6 +43,7 @@ CHAPTERS: tuple[Chapter, ...] = (
         "The reading map of the chapters (what each needs and which chapter teaches it), the notation they share, "
         "how exercises are checked, a warm-up exercise on Procrustes alignment, and the plotting helpers in 2-D and 3-D.",
         "—",
+        exercises="amdo_lab.introduction.exercises",
     ),
     Chapter(
         1,
@@ -52,6 +55,7 @@ CHAPTERS: tuple[Chapter, ...] = (
         "than its optimizer keeps it above the known-match floor.",
         "G. Dewaele, F. Devernay, R. Horaud, F. Forbes. The Alignment Between 3-D Data and "
         "Articulated Shapes with Bending Surfaces. ECCV 2006, LNCS 3953, pp. 578-591.",
+        exercises="amdo_lab.em_articulated.exercises",
     ),
     Chapter(
         2,
@@ -62,6 +66,7 @@ CHAPTERS: tuple[Chapter, ...] = (
         "reproduced within its interval; a controlled experiment shows where a mixture beats one PDM per class.",
         "A. A. Al-Shaher, E. R. Hancock. A Probabilistic Framework for Articulated Shape "
         "Recognition. AMDO 2004, LNCS 3179, pp. 62-75.",
+        exercises="amdo_lab.pdm_mixtures.exercises",
     ),
     Chapter(
         3,
@@ -72,6 +77,7 @@ CHAPTERS: tuple[Chapter, ...] = (
         "registration with Christensen's SOR, an exact FFT solve and DIPY's SyN on warped brain images.",
         "L. Bentabet, D. Ziou. Neuroanatomy Registration: An Algebraic-Topology Based Approach. "
         "AMDO 2004, LNCS 3179, pp. 76-85.",
+        exercises="amdo_lab.cat_fluid.exercises",
     ),
     Chapter(
         4,
@@ -83,6 +89,7 @@ CHAPTERS: tuple[Chapter, ...] = (
         "stays short of error-free on synthetic ears.",
         "M. Choraś. Ear Biometrics Based on Geometrical Method of Feature Extraction. "
         "AMDO 2004, LNCS 3179, pp. 51-61.",
+        exercises="amdo_lab.ear_biometrics.exercises",
     ),
     Chapter(
         5,
@@ -95,6 +102,7 @@ CHAPTERS: tuple[Chapter, ...] = (
         "G. H. Givens, J. R. Beveridge, B. A. Draper, D. Bolme. Using a Generalized Linear Mixed "
         "Model to Study the Configuration Space of a PCA+LDA Human Face Recognition Algorithm. "
         "AMDO 2004, LNCS 3179, pp. 1-11.",
+        exercises="amdo_lab.face_glmm.exercises",
     ),
     Chapter(
         6,
@@ -107,6 +115,7 @@ CHAPTERS: tuple[Chapter, ...] = (
         "twin-head failure case.",
         "P. Li, F. Chaumette. Image Cues Fusion for Object Tracking Based on Particle Filter. AMDO 2004, "
         "LNCS 3179.",
+        exercises="amdo_lab.cue_fusion_pf.exercises",
     ),
 )
 

@@ -41,3 +41,59 @@ def test_predicate_that_raises_is_reported(capsys):
     check_answer("x", lambda a: a / 2 > 1, hint="a number")
     out = capsys.readouterr().out
     assert out.startswith("not yet: the answer could not be compared (TypeError") and out.rstrip().endswith("a number")
+
+
+# --- the exercise specification: Exercise, WrongAnswer, ExerciseSet -------------------------------
+
+from amdo_lab.common.exercises import Exercise, ExerciseSet, WrongAnswer, wrong_answers  # noqa: E402
+
+
+def _demo_set():
+    return ExerciseSet(9, [
+        Exercise(1, lambda scale: 2.0 * scale, "double it", wrong_answers((1.0, "the input"), (4.0, "squared")),
+                 context=("scale",), rtol=1e-3),
+        Exercise(2, lambda: "smaller", "compare the two", wrong_answers(("larger", "the other way"),
+                                                                         (lambda ns: ns["unchanged"], "unchanged"),
+                                                                         unchanged=[1]),
+                 choices=("larger", "smaller"), experiment=True),
+    ])
+
+
+@pytest.mark.parametrize(("number", "answer", "context", "printed"), [
+    (1, None, {"scale": 1.0}, "not attempted yet"),
+    (1, 2.0, {"scale": 1.0}, "correct"),
+    (1, 2.01, {"scale": 1.0}, "not yet: double it"),
+    (1, 2.0, {}, "not yet: the check could not run (KeyError: 'the check needs scale')"),
+    (2, " Smaller", {}, "correct"),
+    (2, "bigger", {}, "not yet: answer one of 'larger', 'smaller'"),
+    (2, 3, {}, "not yet: answer one of 'larger', 'smaller'"),
+])
+def test_exercise_set_verdicts(capsys, number, answer, context, printed):
+    _demo_set().check(number, answer, **context)
+    assert capsys.readouterr().out.strip() == printed
+
+
+def test_self_test_passes_when_solutions_right_and_wrong_answers_rejected(capsys):
+    namespace = {"scale": 1.0, "unchanged": "larger", "solution_1": 2.0, "solution_2": "smaller"}
+    _demo_set().assert_checks(namespace)
+    assert "2 exercises" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(("namespace", "message"), [
+    ({"scale": 1.0, "unchanged": "larger", "solution_1": 3.0, "solution_2": "smaller"}, "solution_1"),
+    ({"scale": 1.0, "unchanged": "smaller", "solution_1": 2.0, "solution_2": "smaller"}, "unchanged"),
+    ({"scale": 1.0, "unchanged": "larger", "solution_1": 2.0}, "solution_2 is not defined"),
+    ({"unchanged": "larger", "solution_1": 2.0, "solution_2": "smaller"}, "the expected value"),
+])
+def test_self_test_fails_on_any_wrong_verdict(namespace, message):
+    with pytest.raises(AssertionError, match=message):
+        _demo_set().assert_checks(namespace)
+
+
+def test_an_exercise_needs_two_wrong_answers_and_an_experiment_its_unchanged_value():
+    with pytest.raises(ValueError, match="at least two"):
+        Exercise(1, lambda: 1.0, "h", (WrongAnswer(2.0, "x"),))
+    with pytest.raises(ValueError, match="unchanged"):
+        Exercise(1, lambda: 1.0, "h", wrong_answers((2.0, "x"), (3.0, "y")), experiment=True)
+    with pytest.raises(ValueError, match="numbered"):
+        ExerciseSet(0, [Exercise(2, lambda: 1.0, "h", wrong_answers((2.0, "x"), (3.0, "y")))])
