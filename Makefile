@@ -9,7 +9,7 @@ EGL_PACKAGES     := libegl1 libegl-mesa0
 BROWSER_PACKAGES := chromium chromium-driver
 R_PACKAGES       := r-base-core r-cran-lme4
 
-.PHONY: book site test lab figures check-env setup system-packages egl clean
+.PHONY: book site test test-second-kernel lab figures check-env setup system-packages egl clean
 
 # Execute every chapter, then build the HTML book into build/book/.
 book: $(STAMP)
@@ -23,6 +23,13 @@ site: $(STAMP)
 # (tests/test_browser.py builds the site from the committed notebooks).
 test: $(STAMP)
 	$(PY) -m pytest tests notebooks $(NBVAL)
+
+# nbval over every notebook again, under a second OpenBLAS kernel (tests/blas_kernels.py picks it:
+# Nehalem on x86-64, Haswell where Nehalem is the default): checked outputs must not depend on the CPU.
+test-second-kernel: $(STAMP)
+	@kernel=$$($(PY) tests/blas_kernels.py); \
+	echo "notebooks under OPENBLAS_CORETYPE=$$kernel (this machine: $$($(PY) tests/blas_kernels.py --current))"; \
+	OPENBLAS_CORETYPE=$$kernel $(PY) -m pytest notebooks $(NBVAL)
 
 lab: $(STAMP)
 	$(VENV)/bin/jupyter lab notebooks/
