@@ -405,3 +405,63 @@ def test_check_image_shape_returns_python_ints_and_names_the_argument():
         check_image_shape((6, 1), "size", minimum=2)
     with pytest.raises(TypeError, match=r"size\[0\] must be an int"):
         check_image_shape((6.5, 5), "size")
+
+
+# --- bad input, round 2: bounded counts, scale-safe norms, flags and records of the shared floor -----
+
+def test_count_checks_take_a_maximum():
+    from amdo_lab.common import check_positive_int
+
+    assert check_positive_int(1000, "n_iter", maximum=1000) == 1000
+    with pytest.raises(ValueError, match=r"n_iter must be at most 1,000, got 1,000,000,000"):
+        check_positive_int(10**9, "n_iter", maximum=1000)
+
+
+@pytest.mark.parametrize("n", [10**9, 2**63])
+def test_spawn_rngs_refuses_a_count_it_cannot_make_in_seconds(n):
+    from amdo_lab.common import spawn_rngs
+
+    with pytest.raises(ValueError, match=r"\bn must be at most"):
+        spawn_rngs(0, n)
+
+
+@pytest.mark.parametrize("scale", [1e-200, 1.0, 1e200, 1e300])
+def test_rotation_matrix_is_scale_free_in_its_axis(scale):
+    from amdo_lab.common import rotation_matrix, rotation_x
+
+    np.testing.assert_allclose(rotation_matrix(np.array([scale, 0.0, 0.0]), 0.9), rotation_x(0.9), atol=1e-15)
+
+
+@pytest.mark.parametrize("matrix", [2 * np.eye(3), np.diag([1.0, 1.0, -1.0]), np.ones((3, 3))])
+def test_rigid_transform_refuses_a_matrix_that_is_not_a_rotation(matrix):
+    from amdo_lab.common import rigid_transform
+
+    with pytest.raises(ValueError, match=r"rotation must be a rotation"):
+        rigid_transform(matrix, np.zeros(3))
+
+
+def test_apply_rigid_refuses_points_whose_image_overflows():
+    from amdo_lab.common import apply_rigid, rigid_transform, rotation_z
+
+    transform = rigid_transform(rotation_z(0.8), np.array([0.0, 1e308, 0.0]))
+    with pytest.raises(ValueError, match=r"points and transform are too large"):
+        apply_rigid(transform, np.full((2, 3), 1e308))
+
+
+@pytest.mark.parametrize("flag", ["allow_scale", "allow_reflection"])
+@pytest.mark.parametrize("value", ["no", None, 2])
+def test_procrustes_flags_must_be_bools(flag, value):
+    from amdo_lab.common import procrustes_align
+
+    points = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 2.0]])
+    with pytest.raises(TypeError, match=rf"\b{flag} must be True or False"):
+        procrustes_align(points, 2 * points, **{flag: value})
+
+
+@pytest.mark.parametrize("value", [None, True, "0.5", float("nan")])
+def test_rate_interval_contains_refuses_what_is_not_a_number(value):
+    from amdo_lab.common import rate_interval
+
+    interval = rate_interval(np.array([True] * 5 + [False] * 5))
+    with pytest.raises((TypeError, ValueError), match=r"\bvalue must be"):
+        interval.contains(value)

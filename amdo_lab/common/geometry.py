@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common.validation import as_finite_array, check_positive
+from amdo_lab.common.validation import as_finite_array, check_bool, check_positive
 
 __all__ = [
     "ProcrustesResult",
@@ -59,10 +59,11 @@ def rotation_matrix(axis: np.ndarray, angle: float | np.ndarray) -> np.ndarray:
         ``(3, 3)`` for a scalar angle, ``(*angle.shape, 3, 3)`` otherwise.
     """
     axis = as_finite_array(axis, "axis", shape=(3,))
-    norm = np.linalg.norm(axis)
-    if norm == 0:
+    largest = np.max(np.abs(axis))
+    if largest == 0:
         raise ValueError("axis must be a non-zero 3-vector")
-    k = skew(axis / norm)
+    axis = axis / largest  # scale first: the norm of an axis above about 1e154 would overflow
+    k = skew(axis / np.linalg.norm(axis))
     angle = as_finite_array(angle, "angle", allow_empty=True)[..., None, None]
     return np.eye(3) + np.sin(angle) * k + (1.0 - np.cos(angle)) * (k @ k)
 
@@ -143,7 +144,7 @@ def rigid_transform(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray
     Parameters
     ----------
     rotation : (..., d, d) array_like
-        Rotation matrix, or a stack of them.
+        Rotation matrix, or a stack of them: orthonormal with determinant +1 (to 1e-6).
     translation : (..., d) array_like
         Translation vector(s), broadcastable against the leading axes of ``rotation``.
 
@@ -156,6 +157,7 @@ def rigid_transform(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray
     if rotation.ndim < 2 or rotation.shape[-1] != rotation.shape[-2]:
         raise ValueError(f"rotation must be a square (d, d) matrix or a stack (..., d, d), got shape {rotation.shape}")
     d = rotation.shape[-1]
+    _check_rotation(rotation, "rotation")
     translation = as_finite_array(translation, "translation")
     if translation.ndim < 1 or translation.shape[-1] != d or not _broadcasts_to(translation.shape, rotation.shape[:-1]):
         raise ValueError(f"translation must have shape (..., {d}) matching rotation {rotation.shape}, "
@@ -165,6 +167,25 @@ def rigid_transform(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray
     out[..., :d, d] = translation
     out[..., d, d] = 1.0
     return out
+
+
+def _check_rotation(rotation: np.ndarray, name: str, *, tol: float = 1e-6) -> None:
+    """Raise a ``ValueError`` naming ``name`` unless every ``(d, d)`` matrix is a proper rotation.
+
+    Parameters
+    ----------
+    rotation : (..., d, d) numpy.ndarray
+        Finite matrices.
+    name : str
+        The argument's name, used in error messages.
+    tol : float
+        Largest accepted deviation of ``R^T R`` from the identity and of ``det R`` from 1.
+    """
+    d = rotation.shape[-1]
+    gram_error = np.max(np.abs(np.swapaxes(rotation, -1, -2) @ rotation - np.eye(d)), initial=0.0)
+    if gram_error > tol or np.any(np.abs(np.linalg.det(rotation) - 1.0) > tol):
+        raise ValueError(f"{name} must be a rotation (orthonormal, determinant +1), "
+                         f"got R^T R off the identity by {gram_error:.3g}")
 
 
 def _broadcasts_to(shape: tuple[int, ...], target: tuple[int, ...]) -> bool:
@@ -196,7 +217,10 @@ def apply_rigid(transform: np.ndarray, points: np.ndarray) -> np.ndarray:
     points = as_finite_array(points, "points", allow_empty=True)
     if points.ndim not in (1, 2) or points.shape[-1] != d:
         raise ValueError(f"points must have shape (n, {d}) to match transform {transform.shape}, got {points.shape}")
-    return points @ transform[:d, :d].T + transform[:d, d]
+    mapped = points @ transform[:d, :d].T + transform[:d, d]
+    if not np.all(np.isfinite(mapped)):  # finite input whose products or sums overflow a float
+        raise ValueError("points and transform are too large: the mapped points overflow a float")
+    return mapped
 
 
 def apply_similarity_2d(
@@ -280,6 +304,8 @@ def procrustes_align(
     """
     source = as_finite_array(source, "source", ndim=2)
     target = as_finite_array(target, "target", ndim=2)
+    allow_scale = check_bool(allow_scale, "allow_scale")
+    allow_reflection = check_bool(allow_reflection, "allow_reflection")
     if source.shape != target.shape:
         raise ValueError(f"source and target must have the same shape, got {source.shape} and {target.shape}")
     n, d = source.shape

@@ -6,7 +6,12 @@ import numbers
 
 import numpy as np
 
-__all__ = ["make_rng", "spawn_rngs"]
+from amdo_lab.common.validation import check_positive_int
+
+__all__ = ["MAX_GENERATORS", "make_rng", "spawn_rngs"]
+
+#: Most generators :func:`spawn_rngs` makes at once (one per trial or frame; 100,000 take about a second).
+MAX_GENERATORS = 100_000
 
 
 def make_rng(seed: int | np.random.Generator, name: str = "seed") -> np.random.Generator:
@@ -48,13 +53,12 @@ def spawn_rngs(seed: int | np.random.Generator, n: int) -> list[np.random.Genera
     seed : int or numpy.random.Generator
         As for :func:`make_rng`.
     n : int
-        Number of generators, at least 1.
+        Number of generators, from 1 to :data:`MAX_GENERATORS`.
 
     Returns
     -------
     list of numpy.random.Generator
         ``n`` independent generators.
     """
-    if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1:
-        raise ValueError(f"n must be a positive int, got {n!r}")
-    return list(make_rng(seed).spawn(int(n)))
+    n = check_positive_int(n, "n", maximum=MAX_GENERATORS)
+    return list(make_rng(seed).spawn(n))

@@ -13,6 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from amdo_lab.common.validation import as_finite_array
+
 __all__ = ["RateInterval", "PairedComparison", "rate_interval", "paired_comparison"]
 
 
@@ -56,6 +58,7 @@ class RateInterval:
         bool
             ``low <= value <= high``.
         """
+        value = float(as_finite_array(value, "value", ndim=0))
         return self.low <= value <= self.high
 
 

@@ -140,8 +140,8 @@ def check_positive(value: object, name: str, *, allow_zero: bool = False) -> flo
     return number
 
 
-def check_positive_int(value: object, name: str, *, minimum: int = 1) -> int:
-    """Return ``value`` as an int after checking it is an integer of at least ``minimum``.
+def check_positive_int(value: object, name: str, *, minimum: int = 1, maximum: int | None = None) -> int:
+    """Return ``value`` as an int after checking it is an integer in ``[minimum, maximum]``.
 
     Parameters
     ----------
@@ -151,6 +151,9 @@ def check_positive_int(value: object, name: str, *, minimum: int = 1) -> int:
         The argument's name, used in error messages.
     minimum : int
         Smallest accepted value.
+    maximum : int, optional
+        Largest accepted value: a count of iterations, particles or pixels that a laptop runs in
+        minutes. A larger count would hang or exhaust memory instead of failing with a message.
 
     Returns
     -------
@@ -161,6 +164,8 @@ def check_positive_int(value: object, name: str, *, minimum: int = 1) -> int:
         raise TypeError(f"{name} must be an int, got {type(value).__name__}")
     if value < minimum:
         raise ValueError(f"{name} must be at least {minimum}, got {value}")
+    if maximum is not None and value > maximum:
+        raise ValueError(f"{name} must be at most {maximum:,}, got {value:,}")
     return int(value)
 
 
