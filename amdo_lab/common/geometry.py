@@ -217,7 +217,8 @@ def apply_rigid(transform: np.ndarray, points: np.ndarray) -> np.ndarray:
     points = as_finite_array(points, "points", allow_empty=True)
     if points.ndim not in (1, 2) or points.shape[-1] != d:
         raise ValueError(f"points must have shape (n, {d}) to match transform {transform.shape}, got {points.shape}")
-    mapped = points @ transform[:d, :d].T + transform[:d, d]
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused by name just below
+        mapped = points @ transform[:d, :d].T + transform[:d, d]
     if not np.all(np.isfinite(mapped)):  # finite input whose products or sums overflow a float
         raise ValueError("points and transform are too large: the mapped points overflow a float")
     return mapped
