@@ -304,8 +304,10 @@ const done = arguments[arguments.length - 1];
     }
     const details = item.querySelector(':scope > details');
     if (!details) return {kind: 'code', toggle: null, body: Array.from(item.children)};
+    // the folded input, and the output too: with hide-input alone the output would sit outside
     return {kind: 'code', toggle: details.querySelector(':scope > summary'),
-            body: Array.from(details.children).filter(c => c.tagName !== 'SUMMARY')};
+            body: Array.from(details.children).filter(c => c.tagName !== 'SUMMARY')
+                .concat(Array.from(item.children).filter(c => c !== details))};
   };
   const visible = nodes => nodes
       .filter(n => n.checkVisibility({checkOpacity: true, checkVisibilityCSS: true}) &&
