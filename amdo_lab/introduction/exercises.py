@@ -93,7 +93,6 @@ EXERCISES = ExerciseSet(chapter=0, exercises=[
         wrong_answers=(
             WrongAnswer(lambda ns: round(ns["noise_sigma"] * np.sqrt(2), 4), "the naive sigma * sqrt(2)"),
             WrongAnswer(lambda ns: ns["noise_sigma"], "sigma: the noise of one coordinate only"),
-            WrongAnswer(lambda ns: round(ns["noise_sigma"] * np.sqrt(2), 3), "sigma * sqrt(2) to two digits"),
         ),
         context=_CONTEXT, rtol=0.005,  # three significant figures (about 0.2 %); the naive value is 1.7 % off
     ),
