@@ -9,7 +9,7 @@ EGL_PACKAGES     := libegl1 libegl-mesa0
 BROWSER_PACKAGES := chromium chromium-driver
 R_PACKAGES       := r-base-core r-cran-lme4
 
-.PHONY: book site test lab figures check-env setup system-packages egl clean
+.PHONY: book site test lab figures editions check-env setup system-packages egl clean
 
 # Execute every chapter, then build the HTML book into build/book/.
 book: $(STAMP)
@@ -29,6 +29,10 @@ lab: $(STAMP)
 
 figures: $(STAMP)
 	$(PY) -m amdo_lab figures
+
+# Student edition (solutions removed) in build/student/, instructor edition in build/instructor/.
+editions: $(STAMP)
+	$(PY) -m amdo_lab editions
 
 check-env: $(STAMP)
 	$(PY) -m amdo_lab check-env
