@@ -161,3 +161,19 @@ def test_a_notebook_of_another_chapter_is_not_graded_as_this_one(tmp_path):
     rows = grade_notebook(path, timeout_s=60)
     assert len(rows) == 1 and rows[0].is_error and "does not match chapter" in rows[0].verdict, rows
     assert len(exercises) >= 1
+
+
+def test_command_line_grades_a_folder_and_refuses_a_missing_one(tmp_path):
+    import subprocess
+    import sys
+
+    (tmp_path / "notes.txt").write_text("not a notebook")
+    done = subprocess.run([sys.executable, "-m", "amdo_lab", "grade", str(tmp_path), "--no-progress",
+                           "--out", str(tmp_path / "out" / "marks.csv")], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert "notes.txt" in done.stdout and "not a notebook" in done.stdout
+    with (tmp_path / "out" / "marks.csv").open(newline="") as handle:
+        assert [row["verdict"][:21] for row in csv.DictReader(handle)] == ["error: not a notebook"]
+    missing = subprocess.run([sys.executable, "-m", "amdo_lab", "grade", str(tmp_path / "nowhere")],
+                             capture_output=True, text=True, timeout=120)
+    assert missing.returncode == 2 and missing.stderr.count("\n") == 1 and "is not a folder" in missing.stderr
