@@ -177,3 +177,15 @@ def test_command_line_grades_a_folder_and_refuses_a_missing_one(tmp_path):
     missing = subprocess.run([sys.executable, "-m", "amdo_lab", "grade", str(tmp_path / "nowhere")],
                              capture_output=True, text=True, timeout=120)
     assert missing.returncode == 2 and missing.stderr.count("\n") == 1 and "is not a folder" in missing.stderr
+
+
+def test_a_notebook_over_its_time_budget_gets_error_lines_for_every_exercise(tmp_path):
+    exercises = _exercise_set(0)
+    notebook = _submission(0, "blank")
+    _answer_cells(notebook)[0].source = "import time\ntime.sleep(600)"
+    path = tmp_path / "00_introduction_slow.ipynb"
+    nbformat.write(notebook, path)
+    rows = grade_notebook(path, timeout_s=8)
+    assert [row.exercise for row in rows] == [exercise.number for exercise in exercises.exercises] + [""]
+    assert all(row.is_error and row.points == 0 for row in rows), rows
+    assert "did not finish within 8 s" in rows[-1].verdict
