@@ -9,7 +9,7 @@ EGL_PACKAGES     := libegl1 libegl-mesa0
 BROWSER_PACKAGES := chromium chromium-driver
 R_PACKAGES       := r-base-core r-cran-lme4
 
-.PHONY: book site test test-second-kernel lab figures check-env setup system-packages egl clean
+.PHONY: book site test test-second-kernel lab figures editions grade check-env setup system-packages egl clean
 
 # Execute every chapter, then build the HTML book into build/book/.
 book: $(STAMP)
@@ -36,6 +36,15 @@ lab: $(STAMP)
 
 figures: $(STAMP)
 	$(PY) -m amdo_lab figures
+
+# Student edition (solutions removed) in build/student/, instructor edition in build/instructor/.
+editions: $(STAMP)
+	$(PY) -m amdo_lab editions
+
+# Grade a folder of submitted notebooks: make grade SUBMISSIONS=path/to/folder (grades.csv inside it).
+grade: $(STAMP)
+	@test -n "$(SUBMISSIONS)" || { echo "usage: make grade SUBMISSIONS=path/to/folder"; exit 2; }
+	$(PY) -m amdo_lab grade "$(SUBMISSIONS)"
 
 check-env: $(STAMP)
 	$(PY) -m amdo_lab check-env

@@ -1,4 +1,4 @@
-"""Command line of the workbook: ``python -m amdo_lab build | site | figures | execute | check-env``."""
+"""Command line of the workbook: ``python -m amdo_lab build | site | figures | execute | editions | grade | check-env``."""
 
 from __future__ import annotations
 
@@ -24,6 +24,17 @@ def _parser() -> argparse.ArgumentParser:
     figures.add_argument("--chapter", type=int, action="append", help="only this chapter (repeatable)")
     execute = commands.add_parser("execute", help="re-run notebooks in place (refresh committed outputs)")
     execute.add_argument("--chapter", type=int, action="append", help="only this chapter (repeatable)")
+    editions = commands.add_parser(
+        "editions", help="write build/student/ (solutions removed) and build/instructor/ (everything)")
+    editions.add_argument("--chapter", type=int, action="append", help="only this chapter (repeatable)")
+    editions.add_argument("--out", type=Path, default=None, help="output root instead of build/")
+    grade = commands.add_parser(
+        "grade", help="grade a folder of submitted notebooks with the chapters' own checks")
+    grade.add_argument("submissions", type=Path, help="folder of submitted notebooks")
+    grade.add_argument("--out", type=Path, default=None, help="CSV to write (default SUBMISSIONS/grades.csv)")
+    grade.add_argument("--timeout", type=float, default=600, help="seconds allowed per notebook (default 600)")
+    grade.add_argument("--workers", type=int, default=1, help="notebooks graded at the same time (default 1)")
+    grade.add_argument("--no-progress", action="store_true", help="no progress bar")
     commands.add_parser("check-env", help="check packages, EGL, the browser and off-screen 3-D rendering")
     return parser
 
@@ -53,11 +64,21 @@ def main(argv: list[str] | None = None) -> int:
             return 1
         print(f"The book is ready: open {Path(index).resolve()}")
         return 0
+    if args.command == "grade":
+        return _grade(args)
     try:
         chapters = _select(args.chapter)
     except ValueError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2
+    if args.command == "editions":
+        from amdo_lab.editions import write_editions
+
+        written = write_editions(args.out, chapters) if args.out else write_editions(chapters=chapters)
+        for edition, paths in written.items():
+            folder = paths[0].parent if paths else edition
+            print(f"{edition} edition: {len(paths)} chapter(s) in {folder}/")
+        return 0
     from amdo_lab.book import BookError, SiteError, build_book, execute_chapter, render_figures
 
     try:
@@ -83,6 +104,23 @@ def main(argv: list[str] | None = None) -> int:
         print("chapters executed before this one are in build/executed/; "
               "`python -m amdo_lab site` builds the book from what is there", file=sys.stderr)
         return 1
+    return 0
+
+
+def _grade(args) -> int:
+    from amdo_lab.grading import grade_folder, summary_table
+
+    if args.timeout <= 0 or args.workers < 1:
+        print("error: --timeout must be positive and --workers at least 1", file=sys.stderr)
+        return 2
+    try:
+        rows, csv_path = grade_folder(args.submissions, out=args.out, timeout_s=args.timeout,
+                                      workers=args.workers, progress=not args.no_progress)
+    except ValueError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 2
+    print(summary_table(rows))
+    print(f"\n{len({row.file for row in rows})} file(s) graded; grades in {csv_path}")
     return 0
 
 

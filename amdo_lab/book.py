@@ -28,8 +28,8 @@ from amdo_lab.chapters import CHAPTERS, Chapter
 from amdo_lab.common.plotting import FIG_DIR_VARIABLE
 
 __all__ = [
-    "BookError", "SiteError", "build_book", "build_site", "chapter_run_seconds", "execute_chapter",
-    "render_figures",
+    "BookError", "SOLUTION_CLASS", "SiteError", "build_book", "build_site", "chapter_run_seconds",
+    "execute_chapter", "fold_solutions", "render_figures",
 ]
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -39,6 +39,14 @@ CELL_TIMEOUT_S = 900
 #: Where a notebook records how long its last full execution took (seconds, wall clock).
 RUN_TIME_KEY = "run_seconds"
 CHAPTERS_MARKER = "<!-- chapters -->"
+#: Cells tagged ``solution`` are folded whole in the book; the folded parts carry this class (code
+#: cells as the tag ``amdo-solution``, which MyST-NB turns into the class ``tag_amdo-solution``).
+SOLUTION_TAG = "solution"
+SOLUTION_CLASS = "amdo-solution"
+SOLUTION_TITLE = "Solution (click to open)"
+_FOLD_TAGS = {"hide-input", "hide-output", "hide-cell", "remove-input", "remove-output"}
+_HEADING = re.compile(r"^ {0,3}#{1,6}\s")
+_FENCE = re.compile(r"^ {0,3}(`{3,}|~{3,}|:{3,})")
 _ANSI_ESCAPE = re.compile(r"\x1b\[[0-9;]*m")
 
 
@@ -188,6 +196,65 @@ def build_book(
     return build_site(build_dir, executed_dir=executed_dir)
 
 
+def fold_solutions(notebook):
+    """Fold every ``solution`` cell of ``notebook`` whole, in place, for the HTML book.
+
+    A code cell gets the ``hide-cell`` tag (input and output folded behind one toggle) and the tag
+    ``amdo-solution``; a markdown cell keeps its headings and has every other block of text put
+    in a dropdown admonition of class ``amdo-solution`` (sphinx-togglebutton folds it). Nothing of
+    a solution but its headings is shown before the reader clicks.
+
+    Parameters
+    ----------
+    notebook : nbformat.NotebookNode
+        An executed chapter notebook.
+
+    Returns
+    -------
+    int
+        The number of solution cells folded.
+    """
+    folded = 0
+    for cell in notebook.cells:
+        tags = list(cell.get("metadata", {}).get("tags", []))
+        if SOLUTION_TAG not in tags:
+            continue
+        folded += 1
+        if cell.cell_type == "code":
+            kept = [tag for tag in tags if tag not in _FOLD_TAGS and tag != SOLUTION_CLASS]
+            cell.metadata["tags"] = kept + ["hide-cell", SOLUTION_CLASS]
+        elif cell.cell_type == "markdown":
+            cell.source = _fold_prose(cell.source)
+    return folded
+
+
+def _fold_prose(source: str) -> str:
+    """Headings stay; each run of other lines goes into a dropdown admonition."""
+    longest = max([len(match.group(1)) for line in source.splitlines()
+                   if (match := re.match(r"^\s*(:{3,})", line))] + [3])
+    fence = ":" * (longest + 1)
+    blocks: list[tuple[bool, list[str]]] = []
+    in_code = None
+    for line in source.splitlines():
+        fence_match = _FENCE.match(line)
+        if fence_match and fence_match.group(1)[0] != ":":
+            marker = fence_match.group(1)
+            in_code = None if in_code and marker.startswith(in_code) else (in_code or marker[:3])
+        is_heading = in_code is None and bool(_HEADING.match(line))
+        if blocks and blocks[-1][0] == is_heading and not is_heading:
+            blocks[-1][1].append(line)
+        else:
+            blocks.append((is_heading, [line]))
+    out: list[str] = []
+    for is_heading, lines in blocks:
+        text = "\n".join(lines).strip("\n")
+        if is_heading or not text.strip():
+            out.append(text)
+            continue
+        out.append(f"{fence}{{admonition}} {SOLUTION_TITLE}\n:class: dropdown {SOLUTION_CLASS}\n\n{text}\n{fence}")
+    return "\n\n".join(part for part in out if part)
+
+
 def _site_sources(executed_dir: Path | None) -> list[tuple[Chapter, Path]]:
     sources = []
     for chapter in CHAPTERS:
@@ -238,9 +305,12 @@ def build_site(
     staging.mkdir(parents=True)
     rows = []
     for chapter, path in sources:
-        # a fresh copy (new modification time): sphinx re-reads every chapter, whichever source won
-        shutil.copyfile(path, staging / chapter.notebook)
-        seconds = chapter_run_seconds(nbformat.read(path, as_version=4))
+        # a fresh copy (new modification time): sphinx re-reads every chapter, whichever source won;
+        # solutions folded whole
+        notebook = nbformat.read(path, as_version=4)
+        fold_solutions(notebook)
+        nbformat.write(notebook, staging / chapter.notebook)
+        seconds = chapter_run_seconds(notebook)
         rows.append((chapter, seconds))
     landing = (SITE_CONFIG_DIR / "index.md").read_text(encoding="utf-8")
     if CHAPTERS_MARKER not in landing:
@@ -266,6 +336,10 @@ def build_site(
         raise SiteError("sphinx-build failed: " + "\n".join(shown))
     if quiet and completed.stderr.strip():
         print(completed.stderr.strip(), file=sys.stderr)
+    for chapter, path in sources:  # the download button gives the chapter as written, not as staged
+        download = site_dir / "_sources" / chapter.notebook
+        if download.exists():
+            shutil.copyfile(path, download)
     return site_dir / "index.html"
 
 

@@ -8,14 +8,32 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["CHAPTERS", "Chapter", "NOTEBOOK_DIR", "available_chapters", "find_chapter"]
+__all__ = ["CHAPTERS", "Chapter", "NOTEBOOK_DIR", "Prerequisite", "available_chapters", "find_chapter", "reading_map"]
 
 NOTEBOOK_DIR = Path(__file__).resolve().parent.parent / "notebooks"
 
 
 @dataclass(frozen=True)
+class Prerequisite:
+    """Something a chapter assumes, and the chapter of this book that teaches it (None: background)."""
+
+    topic: str
+    taught_in: int | None = None
+
+
+def needs(*items: str | tuple[str, int]) -> tuple[Prerequisite, ...]:
+    """Shorthand for a chapter's prerequisites: ``needs("least squares", ("EM for mixtures", 2))``."""
+    return tuple(Prerequisite(item) if isinstance(item, str) else Prerequisite(*item) for item in items)
+
+
+@dataclass(frozen=True)
 class Chapter:
-    """One chapter: its number, notebook file, title, one-line summary and the paper it follows."""
+    """One chapter: its number, notebook file, title, one-line summary and the paper it follows.
+
+    The reading map of chapter 0 is generated from ``prerequisites``, ``teaches``, ``difficulty``
+    and ``study_minutes`` (see :func:`reading_map`); a prerequisite taught in chapter N must be
+    listed, word for word, in chapter N's ``teaches``.
+    """
 
     number: int
     notebook: str
@@ -24,6 +42,14 @@ class Chapter:
     paper: str
     exercises: str = ""
     """Module holding the chapter's :class:`~amdo_lab.common.exercises.ExerciseSet` as ``EXERCISES``."""
+    prerequisites: tuple[Prerequisite, ...] = ()
+    """What the chapter assumes, each with the chapter of this book that teaches it, if one does."""
+    teaches: tuple[str, ...] = ()
+    """Topics the chapter teaches from first principles, as other chapters' prerequisites name them."""
+    difficulty: int = 0
+    """1 (introductory) to 3 (demanding); 0 when not rated."""
+    study_minutes: int = 0
+    """A careful first reading with the exercises, in minutes (0 when not estimated)."""
 
     @property
     def slug(self) -> str:
@@ -44,6 +70,9 @@ CHAPTERS: tuple[Chapter, ...] = (
         "how exercises are checked, a warm-up exercise on Procrustes alignment, and the plotting helpers in 2-D and 3-D.",
         "—",
         exercises="amdo_lab.introduction.exercises",
+        teaches=("rotations and rigid motions", "Procrustes alignment", "the shared notation"),
+        difficulty=1,
+        study_minutes=30,
     ),
     Chapter(
         1,
@@ -56,6 +85,11 @@ CHAPTERS: tuple[Chapter, ...] = (
         "G. Dewaele, F. Devernay, R. Horaud, F. Forbes. The Alignment Between 3-D Data and "
         "Articulated Shapes with Bending Surfaces. ECCV 2006, LNCS 3953, pp. 578-591.",
         exercises="amdo_lab.em_articulated.exercises",
+        prerequisites=needs(("rotations and rigid motions", 0), "least squares and Gauss–Newton",
+                            "Bayes' rule and the Gaussian density", ("EM for mixtures", 2)),
+        teaches=("robust EM with an outlier class", "annealing the variance"),
+        difficulty=3,
+        study_minutes=90,
     ),
     Chapter(
         2,
@@ -67,6 +101,11 @@ CHAPTERS: tuple[Chapter, ...] = (
         "A. A. Al-Shaher, E. R. Hancock. A Probabilistic Framework for Articulated Shape "
         "Recognition. AMDO 2004, LNCS 3179, pp. 62-75.",
         exercises="amdo_lab.pdm_mixtures.exercises",
+        prerequisites=needs("eigenvectors and least squares", "the multivariate Gaussian",
+                            ("Procrustes alignment", 0)),
+        teaches=("EM for mixtures", "point distribution models and PCA"),
+        difficulty=2,
+        study_minutes=90,
     ),
     Chapter(
         3,
@@ -78,6 +117,11 @@ CHAPTERS: tuple[Chapter, ...] = (
         "L. Bentabet, D. Ziou. Neuroanatomy Registration: An Algebraic-Topology Based Approach. "
         "AMDO 2004, LNCS 3179, pp. 76-85.",
         exercises="amdo_lab.cat_fluid.exercises",
+        prerequisites=needs(("the shared notation", 0), "vector calculus (gradient, divergence, Laplacian)",
+                            "finite differences", "warping an image"),
+        teaches=("viscous-fluid registration", "cochains and the coboundary"),
+        difficulty=3,
+        study_minutes=120,
     ),
     Chapter(
         4,
@@ -90,6 +134,11 @@ CHAPTERS: tuple[Chapter, ...] = (
         "M. Choraś. Ear Biometrics Based on Geometrical Method of Feature Extraction. "
         "AMDO 2004, LNCS 3179, pp. 51-61.",
         exercises="amdo_lab.ear_biometrics.exercises",
+        prerequisites=needs(("the shared notation", 0), "thresholds, connected components and thinning",
+                            "nearest-neighbour matching"),
+        teaches=("contour features of binary images",),
+        difficulty=1,
+        study_minutes=75,
     ),
     Chapter(
         5,
@@ -103,6 +152,11 @@ CHAPTERS: tuple[Chapter, ...] = (
         "Model to Study the Configuration Space of a PCA+LDA Human Face Recognition Algorithm. "
         "AMDO 2004, LNCS 3179, pp. 1-11.",
         exercises="amdo_lab.face_glmm.exercises",
+        prerequisites=needs("logistic regression", ("point distribution models and PCA", 2),
+                            "the idea of a random effect"),
+        teaches=("generalized linear mixed models",),
+        difficulty=2,
+        study_minutes=90,
     ),
     Chapter(
         6,
@@ -116,8 +170,49 @@ CHAPTERS: tuple[Chapter, ...] = (
         "P. Li, F. Chaumette. Image Cues Fusion for Object Tracking Based on Particle Filter. AMDO 2004, "
         "LNCS 3179.",
         exercises="amdo_lab.cue_fusion_pf.exercises",
+        prerequisites=needs(("the shared notation", 0), "Bayes' rule and the Gaussian density"),
+        teaches=("particle filters",),
+        difficulty=2,
+        study_minutes=90,
     ),
 )
+
+
+def reading_map(chapters: tuple[Chapter, ...] | None = None) -> str:
+    """The reading map of chapter 0 as a Markdown table, one row per chapter after the introduction.
+
+    Parameters
+    ----------
+    chapters : tuple of Chapter, optional
+        The chapters to list; by default every registered chapter.
+
+    Returns
+    -------
+    str
+        Columns: chapter, what it needs (with "ch. N" where this book teaches it), what it teaches,
+        difficulty (1 to 3 stars) and study time.
+    """
+    chapters = CHAPTERS if chapters is None else chapters
+    rows = ["| chapter | you need (where this book teaches it) | it teaches | difficulty | study time |",
+            "|---|---|---|---|---|"]
+    for chapter in chapters:
+        if chapter.number == 0:
+            continue
+        need = "; ".join(item.topic + (f" (ch. {item.taught_in})" if item.taught_in is not None else "")
+                         for item in chapter.prerequisites) or "—"
+        teaches = "; ".join(chapter.teaches) or "—"
+        stars = "★" * chapter.difficulty or "—"
+        rows.append(f"| {chapter.number} · {chapter.title} | {need} | {teaches} | {stars} | "
+                    f"{_study_time(chapter.study_minutes)} |")
+    return "\n".join(rows)
+
+
+def _study_time(minutes: int) -> str:
+    if minutes <= 0:
+        return "—"
+    if minutes >= 120 and minutes % 60 == 0:
+        return f"about {minutes // 60} h"
+    return f"about {minutes} min"
 
 
 def available_chapters() -> list[Chapter]:

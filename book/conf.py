@@ -25,6 +25,7 @@ exclude_patterns = ["_build", "**.ipynb_checkpoints", "Thumbs.db", ".DS_Store"]
 nb_execution_mode = "off"
 nb_ipywidgets_js = {}          # no widget scripts from a CDN
 nb_merge_streams = True        # one block per cell for consecutive prints
+nb_render_markdown_format = "myst"  # Markdown outputs (chapter 0's reading map) with tables and math
 myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence", "deflist"]
 myst_dmath_double_inline = True  # $$...$$ on a line of its own inside a paragraph
 myst_heading_anchors = 3

@@ -133,3 +133,40 @@ def test_a_broken_equation_reference_fails_the_strict_site_build(tiny_chapters):
     build_site(build_dir)  # a reader's build still writes the site
     with pytest.raises(SiteError, match=r"sphinx-build failed: .*no-such-label"):
         build_site(build_dir, warnings_as_errors=True)
+
+
+# --- solutions folded whole in the book ---------------------------------------------------------
+
+from amdo_lab.book import SOLUTION_CLASS, fold_solutions  # noqa: E402
+
+
+def test_solution_cells_are_folded_whole_headings_aside():
+    notebook = nbformat.v4.new_notebook()
+    prose = ("## Solutions\n\n### Exercise 1\n\nThe answer is 42 because\n\n```python\n# not a heading\n```\n\n"
+             "#### Part b\n\n:::{note}\ninner\n:::")
+    notebook.cells = [nbformat.v4.new_markdown_cell("## Exercises"), nbformat.v4.new_markdown_cell(prose),
+                      nbformat.v4.new_code_cell("solution_1 = 42"), nbformat.v4.new_code_cell("x = 1")]
+    notebook.cells[1].metadata["tags"] = ["solution"]
+    notebook.cells[2].metadata["tags"] = ["solution", "hide-input"]
+    assert fold_solutions(notebook) == 2
+    assert notebook.cells[0].source == "## Exercises" and "tags" not in notebook.cells[3].metadata
+    assert notebook.cells[2].metadata["tags"] == ["solution", "hide-cell", SOLUTION_CLASS]
+    folded = notebook.cells[1].source
+    visible = re.sub(r"(?s)::::\{admonition\}.*?\n::::(?=\n|$)", "", folded)
+    assert visible.split() == ["##", "Solutions", "###", "Exercise", "1", "####", "Part", "b"], folded
+    assert folded.count(f":class: dropdown {SOLUTION_CLASS}") == 2 and "# not a heading" in folded
+
+
+def test_the_reading_map_lists_every_chapter_and_its_prerequisites_agree_with_what_chapters_teach():
+    table = chapter_registry.reading_map()
+    for chapter in CHAPTERS[1:]:
+        assert f"| {chapter.number} · {chapter.title} |" in table
+        assert chapter.difficulty in (1, 2, 3) and chapter.study_minutes > 0, \
+            f"chapter {chapter.number}: give difficulty and study_minutes in amdo_lab/chapters.py"
+        assert chapter.prerequisites and chapter.teaches, \
+            f"chapter {chapter.number}: give prerequisites and teaches in amdo_lab/chapters.py"
+        for need in chapter.prerequisites:
+            if need.taught_in is not None:
+                teacher = next(c for c in CHAPTERS if c.number == need.taught_in)
+                assert need.topic in teacher.teaches, \
+                    f"chapter {chapter.number} needs {need.topic!r} from chapter {teacher.number}, which does not teach it"

@@ -4,7 +4,9 @@ The site is built from the committed, executed notebooks (nothing is executed) i
 folder, served on 127.0.0.1 (the search page needs http), and every page is opened. On each page:
 MathJax finished, left no raw TeX and no error; every image loaded; every sidebar and
 previous/next link leads to a page of the book; cells tagged ``hide-input``/``hide-cell`` are
-collapsed; each chapter's download button leads to its notebook; the browser console has no
+collapsed; every solution (cells tagged ``solution``, folded whole when the site is staged) shows
+nothing but its headings before a click and opens on one, on every chapter page; each chapter's
+download button leads to its notebook; the browser console has no
 error; nothing is loaded from outside the book; the text shows no machine path and no words about
 how the book was made. The search page finds a word of each chapter's title on that chapter's
 page.
@@ -284,6 +286,73 @@ def test_hidden_cells_are_folded(reports):
                   for page, report in reports.items() if report["openHidden"]])
     # chapter 0's warm-up solution is the example every chapter follows
     assert reports["00_introduction.html"]["hidden"] >= 1, "chapter 0's solution is not folded"
+
+
+# Runs in a chapter page: every folded solution part (a dropdown admonition of solution prose, a
+# code cell folded with its output), its visible text before a click, and after one.
+_PROBE_SOLUTIONS = r"""
+const done = arguments[arguments.length - 1];
+(async () => {
+  const sleep = ms => new Promise(resolve => setTimeout(resolve, ms));
+  const article = document.querySelector('article') || document.body;
+  const heading = Array.from(article.querySelectorAll('h1, h2'))
+      .some(h => /^\s*Solutions\b/.test(h.textContent));
+  const parts = item => {
+    if (item.classList.contains('admonition')) {
+      const title = item.querySelector(':scope > .admonition-title');
+      return {kind: 'prose', toggle: title, body: Array.from(item.children).filter(c => c !== title)};
+    }
+    const details = item.querySelector(':scope > details');
+    if (!details) return {kind: 'code', toggle: null, body: Array.from(item.children)};
+    // the folded input, and the output too: with hide-input alone the output would sit outside
+    return {kind: 'code', toggle: details.querySelector(':scope > summary'),
+            body: Array.from(details.children).filter(c => c.tagName !== 'SUMMARY')
+                .concat(Array.from(item.children).filter(c => c !== details))};
+  };
+  const visible = nodes => nodes
+      .filter(n => n.checkVisibility({checkOpacity: true, checkVisibilityCSS: true}) &&
+                   n.getBoundingClientRect().height > 0)
+      .map(n => n.innerText.trim()).join(' ').replace(/\s+/g, ' ').trim();
+  const found = [];
+  for (const item of article.querySelectorAll('.admonition.amdo-solution, .tag_amdo-solution')) {
+    const {kind, toggle, body} = parts(item);
+    const text = body.map(n => n.textContent).join(' ').replace(/\s+/g, ' ').trim().slice(0, 60);
+    const before = visible(body);
+    const pageBefore = article.innerText.replace(/\s+/g, ' ');
+    let after = '';
+    if (toggle) {
+      toggle.click();
+      await sleep(500);
+      after = visible(body);
+      toggle.click();
+      await sleep(100);
+    }
+    found.push({kind, text, before, after, toggle: !!toggle,
+                inPage: text.length > 20 && pageBefore.includes(text.slice(0, 40))});
+  }
+  done({heading, found});
+})().catch(error => done({fatal: String(error)}));
+"""
+
+
+def test_every_solution_is_folded_whole_and_opens_on_a_click(site, browser):
+    _, base = site
+    problems = []
+    for page in _chapter_pages():
+        browser.get(base + page)
+        probe = browser.execute_async_script(_PROBE_SOLUTIONS)
+        assert "fatal" not in probe, f"{page}: the probe failed: {probe.get('fatal')}"
+        if probe["heading"] and not probe["found"]:
+            problems.append(f"{page}: a Solutions section but no folded solution (cells tagged 'solution')")
+        for part in probe["found"]:
+            where = f"{page}: solution {part['kind']} {part['text'][:40]!r}"
+            if part["before"] or part["inPage"]:
+                problems.append(f"{where} is visible before a click: {part['before'][:60]!r}")
+            if not part["toggle"]:
+                problems.append(f"{where} has nothing to click")
+            elif not part["after"]:
+                problems.append(f"{where} does not open on a click")
+    _assert_none(problems)
 
 
 def test_no_page_shows_a_machine_path_or_how_the_book_was_made(reports):

@@ -1,0 +1,7 @@
+"""Chapter 0, the introduction: its exercises live in :mod:`amdo_lab.introduction.exercises`.
+
+The chapter itself uses only the shared helpers of :mod:`amdo_lab.common`; this subpackage holds
+what its exercise checks need, out of the reader's sight.
+"""
+
+__all__: list[str] = []
