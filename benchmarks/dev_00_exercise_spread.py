@@ -35,7 +35,7 @@ def main() -> None:
     gaps = {60: [], 12: []}
     for seed in args.seeds:
         for n, step in ((60, 1), (12, 5)):
-            rms = simulated_rms(outline[::step], moved[::step], sigma, seed=seed)
+            rms = simulated_rms(outline[::step], moved[::step], sigma, rng=seed)
             gaps[n].append(100 * (rms / (sigma * np.sqrt((2 * n - 4) / n)) - 1))
         table.add(seed, round(gaps[60][-1], 3), round(gaps[12][-1], 3))
     for n, tolerance in ((60, 0.5), (12, 1.0)):
