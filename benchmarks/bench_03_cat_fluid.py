@@ -7,7 +7,7 @@ lower residual.
 
     .venv/bin/python benchmarks/bench_03_cat_fluid.py [--pairs A B C] [--sor-iterations 100]
         [--sor-sweeps 250] [--long-iterations 100] [--skip-dipy] [--paper-gap]
-        [--noise-seeds 0 1 2 3 4 5]
+        [--noise-seeds 0 1 2 3 4 5] [--claim-seeds 0 1 2 3 4] [--grid-convergence 0 1 2 3 4 5 6 7 8 9]
 
 The defaults are the full-size anchor (about 1-2 minutes of SOR per pair). "residual" is the
 mean |deformed template - study| in grey levels of 0-255 (Table 1's measure) on the whole image;
@@ -20,10 +20,18 @@ SOR setting (--reduced-sweeps per solve) is run too, to show how it compares wit
 --noise-seeds asks whether "CAT residual <= SOR residual" is a property of the
 methods or of one draw: each seed of make_pair draws another warp and, for A and B, other noise; it
 prints both residuals beside the residual of the true warp, and per pair the mean and sd of the
-difference and on how many draws CAT is at most SOR (about 35 s per seed and pair). The chapter runs
-the same comparison with 25 sweeps per solve on seeds 0-2 of pairs A and C; with the full 250 sweeps,
-``--noise-seeds 0 1 2 --pairs C A`` printed CAT lower on 3 of 3 draws of C and on 1 of 3 draws of A
+difference and on how many draws CAT is at most SOR (about 35 s per seed and pair). With the full 250
+sweeps, ``--noise-seeds 0 1 2 --pairs C A`` printed CAT lower on 3 of 3 draws of C and on 1 of 3 draws of A
 (differences of hundredths of a grey level either way).
+
+--claim-seeds measures, over draws of the pairs, every threshold the chapter asserts on seed 0: CAT and
+the finite differences solved exactly by FFT (FD-FFT) at 10 and 100 iterations, SOR 100 x 25, DIPY SyN;
+per claim it prints the smallest and largest margin. Seeds 0-4 printed: |CAT - FD-FFT| at most 0.091 grey
+levels (seed 0: 0.015), the gain of CAT from 10 to 100 iterations at least 0.169 (seed 0: 0.178), SOR below
+CAT-10 by 0.184 at least, SyN's RMSE above CAT-100's on A and C on every draw, below it on B on 4 of 5.
+
+--grid-convergence solves a random smooth periodic velocity field's exact force with each stencil on
+16-128 grids: both second order; CAT's error 1.2 to 2.1 times the finite differences' (seeds 0-9).
 
 Caveat on the speed ratios: our SOR is vectorised numpy (one colour of one component per array
 operation, about 1.5-2 ms per sweep on 256x256); a compiled SOR would be several times faster, so the
@@ -120,6 +128,107 @@ def noise_seeds(bench: Benchmark, pairs: list[str], seeds: list[int], cat_iterat
                    f"CAT <= SOR on {int(np.sum(differences <= 0))} of {differences.size} draws")
 
 
+def claim_seeds(bench: Benchmark, pairs: list[str], seeds: list[int], sor_sweeps: int, skip_dipy: bool) -> None:
+    """The spread over draws of every threshold the chapter asserts on the pairs (seed 0 in the chapter).
+
+    Each seed of ``make_pair`` draws another warp and, for A and B, other noise. Per draw: CAT and the
+    finite differences solved exactly by FFT, at 10 and 100 iterations; SOR 100 x ``sor_sweeps``
+    (the chapter's setting); DIPY SyN; the displacement RMSE on the mask and the folded share. The
+    notes give, per claim, the smallest margin over the draws (positive: the claim holds on all)."""
+    np, cf = _load()
+    table = bench.table("pair", "seed", "CAT10", "FFT10", "CAT100", "FFT100", "SOR", "RMSE CAT100", "RMSE FFT100",
+                        "RMSE SOR", "RMSE SyN", "folded %", "blob: CAT", "blob: true",
+                        title=f"residual (mean |deformed - study|, grey levels) and RMSE (px, mask); SOR 100x{sor_sweeps}")
+    margins: dict[str, list[float]] = {}
+
+    def margin(claim: str, value: float) -> None:
+        margins.setdefault(claim, []).append(float(value))
+
+    for name in pairs:
+        for seed in seeds:
+            pair = cf.make_pair(name, rng=seed)
+            runs = {(method, n): cf.register_fluid(pair.template, pair.study, method=method, n_iter=n)
+                    for method in ("cat", "fft") for n in (10, 100)}
+            runs["sor"] = cf.register_fluid(pair.template, pair.study, method="sor", sor_n_sweeps=sor_sweeps)
+            res = {key: GREY * run.residuals[-1] for key, run in runs.items()}
+            rmse = {key: cf.displacement_rmse(run.displacement, pair.true_displacement, pair.mask)
+                    for key, run in runs.items()}
+            folded = max(100.0 * float(np.mean(cf.jacobian_determinant(run.displacement) <= 0)) for run in runs.values())
+            syn = float("nan")
+            if not skip_dipy:
+                peer = cf.register_dipy(pair.template, pair.study)
+                syn = cf.displacement_rmse(peer.displacement, pair.true_displacement, pair.mask)
+                folded = max(folded, 100.0 * float(np.mean(cf.jacobian_determinant(peer.displacement) <= 0)))
+            blob_cat = blob_true = float("nan")
+            if name == "A":
+                rows, cols = np.indices(pair.template.shape)
+                centre = np.multiply(cf.BLOB_CENTRE_FRACTION, pair.template.shape)
+                near = np.hypot(rows - centre[0], cols - centre[1]) < 2.4 * cf.BLOB_SD
+                true_warped = cf.warp_image(pair.template, pair.true_displacement)
+                blob_cat = GREY * np.abs(runs["cat", 100].warped - pair.study)[near].mean()
+                blob_true = GREY * np.abs(true_warped - pair.study)[near].mean()
+                margin("A: near the blob, CAT 100 residual < true warp's", blob_true - blob_cat)
+            table.add(name, seed, *(round(float(res[k]), 3) for k in (("cat", 10), ("fft", 10), ("cat", 100),
+                                                                      ("fft", 100), "sor")),
+                      *(round(float(rmse[k]), 3) for k in (("cat", 100), ("fft", 100), "sor")), round(syn, 3),
+                      round(folded, 2), round(float(blob_cat), 1), round(float(blob_true), 1))
+            gain = res["cat", 10] - res["cat", 100]
+            margin("SOR 100xN residual < CAT 10 (every pair)", res["cat", 10] - res["sor"])
+            margin("|CAT - FFT| at 10 and 100 it. < 0.1", 0.1 - max(abs(res["cat", 10] - res["fft", 10]),
+                                                                    abs(res["cat", 100] - res["fft", 100])))
+            margin("|CAT 100 - SOR| < 0.1", 0.1 - abs(res["cat", 100] - res["sor"]))
+            margin("gain of CAT from 10 to 100 it. > 0.1", gain - 0.1)
+            margin("no folded pixel (%)", -folded)
+            if name == "C":
+                margin("C: RMSE > 1 px for CAT, FFT, SOR (and SyN)",
+                       min(rmse["cat", 100], rmse["fft", 100], rmse["sor"], rmse["cat", 10],
+                           syn if syn == syn else np.inf) - 1.0)
+            if not skip_dipy:
+                if name == "B":
+                    margin("B: SyN RMSE < CAT 100", rmse["cat", 100] - syn)
+                else:
+                    margin(f"{name}: SyN RMSE > CAT 100", syn - rmse["cat", 100])
+            print(f"pair {name}, seed {seed} done", flush=True)
+    for claim, values in margins.items():
+        values = np.array(values)
+        bench.note(f"{claim}: smallest margin {values.min():+.3f}, largest {values.max():+.3f} over {values.size} draws")
+
+
+def grid_convergence(bench: Benchmark, seeds: list[int], sizes: tuple[int, ...] = (16, 32, 64, 128)) -> None:
+    """The error of an exact velocity solve against the continuous solution, CAT stencil vs finite
+    differences, on random smooth periodic velocity fields (six waves, wave numbers -3..3 per unit length,
+    Gaussian amplitudes) whose force is the continuous operator applied exactly. Prints the error at each
+    grid size, the observed order between the two finest grids and the CAT / FD error ratio."""
+    np, cf = _load()
+    lam, mu = 1.0, 5.0
+    table = bench.table("seed", *(f"CAT n={n}" for n in sizes), *(f"FD n={n}" for n in sizes), "order CAT",
+                        "order FD", "CAT/FD (finest)",
+                        title="max |v_h - v| / max |v| of an exact solve on an n x n grid of the unit square")
+    ratios, orders = [], []
+    for seed in seeds:
+        rng = np.random.default_rng(seed)
+        waves = [(2 * np.pi * rng.integers(-3, 4, 2).astype(float), rng.normal(size=2)) for _ in range(6)]
+        waves = [(w if w.any() else np.array([2 * np.pi, 0.0]), e) for w, e in waves]
+        errors = {"cat": [], "fft": []}
+        for n in sizes:
+            x1, x2 = (np.indices((n, n)) + 0.5) / n
+            velocity, force = np.zeros((2, n, n)), np.zeros((2, n, n))
+            for w, e in waves:
+                wave = np.cos(w[0] * x1 + w[1] * x2)
+                velocity += e[:, None, None] * wave
+                force -= (mu * (w @ w) * e + (lam + mu) * w * (w @ e))[:, None, None] * wave
+            for method in errors:
+                solved = cf.solve_velocity(force / n ** 2, method, lam, mu)  # K v = h^2 F, h = 1/n
+                errors[method].append(np.abs(solved - velocity).max() / np.abs(velocity).max())
+        order = {m: np.log2(e[-2] / e[-1]) for m, e in errors.items()}
+        ratios.append(errors["cat"][-1] / errors["fft"][-1])
+        orders += list(order.values())
+        table.add(seed, *(f"{e:.2e}" for e in errors["cat"]), *(f"{e:.2e}" for e in errors["fft"]),
+                  round(order["cat"], 2), round(order["fft"], 2), round(ratios[-1], 2))
+    bench.note(f"CAT / FD error ratio on the finest grid: {min(ratios):.2f} to {max(ratios):.2f}; "
+               f"observed orders {min(orders):.2f} to {max(orders):.2f}")
+
+
 def main() -> None:
     bench = Benchmark(__doc__)
     parser = bench.parser
@@ -138,8 +247,17 @@ def main() -> None:
     parser.add_argument("--noise-seeds", type=int, nargs="+", default=None,
                         help="only compare CAT (--long-iterations) with SOR over these seeds of make_pair "
                              "(other warps and noise; about 1 min per seed and pair)")
+    parser.add_argument("--claim-seeds", type=int, nargs="+", default=None,
+                        help="only the spread over these seeds of the thresholds the chapter asserts "
+                             "(CAT, FFT, SOR 100x--reduced-sweeps, SyN; about 40 s per seed and pair)")
+    parser.add_argument("--grid-convergence", type=int, nargs="+", default=None, metavar="SEED",
+                        help="only the exact-solve error against grid spacing, CAT vs FD, on random fields")
     args = bench.parse()
-    if args.noise_seeds is not None:
+    if args.claim_seeds is not None:
+        claim_seeds(bench, args.pairs, args.claim_seeds, args.reduced_sweeps, args.skip_dipy)
+    elif args.grid_convergence is not None:
+        grid_convergence(bench, args.grid_convergence)
+    elif args.noise_seeds is not None:
         noise_seeds(bench, args.pairs, args.noise_seeds, args.long_iterations, args.sor_iterations, args.sor_sweeps)
     elif args.paper_gap:
         paper_gap(bench, args.pairs, args.sor_iterations, args.sor_sweeps)
