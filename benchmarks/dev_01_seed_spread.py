@@ -151,7 +151,7 @@ def _tracking(table, hand, np) -> None:
            1.0, above=False)
     report(table, "tracking: drift median - surface-fit median (deg)", drift_gain[5],
            [drift_gain[s] for s in range(6, 11)], 0.0, above=True)
-    report(table, "bending sequences: worst frame (deg)", bend_worst[6], [bend_worst[s] for s in range(7, 12)], 25.0,
+    report(table, "bending sequences: worst frame (deg)", bend_worst[6], [bend_worst[s] for s in range(7, 12)], 30.0,
            above=False)
     report(table, "bending sequences: |kept / turning kept - 1|", bend_kept[6], [bend_kept[s] for s in range(7, 12)],
            0.2, above=False)
