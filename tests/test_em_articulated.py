@@ -843,6 +843,7 @@ from amdo_lab.em_articulated.exercises import EXERCISES  # noqa: E402
     (1, 2.0, "correct"), (1, 2.01, "correct"), (1, 3.76, "not yet"), (1, 0.5, "not yet"),
     (2, 0.44, "correct"), (2, 0.21, "not yet"), (2, 0.63, "not yet"), (2, 1.0, "not yet"),
     (6, "the clutter", "correct"), (6, "the blur of large σ", "not yet"), (6, "clutter?", "not yet"),
+    (7, "tears at the crease", "correct"), (7, "stretches smoothly", "not yet"), (7, "tears", "not yet"),
 ])
 def test_exercise_checks_without_context(number, answer, verdict):
     assert EXERCISES.verdict(number, answer).split(":")[0] == verdict

@@ -112,4 +112,11 @@ EXERCISES = ExerciseSet(chapter=1, exercises=[
                        WrongAnswer("the noise on the marks", "the noise (the same in both runs)")),
         choices=("the clutter", "the blur of large σ", "the noise on the marks"),
     ),
+    Exercise(
+        7, lambda: "tears at the crease",
+        hint="look at how many points are blended at a = 2 and at a large a, and where the blended ones lie",
+        wrong_answers=(WrongAnswer("stretches smoothly", "the a = 2 behaviour"),
+                       WrongAnswer("does not move", "rigid read as fixed")),
+        choices=("stretches smoothly", "tears at the crease", "does not move"),
+    ),
 ])
