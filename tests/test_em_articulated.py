@@ -832,3 +832,37 @@ REJECTIONS = [
 @pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
 def test_rejections(request, call, error, message):
     check_rejection(request, call, error, message)
+
+
+# --- the chapter's exercises (amdo_lab.em_articulated.exercises) -----------------------------------
+
+from amdo_lab.em_articulated.exercises import EXERCISES  # noqa: E402
+
+
+@pytest.mark.parametrize(("number", "answer", "verdict"), [
+    (1, 2.0, "correct"), (1, 2.01, "correct"), (1, 3.76, "not yet"), (1, 0.5, "not yet"),
+    (2, 0.44, "correct"), (2, 0.21, "not yet"), (2, 0.63, "not yet"), (2, 1.0, "not yet"),
+    (6, "the clutter", "correct"), (6, "the blur of large σ", "not yet"), (6, "clutter?", "not yet"),
+    (7, "tears at the crease", "correct"), (7, "stretches smoothly", "not yet"), (7, "tears", "not yet"),
+])
+def test_exercise_checks_without_context(number, answer, verdict):
+    assert EXERCISES.verdict(number, answer).split(":")[0] == verdict
+
+
+def test_experiment_checks_reject_the_unchanged_run_and_out_of_range_answers(hand):
+    """Exercise 3 no longer accepts any angle above a bound; Exercise 5 rejects a = 10, 1.0 and 96."""
+    from types import SimpleNamespace
+
+    toy = SimpleNamespace(true=np.zeros(3))
+    toy_em = lambda toy, start, sigmas, iterations=10, c=PAPER_C: [np.radians([0.0, 2.27 if c < 1e-6 else 0.5, 0.0])]
+    context = dict(toy=toy, toy_em=toy_em, toy_start=np.zeros(3), toy_sigmas=[20.0, 2.0])
+    assert EXERCISES.verdict(3, 2.3, **context) == "correct"
+    for wrong in (0.5, 20.0, 76.4, np.radians(2.27)):
+        assert EXERCISES.verdict(3, wrong, **context).startswith("not yet:")
+    theta0 = hand.rest_pose()
+    ring = hand.sample_surface(theta0, 300, rng=1)
+    share = {a: np.mean(hand.texture_binding(ring, theta0, a=a).weight_p > 0.99) for a in (10.0, 50.0)}
+    context = dict(hand=hand, ring=ring, theta0=theta0)
+    assert EXERCISES.verdict(5, round(share[50.0], 2), **context) == "correct"
+    for wrong in (share[10.0], 1.0, 96.0, 100 * share[50.0]):
+        assert EXERCISES.verdict(5, wrong, **context).startswith("not yet:")
