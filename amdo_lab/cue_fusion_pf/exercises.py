@@ -2,7 +2,7 @@
 
 The notebook's check cells call ``EXERCISES.check(k, answer_k, ...)``; the expected values are
 computed here from the notebook's objects, so they are not in plain view under the answer cells.
-Experiments (exercises 3 and 4) re-run the filter with the setting the prompt asks for; the
+Experiments (exercises 3, 4 and 5) re-run the filter with the setting the prompt asks for; the
 unchanged notebook's value is recorded among the wrong answers.
 """
 
@@ -14,7 +14,8 @@ from amdo_lab.common.exercises import Exercise, ExerciseSet, WrongAnswer
 from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
 from amdo_lab.cue_fusion_pf.likelihoods import edge_line_likelihood
 from amdo_lab.cue_fusion_pf.data import ellipse_iou
-from amdo_lab.cue_fusion_pf.tracker import track
+from amdo_lab.cue_fusion_pf.tracker import WALKER_SIGMAS, track
+from amdo_lab.cue_fusion_pf.walker import box_iou
 
 __all__ = ["EXERCISES"]
 
@@ -26,6 +27,9 @@ P0, CLUTTER_DENSITY, SIGMA_E = 0.2, 0.05, float(np.sqrt(2.0))
 AGILE_START, LINES_SEED, SHORT_LINES, LONG_LINES = 136, 5, 12, 30
 #: Exercise 4: frames from the hand on, the filter seed and the particle count asked for.
 HAND_START, PARTICLES_SEED, FEW_PARTICLES = 81, 6, 30
+
+#: Exercise 5: the walker's filter (as the chapter runs it) and the stationary std of t_x, t_y asked for (px).
+WALKER_SEED, WIDE_STD = 10_000, 400.0
 
 _runs: dict = {}
 
@@ -68,6 +72,21 @@ def _hand_share(fusion, n_particles: int) -> float:
     return _runs[key]
 
 
+def _walker_share(walker, translation_std: float) -> float:
+    key = ("walker", id(walker), translation_std)
+    if key not in _runs:
+        run = track(walker.frames, walker.template, rng=WALKER_SEED, cues=("color", "edge"), bins=16, n_lines=70,
+                    shape="similarity", sigmas=WALKER_SIGMAS,
+                    stationary_std=(translation_std, translation_std, 0.1, 0.1))
+        outline = walker.shape_space().control_points(run.states)
+        _runs[key] = float(np.mean(box_iou(outline, walker.true_control_points) >= 0.5))
+    return _runs[key]
+
+
+def _better_remedy(walker, walker_share) -> str:
+    return "tempering" if walker_share["colour × edges^0.1"] > _walker_share(walker, WIDE_STD) else "dynamics"
+
+
 EXERCISES = ExerciseSet(chapter=6, exercises=[
     Exercise(
         1, lambda: _printed_radius(SCALE_BETA),
@@ -106,4 +125,20 @@ EXERCISES = ExerciseSet(chapter=6, exercises=[
                                                           ns["fusion"].true_ellipses[HAND_START:]) >= 0.5)),
                      "the three-cue run of the whole sequence on these frames")),
         context=("fusion",), rtol=0.0, atol=0.006, experiment=True),
+
+    Exercise(
+        5, lambda walker: _walker_share(walker, WIDE_STD),
+        "set walker_std = 400 in the answer cell, run it, and give the share of frames with box IoU >= 0.5 "
+        "(two decimals)",
+        (WrongAnswer(lambda ns: ns["weak_pull_share"], "the unchanged experiment (100 px)", unchanged_experiment=True),
+         WrongAnswer(lambda ns: ns["walker_share"]["colour"], "colour alone"),
+         WrongAnswer(lambda ns: ns["walker_share"]["colour × edges^0.1"], "the tempered edges")),
+        context=("walker",), rtol=0.0, atol=0.006, experiment=True),
+    Exercise(
+        6, _better_remedy,
+        "compare the share of frames Exercise 5 gives with the tempered run's in the chapter",
+        (WrongAnswer(lambda ns: "dynamics" if _better_remedy(ns["walker"], ns["walker_share"]) == "tempering"
+                     else "tempering", "the other remedy"),
+         WrongAnswer("neither", "neither")),
+        context=("walker", "walker_share"), choices=("dynamics", "tempering", "neither")),
 ])
