@@ -167,8 +167,9 @@ CHAPTERS: tuple[Chapter, ...] = (
         "Condensation built from scratch on a 1-D track, then a B-spline head contour with second-order dynamics "
         "(the printed coefficients are unstable; the corrected order is not) weighted by a colour histogram, a "
         "boosted Haar cascade trained in the package and an edge model derived step by step, fused in the log "
-        "domain; why the printed variances make the fusion edge-only, calibrated ones, CamShift as a peer and a "
-        "twin-head failure case.",
+        "domain; why the printed variances make the fusion edge-only, calibrated ones, CamShift as a peer, a "
+        "twin-head failure case, and a walker on which colour alone beats colour times edges until the edge "
+        "factor is tempered.",
         "P. Li, F. Chaumette. Image Cues Fusion for Object Tracking Based on Particle Filter. AMDO 2004, "
         "LNCS 3179.",
         exercises="amdo_lab.cue_fusion_pf.exercises",

@@ -25,6 +25,15 @@ Run:  .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --seeds 20        (a
       .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --lighting --seeds 4 [--bins 8]
       .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --walker --seeds 20   (Fig. 6, about 1-2 min)
       .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --walker --seeds 20 --walker-sigma-c 0.075  (the heads' sigma_c)
+      .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --walker-cues --seeds 5   (the chapter's walker runs, ~5 min)
+      .venv/bin/python benchmarks/bench_06_cue_fusion_pf.py --claims --seeds 5        (every asserted threshold, ~15 min)
+
+``--walker-cues``: on each walker sequence (seed s, filter seed 10000 + s) colour, edges and structure alone,
+colour x edges (eq. 6), colour x edges^alpha (``--edge-exponent``, default 0.1) and colour x edges with the
+translation's stationary std at 400 px (Exercise 5): the share of frames with box IoU >= 0.5, per seed.
+``--claims``: each threshold the chapter asserts, measured with the chapter's sequence and filter seeds
+1..N (head sequences) or walker sequences 0..N-1: per claim the values, their range and the margin of the
+worst seed to the threshold (the chapter keeps thresholds outside the range over seeds).
 """
 
 from __future__ import annotations
@@ -66,8 +75,15 @@ def main() -> None:
     parser.add_argument("--walker", action="store_true", help="Fig. 6: colour + edges on the walker sequence")
     parser.add_argument("--walker-sigma-c", type=float, default=None,
                         help="--walker with this sigma_c instead of WALKER_SIGMAS (e.g. 0.075, the heads' value)")
+    parser.add_argument("--walker-cues", action="store_true", help="the chapter's walker runs: single cues, product, remedies")
+    parser.add_argument("--edge-exponent", type=float, default=0.1, help="alpha of the tempered edge factor (default 0.1)")
+    parser.add_argument("--claims", action="store_true", help="every threshold the chapter asserts, over seeds")
     args = bench.parse()
-    if args.walker:
+    if args.claims:
+        chapter_claims(bench, args)
+    elif args.walker_cues:
+        walker_cue_runs(bench, args)
+    elif args.walker:
         walker_runs(bench, args)
     elif args.lighting:
         lighting_sweep(bench, args)
@@ -220,6 +236,130 @@ def walker_runs(bench: Benchmark, args) -> None:
                f"median speed {np.median(fps):.1f} frames/s (paper: about 9 Hz)")
     bench.note(f"seeds tracked on the frame before the burst and lost during it: {len(disturbed_then_back)}; "
                f"of these tracked on all of the last 10 frames: {sum(disturbed_then_back)}")
+
+
+def walker_shares(seed: int, edge_exponent: float = 0.1) -> dict:
+    """Share of frames tracked (box IoU >= 0.5) by each of the chapter's walker runs on walker sequence ``seed``."""
+    import numpy as np
+
+    from amdo_lab import cue_fusion_pf as cf
+
+    sequence = cf.make_walker_sequence(rng=seed)
+    options = dict(bins=16, n_lines=70, shape="similarity", sigmas=cf.WALKER_SIGMAS)
+    variants = {"colour": dict(cues=("color",)), "edges": dict(cues=("edge",)), "structure": dict(cues=("structure",)),
+                "colour x edges": dict(cues=("color", "edge")),
+                "colour x edges^alpha": dict(cues=("color", "edge"), edge_exponent=edge_exponent),
+                "colour x edges, std 400": dict(cues=("color", "edge"), stationary_std=(400.0, 400.0, 0.1, 0.1))}
+    shares = {}
+    for name, variant in variants.items():
+        result = cf.track(sequence.frames, sequence.template, rng=10_000 + seed, **options, **variant)
+        outline = sequence.shape_space().control_points(result.states)
+        shares[name] = float(np.mean(cf.box_iou(outline, sequence.true_control_points) >= 0.5))
+    return shares
+
+
+def walker_cue_runs(bench: Benchmark, args) -> None:
+    """The chapter's walker runs on several walker sequences: single cues, eq. (6), tempered edges, wide dynamics."""
+    import numpy as np
+
+    per_seed = {}
+    for seed in range(args.seed, args.seed + args.seeds):
+        per_seed[seed] = walker_shares(seed, args.edge_exponent)
+        print(f"seed {seed}: " + ", ".join(f"{k} {v:.2f}" for k, v in per_seed[seed].items()), flush=True)
+    names = list(next(iter(per_seed.values())))
+    table = bench.table("seed", *names, title=f"walker, share of frames with box IoU >= 0.5 (alpha = {args.edge_exponent:g})")
+    for seed, shares in per_seed.items():
+        table.add(seed, *(round(shares[n], 3) for n in names))
+    table.add("min", *(round(min(s[n] for s in per_seed.values()), 3) for n in names))
+    table.add("max", *(round(max(s[n] for s in per_seed.values()), 3) for n in names))
+    gap = [s["colour"] - s["colour x edges"] for s in per_seed.values()]
+    bench.note(f"colour alone minus colour x edges: {min(gap):.2f} to {max(gap):.2f}; tempered minus colour alone: "
+               f"{min(s['colour x edges^alpha'] - s['colour'] for s in per_seed.values()):.2f} to "
+               f"{max(s['colour x edges^alpha'] - s['colour'] for s in per_seed.values()):.2f}; median gap {np.median(gap):.2f}")
+
+
+def chapter_claims(bench: Benchmark, args) -> None:
+    """Every threshold chapter 6 asserts, measured over seeds: the values, their range, the worst seed's margin."""
+    import numpy as np
+
+    from amdo_lab import cue_fusion_pf as cf
+
+    three = CUES
+    seeds = list(range(1, 1 + args.seeds))  # filter seeds; the chapter's is 1 for the head sequences
+    claims: dict[str, tuple[list, str, float]] = {}  # name -> (values, "above"/"below", threshold)
+
+    def add(name, value, side, threshold):
+        claims.setdefault(name, ([], side, threshold))[0].append(float(value))
+
+    def share(result, sequence, frames=slice(None)):
+        return float(np.mean(cf.ellipse_iou(result.ellipses, sequence.true_ellipses)[frames] >= 0.5))
+
+    fusion = cf.make_head_sequence("fusion", rng=0)
+    labels = fusion.segment_of_frames()
+    seg = {name: labels == name for name in fusion.segments}
+    for seed in seeds:
+        runs = {"+".join(c): cf.track(fusion.frames, fusion.true_ellipses[0], rng=seed, cues=c)
+                for c in [(c,) for c in three] + [("color", "structure"), ("edge", "structure"), three]}
+        ok = {k: cf.ellipse_iou(r.ellipses, fusion.true_ellipses) >= 0.5 for k, r in runs.items()}
+        fused = "+".join(three)
+        add("fusion: three cues minus the best single cue, all frames", ok[fused].mean()
+            - max(ok[c].mean() for c in three), "above", 0.0)
+        add("fusion: three cues, worst segment", min(ok[fused][m].mean() for m in seg.values()), "above", 0.9)
+        add("fusion: colour, lighting", ok["color"][seg["lighting"]].mean(), "below", 0.5)
+        add("fusion: colour, calm", ok["color"][seg["calm"]].mean(), "above", 0.9)
+        add("fusion: structure, turned away", ok["structure"][seg["turned away"]].mean(), "below", 0.5)
+        add("fusion: edge, agile", ok["edge"][seg["agile"]].mean(), "below", 0.5)
+        add("fusion: colour+structure, all frames", ok["color+structure"].mean(), "above", 0.95)
+        add("fusion: edge+structure, agile", ok["edge+structure"][seg["agile"]].mean(), "below", 0.75)
+        add("fusion: structure, agile", ok["structure"][seg["agile"]].mean(), "above", 0.9)
+        paper = cf.track(fusion.frames, fusion.true_ellipses[0], rng=seed, cues=three, sigmas="paper")
+        add("Table 1 sigma: calibrated minus Table 1, all frames", ok[fused].mean() - share(paper, fusion), "above", 0.0)
+        add("Table 1 sigma: agile frames", share(paper, fusion, seg["agile"]), "below", 0.9)
+        lit = cf.make_head_sequence("lighting", rng=0)
+        lit_labels = lit.segment_of_frames()
+        lit_runs = {b: cf.track(lit.frames, lit.true_ellipses[0], rng=seed, cues=("color",), bins=b) for b in (32, 8)}
+        lit_ok = {b: cf.ellipse_iou(r.ellipses, lit.true_ellipses) >= 0.5 for b, r in lit_runs.items()}
+        lit_three = cf.ellipse_iou(cf.track(lit.frames, lit.true_ellipses[0], rng=seed, cues=three).ellipses,
+                                   lit.true_ellipses) >= 0.5
+        add("Fig. 3: 8^3 bins, mild change", lit_ok[8][lit_labels == "mild change"].mean(), "above", 0.9)
+        add("Fig. 3: 32^3 bins, mild change", lit_ok[32][lit_labels == "mild change"].mean(), "below", 0.9)
+        add("Fig. 3: colour, strong change (both bins)",
+            max(lit_ok[b][lit_labels == "strong change"].mean() for b in (8, 32)), "below", 0.5)
+        add("Fig. 3: three cues, worst segment", min(lit_three[lit_labels == s].mean() for s in lit.segments), "above", 0.9)
+        turn = cf.make_head_sequence("turn", rng=0)
+        turn_labels = turn.segment_of_frames()
+        turn_ok = {name: cf.ellipse_iou(cf.track(turn.frames, turn.true_ellipses[0], rng=seed, cues=c).ellipses,
+                                        turn.true_ellipses) >= 0.5 for name, c in (("structure", ("structure",)),
+                                                                                   ("three", three))}
+        add("Fig. 4: structure, frontal/pose/tilt (worst)",
+            min(turn_ok["structure"][turn_labels == s].mean() for s in ("frontal", "pose", "tilt")), "above", 0.9)
+        add("Fig. 4: structure, back", turn_ok["structure"][turn_labels == "back"].mean(), "below", 0.5)
+        add("Fig. 4: three cues, worst segment", min(turn_ok["three"][turn_labels == s].mean() for s in turn.segments),
+            "above", 0.9)
+        twin = cf.make_head_sequence("twin", rng=0)
+        twin_iou = cf.ellipse_iou(cf.track(twin.frames, twin.true_ellipses[0], rng=seed + 2, cues=three).ellipses,
+                                  twin.true_ellipses)
+        add("twin: before the crossing", np.mean(twin_iou[:30] >= 0.5), "above", 0.9)
+        add("twin: after the crossing", np.mean(twin_iou[50:] >= 0.5), "below", 0.5)
+        print(f"filter seed {seed} done", flush=True)
+    for seed in range(args.seeds):  # walker sequences 0.. with filter seeds 10000 + seed, as the chapter's seed 0
+        shares = walker_shares(seed)
+        add("walker: colour minus colour x edges", shares["colour"] - shares["colour x edges"], "above", 0.3)
+        add("walker: colour x edges", shares["colour x edges"], "below", 0.5)
+        add("walker: structure", shares["structure"], "below", 0.2)
+        add("walker: colour minus edges", shares["colour"] - shares["edges"], "above", 0.3)
+        add("walker: tempered edges", shares["colour x edges^alpha"], "above", 0.9)
+        add("walker: tempered minus colour", shares["colour x edges^alpha"] - shares["colour"], "above", 0.0)
+        add("walker: std 400 minus colour x edges", shares["colour x edges, std 400"] - shares["colour x edges"],
+            "above", 0.0)
+        add("walker: colour minus std 400", shares["colour"] - shares["colour x edges, std 400"], "above", 0.0)
+        print(f"walker seed {seed}: {shares}", flush=True)
+    table = bench.table("claim", "threshold", "values over seeds", "min", "max", "worst margin",
+                        title=f"chapter 6's asserted thresholds over {args.seeds} seeds (>= / <= the threshold)")
+    for name, (values, side, threshold) in claims.items():
+        margin = min(values) - threshold if side == "above" else threshold - max(values)
+        table.add(name, f"{'>' if side == 'above' else '<'} {threshold:g}", " ".join(f"{v:.2f}" for v in values),
+                  round(min(values), 3), round(max(values), 3), round(margin, 3))
 
 
 if __name__ == "__main__":

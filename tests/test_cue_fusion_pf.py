@@ -161,6 +161,17 @@ def test_fast_edge_path_equals_the_numpy_reference(sequence, space):
     assert near[0] > near[1]
 
 
+def test_edge_exponent_tempers_the_log_likelihood(sequence, space):
+    """exponent α multiplies eq. (14)'s log (the product of the lines raised to α); track passes it through."""
+    states = sequence.truth[5] + make_rng(2).normal(size=(20, 3)) * [5, 5, 0.03]
+    full = cf.EdgeLikelihood(space).log_likelihood(sequence.frames[5], states)
+    tempered = cf.EdgeLikelihood(space, exponent=0.1).log_likelihood(sequence.frames[5], states)
+    np.testing.assert_allclose(tempered, 0.1 * full, rtol=1e-12)
+    runs = [cf.track(sequence.frames[:4], sequence.true_ellipses[0], rng=3, cues=("edge",), edge_exponent=alpha)
+            for alpha in (1.0, 0.1)]
+    assert runs[1].ess.mean() > runs[0].ess.mean()  # a flatter likelihood keeps more particles
+
+
 def test_printed_sigmas_make_the_fusion_edge_only(sequence, space):
     """Table 1's σ_c = 5: colour weights vary by at most ×1.02 while 40 edge lines vary by > 10^13."""
     states = cf.default_dynamics(sequence.truth[0]).step(np.repeat(sequence.truth[19][None], 300, 0),
@@ -379,6 +390,11 @@ REJECTIONS = [
     # --- edges, eqs. (13)-(14)
     reject("EdgeLikelihood p0 0", lambda space: cf.EdgeLikelihood(space, p0=0.0), ValueError, "p0"),
     reject("EdgeLikelihood p0 1", lambda space: cf.EdgeLikelihood(space, p0=1.0), ValueError, "p0"),
+    # α = 0 switches the cue off, α > 1 sharpens the product beyond eq. (14)
+    reject("EdgeLikelihood exponent 0", lambda space: cf.EdgeLikelihood(space, exponent=0.0), ValueError, "exponent"),
+    reject("EdgeLikelihood exponent 2", lambda space: cf.EdgeLikelihood(space, exponent=2.0), ValueError, "exponent"),
+    reject("track edge_exponent 0", lambda sequence: cf.track(sequence.frames[:2], sequence.true_ellipses[0], rng=0,
+                                                              cues=("edge",), edge_exponent=0.0), ValueError, "exponent"),
     # above any grey-level gradient: no feature, ever
     reject("EdgeLikelihood threshold 300", lambda space: cf.EdgeLikelihood(space, threshold=300.0), ValueError, "threshold"),
     reject("simulate_measurement_lines clutter_density 2", lambda: cf.simulate_measurement_lines(

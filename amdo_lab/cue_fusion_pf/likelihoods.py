@@ -440,6 +440,10 @@ class EdgeLikelihood:
     smoothing : float
         σ of the Gaussian applied to the grey image before the 1-D derivative, pixels, in
         (0, half_length] (a wider blur erases the edges the lines look for).
+    exponent : float
+        α in (0, 1]: the log-likelihood of eq. (14) is multiplied by α (the product of the lines
+        raised to the power α, a *tempered* likelihood). 1 is the paper's eq. (14); α < 1 counts the
+        N_e lines as α·N_e independent pieces of evidence, for lines that share their edges and clutter.
 
     Notes
     -----
@@ -454,7 +458,8 @@ class EdgeLikelihood:
     """
 
     def __init__(self, shape_space: ShapeSpace, *, n_lines: int = 40, half_length: int = 12, p0: float = 0.2,
-                 sigma_e: float = float(np.sqrt(2.0)), threshold: float = 6.0, smoothing: float = 1.0):
+                 sigma_e: float = float(np.sqrt(2.0)), threshold: float = 6.0, smoothing: float = 1.0,
+                 exponent: float = 1.0):
         self.shape_space = check_shape_space(shape_space)
         self.n_lines = check_positive_int(n_lines, "n_lines", minimum=3)
         self.half_length = check_positive_int(half_length, "half_length", minimum=2)
@@ -462,6 +467,7 @@ class EdgeLikelihood:
         self.sigma_e = check_in_range(sigma_e, "sigma_e", 0.0, MAX_PIXELS, closed="right")
         self.threshold = check_in_range(threshold, "threshold", 0.0, 255.0, closed="right")
         self.smoothing = check_in_range(smoothing, "smoothing", 0.0, float(self.half_length), closed="right")
+        self.exponent = check_in_range(exponent, "exponent", 0.0, 1.0, closed="right")
         self._points, self._normals = shape_space.template_normals(self.n_lines)
         self.offsets = np.arange(-self.half_length, self.half_length + 1, dtype=float)
         self.clutter_density = float("nan")  # λ of the last frame seen
@@ -573,7 +579,7 @@ class EdgeLikelihood:
         Returns
         -------
         numpy.ndarray
-            (N,) log-likelihoods (λ of this frame is kept in ``clutter_density``).
+            (N,) log-likelihoods, times ``exponent`` (λ of this frame is kept in ``clutter_density``).
         """
         states = np.atleast_2d(self.shape_space.check_states(states))
         n = len(states)
@@ -585,7 +591,7 @@ class EdgeLikelihood:
         gauss = np.exp(-offsets**2 / (2.0 * self.sigma_e**2)) / (np.sqrt(2.0 * np.pi) * self.sigma_e)
         sums = np.bincount(state_index * self.n_lines + line_index, weights=gauss, minlength=n * self.n_lines)
         line = self.p0 + (1.0 - self.p0) / self.clutter_density * sums  # eq. (13)
-        return np.log(line).reshape(n, self.n_lines).sum(axis=1)  # eq. (14)
+        return self.exponent * np.log(line).reshape(n, self.n_lines).sum(axis=1)  # eq. (14), tempered by α
 
 
 def _bilinear(image: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:

@@ -37,7 +37,8 @@ _SIMILARITY_DEFAULTS = {"beta": (2.0, 2.0, 10.0, 10.0), "stationary_std": (100.0
 TRACK_DEFAULTS = {"shape": "translation_scale", "bins": 32, "stride": 2.0, "n_lines": 40, "half_length": 12, "p0": 0.2,
                   "sigma_e": float(np.sqrt(2.0)), "threshold": 6.0, "beta": (2.0, 2.0, 10.0),
                   "stationary_std": STATIONARY_STD, "printed_order": False, "oracle": None,
-                  "init_spread": (2.0, 2.0, 0.02), "mean": None, "color_space": "rgb", "fusion": "product"}
+                  "init_spread": (2.0, 2.0, 0.02), "mean": None, "color_space": "rgb", "fusion": "product",
+                  "edge_exponent": 1.0}
 #: How :func:`track` combines the cues: eq. (6)'s product, or one cue after the other with resampling between them.
 FUSIONS = ("product", "layered")
 
@@ -350,7 +351,8 @@ def build_cues(cues: Sequence[str], space: ShapeSpace, first_frame: np.ndarray, 
             built[name] = StructureLikelihood(space, load_or_train_cascade(rng=CASCADE_SEED), sigma=sigmas["structure"])
         elif name == "edge":
             built[name] = EdgeLikelihood(space, n_lines=params["n_lines"], half_length=params["half_length"],
-                                         p0=params["p0"], sigma_e=params["sigma_e"], threshold=params["threshold"])
+                                         p0=params["p0"], sigma_e=params["sigma_e"], threshold=params["threshold"],
+                                         exponent=params["edge_exponent"])
     return built
 
 
@@ -378,7 +380,8 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
         ``"calibrated"`` (:data:`CALIBRATED_SIGMAS`), ``"paper"`` (Table 1: σ_c = 5, σ_s = √15) or a
         dict of values in :data:`SIGMA_RANGE`.
     **params
-        bins, stride (colour); n_lines, half_length, p0, sigma_e, threshold (edges); beta,
+        bins, stride (colour); n_lines, half_length, p0, sigma_e, threshold, edge_exponent (edges;
+        the last is :class:`EdgeLikelihood`'s ``exponent``, 1 for eq. 14); beta,
         stationary_std, printed_order, mean (dynamics; mean is the state X̄ the AR(2) returns to,
         default the initial state); init_spread (std of the initial particles); color_space
         (``"rgb"``, the paper, or ``"hsv"``); fusion (``"product"``, eq. 6, or ``"layered"``: the
