@@ -14,6 +14,7 @@ two of its "poses" with 20 examples each) and a validation set (100 per class) w
                                                         [--train-per-class 20] [--only defaults]
     .venv/bin/python benchmarks/dev_02_pdm_selection.py --held-out      # about 10 s
     .venv/bin/python benchmarks/dev_02_pdm_selection.py --em-restarts   # about 5 s
+    .venv/bin/python benchmarks/dev_02_pdm_selection.py --seed-spread   # about 3 minutes
 
 ``--held-out``: on the notebook's training set (``spawn_rngs(2004, 4)[0]``, never its test set),
 each class's polar vectors are scored by ``pm.held_out_log_likelihood`` (5 folds, nats per shape) for
@@ -22,6 +23,11 @@ M = 1, 2, 3 components and larger ridges; the generative criterion for the choic
 is rerun from 12 k-means partitions and once from the true articulation modes; the final training
 log-likelihood and the adjusted Rand index of the split against the true modes say whether EM finds
 the modes and whether a higher likelihood means a better split.
+``--seed-spread``: every threshold the notebook asserts on its full-size data, recomputed with the
+notebook's own pipeline for its seed (2004) and five others (``spawn_rngs(seed, 4)`` gives the
+training, test, noisy and sweep sets as in the notebook), and the Section 5 per-term claim for the
+seeds 3000-3004 at s = 2; each row prints the quantity per seed, so the margin of an assertion can be
+set larger than the spread between seeds.
 """
 
 from __future__ import annotations
@@ -107,6 +113,103 @@ def em_restarts_study(bench: Benchmark, n_starts: int = 12) -> None:
                   round(float(adjusted_rand_score(modes, truth.responsibilities.argmax(axis=1))), 2))
 
 
+def seed_spread_study(bench: Benchmark, seeds: list[int]) -> None:
+    """The notebook's asserted quantities for several seeds of its data (one column per seed)."""
+    import numpy as np
+
+    from amdo_lab import pdm_mixtures as pm
+    from amdo_lab.common import paired_comparison, rate_interval, spawn_rngs
+
+    paper = rate_interval(np.arange(1200) < 1118)
+    rows: dict[str, list] = {}
+
+    def put(name: str, value: object) -> None:
+        rows.setdefault(name, []).append(round(float(value), 3) if not isinstance(value, str) else value)
+
+    for seed in seeds:
+        train_rng, test_rng, noisy_rng, sweep_rng = spawn_rngs(seed, 4)
+        train = pm.generate_pose_dataset(pm.TABLE1_CLASSES, 20, rng=train_rng)
+        test = pm.generate_pose_dataset(pm.TABLE1_CLASSES, 200, rng=test_rng)
+        models = {"ours": pm.ArticulatedShapeRecogniser(rng=0),
+                  "1 polar PDM": pm.ArticulatedShapeRecogniser(rng=0, n_shape_components=1),
+                  "joint polar PDM": pm.ArticulatedShapeRecogniser(rng=0, polar_model="joint"),
+                  "Cartesian PDM": pm.SingleCartesianPDMClassifier(),
+                  "nearest mean": pm.NearestProcrustesMeanClassifier(),
+                  "diagonal GMM": pm.SklearnGMMClassifier(rng=0)}
+        for model in models.values():
+            model.fit(train.shapes, train.labels)
+        ours = models["ours"]
+        right = {name: model.predict(test.shapes) == test.labels for name, model in models.items()}
+        interval = rate_interval(right["ours"])
+        put("Table 1: our rate", interval.rate)
+        put("Table 1: |ours - paper| / larger half-width", abs(interval.rate - paper.rate)
+            / max(interval.high - interval.rate, interval.rate - interval.low, paper.high - paper.rate))
+        put("Table 1: our shooting rate", np.mean(right["ours"][test.labels == "shooting"]))
+        shooting_ours = rate_interval(right["ours"][test.labels == "shooting"])
+        put("Table 1: shooting, paper's interval low - our high (> 0: disjoint)",
+            rate_interval(np.arange(200) < 179).low - shooting_ours.high)
+        parts_all = ours.score_components(test.shapes)
+        gates = np.exp(parts_all.limb_gate + parts_all.label_string)
+        printed = np.sum(np.exp(parts_all.log_weights) * gates * parts_all.shape, axis=2)
+        put("eq. 11: ours - as printed (> 0.1)", np.mean(np.asarray(ours.classes_)[np.argmax(
+            parts_all.class_scores("shape", "limb_gate", "label_string"), 1)] == test.labels)
+            - np.mean(np.asarray(ours.classes_)[np.argmax(printed, 1)] == test.labels))
+        confidence = ours.predict_proba(test.shapes).max(axis=1)
+        put("reliability: errors with a posterior above 0.99 (> 0.5)", np.mean(confidence[~right["ours"]] > 0.99))
+        put("baselines: diagonal GMM - ours", np.mean(right["diagonal GMM"]) - interval.rate)
+        put("baselines: McNemar p, GMM vs ours", paired_comparison(right["ours"], right["diagonal GMM"]).p_value)
+        put("baselines: ours - Cartesian PDM", interval.rate - np.mean(right["Cartesian PDM"]))
+        arms_low = (test.labels == "shooting") & (test.modes == "arms low")
+        parts = ours.score_components(test.shapes[arms_low])
+        kick, shoot = ours.classes_.index("kicking"), ours.classes_.index("shooting")
+        medians = {term: float(np.median(parts.class_scores(term)[:, kick] - parts.class_scores(term)[:, shoot]))
+                   for term in ("shape", "limb_gate", "label_string")}
+        put("arms-low shots: median polar - gates (> 0)", medians["shape"] - medians["limb_gate"])
+        put("arms-low shots: median gates (> 0)", medians["limb_gate"])
+        put("arms-low shots: |median label string| (< ln 4)", abs(medians["label_string"]))
+        level_rng = spawn_rngs(sweep_rng, 4)[3]
+        noisy = pm.generate_pose_dataset(pm.TABLE1_CLASSES, 40, rng=level_rng, noise=0.08)
+        polar_only = np.asarray(ours.classes_)[np.argmax(ours.score_components(noisy.shapes).class_scores("shape"), 1)]
+        put("noise 0.08: ours - polar term only (< 0)",
+            np.mean(ours.predict(noisy.shapes) == noisy.labels) - np.mean(polar_only == noisy.labels))
+        subset = slice(None, None, 4)
+        missing = test.shapes[subset].copy()
+        shin = pm.LIMB_NAMES.index("right shin")
+        missing[:, shin] = missing[:, shin, :1]
+        for name, model in models.items():
+            change = np.mean(model.predict(missing) == test.labels[subset]) - np.mean(right[name][subset])
+            put(f"missing shin: change, {name}", change)
+        sample = np.concatenate([np.flatnonzero(test.labels == c)[:9] for c in pm.TABLE1_CLASSES])
+        fitted = ours.recognise(test.shapes[sample]).reconstructions[-1]
+        coords = pm.classical_mds(pm.pairwise_distances(fitted), 3)
+        labels = test.labels[sample]
+        medians_xy = np.stack([np.median(coords[labels == c], axis=0) for c in labels])
+        far = np.linalg.norm(coords - medians_xy, axis=1) > 2.0
+        put("Figs. 7-8: classes of far shapes", "/".join(sorted(set(labels[far]))) or "none")
+        noisy_set = pm.generate_pose_dataset(pm.TABLE1_CLASSES, 15, rng=noisy_rng, noise=0.04)
+        put("Fig. 9: recognition at noise 0.04", np.mean(ours.predict(noisy_set.shapes) == noisy_set.labels))
+        print(f"seed {seed} done", flush=True)
+    table = bench.table("quantity", *[str(seed) for seed in seeds],
+                        title=f"the notebook's asserted quantities per seed of its data (first: the notebook's)")
+    for name, values in rows.items():
+        table.add(name, *values)
+    why = bench.table("seed", "gap: 1 PDM - 2, polar only (>= 0)", "gap: 2 - 1 PDM, gates only (> 0)",
+                      "gap: 2 - 1 PDM, all terms (> 0)", title="Section 5 at s = 2, rates per term (20 test shapes per class)")
+    for seed in range(3000, 3005):
+        train_rng, test_rng = spawn_rngs(seed, 2)
+        train = pm.generate_pose_dataset(pm.TABLE1_CLASSES, 20, rng=train_rng, mode_separation=2.0)
+        test = pm.generate_pose_dataset(pm.TABLE1_CLASSES, 20, rng=test_rng, mode_separation=2.0)
+        rates = {}
+        for components in (2, 1):
+            model = pm.ArticulatedShapeRecogniser(rng=0, n_shape_components=components).fit(train.shapes, train.labels)
+            parts = model.score_components(test.shapes)
+            rates[components] = {terms: np.mean(np.asarray(model.classes_)[np.argmax(parts.class_scores(*terms), 1)]
+                                                == test.labels)
+                                 for terms in (("shape",), ("limb_gate",), ("shape", "limb_gate", "label_string"))}
+        why.add(seed, *(round(float(sign * (rates[1][terms] - rates[2][terms])), 3) for sign, terms in
+                        ((1, ("shape",)), (-1, ("limb_gate",)), (-1, ("shape", "limb_gate", "label_string")))))
+
+
 def main() -> None:
     bench = Benchmark(__doc__)
     parser = bench.parser
@@ -117,7 +220,13 @@ def main() -> None:
                         help="run only the settings whose names start with one of these prefixes (baselines always run)")
     parser.add_argument("--held-out", action="store_true", help="held-out log-likelihood per class and setting, then stop")
     parser.add_argument("--em-restarts", action="store_true", help="shape-level EM from many starts, then stop")
+    parser.add_argument("--seed-spread", action="store_true",
+                        help="the notebook's asserted quantities for its seed 2004 and 5 others, then stop")
     args = bench.parse()
+    if args.seed_spread:
+        seed_spread_study(bench, [2004, 11, 12, 13, 14, 15])
+        bench.finish()
+        return
     if args.held_out or args.em_restarts:
         if args.held_out:
             held_out_study(bench)

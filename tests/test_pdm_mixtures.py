@@ -243,6 +243,19 @@ def test_score_components_polar_term_recognises_distinct_classes(small_problem):
     np.testing.assert_allclose(first, expected, atol=1e-12)
 
 
+def test_printed_eq11_scores_multiply_log_likelihood_by_gates(small_problem):
+    _, test, recogniser = small_problem
+    parts = recogniser.score_components(test.shapes)
+    gates = np.exp(parts.limb_gate + parts.label_string)
+    expected = np.einsum("cm,ncm,ncm->nc", np.exp(parts.log_weights), gates, parts.shape)
+    np.testing.assert_allclose(parts.printed_eq11_scores(), expected, rtol=1e-12)
+    # A class with a vanishing gate and a negative ln p scores close to 0, above a fitting class.
+    classes = np.asarray(recogniser.classes_)
+    ours = np.mean(classes[np.argmax(parts.class_scores("shape", "limb_gate", "label_string"), 1)] == test.labels)
+    printed = np.mean(classes[np.argmax(parts.printed_eq11_scores(), 1)] == test.labels)
+    assert printed < ours
+
+
 def test_dictionary_has_one_string_per_class_component(small_problem):
     train, _, recogniser = small_problem
     assert recogniser.dictionary_.shape == (6, 2, 13)

@@ -315,6 +315,27 @@ class ScoreComponents:
         joint = self.log_weights[None] + sum(getattr(self, t) for t in terms)
         return self.class_log_prior + np.logaddexp.reduce(joint, axis=2)
 
+    def printed_eq11_scores(self) -> np.ndarray:
+        """Class scores of eq. 11 read as printed: the gates multiply the log-likelihood.
+
+        ``sum_m pi_wm G_wm ln p(S | Phi_wm, Gamma_wm*)`` with the gate
+        ``G_wm = P(L | Lambda_wm) prod_k P(lambda_k^wm | z_k)``. This is not a log-probability: a
+        class whose gates vanish scores near 0, above every class whose ``ln p`` is negative. The
+        recogniser's own reading is :meth:`class_scores` with all three terms, which adds ``ln G`` to
+        ``ln p`` (the class posterior is proportional to ``G p``).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n, C)`` scores; their argmax over classes is the printed reading's decision.
+
+        References
+        ----------
+        Al-Shaher & Hancock, AMDO 2004, LNCS 3179, pp. 62-75, Sec. 5, eq. 11.
+        """
+        gates = np.exp(self.limb_gate + self.label_string)  # G_wm, (n, C, M)
+        return np.sum(np.exp(self.log_weights)[None] * gates * self.shape, axis=2)
+
 
 @dataclass(frozen=True)
 class AlignmentTrace:
