@@ -3,6 +3,15 @@
 Melenchón, Meler & Iriondo, AMDO 2004. A seeded synthetic talking face stands in for the recorded one.
 """
 
+from amdo_lab.incremental_svd.face import (
+    LATENT_NAMES,
+    PAPER_SIZE,
+    TalkingFace,
+    face_masks,
+    make_talking_face,
+    psnr_db,
+    render_faces,
+)
 from amdo_lab.incremental_svd.svd_update import (
     MEAN_MODES,
     IncrementalSVD,
@@ -17,6 +26,13 @@ from amdo_lab.incremental_svd.svd_update import (
 )
 
 __all__ = [
+    "LATENT_NAMES",
+    "PAPER_SIZE",
+    "TalkingFace",
+    "face_masks",
+    "make_talking_face",
+    "psnr_db",
+    "render_faces",
     "MEAN_MODES",
     "IncrementalSVD",
     "SvdState",

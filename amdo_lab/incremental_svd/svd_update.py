@@ -42,6 +42,17 @@ class SvdState(tuple):
 
     A plain tuple (it unpacks as ``U, s, V, mean = state``) with named fields for reading.
 
+    Parameters
+    ----------
+    U : ndarray, shape (p, r)
+        Left singular vectors.
+    s : ndarray, shape (r,)
+        Singular values, descending.
+    V : ndarray, shape (q, r) or None
+        Right singular vectors (None for a model that does not keep them).
+    mean : ndarray, shape (p,)
+        The mean column.
+
     References
     ----------
     Melenchón, Meler & Iriondo, AMDO 2004, eq. (2).
@@ -73,20 +84,36 @@ class SvdState(tuple):
         return self[3]
 
 
+#: Largest accepted magnitude of an input value: products of two such values stay finite.
+MAX_ABS = 1e100
+
+
 def _check_factors(U: object, s: object, V: object | None) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
-    U = as_finite_array(U, "U", ndim=2, allow_empty=True)
-    s = as_finite_array(s, "s", shape=(U.shape[1],), allow_empty=True)
+    U = as_finite_array(U, "U", ndim=2, allow_empty=True, max_abs=MAX_ABS)
     if U.shape[0] == 0:
-        raise ValueError("U must have at least one row (pixel), got shape (0, r)")
-    if V is not None:
-        V = as_finite_array(V, "V", shape=(None, U.shape[1]), allow_empty=True)
+        raise ValueError(f"U must have at least one row (pixel), got shape {U.shape}")
+    s = as_finite_array(s, "s", ndim=1, allow_empty=True, max_abs=MAX_ABS)
+    if s.size != U.shape[1]:
+        raise ValueError(f"s must hold one singular value per column of U ({U.shape[1]}), got {s.size}")
     if np.any(s < 0):
         raise ValueError("s must be non-negative (singular values)")
+    if V is not None:
+        V = as_finite_array(V, "V", ndim=2, allow_empty=True, max_abs=MAX_ABS)
+        if V.shape[1] != U.shape[1] or V.shape[0] < V.shape[1]:
+            raise ValueError(f"V must have {U.shape[1]} orthonormal columns (as many as U), so at least as many "
+                             f"rows, got shape {V.shape}")
     return U, s, V
 
 
+def _check_state(state: object) -> SvdState:
+    if not isinstance(state, tuple) or len(state) != 4:
+        raise TypeError(f"state must be a tuple (U, s, V, mean), got {type(state).__name__}")
+    U, s, V = _check_factors(*state[:3])
+    return SvdState(U, s, V, as_finite_array(state[3], "mean", shape=(U.shape[0],), max_abs=MAX_ABS))
+
+
 def _check_columns(I: object, p: int, name: str = "I") -> np.ndarray:
-    I = as_finite_array(I, name, ndim=2)
+    I = as_finite_array(I, name, ndim=2, max_abs=MAX_ABS)
     if I.shape[0] != p:
         raise ValueError(f"{name} must have {p} rows (the model's p pixels), got {I.shape[0]}")
     return I
@@ -231,6 +258,15 @@ def truncate(state: SvdState, *, max_rank: int | None = None, tol: float | None 
     ----------
     Melenchón, Meler & Iriondo, AMDO 2004, Sec. 3.2 (the threshold τ).
     """
+    U, s, V, mean = _check_state(state)
+    if max_rank is not None:
+        max_rank = check_positive_int(max_rank, "max_rank")
+    if tol is not None:
+        tol = check_positive(tol, "tol", allow_zero=True)
+    return _truncate(SvdState(U, s, V, mean), max_rank=max_rank, tol=tol)
+
+
+def _truncate(state: SvdState, *, max_rank: int | None, tol: float | None) -> SvdState:
     U, s, V, mean = state
     floor = 1e-12 * float(s.max(initial=0.0)) if tol is None else float(tol)
     keep = int(np.count_nonzero(s > floor))
@@ -283,7 +319,7 @@ def update_with_mean(U: np.ndarray, s: np.ndarray, V: np.ndarray, mean: np.ndarr
     U, s, V = _check_factors(U, s, V)
     if V is None:
         raise ValueError("V must be an array (q, r); the paper's mean update needs the right factor")
-    mean = as_finite_array(mean, "mean", shape=(U.shape[0],))
+    mean = as_finite_array(mean, "mean", shape=(U.shape[0],), max_abs=MAX_ABS)
     I = _check_columns(I, U.shape[0])
     fast = check_bool(fast, "fast")
     return _update_with_mean(U, s, V, mean, I, fast=fast)
@@ -385,7 +421,7 @@ def ross_update(U: np.ndarray, s: np.ndarray, mean: np.ndarray, n_seen: int, I: 
     IJCV 77, 2008 (Sec. 3.1); Melenchón, Meler & Iriondo, AMDO 2004, eq. (11) for the update.
     """
     U, s, _ = _check_factors(U, s, None)
-    mean = as_finite_array(mean, "mean", shape=(U.shape[0],))
+    mean = as_finite_array(mean, "mean", shape=(U.shape[0],), max_abs=MAX_ABS)
     I = _check_columns(I, U.shape[0])
     n_seen = check_positive_int(n_seen, "n_seen", minimum=0)
     return _ross_update(U, s, mean, n_seen, I)
@@ -467,6 +503,8 @@ def noise_edge(sigma: float, p: int, q: int) -> float:
     0.15
     """
     sigma = check_positive(sigma, "sigma")
+    if sigma > MAX_ABS:
+        raise ValueError(f"sigma must be at most {MAX_ABS:g}, got {sigma:g}")
     p, q = check_positive_int(p, "p"), check_positive_int(q, "q")
     return float(sigma * (np.sqrt(p) + np.sqrt(q)))
 
@@ -544,7 +582,7 @@ class IncrementalSVD:
             ``self``.
         """
         self._check_parameters()
-        X = as_finite_array(X, "X", ndim=2)
+        X = as_finite_array(X, "X", ndim=2, max_abs=MAX_ABS)
         if getattr(self, "U_", None) is None:
             p = X.shape[1]
             self.U_, self.singular_values_ = np.zeros((p, 0)), np.zeros(0)
@@ -559,7 +597,7 @@ class IncrementalSVD:
             state = _ross_update(self.U_, self.singular_values_, self.mean_, self.n_seen_, I)
         else:
             state = _brand_update(self.U_, self.singular_values_, self.V_, I)
-        U, s, V, mean = truncate(state, max_rank=self.max_rank, tol=self.tol)
+        U, s, V, mean = _truncate(state, max_rank=self.max_rank, tol=self.tol)
         self.U_, self.singular_values_, self.V_, self.mean_ = U, s, V, mean
         self.n_seen_ += X.shape[0]
         return self
@@ -572,7 +610,7 @@ class IncrementalSVD:
 
     def _check_frames(self, X: object) -> np.ndarray:
         check_fitted(self, ["U_", "mean_"])
-        return as_finite_array(X, "X", shape=(None, self.U_.shape[0]))
+        return as_finite_array(X, "X", shape=(None, self.U_.shape[0]), max_abs=MAX_ABS)
 
     def transform(self, X: np.ndarray) -> np.ndarray:
         """Coefficients of the frames ``X`` in the basis: ``(X - mean) U`` (the paper's ``C^T``).
