@@ -25,6 +25,7 @@ from amdo_lab.common import (
     check_fitted,
     check_positive,
     check_positive_int,
+    one_blas_thread,
 )
 
 __all__ = ["MEAN_MODES", "IncrementalSVD", "SvdState", "brand_update", "extract_mean", "noise_edge", "ross_update", "tau_schedule",
@@ -327,7 +328,8 @@ def update_with_mean(U: np.ndarray, s: np.ndarray, V: np.ndarray, mean: np.ndarr
 
 def _update_with_mean(U: np.ndarray, s: np.ndarray, V: np.ndarray, mean: np.ndarray, I: np.ndarray, *,
                       fast: bool = True) -> SvdState:
-    # eqs. (7)-(8): Î = I - m̄_i 1, so that [M̂_i Î] = [M_i I] - m̄_i 1
+    # eq. (5): the model in, M_i = U_i Σ_i V_i^T + m̄_i 1; eq. (6): the model out, of [M_i I]
+    # eqs. (7)-(9): Î = I - m̄_i 1, so that [M̂_i Î] = [M_i I] - m̄_i 1
     I_hat = I - mean[:, None]
     # eqs. (10)-(11): [M̂_i Î] = U_t Σ_t V_t^T by Brand's update, U_t = [U_i Q_i] U_d
     Q, U_d, s_t, V_small, V_new = _brand_core(U, s, I_hat)
@@ -591,12 +593,13 @@ class IncrementalSVD:
         elif X.shape[1] != self.U_.shape[0]:
             raise ValueError(f"X must have {self.U_.shape[0]} columns (the model's pixels), got {X.shape[1]}")
         I = X.T
-        if self.mean == "paper":
-            state = _update_with_mean(self.U_, self.singular_values_, self.V_, self.mean_, I)
-        elif self.mean == "ross":
-            state = _ross_update(self.U_, self.singular_values_, self.mean_, self.n_seen_, I)
-        else:
-            state = _brand_update(self.U_, self.singular_values_, self.V_, I)
+        with one_blas_thread():  # thin products (p x r by r x r): more threads only contend
+            if self.mean == "paper":
+                state = _update_with_mean(self.U_, self.singular_values_, self.V_, self.mean_, I)
+            elif self.mean == "ross":
+                state = _ross_update(self.U_, self.singular_values_, self.mean_, self.n_seen_, I)
+            else:
+                state = _brand_update(self.U_, self.singular_values_, self.V_, I)
         U, s, V, mean = _truncate(state, max_rank=self.max_rank, tol=self.tol)
         self.U_, self.singular_values_, self.V_, self.mean_ = U, s, V, mean
         self.n_seen_ += X.shape[0]
@@ -642,6 +645,7 @@ class IncrementalSVD:
             Their reconstructions from ``r`` coefficients each.
         """
         X = self._check_frames(X)
+        # eq. (2): a frame is m̄ + U c, with its coefficients c = U^T (x - m̄)
         return self.mean_ + ((X - self.mean_) @ self.U_) @ self.U_.T
 
     def memory_bytes(self) -> int:
