@@ -9,7 +9,7 @@ Tables, one BLAS thread, one run (so every ratio compares calls made on the same
            optimal rank-35 error, PSNR against the clean frames, mean error, and (half size, 80 frames)
            the directions kept by the paper's tau read literally and by the noise edge;
   long     (--long) 10,000 streamed frames, rendered in chunks: ms per update near the end for the paper's
-           update and for Ross's, orthogonality of U, the mean against the running mean, peak memory.
+           update and for Ross's, orthogonality of U, the mean against the running mean, the state in MB.
 
 Run:  .venv/bin/python benchmarks/bench_07_incremental_svd.py [--long] [--seeds 1 2 3 4 5] [--json PATH]
 """
