@@ -222,6 +222,26 @@ CHAPTER_6 = {
 }
 
 # ---------------------------------------------------------------------------------------------
+# Chapter 7, Melenchón, Meler & Iriondo 2004: amdo_lab.incremental_svd
+
+_IS = "amdo_lab.incremental_svd.svd_update"
+_MEAN_UPDATE = (f"{_IS}._update_with_mean", "test_fast_update_with_mean_equals_the_printed_p_by_r_path")
+CHAPTER_7 = {
+    1: (None, "notation: the thin SVD itself, which numpy.linalg.svd computes wherever the chapter needs one"),
+    2: (f"{_IS}.IncrementalSVD.reconstruct", "test_no_truncation_matches_the_exact_svd_of_the_centred_data"),
+    5: _MEAN_UPDATE,
+    7: _MEAN_UPDATE,
+    8: _MEAN_UPDATE,
+    9: _MEAN_UPDATE,
+    10: _MEAN_UPDATE,
+    11: (f"{_IS}._brand_update", "test_brand_update_appends_columns_and_drops_a_residual_inside_the_span"),
+    12: _MEAN_UPDATE,
+    13: _MEAN_UPDATE,
+    14: _MEAN_UPDATE,
+    15: _MEAN_UPDATE,
+}
+
+# ---------------------------------------------------------------------------------------------
 
 CHAPTERS = {
     1: (CHAPTER_1, "test_em_articulated.py"),
@@ -230,6 +250,7 @@ CHAPTERS = {
     4: (CHAPTER_4, "test_ear_biometrics.py"),
     5: (CHAPTER_5, "test_face_glmm.py"),
     6: (CHAPTER_6, "test_cue_fusion_pf.py"),
+    7: (CHAPTER_7, "test_incremental_svd.py"),
 }
 
 

@@ -1,0 +1,74 @@
+"""Bad-input table of ``amdo_lab.incremental_svd``: a valid call and the kind of each argument.
+
+The valid inputs are tiny: a 6-pixel model of rank 2 learnt from 4 frames, 40 x 41 faces.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from bad_input_cases._core import Case
+
+#: (callable, argument, spoiled label) calls known to fail the test, with the reason; each must
+#: still fail (remove it once fixed).
+KNOWN_FAILURES: dict[tuple[str, str, str], str] = {}
+
+#: Public names not called with user input, with the reason.
+EXEMPT = {
+    "SvdState": "a result record (a tuple with names), built by the update functions from checked input",
+    "TalkingFace": "a result record, built by make_talking_face from checked input",
+}
+
+#: None means "no cap" / "no threshold" for these parameters.
+_NONE_OK = frozenset({("max_rank", "None"), ("tol", "None")})
+
+
+def cases() -> dict[str, Case]:
+    """The public callables of ``amdo_lab.incremental_svd``, by name."""
+    from amdo_lab import incremental_svd as isvd
+
+    frames = np.random.default_rng(0).normal(size=(4, 6))
+    fitted = isvd.IncrementalSVD(max_rank=2).partial_fit(frames)
+    U, s, V, mean = fitted.state
+    new = np.random.default_rng(1).normal(size=(6, 2))
+    arrays = {"U": "array", "s": "array", "V": "array"}
+    any_count = frozenset({("I", "a wrong trailing axis")})  # three new columns instead of two are fine
+
+    def method(name):
+        return lambda **kwargs: getattr(fitted, name)(**kwargs)
+
+    def learner(max_rank, tol, mean, X):
+        return isvd.IncrementalSVD(max_rank=max_rank, tol=tol, mean=mean).partial_fit(X)
+
+    return {
+        "IncrementalSVD": Case(learner, {"max_rank": 2, "tol": 0.0, "mean": "paper", "X": frames},
+                               {"max_rank": "count", "tol": "non_negative", "mean": "name", "X": "array"},
+                               accept=_NONE_OK | {("X", "a wrong trailing axis")}),  # a first fit sets p
+        "IncrementalSVD.partial_fit": Case(method("partial_fit"), {"X": frames[:1]}, {"X": "array"}),
+        "IncrementalSVD.transform": Case(method("transform"), {"X": frames}, {"X": "array"}),
+        "IncrementalSVD.reconstruct": Case(method("reconstruct"), {"X": frames}, {"X": "array"}),
+        "brand_update": Case(isvd.brand_update, {"U": U, "s": s, "V": V, "I": new},
+                             {**arrays, "I": "array"}, accept=any_count),
+        "update_with_mean": Case(isvd.update_with_mean, {"U": U, "s": s, "V": V, "mean": mean, "I": new,
+                                                         "fast": True},
+                                 {**arrays, "mean": "array", "I": "array", "fast": "flag"}, accept=any_count),
+        "extract_mean": Case(isvd.extract_mean, {"U": U, "s": s, "V": V, "fast": False},
+                             {**arrays, "fast": "flag"}),
+        "ross_update": Case(isvd.ross_update, {"U": U, "s": s, "mean": mean, "n_seen": 4, "I": new},
+                            {"U": "array", "s": "array", "mean": "array", "n_seen": "count", "I": "array"},
+                            accept=any_count | {("n_seen", "zero")}),
+        "truncate": Case(isvd.truncate, {"state": fitted.state, "max_rank": 1, "tol": 0.0},
+                         {"state": "object", "max_rank": "count", "tol": "non_negative"}, accept=_NONE_OK),
+        "tau_schedule": Case(isvd.tau_schedule, {"t": 3, "start": 0.5, "end": 5e-4, "frames": 25},
+                             {"t": "count", "start": "positive", "end": "positive", "frames": "count"},
+                             accept=frozenset({("t", "zero")})),
+        "noise_edge": Case(isvd.noise_edge, {"sigma": 0.01, "p": 100, "q": 25},
+                           {"sigma": "positive", "p": "count", "q": "count"}),
+        "make_talking_face": Case(isvd.make_talking_face, {"n_frames": 2, "rng": 0, "size": (40, 41), "noise": 0.01},
+                                  {"n_frames": "count", "rng": "seed", "size": "object", "noise": "non_negative"}),
+        "render_faces": Case(isvd.render_faces, {"latent": [[0.5, 0.0, 0.0, 0.0]], "size": (40, 41)},
+                             {"latent": "array", "size": "object"}),
+        "face_masks": Case(isvd.face_masks, {"size": (40, 41)}, {"size": "object"}),
+        "psnr_db": Case(isvd.psnr_db, {"estimate": frames, "clean": frames + 0.01},
+                        {"estimate": "array", "clean": "array"}),
+    }

@@ -1,0 +1,178 @@
+"""Chapter 7: incremental SVD with mean update (Melenchón, Meler & Iriondo, AMDO 2004)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from rejections import check_rejection, reject
+from sklearn.exceptions import NotFittedError
+
+from amdo_lab import incremental_svd as isvd
+from amdo_lab.incremental_svd import (
+    IncrementalSVD,
+    brand_update,
+    extract_mean,
+    make_talking_face,
+    noise_edge,
+    psnr_db,
+    ross_update,
+    tau_schedule,
+    truncate,
+    update_with_mean,
+)
+
+
+def _low_rank_columns(p=1640, q=120, rank=20, seed=0):
+    """A p x q matrix: rank-``rank`` signal, small noise and an offset (columns are observations)."""
+    rng = np.random.default_rng(seed)
+    return rng.normal(size=(p, rank)) @ rng.normal(size=(rank, q)) + 0.1 * rng.normal(size=(p, q)) + 3.0
+
+
+def _stream(columns, **options):
+    model = IncrementalSVD(**options)
+    for column in columns.T:
+        model.partial_fit(column[None])
+    return model
+
+
+def _empty(p):
+    return np.zeros((p, 0)), np.zeros(0), np.zeros((0, 0))
+
+
+@pytest.mark.parametrize("mean", ["paper", "ross", "none"])
+def test_no_truncation_matches_the_exact_svd_of_the_centred_data(mean):
+    M = _low_rank_columns()
+    model = _stream(M, mean=mean)
+    centred = M - M.mean(axis=1, keepdims=True) if mean != "none" else M
+    U, s, Vt = np.linalg.svd(centred, full_matrices=False)
+    r = model.singular_values_.size
+    assert r == (119 if mean != "none" else 120)   # centring removes one direction
+    scale = s[0]
+    assert np.max(np.abs(model.singular_values_ - s[:r])) < 1e-10 * scale
+    assert np.max(np.abs(model.mean_ - (M.mean(axis=1) if mean != "none" else 0))) < 1e-10
+    assert np.max(np.abs(model.U_.T @ model.U_ - np.eye(r))) < 1e-10
+    assert np.max(np.abs(model.reconstruct(M.T) - M.T)) < 1e-10 * scale
+    if model.V_ is not None:
+        rebuilt = (model.U_ * model.singular_values_) @ model.V_.T + model.mean_[:, None]
+        assert np.max(np.abs(rebuilt - M)) < 1e-10 * scale
+        assert np.max(np.abs(model.V_.T @ model.V_ - np.eye(r))) < 1e-10
+
+
+def test_fast_update_with_mean_equals_the_printed_p_by_r_path():
+    M = _low_rank_columns(p=300, q=40)
+    old = M[:, :30]
+    U, s, Vt = np.linalg.svd(old - old.mean(axis=1, keepdims=True), full_matrices=False)
+    args = (U[:, :29], s[:29], Vt[:29].T, old.mean(axis=1), M[:, 30:])
+    fast, printed = update_with_mean(*args, fast=True), update_with_mean(*args, fast=False)
+    assert np.max(np.abs(fast.s - printed.s)) < 1e-10 * fast.s[0]
+    np.testing.assert_allclose(fast.mean, printed.mean, atol=1e-12)
+    np.testing.assert_allclose((fast.U * fast.s) @ fast.V.T, (printed.U * printed.s) @ printed.V.T, atol=1e-10)
+    np.testing.assert_allclose((fast.U * fast.s) @ fast.V.T + fast.mean[:, None], M, atol=1e-10)
+    assert np.allclose(fast.V.sum(axis=0), 0, atol=1e-12)   # eq. (13): V_f's columns are centred
+
+
+def test_brand_update_appends_columns_and_drops_a_residual_inside_the_span():
+    M = _low_rank_columns(p=200, q=30)
+    U, s, Vt = np.linalg.svd(M[:, :20], full_matrices=False)
+    grown = brand_update(U, s, Vt.T, M[:, 20:])
+    np.testing.assert_allclose(grown.s, np.linalg.svd(M, compute_uv=False), rtol=1e-10)
+    np.testing.assert_allclose((grown.U * grown.s) @ grown.V.T, M, atol=1e-10)
+    inside = U[:, :5] @ np.arange(1.0, 6.0)                 # a column already in span(U): nothing to add
+    same = brand_update(U, s, Vt.T, inside[:, None])
+    assert same.U.shape[1] == U.shape[1] and same.V.shape == (21, U.shape[1])
+    assert np.max(np.abs(U.T @ U - np.eye(20))) < 1e-12 and np.max(np.abs(same.U.T @ same.U - np.eye(20))) < 1e-12
+
+
+def test_extract_mean_of_sec_2_4_returns_the_centred_svd_and_the_mean():
+    S = _low_rank_columns(p=150, q=25)
+    U, s, Vt = np.linalg.svd(S, full_matrices=False)
+    for fast in (True, False):
+        out = extract_mean(U, s, Vt.T, fast=fast)
+        np.testing.assert_allclose(out.mean, S.mean(axis=1), atol=1e-12)
+        centred = S - S.mean(axis=1, keepdims=True)
+        np.testing.assert_allclose(out.s[:24], np.linalg.svd(centred, compute_uv=False)[:24], rtol=1e-10)
+        np.testing.assert_allclose((out.U * out.s) @ out.V.T, centred, atol=1e-10)
+
+
+def test_ross_update_gives_the_papers_basis_singular_values_and_mean():
+    M = _low_rank_columns(p=400, q=60)
+    paper = _stream(M, mean="paper")
+    U, s, V, mean = *_empty(400)[:2], None, np.zeros(400)
+    n_seen = 0
+    for start in range(0, 60, 7):                           # batches of 7 columns, the last one shorter
+        U, s, V, mean = ross_update(U, s, mean, n_seen, M[:, start:start + 7])
+        n_seen += M[:, start:start + 7].shape[1]
+    U, s, _, mean = truncate((U, s, None, mean))
+    np.testing.assert_allclose(s, paper.singular_values_, rtol=1e-10)
+    np.testing.assert_allclose(mean, paper.mean_, atol=1e-12)
+    np.testing.assert_allclose(U @ U.T, paper.U_ @ paper.U_.T, atol=1e-9)
+
+
+def test_rank_cap_keeps_the_error_near_the_optimal_and_the_mean_exact():
+    face = make_talking_face(150, rng=3, size=(48, 50))
+    X = face.frames.reshape(150, -1)
+    model = IncrementalSVD(max_rank=10)
+    for frame in X:
+        model.partial_fit(frame[None])
+    centred = X - X.mean(axis=0)
+    _, _, Vt = np.linalg.svd(centred, full_matrices=False)
+    optimal = np.linalg.norm(centred - centred @ Vt[:10].T @ Vt[:10])
+    ours = np.linalg.norm(model.reconstruct(X) - X)
+    assert optimal <= ours <= 1.01 * optimal
+    np.testing.assert_allclose(model.mean_, X.mean(axis=0), atol=1e-12)
+    assert np.max(np.abs(model.U_.T @ model.U_ - np.eye(10))) < 1e-12
+    assert model.memory_bytes() == 8 * (2400 * 10 + 10 + 150 * 10 + 2400)
+
+
+def test_tau_schedule_is_geometric_and_the_noise_edge_bounds_pure_noise():
+    taus = [tau_schedule(t) for t in range(30)]
+    assert taus[0] == 0.5 and taus[25] == pytest.approx(5e-4) and taus[29] == taus[25]
+    assert np.allclose(np.diff(np.log(taus[:26])), np.log(1e-3) / 25)
+    noise = np.random.default_rng(0).normal(scale=0.02, size=(2000, 300))
+    largest = np.linalg.svd(noise, compute_uv=False)[0]
+    assert 0.95 * noise_edge(0.02, 2000, 300) < largest < 1.05 * noise_edge(0.02, 2000, 300)
+
+
+def test_talking_face_is_seeded_with_disjoint_masks_and_psnr_of_its_noise():
+    a, b = make_talking_face(20, rng=5, size=(60, 62)), make_talking_face(20, rng=5, size=(60, 62))
+    np.testing.assert_array_equal(a.frames, b.frames)
+    assert a.clean.min() >= 0 and a.clean.max() <= 1 and a.latent.shape == (20, 4)
+    stacked = np.sum([m.astype(int) for m in a.masks.values()], axis=0)
+    assert stacked.max() == 1 and all(m.any() for m in a.masks.values())
+    assert abs(psnr_db(a.frames, a.clean) - 40.0) < 0.3
+    assert isvd.render_faces(a.latent[:2], size=(60, 62)).shape == (2, 60, 62)
+
+
+def test_estimator_contract_and_transform():
+    model = IncrementalSVD(max_rank=3)
+    with pytest.raises(NotFittedError):
+        model.transform(np.zeros((1, 4)))
+    X = np.random.default_rng(2).normal(size=(8, 4))
+    assert model.partial_fit(X[:5]) is model and model.partial_fit(X[5:]).n_seen_ == 8
+    np.testing.assert_allclose(model.transform(X), (X - X.mean(axis=0)) @ model.U_)
+    assert model.state.U is model.U_
+
+
+REJECTIONS = [
+    reject("partial_fit pixels differ", lambda: IncrementalSVD().partial_fit(np.ones((1, 4))).partial_fit(np.ones((1, 5))),
+           ValueError, "X must have 4 columns"),
+    reject("unknown mean", lambda: IncrementalSVD(mean="batch").partial_fit(np.ones((1, 4))), ValueError, "mean must be"),
+    reject("max_rank zero", lambda: IncrementalSVD(max_rank=0).partial_fit(np.ones((1, 4))), ValueError, "max_rank"),
+    reject("negative tol", lambda: IncrementalSVD(tol=-1.0).partial_fit(np.ones((1, 4))), ValueError, "tol"),
+    reject("update columns of another length", lambda: update_with_mean(*_empty(4), np.zeros(4), np.ones((5, 1))),
+           ValueError, "I must have 4 rows"),
+    reject("extract_mean with no rows", lambda: extract_mean(np.ones((4, 0)), np.zeros(0), np.zeros((0, 0))),
+           ValueError, "V must be"),
+    reject("negative singular value", lambda: brand_update(np.eye(3)[:, :1], [-1.0], np.ones((1, 1)), np.ones((3, 1))),
+           ValueError, "s must be non-negative"),
+    reject("tau end above start", lambda: tau_schedule(3, start=0.1, end=0.5), ValueError, "end must be at most"),
+    reject("one frame", lambda: make_talking_face(1, rng=0), ValueError, "n_frames must be at least 2"),
+    reject("noise above 1", lambda: make_talking_face(3, rng=0, noise=2.0), ValueError, "noise must be at most 1"),
+    reject("latent out of range", lambda: isvd.render_faces([[2.0, 0, 0, 0]], size=(40, 40)), ValueError, "latent"),
+    reject("tiny face", lambda: isvd.face_masks((10, 40)), ValueError, r"size\[0\] must be at least 32"),
+]
+
+
+@pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
+def test_rejections(request, call, error, message):
+    check_rejection(request, call, error, message)
