@@ -190,6 +190,11 @@ CHAPTERS: tuple[Chapter, ...] = (
         "batch SVD, scikit-learn's IncrementalPCA as a peer and Ross's mean-correction column, which needs no V.",
         "J. Melenchón, L. Meler, I. Iriondo. On-the-Fly Training. AMDO 2004, LNCS 3179, pp. 146-153.",
         exercises="amdo_lab.incremental_svd.exercises",
+        prerequisites=needs(("the shared notation", 0), ("point distribution models and PCA", 2),
+                            "the SVD and the QR decomposition"),
+        teaches=("incremental SVD",),
+        difficulty=2,
+        study_minutes=75,
     ),
 )
 
