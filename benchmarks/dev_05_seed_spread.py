@@ -81,7 +81,7 @@ def measure(seed: int) -> dict:
     out["inclusion effect, smallest cell (l2, e90)"] = ", ".join(order[0])
     out["inclusion effect, l2/e90 value"] = incl[("l2", "e90")]
     out["inclusion effect, second smallest - smallest"] = incl[order[1]] - incl[order[0]]
-    gee = fg.fit_gee_exchangeable(table, fg.PAPER_FORMULA, group="p", correlation="independence")
+    gee = fg.fit_gee(table, fg.PAPER_FORMULA, group="p", correlation="independence")
     coef = fit.coefficients
     slope = np.polyfit(coef.iloc[1:], gee.estimate.iloc[1:], 1)[0]
     sigma2 = sum(vc.values())

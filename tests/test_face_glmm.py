@@ -333,9 +333,9 @@ def test_marginal_prediction_averages_logits(simulated):
 
 
 def test_peer_fits_run_on_simulated_table(simulated):
-    from amdo_lab.face_glmm import fit_gee_exchangeable, fit_naive_logistic
+    from amdo_lab.face_glmm import fit_gee, fit_naive_logistic
     table, _ = simulated
-    gee = fit_gee_exchangeable(table, "Y ~ M * D + U", group="p")
+    gee = fit_gee(table, "Y ~ M * D + U", group="p")
     naive = fit_naive_logistic(table, "Y ~ M * D + U")
     for peer, method in ((gee, "GEE (exchangeable)"), (naive, "naive logistic")):
         # one result type for every peer fit: the coefficient table, no variance components, timings
@@ -677,10 +677,10 @@ REJECTIONS = [
     reject("summarise_recovery negative ses", lambda: fg.summarise_recovery(
         pd.Series([0.5, 0.0]), np.ones((5, 2)), -np.ones((5, 2))), ValueError, "ses must be non-negative"),
     # --- the peers: named columns and terms, counts out of n_trials
-    reject("fit_gee_exchangeable group not a column",
-           lambda fitted: fg.fit_gee_exchangeable(fitted.table, "Y ~ M", group="q"),
+    reject("fit_gee group not a column",
+           lambda fitted: fg.fit_gee(fitted.table, "Y ~ M", group="q"),
            ValueError, "group 'q' is not a column of table"),
-    reject("fit_gee_exchangeable count above n_trials", lambda fitted: fg.fit_gee_exchangeable(
+    reject("fit_gee count above n_trials", lambda fitted: fg.fit_gee(
         fitted.table.assign(Y=fitted.table.Y + 100), "Y ~ M"),
         ValueError, r"response 'Y' must hold integer counts in \[0, n_trials=30\]"),
     reject("fit_naive_logistic NaN count", lambda fitted: fg.fit_naive_logistic(_response(fitted, np.nan), "Y ~ M"),
