@@ -8,18 +8,19 @@ supplement, the Fisher eigenvalue spectrum that decides how many LDA axes are we
 rank of S_b in PCA space) and the condition number of S_w.
 
     .venv/bin/python benchmarks/dev_05_blas_kernels.py [--design paper|reduced] [--seed 2004]
-        [--kernels Haswell SkylakeX Nehalem] [--diagnose]
+        [--kernels Haswell SkylakeX Nehalem] [--diagnose] [--json PATH]
 """
 
 from __future__ import annotations
 
-import argparse
 import os
 import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
+
+from _harness import Benchmark  # first: pins BLAS threads before numpy is imported
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -106,36 +107,33 @@ def lam_max(s_b, s_w) -> float:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--design", choices=("paper", "reduced"), default="paper")
-    parser.add_argument("--seed", type=int, default=2004)
-    parser.add_argument("--kernels", nargs="+", default=["Haswell", "SkylakeX", "Nehalem"])
-    parser.add_argument("--diagnose", action="store_true")
-    args = parser.parse_args()
+    bench = Benchmark(__doc__, seed=2004)
+    bench.parser.add_argument("--design", choices=("paper", "reduced"), default="paper")
+    bench.parser.add_argument("--kernels", nargs="+", default=["Haswell", "SkylakeX", "Nehalem"])
+    bench.parser.add_argument("--diagnose", action="store_true")
+    args = bench.parse()
     if args.diagnose:
         diagnose(args.seed)
         return
     kernels = [k for k in args.kernels if k != "SkylakeX" or has_avx512()]
-    with tempfile.TemporaryDirectory() as tmp:
-        results = {}
-        for kernel in kernels:
-            path = Path(tmp) / f"{kernel}.npy"
-            seconds = run_kernel(kernel, args.design, args.seed, path)
-            results[kernel] = path
-            print(f"{kernel}: {seconds:.0f} s", flush=True)
-        import numpy as np
-        import pandas as pd
+    import numpy as np
+    import pandas as pd
 
-        first = kernels[0]
-        y0 = np.load(results[first])
-        config = pd.read_pickle(str(results[first]) + ".config.pkl")
-        for kernel in kernels[1:]:
-            y = np.load(results[kernel])
+    report = bench.table("kernel", "seconds", f"counts differing from {kernels[0]}", "largest |difference|",
+                         title=f"run_factorial_experiment({args.design} design, rng={args.seed}) per OpenBLAS kernel")
+    with tempfile.TemporaryDirectory() as tmp:
+        paths = {kernel: Path(tmp) / f"{kernel}.npy" for kernel in kernels}
+        seconds = {kernel: run_kernel(kernel, args.design, args.seed, paths[kernel]) for kernel in kernels}
+        y0 = np.load(paths[kernels[0]])
+        config = pd.read_pickle(str(paths[kernels[0]]) + ".config.pkl")
+        for kernel in kernels:
+            y = np.load(paths[kernel])
             differ = y != y0
-            print(f"{kernel} vs {first}: {int(differ.sum())} of {y.size} counts differ, "
-                  f"largest |difference| {int(np.abs(y - y0).max())}")
+            report.add(kernel, round(seconds[kernel]), f"{int(differ.sum())} of {y.size}", int(np.abs(y - y0).max()))
             if differ.any():
-                print(config[differ].value_counts().head(10).to_string())
+                bench.note(f"{kernel}: differing rows by configuration (U, M, D, S):\n"
+                           + config[differ].value_counts().head(10).to_string())
+    bench.finish()
 
 
 if __name__ == "__main__":
