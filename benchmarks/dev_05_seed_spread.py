@@ -22,8 +22,10 @@ def measure(seed: int) -> dict:
     """The chapter's asserted quantities for one seed of the experiment."""
     import numpy as np
     import pandas as pd
+    from scipy.special import expit
 
     from amdo_lab import face_glmm as fg
+    from amdo_lab.common import make_rng
 
     table, _ = fg.load_or_run_experiment(fg.paper_design(), ROOT / "build", rng=seed)
     fit = fg.fit_binomial_glmm(table, fg.PAPER_FORMULA, ["t", "p", "t:p"], 30)
@@ -86,7 +88,32 @@ def measure(seed: int) -> dict:
     slope = np.polyfit(coef.iloc[1:], gee.estimate.iloc[1:], 1)[0]
     sigma2 = sum(vc.values())
     approx = 1 / np.sqrt(1 + 0.346 * sigma2)
-    out["GEE/GLMM slope - approximation (> 0.05)"] = slope - approx
+    out["GEE/GLMM slope - approximation (> 0.02)"] = slope - approx
+    b_hat = fit.random_effects["p"][table.p.to_numpy()] + fit.random_effects["t:p"][fg.group_indices(table, "t:p")]
+    eta_fixed = fit.design.matrix @ fit.coefficients.to_numpy()
+    cells_eta = np.unique(np.round(eta_fixed, 10))
+
+    def attenuation(draws_b):
+        marginal = np.array([np.mean(expit(e + draws_b)) for e in cells_eta])
+        return np.polyfit(cells_eta, np.log(marginal / (1 - marginal)), 1)[0]
+
+    over_normal = attenuation(np.sqrt(sigma2) * make_rng(0).standard_normal(4000))
+    over_fitted = attenuation(b_hat[::16])
+    out["|average over normal b - approximation| (< 0.05)"] = abs(over_normal - approx)
+    out["over normal < over fitted < GEE slope"] = bool(over_normal < over_fitted < slope)
+    perfect = table.groupby("p").Y.apply(lambda y: np.mean(y == 30))
+    out["probes perfect in every row"] = float(np.mean(perfect == 1))
+    out["probes perfect in >= 90 % of rows"] = float(np.mean(perfect >= 0.9))
+    draws = fg.experiment_draws(fg.paper_design(), rng=seed)
+    faces = fg.preprocess_images(draws.population.images).reshape(256, 4, *fg.STANDARD_SHAPE)
+    identity = faces.mean(axis=1)
+
+    def odd_share(variation):
+        return float(np.sum(((variation - variation[..., ::-1]) / 2) ** 2) / np.sum(variation**2))
+
+    out["odd share within / identity (> 2)"] = (odd_share(faces - identity[:, None])
+                                                / odd_share(identity - identity.mean(axis=0)))
+    out["odd share between probes (< real faces' 0.47)"] = odd_share(faces[:, 0] - faces[:, 0].mean(axis=0))
     half = table[table.p < 128].reset_index(drop=True)
     half_fit = fg.fit_binomial_glmm(half, fg.PAPER_FORMULA, ["t", "p", "t:p", "t:U:M:D"], 30)
     half_to_full = half_fit.tests.F / extended.tests.F
