@@ -150,8 +150,9 @@ CHAPTERS: tuple[Chapter, ...] = (
         "A generalized linear mixed model of a face recogniser's configuration space",
         "A random-intercept binomial model fitted from scratch (penalised IRLS and the Laplace deviance) on 20 "
         "probes, then on a 65,536-row factorial experiment over a PCA+LDA face recogniser's settings: why every "
-        "test is significant, how a missing configuration-by-training-set term inflates F, and which of the "
-        "paper's findings survive.",
+        "test is significant, how a missing configuration-by-training-set term inflates F, why LDA must decide "
+        "its rank when mirrored images make the between-class scatter singular, and which of the paper's "
+        "findings survive.",
         "G. H. Givens, J. R. Beveridge, B. A. Draper, D. Bolme. Using a Generalized Linear Mixed "
         "Model to Study the Configuration Space of a PCA+LDA Human Face Recognition Algorithm. "
         "AMDO 2004, LNCS 3179, pp. 1-11.",

@@ -159,6 +159,61 @@ def test_reduced_experiment_table(reduced_table):
     pd.testing.assert_frame_equal(reduced_table, again)
 
 
+# the reflection supplement at the small size and E90 gives S_b a rank below C - 1 (class means are
+# mirror-symmetric, fewer than 63 of the kept PCA directions are even); other configurations do not
+KERNEL_DESIGN = dict(n_subjects=128, n_train_subjects=64, n_training_sets=1, n_galleries=10,
+                     supplements=("none", "reflection"))
+_KERNEL_CHILD = """
+import sys, numpy as np
+from amdo_lab import face_glmm as fg
+table = fg.run_factorial_experiment(fg.FactorialDesign(**eval(sys.argv[1])), rng=2004)
+np.save(sys.argv[2], table.Y.to_numpy())
+"""
+
+
+def _cpu_has_avx512() -> bool:
+    try:
+        with open("/proc/cpuinfo") as cpuinfo:
+            return "avx512f" in cpuinfo.read()
+    except OSError:
+        return False
+
+
+def test_fisher_rank_decision_drops_the_directions_s_b_does_not_fix():
+    """Small images + reflection + E90: S_b has rank < C - 1 in PCA space; only its range is kept."""
+    design = FactorialDesign(**KERNEL_DESIGN)
+    draws = fg.experiment_draws(design, rng=2004)
+    faces = preprocess_images(downsample_by_two(draws.population.images))
+    subjects = draws.training_sets[0]
+    base = faces.reshape(design.n_subjects, 4, *faces.shape[1:])[subjects, 1:].reshape(-1, *faces.shape[1:])
+    train = np.concatenate([base, make_supplement(base, "reflection", rng=0)]).reshape(2 * len(base), -1)
+    labels = np.tile(np.repeat(subjects, 3), 2)
+    model = PcaLda("e90").fit(train, labels)
+    assert model.projection_.shape[1] < design.n_train_subjects - 1   # rank decision taken here
+    # every kept direction separates the classes (eigenvalue well above round-off); each kept axis is even
+    assert model.eigenvalues_[-1] > 1e-4 * model.eigenvalues_[0]
+    axes = model.projection_.reshape(*faces.shape[1:], -1)
+    np.testing.assert_allclose(axes[:, ::-1], axes, atol=1e-8)
+
+
+def test_table_is_the_same_under_every_blas_kernel(tmp_path):
+    """The reduced table (with the rank-deficient configuration) is identical under 2-3 OpenBLAS kernels."""
+    import os
+    import subprocess
+
+    kernels = ["Haswell", "Nehalem"] + (["SkylakeX"] if _cpu_has_avx512() else [])
+    counts = {}
+    for kernel in kernels:
+        env = dict(os.environ, OPENBLAS_CORETYPE=kernel, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
+        out = tmp_path / f"{kernel}.npy"
+        subprocess.run([sys.executable, "-c", _KERNEL_CHILD, repr(KERNEL_DESIGN), str(out)], env=env,
+                       check=True, timeout=120)
+        counts[kernel] = np.load(out)
+    for kernel in kernels[1:]:
+        differ = int(np.sum(counts[kernel] != counts[kernels[0]]))
+        assert differ == 0, f"{differ} counts differ between {kernels[0]} and {kernel}"
+
+
 def test_rank1_counts_against_loop():
     from amdo_lab.face_glmm.experiment import _rank1_counts
     rng = make_rng(0)
@@ -278,9 +333,9 @@ def test_marginal_prediction_averages_logits(simulated):
 
 
 def test_peer_fits_run_on_simulated_table(simulated):
-    from amdo_lab.face_glmm import fit_gee_exchangeable, fit_naive_logistic
+    from amdo_lab.face_glmm import fit_gee, fit_naive_logistic
     table, _ = simulated
-    gee = fit_gee_exchangeable(table, "Y ~ M * D + U", group="p")
+    gee = fit_gee(table, "Y ~ M * D + U", group="p")
     naive = fit_naive_logistic(table, "Y ~ M * D + U")
     for peer, method in ((gee, "GEE (exchangeable)"), (naive, "naive logistic")):
         # one result type for every peer fit: the coefficient table, no variance components, timings
@@ -622,10 +677,10 @@ REJECTIONS = [
     reject("summarise_recovery negative ses", lambda: fg.summarise_recovery(
         pd.Series([0.5, 0.0]), np.ones((5, 2)), -np.ones((5, 2))), ValueError, "ses must be non-negative"),
     # --- the peers: named columns and terms, counts out of n_trials
-    reject("fit_gee_exchangeable group not a column",
-           lambda fitted: fg.fit_gee_exchangeable(fitted.table, "Y ~ M", group="q"),
+    reject("fit_gee group not a column",
+           lambda fitted: fg.fit_gee(fitted.table, "Y ~ M", group="q"),
            ValueError, "group 'q' is not a column of table"),
-    reject("fit_gee_exchangeable count above n_trials", lambda fitted: fg.fit_gee_exchangeable(
+    reject("fit_gee count above n_trials", lambda fitted: fg.fit_gee(
         fitted.table.assign(Y=fitted.table.Y + 100), "Y ~ M"),
         ValueError, r"response 'Y' must hold integer counts in \[0, n_trials=30\]"),
     reject("fit_naive_logistic NaN count", lambda fitted: fg.fit_naive_logistic(_response(fitted, np.nan), "Y ~ M"),

@@ -5,7 +5,7 @@ Givens, Beveridge, Draper & Bolme, AMDO 2004. Synthetic seeded faces stand in fo
 
 from amdo_lab.face_glmm.crosscheck import (
     PeerFit,
-    fit_gee_exchangeable,
+    fit_gee,
     fit_naive_logistic,
     fit_with_lme4,
     lme4_available,
@@ -60,7 +60,7 @@ __all__ = [
     "PAPER_FORMULA", "SIZE_FORMULA", "SMALL_SHAPE", "STANDARD_SHAPE", "SUPPLEMENTS",
     "RESULT_MODULES", "ExperimentDraws", "experiment_draws", "DesignMatrix", "FacePopulation", "experiment_cache_key", "FactorialDesign", "GlmmResult", "PcaLda", "PeerFit", "RecoverySummary",
     "binomial_deviance", "build_design", "downsample_by_two", "e90_dimension", "elliptical_mask",
-    "fit_binomial_glmm", "laplace_deviance", "fit_gee_exchangeable", "fit_naive_logistic", "fit_with_lme4",
+    "fit_binomial_glmm", "laplace_deviance", "fit_gee", "fit_naive_logistic", "fit_with_lme4",
     "generate_face_population", "group_indices", "lme4_available", "load_or_run_experiment",
     "make_supplement", "paper_design", "parse_formula", "pca_basis", "preprocess_images",
     "reduced_design", "run_factorial_experiment", "simulate_binomial_glmm", "summarise_recovery",

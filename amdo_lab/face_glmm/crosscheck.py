@@ -16,7 +16,7 @@ from amdo_lab.common import check_choice, check_names, check_positive_int
 from amdo_lab.face_glmm.design import build_design, group_indices, parse_formula
 from amdo_lab.face_glmm.glmm import response_counts
 
-__all__ = ["PeerFit", "lme4_available", "fit_with_lme4", "fit_gee_exchangeable", "fit_naive_logistic"]
+__all__ = ["PeerFit", "lme4_available", "fit_with_lme4", "fit_gee", "fit_naive_logistic"]
 
 
 @dataclass(frozen=True)
@@ -194,8 +194,8 @@ def _design_and_response(table: object, fixed: str, n_trials: object) -> tuple:
     return build_design(table, terms), y
 
 
-def fit_gee_exchangeable(table: pd.DataFrame, fixed: str, group: str = "p", n_trials: int = 30,
-                         correlation: str = "exchangeable") -> PeerFit:
+def fit_gee(table: pd.DataFrame, fixed: str, group: str = "p", n_trials: int = 30,
+            correlation: str = "exchangeable") -> PeerFit:
     """Population-averaged fit: statsmodels GEE on binomial proportions, correlated within ``group``.
 
     Parameters

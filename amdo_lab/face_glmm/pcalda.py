@@ -13,6 +13,9 @@ __all__ = ["PcaLda", "PcaBasis", "pca_basis", "e90_dimension", "fisher_basis", "
 
 METRICS = ("l2", "soft_l2")
 SOFT_L2_POWER = 0.2  # eq. (1): weight lambda_i ** 0.2
+#: Fisher eigenvalues at most this share of the largest count as 0 (scikit-learn's LDA: 1e-4 on
+#: singular values, i.e. 1e-8 on their squares, the eigenvalues here).
+FISHER_RANK_TOLERANCE = 1e-8
 
 
 @dataclass(frozen=True)
@@ -103,7 +106,14 @@ def _e90_dimension(eigenvalues: np.ndarray, energy: float = 0.90) -> int:
 
 
 def fisher_basis(projected: np.ndarray, labels: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Fisher directions from S_b v = lambda S_w v in PCA coordinates.
+    """Fisher directions from S_b v = lambda S_w v in PCA coordinates, with a rank decision.
+
+    The paper's system keeps the C-1 largest eigenvalues. When S_b restricted to the k PCA directions
+    has rank r < C-1 (e.g. a reflection supplement: every class mean is left-right symmetric, so S_b
+    is 0 on the odd PCA directions), C-1-r of those eigenvalues are 0 up to round-off and their
+    eigenvectors are an arbitrary basis of a degenerate eigenspace, chosen by the rounding of the
+    BLAS kernel. As scikit-learn's ``LinearDiscriminantAnalysis(solver="svd")`` does, only the
+    directions whose eigenvalue exceeds ``FISHER_RANK_TOLERANCE`` times the largest are kept.
 
     Parameters
     ----------
@@ -114,14 +124,16 @@ def fisher_basis(projected: np.ndarray, labels: np.ndarray) -> tuple[np.ndarray,
 
     Returns
     -------
-    vectors : ndarray, shape (k, C-1)
-        Generalised eigenvectors for the C-1 largest eigenvalues (C = number of subjects).
-    eigenvalues : ndarray, shape (C-1,)
-        Those eigenvalues, the lambda_i of eq. (1), clipped at 0 and decreasing.
+    vectors : ndarray, shape (k, r)
+        Generalised eigenvectors for the r <= C-1 largest eigenvalues above the tolerance
+        (C = number of subjects; r = C-1 when S_b has full rank C-1 in PCA space).
+    eigenvalues : ndarray, shape (r,)
+        Those eigenvalues, the lambda_i of eq. (1), positive and decreasing.
 
     References
     ----------
     Givens et al. (2004), AMDO, LNCS 3179, Sec. 3 and eq. (1).
+    Pedregosa et al. (2011), scikit-learn, JMLR 12, ``LinearDiscriminantAnalysis`` (the relative rank tolerance).
     """
     classes, inverse = np.unique(labels, return_inverse=True)
     counts = np.bincount(inverse).astype(float)
@@ -134,8 +146,10 @@ def fisher_basis(projected: np.ndarray, labels: np.ndarray) -> tuple[np.ndarray,
     centred_means = (class_means - overall) * np.sqrt(counts)[:, None]
     scatter_b = centred_means.T @ centred_means
     eigenvalues, vectors = scipy.linalg.eigh(scatter_b, scatter_w)
-    keep = slice(-1, -classes.size, -1)  # the C-1 largest, decreasing
-    return vectors[:, keep], np.clip(eigenvalues[keep], 0.0, None)
+    eigenvalues, vectors = eigenvalues[::-1][: classes.size - 1], vectors[:, ::-1][:, : classes.size - 1]
+    # rank decision: eigenvalues at round-off level (relative to the largest) have no defined direction
+    rank = max(1, int(np.sum(eigenvalues > FISHER_RANK_TOLERANCE * eigenvalues[0])))
+    return vectors[:, :rank], np.clip(eigenvalues[:rank], 0.0, None)
 
 
 class PcaLda:
@@ -177,7 +191,8 @@ class PcaLda:
         Returns
         -------
         PcaLda
-            ``self``, with ``basis_``, ``n_pca_``, ``projection_`` (pixels x C-1) and ``eigenvalues_``.
+            ``self``, with ``basis_``, ``n_pca_``, ``projection_`` (pixels x r, r <= C-1 Fisher directions
+            whose eigenvalue passes the rank decision of :func:`fisher_basis`) and ``eigenvalues_``.
         """
         pca_dimension = self.pca_dimension
         if isinstance(pca_dimension, str):
@@ -236,8 +251,8 @@ class PcaLda:
 
         Returns
         -------
-        ndarray, shape (n, C-1)
-            (image - mean) projected on the unit-length PCA+LDA axes.
+        ndarray, shape (n, r)
+            (image - mean) projected on the r <= C-1 unit-length PCA+LDA axes.
         """
         check_fitted(self, ("basis_", "projection_", "eigenvalues_"))
         return self._project(images, "images")
@@ -281,7 +296,7 @@ class PcaLda:
 
         Returns
         -------
-        ndarray, shape (C-1,)
+        ndarray, shape (r,)
             Non-negative weights w_i of sum_i w_i (a_i - b_i)^2.
         """
         check_choice(metric, "metric", METRICS)

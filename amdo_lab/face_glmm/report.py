@@ -197,6 +197,10 @@ def _draw(ax, x, p, colours, marker, filled, linestyle):
                    facecolors=c if filled else "white")
 
 
+#: Tick labels in words for the factor levels' code names (Fig. 2).
+_TICK_NAMES = {"l2": "L2", "soft_l2": "soft L2", "fixed": "114 dims", "e90": "E90", "no": "no", "yes": "yes"}
+
+
 def plot_figure1(result: GlmmResult, ax) -> None:
     """Fig. 1: predicted rank-1 probability of a typical probe against the training supplement.
 
@@ -283,7 +287,7 @@ def plot_figure2(result: GlmmResult, axes) -> None:
                                facecolors=black if filled else "white", zorder=2)
                 ls = _LINES[style["D"]] if style.get("D") else "-"
                 ax.plot(range(len(xlev)), p, color="0.55", linestyle=ls, linewidth=1.0, zorder=1)
-        ax.set_xticks(range(len(xlev)), xlev)
+        ax.set_xticks(range(len(xlev)), [_TICK_NAMES.get(level, level) for level in xlev])
         ax.set_xlim(-0.4, len(xlev) - 0.6)
         ax.set_xlabel({"M": "distance metric", "F": "probe in training?", "D": "PCA dimension"}[xvar])
     axes[0].set_ylabel("predicted P(rank 1)")

@@ -25,7 +25,7 @@ EXEMPT = {
     "ExperimentDraws": "a result record, built by experiment_draws from checked input",
     "FacePopulation": "a result record, built by generate_face_population from checked input",
     "GlmmResult": "a result record, built by fit_binomial_glmm (its predict methods are tabled)",
-    "PeerFit": "a result record, built by fit_with_lme4, fit_gee_exchangeable and fit_naive_logistic",
+    "PeerFit": "a result record, built by fit_with_lme4, fit_gee and fit_naive_logistic",
     "RecoverySummary": "a result record, built by summarise_recovery from checked input",
 }
 
@@ -180,7 +180,7 @@ def cases() -> dict[str, Case]:
         # --- peers -----------------------------------------------------------------------------
         "fit_with_lme4": Case(f.fit_with_lme4, {"table": table, "fixed": "Y ~ M", "random": ["p"], "n_trials": 10},
                               {"table": "object", "fixed": "name", "random": "object", "n_trials": "count"}),
-        "fit_gee_exchangeable": Case(f.fit_gee_exchangeable,
+        "fit_gee": Case(f.fit_gee,
                                      {"table": table, "fixed": "Y ~ M", "group": "p", "n_trials": 10,
                                       "correlation": "exchangeable"},
                                      {"table": "object", "fixed": "name", "group": "name", "n_trials": "count",
