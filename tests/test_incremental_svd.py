@@ -176,3 +176,77 @@ REJECTIONS = [
 @pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
 def test_rejections(request, call, error, message):
     check_rejection(request, call, error, message)
+
+
+# --- the moving face and the tracker of Sec. 3.2 ---------------------------------------------------
+
+_HALF = (101, 103)
+
+
+def test_similarity_motion_places_the_still_face_where_the_truth_says():
+    still = make_talking_face(40, rng=5, size=_HALF)
+    moving = make_talking_face(40, rng=5, size=_HALF, motion="similarity")
+    np.testing.assert_array_equal(still.latent, moving.latent)      # same expressions, drawn first
+    assert np.all(moving.truth[0] == 0) and np.all(still.truth == 0)
+    assert np.all(np.abs(moving.truth).max(axis=0) <= np.array(isvd.SIMILARITY_BOUNDS) + 1e-12)
+    inside = np.zeros(_HALF, bool)
+    inside[30:80, 25:80] = True                                      # well inside the head
+    points = np.column_stack(np.nonzero(inside)[::-1]).astype(float)
+    from scipy import ndimage
+    for t in (10, 39):
+        placed = isvd.similarity_points(moving.truth[t], points, _HALF)
+        seen = ndimage.map_coordinates(moving.clean[t], [placed[:, 1], placed[:, 0]], order=1)
+        assert np.mean(np.abs(seen - still.clean[t][inside])) < 0.01
+        assert np.mean(np.abs(moving.clean[t] - still.clean[t])) > 0.01  # it did move
+
+
+def test_corner_error_is_zero_for_the_truth_and_the_shift_for_a_shift():
+    truth = np.array([[1.0, -2.0, 0.03, 0.02]])
+    assert isvd.corner_error_px(truth, truth, _HALF)[0] == 0
+    shifted = truth + [[3.0, 4.0, 0.0, 0.0]]
+    assert abs(isvd.corner_error_px(shifted, truth, _HALF)[0] - 5.0) < 1e-12
+
+
+def test_align_frame_recovers_a_placement_against_the_first_frame():
+    face = make_talking_face(2, rng=3, size=_HALF, noise=0.0)
+    target = np.array([2.5, -1.5, 0.03, 0.02])
+    moved = isvd.face._move(face.clean[:1], target[None], np.full(_HALF, 0.35))[0]
+    models = {}
+    for name, mask in face.masks.items():
+        mean = face.clean[0][mask]
+        models[name] = isvd.SvdState(np.zeros((mean.size, 0)), np.zeros(0), None, mean)
+    found = isvd.align_frame(moved, face.masks, models, np.zeros(4))
+    # 0.11 px here: the moved frame and the sampled regions are each resampled bilinearly
+    assert isvd.corner_error_px(found[None], target[None], _HALF)[0] < 0.2
+
+
+@pytest.fixture(scope="module")
+def moving_face():
+    return make_talking_face(120, rng=7, size=_HALF, motion="similarity")
+
+
+def test_on_the_fly_tracks_and_learns_the_moving_face(moving_face):
+    result = isvd.train_on_the_fly(moving_face.frames, moving_face.masks, np.zeros(4), max_rank=10)
+    error = isvd.corner_error_px(result.params, moving_face.truth, _HALF)
+    assert np.median(error) < 0.02 * _HALF[0] and error.max() < 0.04 * _HALF[0]   # 1.05 and 1.50 px here
+    oracle = isvd.train_on_the_fly(moving_face.frames, moving_face.masks, np.zeros(4), max_rank=10,
+                                   learn_at=moving_face.truth)
+    oracle_error = isvd.corner_error_px(oracle.params, moving_face.truth, _HALF)
+    assert np.median(oracle_error) < 0.2 and np.median(oracle_error) < np.median(error) / 3   # 0.09 px here
+    assert result.ranks.shape == (120, 4) and result.ranks.max() <= 10 and result.ranks[-1].max() > 0
+    assert set(result.models) == set(moving_face.masks) and result.peak_bytes > 0
+    again = isvd.train_on_the_fly(moving_face.frames, moving_face.masks, np.zeros(4), max_rank=10)
+    np.testing.assert_array_equal(result.params, again.params)      # deterministic
+    paper = isvd.train_on_the_fly(moving_face.frames[:30], moving_face.masks, np.zeros(4), tau="paper")
+    assert paper.ranks[-1].max() >= result.ranks[29].max()          # the literal τ keeps more
+
+
+def test_non_causal_rounds_refit_and_realign(moving_face):
+    template = isvd.train_non_causal(moving_face.frames, moving_face.masks, np.zeros(4), rounds=0)
+    assert np.all(template.ranks == 0)
+    batch = isvd.train_non_causal(moving_face.frames, moving_face.masks, np.zeros(4), rounds=1, max_rank=10)
+    assert batch.ranks.max() <= 10 and batch.ranks.max() > 0
+    error = isvd.corner_error_px(batch.params, moving_face.truth, _HALF)
+    assert np.median(error) < 0.02 * _HALF[0]                                        # 0.74 px here
+    U, s, V, mean = batch.models["mouth"]
+    assert np.max(np.abs(U.T @ U - np.eye(s.size))) < 1e-8

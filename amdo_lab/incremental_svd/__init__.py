@@ -5,12 +5,16 @@ Melenchón, Meler & Iriondo, AMDO 2004. A seeded synthetic talking face stands i
 
 from amdo_lab.incremental_svd.face import (
     LATENT_NAMES,
+    MOTIONS,
     PAPER_SIZE,
+    SIMILARITY_BOUNDS,
     TalkingFace,
+    corner_error_px,
     face_masks,
     make_talking_face,
     psnr_db,
     render_faces,
+    similarity_points,
 )
 from amdo_lab.incremental_svd.svd_update import (
     MEAN_MODES,
@@ -24,6 +28,13 @@ from amdo_lab.incremental_svd.svd_update import (
     truncate,
     update_with_mean,
 )
+from amdo_lab.incremental_svd.tracking import (
+    TAU_MODES,
+    TrainingResult,
+    align_frame,
+    train_non_causal,
+    train_on_the_fly,
+)
 
 __all__ = [
     "LATENT_NAMES",
@@ -33,6 +44,15 @@ __all__ = [
     "make_talking_face",
     "psnr_db",
     "render_faces",
+    "MOTIONS",
+    "SIMILARITY_BOUNDS",
+    "corner_error_px",
+    "similarity_points",
+    "TAU_MODES",
+    "TrainingResult",
+    "align_frame",
+    "train_non_causal",
+    "train_on_the_fly",
     "MEAN_MODES",
     "IncrementalSVD",
     "SvdState",

@@ -11,15 +11,22 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_image_shape, check_positive, check_positive_int, make_rng
+from scipy import ndimage
 
-__all__ = ["LATENT_NAMES", "PAPER_SIZE", "TalkingFace", "face_masks", "make_talking_face", "psnr_db",
-           "render_faces"]
+from amdo_lab.common import (as_finite_array, check_choice, check_image_shape, check_positive,
+                             check_positive_int, make_rng)
+
+__all__ = ["LATENT_NAMES", "MOTIONS", "PAPER_SIZE", "SIMILARITY_BOUNDS", "TalkingFace", "corner_error_px",
+           "face_masks", "make_talking_face", "psnr_db", "render_faces", "similarity_points"]
 
 #: The paper's face: 41,205 pixels (Sec. 3.1); 201 x 205 is one factorisation of that number.
 PAPER_SIZE = (201, 205)
 #: The four latent trajectories, one column each of :attr:`TalkingFace.latent`.
 LATENT_NAMES = ("mouth_open", "mouth_width", "brow_raise", "blink")
+#: ``"none"``: the face stays still; ``"similarity"``: it moves on a textured canvas.
+MOTIONS = ("none", "similarity")
+#: Largest shift (px), rotation (rad) and log scale of ``motion="similarity"``: ±6 px, ±4°, ±4 %.
+SIMILARITY_BOUNDS = (6.0, 6.0, np.deg2rad(4.0), np.log(1.04))
 
 _REFERENCE = "Melenchón, Meler & Iriondo. On-the-Fly Training. AMDO 2004, LNCS 3179, Sec. 3.1 and Fig. 1."
 
@@ -40,6 +47,9 @@ class TalkingFace:
         Four facial regions: ``left_eye``, ``right_eye``, ``mouth``, ``forehead`` (disjoint).
     noise : float
         Standard deviation of the added noise.
+    truth : ndarray, shape (n_frames, 4)
+        Placement of the face in each frame, ``(tx, ty, angle, log_scale)`` (px, px, rad, natural log;
+        x right, y down, see :func:`similarity_points`); all zero for ``motion="none"``.
 
     References
     ----------
@@ -51,6 +61,7 @@ class TalkingFace:
     latent: np.ndarray
     masks: dict[str, np.ndarray]
     noise: float
+    truth: np.ndarray
 
 
 def _smooth_track(rng: np.random.Generator, n_frames: int, period_frames: float) -> np.ndarray:
@@ -74,6 +85,118 @@ def _latent_tracks(rng: np.random.Generator, n_frames: int) -> np.ndarray:
         blink[start:stop] = profile[:stop - start]
         start += int(rng.integers(50, 125))
     return np.column_stack([mouth_open, mouth_width, brow_raise, blink])
+
+
+def similarity_points(params: np.ndarray, points: np.ndarray, size: tuple[int, int]) -> np.ndarray:
+    """Where the points ``points`` of the face's reference frame appear under the placement ``params``.
+
+    A placement turns the reference frame about its centre ``c`` by ``angle``, scales it by
+    ``exp(log_scale)`` and shifts it by ``(tx, ty)``: ``x = c + exp(log_scale) R(angle) (u - c) + t``.
+
+    Parameters
+    ----------
+    params : ndarray, shape (4,) or (n, 4)
+        ``(tx, ty, angle, log_scale)``: px, px, rad, natural log; x right, y down.
+    points : ndarray, shape (m, 2)
+        Points ``(x, y)`` in pixels of the reference frame.
+    size : pair of int
+        Frame size (rows, cols); its centre is the centre of the rotation and scaling.
+
+    Returns
+    -------
+    ndarray, shape (m, 2) or (n, m, 2)
+        The placed points.
+
+    References
+    ----------
+    Melenchón, Meler & Iriondo, AMDO 2004, Sec. 3.2 (the alignment coefficients a_t).
+
+    Examples
+    --------
+    >>> similarity_points([1.0, 2.0, 0.0, 0.0], [[0.0, 0.0]], (5, 5)).tolist()
+    [[1.0, 2.0]]
+    """
+    params = as_finite_array(params, "params", max_abs=1e6)
+    if params.shape[-1:] != (4,) or params.ndim > 2:
+        raise ValueError(f"params must have shape (4,) or (n, 4), got {params.shape}")
+    points = as_finite_array(points, "points", shape=(None, 2), max_abs=1e9)
+    rows, cols = check_image_shape(size, "size")
+    return _place(params, points, rows, cols)
+
+
+def _place(params: np.ndarray, points: np.ndarray, rows: int, cols: int) -> np.ndarray:
+    centre = np.array([(cols - 1) / 2, (rows - 1) / 2])
+    tx, ty, angle, log_scale = (params[..., k, None] for k in range(4))
+    dx, dy = points[:, 0] - centre[0], points[:, 1] - centre[1]
+    scale = np.exp(log_scale)
+    x = centre[0] + scale * (np.cos(angle) * dx - np.sin(angle) * dy) + tx
+    y = centre[1] + scale * (np.sin(angle) * dx + np.cos(angle) * dy) + ty
+    return np.stack([x, y], axis=-1)
+
+
+def corner_error_px(params: np.ndarray, truth: np.ndarray, size: tuple[int, int]) -> np.ndarray:
+    """Mean distance, over the four corners of the frame, between two placements of it, per frame.
+
+    Parameters
+    ----------
+    params, truth : ndarray, shape (n, 4)
+        Estimated and true placements ``(tx, ty, angle, log_scale)`` (see :func:`similarity_points`).
+    size : pair of int
+        Frame size (rows, cols).
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Pixels.
+
+    References
+    ----------
+    Melenchón, Meler & Iriondo, AMDO 2004, Fig. 4 (the tracking it scores).
+
+    Examples
+    --------
+    >>> corner_error_px([[3.0, 4.0, 0.0, 0.0]], [[0.0, 0.0, 0.0, 0.0]], (10, 10)).tolist()
+    [5.0]
+    """
+    params = as_finite_array(params, "params", shape=(None, 4), max_abs=1e6)
+    truth = as_finite_array(truth, "truth", shape=(params.shape[0], 4), max_abs=1e6)
+    rows, cols = check_image_shape(size, "size")
+    corners = np.array([[0, 0], [cols - 1, 0], [cols - 1, rows - 1], [0, rows - 1]], dtype=float)
+    gaps = _place(params, corners, rows, cols) - _place(truth, corners, rows, cols)
+    return np.mean(np.linalg.norm(gaps, axis=-1), axis=-1)
+
+
+def _similarity_tracks(rng: np.random.Generator, n_frames: int) -> np.ndarray:
+    """Smooth placements starting at zero, each parameter reaching its bound at its largest."""
+    tracks = np.column_stack([_smooth_track(rng, n_frames, 80.0) for _ in SIMILARITY_BOUNDS])
+    tracks -= tracks[0]
+    peak = np.maximum(np.max(np.abs(tracks), axis=0), 1e-12)
+    return tracks / peak * np.array(SIMILARITY_BOUNDS)
+
+
+def _texture(rng: np.random.Generator, rows: int, cols: int) -> np.ndarray:
+    """A seeded canvas: smoothed noise about grey level 0.35."""
+    raw = ndimage.gaussian_filter(rng.standard_normal((rows, cols)), rows / 60)
+    return np.clip(0.35 + 0.12 * raw / raw.std(), 0.0, 1.0)
+
+
+def _move(clean: np.ndarray, truth: np.ndarray, canvas: np.ndarray) -> np.ndarray:
+    """Place each clean face on the canvas: pixel x shows the face at the reference point u, x = S(u)."""
+    rows, cols = canvas.shape
+    y, x = np.mgrid[0:rows, 0:cols].astype(float)
+    head = _head(x / rows, y / rows, cols / rows / 2, 1.5 / rows)
+    centre = np.array([(cols - 1) / 2, (rows - 1) / 2])
+    moved = np.empty_like(clean)
+    for frame, face, (tx, ty, angle, log_scale) in zip(moved, clean, truth):
+        dx, dy = (x - centre[0] - tx) / np.exp(log_scale), (y - centre[1] - ty) / np.exp(log_scale)
+        ref = [centre[1] - np.sin(angle) * dx + np.cos(angle) * dy, centre[0] + np.cos(angle) * dx + np.sin(angle) * dy]
+        cover = ndimage.map_coordinates(head, ref, order=1, cval=0.0)
+        frame[:] = cover * ndimage.map_coordinates(face, ref, order=1, mode="nearest") + (1 - cover) * canvas
+    return moved
+
+
+def _head(x: np.ndarray, y: np.ndarray, cx: float, edge: float) -> np.ndarray:
+    return _soft_ellipse(x, y, cx, 0.5, 0.36, 0.47, edge)
 
 
 def _soft_ellipse(x: np.ndarray, y: np.ndarray, cx: float, cy: float, ax: float, ay: float,
@@ -114,7 +237,7 @@ def render_faces(latent: np.ndarray, *, size: tuple[int, int] = PAPER_SIZE) -> n
     rows, cols = check_image_shape(size, "size", minimum=32)
     y, x = np.mgrid[0:rows, 0:cols].astype(float) / rows  # unit: face height; x right, y down
     cx = cols / rows / 2
-    head = _soft_ellipse(x, y, cx, 0.5, 0.36, 0.47, 1.5 / rows)
+    head = _head(x, y, cx, 1.5 / rows)
     base = 0.12 + head * (0.62 - 0.18 * (y - 0.3) ** 2 - 0.12 * (x - cx) ** 2)
     base -= 0.10 * _soft_ellipse(x, y, cx, 0.58, 0.035, 0.09, 3.0 / rows)   # the shadow of the nose
     frames = np.empty((latent.shape[0], rows, cols))
@@ -163,8 +286,12 @@ def face_masks(size: tuple[int, int] = PAPER_SIZE) -> dict[str, np.ndarray]:
 
 
 def make_talking_face(n_frames: int, *, rng: int | np.random.Generator, size: tuple[int, int] = PAPER_SIZE,
-                      noise: float = 0.01) -> TalkingFace:
+                      noise: float = 0.01, motion: str = "none") -> TalkingFace:
     """A seeded talking face: smooth mouth and brow motion, blinks, Gaussian pixel noise.
+
+    With ``motion="similarity"`` the face also moves, on a still textured canvas, under a smooth
+    similarity of at most ±6 px, ±4° and ±4 % (:data:`SIMILARITY_BOUNDS`) that starts at zero, so the
+    masks drawn on the first frame fit it; :attr:`TalkingFace.truth` holds the placements.
 
     Parameters
     ----------
@@ -176,6 +303,8 @@ def make_talking_face(n_frames: int, *, rng: int | np.random.Generator, size: tu
         Frame size (rows, cols), each at least 32; the paper's 41,205 pixels by default.
     noise : float
         Standard deviation of the Gaussian noise added to each pixel, non-negative, at most 1.
+    motion : {"none", "similarity"}
+        Whether the face stays still or moves on a textured canvas.
 
     Returns
     -------
@@ -198,10 +327,15 @@ def make_talking_face(n_frames: int, *, rng: int | np.random.Generator, size: tu
     noise = check_positive(noise, "noise", allow_zero=True)
     if noise > 1:
         raise ValueError(f"noise must be at most 1 (grey levels are in [0, 1]), got {noise}")
+    check_choice(motion, "motion", MOTIONS)
     latent = _latent_tracks(generator, n_frames)
     clean = render_faces(latent, size=size)
+    truth = np.zeros((n_frames, 4))
+    if motion == "similarity":   # drawn after the latent tracks, so the still face's draws are unchanged
+        truth = _similarity_tracks(generator, n_frames)
+        clean = _move(clean, truth, _texture(generator, *size))
     frames = clean + noise * generator.standard_normal(clean.shape)
-    return TalkingFace(frames, clean, latent, face_masks(size), noise)
+    return TalkingFace(frames, clean, latent, face_masks(size), noise, truth)
 
 
 def psnr_db(estimate: np.ndarray, clean: np.ndarray) -> float:

@@ -17,6 +17,7 @@ KNOWN_FAILURES: dict[tuple[str, str, str], str] = {}
 EXEMPT = {
     "SvdState": "a result record (a tuple with names), built by the update functions from checked input",
     "TalkingFace": "a result record, built by make_talking_face from checked input",
+    "TrainingResult": "a result record, built by train_on_the_fly and train_non_causal from checked input",
 }
 
 #: None means "no cap" / "no threshold" for these parameters.
@@ -33,6 +34,12 @@ def cases() -> dict[str, Case]:
     new = np.random.default_rng(1).normal(size=(6, 2))
     arrays = {"U": "array", "s": "array", "V": "array"}
     any_count = frozenset({("I", "a wrong trailing axis")})  # three new columns instead of two are fine
+
+    track_face = isvd.make_talking_face(3, rng=0, size=(40, 41), motion="similarity")
+    templates = {name: isvd.SvdState(np.zeros((int(mask.sum()), 0)), np.zeros(0), None, track_face.frames[0][mask])
+                 for name, mask in track_face.masks.items()}
+    track_valid = {"frames": track_face.frames, "masks": track_face.masks, "init": np.zeros(4), "max_rank": 2}
+    track_kinds = {"frames": "array", "masks": "object", "init": "array", "max_rank": "count"}
 
     def method(name):
         return lambda **kwargs: getattr(fitted, name)(**kwargs)
@@ -64,8 +71,27 @@ def cases() -> dict[str, Case]:
                              accept=frozenset({("t", "zero")})),
         "noise_edge": Case(isvd.noise_edge, {"sigma": 0.01, "p": 100, "q": 25},
                            {"sigma": "positive", "p": "count", "q": "count"}),
-        "make_talking_face": Case(isvd.make_talking_face, {"n_frames": 2, "rng": 0, "size": (40, 41), "noise": 0.01},
-                                  {"n_frames": "count", "rng": "seed", "size": "object", "noise": "non_negative"}),
+        "make_talking_face": Case(isvd.make_talking_face, {"n_frames": 2, "rng": 0, "size": (40, 41), "noise": 0.01,
+                                                           "motion": "similarity"},
+                                  {"n_frames": "count", "rng": "seed", "size": "object", "noise": "non_negative",
+                                   "motion": "name"}),
+        "similarity_points": Case(isvd.similarity_points, {"params": np.zeros(4), "points": np.ones((3, 2)),
+                                                           "size": (40, 41)},
+                                  {"params": "array", "points": "array", "size": "object"},
+                                  accept=frozenset({("params", "one more axis")})),  # (1, 4): one placement
+        "corner_error_px": Case(isvd.corner_error_px, {"params": np.zeros((2, 4)), "truth": np.ones((2, 4)),
+                                                       "size": (40, 41)},
+                                {"params": "array", "truth": "array", "size": "object"}),
+        "align_frame": Case(isvd.align_frame, {"frame": track_face.frames[1], "masks": track_face.masks,
+                                               "models": templates, "start": np.zeros(4)},
+                            {"frame": "array", "masks": "object", "models": "object", "start": "array"}),
+        "train_on_the_fly": Case(isvd.train_on_the_fly, {**track_valid, "tau": "paper", "noise": 0.01,
+                                                         "learn_at": track_face.truth},
+                                 {**track_kinds, "tau": "name", "noise": "positive", "learn_at": "array"},
+                                 accept=frozenset({("learn_at", "None")})),  # None: learn at the aligner's own
+        "train_non_causal": Case(isvd.train_non_causal, {**track_valid, "tau": "paper", "noise": 0.01, "rounds": 1},
+                                 {**track_kinds, "tau": "name", "noise": "positive", "rounds": "count"},
+                                 accept=frozenset({("rounds", "zero")})),
         "render_faces": Case(isvd.render_faces, {"latent": [[0.5, 0.0, 0.0, 0.0]], "size": (40, 41)},
                              {"latent": "array", "size": "object"}),
         "face_masks": Case(isvd.face_masks, {"size": (40, 41)}, {"size": "object"}),
