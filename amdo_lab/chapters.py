@@ -188,7 +188,9 @@ CHAPTERS: tuple[Chapter, ...] = (
         "Brand's incremental SVD and the paper's mean update built by hand on a stream of two-pixel images, then "
         "run on a 41,205-pixel synthetic talking face: 35 coefficients per frame within a fraction of a percent "
         "of the optimal rank-35 error, the garbled Table 1 and the threshold read and measured, memory against a "
-        "batch SVD, scikit-learn's IncrementalPCA as a peer and Ross's mean-correction column, which needs no V.",
+        "batch SVD, scikit-learn's IncrementalPCA as a peer and Ross's mean-correction column, which needs no V; "
+        "then the paper's on-the-fly face tracker, which aligns each frame with the models it is learning, and "
+        "how it absorbs its own misalignment.",
         "J. Melenchón, L. Meler, I. Iriondo. On-the-Fly Training. AMDO 2004, LNCS 3179, pp. 146-153.",
         exercises="amdo_lab.incremental_svd.exercises",
         prerequisites=needs(("the shared notation", 0), ("point distribution models and PCA", 2),
