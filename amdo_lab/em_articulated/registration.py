@@ -8,6 +8,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 from scipy.special import logsumexp
 
+from amdo_lab.common import MAX_ITERATIONS, MAX_LEVELS, MAX_SAMPLES
 from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive, check_positive_int
 from amdo_lab.common.threads import one_blas_thread
 
@@ -277,7 +278,7 @@ def e_step_statistics(model_points: object, data_points: object, sigma: float,
     log_c : float
         log of the outlier constant c of eq. (17); -inf for no outlier class.
     chunk : int, default 256
-        Data points per streamed block (≥ 1).
+        Data points per streamed block (≥ 1). At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     precision : {"single", "double"}, default "single"
         Precision of the exponentials and their sums.
 
@@ -298,7 +299,7 @@ def e_step_statistics(model_points: object, data_points: object, sigma: float,
     bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; eqs. (17)-(20).
     """
     model_points, data_points, sigma, log_c = _check_e_step_inputs(model_points, data_points, sigma, log_c)
-    chunk = check_positive_int(chunk, "chunk")
+    chunk = check_positive_int(chunk, "chunk", maximum=MAX_SAMPLES)
     check_choice(precision, "precision", ("single", "double"))
     return _dense_statistics(model_points, data_points, sigma, log_c, chunk, precision)
 
@@ -606,9 +607,11 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
     sigma_min : float, default 3.0
         Smallest σ, mm (> 0): about the noise.
     n_levels : int, default 5
-        Number of geometric σ levels (≥ 1; the paper: about five).
+        Number of geometric σ levels (≥ 1; the paper: about five), at most
+        :data:`amdo_lab.common.MAX_LEVELS` (64).
     max_iter : int, default 10
         Most EM iterations at one σ level (≥ 1); a level ends earlier when Θ stops changing.
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     tol : float, default 1e-3
         Convergence threshold on the largest change of Θ in one iteration (rad; mm for the palm; ≥ 0).
     outlier_c : float or None, default None
@@ -626,10 +629,12 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
         Exponent of the bending weights of eq. (3) (> 0).
     gauss_newton_steps : int, default 2
         Gauss-Newton steps of each M-step (≥ 1); the M-step stops earlier when a step is below 1e-6.
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     damping : float, default 1e-3
         Levenberg damping of the M-step's normal equations, relative to their diagonal (≥ 0).
     chunk : int, default 256
-        Data points per block of the streamed dense E-step (≥ 1).
+        Data points per block of the streamed dense E-step (≥ 1), at most
+        :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     release_ratio : float or None, default None
         Coarse-to-fine (ours; the paper frees every DOF at every σ, the default None):
         a joint is estimated only once σ is below its lever arm (:func:`dof_lever_arms`) divided
@@ -703,8 +708,10 @@ def register_em_reference(model_points: object, data_points: object, hand: HandM
         Smallest σ, mm (> 0): about the noise.
     n_levels : int, default 5
         Number of geometric σ levels (≥ 1; the paper: about five).
+        At most :data:`amdo_lab.common.MAX_LEVELS` (64).
     max_iter : int, default 10
         Most EM iterations at one σ level (≥ 1); a level ends earlier when Θ stops changing.
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     tol : float, default 1e-3
         Convergence threshold on the largest change of Θ in one iteration (rad; mm for the palm; ≥ 0).
     targets : {"paper", "debiased"}, default "paper"
@@ -713,6 +720,7 @@ def register_em_reference(model_points: object, data_points: object, hand: HandM
         Exponent of the bending weights of eq. (3) (> 0).
     gauss_newton_steps : int, default 2
         Gauss-Newton steps of each M-step (≥ 1); the M-step stops earlier when a step is below 1e-6.
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     damping : float, default 1e-3
         Levenberg damping of the M-step's normal equations, relative to their diagonal (≥ 0).
 
@@ -727,11 +735,11 @@ def register_em_reference(model_points: object, data_points: object, hand: HandM
     """
     model, data, theta, sigma_max, sigma_min = _check_common(hand, model_points, data_points, theta_init,
                                                              sigma_max, sigma_min)
-    n_levels = check_positive_int(n_levels, "n_levels")
-    max_iter = check_positive_int(max_iter, "max_iter")
+    n_levels = check_positive_int(n_levels, "n_levels", maximum=MAX_LEVELS)
+    max_iter = check_positive_int(max_iter, "max_iter", maximum=MAX_ITERATIONS)
     tol = check_positive(tol, "tol", allow_zero=True)
     check_choice(targets, "targets", ("paper", "debiased"))
-    gauss_newton_steps = check_positive_int(gauss_newton_steps, "gauss_newton_steps")
+    gauss_newton_steps = check_positive_int(gauss_newton_steps, "gauss_newton_steps", maximum=MAX_ITERATIONS)
     damping = check_positive(damping, "damping", allow_zero=True)
     binding = hand.texture_binding(model, theta, a)  # eq. (3): the texture's blend weights, fixed at Θ_init
     with one_blas_thread():
@@ -786,15 +794,15 @@ def _em_setup(hand: HandModel, model_points: object, data_points: object, theta_
     """Check :func:`register_em`'s arguments (same names, same defaults) and bind the texture at ``theta_init``."""
     model, data, theta, sigma_max, sigma_min = _check_common(hand, model_points, data_points,
                                                              theta_init, sigma_max, sigma_min)
-    n_levels = check_positive_int(n_levels, "n_levels")
-    max_iter = check_positive_int(max_iter, "max_iter")
+    n_levels = check_positive_int(n_levels, "n_levels", maximum=MAX_LEVELS)
+    max_iter = check_positive_int(max_iter, "max_iter", maximum=MAX_ITERATIONS)
     tol = check_positive(tol, "tol", allow_zero=True)
     check_choice(sigma_mode, "sigma_mode", ("anneal", "scaled", "estimate"))
     check_choice(targets, "targets", ("paper", "debiased"))
     check_choice(e_step, "e_step", ("dense", "kdtree"))
     check_choice(schedule, "schedule", ("levels", "per-step"))
-    chunk = check_positive_int(chunk, "chunk")
-    gauss_newton_steps = check_positive_int(gauss_newton_steps, "gauss_newton_steps")
+    chunk = check_positive_int(chunk, "chunk", maximum=MAX_SAMPLES)
+    gauss_newton_steps = check_positive_int(gauss_newton_steps, "gauss_newton_steps", maximum=MAX_ITERATIONS)
     damping = check_positive(damping, "damping", allow_zero=True)
     c = PAPER_C if outlier_c is None else check_positive(outlier_c, "outlier_c")
     if release_ratio is not None:
@@ -880,7 +888,7 @@ def climb_objective(model_points: object, data_points: object, hand: HandModel, 
     sigma : float, default 3.0
         The fixed σ, mm, in (0, 5e5].
     max_iter : int, default 60
-        Most EM iterations (≥ 1).
+        Most EM iterations (≥ 1). At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     tol : float, default 1e-5
         The climb stops when no DOF moves by more than this in one iteration (rad; mm for the palm).
 
@@ -894,8 +902,9 @@ def climb_objective(model_points: object, data_points: object, hand: HandModel, 
     Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eqs. (9), (17), (20).
     """
     sigma = check_in_range(sigma, "sigma", 0.0, MAX_SIGMA_MM / 2, closed="right")
+    max_iter = check_positive_int(max_iter, "max_iter", maximum=MAX_ITERATIONS)
     setup = _em_setup(hand, model_points, data_points, theta_init, sigma_max=2.0 * sigma,
-                      sigma_min=sigma, n_levels=1, max_iter=check_positive_int(max_iter, "max_iter"),
+                      sigma_min=sigma, n_levels=1, max_iter=max_iter,
                       tol=tol, targets="paper", e_step="dense")
     start = hand.check_theta(theta_start, "theta_start", within_limits=True)
     return _em_levels(setup, start, np.array([sigma]))[0]
@@ -1026,12 +1035,14 @@ def refine_digits(model_points: object, data_points: object, hand: HandModel, th
         Pose to refine, inside the joint limits (e.g. ``register_em(...).theta``).
     search_levels : int, default 2
         How many of the EM's last σ levels each restart runs (1 to ``n_levels``).
+        At most :data:`amdo_lab.common.MAX_LEVELS` (64).
     abduction_step_deg : float, default 20.0
         Sideways swing of a digit's restarts, degrees (> 0).
     flexion_step_deg : float, default 25.0
         Knuckle and whole-curl flexion of a digit's restarts, degrees (> 0).
     max_passes : int, default 2
         Most passes over the five digits (≥ 0; 0: only the re-run from ``theta``).
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     min_gain : float, default 1.0
         Smallest rise of the criterion that accepts a restart, nats (≥ 0): a margin against
         moves that only fit the noise.
@@ -1053,12 +1064,12 @@ def refine_digits(model_points: object, data_points: object, hand: HandModel, th
     """
     setup = _em_setup(hand, model_points, data_points, theta_init, **em_settings)
     theta = hand.check_theta(theta, "theta", within_limits=True)
-    search_levels = check_positive_int(search_levels, "search_levels")
+    search_levels = check_positive_int(search_levels, "search_levels", maximum=MAX_LEVELS)
     if search_levels > len(setup.sigmas):
         raise ValueError(f"search_levels must be at most n_levels ({len(setup.sigmas)}), got {search_levels}")
     abduction_step = np.radians(check_positive(abduction_step_deg, "abduction_step_deg"))
     flexion_step = np.radians(check_positive(flexion_step_deg, "flexion_step_deg"))
-    max_passes = check_positive_int(max_passes, "max_passes", minimum=0)
+    max_passes = check_positive_int(max_passes, "max_passes", minimum=0, maximum=MAX_ITERATIONS)
     min_gain = check_positive(min_gain, "min_gain", allow_zero=True)
     sigmas = setup.sigmas[-search_levels:]
 
@@ -1113,6 +1124,7 @@ def fit_known_correspondences(model_points: object, matched_points: object, hand
         Exponent of the bending weights of eq. (3) (> 0).
     max_iter : int, default 30
         Most Gauss-Newton steps (≥ 1); the fit stops earlier when a step is below 1e-6.
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
 
     Returns
     -------
@@ -1128,7 +1140,7 @@ def fit_known_correspondences(model_points: object, matched_points: object, hand
     model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
     matched = as_finite_array(matched_points, "matched_points", ndim=2, shape=(len(model), 3), max_abs=MAX_LENGTH_MM)
     theta = hand.check_theta(theta_init, "theta_init", within_limits=True)
-    max_iter = check_positive_int(max_iter, "max_iter")
+    max_iter = check_positive_int(max_iter, "max_iter", maximum=MAX_ITERATIONS)
     with one_blas_thread():
         binding = hand.texture_binding(model, theta, a)
         return _m_step(hand, binding, theta, np.ones(len(model)), matched, max_iter, 1e-3)
@@ -1184,6 +1196,7 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
         σ of eq. (22), mm, in (0, 1e6]; None drops eq. (22).
     max_iter : int, default 3
         Most Gauss-Newton steps (≥ 0); the fit stops earlier when no step lowers the loss.
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     damping : float, default 1e-2
         Initial Levenberg-Marquardt damping, relative to the normal equations' diagonal (≥ 0).
     epsilon_mm : float or None, default None
@@ -1211,7 +1224,7 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
     damping = check_positive(damping, "damping", allow_zero=True)
     if epsilon_mm is not None:
         epsilon_mm = check_positive(epsilon_mm, "epsilon_mm")
-    max_iter = check_positive_int(max_iter, "max_iter", minimum=0)
+    max_iter = check_positive_int(max_iter, "max_iter", minimum=0, maximum=MAX_ITERATIONS)
     limits = hand.joint_limits()
 
     def step_weights(dist: np.ndarray) -> np.ndarray:
@@ -1298,11 +1311,13 @@ def softassign_register(model_points: object, data_points: object, hand: HandMod
     slack : float, default 1e-2
         Initial slack entry (> 0).
     n_levels : int, default 5
-        Number of geometric σ levels (≥ 1).
+        Number of geometric σ levels (≥ 1). At most :data:`amdo_lab.common.MAX_LEVELS` (64).
     n_iter : int, default 3
         Match-and-pose iterations at each σ level (≥ 1).
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     n_sweeps : int, default 30
         Sinkhorn row-and-column normalisation sweeps per iteration (≥ 1).
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     a : float, default 2.0
         Exponent of the bending weights of eq. (3) (> 0).
 
@@ -1323,9 +1338,9 @@ def softassign_register(model_points: object, data_points: object, hand: HandMod
     model, data, theta, sigma_max, sigma_min = _check_common(hand, model_points, data_points,
                                                              theta_init, sigma_max, sigma_min)
     slack = check_positive(slack, "slack")
-    n_levels = check_positive_int(n_levels, "n_levels")
-    n_iter = check_positive_int(n_iter, "n_iter")
-    n_sweeps = check_positive_int(n_sweeps, "n_sweeps")
+    n_levels = check_positive_int(n_levels, "n_levels", maximum=MAX_LEVELS)
+    n_iter = check_positive_int(n_iter, "n_iter", maximum=MAX_ITERATIONS)
+    n_sweeps = check_positive_int(n_sweeps, "n_sweeps", maximum=MAX_ITERATIONS)
     binding = hand.texture_binding(model, theta, a)
     n_model, n_data = len(model), len(data)
     inlier_prob = np.zeros(n_data)

@@ -8,7 +8,61 @@ from bad_input_cases._core import Case
 
 #: (callable, argument, spoiled label) calls known to fail the test, with the reason; each must
 #: still fail (remove it once fixed).
-KNOWN_FAILURES: dict[tuple[str, str, str], str] = {}
+_ROUND_2 = "bounded counts and whole-array overflow: round 2, not yet fixed in this subpackage; "
+_WRONG_NAME = "the argument named as a whole word: round 2, not yet fixed in this subpackage; "
+KNOWN_FAILURES: dict[tuple[str, str, str], str] = {
+    ('ArticulatedShapeRecogniser', 'n_limb_labels', 'a billion'): _ROUND_2 + "hangs",
+    ('ArticulatedShapeRecogniser', 'n_limb_labels', '2**63'): _ROUND_2 + "hangs",
+    ('ArticulatedShapeRecogniser', 'n_shape_components', 'a billion'): _ROUND_2 + "wrong name",
+    ('ArticulatedShapeRecogniser', 'n_shape_components', '2**63'): _ROUND_2 + "wrong name",
+    ('ArticulatedShapeRecogniser', 'n_restarts', 'a billion'): _ROUND_2 + "accepted",
+    ('ArticulatedShapeRecogniser', 'n_restarts', '2**63'): _ROUND_2 + "accepted",
+    ('ArticulatedShapeRecogniser', 'max_iter', 'a billion'): _ROUND_2 + "accepted",
+    ('ArticulatedShapeRecogniser', 'max_iter', '2**63'): _ROUND_2 + "accepted",
+    ('ArticulatedShapeRecogniser', 'n_em_iter', 'a billion'): _ROUND_2 + "hangs",
+    ('ArticulatedShapeRecogniser', 'n_em_iter', '2**63'): _ROUND_2 + "hangs",
+    ('ArticulatedShapeRecogniser.iterative_alignment', 'shape', 'None'): _WRONG_NAME + "wrong name",
+    ('ArticulatedShapeRecogniser.iterative_alignment', 'shape', 'a string'): _WRONG_NAME + "wrong name",
+    ('ArticulatedShapeRecogniser.iterative_alignment', 'shape', 'a bool'): _WRONG_NAME + "wrong name",
+    ('ArticulatedShapeRecogniser.iterative_alignment', 'shape', 'NaN inside'): _WRONG_NAME + "wrong name",
+    ('ArticulatedShapeRecogniser.iterative_alignment', 'shape', 'inf inside'): _WRONG_NAME + "wrong name",
+    ('ArticulatedShapeRecogniser.iterative_alignment', 'shape', 'huge inside'): _WRONG_NAME + "wrong name",
+    ('ArticulatedShapeRecogniser.iterative_alignment', 'shape', 'huge everywhere'): _ROUND_2 + "wrong name",
+    ('ArticulatedShapeRecogniser.iterative_alignment', 'n_iter', 'a billion'): _ROUND_2 + "hangs",
+    ('ArticulatedShapeRecogniser.iterative_alignment', 'n_iter', '2**63'): _ROUND_2 + "hangs",
+    ('generate_pose_dataset', 'n_per_class', 'a billion'): _ROUND_2 + "crashes",
+    ('generate_pose_dataset', 'n_per_class', '2**63'): _ROUND_2 + "crashes",
+    ('generate_pose_dataset', 'landmarks_per_limb', 'a billion'): _ROUND_2 + "crashes",
+    ('generate_pose_dataset', 'landmarks_per_limb', '2**63'): _ROUND_2 + "crashes",
+    ('skeleton_strokes', 'lengths', 'huge everywhere'): _ROUND_2 + "accepted",
+    ('skeleton_strokes', 'landmarks_per_limb', 'a billion'): _ROUND_2 + "crashes",
+    ('skeleton_strokes', 'landmarks_per_limb', '2**63'): _ROUND_2 + "crashes",
+    ('limb_centres', 'shapes', 'huge everywhere'): _ROUND_2 + "accepted",
+    ('articulation_centre', 'centres', 'huge everywhere'): _ROUND_2 + "accepted",
+    ('polar_shape_vector', 'shapes', 'huge everywhere'): _ROUND_2 + "wrong name",
+    ('centred_limbs', 'shapes', 'huge everywhere'): _ROUND_2 + "accepted",
+    ('fit_pdm', 'max_modes', 'a billion'): _ROUND_2 + "accepted",
+    ('fit_pdm', 'max_modes', '2**63'): _ROUND_2 + "accepted",
+    ('pdm_from_moments', 'covariance', 'huge everywhere'): _ROUND_2 + "accepted",
+    ('pdm_from_moments', 'max_modes', 'a billion'): _ROUND_2 + "accepted",
+    ('pdm_from_moments', 'max_modes', '2**63'): _ROUND_2 + "accepted",
+    ('generalized_procrustes', 'n_iter', 'a billion'): _ROUND_2 + "hangs",
+    ('generalized_procrustes', 'n_iter', '2**63'): _ROUND_2 + "hangs",
+    ('align_to_reference', 'reference', 'huge everywhere'): _ROUND_2 + "accepted",
+    ('fit_gaussian_mixture', 'n_iter', 'a billion'): _ROUND_2 + "hangs",
+    ('fit_gaussian_mixture', 'n_iter', '2**63'): _ROUND_2 + "hangs",
+    ('label_string_log_prob', 'n_limbs', 'a billion'): _ROUND_2 + "accepted",
+    ('label_string_log_prob', 'n_limbs', '2**63'): _ROUND_2 + "accepted",
+    ('held_out_log_likelihood', 'n_folds', 'a billion'): _ROUND_2 + "wrong name",
+    ('held_out_log_likelihood', 'n_folds', '2**63'): _ROUND_2 + "crashes",
+    ('held_out_log_likelihood', 'n_em_iter', 'a billion'): _ROUND_2 + "accepted",
+    ('held_out_log_likelihood', 'n_em_iter', '2**63'): _ROUND_2 + "accepted",
+    ('mode_separation_trial', 'separation', 'huge'): _WRONG_NAME + "wrong name",
+    ('mode_separation_trial', 'n_train', 'a billion'): _ROUND_2 + "crashes",
+    ('mode_separation_trial', 'n_train', '2**63'): _ROUND_2 + "crashes",
+    ('mode_separation_trial', 'n_test', 'a billion'): _ROUND_2 + "crashes",
+    ('mode_separation_trial', 'n_test', '2**63'): _ROUND_2 + "crashes",
+}
 
 #: Public names not called with user input, with the reason.
 EXEMPT = {
