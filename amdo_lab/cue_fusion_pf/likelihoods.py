@@ -183,7 +183,7 @@ def bhattacharyya(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     p, q : numpy.ndarray
-        Histograms (summing to 1 along the last axis).
+        Histograms (at least 1-D, summing to 1 along the last axis).
 
     Returns
     -------
@@ -196,6 +196,9 @@ def bhattacharyya(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     """
     p = as_finite_array(p, "p")
     q = as_finite_array(q, "q")
+    for name, histogram in (("p", p), ("q", q)):
+        if histogram.ndim == 0:
+            raise ValueError(f"{name} must be a histogram (an array of bins), got a scalar")
     if p.shape[-1] != q.shape[-1]:
         raise ValueError(f"p and q must have the same number of bins, got shapes {p.shape} and {q.shape}")
     if np.any(p < 0) or np.any(q < 0):

@@ -8,8 +8,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import MAX_ITERATIONS, MAX_SAMPLES
-from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_names, check_positive_int, make_rng
+from amdo_lab.common import (MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check_bool, check_choice, check_image_shape,
+                             check_in_range, check_names, check_positive_int, make_rng)
 from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
 from amdo_lab.cue_fusion_pf.likelihoods import COLOR_SPACES, MAX_PIXELS, PAPER_SIGMAS, SIGMA_RANGE, ColorLikelihood, EdgeLikelihood
 from amdo_lab.cue_fusion_pf.shape import SHAPE_KINDS, ShapeSpace
@@ -213,7 +213,7 @@ def shape_space_of(init: object, frame_shape: tuple[int, int], kind: str = "tran
         An ellipse ``(cx, cy, a, b, angle)`` (see :func:`as_ellipse`) or (J, 2) B-spline control
         points in pixels, within ±:data:`MAX_PIXELS`; its centre must lie on the frame.
     frame_shape : tuple of int
-        (H, W) of the frames.
+        (H, W) of the frames, positive ints.
     kind : str
         ``"translation_scale"`` or ``"similarity"`` (eq. 3, left or right).
 
@@ -227,6 +227,7 @@ def shape_space_of(init: object, frame_shape: tuple[int, int], kind: str = "tran
     Li & Chaumette, AMDO 2004, eqs. (1)-(3).
     """
     init = as_finite_array(init, "init", max_abs=MAX_PIXELS)
+    height, width = check_image_shape(frame_shape, "frame_shape", axes="H, W")
     kind = check_choice(kind, "kind", SHAPE_KINDS)
     if init.shape == (5,):
         init = as_ellipse(init, "init")
@@ -240,7 +241,6 @@ def shape_space_of(init: object, frame_shape: tuple[int, int], kind: str = "tran
         start[:2] = space.centre
     else:
         raise ValueError(f"init must be an ellipse (cx, cy, a, b, angle) or (J, 2) control points, got shape {init.shape}")
-    height, width = frame_shape
     if not (0 <= start[0] < width and 0 <= start[1] < height):
         raise ValueError(f"init must lie on the frame ({width}×{height}), centre at ({start[0]:.1f}, {start[1]:.1f})")
     return space, start

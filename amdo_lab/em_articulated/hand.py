@@ -46,6 +46,9 @@ _THUMB_LIMITS = ((-60, 60), (0, 70), (-12, 12), (-30, 30), (-15, 90))
 #: chapter's functions accept, mm: a kilometre, far beyond any hand and far below where squares and
 #: exponentials of it overflow to inf.
 MAX_LENGTH_MM = 1e6
+#: Largest exponent ``a`` of the bending weights of eq. (3): at 1,000 each point already moves rigidly
+#: with its strongest part (the chapter uses 2 to 50); beyond it the powers of the fields overflow.
+MAX_BENDING_EXPONENT = 1000.0
 
 _X = np.array([1.0, 0.0, 0.0])
 _Y = np.array([0.0, 1.0, 0.0])
@@ -566,7 +569,7 @@ class HandModel:
         theta : array_like, shape (27,)
             Pose (mm for DOFs 0-2, radians for the others).
         a : float, default 2.0
-            Exponent of the weights of eq. (3) (> 0): large ``a`` moves each point rigidly with
+            Exponent of the weights of eq. (3), in (0, :data:`MAX_BENDING_EXPONENT`]: large ``a`` moves each point rigidly with
             its strongest part.
 
         Returns
@@ -576,7 +579,7 @@ class HandModel:
         """
         points = as_finite_array(points, "points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
         theta = self.check_theta(theta)
-        a = check_positive(a, "a")
+        a = check_in_range(a, "a", 0.0, MAX_BENDING_EXPONENT, closed="right")
         fields = self.part_fields(points, theta)
         part_p = np.argmax(fields, axis=1)
         neighbour_fields = np.where(self.adjacency[part_p] & (np.arange(self.n_parts) != part_p[:, None]),
@@ -660,7 +663,7 @@ class HandModel:
         theta_to : array_like, shape (27,)
             Pose to move them to.
         a : float, default 2.0
-            Exponent of the weights of eq. (3) (> 0).
+            Exponent of the weights of eq. (3), in (0, :data:`MAX_BENDING_EXPONENT`].
 
         Returns
         -------

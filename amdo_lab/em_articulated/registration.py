@@ -45,6 +45,12 @@ DEFAULT_TOL = 1e-3
 
 #: Largest σ accepted, mm (σ² and the energies overflow long before 1e308).
 MAX_SIGMA_MM = MAX_LENGTH_MM
+#: Largest relative damping (and release ratio) accepted: a million times the diagonal already freezes
+#: every step; larger factors overflow when they multiply the normal equations.
+MAX_DAMPING = 1e6
+#: Largest log of the outlier constant c of eq. (17) the E-step accepts: exp(700) is about 1e304, the
+#: largest power of e that stays finite with room for the sums over the data around it.
+MAX_LOG_C = 700.0
 #: Largest per-point weight :func:`fit_surface` accepts (weights are relative: a weight of 1e308 would
 #: overflow the weighted normal equations).
 MAX_WEIGHT = 1e6
@@ -92,8 +98,8 @@ def _check_e_step_inputs(model_points: object, data_points: object, sigma: objec
     sigma = check_in_range(sigma, "sigma", 0.0, MAX_SIGMA_MM, closed="right")
     if not isinstance(log_c, (int, float, np.integer, np.floating)) or isinstance(log_c, (bool, np.bool_)):
         raise TypeError(f"log_c must be a real number, got {type(log_c).__name__}")
-    if np.isnan(log_c) or log_c == np.inf:  # -inf is allowed: no outlier class (c = 0)
-        raise ValueError(f"log_c must be a number or -inf (c = 0), got {log_c}")
+    if np.isnan(log_c) or log_c > MAX_LOG_C:  # -inf is allowed: no outlier class (c = 0)
+        raise ValueError(f"log_c must be at most {MAX_LOG_C:g} or -inf (c = 0), got {log_c}")
     return model, data, sigma, float(log_c)
 
 
@@ -276,7 +282,8 @@ def e_step_statistics(model_points: object, data_points: object, sigma: float,
     sigma : float
         σ of the Gaussian of eq. (6), mm, in (0, 1e6].
     log_c : float
-        log of the outlier constant c of eq. (17); -inf for no outlier class.
+        log of the outlier constant c of eq. (17), at most :data:`MAX_LOG_C` (exp of more
+        overflows); -inf for no outlier class.
     chunk : int, default 256
         Data points per streamed block (≥ 1). At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     precision : {"single", "double"}, default "single"
@@ -409,7 +416,8 @@ def e_step_statistics_kdtree(model_points: object, data_points: object, sigma: f
     sigma : float
         σ of the Gaussian of eq. (6), mm, in (0, 1e6].
     log_c : float
-        log of the outlier constant c of eq. (17); -inf for no outlier class.
+        log of the outlier constant c of eq. (17), at most :data:`MAX_LOG_C` (exp of more
+        overflows); -inf for no outlier class.
     radius_sigmas : float, default 4.0
         Truncation radius, in σ (> 0).
 
@@ -626,12 +634,13 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
         blurred towards the middle of the hand, which curls fingers; B_i carries the same blur, so
         data that coincide with the model give zero force at every σ.
     a : float, default 2.0
-        Exponent of the bending weights of eq. (3) (> 0).
+        Exponent of the bending weights of eq. (3) (in (0, :data:`MAX_BENDING_EXPONENT`]).
     gauss_newton_steps : int, default 2
         Gauss-Newton steps of each M-step (≥ 1); the M-step stops earlier when a step is below 1e-6.
         At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     damping : float, default 1e-3
-        Levenberg damping of the M-step's normal equations, relative to their diagonal (≥ 0).
+        Levenberg damping of the M-step's normal equations, relative to their diagonal, in
+        [0, :data:`MAX_DAMPING`].
     chunk : int, default 256
         Data points per block of the streamed dense E-step (≥ 1), at most
         :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
@@ -717,12 +726,13 @@ def register_em_reference(model_points: object, data_points: object, hand: HandM
     targets : {"paper", "debiased"}, default "paper"
         The M-step targets, as for :func:`register_em`.
     a : float, default 2.0
-        Exponent of the bending weights of eq. (3) (> 0).
+        Exponent of the bending weights of eq. (3) (in (0, :data:`MAX_BENDING_EXPONENT`]).
     gauss_newton_steps : int, default 2
         Gauss-Newton steps of each M-step (≥ 1); the M-step stops earlier when a step is below 1e-6.
         At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     damping : float, default 1e-3
-        Levenberg damping of the M-step's normal equations, relative to their diagonal (≥ 0).
+        Levenberg damping of the M-step's normal equations, relative to their diagonal, in
+        [0, :data:`MAX_DAMPING`].
 
     Returns
     -------
@@ -740,7 +750,7 @@ def register_em_reference(model_points: object, data_points: object, hand: HandM
     tol = check_positive(tol, "tol", allow_zero=True)
     check_choice(targets, "targets", ("paper", "debiased"))
     gauss_newton_steps = check_positive_int(gauss_newton_steps, "gauss_newton_steps", maximum=MAX_ITERATIONS)
-    damping = check_positive(damping, "damping", allow_zero=True)
+    damping = check_in_range(damping, "damping", 0.0, MAX_DAMPING, closed="both")
     binding = hand.texture_binding(model, theta, a)  # eq. (3): the texture's blend weights, fixed at Θ_init
     with one_blas_thread():
         # Sec. 3.3: σ falls geometrically from the largest motion σ_max to the noise level σ_min
@@ -803,10 +813,10 @@ def _em_setup(hand: HandModel, model_points: object, data_points: object, theta_
     check_choice(schedule, "schedule", ("levels", "per-step"))
     chunk = check_positive_int(chunk, "chunk", maximum=MAX_SAMPLES)
     gauss_newton_steps = check_positive_int(gauss_newton_steps, "gauss_newton_steps", maximum=MAX_ITERATIONS)
-    damping = check_positive(damping, "damping", allow_zero=True)
+    damping = check_in_range(damping, "damping", 0.0, MAX_DAMPING, closed="both")
     c = PAPER_C if outlier_c is None else check_positive(outlier_c, "outlier_c")
     if release_ratio is not None:
-        release_ratio = check_positive(release_ratio, "release_ratio")
+        release_ratio = check_in_range(release_ratio, "release_ratio", 0.0, MAX_DAMPING, closed="right")
     binding = hand.texture_binding(model, theta, a)
     return _EMSetup(hand, data, theta, binding, np.geomspace(sigma_max, sigma_min, n_levels), sigma_min,
                     dof_lever_arms(hand, binding, theta), float(np.log(c)), max_iter, tol, sigma_mode,
@@ -1121,7 +1131,7 @@ def fit_known_correspondences(model_points: object, matched_points: object, hand
     theta_init : array_like, shape (27,)
         Pose of the texture and start of the fit, inside the joint limits.
     a : float, default 2.0
-        Exponent of the bending weights of eq. (3) (> 0).
+        Exponent of the bending weights of eq. (3) (in (0, :data:`MAX_BENDING_EXPONENT`]).
     max_iter : int, default 30
         Most Gauss-Newton steps (≥ 1); the fit stops earlier when a step is below 1e-6.
         At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
@@ -1221,7 +1231,7 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
         raise ValueError("weights must be non-negative")
     if sigma is not None:
         sigma = check_in_range(sigma, "sigma", 0.0, MAX_SIGMA_MM, closed="right")
-    damping = check_positive(damping, "damping", allow_zero=True)
+    damping = check_in_range(damping, "damping", 0.0, MAX_DAMPING, closed="both")
     if epsilon_mm is not None:
         epsilon_mm = check_positive(epsilon_mm, "epsilon_mm")
     max_iter = check_positive_int(max_iter, "max_iter", minimum=0, maximum=MAX_ITERATIONS)
@@ -1319,7 +1329,7 @@ def softassign_register(model_points: object, data_points: object, hand: HandMod
         Sinkhorn row-and-column normalisation sweeps per iteration (≥ 1).
         At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     a : float, default 2.0
-        Exponent of the bending weights of eq. (3) (> 0).
+        Exponent of the bending weights of eq. (3) (in (0, :data:`MAX_BENDING_EXPONENT`]).
 
     Returns
     -------
