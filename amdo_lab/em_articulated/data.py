@@ -295,7 +295,8 @@ def make_skin_texture(hand: HandModel, n_features: int, *, rng: np.random.Genera
     rng : int or numpy.random.Generator
         Seed (≥ 0) or generator of the feature positions.
     a : float, default 2.0
-        Exponent of the bending weights of eq. (3) (in (0, :data:`MAX_BENDING_EXPONENT`]; 2 is the paper's value).
+        Exponent of the bending weights of eq. (3) (in (0, :data:`MAX_BENDING_EXPONENT`]; 2 is the
+        paper's value).
 
     Returns
     -------

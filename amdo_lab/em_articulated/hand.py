@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import MAX_ITERATIONS, MAX_SAMPLES, MAX_SIDE
+from amdo_lab.common import MAX_ITERATIONS, MAX_SAMPLES
 from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive, check_positive_int, make_rng
 from amdo_lab.common.geometry import rigid_transform, rotation_matrix, skew
 
@@ -534,7 +534,7 @@ class HandModel:
             Pose (mm for DOFs 0-2, radians for the others).
         resolution : int, default 16
             Vertices per side of each ellipsoid's grid (≥ 4).
-            At most :data:`amdo_lab.common.MAX_SIDE` (4,096).
+            At most 512 (16 parts of 512² vertices each).
 
         Returns
         -------
@@ -544,7 +544,7 @@ class HandModel:
             Vertex indices of each triangle.
         """
         frames = self._forward(self.check_theta(theta))[0]
-        n = check_positive_int(resolution, "resolution", minimum=4, maximum=MAX_SIDE)
+        n = check_positive_int(resolution, "resolution", minimum=4, maximum=512)  # 16 parts of 512² vertices
         polar, azimuth = np.meshgrid(np.linspace(0, np.pi, n), np.linspace(0, 2 * np.pi, n), indexing="ij")
         unit = np.stack([np.sin(polar) * np.cos(azimuth), np.cos(polar), np.sin(polar) * np.sin(azimuth)], axis=-1)
         local = unit.reshape(1, -1, 3) * self._radii[:, None, :] + self._centres[:, None, :]  # (16, n², 3)
@@ -569,7 +569,8 @@ class HandModel:
         theta : array_like, shape (27,)
             Pose (mm for DOFs 0-2, radians for the others).
         a : float, default 2.0
-            Exponent of the weights of eq. (3), in (0, :data:`MAX_BENDING_EXPONENT`]: large ``a`` moves each point rigidly with
+            Exponent of the weights of eq. (3), in (0, :data:`MAX_BENDING_EXPONENT`]: large ``a``
+            moves each point rigidly with
             its strongest part.
 
         Returns
