@@ -9,6 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.cat_fluid.registration import check_registration_images
+from amdo_lab.common import MAX_ITERATIONS
 from amdo_lab.common import check_choice, check_positive_int
 
 __all__ = ["DipyResult", "register_dipy"]
@@ -61,7 +62,7 @@ def register_dipy(template: object, study: object, metric: str = "cc",
         "cc" (local cross-correlation, dipy's choice for brain images; default) or "ssd".
     level_iters : tuple of int, optional
         dipy's iterations per pyramid level, coarsest last, each ≥ 0 (default (100, 100, 25),
-        dipy's own default).
+        dipy's own default). At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
 
     Returns
     -------
@@ -80,7 +81,8 @@ def register_dipy(template: object, study: object, metric: str = "cc",
     check_choice(metric, "metric", ("cc", "ssd"))
     if not isinstance(level_iters, (tuple, list)) or not level_iters:
         raise ValueError(f"level_iters must be a non-empty tuple of iteration counts, got {level_iters!r}")
-    level_iters = tuple(check_positive_int(n, "level_iters", minimum=0) for n in level_iters)
+    level_iters = tuple(check_positive_int(n, "level_iters", minimum=0, maximum=MAX_ITERATIONS)
+                        for n in level_iters)
     from dipy.align.imwarp import SymmetricDiffeomorphicRegistration  # lazy: dipy is slow to import
     from dipy.align.metrics import CCMetric, SSDMetric
 

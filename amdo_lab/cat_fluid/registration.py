@@ -14,6 +14,7 @@ import numpy as np
 
 from amdo_lab.cat_fluid.solvers import SOLVERS, cat_symbol, finite_difference_symbol, solve_symbol, sor_solve
 from amdo_lab.cat_fluid.stencil import check_moduli
+from amdo_lab.common import MAX_ITERATIONS
 from amdo_lab.common import (
     as_bool_mask,
     as_finite_array,
@@ -518,6 +519,7 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
         never regrids (the map may then fold: det ≤ 0).
     sor_n_sweeps : int, optional
         SOR sweeps per velocity solve, ≥ 1 (default 250, as the paper); "sor" only.
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     sor_omega : float, optional
         SOR relaxation factor in (0, 2); default
         :func:`~amdo_lab.cat_fluid.solvers.default_omega`.
@@ -557,10 +559,11 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
     lam, mu = check_moduli(lam, mu, require_positive_mu=True)
     check_bool(backtrack, "backtrack")
     check_bool(sor_warm_start, "sor_warm_start")
-    n_iter = check_positive_int(DEFAULT_ITERATIONS[method] if n_iter is None else n_iter, "n_iter")
+    n_iter = check_positive_int(DEFAULT_ITERATIONS[method] if n_iter is None else n_iter, "n_iter",
+                                maximum=MAX_ITERATIONS)
     step_bound = check_in_range(max_step_px, "max_step_px", 0, max(template.shape), closed="right")
     regrid_threshold = check_in_range(regrid_threshold, "regrid_threshold", 0, 1, closed="left")
-    sor_n_sweeps = check_positive_int(sor_n_sweeps, "sor_n_sweeps")
+    sor_n_sweeps = check_positive_int(sor_n_sweeps, "sor_n_sweeps", maximum=MAX_ITERATIONS)
     if sor_omega is not None:
         check_in_range(sor_omega, "sor_omega", 0, 2)  # SOR converges for 0 < omega < 2 only
     if method == "sor" and (template.shape[0] % 2 or template.shape[1] % 2):

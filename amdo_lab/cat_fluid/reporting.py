@@ -102,7 +102,7 @@ def mean_sd_strings(table: pd.DataFrame, digits: int = 2) -> pd.DataFrame:
         Columns (label, "mean") and (label, "sd"), as from :func:`grey_level_table` or
         :func:`paper_table1`.
     digits : int, optional
-        Decimals shown (default 2).
+        Decimals shown (default 2). At most 17.
 
     Returns
     -------
@@ -117,7 +117,7 @@ def mean_sd_strings(table: pd.DataFrame, digits: int = 2) -> pd.DataFrame:
     """
     if not isinstance(table, pd.DataFrame):
         raise TypeError(f"table must be a pandas DataFrame, got {type(table).__name__}")
-    digits = check_positive_int(digits, "digits", minimum=0)
+    digits = check_positive_int(digits, "digits", minimum=0, maximum=17)  # float64 carries 17 digits
     labels = list(dict.fromkeys(label for label, _ in table.columns))
     return pd.DataFrame({label: [f"{m:.{digits}f} / {s:.{digits}f}" for m, s in
                                  zip(table[(label, "mean")], table[(label, "sd")])] for label in labels},

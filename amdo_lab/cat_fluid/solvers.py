@@ -24,6 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from amdo_lab.cat_fluid.stencil import MAX_FIELD, NEIGHBOUR_OFFSETS, check_moduli, fluid_stencil, stencil_blocks
+from amdo_lab.common import MAX_ITERATIONS
 from amdo_lab.common import as_finite_array, check_choice, check_image_shape, check_in_range, check_positive_int
 
 __all__ = ["SOLVERS", "stencil_symbol", "cat_symbol", "finite_difference_symbol", "apply_finite_difference",
@@ -52,7 +53,7 @@ def stencil_symbol(stencil: object, shape: tuple[int, int]) -> np.ndarray:
     Parameters
     ----------
     stencil : array_like, shape (2, 18)
-        Finite, centro-symmetric (K(d) = K(-d)).
+        Finite, centro-symmetric (K(d) = K(-d)), entries at most 1e152 in magnitude.
     shape : tuple of two int
         (H, W) of the fields the symbol acts on, positive.
 
@@ -184,7 +185,8 @@ def symbol_eigenvalues(symbol: object, rows: object, cols: object) -> np.ndarray
     ----------
     symbol : array_like, shape (2, 2, H, W//2 + 1)
         From :func:`stencil_symbol`, :func:`cat_symbol` or :func:`finite_difference_symbol`;
-        finite and symmetric per frequency.
+        finite and symmetric per frequency, entries at most 1e153 in magnitude (a larger 2x2
+        eigenproblem overflows).
     rows : array_like of int, shape (n,)
         Indices into the symbol's axis 2 (row k is the frequency 2π fftfreq(H)[k]).
     cols : array_like of int, shape (n,)
@@ -202,7 +204,7 @@ def symbol_eigenvalues(symbol: object, rows: object, cols: object) -> np.ndarray
     AMDO 2004, LNCS 3179, pp. 76-85,
     Sec. 4, eq. (15): the symbol of its stencil.
     """
-    symbol = as_finite_array(symbol, "symbol", shape=(2, 2, None, None))
+    symbol = as_finite_array(symbol, "symbol", shape=(2, 2, None, None), max_abs=1e153)
     rows, cols = as_finite_array(rows, "rows", ndim=1, dtype=int), as_finite_array(cols, "cols", ndim=1, dtype=int)
     if rows.shape != cols.shape:
         raise ValueError(f"rows and cols must be 1-D of the same length, got shapes {rows.shape} and {cols.shape}")
@@ -338,6 +340,7 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, n_sweeps: int = 250, 
         Lamé constant μ, 0 < μ ≤ 1e150 (the paper: 5).
     n_sweeps : int, optional
         Number of full sweeps, ≥ 0 (default 250, the paper's count per registration iteration).
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     omega : float, optional
         Relaxation factor in (0, 2); default :func:`default_omega`.
     initial : array_like, shape (2, H, W), optional
@@ -360,7 +363,7 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, n_sweeps: int = 250, 
     """
     force = as_finite_array(force, "force", ndim=3, shape=(2, None, None), max_abs=MAX_FIELD)
     lam, mu = check_moduli(lam, mu, require_positive_mu=True)
-    n_sweeps = check_positive_int(n_sweeps, "n_sweeps", minimum=0)
+    n_sweeps = check_positive_int(n_sweeps, "n_sweeps", minimum=0, maximum=MAX_ITERATIONS)
     check_choice(ordering, "ordering", SOR_ORDERINGS)
     h, w = force.shape[1:]
     # SOR converges for 0 < omega < 2 only
@@ -444,7 +447,7 @@ def sor_reference(force: object, lam: float, mu: float, *, n_sweeps: int, omega:
     mu : float
         Lamé constant μ, 0 < μ ≤ 1e150 (the paper: 5).
     n_sweeps : int
-        Number of full sweeps, ≥ 0.
+        Number of full sweeps, ≥ 0. At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     omega : float
         Relaxation factor in (0, 2), where SOR converges.
 
@@ -461,7 +464,7 @@ def sor_reference(force: object, lam: float, mu: float, *, n_sweeps: int, omega:
     """
     force = as_finite_array(force, "force", shape=(2, None, None), max_abs=MAX_FIELD)
     lam, mu = check_moduli(lam, mu, require_positive_mu=True)
-    n_sweeps = check_positive_int(n_sweeps, "n_sweeps", minimum=0)
+    n_sweeps = check_positive_int(n_sweeps, "n_sweeps", minimum=0, maximum=MAX_ITERATIONS)
     omega = check_in_range(omega, "omega", 0, 2)  # SOR converges for 0 < omega < 2 only
     h, w = force.shape[1:]
     force = force - force.mean(axis=(1, 2), keepdims=True)

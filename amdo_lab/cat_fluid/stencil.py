@@ -27,6 +27,10 @@ import numpy as np
 
 from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive_int
 
+#: Largest stencil entry accepted: a stencil built from Lamé constants up to 1e150 has entries a few
+#: times that; sums over the nine blocks and the squares in a symbol's 2x2 eigenproblem stay finite.
+MAX_STENCIL_ENTRY = 1e152
+
 __all__ = ["NEIGHBOUR_OFFSETS", "check_moduli", "fluid_stencil", "printed_stencil", "apply_stencil",
            "stencil_at_origin", "rotate_stencil", "stencil_blocks", "stencil_grid", "polynomial_test_fields",
            "consistency_errors"]
@@ -192,7 +196,8 @@ def stencil_blocks(stencil: object) -> np.ndarray:
     ----------
     stencil : array_like, shape (2, 18)
         Finite stencil in the layout of eq. (15): column ``2 p + c`` multiplies velocity component c
-        at the neighbour ``NEIGHBOUR_OFFSETS[p]``.
+        at the neighbour ``NEIGHBOUR_OFFSETS[p]``; entries at most :data:`MAX_STENCIL_ENTRY` (1e152) in
+        magnitude.
 
     Returns
     -------
@@ -206,7 +211,7 @@ def stencil_blocks(stencil: object) -> np.ndarray:
     AMDO 2004, LNCS 3179, pp. 76-85,
     eq. (15).
     """
-    stencil = as_finite_array(stencil, "stencil", shape=(2, 18))
+    stencil = as_finite_array(stencil, "stencil", shape=(2, 18), max_abs=MAX_STENCIL_ENTRY)
     return stencil.reshape(2, 9, 2).transpose(1, 0, 2)
 
 
@@ -217,7 +222,8 @@ def apply_stencil(stencil: object, velocity: object) -> np.ndarray:
     ----------
     stencil : array_like, shape (2, 18)
         Finite stencil in the layout of eq. (15): column ``2 p + c`` multiplies velocity component c
-        at the neighbour ``NEIGHBOUR_OFFSETS[p]``.
+        at the neighbour ``NEIGHBOUR_OFFSETS[p]``; entries at most :data:`MAX_STENCIL_ENTRY` (1e152) in
+        magnitude.
     velocity : array_like, shape (2, H, W)
         Finite velocity field, each component within ±1e100.
 
@@ -248,7 +254,8 @@ def stencil_at_origin(stencil: object, velocity: Callable[[float, float], tuple[
     ----------
     stencil : array_like, shape (2, 18)
         Finite stencil in the layout of eq. (15): column ``2 p + c`` multiplies velocity component c
-        at the neighbour ``NEIGHBOUR_OFFSETS[p]``.
+        at the neighbour ``NEIGHBOUR_OFFSETS[p]``; entries at most :data:`MAX_STENCIL_ENTRY` (1e152) in
+        magnitude.
     velocity : callable
         ``velocity(x1, x2)`` returns the two finite velocity components at that point (x1 along
         array axis 0, unit pixel spacing).
@@ -281,7 +288,8 @@ def rotate_stencil(stencil: object) -> np.ndarray:
     ----------
     stencil : array_like, shape (2, 18)
         Finite stencil in the layout of eq. (15): column ``2 p + c`` multiplies velocity component c
-        at the neighbour ``NEIGHBOUR_OFFSETS[p]``.
+        at the neighbour ``NEIGHBOUR_OFFSETS[p]``; entries at most :data:`MAX_STENCIL_ENTRY` (1e152) in
+        magnitude.
 
     Returns
     -------
@@ -314,7 +322,8 @@ def stencil_grid(stencil: object, row: int, component: int) -> np.ndarray:
     ----------
     stencil : array_like, shape (2, 18)
         Finite stencil in the layout of eq. (15): column ``2 p + c`` multiplies velocity component c
-        at the neighbour ``NEIGHBOUR_OFFSETS[p]``.
+        at the neighbour ``NEIGHBOUR_OFFSETS[p]``; entries at most :data:`MAX_STENCIL_ENTRY` (1e152) in
+        magnitude.
     row : int
         Force component, 0 or 1.
     component : int
@@ -403,7 +412,8 @@ def consistency_errors(stencil: object, lam: float = 1.0, mu: float = 5.0) -> di
     ----------
     stencil : array_like, shape (2, 18)
         Finite stencil in the layout of eq. (15): column ``2 p + c`` multiplies velocity component c
-        at the neighbour ``NEIGHBOUR_OFFSETS[p]``.
+        at the neighbour ``NEIGHBOUR_OFFSETS[p]``; entries at most :data:`MAX_STENCIL_ENTRY` (1e152) in
+        magnitude.
     lam : float, optional
         Lamé constant λ, 0 ≤ λ ≤ 1e150 (default 1, as the paper).
     mu : float, optional
@@ -420,7 +430,7 @@ def consistency_errors(stencil: object, lam: float = 1.0, mu: float = 5.0) -> di
     AMDO 2004, LNCS 3179, pp. 76-85,
     eqs. (15) and (17).
     """
-    stencil = as_finite_array(stencil, "stencil", shape=(2, 18))
+    stencil = as_finite_array(stencil, "stencil", shape=(2, 18), max_abs=MAX_STENCIL_ENTRY)
     errors = {}
     for name, field, expected in polynomial_test_fields(lam, mu):
         label = f"{name} → ({expected[0]:g}, {expected[1]:g})"

@@ -21,6 +21,10 @@ from amdo_lab.common.rng import make_rng, spawn_rngs
 from amdo_lab.common.stats import PairedComparison, RateInterval, paired_comparison, rate_interval
 from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.common.validation import (
+    MAX_ITERATIONS,
+    MAX_LEVELS,
+    MAX_SAMPLES,
+    MAX_SIDE,
     as_bool_mask,
     as_finite_array,
     as_image_pair,
@@ -36,6 +40,10 @@ from amdo_lab.common.validation import (
 )
 
 __all__ = [
+    "MAX_ITERATIONS",
+    "MAX_LEVELS",
+    "MAX_SAMPLES",
+    "MAX_SIDE",
     "PALETTE",
     "PairedComparison",
     "RateInterval",

@@ -285,7 +285,7 @@ def procrustes_align(
     Parameters
     ----------
     source, target : (n, d) array_like
-        Corresponding points.
+        Corresponding points, entries within ±1e150 (their squares are summed).
     allow_scale : bool
         Estimate an isotropic scale.
     allow_reflection : bool
@@ -303,8 +303,8 @@ def procrustes_align(
     S. Umeyama. Least-squares estimation of transformation parameters between two point patterns.
     IEEE TPAMI 13(4), 1991, pp. 376-380.
     """
-    source = as_finite_array(source, "source", ndim=2)
-    target = as_finite_array(target, "target", ndim=2)
+    source = as_finite_array(source, "source", ndim=2, max_abs=1e150)
+    target = as_finite_array(target, "target", ndim=2, max_abs=1e150)
     allow_scale = check_bool(allow_scale, "allow_scale")
     allow_reflection = check_bool(allow_reflection, "allow_reflection")
     if source.shape != target.shape:

@@ -11,6 +11,10 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 
 __all__ = [
+    "MAX_ITERATIONS",
+    "MAX_LEVELS",
+    "MAX_SAMPLES",
+    "MAX_SIDE",
     "as_bool_mask",
     "as_finite_array",
     "as_image_pair",
@@ -24,6 +28,21 @@ __all__ = [
     "check_positive",
     "check_positive_int",
 ]
+
+# The bounds on counts (CONTRIBUTING.md, "Bounds"): a count beyond them would hang or exhaust memory
+# on a laptop instead of failing with a message, so ``check_positive_int(..., maximum=...)`` refuses it
+# by name. Each is generous: a hundred times the largest value the notebooks, benchmarks and tests use.
+
+#: Iterations, sweeps, passes, time steps, frames or trials of one call (each costs at least one pass
+#: over the data: 100,000 of them run in minutes only on small data).
+MAX_ITERATIONS = 100_000
+#: Points, samples, particles, lines, features or scenes drawn or processed by one call (each holds a
+#: few floats; a million of them fit a laptop's memory with the work arrays around them).
+MAX_SAMPLES = 1_000_000
+#: Resolution levels (a coarse-to-fine schedule: each halves a scale, so 64 span 1e-19).
+MAX_LEVELS = 64
+#: Pixels, bins or grid nodes along one axis (a square of 4,096 per side is 16.8 million values).
+MAX_SIDE = 4_096
 
 
 def as_finite_array(

@@ -308,7 +308,7 @@ def make_head_sequence(kind: str, *, rng: int | np.random.Generator, noise_std: 
     rng : int or numpy.random.Generator
         Source of the background, the motion and the noise.
     noise_std : float
-        Standard deviation of the camera noise, grey levels.
+        Standard deviation of the camera noise, grey levels, in [0, 255].
     cast_strength : float
         Size of the lighting change, 0 (none) to 1.5; at 1 the full cast has channel gains 0.45,
         0.62, 1.05, and values in between scale the gains' departure from 1 ("fusion" and
@@ -325,7 +325,7 @@ def make_head_sequence(kind: str, *, rng: int | np.random.Generator, noise_std: 
     """
     kind = check_choice(kind, "kind", SEQUENCE_KINDS)
     generator = make_rng(rng, "rng")
-    noise_std = check_positive(noise_std, "noise_std", allow_zero=True)
+    noise_std = check_in_range(noise_std, "noise_std", 0.0, 255.0, closed="both")  # grey levels of uint8
     cast_strength = check_in_range(cast_strength, "cast_strength", 0.0, 1.5, closed="both")
     n_frames, width, height = _LAYOUT[kind]
     background = office_background(generator, height, width)
@@ -366,7 +366,8 @@ def ellipse_iou(first: np.ndarray, second: np.ndarray, *, step: float = 0.5) -> 
     Parameters
     ----------
     first, second : numpy.ndarray
-        (5,) or (T, 5) ellipses (semi-axes a along x at angle 0, angle in radians).
+        (5,) or (T, 5) ellipses (semi-axes a along x at angle 0, angle in radians), entries
+        within ±1e6.
     step : float
         Grid spacing in pixels for counting the intersection (its error is about step / min axis),
         in (0, 1e6].
@@ -380,8 +381,8 @@ def ellipse_iou(first: np.ndarray, second: np.ndarray, *, step: float = 0.5) -> 
     ----------
     The success criterion of this chapter (IoU >= 0.5); the paper shows its results as figures.
     """
-    first = as_finite_array(first, "first")
-    second = as_finite_array(second, "second")
+    first = as_finite_array(first, "first", max_abs=1e6)
+    second = as_finite_array(second, "second", max_abs=1e6)
     step = check_in_range(step, "step", 0.0, 1e6, closed="right")
     single = first.ndim == 1
     first, second = np.atleast_2d(first), np.atleast_2d(second)
@@ -425,7 +426,7 @@ def head_views(yaws: np.ndarray, *, rng: int | np.random.Generator, noise_std: f
     rng : int or numpy.random.Generator
         Source of the backgrounds, positions and noise.
     noise_std : float
-        Camera noise, grey levels.
+        Camera noise, grey levels, in [0, 255].
 
     Returns
     -------
@@ -437,7 +438,7 @@ def head_views(yaws: np.ndarray, *, rng: int | np.random.Generator, noise_std: f
     Li & Chaumette, AMDO 2004, Fig. 4 (the structure cue as the head turns).
     """
     yaws = as_finite_array(yaws, "yaws", ndim=1)
-    noise_std = check_positive(noise_std, "noise_std", allow_zero=True)
+    noise_std = check_in_range(noise_std, "noise_std", 0.0, 255.0, closed="both")  # grey levels of uint8
     generator = make_rng(rng, "rng")
     frames, states = [], []
     for yaw in yaws:

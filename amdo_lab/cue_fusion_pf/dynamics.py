@@ -17,13 +17,18 @@ import numbers
 
 import numpy as np
 
+from amdo_lab.common import MAX_ITERATIONS
 from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive, check_positive_int, make_rng
 
-__all__ = ["ARDynamics", "MAX_AR2_MAGNITUDE", "ar2_coefficients", "ar2_stationary_variance"]
+__all__ = ["ARDynamics", "MAX_AR2_MAGNITUDE", "MAX_STATE", "ar2_coefficients", "ar2_stationary_variance"]
 
 #: Largest lag weight or gain :func:`ar2_stationary_variance` accepts: the Yule-Walker formula squares
 #: them, and squares of larger numbers overflow float64 (a stable AR(2) has |weights| below 2).
 MAX_AR2_MAGNITUDE = 1e150
+#: Largest magnitude of a state entry (pixels or relative scale): far beyond any image (an unstable
+#: model's trajectory may grow far out of it), and far below where the recursion's sums overflow (its lag
+#: weights are at most 2 in magnitude for β ≥ 0).
+MAX_STATE = 1e150
 
 
 def ar2_coefficients(beta: float, omega: float, tau: float) -> tuple[float, float, float]:
@@ -105,7 +110,7 @@ class ARDynamics:
         (d,) stationary standard deviation of each component (pixels, or relative scale), > 0;
         the paper does not state it. The per-frame noise is ``b0 * stationary_std``.
     mean : array_like
-        (d,) the state X̄ the process returns to.
+        (d,) the state X̄ the process returns to, entries within ±:data:`MAX_STATE`.
     printed_order : bool
         Use eq. (4) exactly as printed (a1 on x_{k-1}, a0 on x_{k-2}).
     allow_unstable : bool
@@ -126,7 +131,7 @@ class ARDynamics:
         self.stationary_std = as_finite_array(stationary_std, "stationary_std", ndim=1)
         if np.any(self.stationary_std <= 0):
             raise ValueError(f"stationary_std must be positive, got {self.stationary_std}")
-        self.mean = as_finite_array(mean, "mean", ndim=1)
+        self.mean = as_finite_array(mean, "mean", ndim=1, max_abs=MAX_STATE)
         lengths = (self.beta.size, self.omega.size, self.stationary_std.size, self.mean.size)
         if len(set(lengths)) > 1:
             raise ValueError(f"beta, omega, stationary_std and mean must have one entry per state component, got lengths {lengths}")
@@ -161,18 +166,18 @@ class ARDynamics:
         Parameters
         ----------
         previous, before : numpy.ndarray
-            (N, d) states X_{k-1} and X_{k-2}.
+            (N, d) states X_{k-1} and X_{k-2}, entries within ±:data:`MAX_STATE`.
         noise : numpy.ndarray
-            (N, d) standard-normal draws ν.
+            (N, d) standard-normal draws ν, entries within ±:data:`MAX_STATE`.
 
         Returns
         -------
         numpy.ndarray
             (N, d) states X_k.
         """
-        previous = as_finite_array(previous, "previous", shape=(None, self.mean.size))
-        before = as_finite_array(before, "before", shape=previous.shape)
-        noise = as_finite_array(noise, "noise", shape=previous.shape)
+        previous = as_finite_array(previous, "previous", shape=(None, self.mean.size), max_abs=MAX_STATE)
+        before = as_finite_array(before, "before", shape=previous.shape, max_abs=MAX_STATE)
+        noise = as_finite_array(noise, "noise", shape=previous.shape, max_abs=MAX_STATE)
         # eq. (4) for every component (eq. 5 for the state), about the mean: X_k = a_0 X_{k-1} + a_1 X_{k-2} + b_0 ν
         # in our order of the lags (printed_order=True: the printed a_1 X_{k-1} + a_0 X_{k-2}, which explodes)
         return (self.mean + self.first_lag * (previous - self.mean) + self.second_lag * (before - self.mean)
@@ -184,7 +189,7 @@ class ARDynamics:
         Parameters
         ----------
         previous, before : numpy.ndarray
-            (N, d) states X_{k-1} and X_{k-2}.
+            (N, d) states X_{k-1} and X_{k-2}, entries within ±:data:`MAX_STATE`.
         rng : int or numpy.random.Generator
             Source of the noise.
 
@@ -193,8 +198,8 @@ class ARDynamics:
         numpy.ndarray
             (N, d) sampled states X_k.
         """
-        previous = as_finite_array(previous, "previous", shape=(None, self.mean.size))
-        before = as_finite_array(before, "before", shape=previous.shape)
+        previous = as_finite_array(previous, "previous", shape=(None, self.mean.size), max_abs=MAX_STATE)
+        before = as_finite_array(before, "before", shape=previous.shape, max_abs=MAX_STATE)
         # eq. (5): one draw from the transition prior p(X_k | X_{k-1}, X_{k-2}), ν standard normal
         return self.propagate(previous, before, make_rng(rng, "rng").standard_normal(previous.shape))
 
@@ -204,9 +209,9 @@ class ARDynamics:
         Parameters
         ----------
         n_steps : int
-            Length of the trajectory.
+            Length of the trajectory, 1 to :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
         start : numpy.ndarray
-            (d,) initial state (X_0 = X_{-1}).
+            (d,) initial state (X_0 = X_{-1}), entries within ±:data:`MAX_STATE`.
         rng : int or numpy.random.Generator
             Source of the noise.
 
@@ -215,8 +220,8 @@ class ARDynamics:
         numpy.ndarray
             (n_steps, d) states.
         """
-        n_steps = check_positive_int(n_steps, "n_steps")
-        start = as_finite_array(start, "start", shape=(self.mean.size,))
+        n_steps = check_positive_int(n_steps, "n_steps", maximum=MAX_ITERATIONS)
+        start = as_finite_array(start, "start", shape=(self.mean.size,), max_abs=MAX_STATE)
         generator = make_rng(rng, "rng")
         path = [start, start.copy()]
         for _ in range(n_steps - 2):

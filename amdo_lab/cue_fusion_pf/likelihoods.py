@@ -10,6 +10,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from amdo_lab.common import MAX_SAMPLES, MAX_SIDE
 from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_positive, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 
@@ -87,7 +88,7 @@ def check_frame(frame: np.ndarray, name: str = "frame") -> np.ndarray:
 
 
 def _check_bins(bins: object) -> int:
-    bins = check_positive_int(bins, "bins", minimum=2)
+    bins = check_positive_int(bins, "bins", minimum=2, maximum=MAX_SIDE)
     if 256 % bins:
         raise ValueError(f"bins must divide 256, got {bins}")
     return bins
@@ -182,7 +183,7 @@ def bhattacharyya(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     p, q : numpy.ndarray
-        Histograms (summing to 1 along the last axis).
+        Histograms (at least 1-D, summing to 1 along the last axis).
 
     Returns
     -------
@@ -195,6 +196,9 @@ def bhattacharyya(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     """
     p = as_finite_array(p, "p")
     q = as_finite_array(q, "q")
+    for name, histogram in (("p", p), ("q", q)):
+        if histogram.ndim == 0:
+            raise ValueError(f"{name} must be a histogram (an array of bins), got a scalar")
     if p.shape[-1] != q.shape[-1]:
         raise ValueError(f"p and q must have the same number of bins, got shapes {p.shape} and {q.shape}")
     if np.any(p < 0) or np.any(q < 0):
@@ -383,7 +387,7 @@ def simulate_measurement_lines(n_lines: int, *, half_length: float, p0: float, c
     Parameters
     ----------
     n_lines : int
-        Number of lines.
+        Number of lines. At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     half_length : float
         L/2 in pixels, in (0, :data:`MAX_PIXELS`].
     p0 : float
@@ -405,7 +409,7 @@ def simulate_measurement_lines(n_lines: int, *, half_length: float, p0: float, c
     Li & Chaumette, AMDO 2004, the assumptions above eq. (13); MacCormick (2000).
     """
     generator = make_rng(rng, "rng")
-    n_lines = check_positive_int(n_lines, "n_lines")
+    n_lines = check_positive_int(n_lines, "n_lines", maximum=MAX_SAMPLES)
     half_length = check_in_range(half_length, "half_length", 0.0, MAX_PIXELS, closed="right")
     p0 = check_in_range(p0, "p0", 0.0, 1.0)
     clutter_density = check_in_range(clutter_density, "clutter_density", 0.0, MAX_CLUTTER_DENSITY, closed="both")
@@ -427,9 +431,9 @@ class EdgeLikelihood:
     shape_space : ShapeSpace
         Gives each particle's contour points and normals.
     n_lines : int
-        N_e (40 for the head, Table 1).
+        N_e (40 for the head, Table 1), 3 to :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     half_length : int
-        L/2 in pixels (not given by the paper; ours: 12).
+        L/2 in pixels (not given by the paper; ours: 12), 2 to :data:`amdo_lab.common.MAX_SIDE` (4,096).
     p0 : float
         P0, probability that the edge is not detected, in (0, 1) (0.2).
     sigma_e : float
@@ -461,8 +465,8 @@ class EdgeLikelihood:
                  sigma_e: float = float(np.sqrt(2.0)), threshold: float = 6.0, smoothing: float = 1.0,
                  exponent: float = 1.0):
         self.shape_space = check_shape_space(shape_space)
-        self.n_lines = check_positive_int(n_lines, "n_lines", minimum=3)
-        self.half_length = check_positive_int(half_length, "half_length", minimum=2)
+        self.n_lines = check_positive_int(n_lines, "n_lines", minimum=3, maximum=MAX_SAMPLES)
+        self.half_length = check_positive_int(half_length, "half_length", minimum=2, maximum=MAX_SIDE)
         self.p0 = check_in_range(p0, "p0", 0.0, 1.0)
         self.sigma_e = check_in_range(sigma_e, "sigma_e", 0.0, MAX_PIXELS, closed="right")
         self.threshold = check_in_range(threshold, "threshold", 0.0, 255.0, closed="right")

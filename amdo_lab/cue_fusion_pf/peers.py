@@ -8,6 +8,7 @@ import time
 import cv2
 import numpy as np
 
+from amdo_lab.common import MAX_SAMPLES, MAX_SIDE
 from amdo_lab.common import check_names, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf.tracker import (
     CUES,
@@ -38,7 +39,7 @@ def track_camshift(frames: np.ndarray, init: np.ndarray, *, hue_bins: int = 32) 
     init : numpy.ndarray
         Initial ellipse ``(cx, cy, a, b, angle)``, entries within ±1e6 (:func:`as_ellipse`).
     hue_bins : int
-        Bins of the hue histogram.
+        Bins of the hue histogram. At most :data:`amdo_lab.common.MAX_SIDE` (4,096).
 
     Returns
     -------
@@ -51,7 +52,7 @@ def track_camshift(frames: np.ndarray, init: np.ndarray, *, hue_bins: int = 32) 
     """
     frames = check_frames(frames)
     init = as_ellipse(init, "init")
-    hue_bins = check_positive_int(hue_bins, "hue_bins", minimum=2)
+    hue_bins = check_positive_int(hue_bins, "hue_bins", minimum=2, maximum=MAX_SIDE)
     began = time.perf_counter()
     height, width = frames.shape[1:3]
     cx, cy, a, b, _ = init
@@ -145,7 +146,7 @@ def track_pfilter(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.
     cues : sequence of str
         Cues fused, as for :func:`track`.
     n_particles : int
-        N_w.
+        N_w. At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     sigmas : str or dict
         As for :func:`track`.
 
@@ -166,7 +167,7 @@ def track_pfilter(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.
 
     frames = check_frames(frames)
     cues = check_names(cues, "cues", allowed=CUES)
-    n_particles = check_positive_int(n_particles, "n_particles", minimum=2)
+    n_particles = check_positive_int(n_particles, "n_particles", minimum=2, maximum=MAX_SAMPLES)
     sigma_table = resolve_sigmas(sigmas)
     global_seed = int(make_rng(rng, "rng").integers(2**32 - 1))
     space, start = shape_space_of(init, frames.shape[1:3])

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from amdo_lab.common import MAX_SAMPLES, MAX_SIDE
 from amdo_lab.common import as_finite_array, check_bool, check_choice, check_positive_int
 
 __all__ = ["SHAPE_KINDS", "ShapeSpace", "bspline_basis", "ellipse_points"]
@@ -27,7 +28,7 @@ def bspline_basis(s: np.ndarray, n_control: int, derivative: bool = False) -> np
     s : numpy.ndarray
         (n,) curve parameters in ``[0, J)`` (span ``j`` is ``j <= s < j + 1``; ``L = J`` spans).
     n_control : int
-        J, the number of control points (at least 3).
+        J, the number of control points (at least 3). At most :data:`amdo_lab.common.MAX_SIDE` (4,096).
     derivative : bool
         Return ``dB/ds`` instead of ``B``.
 
@@ -40,7 +41,7 @@ def bspline_basis(s: np.ndarray, n_control: int, derivative: bool = False) -> np
     ----------
     Blake & Isard, Active Contours (1998), ch. 3; Li & Chaumette, AMDO 2004, eq. (1).
     """
-    n_control = check_positive_int(n_control, "n_control", minimum=3)
+    n_control = check_positive_int(n_control, "n_control", minimum=3, maximum=MAX_SIDE)
     derivative = check_bool(derivative, "derivative")
     s = np.mod(as_finite_array(s, "s", ndim=1), n_control)
     span = np.floor(s).astype(int)
@@ -62,9 +63,9 @@ def ellipse_points(ellipse: np.ndarray, n_points: int) -> np.ndarray:
     Parameters
     ----------
     ellipse : numpy.ndarray
-        (5,) centre (px), semi-axes a (along x at angle 0) and b (px), angle (rad).
+        (5,) centre (px), semi-axes a (along x at angle 0) and b (px), angle (rad); entries within ±1e6.
     n_points : int
-        Number of points.
+        Number of points. At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
 
     Returns
     -------
@@ -75,8 +76,8 @@ def ellipse_points(ellipse: np.ndarray, n_points: int) -> np.ndarray:
     ----------
     Li & Chaumette, AMDO 2004, Sec. 2.1 (the ellipse fitted to each contour).
     """
-    cx, cy, a, b, angle = as_finite_array(ellipse, "ellipse", shape=(5,))
-    n_points = check_positive_int(n_points, "n_points")
+    cx, cy, a, b, angle = as_finite_array(ellipse, "ellipse", shape=(5,), max_abs=1e6)
+    n_points = check_positive_int(n_points, "n_points", maximum=MAX_SAMPLES)
     theta = np.linspace(0.0, 2.0 * np.pi, n_points, endpoint=False)
     local = np.stack([a * np.cos(theta), b * np.sin(theta)], axis=1)
     rotation = np.array([[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]])
@@ -142,9 +143,9 @@ class ShapeSpace:
         Parameters
         ----------
         ellipse : numpy.ndarray
-            (5,) the ellipse; axes must be positive.
+            (5,) the ellipse, entries within ±1e6; axes must be positive.
         n_control : int
-            J, the number of control points.
+            J, the number of control points. At most :data:`amdo_lab.common.MAX_SIDE` (4,096).
         kind : str
             ``"translation_scale"`` or ``"similarity"``.
 
@@ -153,8 +154,8 @@ class ShapeSpace:
         ShapeSpace
             The space; the state of that ellipse is ``(cx, cy, 0)`` (``(cx, cy, 0, 0)``).
         """
-        ellipse = as_finite_array(ellipse, "ellipse", shape=(5,))
-        n_control = check_positive_int(n_control, "n_control", minimum=3)
+        ellipse = as_finite_array(ellipse, "ellipse", shape=(5,), max_abs=1e6)
+        n_control = check_positive_int(n_control, "n_control", minimum=3, maximum=MAX_SIDE)
         kind = check_choice(kind, "kind", SHAPE_KINDS)
         if ellipse[2] <= 0 or ellipse[3] <= 0:
             raise ValueError(f"ellipse axes must be positive, got a={ellipse[2]}, b={ellipse[3]}")
@@ -232,14 +233,14 @@ class ShapeSpace:
         states : numpy.ndarray
             (N, d) or (d,) states, entries within ±1e6.
         n_points : int
-            Points per curve.
+            Points per curve. At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
 
         Returns
         -------
         numpy.ndarray
             (N, n_points, 2) curve points in pixels.
         """
-        n_points = check_positive_int(n_points, "n_points")
+        n_points = check_positive_int(n_points, "n_points", maximum=MAX_SAMPLES)
         basis = bspline_basis(np.linspace(0, self.n_control, n_points, endpoint=False), self.n_control)
         # eq. (1): r(s) = (B(s)ᵀ Q^x, B(s)ᵀ Q^y), the quadratic B-spline through the control points
         return np.einsum("pj,njd->npd", basis, self.control_points(states))
@@ -250,14 +251,14 @@ class ShapeSpace:
         Parameters
         ----------
         n_lines : int
-            N_e, the number of measurement lines.
+            N_e, the number of measurement lines. At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
 
         Returns
         -------
         tuple of numpy.ndarray
             (n_lines, 2) points relative to the state's centre at scale 1, and (n_lines, 2) normals.
         """
-        n_lines = check_positive_int(n_lines, "n_lines")
+        n_lines = check_positive_int(n_lines, "n_lines", maximum=MAX_SAMPLES)
         s = np.linspace(0, self.n_control, n_lines, endpoint=False)
         points = bspline_basis(s, self.n_control) @ self.template
         tangents = bspline_basis(s, self.n_control, derivative=True) @ self.template
@@ -304,7 +305,7 @@ class ShapeSpace:
         numpy.ndarray
             (3,) state; in the similarity space (4,), unturned.
         """
-        ellipse = as_finite_array(ellipse, "ellipse", shape=(5,))
+        ellipse = as_finite_array(ellipse, "ellipse", shape=(5,), max_abs=1e6)
         relative_size = max(ellipse[2], ellipse[3]) / max(self.template_ellipse[2:4])
         if self.kind == "similarity":
             return np.array([ellipse[0], ellipse[1], relative_size - 1.0, 0.0])

@@ -17,6 +17,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from amdo_lab.common import MAX_ITERATIONS, MAX_SAMPLES
 from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf import data as head_data
 from amdo_lab.cue_fusion_pf.likelihoods import SIGMA_RANGE, check_frame, check_shape_space
@@ -150,7 +151,7 @@ def sample_haar_features(features: HaarFeatures, n_features: int, *,
     """
     if not isinstance(features, HaarFeatures):
         raise TypeError(f"features must be HaarFeatures (see haar_features), got {type(features).__name__}")
-    n_features = check_positive_int(n_features, "n_features")
+    n_features = check_positive_int(n_features, "n_features", maximum=MAX_SAMPLES)
     if n_features > len(features):
         raise ValueError(f"n_features must be at most {len(features)} (all the features given), got {n_features}")
     return features.subset(np.sort(make_rng(rng, "rng").choice(len(features), n_features, replace=False)))
@@ -218,9 +219,9 @@ def make_training_set(*, rng: int | np.random.Generator, n_scenes: int = 40, per
     rng : int or numpy.random.Generator
         Source of the scenes.
     n_scenes : int
-        Scenes per view.
+        Scenes per view. At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     per_scene : int
-        Positive windows per head.
+        Positive windows per head. At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     negatives_per_scene : int
         Negative windows per scene, at least 3.
 
@@ -234,9 +235,10 @@ def make_training_set(*, rng: int | np.random.Generator, n_scenes: int = 40, per
     Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
     """
     generator = make_rng(rng, "rng")
-    n_scenes = check_positive_int(n_scenes, "n_scenes")
-    per_scene = check_positive_int(per_scene, "per_scene")
-    negatives_per_scene = check_positive_int(negatives_per_scene, "negatives_per_scene", minimum=3)
+    n_scenes = check_positive_int(n_scenes, "n_scenes", maximum=MAX_SAMPLES)
+    per_scene = check_positive_int(per_scene, "per_scene", maximum=MAX_SAMPLES)
+    negatives_per_scene = check_positive_int(negatives_per_scene, "negatives_per_scene", minimum=3,
+                                             maximum=MAX_SAMPLES)
     height, width = 192, 256
     positives = {view: [] for view in VIEWS}
     negatives, near_misses = [], []
@@ -473,10 +475,11 @@ def train_cascade(training: TrainingSet, *, rng: int | np.random.Generator, firs
         Stages of level 1 and of each level-2 cascade (at most).
     n_features : int
         Haar features drawn from all those of the window.
+        At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     n_negatives : int
-        Negatives per stage.
+        Negatives per stage. At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     max_stumps : int
-        Most decision stumps per stage.
+        Most decision stumps per stage. At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     min_detection : float
         Share of the positives each stage keeps, in (0, 1].
     max_false_positive : float
@@ -494,14 +497,15 @@ def train_cascade(training: TrainingSet, *, rng: int | np.random.Generator, firs
     if not isinstance(training, TrainingSet):
         raise TypeError(f"training must be a TrainingSet (see make_training_set), got {type(training).__name__}")
     generator = make_rng(rng, "rng")
-    first_stages = check_positive_int(first_stages, "first_stages")
-    second_stages = check_positive_int(second_stages, "second_stages")
-    n_negatives = check_positive_int(n_negatives, "n_negatives")
-    max_stumps = check_positive_int(max_stumps, "max_stumps")
+    first_stages = check_positive_int(first_stages, "first_stages", maximum=MAX_ITERATIONS)
+    second_stages = check_positive_int(second_stages, "second_stages", maximum=MAX_ITERATIONS)
+    n_negatives = check_positive_int(n_negatives, "n_negatives", maximum=MAX_SAMPLES)
+    max_stumps = check_positive_int(max_stumps, "max_stumps", maximum=MAX_ITERATIONS)
     min_detection = check_in_range(min_detection, "min_detection", 0.0, 1.0, closed="right")
     max_false_positive = check_in_range(max_false_positive, "max_false_positive", 0.0, 1.0, closed="both")
     began = time.perf_counter()
-    features = sample_haar_features(haar_features(WINDOW), check_positive_int(n_features, "n_features"), rng=generator)
+    n_features = check_positive_int(n_features, "n_features", maximum=MAX_SAMPLES)
+    features = sample_haar_features(haar_features(WINDOW), n_features, rng=generator)
     everyone = np.concatenate(list(training.positives.values()))
     options = dict(n_negatives=n_negatives, max_stumps=max_stumps, min_detection=min_detection,
                    max_false_positive=max_false_positive, rng=generator)

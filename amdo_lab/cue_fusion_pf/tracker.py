@@ -8,7 +8,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_names, check_positive_int, make_rng
+from amdo_lab.common import (MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check_bool, check_choice,
+                             check_image_shape, check_in_range, check_names, check_positive_int, make_rng)
 from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
 from amdo_lab.cue_fusion_pf.likelihoods import COLOR_SPACES, MAX_PIXELS, PAPER_SIGMAS, SIGMA_RANGE, ColorLikelihood, EdgeLikelihood
 from amdo_lab.cue_fusion_pf.shape import SHAPE_KINDS, ShapeSpace
@@ -212,7 +213,7 @@ def shape_space_of(init: object, frame_shape: tuple[int, int], kind: str = "tran
         An ellipse ``(cx, cy, a, b, angle)`` (see :func:`as_ellipse`) or (J, 2) B-spline control
         points in pixels, within ±:data:`MAX_PIXELS`; its centre must lie on the frame.
     frame_shape : tuple of int
-        (H, W) of the frames.
+        (H, W) of the frames, positive ints.
     kind : str
         ``"translation_scale"`` or ``"similarity"`` (eq. 3, left or right).
 
@@ -226,6 +227,7 @@ def shape_space_of(init: object, frame_shape: tuple[int, int], kind: str = "tran
     Li & Chaumette, AMDO 2004, eqs. (1)-(3).
     """
     init = as_finite_array(init, "init", max_abs=MAX_PIXELS)
+    height, width = check_image_shape(frame_shape, "frame_shape", axes="H, W")
     kind = check_choice(kind, "kind", SHAPE_KINDS)
     if init.shape == (5,):
         init = as_ellipse(init, "init")
@@ -239,7 +241,6 @@ def shape_space_of(init: object, frame_shape: tuple[int, int], kind: str = "tran
         start[:2] = space.centre
     else:
         raise ValueError(f"init must be an ellipse (cx, cy, a, b, angle) or (J, 2) control points, got shape {init.shape}")
-    height, width = frame_shape
     if not (0 <= start[0] < width and 0 <= start[1] < height):
         raise ValueError(f"init must lie on the frame ({width}×{height}), centre at ({start[0]:.1f}, {start[1]:.1f})")
     return space, start
@@ -375,7 +376,7 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
         ``oracle=``, a callable ``(t, states) -> (N,)`` log-likelihood, e.g.
         ``HeadSequence.oracle_log_likelihood``).
     n_particles : int
-        N_w, at least 2.
+        N_w, at least 2. At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     sigmas : str or dict
         ``"calibrated"`` (:data:`CALIBRATED_SIGMAS`), ``"paper"`` (Table 1: σ_c = 5, σ_s = √15) or a
         dict of values in :data:`SIGMA_RANGE`.
@@ -402,7 +403,7 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
     """
     frames = check_frames(frames)
     cues = check_names(cues, "cues", allowed=CUES)
-    n_particles = check_positive_int(n_particles, "n_particles", minimum=2)
+    n_particles = check_positive_int(n_particles, "n_particles", minimum=2, maximum=MAX_SAMPLES)
     unknown = set(params) - set(TRACK_DEFAULTS)
     if unknown:
         raise TypeError(f"track() got unknown parameter(s) {sorted(unknown)}; known: {sorted(TRACK_DEFAULTS)}")
@@ -498,9 +499,9 @@ def calibration_distances(sequences: Sequence, cue: str, *, rng: int | np.random
     rng : int or numpy.random.Generator
         Source of the prior samples.
     n_samples : int
-        Prior samples per frame.
+        Prior samples per frame. At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     frame_step : int
-        Use every ``frame_step``-th frame.
+        Use every ``frame_step``-th frame. At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     **params
         Cue and dynamics parameters, as for :func:`track`; with ``shape="similarity"`` the
         sequences are walker sequences (``.template`` gives the outline on frame 0).
@@ -520,8 +521,8 @@ def calibration_distances(sequences: Sequence, cue: str, *, rng: int | np.random
         raise TypeError("sequences must be a non-empty sequence of HeadSequence (objects with .frames, .truth and "
                         f".true_ellipses), got {type(sequences).__name__}")
     check_choice(cue, "cue", ("color", "structure"))
-    n_samples = check_positive_int(n_samples, "n_samples", minimum=2)
-    frame_step = check_positive_int(frame_step, "frame_step")
+    n_samples = check_positive_int(n_samples, "n_samples", minimum=2, maximum=MAX_SAMPLES)
+    frame_step = check_positive_int(frame_step, "frame_step", maximum=MAX_ITERATIONS)
     options = _options(params)
     generator = make_rng(rng, "rng")
     at_truth, at_prior = [], []

@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from amdo_lab.common import MAX_ITERATIONS, MAX_SAMPLES
 from amdo_lab.common import (as_finite_array, check_bool, check_choice, check_in_range, check_positive,
                              check_positive_int, make_rng)
 
@@ -290,11 +291,12 @@ def make_skin_texture(hand: HandModel, n_features: int, *, rng: np.random.Genera
     hand : HandModel
         The hand to draw the features on.
     n_features : int
-        Number of features K (≥ 1).
+        Number of features K (≥ 1). At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     rng : int or numpy.random.Generator
         Seed (≥ 0) or generator of the feature positions.
     a : float, default 2.0
-        Exponent of the bending weights of eq. (3) (> 0; 2 is the paper's value).
+        Exponent of the bending weights of eq. (3) (in (0, :data:`MAX_BENDING_EXPONENT`]; 2 is the
+        paper's value).
 
     Returns
     -------
@@ -309,7 +311,8 @@ def make_skin_texture(hand: HandModel, n_features: int, *, rng: np.random.Genera
     check_hand(hand)
     rng = make_rng(rng, "rng")
     rest = hand.rest_pose()
-    points = hand.sample_surface(rest, check_positive_int(n_features, "n_features"), rng=rng)
+    n_features = check_positive_int(n_features, "n_features", maximum=MAX_SAMPLES)
+    points = hand.sample_surface(rest, n_features, rng=rng)
     return SkinTexture(points, hand.texture_binding(points, rest, a))
 
 
@@ -413,9 +416,10 @@ def make_registration_problem(hand: HandModel, *, rng: np.random.Generator | int
     outlier_ratio : float, default 1.0
         Uniform outliers per inlier data point, in [0, 1000].
     n_model : int, default 500
-        Texture points N (≥ 1).
+        Texture points N (≥ 1). At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     n_data : int, default 500
         Skin points among the data (≥ 1), before the outliers.
+        At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     occlusion : bool, default False
         Keep only features facing a camera 500 mm above the hand.
     repeatability : float, default DEFAULT_REPEATABILITY
@@ -447,7 +451,8 @@ def make_registration_problem(hand: HandModel, *, rng: np.random.Generator | int
                                                                                  0.0, MAX_LENGTH_MM, closed="both")
     outlier_ratio = check_in_range(outlier_ratio, "outlier_ratio", 0.0, _MAX_OUTLIER_RATIO, closed="both")
     occlusion = check_bool(occlusion, "occlusion")
-    n_model, n_data = check_positive_int(n_model, "n_model"), check_positive_int(n_data, "n_data")
+    n_model = check_positive_int(n_model, "n_model", maximum=MAX_SAMPLES)
+    n_data = check_positive_int(n_data, "n_data", maximum=MAX_SAMPLES)
     repeatability = check_positive(repeatability, "repeatability", allow_zero=True)
     if repeatability > 1:
         raise ValueError(f"repeatability must lie in [0, 1], got {repeatability}")
@@ -537,7 +542,7 @@ def make_tracking_sequence(hand: HandModel, *, rng: np.random.Generator | int, n
     rng : int or numpy.random.Generator
         Seed (≥ 0) or generator of the features, detections, noise and clutter.
     n_frames : int, default 100
-        Number of frames F (≥ 2).
+        Number of frames F (≥ 2). At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     fps : float, default 20.0
         Frame rate, frames per second (> 0); one full motion cycle spans the sequence.
     n_features : int, default 1500
@@ -545,7 +550,7 @@ def make_tracking_sequence(hand: HandModel, *, rng: np.random.Generator | int, n
     noise_mm : float, default 2.0
         Standard deviation of the Gaussian noise per coordinate, mm, in [0, 1e6].
     n_clutter : int, default 150
-        Forearm clutter points per frame (≥ 0).
+        Forearm clutter points per frame (≥ 0). At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     repeatability : float, default DEFAULT_REPEATABILITY
         Share of the camera-facing features detected per frame, in (0, 1].
     motion : {"turn", "bend"}, default "turn"
@@ -565,8 +570,8 @@ def make_tracking_sequence(hand: HandModel, *, rng: np.random.Generator | int, n
     """
     check_hand(hand)
     rng = make_rng(rng, "rng")
-    n_frames = check_positive_int(n_frames, "n_frames", minimum=2)
-    n_clutter = check_positive_int(n_clutter, "n_clutter", minimum=0)
+    n_frames = check_positive_int(n_frames, "n_frames", minimum=2, maximum=MAX_ITERATIONS)
+    n_clutter = check_positive_int(n_clutter, "n_clutter", minimum=0, maximum=MAX_SAMPLES)
     check_choice(motion, "motion", ("turn", "bend"))
     camera = _CAMERA if camera is None else as_finite_array(camera, "camera", ndim=1, shape=(3,),
                                                             max_abs=MAX_LENGTH_MM)

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from amdo_lab.common import MAX_ITERATIONS
 from amdo_lab.common import RateInterval, check_positive, check_positive_int, make_rng, rate_interval, spawn_rngs
 
 from amdo_lab.em_articulated.data import (RegistrationProblem, joint_rmse_deg, make_registration_problem,
@@ -106,7 +107,7 @@ def noise_floor_trials(hand: HandModel, n_trials: int, *, rng: np.random.Generat
     hand : HandModel
         The hand of every problem.
     n_trials : int
-        Number of seeded problems (≥ 1).
+        Number of seeded problems (≥ 1). At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     rng : int or numpy.random.Generator
         Seed (≥ 0) or generator of the trials' random streams (:func:`amdo_lab.common.spawn_rngs`).
     problem : dict, optional
@@ -126,7 +127,7 @@ def noise_floor_trials(hand: HandModel, n_trials: int, *, rng: np.random.Generat
     """
     check_hand(hand)
     rng = make_rng(rng, "rng")
-    n_trials = check_positive_int(n_trials, "n_trials")
+    n_trials = check_positive_int(n_trials, "n_trials", maximum=MAX_ITERATIONS)
     problem = check_settings(problem, "problem")
     errors = [_floor_errors(hand, make_registration_problem(hand, rng=trial_rng, **problem))
               for trial_rng in spawn_rngs(rng, n_trials)]
@@ -147,7 +148,7 @@ def run_registration_trials(hand: HandModel, n_trials: int, *, rng: np.random.Ge
     hand : HandModel
         The hand of every problem.
     n_trials : int
-        Number of seeded problems (≥ 1).
+        Number of seeded problems (≥ 1). At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     rng : int or numpy.random.Generator
         Seed (≥ 0) or generator of the trials' random streams (:func:`amdo_lab.common.spawn_rngs`):
         trial k draws the same problem whatever ``n_trials``.
@@ -175,10 +176,11 @@ def run_registration_trials(hand: HandModel, n_trials: int, *, rng: np.random.Ge
     """
     check_hand(hand)
     rng = make_rng(rng, "rng")
-    n_trials = check_positive_int(n_trials, "n_trials")
+    n_trials = check_positive_int(n_trials, "n_trials", maximum=MAX_ITERATIONS)
     problem, em_settings = check_settings(problem, "problem"), check_settings(em_settings, "em_settings")
     digit_search = None if digit_search is None else check_settings(digit_search, "digit_search")
-    surface_max_iter = check_positive_int(surface_max_iter, "surface_max_iter", minimum=0)
+    surface_max_iter = check_positive_int(surface_max_iter, "surface_max_iter", minimum=0,
+                                          maximum=MAX_ITERATIONS)
     epsilon_mm = check_positive(epsilon_mm, "epsilon_mm")
     rmse, worst, seconds, oracle, oracle_worst = [], [], [], [], []
     for trial_rng in spawn_rngs(rng, n_trials):
@@ -254,7 +256,7 @@ def objective_check(hand: HandModel, n_trials: int, *, rng: np.random.Generator 
     hand : HandModel
         The hand of every problem.
     n_trials : int
-        Number of seeded problems (≥ 1).
+        Number of seeded problems (≥ 1). At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     rng : int or numpy.random.Generator
         Seed (≥ 0) or generator of the trials' random streams (:func:`amdo_lab.common.spawn_rngs`).
     problem : dict, optional
@@ -274,7 +276,7 @@ def objective_check(hand: HandModel, n_trials: int, *, rng: np.random.Generator 
     """
     check_hand(hand)
     rng = make_rng(rng, "rng")
-    n_trials = check_positive_int(n_trials, "n_trials")
+    n_trials = check_positive_int(n_trials, "n_trials", maximum=MAX_ITERATIONS)
     problem, settings = check_settings(problem, "problem"), check_settings(em_settings, "em_settings")
     sigma = float(settings.get("sigma_min", 3.0))
     rows = []

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from amdo_lab.common import MAX_ITERATIONS, MAX_SAMPLES
 from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive, check_positive_int, make_rng
 from amdo_lab.common.geometry import rigid_transform, rotation_matrix, skew
 
@@ -45,6 +46,9 @@ _THUMB_LIMITS = ((-60, 60), (0, 70), (-12, 12), (-30, 30), (-15, 90))
 #: chapter's functions accept, mm: a kilometre, far beyond any hand and far below where squares and
 #: exponentials of it overflow to inf.
 MAX_LENGTH_MM = 1e6
+#: Largest exponent ``a`` of the bending weights of eq. (3): at 1,000 each point already moves rigidly
+#: with its strongest part (the chapter uses 2 to 50); beyond it the powers of the fields overflow.
+MAX_BENDING_EXPONENT = 1000.0
 
 _X = np.array([1.0, 0.0, 0.0])
 _Y = np.array([0.0, 1.0, 0.0])
@@ -276,6 +280,7 @@ class HandModel:
             Pose (mm for DOFs 0-2, radians for the others).
         n_samples : int, default 7
             Points sampled along each phalanx axis (≥ 1).
+            At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
 
         Returns
         -------
@@ -283,7 +288,7 @@ class HandModel:
             The smallest gap, mm.
         """
         frames = self._forward(self.check_theta(theta))[0]
-        along = np.linspace(-0.5, 0.5, check_positive_int(n_samples, "n_samples"))
+        along = np.linspace(-0.5, 0.5, check_positive_int(n_samples, "n_samples", maximum=MAX_SAMPLES))
         axis_points, radius, digit = [], [], []
         for p, part in enumerate(self._parts[1:], start=1):
             half = part.radii[1] - 3.0  # the ellipsoid overshoots the joints by 3 mm
@@ -451,11 +456,12 @@ class HandModel:
         theta : array_like, shape (27,)
             Pose (mm for DOFs 0-2, radians for the others).
         n : int
-            Number of points (≥ 1).
+            Number of points (≥ 1). At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
         rng : int or numpy.random.Generator
             Seed (≥ 0) or generator of the points.
         newton_steps : int, default 4
             Newton steps that project each drawn point onto the surface (≥ 1).
+            At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
 
         Returns
         -------
@@ -463,9 +469,9 @@ class HandModel:
             Points within 0.2 mm of the surface, mm.
         """
         theta = self.check_theta(theta)
-        n = check_positive_int(n, "n")
+        n = check_positive_int(n, "n", maximum=MAX_SAMPLES)
         rng = make_rng(rng, "rng")
-        newton_steps = check_positive_int(newton_steps, "newton_steps")
+        newton_steps = check_positive_int(newton_steps, "newton_steps", maximum=MAX_ITERATIONS)
         frames = self._forward(theta)[0]
         radii = np.array([part.radii for part in self._parts])
         area = (radii[:, 0] * radii[:, 1] + radii[:, 1] * radii[:, 2] + radii[:, 0] * radii[:, 2])
@@ -528,6 +534,7 @@ class HandModel:
             Pose (mm for DOFs 0-2, radians for the others).
         resolution : int, default 16
             Vertices per side of each ellipsoid's grid (≥ 4).
+            At most 512 (16 parts of 512² vertices each).
 
         Returns
         -------
@@ -537,7 +544,7 @@ class HandModel:
             Vertex indices of each triangle.
         """
         frames = self._forward(self.check_theta(theta))[0]
-        n = check_positive_int(resolution, "resolution", minimum=4)
+        n = check_positive_int(resolution, "resolution", minimum=4, maximum=512)  # 16 parts of 512² vertices
         polar, azimuth = np.meshgrid(np.linspace(0, np.pi, n), np.linspace(0, 2 * np.pi, n), indexing="ij")
         unit = np.stack([np.sin(polar) * np.cos(azimuth), np.cos(polar), np.sin(polar) * np.sin(azimuth)], axis=-1)
         local = unit.reshape(1, -1, 3) * self._radii[:, None, :] + self._centres[:, None, :]  # (16, n², 3)
@@ -562,7 +569,8 @@ class HandModel:
         theta : array_like, shape (27,)
             Pose (mm for DOFs 0-2, radians for the others).
         a : float, default 2.0
-            Exponent of the weights of eq. (3) (> 0): large ``a`` moves each point rigidly with
+            Exponent of the weights of eq. (3), in (0, :data:`MAX_BENDING_EXPONENT`]: large ``a``
+            moves each point rigidly with
             its strongest part.
 
         Returns
@@ -572,7 +580,7 @@ class HandModel:
         """
         points = as_finite_array(points, "points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
         theta = self.check_theta(theta)
-        a = check_positive(a, "a")
+        a = check_in_range(a, "a", 0.0, MAX_BENDING_EXPONENT, closed="right")
         fields = self.part_fields(points, theta)
         part_p = np.argmax(fields, axis=1)
         neighbour_fields = np.where(self.adjacency[part_p] & (np.arange(self.n_parts) != part_p[:, None]),
@@ -656,7 +664,7 @@ class HandModel:
         theta_to : array_like, shape (27,)
             Pose to move them to.
         a : float, default 2.0
-            Exponent of the weights of eq. (3) (> 0).
+            Exponent of the weights of eq. (3), in (0, :data:`MAX_BENDING_EXPONENT`].
 
         Returns
         -------
@@ -702,7 +710,8 @@ class TextureBinding:
         Parameters
         ----------
         frames : numpy.ndarray, shape (16, 4, 4)
-            Part transforms, e.g. :meth:`HandModel.part_transforms`.
+            Part transforms, e.g. :meth:`HandModel.part_transforms`; entries at most
+            :data:`MAX_LENGTH_MM` in magnitude.
 
         Returns
         -------
@@ -711,7 +720,7 @@ class TextureBinding:
         world_r : numpy.ndarray, shape (N, 3)
             The points moved with part r, mm.
         """
-        frames = as_finite_array(frames, "frames", shape=(HandModel.n_parts, 4, 4))
+        frames = as_finite_array(frames, "frames", shape=(HandModel.n_parts, 4, 4), max_abs=MAX_LENGTH_MM)
         world_p = np.einsum("nij,nj->ni", frames[self.part_p, :3, :3], self.local_p) + frames[self.part_p, :3, 3]
         world_r = np.einsum("nij,nj->ni", frames[self.part_r, :3, :3], self.local_r) + frames[self.part_r, :3, 3]
         return world_p, world_r

@@ -8,6 +8,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 from scipy.special import logsumexp
 
+from amdo_lab.common import MAX_ITERATIONS, MAX_LEVELS, MAX_SAMPLES
 from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive, check_positive_int
 from amdo_lab.common.threads import one_blas_thread
 
@@ -44,6 +45,12 @@ DEFAULT_TOL = 1e-3
 
 #: Largest σ accepted, mm (σ² and the energies overflow long before 1e308).
 MAX_SIGMA_MM = MAX_LENGTH_MM
+#: Largest relative damping (and release ratio) accepted: a million times the diagonal already freezes
+#: every step; larger factors overflow when they multiply the normal equations.
+MAX_DAMPING = 1e6
+#: Largest log of the outlier constant c of eq. (17) the E-step accepts: exp(700) is about 1e304, the
+#: largest power of e that stays finite with room for the sums over the data around it.
+MAX_LOG_C = 700.0
 #: Largest per-point weight :func:`fit_surface` accepts (weights are relative: a weight of 1e308 would
 #: overflow the weighted normal equations).
 MAX_WEIGHT = 1e6
@@ -91,8 +98,8 @@ def _check_e_step_inputs(model_points: object, data_points: object, sigma: objec
     sigma = check_in_range(sigma, "sigma", 0.0, MAX_SIGMA_MM, closed="right")
     if not isinstance(log_c, (int, float, np.integer, np.floating)) or isinstance(log_c, (bool, np.bool_)):
         raise TypeError(f"log_c must be a real number, got {type(log_c).__name__}")
-    if np.isnan(log_c) or log_c == np.inf:  # -inf is allowed: no outlier class (c = 0)
-        raise ValueError(f"log_c must be a number or -inf (c = 0), got {log_c}")
+    if np.isnan(log_c) or log_c > MAX_LOG_C:  # -inf is allowed: no outlier class (c = 0)
+        raise ValueError(f"log_c must be at most {MAX_LOG_C:g} or -inf (c = 0), got {log_c}")
     return model, data, sigma, float(log_c)
 
 
@@ -275,9 +282,10 @@ def e_step_statistics(model_points: object, data_points: object, sigma: float,
     sigma : float
         σ of the Gaussian of eq. (6), mm, in (0, 1e6].
     log_c : float
-        log of the outlier constant c of eq. (17); -inf for no outlier class.
+        log of the outlier constant c of eq. (17), at most :data:`MAX_LOG_C` (exp of more
+        overflows); -inf for no outlier class.
     chunk : int, default 256
-        Data points per streamed block (≥ 1).
+        Data points per streamed block (≥ 1). At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     precision : {"single", "double"}, default "single"
         Precision of the exponentials and their sums.
 
@@ -298,7 +306,7 @@ def e_step_statistics(model_points: object, data_points: object, sigma: float,
     bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; eqs. (17)-(20).
     """
     model_points, data_points, sigma, log_c = _check_e_step_inputs(model_points, data_points, sigma, log_c)
-    chunk = check_positive_int(chunk, "chunk")
+    chunk = check_positive_int(chunk, "chunk", maximum=MAX_SAMPLES)
     check_choice(precision, "precision", ("single", "double"))
     return _dense_statistics(model_points, data_points, sigma, log_c, chunk, precision)
 
@@ -408,7 +416,8 @@ def e_step_statistics_kdtree(model_points: object, data_points: object, sigma: f
     sigma : float
         σ of the Gaussian of eq. (6), mm, in (0, 1e6].
     log_c : float
-        log of the outlier constant c of eq. (17); -inf for no outlier class.
+        log of the outlier constant c of eq. (17), at most :data:`MAX_LOG_C` (exp of more
+        overflows); -inf for no outlier class.
     radius_sigmas : float, default 4.0
         Truncation radius, in σ (> 0).
 
@@ -606,9 +615,11 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
     sigma_min : float, default 3.0
         Smallest σ, mm (> 0): about the noise.
     n_levels : int, default 5
-        Number of geometric σ levels (≥ 1; the paper: about five).
+        Number of geometric σ levels (≥ 1; the paper: about five), at most
+        :data:`amdo_lab.common.MAX_LEVELS` (64).
     max_iter : int, default 10
         Most EM iterations at one σ level (≥ 1); a level ends earlier when Θ stops changing.
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     tol : float, default 1e-3
         Convergence threshold on the largest change of Θ in one iteration (rad; mm for the palm; ≥ 0).
     outlier_c : float or None, default None
@@ -623,13 +634,16 @@ def register_em(model_points: object, data_points: object, hand: HandModel, thet
         blurred towards the middle of the hand, which curls fingers; B_i carries the same blur, so
         data that coincide with the model give zero force at every σ.
     a : float, default 2.0
-        Exponent of the bending weights of eq. (3) (> 0).
+        Exponent of the bending weights of eq. (3) (in (0, :data:`MAX_BENDING_EXPONENT`]).
     gauss_newton_steps : int, default 2
         Gauss-Newton steps of each M-step (≥ 1); the M-step stops earlier when a step is below 1e-6.
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     damping : float, default 1e-3
-        Levenberg damping of the M-step's normal equations, relative to their diagonal (≥ 0).
+        Levenberg damping of the M-step's normal equations, relative to their diagonal, in
+        [0, :data:`MAX_DAMPING`].
     chunk : int, default 256
-        Data points per block of the streamed dense E-step (≥ 1).
+        Data points per block of the streamed dense E-step (≥ 1), at most
+        :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     release_ratio : float or None, default None
         Coarse-to-fine (ours; the paper frees every DOF at every σ, the default None):
         a joint is estimated only once σ is below its lever arm (:func:`dof_lever_arms`) divided
@@ -703,18 +717,22 @@ def register_em_reference(model_points: object, data_points: object, hand: HandM
         Smallest σ, mm (> 0): about the noise.
     n_levels : int, default 5
         Number of geometric σ levels (≥ 1; the paper: about five).
+        At most :data:`amdo_lab.common.MAX_LEVELS` (64).
     max_iter : int, default 10
         Most EM iterations at one σ level (≥ 1); a level ends earlier when Θ stops changing.
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     tol : float, default 1e-3
         Convergence threshold on the largest change of Θ in one iteration (rad; mm for the palm; ≥ 0).
     targets : {"paper", "debiased"}, default "paper"
         The M-step targets, as for :func:`register_em`.
     a : float, default 2.0
-        Exponent of the bending weights of eq. (3) (> 0).
+        Exponent of the bending weights of eq. (3) (in (0, :data:`MAX_BENDING_EXPONENT`]).
     gauss_newton_steps : int, default 2
         Gauss-Newton steps of each M-step (≥ 1); the M-step stops earlier when a step is below 1e-6.
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     damping : float, default 1e-3
-        Levenberg damping of the M-step's normal equations, relative to their diagonal (≥ 0).
+        Levenberg damping of the M-step's normal equations, relative to their diagonal, in
+        [0, :data:`MAX_DAMPING`].
 
     Returns
     -------
@@ -727,12 +745,12 @@ def register_em_reference(model_points: object, data_points: object, hand: HandM
     """
     model, data, theta, sigma_max, sigma_min = _check_common(hand, model_points, data_points, theta_init,
                                                              sigma_max, sigma_min)
-    n_levels = check_positive_int(n_levels, "n_levels")
-    max_iter = check_positive_int(max_iter, "max_iter")
+    n_levels = check_positive_int(n_levels, "n_levels", maximum=MAX_LEVELS)
+    max_iter = check_positive_int(max_iter, "max_iter", maximum=MAX_ITERATIONS)
     tol = check_positive(tol, "tol", allow_zero=True)
     check_choice(targets, "targets", ("paper", "debiased"))
-    gauss_newton_steps = check_positive_int(gauss_newton_steps, "gauss_newton_steps")
-    damping = check_positive(damping, "damping", allow_zero=True)
+    gauss_newton_steps = check_positive_int(gauss_newton_steps, "gauss_newton_steps", maximum=MAX_ITERATIONS)
+    damping = check_in_range(damping, "damping", 0.0, MAX_DAMPING, closed="both")
     binding = hand.texture_binding(model, theta, a)  # eq. (3): the texture's blend weights, fixed at Θ_init
     with one_blas_thread():
         # Sec. 3.3: σ falls geometrically from the largest motion σ_max to the noise level σ_min
@@ -786,19 +804,19 @@ def _em_setup(hand: HandModel, model_points: object, data_points: object, theta_
     """Check :func:`register_em`'s arguments (same names, same defaults) and bind the texture at ``theta_init``."""
     model, data, theta, sigma_max, sigma_min = _check_common(hand, model_points, data_points,
                                                              theta_init, sigma_max, sigma_min)
-    n_levels = check_positive_int(n_levels, "n_levels")
-    max_iter = check_positive_int(max_iter, "max_iter")
+    n_levels = check_positive_int(n_levels, "n_levels", maximum=MAX_LEVELS)
+    max_iter = check_positive_int(max_iter, "max_iter", maximum=MAX_ITERATIONS)
     tol = check_positive(tol, "tol", allow_zero=True)
     check_choice(sigma_mode, "sigma_mode", ("anneal", "scaled", "estimate"))
     check_choice(targets, "targets", ("paper", "debiased"))
     check_choice(e_step, "e_step", ("dense", "kdtree"))
     check_choice(schedule, "schedule", ("levels", "per-step"))
-    chunk = check_positive_int(chunk, "chunk")
-    gauss_newton_steps = check_positive_int(gauss_newton_steps, "gauss_newton_steps")
-    damping = check_positive(damping, "damping", allow_zero=True)
+    chunk = check_positive_int(chunk, "chunk", maximum=MAX_SAMPLES)
+    gauss_newton_steps = check_positive_int(gauss_newton_steps, "gauss_newton_steps", maximum=MAX_ITERATIONS)
+    damping = check_in_range(damping, "damping", 0.0, MAX_DAMPING, closed="both")
     c = PAPER_C if outlier_c is None else check_positive(outlier_c, "outlier_c")
     if release_ratio is not None:
-        release_ratio = check_positive(release_ratio, "release_ratio")
+        release_ratio = check_in_range(release_ratio, "release_ratio", 0.0, MAX_DAMPING, closed="right")
     binding = hand.texture_binding(model, theta, a)
     return _EMSetup(hand, data, theta, binding, np.geomspace(sigma_max, sigma_min, n_levels), sigma_min,
                     dof_lever_arms(hand, binding, theta), float(np.log(c)), max_iter, tol, sigma_mode,
@@ -880,7 +898,7 @@ def climb_objective(model_points: object, data_points: object, hand: HandModel, 
     sigma : float, default 3.0
         The fixed σ, mm, in (0, 5e5].
     max_iter : int, default 60
-        Most EM iterations (≥ 1).
+        Most EM iterations (≥ 1). At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     tol : float, default 1e-5
         The climb stops when no DOF moves by more than this in one iteration (rad; mm for the palm).
 
@@ -894,8 +912,9 @@ def climb_objective(model_points: object, data_points: object, hand: HandModel, 
     Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eqs. (9), (17), (20).
     """
     sigma = check_in_range(sigma, "sigma", 0.0, MAX_SIGMA_MM / 2, closed="right")
+    max_iter = check_positive_int(max_iter, "max_iter", maximum=MAX_ITERATIONS)
     setup = _em_setup(hand, model_points, data_points, theta_init, sigma_max=2.0 * sigma,
-                      sigma_min=sigma, n_levels=1, max_iter=check_positive_int(max_iter, "max_iter"),
+                      sigma_min=sigma, n_levels=1, max_iter=max_iter,
                       tol=tol, targets="paper", e_step="dense")
     start = hand.check_theta(theta_start, "theta_start", within_limits=True)
     return _em_levels(setup, start, np.array([sigma]))[0]
@@ -1026,12 +1045,14 @@ def refine_digits(model_points: object, data_points: object, hand: HandModel, th
         Pose to refine, inside the joint limits (e.g. ``register_em(...).theta``).
     search_levels : int, default 2
         How many of the EM's last σ levels each restart runs (1 to ``n_levels``).
+        At most :data:`amdo_lab.common.MAX_LEVELS` (64).
     abduction_step_deg : float, default 20.0
         Sideways swing of a digit's restarts, degrees (> 0).
     flexion_step_deg : float, default 25.0
         Knuckle and whole-curl flexion of a digit's restarts, degrees (> 0).
     max_passes : int, default 2
         Most passes over the five digits (≥ 0; 0: only the re-run from ``theta``).
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     min_gain : float, default 1.0
         Smallest rise of the criterion that accepts a restart, nats (≥ 0): a margin against
         moves that only fit the noise.
@@ -1053,12 +1074,12 @@ def refine_digits(model_points: object, data_points: object, hand: HandModel, th
     """
     setup = _em_setup(hand, model_points, data_points, theta_init, **em_settings)
     theta = hand.check_theta(theta, "theta", within_limits=True)
-    search_levels = check_positive_int(search_levels, "search_levels")
+    search_levels = check_positive_int(search_levels, "search_levels", maximum=MAX_LEVELS)
     if search_levels > len(setup.sigmas):
         raise ValueError(f"search_levels must be at most n_levels ({len(setup.sigmas)}), got {search_levels}")
     abduction_step = np.radians(check_positive(abduction_step_deg, "abduction_step_deg"))
     flexion_step = np.radians(check_positive(flexion_step_deg, "flexion_step_deg"))
-    max_passes = check_positive_int(max_passes, "max_passes", minimum=0)
+    max_passes = check_positive_int(max_passes, "max_passes", minimum=0, maximum=MAX_ITERATIONS)
     min_gain = check_positive(min_gain, "min_gain", allow_zero=True)
     sigmas = setup.sigmas[-search_levels:]
 
@@ -1110,9 +1131,10 @@ def fit_known_correspondences(model_points: object, matched_points: object, hand
     theta_init : array_like, shape (27,)
         Pose of the texture and start of the fit, inside the joint limits.
     a : float, default 2.0
-        Exponent of the bending weights of eq. (3) (> 0).
+        Exponent of the bending weights of eq. (3) (in (0, :data:`MAX_BENDING_EXPONENT`]).
     max_iter : int, default 30
         Most Gauss-Newton steps (≥ 1); the fit stops earlier when a step is below 1e-6.
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
 
     Returns
     -------
@@ -1128,7 +1150,7 @@ def fit_known_correspondences(model_points: object, matched_points: object, hand
     model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
     matched = as_finite_array(matched_points, "matched_points", ndim=2, shape=(len(model), 3), max_abs=MAX_LENGTH_MM)
     theta = hand.check_theta(theta_init, "theta_init", within_limits=True)
-    max_iter = check_positive_int(max_iter, "max_iter")
+    max_iter = check_positive_int(max_iter, "max_iter", maximum=MAX_ITERATIONS)
     with one_blas_thread():
         binding = hand.texture_binding(model, theta, a)
         return _m_step(hand, binding, theta, np.ones(len(model)), matched, max_iter, 1e-3)
@@ -1184,6 +1206,7 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
         σ of eq. (22), mm, in (0, 1e6]; None drops eq. (22).
     max_iter : int, default 3
         Most Gauss-Newton steps (≥ 0); the fit stops earlier when no step lowers the loss.
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     damping : float, default 1e-2
         Initial Levenberg-Marquardt damping, relative to the normal equations' diagonal (≥ 0).
     epsilon_mm : float or None, default None
@@ -1208,10 +1231,10 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
         raise ValueError("weights must be non-negative")
     if sigma is not None:
         sigma = check_in_range(sigma, "sigma", 0.0, MAX_SIGMA_MM, closed="right")
-    damping = check_positive(damping, "damping", allow_zero=True)
+    damping = check_in_range(damping, "damping", 0.0, MAX_DAMPING, closed="both")
     if epsilon_mm is not None:
         epsilon_mm = check_positive(epsilon_mm, "epsilon_mm")
-    max_iter = check_positive_int(max_iter, "max_iter", minimum=0)
+    max_iter = check_positive_int(max_iter, "max_iter", minimum=0, maximum=MAX_ITERATIONS)
     limits = hand.joint_limits()
 
     def step_weights(dist: np.ndarray) -> np.ndarray:
@@ -1298,13 +1321,15 @@ def softassign_register(model_points: object, data_points: object, hand: HandMod
     slack : float, default 1e-2
         Initial slack entry (> 0).
     n_levels : int, default 5
-        Number of geometric σ levels (≥ 1).
+        Number of geometric σ levels (≥ 1). At most :data:`amdo_lab.common.MAX_LEVELS` (64).
     n_iter : int, default 3
         Match-and-pose iterations at each σ level (≥ 1).
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     n_sweeps : int, default 30
         Sinkhorn row-and-column normalisation sweeps per iteration (≥ 1).
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     a : float, default 2.0
-        Exponent of the bending weights of eq. (3) (> 0).
+        Exponent of the bending weights of eq. (3) (in (0, :data:`MAX_BENDING_EXPONENT`]).
 
     Returns
     -------
@@ -1323,9 +1348,9 @@ def softassign_register(model_points: object, data_points: object, hand: HandMod
     model, data, theta, sigma_max, sigma_min = _check_common(hand, model_points, data_points,
                                                              theta_init, sigma_max, sigma_min)
     slack = check_positive(slack, "slack")
-    n_levels = check_positive_int(n_levels, "n_levels")
-    n_iter = check_positive_int(n_iter, "n_iter")
-    n_sweeps = check_positive_int(n_sweeps, "n_sweeps")
+    n_levels = check_positive_int(n_levels, "n_levels", maximum=MAX_LEVELS)
+    n_iter = check_positive_int(n_iter, "n_iter", maximum=MAX_ITERATIONS)
+    n_sweeps = check_positive_int(n_sweeps, "n_sweeps", maximum=MAX_ITERATIONS)
     binding = hand.texture_binding(model, theta, a)
     n_model, n_data = len(model), len(data)
     inlier_prob = np.zeros(n_data)

@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from amdo_lab.common import MAX_ITERATIONS, MAX_SAMPLES
 from amdo_lab.common import as_finite_array, check_positive, check_positive_int
 
 from amdo_lab.em_articulated.hand import MAX_LENGTH_MM, HandModel, check_hand
@@ -71,6 +72,7 @@ def track_sequence(frames: list, hand: HandModel, theta_start: np.ndarray, *, ep
         Smallest σ, mm (> 0): about the noise.
     max_texture : int, default 500
         Most texture points carried to the next frame (≥ 1).
+        At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     surface_max_iter : int, default 3
         Most Gauss-Newton steps of the surface fit per frame (≥ 0; 0 skips it).
     em_settings : dict, optional
@@ -94,8 +96,9 @@ def track_sequence(frames: list, hand: HandModel, theta_start: np.ndarray, *, ep
     check_hand(hand)
     em_settings = check_settings(em_settings, "em_settings")
     epsilon_mm = check_positive(epsilon_mm, "epsilon_mm")
-    max_texture = check_positive_int(max_texture, "max_texture")
-    surface_max_iter = check_positive_int(surface_max_iter, "surface_max_iter", minimum=0)
+    max_texture = check_positive_int(max_texture, "max_texture", maximum=MAX_SAMPLES)
+    surface_max_iter = check_positive_int(surface_max_iter, "surface_max_iter", minimum=0,
+                                          maximum=MAX_ITERATIONS)
     theta = hand.check_theta(theta_start, "theta_start", within_limits=True)
     texture = frames[0][np.abs(hand.surface_distance(frames[0], theta)) < epsilon_mm]
     poses, counts = [theta], [len(texture)]

@@ -26,8 +26,11 @@ class Case:
 #: A finite value far out of any range: a function must either refuse it by name or return finite
 #: output (the overflow policy of CONTRIBUTING.md), never NaN or inf.
 HUGE = 1e308
+#: Counts far beyond any maximum: a count argument must refuse them by name (a documented maximum
+#: that fits the method), not hang, exhaust memory or return a degenerate result.
+HUGE_COUNTS = (("a billion", 10**9), ("2**63", 2**63))
 #: Spoiled labels that are finite input: a call that returns finite output for them is sensible.
-FINITE_LABELS = frozenset({"huge", "huge inside"})
+FINITE_LABELS = frozenset({"huge", "huge inside", "huge everywhere"})
 
 
 def all_finite(value: object, depth: int = 0) -> bool:
@@ -62,9 +65,11 @@ def spoil(kind: str, valid: object) -> list[tuple[str, object]]:
             return bad + [("numbers for a mask", array.astype(float))]
         with_nan, with_inf, with_huge = array.astype(float), array.astype(float), array.astype(float)
         with_nan.flat[0], with_inf.flat[-1], with_huge.flat[-1] = np.nan, np.inf, HUGE
-        return bad + [("NaN inside", with_nan), ("inf inside", with_inf), ("huge inside", with_huge)]
+        everywhere = np.full(array.shape, HUGE)  # a sum or a norm of it overflows even if one element does not
+        return bad + [("NaN inside", with_nan), ("inf inside", with_inf), ("huge inside", with_huge),
+                      ("huge everywhere", everywhere)]
     if kind == "count":
-        return common + [("zero", 0), ("negative", -1), ("a float", 2.5), ("a bool", True)]
+        return common + [("zero", 0), ("negative", -1), ("a float", 2.5), ("a bool", True), *HUGE_COUNTS]
     if kind in ("positive", "non_negative"):
         bad = common + [("negative", -1.0), ("NaN", math.nan), ("inf", math.inf), ("a bool", True), ("huge", HUGE)]
         return bad + ([("zero", 0.0)] if kind == "positive" else [])

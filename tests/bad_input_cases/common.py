@@ -72,7 +72,7 @@ def cases() -> dict[str, Case]:
                             {"values": "object"}, names={"values": "classes"}),
         "check_positive": Case(c.check_positive, {"value": 2.0, "name": "sigma"},
                                {"value": "positive"}, names={"value": "sigma"}),
-        "check_positive_int": Case(c.check_positive_int, {"value": 3, "name": "n_iter"},
+        "check_positive_int": Case(c.check_positive_int, {"value": 3, "name": "n_iter", "maximum": 1000},
                                    {"value": "count"}, names={"value": "n_iter"}),
         "make_rng": Case(c.make_rng, {"seed": 0, "name": "rng"}, {"seed": "seed"}, names={"seed": "rng"}),
         "paired_comparison": Case(c.paired_comparison, {"first": right, "second": wrong},

@@ -211,7 +211,7 @@ def cases() -> dict[str, Case]:
         "tracker.as_ellipse": Case(tracker_module.as_ellipse, {"ellipse": ellipse, "name": "init"}, {"ellipse": "array"},
                                    names={"ellipse": "init"}),
         "tracker.shape_space_of": Case(tracker_module.shape_space_of, {"init": ellipse, "frame_shape": frame.shape[:2]},
-                                       {"init": "array"}),
+                                       {"init": "array", "frame_shape": "object"}),
         "tracker.check_state_spread": Case(tracker_module.check_state_spread, {"spread": (2.0, 2.0, 0.02),
                                                                                "name": "init_spread"},
                                            {"spread": "array"}, names={"spread": "init_spread"}),

@@ -14,7 +14,44 @@ from bad_input_cases._core import Case
 
 #: (callable, argument, spoiled label) calls known to fail the test, with the reason; each must
 #: still fail (remove it once fixed).
-KNOWN_FAILURES: dict[tuple[str, str, str], str] = {}
+_ROUND_2 = "bounded counts and whole-array overflow: round 2, not yet fixed in this subpackage; "
+_WRONG_NAME = "the argument named as a whole word: round 2, not yet fixed in this subpackage; "
+KNOWN_FAILURES: dict[tuple[str, str, str], str] = {
+    ('generate_face_population', 'n_subjects', 'a billion'): _ROUND_2 + "crashes",
+    ('generate_face_population', 'n_subjects', '2**63'): _ROUND_2 + "wrong name",
+    ('generate_face_population', 'images_per_subject', 'a billion'): _ROUND_2 + "crashes",
+    ('generate_face_population', 'images_per_subject', '2**63'): _ROUND_2 + "crashes",
+    ('downsample_by_two', 'images', 'huge everywhere'): _ROUND_2 + "accepted",
+    ('weighted_sq_distances', 'a', 'a wrong trailing axis'): _WRONG_NAME + "wrong name",
+    ('PcaLda', 'pca_dimension', 'a billion'): _ROUND_2 + "accepted",
+    ('PcaLda', 'pca_dimension', '2**63'): _ROUND_2 + "accepted",
+    ('PcaLda', 'base_images_per_class', 'a billion'): _ROUND_2 + "accepted",
+    ('PcaLda', 'base_images_per_class', '2**63'): _ROUND_2 + "accepted",
+    ('FactorialDesign', 'n_subjects', 'a billion'): _ROUND_2 + "accepted",
+    ('FactorialDesign', 'n_subjects', '2**63'): _ROUND_2 + "accepted",
+    ('FactorialDesign', 'n_training_sets', 'a billion'): _ROUND_2 + "accepted",
+    ('FactorialDesign', 'n_training_sets', '2**63'): _ROUND_2 + "accepted",
+    ('FactorialDesign', 'n_galleries', 'a billion'): _ROUND_2 + "accepted",
+    ('FactorialDesign', 'n_galleries', '2**63'): _ROUND_2 + "accepted",
+    ('laplace_deviance', 'n_trials', 'a billion'): _ROUND_2 + "accepted",
+    ('laplace_deviance', 'n_trials', '2**63'): _ROUND_2 + "wrong name",
+    ('fit_binomial_glmm', 'n_trials', 'a billion'): _ROUND_2 + "accepted",
+    ('fit_binomial_glmm', 'n_trials', '2**63'): _ROUND_2 + "wrong name",
+    ('simulate_binomial_glmm', 'n_trials', 'a billion'): _ROUND_2 + "accepted",
+    ('simulate_binomial_glmm', 'n_trials', '2**63'): _ROUND_2 + "crashes",
+    ('recovery_study', 'n_replicates', 'a billion'): _ROUND_2 + "wrong name",
+    ('recovery_study', 'n_replicates', '2**63'): _ROUND_2 + "wrong name",
+    ('recovery_study', 'n_trials', 'a billion'): _ROUND_2 + "accepted",
+    ('recovery_study', 'n_trials', '2**63'): _ROUND_2 + "crashes",
+    ('fit_with_lme4', 'n_trials', 'a billion'): _ROUND_2 + "accepted",
+    ('fit_with_lme4', 'n_trials', '2**63'): _ROUND_2 + "accepted",
+    ('fit_gee_exchangeable', 'n_trials', 'a billion'): _ROUND_2 + "accepted",
+    ('fit_gee_exchangeable', 'n_trials', '2**63'): _ROUND_2 + "accepted",
+    ('fit_naive_logistic', 'n_trials', 'a billion'): _ROUND_2 + "accepted",
+    ('fit_naive_logistic', 'n_trials', '2**63'): _ROUND_2 + "accepted",
+    ('e90_dimension', 'eigenvalues', 'huge everywhere'): _ROUND_2 + "returns after an overflow warning",
+    ('simulate_binomial_glmm', 'coefficients', 'huge everywhere'): _ROUND_2 + "returns after an overflow warning",
+}
 
 #: Public names not called with user input, with the reason.
 EXEMPT = {
