@@ -40,12 +40,12 @@ def _tee_circle(toy_circle) -> np.ndarray:
     return np.array([count, total], float)
 
 
-def _tee_crossing_number(crossing_number) -> int:
+def _tee_crossing_number(toy_crossing_number) -> int:
     """Eq. 8 at the centre of a T drawn with its west, east and south neighbours set."""
     tee = np.zeros((5, 5), bool)
     tee[2, 1:4] = True
     tee[3, 2] = True
-    return int(crossing_number(tee)[2, 2])
+    return int(toy_crossing_number(tee)[2, 2])
 
 
 def _k8_against_k12(rule_first20) -> float:
@@ -95,7 +95,7 @@ EXERCISES = ExerciseSet(chapter=4, exercises=[
         (WrongAnswer(6, "the changes not halved"),
          WrongAnswer(1, "Yokoi's connectivity number, another reading of eq. 8"),
          WrongAnswer(2, "a line pixel (two neighbours across)")),
-        context=("crossing_number",), rtol=0.0, atol=0.0),
+        context=("toy_crossing_number",), rtol=0.0, atol=0.0),
     Exercise(
         3, _k8_against_k12,
         "compare the two settings query by query (McNemar, paired_comparison), with k_tried set to 8",
