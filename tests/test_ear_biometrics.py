@@ -332,6 +332,20 @@ def test_hog_baseline_and_cmc(small_database):
     np.testing.assert_allclose(cmc, [0.5, 0.75, 1.0])
 
 
+def test_lbp_baseline_and_peer_closed_set(small_database):
+    images, ids = small_database
+    lbp = eb.LbpNearestNeighbour(cells_per_side=4, blur_sigma=1.0)
+    descriptor = lbp.describe(images[0])
+    assert descriptor.shape == (4 * 4 * 10,)
+    np.testing.assert_allclose(descriptor.reshape(16, 10).sum(axis=1), 1.0)  # one histogram per cell
+    same_twice = np.repeat(np.asarray(images)[0::2], 2, axis=0)  # each image queried as itself
+    ranks, separation = eb.peer_closed_set(same_twice, np.repeat(ids[0::2], 2), lbp)
+    assert (ranks == 1).all() and separation.auc == 1.0
+    assert lbp.descriptors_ is None  # the baseline given is copied, not fitted
+    hog_ranks, _ = eb.peer_closed_set(images, ids)
+    np.testing.assert_array_equal(hog_ranks, eb.hog_closed_set(images, ids)[0])
+
+
 def test_separation_of_a_known_distance_matrix():
     distances = np.array([[0.1, 0.5, 0.9],
                           [0.6, 0.2, 0.4],

@@ -40,6 +40,7 @@ from amdo_lab.ear_biometrics.matcher import (
     EarTemplate,
     HogNearestNeighbour,
     IdentificationResult,
+    LbpNearestNeighbour,
     OpenSetRates,
     POINT_DISTANCE_CAP,
     RANKINGS,
@@ -70,5 +71,6 @@ from amdo_lab.ear_biometrics.evaluation import (
     genuine_impostor_separation,
     hog_closed_set,
     nuisance_study,
+    peer_closed_set,
 )
 from amdo_lab.ear_biometrics.plotting import draw_circles, draw_topology

@@ -9,7 +9,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import as_finite_array, check_positive_int, make_rng
-from amdo_lab.ear_biometrics.matcher import (EarMatcher, EarTemplate, HogNearestNeighbour, check_images,
+from amdo_lab.ear_biometrics.matcher import (EarMatcher, EarTemplate, HogNearestNeighbour, LbpNearestNeighbour,
+                                             check_images,
                                              check_subject_ids, check_templates, rank_of_truth)
 from amdo_lab.ear_biometrics.synthetic import check_disable, generate_ear_database
 
@@ -207,9 +208,57 @@ def closed_set(matcher: EarMatcher, templates: list[EarTemplate], subject_ids: o
     return ClosedSetResult(decided, ranks, truth, separation)
 
 
+def peer_closed_set(images: np.ndarray, subject_ids: object,
+                    baseline: HogNearestNeighbour | None = None) -> tuple[np.ndarray, Separation]:
+    """A nearest-neighbour baseline (HOG or LBP) with the protocol of :func:`closed_set`.
+
+    The images are compared as given: to give the baseline our canonical frame, pass
+    ``EarMatcher().canonical_image`` of each image.
+
+    Parameters
+    ----------
+    images : array_like, shape (n, rows, cols)
+        Two images per subject, capture 0 then capture 1.
+    subject_ids : array_like, shape (n,)
+        Subject of each image (str or finite real ids); n even.
+    baseline : HogNearestNeighbour or LbpNearestNeighbour or None
+        The descriptor, unfitted (it is fitted on the first captures here); None for HOG with cells of
+        an eighth of the image side (32 px at 256), so that its grid covers the ear the same way at
+        every resolution.
+
+    Returns
+    -------
+    ranks : numpy.ndarray, shape (n // 2,), int
+        Rank of the true subject for each query.
+    separation : Separation
+        Separation of the descriptor's distances.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 6 (the protocol).
+    N. Dalal, B. Triggs, "Histograms of Oriented Gradients for Human Detection", CVPR 2005.
+    T. Ojala, M. Pietikäinen, T. Mäenpää, "Multiresolution Gray-Scale and Rotation Invariant Texture
+    Classification with Local Binary Patterns", IEEE TPAMI 24(7), 2002.
+    """
+    check_images(images)
+    ids = check_subject_ids(subject_ids, "subject_ids")
+    if len(ids) != len(images) or len(ids) % 2:
+        raise ValueError("images and subject_ids must have the same even length (two captures per subject), "
+                         f"got {len(images)} images and subject_ids of shape {ids.shape}")
+    if baseline is None:
+        baseline = HogNearestNeighbour(max(2, int(np.shape(images)[-1]) // 8))
+    if not isinstance(baseline, HogNearestNeighbour):
+        raise TypeError(f"baseline must be a HogNearestNeighbour or LbpNearestNeighbour, got {type(baseline).__name__}")
+    baseline = copy.deepcopy(baseline).fit(images[0::2], ids[0::2])
+    distances = np.array([baseline.distances(image) for image in images[1::2]])
+    ranks = np.array([rank_of_truth(d, ids[0::2], s) for d, s in zip(distances, ids[1::2])])
+    return ranks, genuine_impostor_separation(distances, ids[0::2], ids[1::2])
+
+
 def hog_closed_set(images: np.ndarray, subject_ids: object, pixels_per_cell: int | None = None
                    ) -> tuple[np.ndarray, Separation]:
-    """HOG + 1-NN baseline with the protocol of :func:`closed_set`.
+    """HOG + 1-NN baseline with the protocol of :func:`closed_set` (:func:`peer_closed_set` with HOG).
 
     Parameters
     ----------
@@ -235,18 +284,9 @@ def hog_closed_set(images: np.ndarray, subject_ids: object, pixels_per_cell: int
     N. Dalal, B. Triggs, "Histograms of Oriented Gradients for Human Detection", CVPR 2005.
     """
     check_images(images)
-    ids = check_subject_ids(subject_ids, "subject_ids")
-    if len(ids) != len(images) or len(ids) % 2:
-        raise ValueError("images and subject_ids must have the same even length (two captures per subject), "
-                         f"got {len(images)} images and subject_ids of shape {ids.shape}")
     if pixels_per_cell is None:
         pixels_per_cell = max(2, int(np.shape(images)[-1]) // 8)
-    baseline = HogNearestNeighbour(pixels_per_cell)
-    for image, subject in zip(images[0::2], ids[0::2]):
-        baseline.enroll(subject, image)
-    distances = np.array([baseline.distances(image) for image in images[1::2]])
-    ranks = np.array([rank_of_truth(d, ids[0::2], s) for d, s in zip(distances, ids[1::2])])
-    return ranks, genuine_impostor_separation(distances, ids[0::2], ids[1::2])
+    return peer_closed_set(images, subject_ids, HogNearestNeighbour(pixels_per_cell))
 
 
 def nuisance_study(n_subjects: int, conditions: Mapping[str, tuple], *, rng: int | np.random.Generator,

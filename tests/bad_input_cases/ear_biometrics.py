@@ -131,6 +131,7 @@ def _context():
     templates = [matcher.extract(image) for image in images]
     matcher.fit(images[0::2], ids[0::2])
     baseline = eb.HogNearestNeighbour().fit(images[0::2], ids[0::2])
+    lbp = eb.LbpNearestNeighbour().fit(images[0::2], ids[0::2])
     folder = Path(tempfile.mkdtemp(prefix="ears"))
     atexit.register(shutil.rmtree, folder, True)
     cv2.imwrite(str(folder / "001_a.png"), np.full((16, 16), 100, np.uint8))
@@ -141,7 +142,7 @@ def _context():
     figure, axes = plt.subplots()
     return types.SimpleNamespace(
         images=images, ids=ids, contours=contours, features=features, other=other, matcher=matcher,
-        templates=templates, baseline=baseline, folder=folder, skeleton=skeleton, nodes=nodes, edges=edges,
+        templates=templates, baseline=baseline, lbp=lbp, folder=folder, skeleton=skeleton, nodes=nodes, edges=edges,
         mask=mask, frame=frame, axes=axes, shape=eb.draw_ear_shape(rng=0),
         pose=eb.CapturePose(0.0, 1.0, np.zeros(2), 0.0), norm=eb.normalise_coordinates(contours))
 
@@ -318,6 +319,26 @@ def cases() -> dict[str, Case]:
                                               {"image": "image"}),
         "HogNearestNeighbour.identify": Case(lambda image: c.baseline.identify(image), {"image": c.images[1]},
                                              {"image": "image"}),
+        "LbpNearestNeighbour": Case(lambda cells_per_side, radius, n_points, blur_sigma: eb.LbpNearestNeighbour(
+                                        cells_per_side, radius, n_points, blur_sigma).describe(image),
+                                    {"cells_per_side": 8, "radius": 1, "n_points": 8, "blur_sigma": 3.0},
+                                    {"cells_per_side": "count", "radius": "count", "n_points": "count",
+                                     "blur_sigma": "non_negative"}),
+        "LbpNearestNeighbour.describe": Case(lambda image: eb.LbpNearestNeighbour().describe(image), {"image": image},
+                                             {"image": "image"},
+                  accept=ok(image=other_size)),
+        "LbpNearestNeighbour.enroll": Case(lambda **kw: eb.LbpNearestNeighbour().fit(c.images[0::2], c.ids[0::2]).enroll(**kw),
+                                           {"subject_id": 5, "image": c.images[1]},
+                                           {"subject_id": "real", "image": "image"},
+                  accept=ok(subject_id={"a string"})),
+        "LbpNearestNeighbour.fit": Case(lambda **kw: eb.LbpNearestNeighbour().fit(**kw),
+                                        {"images": c.images[0::2], "subject_ids": c.ids[0::2]},
+                                        {"images": "array", "subject_ids": "array"},
+                  accept=ok(images=other_size)),
+        "LbpNearestNeighbour.distances": Case(lambda image: c.lbp.distances(image), {"image": c.images[1]},
+                                              {"image": "image"}),
+        "LbpNearestNeighbour.identify": Case(lambda image: c.lbp.identify(image), {"image": c.images[1]},
+                                             {"image": "image"}),
         "open_set_rates": Case(eb.open_set_rates,
                                {"matcher": c.matcher, "genuine": c.templates[1::2], "genuine_ids": c.ids[1::2],
                                 "impostors": c.templates[:1], "thresholds": np.array([0.5, 1.0])},
@@ -367,6 +388,10 @@ def cases() -> dict[str, Case]:
         "hog_closed_set": Case(eb.hog_closed_set, {"images": c.images, "subject_ids": c.ids, "pixels_per_cell": 16},
                                {"images": "array", "subject_ids": "array", "pixels_per_cell": "count"},
                   accept=ok(images=other_size, pixels_per_cell={"None"})),  # None: an eighth of the side
+        "peer_closed_set": Case(eb.peer_closed_set, {"images": c.images, "subject_ids": c.ids,
+                                                     "baseline": eb.LbpNearestNeighbour()},
+                                {"images": "array", "subject_ids": "array", "baseline": "object"},
+                  accept=ok(images=other_size, baseline={"None"})),  # None: HOG
         "nuisance_study": Case(eb.nuisance_study,
                                {"n_subjects": 2, "conditions": {"a": ()}, "rng": 0, "difficulty": "easy",
                                 "size": 64, "relaxed_violations": 2},
