@@ -9,8 +9,8 @@ import cv2
 import numpy as np
 from skimage.feature import hog, local_binary_pattern
 
-from amdo_lab.common import (as_finite_array, check_choice, check_fitted, check_in_range, check_positive,
-                             check_positive_int)
+from amdo_lab.common import (MAX_SIDE, as_finite_array, check_choice, check_fitted, check_in_range,
+                             check_positive, check_positive_int)
 from amdo_lab.ear_biometrics.features import (
     CROSSING_READINGS,
     NORMALISATION_MODES,
@@ -148,6 +148,8 @@ POINT_DISTANCE_CAP = 0.5
 a point with no partner nearby (a contour break, a spur) costs at most this much."""
 
 RANKINGS = ("points", "triples")
+#: Most LBP neighbours :class:`LbpNearestNeighbour` samples on its circle.
+MAX_LBP_POINTS = 32
 
 
 def characteristic_points(features: TopologyFeatures) -> np.ndarray:
@@ -788,9 +790,10 @@ class LbpNearestNeighbour(HogNearestNeighbour):
         Cells along each image side, >= 1 (checked when a descriptor is computed; each cell must hold
         at least one pixel).
     radius : int
-        Radius of the LBP neighbourhood, pixels, >= 1.
+        Radius of the LBP neighbourhood, pixels, from 1 to ``MAX_SIDE``.
     n_points : int
-        Neighbours sampled on the circle, >= 4.
+        Neighbours sampled on the circle, from 4 to :data:`MAX_LBP_POINTS` (uniform codes of more
+        neighbours than that are too rare to fill a histogram).
     blur_sigma : float
         Standard deviation of the Gaussian blur before coding, pixels, >= 0 (0: none).
 
@@ -830,8 +833,8 @@ class LbpNearestNeighbour(HogNearestNeighbour):
         grey = np.asarray(as_grey_image(image), float)
         cells = check_positive_int(self.cells_per_side, "cells_per_side", minimum=1)
         check_in_range(cells, "cells_per_side", 1, min(grey.shape))
-        radius = check_positive_int(self.radius, "radius", minimum=1)
-        n_points = check_positive_int(self.n_points, "n_points", minimum=4)
+        radius = check_positive_int(self.radius, "radius", minimum=1, maximum=MAX_SIDE)
+        n_points = check_positive_int(self.n_points, "n_points", minimum=4, maximum=MAX_LBP_POINTS)
         sigma = check_positive(self.blur_sigma, "blur_sigma", allow_zero=True)
         check_in_range(sigma, "blur_sigma", 0, max(grey.shape))
         if sigma > 0:

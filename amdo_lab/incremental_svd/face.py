@@ -14,7 +14,7 @@ import numpy as np
 from scipy import ndimage
 
 from amdo_lab.common import (as_finite_array, check_choice, check_image_shape, check_positive,
-                             check_positive_int, make_rng)
+                             check_positive_int, make_rng, MAX_ITERATIONS)
 
 __all__ = ["LATENT_NAMES", "MOTIONS", "PAPER_SIZE", "SIMILARITY_BOUNDS", "TalkingFace", "corner_error_px",
            "face_masks", "make_talking_face", "psnr_db", "render_faces", "similarity_points"]
@@ -321,7 +321,7 @@ def make_talking_face(n_frames: int, *, rng: int | np.random.Generator, size: tu
     >>> face.frames.shape, sorted(face.masks)
     ((3, 40, 41), ['forehead', 'left_eye', 'mouth', 'right_eye'])
     """
-    n_frames = check_positive_int(n_frames, "n_frames", minimum=2)
+    n_frames = check_positive_int(n_frames, "n_frames", minimum=2, maximum=MAX_ITERATIONS)
     generator = make_rng(rng, "rng")
     size = check_image_shape(size, "size", minimum=32)
     noise = check_positive(noise, "noise", allow_zero=True)

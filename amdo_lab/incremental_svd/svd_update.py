@@ -25,6 +25,8 @@ from amdo_lab.common import (
     check_fitted,
     check_positive,
     check_positive_int,
+    MAX_SAMPLES,
+    MAX_SIDE,
     one_blas_thread,
 )
 
@@ -261,7 +263,7 @@ def truncate(state: SvdState, *, max_rank: int | None = None, tol: float | None 
     """
     U, s, V, mean = _check_state(state)
     if max_rank is not None:
-        max_rank = check_positive_int(max_rank, "max_rank")
+        max_rank = check_positive_int(max_rank, "max_rank", maximum=MAX_SIDE)
     if tol is not None:
         tol = check_positive(tol, "tol", allow_zero=True)
     return _truncate(SvdState(U, s, V, mean), max_rank=max_rank, tol=tol)
@@ -425,7 +427,7 @@ def ross_update(U: np.ndarray, s: np.ndarray, mean: np.ndarray, n_seen: int, I: 
     U, s, _ = _check_factors(U, s, None)
     mean = as_finite_array(mean, "mean", shape=(U.shape[0],), max_abs=MAX_ABS)
     I = _check_columns(I, U.shape[0])
-    n_seen = check_positive_int(n_seen, "n_seen", minimum=0)
+    n_seen = check_positive_int(n_seen, "n_seen", minimum=0, maximum=MAX_SAMPLES)
     return _ross_update(U, s, mean, n_seen, I)
 
 
@@ -469,11 +471,11 @@ def tau_schedule(t: int, *, start: float = 0.5, end: float = 5e-4, frames: int =
     >>> round(tau_schedule(25), 6)
     0.0005
     """
-    t = check_positive_int(t, "t", minimum=0)
+    t = check_positive_int(t, "t", minimum=0, maximum=MAX_SAMPLES)
     start, end = check_positive(start, "start"), check_positive(end, "end")
     if end > start:
         raise ValueError(f"end must be at most start ({start}), got {end}")
-    frames = check_positive_int(frames, "frames")
+    frames = check_positive_int(frames, "frames", maximum=MAX_SAMPLES)
     return float(start * (end / start) ** (min(t, frames) / frames))
 
 
@@ -507,7 +509,7 @@ def noise_edge(sigma: float, p: int, q: int) -> float:
     sigma = check_positive(sigma, "sigma")
     if sigma > MAX_ABS:
         raise ValueError(f"sigma must be at most {MAX_ABS:g}, got {sigma:g}")
-    p, q = check_positive_int(p, "p"), check_positive_int(q, "q")
+    p, q = check_positive_int(p, "p", maximum=MAX_SIDE**2), check_positive_int(q, "q", maximum=MAX_SAMPLES)
     return float(sigma * (np.sqrt(p) + np.sqrt(q)))
 
 
@@ -565,7 +567,7 @@ class IncrementalSVD:
 
     def _check_parameters(self) -> None:
         if self.max_rank is not None:
-            check_positive_int(self.max_rank, "max_rank")
+            check_positive_int(self.max_rank, "max_rank", maximum=MAX_SIDE)
         if self.tol is not None:
             check_positive(self.tol, "tol", allow_zero=True)
         check_choice(self.mean, "mean", MEAN_MODES)

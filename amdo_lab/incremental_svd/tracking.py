@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
-from amdo_lab.common import (as_bool_mask, as_finite_array, check_choice, check_positive, check_positive_int,
+from amdo_lab.common import (MAX_SIDE, as_bool_mask, as_finite_array, check_choice, check_positive, check_positive_int,
                              one_blas_thread)
 from amdo_lab.incremental_svd.face import _place
 from amdo_lab.incremental_svd.svd_update import IncrementalSVD, SvdState, noise_edge, tau_schedule
@@ -23,6 +23,8 @@ __all__ = ["TAU_MODES", "TrainingResult", "align_frame", "train_non_causal", "tr
 
 #: ``"noise-edge"``: drop directions below σ(√p + √q); ``"paper"``: τ from 0.5 to 0.5e-3 over 25 frames.
 TAU_MODES = ("noise-edge", "paper")
+#: Most re-alignment rounds of :func:`train_non_causal` (each is a batch SVD and a tracking pass).
+MAX_ROUNDS = 100
 _ITERATIONS, _STEP_PX = 20, 1e-3   # Gauss-Newton: at most 20 steps, stop when no corner moves 1e-3 px
 
 
@@ -204,7 +206,7 @@ def train_on_the_fly(frames: np.ndarray, masks: dict[str, np.ndarray], init: np.
     Melenchón, Meler & Iriondo, AMDO 2004, Sec. 3.2 and Fig. 3.
     """
     frames, masks, init = _check_inputs(frames, masks, init)
-    max_rank = check_positive_int(max_rank, "max_rank")
+    max_rank = check_positive_int(max_rank, "max_rank", maximum=MAX_SIDE)
     check_choice(tau, "tau", TAU_MODES)
     noise = check_positive(noise, "noise")
     if learn_at is not None:
@@ -264,7 +266,8 @@ def train_non_causal(frames: np.ndarray, masks: dict[str, np.ndarray], init: np.
     noise : float
         Pixel noise σ of the frames, used by ``tau="noise-edge"``.
     rounds : int
-        Batch SVD and re-alignment rounds after the first tracking pass (0: the first frame as template).
+        Batch SVD and re-alignment rounds after the first tracking pass (0: the first frame as template),
+        at most :data:`MAX_ROUNDS`.
 
     Returns
     -------
@@ -277,10 +280,10 @@ def train_non_causal(frames: np.ndarray, masks: dict[str, np.ndarray], init: np.
     as described above).
     """
     frames, masks, init = _check_inputs(frames, masks, init)
-    max_rank = check_positive_int(max_rank, "max_rank")
+    max_rank = check_positive_int(max_rank, "max_rank", maximum=MAX_SIDE)
     check_choice(tau, "tau", TAU_MODES)
     noise = check_positive(noise, "noise")
-    rounds = check_positive_int(rounds, "rounds", minimum=0)
+    rounds = check_positive_int(rounds, "rounds", minimum=0, maximum=MAX_ROUNDS)
     start_time = time.perf_counter()
     regions = _Regions(masks, frames)
     n_frames = frames.shape[0]

@@ -43,12 +43,6 @@ KNOWN_FAILURES: dict[tuple[str, str, str], str] = {
     ('recovery_study', 'n_replicates', '2**63'): _ROUND_2 + "wrong name",
     ('recovery_study', 'n_trials', 'a billion'): _ROUND_2 + "accepted",
     ('recovery_study', 'n_trials', '2**63'): _ROUND_2 + "crashes",
-    ('fit_with_lme4', 'n_trials', 'a billion'): _ROUND_2 + "accepted",
-    ('fit_with_lme4', 'n_trials', '2**63'): _ROUND_2 + "accepted",
-    ('fit_gee_exchangeable', 'n_trials', 'a billion'): _ROUND_2 + "accepted",
-    ('fit_gee_exchangeable', 'n_trials', '2**63'): _ROUND_2 + "accepted",
-    ('fit_naive_logistic', 'n_trials', 'a billion'): _ROUND_2 + "accepted",
-    ('fit_naive_logistic', 'n_trials', '2**63'): _ROUND_2 + "accepted",
     ('e90_dimension', 'eigenvalues', 'huge everywhere'): _ROUND_2 + "returns after an overflow warning",
     ('simulate_binomial_glmm', 'coefficients', 'huge everywhere'): _ROUND_2 + "returns after an overflow warning",
 }
