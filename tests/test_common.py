@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 import pytest
 from rejections import check_rejection, reject
 from scipy.spatial.transform import Rotation
@@ -465,3 +466,27 @@ def test_rate_interval_contains_refuses_what_is_not_a_number(value):
     interval = rate_interval(np.array([True] * 5 + [False] * 5))
     with pytest.raises((TypeError, ValueError), match=r"\bvalue must be"):
         interval.contains(value)
+
+
+def test_as_finite_array_bounds_name_the_first_element_outside():
+    assert as_finite_array([0.0, 1.0], "weights", bounds=(0, 1)).tolist() == [0.0, 1.0]
+    with pytest.raises(ValueError, match=r"weights must lie in \(0, 1\], got 0 at index 0"):
+        as_finite_array([0.0, 1.0], "weights", bounds=(0, 1), closed="right")
+    with pytest.raises(ValueError, match=r"pixel_mm must lie in \(0, inf\), got -0.2 at index \(1, 0\)"):
+        as_finite_array([[0.2, 0.2], [-0.2, 0.1]], "pixel_mm", bounds=(0, np.inf), closed="neither")
+
+
+def test_check_odd_int_and_check_dataframe():
+    from amdo_lab.common import check_dataframe, check_odd_int
+
+    assert check_odd_int(5, "window") == 5
+    with pytest.raises(ValueError, match="window must be odd"):
+        check_odd_int(4, "window")
+    with pytest.raises(ValueError, match="window must be at least 3"):
+        check_odd_int(1, "window")
+    frame = pd.DataFrame({"correct": [1, 0]})
+    assert check_dataframe(frame, "table", columns=["correct"]) is frame
+    with pytest.raises(TypeError, match="table must be a pandas DataFrame, got dict"):
+        check_dataframe({"correct": [1]}, "table")
+    with pytest.raises(ValueError, match=r"table must have columns \['correct', 'subject'\], missing \['subject'\]"):
+        check_dataframe(frame, "table", columns=("correct", "subject"))

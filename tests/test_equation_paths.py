@@ -83,12 +83,30 @@ def resolve(dotted: str) -> object:
 
 
 @functools.lru_cache(maxsize=None)
-def _test_sources(test_file: str) -> dict[str, str]:
-    """{name: source} of the top-level ``test_*`` functions of a test file (parsed, not imported)."""
+def _test_functions(test_file: str) -> dict[str, ast.FunctionDef]:
+    """{name: node} of the top-level functions of a test file (parsed, not imported)."""
     source = (ROOT / "tests" / test_file).read_text(encoding="utf-8")
-    lines = source.splitlines()
-    return {node.name: "\n".join(lines[node.lineno - 1:node.end_lineno]) for node in ast.parse(source).body
-            if isinstance(node, ast.FunctionDef) and node.name.startswith("test_")}
+    return {node.name: node for node in ast.parse(source).body if isinstance(node, ast.FunctionDef)}
+
+
+def called_names(test_file: str, test_name: str) -> set[str]:
+    """Names the test calls (``f(...)``, ``obj.f(...)``), also through the test file's own helper
+    functions it calls (one level deep: ``_fit(...)`` whose body calls ``register_em``)."""
+    functions = _test_functions(test_file)
+
+    def calls(node: ast.AST) -> set[str]:
+        found = set()
+        for sub in ast.walk(node):
+            if isinstance(sub, ast.Call):
+                if isinstance(sub.func, ast.Name):
+                    found.add(sub.func.id)
+                elif isinstance(sub.func, ast.Attribute):
+                    found.add(sub.func.attr)
+        return found
+
+    direct = calls(functions[test_name])
+    helpers = {name for name in direct if name in functions and not name.startswith("test_")}
+    return direct.union(*(calls(functions[name]) for name in helpers))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -287,7 +305,31 @@ def test_reference_path_names_the_equation_in_a_comment(chapter, equation, dotte
     function = resolve(dotted)
     assert callable(function), dotted
     comments = comments_of(textwrap.dedent(inspect.getsource(function)))
+    for kernel in private_kernels(dotted):  # a checked wrapper's maths sits in the kernel it calls
+        comments += "\n" + comments_of(textwrap.dedent(inspect.getsource(kernel)))
     assert equation in cited_equations(comments), f"no comment of {dotted} names eq. ({equation})"
+
+
+@pytest.mark.parametrize("chapter, equation, dotted, test_name, test_file", list(_rows()))
+def test_reference_path_is_public_and_documented(chapter, equation, dotted, test_name, test_file):
+    private = [part for part in dotted.split(".") if part.startswith("_")]
+    assert not private, f"eq. ({equation}) maps to a private name {dotted}: map its public, checked wrapper"
+    assert inspect.getdoc(resolve(dotted)), f"{dotted} has no docstring"
+
+
+def private_kernels(dotted: str) -> list[object]:
+    """The module-level private functions (and private methods of its class) that ``dotted`` calls by
+    name: the check-free kernels of the checked-wrapper pattern."""
+    function = resolve(dotted)
+    owner = resolve(dotted.rsplit(".", 1)[0])
+    module = importlib.import_module(function.__module__)
+    source = textwrap.dedent(inspect.getsource(function))
+    kernels = []
+    for name in set(re.findall(r"\b(_[A-Za-z]\w*)\(", source)):
+        candidate = getattr(owner, name, None) or getattr(module, name, None)
+        if inspect.isfunction(candidate) and candidate.__module__.startswith("amdo_lab."):
+            kernels.append(candidate)
+    return kernels
 
 
 def names_that_reach(dotted: str) -> set[str]:
@@ -314,11 +356,10 @@ def names_that_reach(dotted: str) -> set[str]:
 
 @pytest.mark.parametrize("chapter, equation, dotted, test_name, test_file", list(_rows()))
 def test_reference_path_has_a_test_that_calls_it(chapter, equation, dotted, test_name, test_file):
-    tests = _test_sources(test_file)
-    assert test_name in tests, f"{test_name} not found in tests/{test_file}"
+    assert test_name in _test_functions(test_file), f"{test_name} not found in tests/{test_file}"
     names = names_that_reach(dotted)
-    assert any(re.search(rf"\b{name}\b", tests[test_name]) for name in names), \
-        f"{test_name} never mentions {' or '.join(sorted(names))}"
+    assert names & called_names(test_file, test_name), \
+        f"{test_name} never calls {' or '.join(sorted(names))} (a mention is not a check of its output)"
 
 
 def test_citation_extraction():

@@ -21,10 +21,12 @@ __all__ = [
     "check_axes",
     "check_bool",
     "check_choice",
+    "check_dataframe",
     "check_fitted",
     "check_image_shape",
     "check_in_range",
     "check_names",
+    "check_odd_int",
     "check_positive",
     "check_positive_int",
 ]
@@ -54,6 +56,8 @@ def as_finite_array(
     allow_empty: bool = False,
     dtype: type = float,
     max_abs: float | None = None,
+    bounds: tuple[float, float] | None = None,
+    closed: str = "both",
 ) -> np.ndarray:
     """Convert ``value`` to a finite numeric array, or raise an error naming ``name``.
 
@@ -76,6 +80,11 @@ def as_finite_array(
         Largest accepted magnitude. A computation that squares or sums its input overflows
         float64 (about 1.8e308) beyond about 1e150, so such a function passes a bound and refuses
         the input by name instead of returning inf or NaN (the overflow policy of CONTRIBUTING.md).
+    bounds : (float, float), optional
+        Interval every element must lie in, e.g. ``(0, 1)`` for probabilities or ``(0, np.inf)``
+        for lengths; the first element outside is named in the error.
+    closed : {"both", "left", "right", "neither"}
+        Which ends of ``bounds`` belong to the interval (as in :func:`check_in_range`).
 
     Returns
     -------
@@ -117,7 +126,24 @@ def as_finite_array(
     if max_abs is not None and array.size and np.max(np.abs(array)) > max_abs:
         raise ValueError(f"{name} must be at most {max_abs:g} in magnitude (larger values overflow in the "
                          f"computation), got {np.max(np.abs(array)):g}")
+    if bounds is not None and array.size:
+        _check_bounds(array, name, bounds, closed)
     return array
+
+
+def _check_bounds(array: np.ndarray, name: str, bounds: tuple[float, float], closed: str) -> None:
+    """Raise naming ``name`` and its first element outside ``bounds`` (ends per ``closed``)."""
+    check_choice(closed, "closed", ("both", "left", "right", "neither"))
+    low, high = bounds
+    left_ok = array >= low if closed in ("left", "both") else array > low
+    right_ok = array <= high if closed in ("right", "both") else array < high
+    outside = ~(left_ok & right_ok)
+    if np.any(outside):
+        index = tuple(int(i) for i in np.argwhere(outside)[0])
+        opening = "[" if closed in ("left", "both") else "("
+        ending = "]" if closed in ("right", "both") else ")"
+        where = f" at index {index if len(index) > 1 else index[0]}" if array.ndim else ""
+        raise ValueError(f"{name} must lie in {opening}{low:g}, {high:g}{ending}, got {array[index]:g}{where}")
 
 
 def _check_finite(array: np.ndarray, name: str) -> None:
@@ -186,6 +212,59 @@ def check_positive_int(value: object, name: str, *, minimum: int = 1, maximum: i
     if maximum is not None and value > maximum:
         raise ValueError(f"{name} must be at most {maximum:,}, got {value:,}")
     return int(value)
+
+
+def check_odd_int(value: object, name: str, *, minimum: int = 3, maximum: int | None = None) -> int:
+    """Return ``value`` as an int after checking it is an odd integer in ``[minimum, maximum]``.
+
+    Windows and kernels centred on a pixel need an odd side (a 3x3 neighbourhood, a 7-tap filter).
+
+    Parameters
+    ----------
+    value : int
+        The user's input.
+    name : str
+        The argument's name, used in error messages.
+    minimum, maximum : int
+        Smallest and largest accepted values (``maximum`` optional).
+
+    Returns
+    -------
+    int
+        ``value``.
+    """
+    number = check_positive_int(value, name, minimum=minimum, maximum=maximum)
+    if number % 2 == 0:
+        raise ValueError(f"{name} must be odd (a window centred on a pixel), got {number}")
+    return number
+
+
+def check_dataframe(value: object, name: str, *, columns: Iterable[str] = ()) -> object:
+    """Return ``value`` after checking it is a pandas DataFrame holding ``columns``.
+
+    Parameters
+    ----------
+    value : pandas.DataFrame
+        The user's input.
+    name : str
+        The argument's name, used in error messages.
+    columns : iterable of str
+        Columns the frame must have.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``value`` (not copied).
+    """
+    import pandas as pd  # pandas is a dependency of the package; imported here to keep common light
+
+    if not isinstance(value, pd.DataFrame):
+        raise TypeError(f"{name} must be a pandas DataFrame, got {type(value).__name__}")
+    columns = list(columns)
+    missing = [column for column in columns if column not in value.columns]
+    if missing:
+        raise ValueError(f"{name} must have columns {sorted(columns)}, missing {missing}")
+    return value
 
 
 def check_choice(value: object, name: str, choices: Iterable[object]) -> object:

@@ -26,6 +26,7 @@ def cases() -> dict[str, Case]:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import pandas as pd
 
     from amdo_lab import common as c
 
@@ -61,6 +62,9 @@ def cases() -> dict[str, Case]:
                            names={"value": "verbose"}),
         "check_choice": Case(c.check_choice, {"value": "l2", "name": "metric", "choices": ("l2", "soft_l2")},
                              {"value": "object"}, names={"value": "metric"}),
+        "check_dataframe": Case(c.check_dataframe, {"value": pd.DataFrame({"correct": [1]}), "name": "table",
+                                                    "columns": ("correct",)},
+                                {"value": "object"}, names={"value": "table"}),
         "check_fitted": Case(c.check_fitted, {"estimator": Fitted(), "attributes": "coef_"},
                              {"estimator": "object"}, names={"estimator": "not fitted"}),
         "check_image_shape": Case(c.check_image_shape, {"shape": (6, 5), "name": "size", "minimum": 2},
@@ -70,6 +74,8 @@ def cases() -> dict[str, Case]:
         "check_names": Case(c.check_names, {"values": ("fist", "point"), "name": "classes",
                                             "allowed": ("fist", "point", "open")},
                             {"values": "object"}, names={"values": "classes"}),
+        "check_odd_int": Case(c.check_odd_int, {"value": 3, "name": "window", "maximum": 99},
+                              {"value": "count"}, names={"value": "window"}),
         "check_positive": Case(c.check_positive, {"value": 2.0, "name": "sigma"},
                                {"value": "positive"}, names={"value": "sigma"}),
         "check_positive_int": Case(c.check_positive_int, {"value": 3, "name": "n_iter", "maximum": 1000},
