@@ -17,7 +17,7 @@ from collections.abc import Callable, Mapping
 import numpy as np
 
 from amdo_lab.common.exercises import Exercise, ExerciseSet, WrongAnswer
-from amdo_lab.em_articulated.registration import PAPER_C
+from amdo_lab.em_articulated.estep import PAPER_C
 
 __all__ = ["EXERCISES"]
 

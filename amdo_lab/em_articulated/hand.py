@@ -681,16 +681,16 @@ class TextureBinding:
 
     Parameters
     ----------
-    part_p : numpy.ndarray of int, shape (N,)
-        Strongest part p of each point.
-    part_r : numpy.ndarray of int, shape (N,)
-        Its strongest kinematic neighbour r.
-    weight_p : numpy.ndarray, shape (N,)
+    part_p : array_like of int, shape (N,)
+        Strongest part p of each point, 0 to 15.
+    part_r : array_like of int, shape (N,)
+        Its strongest kinematic neighbour r, 0 to 15.
+    weight_p : array_like, shape (N,)
         φ_p^a / (φ_p^a + φ_r^a) of eq. (3), in [0, 1], frozen at the binding pose.
-    local_p : numpy.ndarray, shape (N, 3)
-        The point in part p's frame, mm.
-    local_r : numpy.ndarray, shape (N, 3)
-        The point in part r's frame, mm.
+    local_p : array_like, shape (N, 3)
+        The point in part p's frame, mm, within ±1e6.
+    local_r : array_like, shape (N, 3)
+        The point in part r's frame, mm, within ±1e6.
 
     References
     ----------
@@ -703,6 +703,18 @@ class TextureBinding:
     weight_p: np.ndarray
     local_p: np.ndarray
     local_r: np.ndarray
+
+    def __post_init__(self) -> None:
+        """Check the arrays once, as any user-built record is (the package's own bindings pass too)."""
+        local_p = as_finite_array(self.local_p, "local_p", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+        object.__setattr__(self, "local_p", local_p)
+        object.__setattr__(self, "local_r", as_finite_array(self.local_r, "local_r", shape=local_p.shape,
+                                                            max_abs=MAX_LENGTH_MM))
+        for name in ("part_p", "part_r"):
+            object.__setattr__(self, name, as_finite_array(getattr(self, name), name, shape=(len(local_p),),
+                                                           dtype=int, bounds=(0, HandModel.n_parts - 1)))
+        object.__setattr__(self, "weight_p", as_finite_array(self.weight_p, "weight_p", shape=(len(local_p),),
+                                                             bounds=(0.0, 1.0)))
 
     def world_points(self, frames: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Each point carried rigidly by part p and by part r (the two terms eq. 3 blends).
