@@ -9,7 +9,7 @@ from amdo_lab.common.threads import one_blas_thread
 
 from amdo_lab.em_articulated.em import EMSettings, check_registration_input, m_step_pose, run_em
 from amdo_lab.em_articulated.estep import MAX_SIGMA_MM
-from amdo_lab.em_articulated.hand import MAX_LENGTH_MM, HandModel, check_hand
+from amdo_lab.em_articulated.hand import MAX_LENGTH_MM, HandModel, check_hand, check_points
 
 __all__ = ["climb_objective", "fit_known_correspondences"]
 
@@ -90,7 +90,7 @@ def fit_known_correspondences(model_points: object, matched_points: object, hand
     bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; eq. (20) with α_ij = 1 for the true pairs.
     """
     check_hand(hand)
-    model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+    model = check_points(model_points, "model_points")
     matched = as_finite_array(matched_points, "matched_points", shape=model.shape, max_abs=MAX_LENGTH_MM)
     theta = hand.check_theta(theta_init, "theta_init", within_limits=True)
     with one_blas_thread():

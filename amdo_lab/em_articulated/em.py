@@ -12,7 +12,7 @@ from amdo_lab.common.threads import one_blas_thread
 
 from amdo_lab.em_articulated.estep import (CHUNK, MAX_SIGMA_MM, PAPER_C, dense_e_step, e_step_reference,
                                            m_step_targets)
-from amdo_lab.em_articulated.hand import MAX_LENGTH_MM, HandModel, TextureBinding, check_hand
+from amdo_lab.em_articulated.hand import MAX_LENGTH_MM, HandModel, TextureBinding, check_hand, check_points
 from amdo_lab.em_articulated.kdtree import DENSE_PAIR_FRACTION, KDTREE_RADIUS_SIGMAS, ClosePairs, statistics_from_pairs
 
 __all__ = ["EMSettings", "PAPER_SETTINGS", "OUR_SETTINGS", "EMResult", "gauss_newton_step", "register_em",
@@ -27,6 +27,8 @@ M_STEP_DAMPING = 1e-3
 #: Largest damping :func:`gauss_newton_step` accepts: a million times the diagonal already freezes
 #: every step; larger factors overflow when they multiply the normal equations.
 MAX_DAMPING = 1e6
+#: Largest weight λ_i :func:`gauss_newton_step` accepts (λ_i are relative; larger ones overflow the normal equations).
+MAX_WEIGHT = 1e6
 
 
 @dataclass(frozen=True)
@@ -171,8 +173,8 @@ def check_registration_input(model_points: object, data_points: object, hand: ob
         The texture, the data and the pose.
     """
     check_hand(hand)
-    model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
-    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+    model = check_points(model_points, "model_points")
+    data = check_points(data_points, "data_points")
     return model, data, hand.check_theta(theta_init, "theta_init", within_limits=True)
 
 
@@ -217,7 +219,7 @@ def gauss_newton_step(jacobian: object, residuals: object, weights: object, *,
     """
     jac = as_finite_array(jacobian, "jacobian", ndim=3, max_abs=MAX_LENGTH_MM)
     res = as_finite_array(residuals, "residuals", shape=jac.shape[:2], max_abs=MAX_LENGTH_MM)
-    lam = as_finite_array(weights, "weights", shape=(len(jac),), bounds=(0.0, MAX_DAMPING))
+    lam = as_finite_array(weights, "weights", shape=(len(jac),), bounds=(0.0, MAX_WEIGHT))
     damping = check_in_range(damping, "damping", 0.0, MAX_DAMPING, closed="both")
     return _gauss_newton_step(jac, res, lam, damping)
 

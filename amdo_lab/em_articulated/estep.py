@@ -14,7 +14,7 @@ from amdo_lab.common import MAX_SAMPLES
 from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive, check_positive_int
 from amdo_lab.common.threads import one_blas_thread
 
-from amdo_lab.em_articulated.hand import MAX_LENGTH_MM
+from amdo_lab.em_articulated.hand import MAX_LENGTH_MM, check_points
 
 __all__ = ["PAPER_C", "e_step_reference", "m_step_targets", "robust_log_likelihood",
            "robust_log_likelihood_reference", "e_step_statistics", "dense_e_step", "check_e_step_inputs"]
@@ -49,14 +49,12 @@ def check_e_step_inputs(model_points: object, data_points: object, sigma: object
     tuple
         The four checked values, in that order.
     """
-    model = as_finite_array(model_points, "model_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
-    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+    model = check_points(model_points, "model_points")
+    data = check_points(data_points, "data_points")
     sigma = check_in_range(sigma, "sigma", 0.0, MAX_SIGMA_MM, closed="right")
-    if not isinstance(log_c, (int, float, np.integer, np.floating)) or isinstance(log_c, (bool, np.bool_)):
-        raise TypeError(f"log_c must be a real number, got {type(log_c).__name__}")
-    if np.isnan(log_c) or log_c > MAX_LOG_C:  # -inf is allowed: no outlier class (c = 0)
-        raise ValueError(f"log_c must be at most {MAX_LOG_C:g} or -inf (c = 0), got {log_c}")
-    return model, data, sigma, float(log_c)
+    # -inf is allowed: no outlier class (c = 0)
+    log_c = -np.inf if log_c == -np.inf else check_in_range(log_c, "log_c", -np.inf, MAX_LOG_C, closed="right")
+    return model, data, sigma, log_c
 
 
 def e_step_reference(model_points: object, data_points: object, sigma: float, c: float = PAPER_C) -> np.ndarray:
@@ -153,7 +151,7 @@ def m_step_targets(alpha: object, data_points: object) -> tuple[np.ndarray, np.n
     ----------
     Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eq. (20).
     """
-    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+    data = check_points(data_points, "data_points")
     alpha = as_finite_array(alpha, "alpha", ndim=2, shape=(None, len(data)), bounds=(0.0, 1.0))
     return _weighted_targets(alpha, data)
 

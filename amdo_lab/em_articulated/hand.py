@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import MAX_ITERATIONS, MAX_SAMPLES
-from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive_int, make_rng
 from amdo_lab.common.geometry import rigid_transform, rotation_matrix, skew
 
 __all__ = ["HandModel", "PART_NAMES"]
@@ -326,7 +326,7 @@ class HandModel:
         numpy.ndarray, shape (M, 16)
             Distances, mm.
         """
-        points = as_finite_array(points, "points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+        points = check_points(points, "points")
         frames = self._forward(self.check_theta(theta))[0]
         # local[m, p] = R_p^T (x_m - t_p) - c_p
         local = self._local_coordinates(points, frames)
@@ -420,7 +420,7 @@ class HandModel:
         jacobian : numpy.ndarray, shape (M, 27)
             ∂d/∂Θ: mm per mm for the palm translation, mm per radian for the rest.
         """
-        points = as_finite_array(points, "points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+        points = check_points(points, "points")
         theta = self.check_theta(theta)
         frames, axes, origins = self._forward(theta)
         rotations = frames[:, :3, :3]
@@ -518,7 +518,7 @@ class HandModel:
         numpy.ndarray, shape (M, 3)
             Unit vectors (zero where the gradient vanishes).
         """
-        points = as_finite_array(points, "points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+        points = check_points(points, "points")
         grad = self._distance_gradient(points, self.check_theta(theta))
         return grad / np.maximum(np.linalg.norm(grad, axis=1, keepdims=True), 1e-12)
 
@@ -578,7 +578,7 @@ class HandModel:
         TextureBinding
             Both parts, the weight of the first, and the local coordinates.
         """
-        points = as_finite_array(points, "points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+        points = check_points(points, "points")
         theta = self.check_theta(theta)
         a = check_in_range(a, "a", 0.0, MAX_BENDING_EXPONENT, closed="right")
         fields = self.part_fields(points, theta)
@@ -706,7 +706,7 @@ class TextureBinding:
 
     def __post_init__(self) -> None:
         """Check the arrays once, as any user-built record is (the package's own bindings pass too)."""
-        local_p = as_finite_array(self.local_p, "local_p", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+        local_p = check_points(self.local_p, "local_p")
         object.__setattr__(self, "local_p", local_p)
         object.__setattr__(self, "local_r", as_finite_array(self.local_r, "local_r", shape=local_p.shape,
                                                             max_abs=MAX_LENGTH_MM))
@@ -736,6 +736,11 @@ class TextureBinding:
         world_p = np.einsum("nij,nj->ni", frames[self.part_p, :3, :3], self.local_p) + frames[self.part_p, :3, 3]
         world_r = np.einsum("nij,nj->ni", frames[self.part_r, :3, :3], self.local_r) + frames[self.part_r, :3, 3]
         return world_p, world_r
+
+
+def check_points(points: object, name: str) -> np.ndarray:
+    """``points`` as an (N, 3) float array within ±:data:`MAX_LENGTH_MM` mm, or an error naming ``name``."""
+    return as_finite_array(points, name, ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
 
 
 def check_hand(hand: object) -> HandModel:

@@ -7,11 +7,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.special import logsumexp
 
-from amdo_lab.common import MAX_ITERATIONS, MAX_LEVELS
-from amdo_lab.common import check_in_range, check_positive, check_positive_int
+from amdo_lab.common import MAX_ITERATIONS
+from amdo_lab.common import check_positive, check_positive_int
 
-from amdo_lab.em_articulated.em import check_registration_input, m_step_pose
-from amdo_lab.em_articulated.estep import MAX_SIGMA_MM
+from amdo_lab.em_articulated.em import EMSettings, check_registration_input, m_step_pose
 from amdo_lab.em_articulated.hand import HandModel
 
 __all__ = ["SoftAssignResult", "register_softassign"]
@@ -87,15 +86,13 @@ def register_softassign(model_points: object, data_points: object, hand: HandMod
     29-42 (the paper's [11], [12]).
     """
     model, data, theta = check_registration_input(model_points, data_points, hand, theta_init)
-    sigma_max = check_in_range(sigma_max, "sigma_max", 0.0, MAX_SIGMA_MM, closed="right")
-    sigma_min = check_in_range(sigma_min, "sigma_min", 0.0, sigma_max)
+    sigmas = EMSettings(sigma_max=sigma_max, sigma_min=sigma_min, n_levels=n_levels).sigmas  # as the EM's (Sec. 3.3)
     slack = check_positive(slack, "slack")
-    n_levels = check_positive_int(n_levels, "n_levels", maximum=MAX_LEVELS)
     n_iter = check_positive_int(n_iter, "n_iter", maximum=MAX_ITERATIONS)
     binding = hand.texture_binding(model, theta)
     n_model, n_data = len(model), len(data)
     inlier_prob = np.zeros(n_data)
-    for sigma in np.geomspace(sigma_max, sigma_min, n_levels):
+    for sigma in sigmas:
         for _ in range(n_iter):
             moved = hand.transform_texture(binding, theta)
             sq = np.sum((moved[:, None, :] - data[None, :, :]) ** 2, axis=2)

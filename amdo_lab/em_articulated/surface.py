@@ -11,7 +11,7 @@ from amdo_lab.common import as_finite_array, check_in_range, check_positive, che
 from amdo_lab.common.threads import one_blas_thread
 
 from amdo_lab.em_articulated.estep import MAX_SIGMA_MM
-from amdo_lab.em_articulated.hand import MAX_LENGTH_MM, HandModel, check_hand
+from amdo_lab.em_articulated.hand import HandModel, check_hand, check_points
 
 __all__ = ["SurfaceFitResult", "fit_surface"]
 
@@ -88,7 +88,7 @@ def fit_surface(data_points: object, hand: HandModel, theta_init: object, *, wei
     bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591; Sec. 3.4, eqs. (2), (21)-(22).
     """
     check_hand(hand)
-    data = as_finite_array(data_points, "data_points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+    data = check_points(data_points, "data_points")
     theta = hand.check_theta(theta_init, "theta_init", within_limits=True)
     w = np.ones(len(data)) if weights is None else as_finite_array(weights, "weights", shape=(len(data),),
                                                                     bounds=(0.0, MAX_WEIGHT))

@@ -7,10 +7,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from amdo_lab.common import MAX_ITERATIONS
-from amdo_lab.common import as_finite_array, check_positive_int
+from amdo_lab.common import check_positive_int
 
 from amdo_lab.em_articulated.em import OUR_SETTINGS, EMSettings, check_em_settings, register_em
-from amdo_lab.em_articulated.hand import MAX_LENGTH_MM, HandModel, check_hand
+from amdo_lab.em_articulated.hand import HandModel, check_hand, check_points
 from amdo_lab.em_articulated.surface import fit_surface
 
 __all__ = ["TrackResult", "track", "TRACKING_SETTINGS"]
@@ -85,8 +85,7 @@ def track(frames: list, hand: HandModel, theta_start: np.ndarray, *, settings: E
     """
     if not hasattr(frames, "__len__") or len(frames) == 0:
         raise ValueError("frames must be a non-empty list of (n, 3) point arrays, one per frame")
-    frames = [as_finite_array(data, f"frames[{f}]", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
-              for f, data in enumerate(frames)]
+    frames = [check_points(data, f"frames[{f}]") for f, data in enumerate(frames)]
     check_hand(hand)
     theta = hand.check_theta(theta_start, "theta_start", within_limits=True)
     settings = check_em_settings(settings)
