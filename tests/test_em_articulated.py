@@ -13,6 +13,7 @@ from amdo_lab.em_articulated import (
     OUR_SETTINGS,
     PAPER_C,
     HandModel,
+    TextureBinding,
     TrialSummary,
     e_step_reference,
     e_step_statistics,
@@ -583,6 +584,18 @@ def test_register_em_reference_equals_the_fast_em(hand, targets):
     assert joint_rmse_deg(reference, case.theta_init) > 1.0  # the EM moved: the comparison is not trivial
 
 
+def test_a_texture_binding_built_by_hand_moves_its_points_as_eq3(hand):
+    """A TextureBinding built from plain lists is checked into arrays and, at its own pose, puts every
+    point back where it was observed (both part motions of eq. 3 agree there)."""
+    theta = random_pose(hand, rng=make_rng(31))
+    points = hand.sample_surface(theta, 20, rng=make_rng(32))
+    made = hand.texture_binding(points, theta)
+    rebuilt = TextureBinding(made.part_p.tolist(), made.part_r.tolist(), made.weight_p.tolist(),
+                             made.local_p.tolist(), made.local_r.tolist())
+    assert rebuilt.part_p.dtype.kind == "i" and rebuilt.local_p.shape == (20, 3)
+    np.testing.assert_allclose(hand.transform_texture(rebuilt, theta), points, atol=1e-9)
+
+
 def test_gauss_newton_step_solves_the_weighted_least_squares_of_eq20():
     """Undamped, the step is the weighted least-squares solution of J ΔΘ = r (eq. 20 linearised)."""
     rng = make_rng(30)
@@ -780,6 +793,9 @@ REJECTIONS = [
         np.array([[2e6, 0, 0]]), hand.rest_pose()), ValueError, "points must be at most"),
     reject("part_transforms theta beyond 1e6", lambda hand: hand.part_transforms(np.full(27, 2e6)),
            ValueError, "theta must be at most"),
+    reject("TextureBinding part beyond the hand", lambda: TextureBinding([16], [0], [0.5], [[0.0, 0, 0]],
+                                                                         [[0.0, 0, 0]]),
+           ValueError, r"part_p must lie in \[0, 15\]"),
     reject("transform_texture points for a binding", lambda hand: hand.transform_texture(
         _points(hand), hand.rest_pose()), TypeError, "binding must be a TextureBinding"),
     # E- and M-steps (eqs. 17-20)

@@ -58,6 +58,8 @@ _FLEX = -_X  # positive flexion curls the finger towards -z (the palm side)
 
 @dataclass(frozen=True)
 class _Part:
+    """One rigid part of the kinematic tree: its parent, fixed offset, DOFs and their rotation axes."""
+
     parent: int  # -1 for the palm
     offset: np.ndarray  # 4x4 fixed transform from parent frame to this joint's frame
     dofs: tuple[int, ...]
@@ -495,6 +497,7 @@ class HandModel:
         return np.concatenate(kept)[:n]
 
     def _distance_gradient(self, points: np.ndarray, theta: np.ndarray, step: float = 1e-3) -> np.ndarray:
+        """∂d/∂Y of eq. (2) at each point by central differences of ``step`` mm (for the surface normals)."""
         grad = np.empty_like(points)
         for axis in range(3):
             shift = np.zeros(3)
