@@ -387,7 +387,7 @@ REJECTIONS = [
     # --- plotting and the 3-D helper
     reject("savefig name escapes the folder", lambda: savefig(_axes().figure, "../escape"), ValueError, "name must be"),
     reject("isosurface level outside the field", lambda: render3d.isosurface(_sphere_field()[0], 5.0),
-           ValueError, "level must lie"),
+           ValueError, r"level must be in \("),
     reject("render_scene a name for an item", lambda: render3d.render_scene(["sphere"]), TypeError, r"items\[0\]"),
     reject("render_scene nothing", lambda: render3d.render_scene([]), ValueError, "at least one"),
 ]

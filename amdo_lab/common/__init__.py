@@ -28,6 +28,7 @@ from amdo_lab.common.validation import (
     as_bool_mask,
     as_finite_array,
     as_image_pair,
+    as_outcomes,
     as_points,
     as_rotation,
     as_weights,
@@ -45,6 +46,7 @@ from amdo_lab.common.validation import (
     check_positive,
     check_positive_int,
     check_same_shape,
+    check_seed,
 )
 
 __all__ = [
@@ -60,6 +62,7 @@ __all__ = [
     "as_bool_mask",
     "as_finite_array",
     "as_image_pair",
+    "as_outcomes",
     "as_points",
     "as_rotation",
     "as_weights",
@@ -78,6 +81,7 @@ __all__ = [
     "check_positive",
     "check_positive_int",
     "check_same_shape",
+    "check_seed",
     "make_rng",
     "one_blas_thread",
     "paired_comparison",

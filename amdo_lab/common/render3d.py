@@ -21,7 +21,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
-from amdo_lab.common.validation import as_finite_array
+from amdo_lab.common.validation import as_finite_array, check_in_range, check_instance
 
 __all__ = [
     "DISABLE_3D_VARIABLE",
@@ -126,11 +126,7 @@ def isosurface(
     from skimage.measure import marching_cubes
 
     values = as_finite_array(field_values, "field_values", ndim=3)
-    if not values.min() < level < values.max():
-        raise ValueError(
-            f"level must lie strictly between the field's minimum {values.min():.4g} "
-            f"and maximum {values.max():.4g}, got {level}"
-        )
+    level = check_in_range(level, "level", values.min(), values.max())  # strictly inside the field's range
     vertices, faces, _, _ = marching_cubes(values, level=level, spacing=tuple(spacing))
     return Mesh(vertices + np.asarray(origin, dtype=float), faces, color, opacity, label)
 
@@ -164,8 +160,7 @@ def render_scene(
     if not items:
         raise ValueError("items must contain at least one Mesh or PointCloud")
     for position, item in enumerate(items):
-        if not isinstance(item, (Mesh, PointCloud)):
-            raise TypeError(f"items[{position}] must be a Mesh or PointCloud, got {type(item).__name__}")
+        check_instance(item, f"items[{position}]", (Mesh, PointCloud), what="a Mesh or PointCloud")
     probe = probe_3d_rendering()
     if probe.ok:
         image = _render_pyvista(items, view, window_size)

@@ -2,11 +2,9 @@
 
 from __future__ import annotations
 
-import numbers
-
 import numpy as np
 
-from amdo_lab.common.validation import check_positive_int
+from amdo_lab.common.validation import check_positive_int, check_seed
 
 __all__ = ["MAX_GENERATORS", "make_rng", "spawn_rngs"]
 
@@ -33,13 +31,7 @@ def make_rng(seed: int | np.random.Generator, name: str = "seed") -> np.random.G
     """
     if isinstance(seed, np.random.Generator):
         return seed
-    if isinstance(seed, bool) or not isinstance(seed, numbers.Integral):
-        raise TypeError(
-            f"{name} must be a non-negative int or a numpy.random.Generator, got {type(seed).__name__}"
-        )
-    if seed < 0:
-        raise ValueError(f"{name} must be non-negative, got {seed}")
-    return np.random.default_rng(int(seed))
+    return np.random.default_rng(check_seed(seed, name))
 
 
 def spawn_rngs(seed: int | np.random.Generator, n: int) -> list[np.random.Generator]:

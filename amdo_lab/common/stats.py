@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common.validation import as_finite_array, check_in_range
+from amdo_lab.common.validation import as_finite_array, as_outcomes, check_in_range, check_same_shape
 
 __all__ = ["RateInterval", "PairedComparison", "rate_interval", "paired_comparison"]
 
@@ -94,15 +94,6 @@ class PairedComparison:
         return (self.only_first - self.only_second) / (self.only_first + self.only_second + self.both + self.neither)
 
 
-def _check_outcomes(outcomes: object, name: str) -> np.ndarray:
-    array = np.asarray(outcomes)
-    if array.dtype != bool:
-        raise TypeError(f"{name} must be a boolean array (True = right), got dtype {array.dtype}")
-    if array.ndim != 1 or array.size == 0:
-        raise ValueError(f"{name} must be a non-empty 1-D array of per-item outcomes, got shape {array.shape}")
-    return array
-
-
 def rate_interval(outcomes: np.ndarray, confidence: float = 0.95) -> RateInterval:
     """Rate of ``True`` in ``outcomes`` with its Wilson score interval.
 
@@ -124,7 +115,7 @@ def rate_interval(outcomes: np.ndarray, confidence: float = 0.95) -> RateInterva
     """
     from statsmodels.stats.proportion import proportion_confint  # lazy: statsmodels is slow to import
 
-    outcomes = _check_outcomes(outcomes, "outcomes")
+    outcomes = as_outcomes(outcomes, "outcomes")
     confidence = check_in_range(confidence, "confidence", 0, 1)
     successes, trials = int(outcomes.sum()), int(outcomes.size)
     low, high = proportion_confint(successes, trials, alpha=1 - confidence, method="wilson")
@@ -148,10 +139,9 @@ def paired_comparison(first: np.ndarray, second: np.ndarray) -> PairedComparison
     """
     from statsmodels.stats.contingency_tables import mcnemar  # lazy: statsmodels is slow to import
 
-    first = _check_outcomes(first, "first")
-    second = _check_outcomes(second, "second")
-    if first.shape != second.shape:
-        raise ValueError(f"first and second must score the same items, got {first.size} and {second.size} outcomes")
+    first = as_outcomes(first, "first")
+    second = as_outcomes(second, "second")
+    check_same_shape(first, second, "first", "second")  # the same items, scored by both
     only_first, only_second = int(np.sum(first & ~second)), int(np.sum(~first & second))
     both, neither = int(np.sum(first & second)), int(np.sum(~first & ~second))
     if only_first + only_second == 0:

@@ -18,6 +18,7 @@ __all__ = [
     "as_bool_mask",
     "as_finite_array",
     "as_image_pair",
+    "as_outcomes",
     "as_points",
     "as_rotation",
     "as_weights",
@@ -33,6 +34,7 @@ __all__ = [
     "check_odd_int",
     "check_overflow",
     "check_same_shape",
+    "check_seed",
     "check_positive",
     "check_positive_int",
 ]
@@ -355,6 +357,51 @@ def check_instance(value: object, name: str, expected: type | tuple[type, ...], 
         wanted = what or " or ".join(t.__name__ for t in types)
         raise TypeError(f"{name} must be {wanted}, got {type(value).__name__}")
     return value
+
+
+def as_outcomes(value: object, name: str) -> np.ndarray:
+    """Return ``value`` as a non-empty 1-D boolean array of per-item outcomes (True = right), or raise.
+
+    Parameters
+    ----------
+    value : array_like of bool
+        The user's input.
+    name : str
+        The argument's name, used in error messages.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``value`` as a boolean array (not copied).
+    """
+    array = np.asarray(value)
+    if array.dtype != bool:
+        raise TypeError(f"{name} must be a boolean array (True = right), got dtype {array.dtype}")
+    if array.ndim != 1 or array.size == 0:
+        raise ValueError(f"{name} must be a non-empty 1-D array of per-item outcomes, got shape {array.shape}")
+    return array
+
+
+def check_seed(value: object, name: str) -> int:
+    """Return ``value`` after checking it is a seed: a non-negative int (a ``Generator`` is handled by the caller).
+
+    Parameters
+    ----------
+    value : int
+        The user's input.
+    name : str
+        The argument's name, used in error messages.
+
+    Returns
+    -------
+    int
+        ``value``.
+    """
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name} must be a non-negative int or a numpy.random.Generator, got {type(value).__name__}")
+    if value < 0:
+        raise ValueError(f"{name} must be non-negative, got {value}")
+    return int(value)
 
 
 def check_odd_int(value: object, name: str, *, minimum: int = 3, maximum: int | None = None) -> int:

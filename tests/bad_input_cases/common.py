@@ -56,6 +56,10 @@ def cases() -> dict[str, Case]:
                                                ("value", "a wrong trailing axis")})),
         "as_finite_array": Case(c.as_finite_array, {"value": points3, "name": "points", "shape": (None, 3)},
                                 {"value": "points"}, names={"value": "points"}),
+        "as_outcomes": Case(c.as_outcomes, {"value": right, "name": "outcomes"},
+                            {"value": "bool_array"}, names={"value": "outcomes"},
+                            accept=frozenset({("value", "a wrong trailing axis")})),  # any number of items
+        "check_seed": Case(c.check_seed, {"value": 3, "name": "rng"}, {"value": "seed"}, names={"value": "rng"}),
         "as_points": Case(c.as_points, {"value": points2, "name": "points", "dim": 2, "allow_empty": False},
                           {"value": "points"}, names={"value": "points"}),
         "as_rotation": Case(c.as_rotation, {"value": np.eye(3), "name": "rotation"},
