@@ -383,7 +383,7 @@ REJECTIONS = [
     reject("rate_interval confidence 1", lambda: rate_interval(np.ones(3, dtype=bool), confidence=1.0),
            ValueError, "confidence"),
     reject("paired_comparison items differ", lambda: paired_comparison(np.ones(3, dtype=bool), np.ones(4, dtype=bool)),
-           ValueError, "same items"),
+           ValueError, "first and second must have the same shape"),
     # --- plotting and the 3-D helper
     reject("savefig name escapes the folder", lambda: savefig(_axes().figure, "../escape"), ValueError, "name must be"),
     reject("isosurface level outside the field", lambda: render3d.isosurface(_sphere_field()[0], 5.0),
