@@ -1,7 +1,7 @@
 """Controlled experiment: when does a mixture of PDMs per class beat a single PDM per class?
 
 The separation between each class's two articulation modes is scaled by ``mode_separation``
-(``generate_pose_dataset``); at every level and seed a fresh training and test set are drawn and
+(``make_pose_dataset``); at every level and seed a fresh training and test set are drawn and
 the same recogniser is trained with two polar-PDM components per class (the paper's mixture) and
 with one (a single PDM per class); a single Cartesian PDM per class is scored alongside.
 """
@@ -15,7 +15,7 @@ import numpy as np
 from amdo_lab.common import check_choice, check_positive, check_positive_int, make_rng, spawn_rngs
 from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.pdm_mixtures.baselines import SingleCartesianPDMClassifier
-from amdo_lab.pdm_mixtures.poses import TABLE1_CLASSES, generate_pose_dataset
+from amdo_lab.pdm_mixtures.poses import TABLE1_CLASSES, make_pose_dataset
 from amdo_lab.pdm_mixtures.recogniser import ArticulatedShapeRecogniser
 
 __all__ = ["SEPARATION_MODELS", "SeparationTrial", "mode_separation_trial"]
@@ -96,8 +96,8 @@ def mode_separation_trial(separation: float, *, rng: int | np.random.Generator, 
     n_train = check_positive_int(n_train, "n_train", minimum=6)
     n_test = check_positive_int(n_test, "n_test")
     train_rng, test_rng = spawn_rngs(make_rng(rng, "rng"), 2)
-    train = generate_pose_dataset(classes, n_train, rng=train_rng, mode_separation=separation)
-    test = generate_pose_dataset(classes, n_test, rng=test_rng, mode_separation=separation)
+    train = make_pose_dataset(classes, n_train, rng=train_rng, mode_separation=separation)
+    test = make_pose_dataset(classes, n_test, rng=test_rng, mode_separation=separation)
     models = (ArticulatedShapeRecogniser(rng=0, n_shape_components=2), ArticulatedShapeRecogniser(rng=0, n_shape_components=1),
               SingleCartesianPDMClassifier())
     with one_blas_thread():  # small matrices: BLAS threads only contend on a shared machine

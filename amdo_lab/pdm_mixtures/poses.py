@@ -30,7 +30,7 @@ __all__ = [
     "pose_modes",
     "TABLE1_CLASSES",
     "PoseDataset",
-    "generate_pose_dataset",
+    "make_pose_dataset",
 ]
 
 LIMB_NAMES: tuple[str, ...] = (
@@ -214,7 +214,7 @@ def _check_overflow(drawn: np.ndarray, name: str, value: float) -> None:
         raise ValueError(f"{name}={value:g} is too large: the values drawn with it overflow")
 
 
-def generate_pose_dataset(
+def make_pose_dataset(
     classes: tuple[str, ...] | list[str],
     n_per_class: int,
     *,
@@ -267,7 +267,7 @@ def generate_pose_dataset(
 
     Examples
     --------
-    >>> data = generate_pose_dataset(("boxing", "kicking"), 3, rng=0)
+    >>> data = make_pose_dataset(("boxing", "kicking"), 3, rng=0)
     >>> data.shapes.shape
     (6, 13, 6, 2)
     >>> data.labels.tolist()
