@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive, check_positive_int
+from amdo_lab.common import MAX_ITERATIONS, as_finite_array, check_positive, check_positive_int
 from amdo_lab.pdm_mixtures.pdm import MAX_MAGNITUDE
 
 __all__ = ["GaussianMixtureResult", "fit_gaussian_mixture", "gaussian_log_density"]
@@ -153,7 +153,7 @@ def fit_gaussian_mixture(
     weights_init : (K,) array_like, optional
         Starting mixing weights (uniform when omitted).
     n_iter : int
-        Number of EM iterations (fixed: no tolerance test, so runs are reproducible).
+        Number of EM iterations, at most ``MAX_ITERATIONS`` (fixed: no tolerance test, so runs are reproducible).
     reg_covar : float
         Non-negative ridge added to covariance diagonals.
 
@@ -170,7 +170,7 @@ def fit_gaussian_mixture(
     """
     points = as_finite_array(X, "X", ndim=2, max_abs=MAX_MAGNITUDE)
     k = check_positive_int(n_components, "n_components")
-    n_iter = check_positive_int(n_iter, "n_iter")
+    n_iter = check_positive_int(n_iter, "n_iter", maximum=MAX_ITERATIONS)
     reg_covar = check_positive(reg_covar, "reg_covar", allow_zero=True)
     t, d = points.shape
     if t < k:

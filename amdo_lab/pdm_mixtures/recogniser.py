@@ -33,8 +33,8 @@ from amdo_lab.pdm_mixtures.pdm import (
     check_labels,
     check_point_set_sizes,
     fit_modes,
+    _pdm_from_moments,
     generalized_procrustes,
-    pdm_from_moments,
     ppca_log_density,
     reconstruct,
 )
@@ -253,7 +253,7 @@ class ArticulatedShapeRecogniser:
         self.limb_weights_ = weights
         self.limb_noise_ = np.empty(N_LIMBS)
         for k in range(N_LIMBS):
-            models = [pdm_from_moments(m, c, variance_fraction=self.variance_fraction)
+            models = [_pdm_from_moments(m, c, self.variance_fraction, None)
                       for m, c in zip(means[k], covariances[k])]
             self.limb_models_.append(models)
             # Isotropic residual variance of eq. 16, from each example's best-fitting label.
