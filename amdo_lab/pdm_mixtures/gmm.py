@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import MAX_ITERATIONS, as_finite_array, check_positive, check_positive_int
-from amdo_lab.pdm_mixtures.pdm import MAX_MAGNITUDE
+from amdo_lab.pdm_mixtures.pdm import MAX_MAGNITUDE, check_shapes_agree
 
 __all__ = ["GaussianMixtureResult", "fit_gaussian_mixture", "gaussian_log_density"]
 
@@ -66,8 +66,7 @@ def gaussian_log_density(points: np.ndarray, means: np.ndarray, covariances: np.
     """
     points = as_finite_array(points, "points", ndim=2, max_abs=MAX_MAGNITUDE)
     means = as_finite_array(means, "means", ndim=2, max_abs=MAX_MAGNITUDE)
-    if means.shape[1] != points.shape[1]:
-        raise ValueError(f"points and means must have as many columns, got {points.shape[1]} and {means.shape[1]}")
+    check_shapes_agree("points", points.shape[1:], "means", means.shape[1:])  # as many columns
     covariances = as_finite_array(covariances, "covariances", shape=(len(means), points.shape[1], points.shape[1]))
     try:
         return _gaussian_log_density(points, means, covariances)
@@ -176,19 +175,16 @@ def fit_gaussian_mixture(
     if t < k:
         raise ValueError(f"X must have at least n_components={k} rows, got {t}")
     means = as_finite_array(means_init, "means_init", shape=(k, None), max_abs=MAX_MAGNITUDE)
-    if means.shape[1] != d:
-        raise ValueError(f"X and means_init must have as many columns, got {d} and {means.shape[1]}")
+    check_shapes_agree("X", (d,), "means_init", means.shape[1:])  # as many columns
     covariances = as_finite_array(covariances_init, "covariances_init", shape=(k, d, d))
     try:
         np.linalg.cholesky(covariances)
     except np.linalg.LinAlgError:
         raise ValueError("covariances_init must be positive definite (every (d, d) matrix)") from None
-    if weights_init is None:
-        weights = np.full(k, 1.0 / k)
-    else:
-        weights = as_finite_array(weights_init, "weights_init", shape=(k,))
-        if np.any(weights <= 0) or not np.isclose(weights.sum(), 1.0):
-            raise ValueError("weights_init must be positive and sum to 1")
+    weights = np.full(k, 1.0 / k) if weights_init is None else as_finite_array(
+        weights_init, "weights_init", shape=(k,), bounds=(0, 1), closed="right")
+    if not np.isclose(weights.sum(), 1.0):
+        raise ValueError(f"weights_init must sum to 1, got {weights.sum():g}")
     # history: the mean over the patterns of ln sum_w pi_w p(X_t | w), the log-likelihood of eq. (2) with the
     # weights of eq. (5); each M-step below maximises Q of eq. (3) at the posteriors of the E-step.
     history = []

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from amdo_lab.common import as_finite_array, check_in_range, check_positive_int
+from amdo_lab.pdm_mixtures.pdm import check_shapes_agree
 
 __all__ = ["hamming_distance", "hamming_distance_reference", "label_string_log_prob", "MAX_LIMBS"]
 
@@ -42,8 +43,7 @@ def hamming_distance(label_strings: np.ndarray, dictionary: np.ndarray) -> np.nd
     """
     strings = as_finite_array(label_strings, "label_strings", ndim=2, dtype=int)
     dictionary = as_finite_array(dictionary, "dictionary", ndim=2, dtype=int)
-    if dictionary.shape[1] != strings.shape[1]:
-        raise ValueError(f"label_strings and dictionary must have as many limbs, got {strings.shape} and {dictionary.shape}")
+    check_shapes_agree("label_strings", strings.shape[1:], "dictionary", dictionary.shape[1:])  # as many limbs
     return _hamming_distance(strings, dictionary)
 
 

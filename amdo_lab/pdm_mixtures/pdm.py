@@ -106,7 +106,8 @@ def pdm_from_moments(
     covariance = as_finite_array(covariance, "covariance", ndim=2, max_abs=MAX_MAGNITUDE)
     if covariance.shape[0] != covariance.shape[1] or covariance.shape[0] < 2:
         raise ValueError(f"covariance must be a square (D, D) matrix with D >= 2, got shape {covariance.shape}")
-    mean = as_finite_array(mean, "mean", shape=(covariance.shape[0],), max_abs=MAX_MAGNITUDE)
+    mean = as_finite_array(mean, "mean", ndim=1, max_abs=MAX_MAGNITUDE)
+    check_shapes_agree("mean", mean.shape, "covariance", covariance.shape[:1])  # D entries
     variance_fraction = check_in_range(variance_fraction, "variance_fraction", 0, 1, closed="right")
     max_modes = None if max_modes is None else check_positive_int(max_modes, "max_modes", maximum=MAX_SAMPLES)
     return _pdm_from_moments(mean, covariance, variance_fraction, max_modes)
@@ -331,6 +332,59 @@ def check_point_set_sizes(point_sets: np.ndarray, name: str) -> None:
                          f"(zero centroid size at index {int(np.argmax(coincident))})")
 
 
+def check_shapes_agree(first: str, first_axes: tuple[int, ...], second: str, second_axes: tuple[int, ...]) -> None:
+    """Refuse two arrays whose shared axes differ, naming both (either may be the one at fault).
+
+    Parameters
+    ----------
+    first, second : str
+        The arguments' names, used in the error message.
+    first_axes, second_axes : tuple of int
+        The axes of each that must be equal (e.g. ``points.shape[1:]`` and ``means.shape[1:]``).
+
+    Raises
+    ------
+    ValueError
+        Naming both arguments, when the axes differ.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75 (arrays of the same long-vectors, classes or components).
+    """
+    if tuple(first_axes) != tuple(second_axes):
+        raise ValueError(f"{first} and {second} must agree in shape, got {tuple(first_axes)} and {tuple(second_axes)}")
+
+
+def check_articulated_shapes(shapes: object, name: str = "shapes", *,
+                             landmarks_per_limb: int | None = None) -> np.ndarray:
+    """Articulated shapes ``(n, 13, m, 2)``: finite, ``m >= 2`` (or ``landmarks_per_limb``), none a single point.
+
+    Parameters
+    ----------
+    shapes : (n, 13, m, 2) array_like
+        The user's input.
+    name : str
+        The argument's name, used in error messages.
+    landmarks_per_limb : int, optional
+        The ``m`` a fitted model was trained with.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``shapes`` as a float array.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 3 (a shape as K limbs of landmarks).
+    """
+    array = as_finite_array(shapes, name, shape=(None, 13, landmarks_per_limb, 2))
+    check_positive_int(array.shape[2], f"the landmarks per limb of {name}", minimum=2)
+    check_point_set_sizes(array.reshape(len(array), -1, 2), name)
+    return array
+
+
 #: Largest float class id accepted: every whole number up to 2**53 is exactly a float64, so no two ids merge.
 MAX_FLOAT_LABEL = 2.0**53
 
@@ -365,12 +419,9 @@ def check_labels(labels: object, n_shapes: int) -> np.ndarray:
     AMDO 2004, LNCS 3179, pp. 62-75 (the shape classes recognised).
     """
     labels = np.asarray(labels)
-    if labels.shape != (n_shapes,):
-        raise ValueError(f"labels must have shape ({n_shapes},) (one per shape), got {labels.shape}")
-    if labels.dtype.kind == "f" and not np.isfinite(labels).all():
-        raise ValueError("labels must not contain NaN or inf (every shape needs a finite class id)")
-    if labels.dtype.kind == "f" and np.any((np.abs(labels) > MAX_FLOAT_LABEL) | (labels != np.round(labels))):
-        raise ValueError("labels must be class names or integer class ids (whole numbers within ±2**53)")
+    check_shapes_agree("labels", labels.shape, "shapes", (n_shapes,))  # one label per shape
+    if labels.dtype.kind == "f":  # ids as floats: whole numbers, exact in float64
+        as_finite_array(labels, "labels", dtype=np.int64, max_abs=MAX_FLOAT_LABEL)
     return labels
 
 

@@ -21,6 +21,8 @@ __all__ = ["PolarPDM", "polar_blocks", "fit_polar_mixture", "held_out_log_likeli
 N_LIMBS = 13
 #: Training shapes needed per mixture component (a covariance needs a few more rows than one).
 MIN_PER_CLASS = 3
+#: EM iterations of every shape-layer fit (eqs. 2-8), as the recogniser's.
+N_EM_ITER = 30
 #: Largest number of mixture components of one class (each needs ``MIN_PER_CLASS`` training shapes).
 MAX_COMPONENTS = 100
 
@@ -327,7 +329,7 @@ def held_out_log_likelihood(
     total = 0.0
     for fold in range(n_folds):
         held = folds == fold
-        models, weights, _ = fit_polar_mixture(vectors[~held], n_components, polar_blocks("block"), rng, 30, 0.95,
+        models, weights, _ = fit_polar_mixture(vectors[~held], n_components, polar_blocks("block"), rng, N_EM_ITER, 0.95,
                                                 ridge=shape_ridge)
         scores = np.stack([np.log(w) + model._log_density(vectors[held]) for model, w in zip(models, weights)], axis=1)
         total += float(np.logaddexp.reduce(scores, axis=1).sum())

@@ -30,15 +30,15 @@ from amdo_lab.pdm_mixtures.pdm import (
     MAX_MAGNITUDE,
     PointDistributionModel,
     align_to_reference,
+    check_articulated_shapes,
     check_labels,
-    check_point_set_sizes,
     fit_modes,
     _pdm_from_moments,
     generalized_procrustes,
     ppca_log_density,
     reconstruct,
 )
-from amdo_lab.pdm_mixtures.polar_mixture import (MAX_COMPONENTS, MIN_PER_CLASS, PolarPDM, angles_about_mean,
+from amdo_lab.pdm_mixtures.polar_mixture import (MAX_COMPONENTS, MIN_PER_CLASS, N_EM_ITER, PolarPDM, angles_about_mean,
                                                  circular_mean, fit_polar_mixture, polar_blocks)
 from amdo_lab.pdm_mixtures.recognition import (EQ11_READINGS, RecognitionTrace, ScoreComponents, _class_posteriors,
                                                _gated_component_scores, _relabel_limbs, _winning_components)
@@ -47,6 +47,9 @@ from amdo_lab.pdm_mixtures.representation import centred_limbs, polar_shape_vect
 __all__ = ["ArticulatedShapeRecogniser", "AlignmentTrace", "MAX_LABELS", "MAX_RESTARTS"]
 
 N_LIMBS = 13
+#: Upper bound on the recognition iterations (class scores, eq. 13, then relabelling, eq. 14); the loop
+#: stops earlier once the limb labels no longer change.
+MAX_RECOGNITION_ITER = 10
 #: Largest number of limb labels: each is an EM component fitted to the training limbs, so far more than
 #: this would leave components without data.
 MAX_LABELS = 100
@@ -104,11 +107,6 @@ class ArticulatedShapeRecogniser:
         p of eq. 18, in (0, 0.5).
     variance_fraction : float
         Fraction of the variance kept by each PDM's eigenmodes, in (0, 1].
-    max_iter : int
-        Upper bound on the recognition iterations (class scores, eq. 13, then relabelling, eq. 14);
-        the loop stops earlier once the limb labels no longer change. Positive.
-    n_em_iter : int
-        Fixed number of iterations of every EM fit (eqs. 2-8), positive.
     polar_model : {"block", "joint"}
         ``"block"``: separate PDMs for the angle rows and the centre rows of S (Sec. 4: the first K
         rows of Gamma are the angles, constrained by the eigenvalues of the angle covariance);
@@ -149,8 +147,6 @@ class ArticulatedShapeRecogniser:
         n_restarts: int = 1,
         label_error_probability: float = 0.2,
         variance_fraction: float = 0.95,
-        max_iter: int = 10,
-        n_em_iter: int = 30,
         polar_model: str = "block",
         limb_likelihood: str = "gaussian",
         eq11_reading: str = "G p",
@@ -163,8 +159,6 @@ class ArticulatedShapeRecogniser:
         self.n_restarts = n_restarts
         self.label_error_probability = label_error_probability
         self.variance_fraction = variance_fraction
-        self.max_iter = max_iter
-        self.n_em_iter = n_em_iter
         self.polar_model = polar_model
         self.limb_likelihood = limb_likelihood
         self.eq11_reading = eq11_reading
@@ -178,18 +172,13 @@ class ArticulatedShapeRecogniser:
         check_positive_int(self.n_restarts, "n_restarts", maximum=MAX_RESTARTS)
         check_in_range(self.label_error_probability, "label_error_probability", 0, 0.5)
         check_in_range(self.variance_fraction, "variance_fraction", 0, 1, closed="right")
-        check_positive_int(self.max_iter, "max_iter", maximum=MAX_ITERATIONS)
-        check_positive_int(self.n_em_iter, "n_em_iter", maximum=MAX_ITERATIONS)
         check_choice(self.polar_model, "polar_model", ("block", "joint"))
         check_choice(self.limb_likelihood, "limb_likelihood", ("gaussian", "residual"))
         check_choice(self.eq11_reading, "eq11_reading", EQ11_READINGS)
 
     def _check_shapes(self, shapes: object, name: str = "shapes") -> np.ndarray:
-        """Shapes ``(n, 13, m, 2)``, ``m >= 2`` (once fitted, ``m`` as in training), none of them a point."""
-        array = as_finite_array(shapes, name, shape=(None, N_LIMBS, getattr(self, "landmarks_per_limb_", None), 2))
-        check_positive_int(array.shape[2], f"the landmarks per limb of {name}", minimum=2)
-        check_point_set_sizes(array.reshape(len(array), -1, 2), name)
-        return array
+        """Articulated shapes; once fitted, with as many landmarks per limb as in training."""
+        return check_articulated_shapes(shapes, name, landmarks_per_limb=getattr(self, "landmarks_per_limb_", None))
 
     # ------------------------------------------------------------------ training
     def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "ArticulatedShapeRecogniser":
@@ -248,7 +237,7 @@ class ArticulatedShapeRecogniser:
         spreads = np.stack([np.cov(data.T, bias=True) + 1e-6 * np.eye(d) for data in limbs])
         ridges = 1e-3 * np.trace(spreads, axis1=1, axis2=2) / d
         weights, means, covariances, _ = fit_gaussian_mixtures_batch(
-            limbs, starts, np.repeat(spreads[:, None], self.n_limb_labels, axis=1), self.n_em_iter, ridges)
+            limbs, starts, np.repeat(spreads[:, None], self.n_limb_labels, axis=1), N_EM_ITER, ridges)
         self.limb_models_: list[list[PointDistributionModel]] = []
         self.limb_weights_ = weights
         self.limb_noise_ = np.empty(N_LIMBS)
@@ -295,7 +284,7 @@ class ArticulatedShapeRecogniser:
             self.angle_means_.append(angle_mean)
             deviation = angles_about_mean(class_vectors, angle_mean)
             models, weights, resp = fit_polar_mixture(deviation, self.n_shape_components, blocks, rng,
-                                                       self.n_em_iter, self.variance_fraction,
+                                                       N_EM_ITER, self.variance_fraction,
                                                        ridge=self.shape_ridge, n_restarts=self.n_restarts)
             self.shape_models_.append(models)
             self.shape_weights_.append(weights)
@@ -371,7 +360,7 @@ class ArticulatedShapeRecogniser:
         -------
         RecognitionTrace
             Class posteriors, limb labels and model fits of every iteration until the labels stop
-            changing (at most ``max_iter``).
+            changing (at most ``MAX_RECOGNITION_ITER``).
         """
         with one_blas_thread():
             return self._recognise(shapes)
@@ -384,7 +373,7 @@ class ArticulatedShapeRecogniser:
         log_weights = np.log(np.stack(self.shape_weights_))  # (C, M)
         label_strings = np.argmax(limb_log_post, axis=2)  # eq. 10: MAP limb labels
         history_post, history_labels, history_fit = [], [], []
-        for _ in range(self.max_iter):
+        for _ in range(MAX_RECOGNITION_ITER):
             # Eq. 11: every component's polar likelihood gated by its limb posteriors and by
             # P(L | Lambda) of its dictionary string; a class sums its components.
             joint = _gated_component_scores(shape_log_lik, gate, self._string_log_prob(label_strings), log_weights,
@@ -549,7 +538,7 @@ class ArticulatedShapeRecogniser:
                                        bounds=(0, self.n_limb_labels - 1))
         if observed_limbs is not None:  # None: each label's mean stroke
             observed_limbs = as_finite_array(observed_limbs, "observed_limbs",
-                                             shape=(N_LIMBS, 2 * self.landmarks_per_limb_))
+                                             shape=(N_LIMBS, 2 * self.landmarks_per_limb_), max_abs=MAX_MAGNITUDE)
         return self._model_limbs(polar_vector, label_string, observed_limbs)
 
     def _model_limbs(self, polar_vector: np.ndarray, label_string: np.ndarray,

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import as_finite_array, check_choice, check_in_range
+from amdo_lab.pdm_mixtures.pdm import check_shapes_agree
 
 __all__ = ["EQ11_READINGS", "ScoreComponents", "RecognitionTrace", "gated_component_scores", "class_posteriors",
            "winning_components", "relabel_limbs"]
@@ -24,12 +25,6 @@ EQ11_READINGS = ("G p", "G ln p")
 MAX_LOG_TERM = 1e150
 
 
-def _check_agree(first: str, first_axes: tuple[int, ...], second: str, second_axes: tuple[int, ...]) -> None:
-    """Refuse two arrays whose shared axes differ, naming both (either may be the one at fault)."""
-    if first_axes != second_axes:
-        raise ValueError(f"{first} and {second} must agree in shape, got {first_axes} and {second_axes}")
-
-
 def _check_terms(shape_log_lik: object, limb_gate: object, string_log_prob: object,
                  log_weights: object) -> tuple[np.ndarray, ...]:
     """The four ``(n, C, M)``, ``(n, C, M)``, ``(n, C, M)``, ``(C, M)`` terms of eq. 11, finite and consistent."""
@@ -37,9 +32,9 @@ def _check_terms(shape_log_lik: object, limb_gate: object, string_log_prob: obje
     limb_gate = as_finite_array(limb_gate, "limb_gate", ndim=3, bounds=(-MAX_LOG_TERM, 0))
     string_log_prob = as_finite_array(string_log_prob, "string_log_prob", ndim=3, bounds=(-MAX_LOG_TERM, 0))
     log_weights = as_finite_array(log_weights, "log_weights", ndim=2, bounds=(-MAX_LOG_TERM, 0))
-    _check_agree("shape_log_lik", shape_log_lik.shape, "limb_gate", limb_gate.shape)
-    _check_agree("shape_log_lik", shape_log_lik.shape, "string_log_prob", string_log_prob.shape)
-    _check_agree("shape_log_lik", shape_log_lik.shape[1:], "log_weights", log_weights.shape)
+    check_shapes_agree("shape_log_lik", shape_log_lik.shape, "limb_gate", limb_gate.shape)
+    check_shapes_agree("shape_log_lik", shape_log_lik.shape, "string_log_prob", string_log_prob.shape)
+    check_shapes_agree("shape_log_lik", shape_log_lik.shape[1:], "log_weights", log_weights.shape)
     return shape_log_lik, limb_gate, string_log_prob, log_weights
 
 
@@ -168,7 +163,7 @@ def winning_components(posterior: np.ndarray, component_scores: np.ndarray) -> t
     """
     posterior = as_finite_array(posterior, "posterior", ndim=2, bounds=(0, 1))
     scores = as_finite_array(component_scores, "component_scores", ndim=3)
-    _check_agree("posterior", posterior.shape, "component_scores", scores.shape[:2])
+    check_shapes_agree("posterior", posterior.shape, "component_scores", scores.shape[:2])
     return _winning_components(posterior, scores)
 
 
@@ -299,7 +294,7 @@ class RecognitionTrace:
     reconstructions : (n_iter, n, 3K) numpy.ndarray
         Posterior-weighted polar model fits S (eq. 12), angles in radians.
     n_iter : int
-        Number of iterations run, at most the recogniser's ``max_iter``.
+        Number of iterations run, at most the recogniser's ``MAX_RECOGNITION_ITER`` (10).
 
     References
     ----------

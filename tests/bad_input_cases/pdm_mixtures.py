@@ -47,7 +47,7 @@ def cases() -> dict[str, Case]:
     points2 = rng.normal(size=(6, 2))
     point_sets = rng.normal(size=(3, 5, 2))
     gmm_points = np.concatenate([rng.normal(size=(6, 2)), rng.normal(size=(6, 2)) + 4.0])
-    recogniser = p.ArticulatedShapeRecogniser(rng=0, max_iter=2, n_em_iter=3, n_shape_components=1)
+    recogniser = p.ArticulatedShapeRecogniser(rng=0, n_shape_components=1)
     recogniser.fit(shapes, labels)
     polar_pdm = recogniser.shape_models_[0][0]
     cartesian = p.SingleCartesianPDMClassifier().fit(shapes, int_labels)
@@ -83,12 +83,11 @@ def cases() -> dict[str, Case]:
 
     recogniser_params = {"rng": 0, "n_limb_labels": 4, "n_shape_components": 1, "shape_ridge": 1e-3,
                          "n_restarts": 1, "label_error_probability": 0.2, "variance_fraction": 0.95,
-                         "max_iter": 2, "n_em_iter": 3, "polar_model": "block", "limb_likelihood": "gaussian",
+                         "polar_model": "block", "limb_likelihood": "gaussian",
                          "eq11_reading": "G p"}
     recogniser_kinds = {"rng": "seed", "n_limb_labels": "count", "n_shape_components": "count",
                         "shape_ridge": "positive", "n_restarts": "count", "label_error_probability": "probability",
-                        "variance_fraction": "probability", "max_iter": "count", "n_em_iter": "count",
-                        "polar_model": "name", "limb_likelihood": "name", "eq11_reading": "name"}
+                        "variance_fraction": "probability", "polar_model": "name", "limb_likelihood": "name", "eq11_reading": "name"}
 
     table = {
         # ------------------------------------------------------------ estimators: constructor + fit
@@ -96,7 +95,7 @@ def cases() -> dict[str, Case]:
             recogniser_fit, {"shapes": shapes, "labels": labels, **recogniser_params},
             {"shapes": "points", "labels": "object", **recogniser_kinds}),
         "ArticulatedShapeRecogniser.fit": Case(
-            lambda shapes, labels: p.ArticulatedShapeRecogniser(rng=0, max_iter=2, n_em_iter=3,
+            lambda shapes, labels: p.ArticulatedShapeRecogniser(rng=0,
                                                                 n_shape_components=1).fit(shapes, labels),
             {"shapes": shapes, "labels": int_labels}, {"shapes": "points", "labels": "array"}),
         "ArticulatedShapeRecogniser.limb_label_posteriors": Case(
@@ -118,11 +117,9 @@ def cases() -> dict[str, Case]:
             lambda shapes, labels: p.NearestProcrustesMeanClassifier().fit(shapes, labels),
             {"shapes": shapes, "labels": int_labels}, {"shapes": "points", "labels": "array"}),
         "SklearnGMMClassifier": Case(
-            lambda shapes, labels, n_components, covariance_type, rng: p.SklearnGMMClassifier(
-                n_components, covariance_type, rng=rng).fit(shapes, labels),
-            {"shapes": shapes, "labels": int_labels, "n_components": 1, "covariance_type": "diag", "rng": 0},
-            {"shapes": "points", "labels": "array", "n_components": "count", "covariance_type": "name",
-             "rng": "seed"}),
+            lambda shapes, labels, n_components, rng: p.SklearnGMMClassifier(n_components, rng=rng).fit(shapes, labels),
+            {"shapes": shapes, "labels": int_labels, "n_components": 1, "rng": 0},
+            {"shapes": "points", "labels": "array", "n_components": "count", "rng": "seed"}),
         "ScoreComponents.class_scores": Case(lambda term: components.class_scores(term), {"term": "shape"},
                                              {"term": "name"}, names={"term": "terms"}),
         "SeparationTrial.rate": Case(trial.rate, {"model": "mixture of PDMs"}, {"model": "name"}),
