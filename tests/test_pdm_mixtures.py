@@ -853,12 +853,12 @@ REJECTIONS = [
     reject("fit_gaussian_mixture more components than points",
            lambda: fit_gaussian_mixture(np.zeros((2, 2)), 3, means_init=np.zeros((3, 2)),
                                         covariances_init=np.zeros((3, 2, 2))),
-           ValueError, "X must have at least n_components=3 rows"),
+           ValueError, "n_components must be at most 2, got 3"),
     reject("held_out_log_likelihood one fold", lambda small_problem: pm.held_out_log_likelihood(
         _boxing_vectors(small_problem), 1, n_folds=1, rng=0), ValueError, "n_folds"),
     # 9 rows per training split; 4 components need 12
     reject("held_out_log_likelihood too few rows per fold", lambda small_problem: pm.held_out_log_likelihood(
-        _boxing_vectors(small_problem), 4, n_folds=4, rng=0), ValueError, "outside every fold"),
+        _boxing_vectors(small_problem), 4, n_folds=4, rng=0), ValueError, "too few for n_components=4"),
     # ------------------------------------------------------------ label model
     reject("hamming_distance strings and dictionary differ",
            lambda: hamming_distance(np.zeros((2, 13), int), np.ones((3, 12), int)),

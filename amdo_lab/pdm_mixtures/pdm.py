@@ -58,8 +58,7 @@ class PointDistributionModel:
         variances = as_finite_array(self.variances, "variances", ndim=1, bounds=(0, MAX_MAGNITUDE))
         residual = check_in_range(self.residual_variance, "residual_variance", 0, MAX_MAGNITUDE, closed="right")
         if modes.shape != (len(mean), len(variances)) or len(variances) >= len(mean):
-            raise ValueError(f"mean, modes and variances must have shapes (D,), (D, M), (M,) with M < D, "
-                             f"got {mean.shape}, {modes.shape}, {variances.shape}")
+            raise ValueError(f"mean, modes, variances need shapes (D,), (D, M), (M,) with M < D, got {modes.shape}")
         for name, value in (("mean", mean), ("modes", modes), ("variances", variances), ("residual_variance", residual)):
             object.__setattr__(self, name, value)
 

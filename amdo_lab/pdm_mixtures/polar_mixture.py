@@ -321,8 +321,7 @@ def held_out_log_likelihood(
     n_folds = check_positive_int(n_folds, "n_folds", minimum=2, maximum=t)
     smallest_split = t - -(-t // n_folds)
     if smallest_split < MIN_PER_CLASS * n_components:
-        raise ValueError(f"polar_vectors needs {MIN_PER_CLASS} rows per component (n_components={n_components}) "
-                         f"outside every fold (n_folds={n_folds}), got {smallest_split} of {t}")
+        raise ValueError(f"polar_vectors: {smallest_split} rows outside a fold, too few for n_components={n_components}")
     rng = make_rng(rng, "rng")
     folds = np.empty(t, dtype=int)
     folds[rng.permutation(t)] = np.arange(t) % n_folds

@@ -534,8 +534,8 @@ class ArticulatedShapeRecogniser:
         """
         check_fitted(self, "classes_")
         polar_vector = as_finite_array(polar_vector, "polar_vector", shape=(3 * N_LIMBS,))
-        label_string = as_finite_array(label_string, "label_string", shape=(N_LIMBS,), dtype=int,
-                                       bounds=(0, self.n_limb_labels - 1))
+        labels = (0, self.n_limb_labels - 1)
+        label_string = as_finite_array(label_string, "label_string", shape=(N_LIMBS,), dtype=int, bounds=labels)
         if observed_limbs is not None:  # None: each label's mean stroke
             observed_limbs = as_finite_array(observed_limbs, "observed_limbs",
                                              shape=(N_LIMBS, 2 * self.landmarks_per_limb_), max_abs=MAX_MAGNITUDE)
