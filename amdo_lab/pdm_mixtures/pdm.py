@@ -26,6 +26,9 @@ __all__ = [
 class PointDistributionModel:
     """A point distribution model: mean long-vector, leading eigenmodes and their variances.
 
+    Each field is checked when the record is built: finite, ``mean`` and ``variances`` at most 1e150
+    in magnitude, ``variances`` non-negative, ``modes`` entries within +-1.
+
     Parameters
     ----------
     mean : (D,) numpy.ndarray
@@ -36,9 +39,6 @@ class PointDistributionModel:
         Eigenvalues ``alpha_k`` of the kept modes, non-negative and decreasing (units squared).
     residual_variance : float
         ``sigma^2``: the mean of the ``D - M`` discarded eigenvalues (positive, floored at 1e-12).
-
-    Each field is checked when the record is built (finite; ``mean`` and ``variances`` at most 1e150
-    in magnitude, ``variances`` non-negative, ``modes`` entries within +-1).
 
     References
     ----------
