@@ -35,7 +35,7 @@ from amdo_lab.pdm_mixtures import (
 )
 from amdo_lab.pdm_mixtures.pdm import check_labels
 from amdo_lab.pdm_mixtures.polar_mixture import angles_about_mean
-from amdo_lab.pdm_mixtures.recogniser import MAX_RECOGNITION_ITER
+from amdo_lab.pdm_mixtures.recognition import MAX_RECOGNITION_ITER
 from amdo_lab.pdm_mixtures.poses import MEAN_LENGTHS
 
 

@@ -7,7 +7,8 @@ import numpy as np
 from amdo_lab.common import as_finite_array, check_in_range, check_positive_int
 from amdo_lab.pdm_mixtures.pdm import check_shapes_agree
 
-__all__ = ["hamming_distance", "hamming_distance_reference", "label_string_log_prob", "MAX_LIMBS"]
+__all__ = ["hamming_distance", "hamming_distance_reference", "label_string_log_prob", "dictionary_log_probs",
+           "MAX_LIMBS"]
 
 #: Largest number of limbs K a label string may have (eq. 18's K_p = (1 - p)^K stays representable).
 MAX_LIMBS = 1_000
@@ -117,3 +118,32 @@ def _label_string_log_prob(hamming: np.ndarray, n_limbs: int, error_probability:
     k_p = np.log((1 - p) / p)  # k_p = ln((1 - p) / p), eq. 18
     return log_k_p - k_p * hamming
 
+
+
+def dictionary_log_probs(label_strings: np.ndarray, dictionary: np.ndarray, error_probability: float) -> np.ndarray:
+    """``ln P(L | Lambda_wm)`` of label strings under every string of a dictionary (eqs. 17-18).
+
+    A kernel for checked input (the recogniser's loop): nothing is validated here.
+
+    Parameters
+    ----------
+    label_strings : (n, K) numpy.ndarray of int
+        Limb labels of ``n`` shapes.
+    dictionary : (C, M, K) numpy.ndarray of int
+        One permissible string per class and mixture component.
+    error_probability : float
+        p of eq. 18, in (0, 1).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n, C, M)`` log-probabilities, nats.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 6, eqs. 17-18.
+    """
+    hamming = _hamming_distance(label_strings, dictionary.reshape(-1, dictionary.shape[-1]))  # eq. 17
+    log_prob = _label_string_log_prob(hamming, dictionary.shape[-1], error_probability)  # eq. 18
+    return log_prob.reshape(len(label_strings), *dictionary.shape[:2])

@@ -11,7 +11,7 @@ import numpy as np
 
 from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng
 from amdo_lab.pdm_mixtures.gmm import fit_gaussian_mixture
-from amdo_lab.pdm_mixtures.pdm import (MAX_MAGNITUDE, PointDistributionModel, _pdm_from_moments, fit_modes, fit_pdm,
+from amdo_lab.pdm_mixtures.pdm import (MAX_MAGNITUDE, PointDistributionModel, fit_modes, fit_pdm, pdm_from_moments,
                                        ppca_log_density, reconstruct)
 from amdo_lab.pdm_mixtures.representation import wrap_angle
 
@@ -269,7 +269,7 @@ def fit_polar_mixture(data: np.ndarray, n_components: int, blocks: tuple[slice, 
     for mean, cov, weight in zip(mixture.means / scale, mixture.covariances / np.outer(scale, scale), mixture.weights):
         cap = max(1, int(round(weight * len(data))) - 1)
         models.append(PolarPDM(blocks, tuple(
-            _pdm_from_moments(mean[block], cov[block, block], variance_fraction, cap)
+            pdm_from_moments(mean[block], cov[block, block], variance_fraction=variance_fraction, max_modes=cap)
             for block in blocks)))
     return models, np.clip(mixture.weights, 1e-12, None), mixture.responsibilities
 

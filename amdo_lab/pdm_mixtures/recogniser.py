@@ -25,7 +25,7 @@ from amdo_lab.common import (
 )
 from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.pdm_mixtures.gmm import fit_gaussian_mixtures_batch
-from amdo_lab.pdm_mixtures.labels import _hamming_distance, _label_string_log_prob
+from amdo_lab.pdm_mixtures.labels import dictionary_log_probs
 from amdo_lab.pdm_mixtures.pdm import (
     MAX_MAGNITUDE,
     PointDistributionModel,
@@ -33,23 +33,20 @@ from amdo_lab.pdm_mixtures.pdm import (
     check_articulated_shapes,
     check_labels,
     fit_modes,
-    _pdm_from_moments,
     generalized_procrustes,
+    pdm_from_moments,
     ppca_log_density,
     reconstruct,
 )
 from amdo_lab.pdm_mixtures.polar_mixture import (MAX_COMPONENTS, MIN_PER_CLASS, N_EM_ITER, PolarPDM, angles_about_mean,
                                                  circular_mean, fit_polar_mixture, polar_blocks)
-from amdo_lab.pdm_mixtures.recognition import (EQ11_READINGS, RecognitionTrace, ScoreComponents, _class_posteriors,
-                                               _gated_component_scores, _relabel_limbs, _winning_components)
+from amdo_lab.pdm_mixtures.recognition import (EQ11_READINGS, RecognitionTrace, ScoreComponents,
+                                               run_recognition)
 from amdo_lab.pdm_mixtures.representation import centred_limbs, polar_shape_vector, wrap_angle
 
 __all__ = ["ArticulatedShapeRecogniser", "AlignmentTrace", "MAX_LABELS", "MAX_RESTARTS"]
 
 N_LIMBS = 13
-#: Upper bound on the recognition iterations (class scores, eq. 13, then relabelling, eq. 14); the loop
-#: stops earlier once the limb labels no longer change.
-MAX_RECOGNITION_ITER = 10
 #: Largest number of limb labels: each is an EM component fitted to the training limbs, so far more than
 #: this would leave components without data.
 MAX_LABELS = 100
@@ -242,7 +239,7 @@ class ArticulatedShapeRecogniser:
         self.limb_weights_ = weights
         self.limb_noise_ = np.empty(N_LIMBS)
         for k in range(N_LIMBS):
-            models = [_pdm_from_moments(m, c, self.variance_fraction, None)
+            models = [pdm_from_moments(m, c, variance_fraction=self.variance_fraction)
                       for m, c in zip(means[k], covariances[k])]
             self.limb_models_.append(models)
             # Isotropic residual variance of eq. 16, from each example's best-fitting label.
@@ -299,9 +296,9 @@ class ArticulatedShapeRecogniser:
     def _component_log_likelihoods(self, deviation: np.ndarray, j: int) -> tuple[np.ndarray, np.ndarray]:
         """``ln pi_m + ln p(S | Phi_m, Gamma_m*)`` for every component m of class j, ``(n, M)``, and
         the clamped modal fits ``(M, n, 3K)`` (in deviation coordinates)."""
-        scores = np.stack([np.log(weight) + model._log_density(deviation)
+        scores = np.stack([np.log(weight) + model.log_density(deviation)
                            for model, weight in zip(self.shape_models_[j], self.shape_weights_[j])], axis=1)
-        fits = np.stack([model._project(deviation) for model in self.shape_models_[j]])
+        fits = np.stack([model.project(deviation) for model in self.shape_models_[j]])
         return scores, fits
 
     def _shape_terms(self, aligned: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -322,12 +319,6 @@ class ArticulatedShapeRecogniser:
         strings = self.dictionary_.reshape(-1, N_LIMBS)  # (C*M, K)
         picked = np.take_along_axis(limb_log_post[:, None], strings[None, :, :, None], axis=3)[..., 0]
         return picked.sum(axis=2).reshape(n, *self.dictionary_.shape[:2])
-
-    def _string_log_prob(self, label_strings: np.ndarray) -> np.ndarray:
-        """Eq. 18's ``ln P(L | Lambda_wm)`` for every dictionary string: ``(n, C, M)``."""
-        hamming = _hamming_distance(label_strings, self.dictionary_.reshape(-1, N_LIMBS))
-        return _label_string_log_prob(hamming, N_LIMBS, self.label_error_probability).reshape(
-            len(label_strings), *self.dictionary_.shape[:2])
 
     # ------------------------------------------------------------------ recognition
     def align(self, shapes: np.ndarray) -> np.ndarray:
@@ -369,27 +360,9 @@ class ArticulatedShapeRecogniser:
         aligned = self.align(shapes)  # checked here
         limb_log_post = self._limb_log_posteriors(aligned)  # (n, K, labels), eq. 10
         shape_log_lik, fits = self._shape_terms(aligned)  # (n, C, M), (C, M, n, 3K), eq. 12
-        gate = self._gates(limb_log_post)  # (n, C, M)
         log_weights = np.log(np.stack(self.shape_weights_))  # (C, M)
-        label_strings = np.argmax(limb_log_post, axis=2)  # eq. 10: MAP limb labels
-        history_post, history_labels, history_fit = [], [], []
-        for _ in range(MAX_RECOGNITION_ITER):
-            # Eq. 11: every component's polar likelihood gated by its limb posteriors and by
-            # P(L | Lambda) of its dictionary string; a class sums its components.
-            joint = _gated_component_scores(shape_log_lik, gate, self._string_log_prob(label_strings), log_weights,
-                                            self.eq11_reading)
-            posterior, within = _class_posteriors(joint, self.class_log_prior_, self.eq11_reading)
-            history_post.append(posterior)
-            history_labels.append(label_strings)
-            history_fit.append(np.einsum("nc,ncm,cmnd->nd", posterior, within, fits))
-            best, component = _winning_components(posterior, joint)  # eq. 13
-            # Eq. 14: relabel limbs using the winning class component's dictionary string as prior.
-            refined = _relabel_limbs(limb_log_post, self.dictionary_[best, component], self.label_error_probability)
-            if np.array_equal(refined, label_strings):
-                break
-            label_strings = refined
-        return RecognitionTrace(np.stack(history_post), np.stack(history_labels), np.stack(history_fit),
-                                len(history_post))
+        return run_recognition(limb_log_post, shape_log_lik, fits, self._gates(limb_log_post), log_weights,
+                               self.class_log_prior_, self.dictionary_, self.label_error_probability, self.eq11_reading)
 
     def limb_label_posteriors(self, shapes: np.ndarray, *, log: bool = False) -> np.ndarray:
         """Label posteriors ``P(lambda | z_k)`` of every limb of every shape (eqs. 9-10).
@@ -430,7 +403,8 @@ class ArticulatedShapeRecogniser:
         aligned = self.align(shapes)
         limb_log_post = self._limb_log_posteriors(aligned)
         shape_log_lik, _ = self._shape_terms(aligned)
-        return ScoreComponents(self._gates(limb_log_post), self._string_log_prob(np.argmax(limb_log_post, axis=2)),
+        return ScoreComponents(self._gates(limb_log_post), dictionary_log_probs(
+            np.argmax(limb_log_post, axis=2), self.dictionary_, self.label_error_probability),
                                shape_log_lik, np.log(np.stack(self.shape_weights_)), self.class_log_prior_)
 
     def iterative_alignment(self, shape: np.ndarray, class_name: str, n_iter: int = 4) -> AlignmentTrace:
@@ -478,7 +452,7 @@ class ArticulatedShapeRecogniser:
             drawn.append(pose.scale * model_shape @ pose.rotation.T + pose.translation)
             misfit.append(pose.rms_error)
             deviation = angles_about_mean(polar_shape_vector(shape_in_model[None]), angle_mean)
-            model_vector = model._project(deviation)[0]
+            model_vector = model.project(deviation)[0]
             model_vector[:N_LIMBS] = wrap_angle(model_vector[:N_LIMBS] + angle_mean)
         return AlignmentTrace(np.stack(drawn), np.array(misfit))
 

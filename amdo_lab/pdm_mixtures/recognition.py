@@ -13,14 +13,18 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import as_finite_array, check_choice, check_in_range
+from amdo_lab.pdm_mixtures.labels import dictionary_log_probs
 from amdo_lab.pdm_mixtures.pdm import check_shapes_agree
 
 __all__ = ["EQ11_READINGS", "ScoreComponents", "RecognitionTrace", "gated_component_scores", "class_posteriors",
-           "winning_components", "relabel_limbs"]
+           "winning_components", "relabel_limbs", "run_recognition"]
 
 #: How eq. 11 combines the gates ``G = P(L | Lambda) prod_k P(lambda_k | z_k)`` with the polar density p:
 #: ``"G p"`` (a product of probabilities, the recogniser's default) or ``"G ln p"`` (as printed).
 EQ11_READINGS = ("G p", "G ln p")
+#: Upper bound on the recognition iterations (class scores, eq. 13, then relabelling, eq. 14); the loop
+#: stops earlier once the limb labels no longer change.
+MAX_RECOGNITION_ITER = 10
 #: Largest magnitude of a log-score term: their exponentials and sums stay finite in float64 (in nats).
 MAX_LOG_TERM = 1e150
 
@@ -306,3 +310,63 @@ class RecognitionTrace:
     label_strings: np.ndarray
     reconstructions: np.ndarray
     n_iter: int
+
+
+def run_recognition(limb_log_posteriors: np.ndarray, shape_log_lik: np.ndarray, fits: np.ndarray,
+                    limb_gate: np.ndarray, log_weights: np.ndarray, class_log_prior: np.ndarray,
+                    dictionary: np.ndarray, error_probability: float, reading: str) -> RecognitionTrace:
+    """The recognition loop: eqs. 11-13 score the classes, eq. 14 relabels the limbs, until the labels settle.
+
+    The recogniser's kernel (:meth:`ArticulatedShapeRecogniser.recognise` checks the shapes and
+    computes the terms): nothing is validated here. At most ``MAX_RECOGNITION_ITER`` iterations.
+
+    Parameters
+    ----------
+    limb_log_posteriors : (n, K, labels) numpy.ndarray
+        ``ln P(lambda | z_k)`` (eq. 10).
+    shape_log_lik : (n, C, M) numpy.ndarray
+        ``ln p(S | Phi_wm, Gamma_wm*)`` (eq. 12).
+    fits : (C, M, n, 3K) numpy.ndarray
+        Each component's clamped fit of S (eq. 12), angles absolute.
+    limb_gate : (n, C, M) numpy.ndarray
+        ``sum_k ln P(lambda_k^wm | z_k)`` of every dictionary string.
+    log_weights : (C, M) numpy.ndarray
+        ``ln pi_wm``.
+    class_log_prior : (C,) numpy.ndarray
+        ``ln P(w)``.
+    dictionary : (C, M, K) numpy.ndarray of int
+        The permissible label strings.
+    error_probability : float
+        p of eq. 18, in (0, 0.5).
+    reading : {"G p", "G ln p"}
+        The reading of eq. 11.
+
+    Returns
+    -------
+    RecognitionTrace
+        Posteriors, label strings and posterior-weighted fits of every iteration.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Secs. 5-6, eqs. 10-18.
+    """
+    label_strings = np.argmax(limb_log_posteriors, axis=2)  # eq. 10: MAP limb labels
+    history_post, history_labels, history_fit = [], [], []
+    for _ in range(MAX_RECOGNITION_ITER):
+        # Eq. 11: every component's polar likelihood gated by its limb posteriors and by
+        # P(L | Lambda) of its dictionary string; a class sums its components.
+        string_log_prob = dictionary_log_probs(label_strings, dictionary, error_probability)
+        joint = _gated_component_scores(shape_log_lik, limb_gate, string_log_prob, log_weights, reading)
+        posterior, within = _class_posteriors(joint, class_log_prior, reading)
+        history_post.append(posterior)
+        history_labels.append(label_strings)
+        history_fit.append(np.einsum("nc,ncm,cmnd->nd", posterior, within, fits))
+        best, component = _winning_components(posterior, joint)  # eq. 13
+        # Eq. 14: relabel limbs using the winning class component's dictionary string as prior.
+        refined = _relabel_limbs(limb_log_posteriors, dictionary[best, component], error_probability)
+        if np.array_equal(refined, label_strings):
+            break
+        label_strings = refined
+    return RecognitionTrace(np.stack(history_post), np.stack(history_labels), np.stack(history_fit),
+                            len(history_post))
