@@ -197,6 +197,11 @@ def fit_modes(model: PointDistributionModel, observed: np.ndarray, *, clamp: boo
     if observed.ndim not in (1, 2) or observed.shape[-1] != len(model.mean):
         raise ValueError(f"observed must have shape (n, {len(model.mean)}) like the model mean, got {observed.shape}")
     clamp = check_bool(clamp, "clamp")
+    return _fit_modes(model, observed, clamp)
+
+
+def _fit_modes(model: PointDistributionModel, observed: np.ndarray, clamp: bool = True) -> np.ndarray:
+    """:func:`fit_modes` on checked input."""
     # eqs. (9) and (15): the best-fit γ = argmax_γ p(z | Φ, γ), for a Gaussian the least-squares γ = Φ^T (X_o - Y)
     gamma = (observed - model.mean) @ model.modes  # gamma = Phi^T (X_o - Y), least squares (Sec. 2)
     if clamp:  # -3 sqrt(alpha_k) <= gamma_k <= 3 sqrt(alpha_k) (Sec. 4)
@@ -229,6 +234,11 @@ def reconstruct(model: PointDistributionModel, gamma: np.ndarray) -> np.ndarray:
     gamma = as_finite_array(gamma, "gamma")
     if gamma.ndim not in (1, 2) or gamma.shape[-1] != model.n_modes:
         raise ValueError(f"gamma must have shape (n, {model.n_modes}) (one coefficient per mode), got {gamma.shape}")
+    return _reconstruct(model, gamma)
+
+
+def _reconstruct(model: PointDistributionModel, gamma: np.ndarray) -> np.ndarray:
+    """:func:`reconstruct` on checked input."""
     return model.mean + gamma @ model.modes.T  # X_hat = Y + Phi gamma (Sec. 2)
 
 
@@ -265,8 +275,8 @@ def ppca_log_density(model: PointDistributionModel, observed: np.ndarray) -> np.
     model = _check_model(model)
     observed = as_finite_array(observed, "observed", shape=(None, len(model.mean)), max_abs=MAX_MAGNITUDE)
     d, m = observed.shape[1], model.n_modes
-    gamma = fit_modes(model, observed)  # clamped to +-3 sqrt(alpha_k)
-    residual = np.sum((observed - reconstruct(model, gamma)) ** 2, axis=1)  # |r|^2, eq. 16
+    gamma = _fit_modes(model, observed)  # clamped to +-3 sqrt(alpha_k)
+    residual = np.sum((observed - _reconstruct(model, gamma)) ** 2, axis=1)  # |r|^2, eq. 16
     return -0.5 * (
         np.sum(gamma**2 / model.variances, axis=1) + residual / model.residual_variance
         + np.sum(np.log(model.variances)) + (d - m) * np.log(model.residual_variance) + d * np.log(2 * np.pi)

@@ -80,7 +80,8 @@ def gated_component_scores(shape_log_lik: np.ndarray, limb_gate: np.ndarray, str
     [-3.0]
     """
     terms = _check_terms(shape_log_lik, limb_gate, string_log_prob, log_weights)
-    return _gated_component_scores(*terms, check_choice(reading, "reading", EQ11_READINGS))
+    reading = check_choice(reading, "reading", EQ11_READINGS)
+    return _gated_component_scores(*terms, reading)
 
 
 def _gated_component_scores(shape_log_lik: np.ndarray, limb_gate: np.ndarray, string_log_prob: np.ndarray,
@@ -125,7 +126,8 @@ def class_posteriors(component_scores: np.ndarray, class_log_prior: np.ndarray, 
     """
     scores = as_finite_array(component_scores, "component_scores", ndim=3, max_abs=MAX_LOG_TERM)
     prior = as_finite_array(class_log_prior, "class_log_prior", shape=scores.shape[1:2], bounds=(-MAX_LOG_TERM, 0))
-    return _class_posteriors(scores, prior, check_choice(reading, "reading", EQ11_READINGS))
+    reading = check_choice(reading, "reading", EQ11_READINGS)
+    return _class_posteriors(scores, prior, reading)
 
 
 def _one_hot(scores: np.ndarray) -> np.ndarray:
@@ -206,7 +208,8 @@ def relabel_limbs(limb_log_posteriors: np.ndarray, winning_strings: np.ndarray,
     log_post = as_finite_array(limb_log_posteriors, "limb_log_posteriors", ndim=3, bounds=(-MAX_LOG_TERM, 0))
     strings = as_finite_array(winning_strings, "winning_strings", shape=log_post.shape[:2], dtype=int,
                               bounds=(0, log_post.shape[2] - 1))
-    return _relabel_limbs(log_post, strings, check_in_range(error_probability, "error_probability", 0, 0.5))
+    error_probability = check_in_range(error_probability, "error_probability", 0, 0.5)
+    return _relabel_limbs(log_post, strings, error_probability)
 
 
 def _relabel_limbs(limb_log_posteriors: np.ndarray, winning_strings: np.ndarray, error_probability: float) -> np.ndarray:
@@ -260,8 +263,9 @@ class ScoreComponents:
         """
         if not terms:
             raise ValueError("terms must name at least one of 'limb_gate', 'label_string', 'shape'")
-        joint = self.log_weights[None] + sum(getattr(self, check_choice(t, "terms", ("limb_gate", "label_string",
-                                                                                      "shape"))) for t in terms)
+        for term in terms:
+            check_choice(term, "terms", ("limb_gate", "label_string", "shape"))
+        joint = self.log_weights[None] + sum(getattr(self, term) for term in terms)
         return self.class_log_prior + np.logaddexp.reduce(joint, axis=2)
 
     def printed_eq11_scores(self) -> np.ndarray:
