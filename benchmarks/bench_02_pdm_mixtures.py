@@ -56,9 +56,9 @@ def speed_and_rates(bench, args) -> None:
 
     classes = tuple(pm.POSES) if args.setting == "14-poses" else pm.TABLE1_CLASSES
     train_rng, test_rng = spawn_rngs(args.seed, 2)  # the notebook's first two streams
-    train = pm.generate_pose_dataset(classes, args.train_per_class, rng=train_rng)
+    train = pm.make_pose_dataset(classes, args.train_per_class, rng=train_rng)
     per_class = -(-args.n_test // len(classes))
-    test = pm.generate_pose_dataset(classes, per_class, rng=test_rng)
+    test = pm.make_pose_dataset(classes, per_class, rng=test_rng)
     test_shapes, test_labels = test.shapes[: args.n_test], test.labels[: args.n_test]
     models = {
         "hierarchical PDM mixture (ours)": lambda: pm.ArticulatedShapeRecogniser(rng=0),

@@ -4,4 +4,6 @@ The chapter itself uses only the shared helpers of :mod:`amdo_lab.common`; this 
 what its exercise checks need, out of the reader's sight.
 """
 
-__all__: list[str] = []
+from amdo_lab.introduction.exercises import simulated_rms
+
+__all__ = ["simulated_rms"]

@@ -17,15 +17,18 @@ from __future__ import annotations
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng, procrustes_align
+from amdo_lab.common import (MAX_ITERATIONS, as_finite_array, check_in_range, check_positive_int, make_rng,
+                             procrustes_align)
 from amdo_lab.common.exercises import Exercise, ExerciseSet, WrongAnswer
 
-__all__ = ["EXERCISES", "N_DRAWS", "SUBSET_STEP", "simulated_rms"]
+__all__ = ["EXERCISES", "MAX_MAGNITUDE", "N_DRAWS", "SUBSET_STEP", "simulated_rms"]
 
 #: Noise draws behind each simulated rms residual (about 0.4 s for 60 points).
 N_DRAWS = 2000
 #: Exercise 2 keeps every ``SUBSET_STEP``-th point of the outline.
 SUBSET_STEP = 5
+#: Largest coordinate or noise level accepted: the fit squares and sums them (float64 ends near 1.8e308).
+MAX_MAGNITUDE = 1e150
 
 
 def simulated_rms(template: np.ndarray, clean: np.ndarray, noise: float, *, rng: int | np.random.Generator,
@@ -39,15 +42,15 @@ def simulated_rms(template: np.ndarray, clean: np.ndarray, noise: float, *, rng:
     Parameters
     ----------
     template : (n, d) array_like
-        The points that are moved (the outline).
+        The points that are moved (the outline), each coordinate at most ``MAX_MAGNITUDE`` in size.
     clean : (n, d) array_like
-        Their noise-free image under a similarity transform.
+        Their noise-free image under a similarity transform, of the shape of ``template``.
     noise : float
-        Standard deviation of the noise on each coordinate.
-    n_draws : int
-        Number of noise draws.
+        Standard deviation of the noise on each coordinate, in (0, ``MAX_MAGNITUDE``].
     rng : int or numpy.random.Generator
         Seed or generator of the noise draws (the checks use ``rng=11``).
+    n_draws : int
+        Number of noise draws, from 1 to ``MAX_ITERATIONS`` (100,000).
 
     Returns
     -------
@@ -59,10 +62,12 @@ def simulated_rms(template: np.ndarray, clean: np.ndarray, noise: float, *, rng:
     S. Umeyama. Least-squares estimation of transformation parameters between two point patterns.
     IEEE TPAMI 13(4), 1991, pp. 376-380.
     """
-    template = as_finite_array(template, "template", ndim=2)
-    clean = as_finite_array(clean, "clean", ndim=2)
-    noise = check_positive(noise, "noise")
-    n_draws = check_positive_int(n_draws, "n_draws", maximum=100_000)
+    template = as_finite_array(template, "template", ndim=2, max_abs=MAX_MAGNITUDE)
+    clean = as_finite_array(clean, "clean", ndim=2, max_abs=MAX_MAGNITUDE)
+    if template.shape != clean.shape:  # one noisy copy of each template point
+        raise ValueError(f"template and clean must have the same shape, got {template.shape} and {clean.shape}")
+    noise = check_in_range(noise, "noise", 0, MAX_MAGNITUDE, closed="right")
+    n_draws = check_positive_int(n_draws, "n_draws", maximum=MAX_ITERATIONS)
     rng = make_rng(rng, "rng")
     squares = [procrustes_align(template, clean + rng.normal(scale=noise, size=clean.shape)).rms_error ** 2
                for _ in range(n_draws)]

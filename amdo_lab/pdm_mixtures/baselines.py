@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from amdo_lab.common import (as_finite_array, check_choice, check_fitted, check_in_range, check_positive_int, make_rng,
+from amdo_lab.common import (as_finite_array, check_fitted, check_in_range, check_positive_int, make_rng,
                              procrustes_align)
 from amdo_lab.pdm_mixtures.pdm import (
     MAX_MAGNITUDE,
     align_to_reference,
+    check_articulated_shapes,
+    check_shapes_agree,
     check_labels,
-    check_point_set_sizes,
     fit_pdm,
     generalized_procrustes,
     ppca_log_density,
@@ -24,19 +25,6 @@ __all__ = [
     "pca_embedding",
     "pairwise_distances",
 ]
-
-
-def _check(shapes: object) -> np.ndarray:
-    shapes = as_finite_array(shapes, "shapes", shape=(None, 13, None, 2))
-    check_point_set_sizes(shapes.reshape(len(shapes), -1, 2), "shapes")
-    return shapes
-
-
-def _check_landmarks(shapes: np.ndarray, n_points: int) -> None:
-    """``shapes`` have as many landmarks (``n_points`` in all) as the training shapes."""
-    if shapes.shape[1] * shapes.shape[2] != n_points:
-        raise ValueError(f"shapes must have {n_points // shapes.shape[1]} landmarks per limb (as in training), "
-                         f"got {shapes.shape[2]}")
 
 
 class SingleCartesianPDMClassifier:
@@ -75,7 +63,7 @@ class SingleCartesianPDMClassifier:
             This classifier, fitted.
         """
         check_in_range(self.variance_fraction, "variance_fraction", 0, 1, closed="right")
-        shapes = _check(shapes)
+        shapes = check_articulated_shapes(shapes)
         aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
         vectors = aligned.reshape(len(shapes), -1)
         labels = check_labels(labels, len(shapes))
@@ -97,8 +85,7 @@ class SingleCartesianPDMClassifier:
             ``(n, C)`` log-densities in nats, columns in ``classes_`` order.
         """
         check_fitted(self, "classes_")
-        shapes = _check(shapes)
-        _check_landmarks(shapes, len(self.reference_))
+        shapes = check_articulated_shapes(shapes, landmarks_per_limb=len(self.reference_) // 13)
         vectors = align_to_reference(shapes.reshape(len(shapes), -1, 2), self.reference_).reshape(len(shapes), -1)
         return np.stack([ppca_log_density(model, vectors) for model in self.models_], axis=1)
 
@@ -146,7 +133,7 @@ class NearestProcrustesMeanClassifier:
         NearestProcrustesMeanClassifier
             This classifier, fitted.
         """
-        shapes = _check(shapes)
+        shapes = check_articulated_shapes(shapes)
         labels = check_labels(labels, len(shapes))
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
         self.means_ = [generalized_procrustes(shapes[labels == c].reshape(-1, shapes.shape[1] * shapes.shape[2], 2))[1]
@@ -168,8 +155,7 @@ class NearestProcrustesMeanClassifier:
             columns in ``classes_`` order.
         """
         check_fitted(self, "classes_")
-        shapes = _check(shapes)
-        _check_landmarks(shapes, len(self.means_[0]))
+        shapes = check_articulated_shapes(shapes, landmarks_per_limb=len(self.means_[0]) // 13)
         flat = shapes.reshape(len(shapes), -1, 2)
         # Align each class mean onto the test shape; normalise by the test shape's size.
         sizes = np.sqrt(np.sum((flat - flat.mean(axis=1, keepdims=True)) ** 2, axis=(1, 2)))
@@ -214,14 +200,12 @@ def _procrustes_rms(source: np.ndarray, targets: np.ndarray) -> np.ndarray:
 class SklearnGMMClassifier:
     """Peer-library baseline: one scikit-learn ``GaussianMixture`` per class on aligned landmark vectors.
 
-    A shape goes to the class whose mixture gives the highest ``score_samples``.
+    A shape goes to the class whose mixture (diagonal covariances) gives the highest ``score_samples``.
 
     Parameters
     ----------
     n_components : int
         Mixture components per class (positive).
-    covariance_type : {"diag", "full", "tied", "spherical"}
-        scikit-learn's covariance structure (default ``"diag"``).
     rng : int or numpy.random.Generator
         Seed of each mixture's k-means start (keyword-only, no default): an int is passed to
         scikit-learn as its ``random_state``; a Generator gives each class's mixture an int seed
@@ -233,11 +217,9 @@ class SklearnGMMClassifier:
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4 (Gaussian mixtures learnt by EM, eqs. 2-8).
     """
 
-    def __init__(self, n_components: int = 2, covariance_type: str = "diag", *,
-                 rng: int | np.random.Generator) -> None:
+    def __init__(self, n_components: int = 2, *, rng: int | np.random.Generator) -> None:
         # Stored as given (scikit-learn's contract); fit validates them.
         self.n_components = n_components
-        self.covariance_type = covariance_type
         self.rng = rng
 
     def fit(self, shapes: np.ndarray, labels: np.ndarray) -> "SklearnGMMClassifier":
@@ -258,9 +240,8 @@ class SklearnGMMClassifier:
         from sklearn.mixture import GaussianMixture
 
         check_positive_int(self.n_components, "n_components")
-        check_choice(self.covariance_type, "covariance_type", ("diag", "full", "tied", "spherical"))
         generator = make_rng(self.rng, "rng")
-        shapes = _check(shapes)
+        shapes = check_articulated_shapes(shapes)
         aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
         vectors = aligned.reshape(len(shapes), -1)
         labels = check_labels(labels, len(shapes))
@@ -270,7 +251,7 @@ class SklearnGMMClassifier:
         else:
             seeds = [int(self.rng)] * len(self.classes_)
         self.models_ = [
-            GaussianMixture(self.n_components, covariance_type=self.covariance_type, reg_covar=1e-6,
+            GaussianMixture(self.n_components, covariance_type="diag", reg_covar=1e-6,
                             random_state=seed).fit(vectors[labels == c])
             for c, seed in zip(self.classes_, seeds)
         ]
@@ -290,8 +271,7 @@ class SklearnGMMClassifier:
             ``(n,)`` class names from ``classes_``.
         """
         check_fitted(self, "classes_")
-        shapes = _check(shapes)
-        _check_landmarks(shapes, len(self.reference_))
+        shapes = check_articulated_shapes(shapes, landmarks_per_limb=len(self.reference_) // 13)
         vectors = align_to_reference(shapes.reshape(len(shapes), -1, 2), self.reference_).reshape(len(shapes), -1)
         scores = np.stack([m.score_samples(vectors) for m in self.models_], axis=1)
         return np.asarray(self.classes_)[np.argmax(scores, axis=1)]
@@ -344,15 +324,10 @@ def classical_mds(distances: np.ndarray, n_dims: int = 3) -> np.ndarray:
     Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 7, Figs. 7 and 9 (MDS embeddings); Torgerson, Psychometrika 17 (1952).
     """
-    distances = as_finite_array(distances, "distances", ndim=2, max_abs=MAX_MAGNITUDE)
+    distances = as_finite_array(distances, "distances", ndim=2, bounds=(0, MAX_MAGNITUDE))
     n = distances.shape[0]
-    if distances.shape != (n, n):
-        raise ValueError(f"distances must be a square (n, n) matrix, got shape {distances.shape}")
-    if np.any(distances < 0):
-        raise ValueError("distances must be non-negative")
-    n_dims = check_positive_int(n_dims, "n_dims")
-    if n_dims > n:
-        raise ValueError(f"n_dims must be at most the number of points {n}, got {n_dims}")
+    check_shapes_agree("distances (rows)", (n,), "distances (columns)", distances.shape[1:])  # square
+    n_dims = check_positive_int(n_dims, "n_dims", maximum=n)  # at most the number of points
     centring = np.eye(n) - 1.0 / n
     gram = -0.5 * centring @ (distances**2) @ centring
     values, vectors = np.linalg.eigh(gram)
@@ -384,10 +359,7 @@ def pca_embedding(vectors: np.ndarray, n_dims: int = 3) -> np.ndarray:
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 7, Fig. 8 (PCA embedding).
     """
     vectors = as_finite_array(vectors, "vectors", ndim=2, max_abs=MAX_MAGNITUDE)
-    n_dims = check_positive_int(n_dims, "n_dims")
-    if n_dims > min(vectors.shape):
-        raise ValueError(f"n_dims must be at most min(n, d) = {min(vectors.shape)} for vectors of shape "
-                         f"{vectors.shape}, got {n_dims}")
+    n_dims = check_positive_int(n_dims, "n_dims", maximum=min(vectors.shape))  # at most min(n, d)
     centred = vectors - vectors.mean(axis=0)
     _, _, vt = np.linalg.svd(centred, full_matrices=False)
     coords = centred @ vt[:n_dims].T

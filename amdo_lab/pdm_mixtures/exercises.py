@@ -20,7 +20,7 @@ import numpy as np
 from amdo_lab.common.exercises import Exercise, ExerciseSet, WrongAnswer
 from amdo_lab.pdm_mixtures.experiments import SEPARATION_MODELS
 from amdo_lab.pdm_mixtures.pdm import fit_pdm
-from amdo_lab.pdm_mixtures.recogniser import label_string_log_prob
+from amdo_lab.pdm_mixtures.labels import label_string_log_prob
 
 __all__ = ["EXERCISES"]
 

@@ -1,7 +1,7 @@
 """Controlled experiment: when does a mixture of PDMs per class beat a single PDM per class?
 
 The separation between each class's two articulation modes is scaled by ``mode_separation``
-(``generate_pose_dataset``); at every level and seed a fresh training and test set are drawn and
+(``make_pose_dataset``); at every level and seed a fresh training and test set are drawn and
 the same recogniser is trained with two polar-PDM components per class (the paper's mixture) and
 with one (a single PDM per class); a single Cartesian PDM per class is scored alongside.
 """
@@ -12,10 +12,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import check_choice, check_positive, check_positive_int, make_rng, spawn_rngs
+from amdo_lab.common import check_choice, check_in_range, check_positive_int, make_rng, spawn_rngs
 from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.pdm_mixtures.baselines import SingleCartesianPDMClassifier
-from amdo_lab.pdm_mixtures.poses import TABLE1_CLASSES, generate_pose_dataset
+from amdo_lab.pdm_mixtures.poses import MAX_MODE_SEPARATION, MAX_PER_CLASS, TABLE1_CLASSES, make_pose_dataset
 from amdo_lab.pdm_mixtures.recogniser import ArticulatedShapeRecogniser
 
 __all__ = ["SEPARATION_MODELS", "SeparationTrial", "mode_separation_trial"]
@@ -72,13 +72,13 @@ def mode_separation_trial(separation: float, *, rng: int | np.random.Generator, 
     Parameters
     ----------
     separation : float
-        Non-negative factor on the distance between each class's articulation modes (0: one mode,
+        Factor in [0, 100] on the distance between each class's articulation modes (0: one mode,
         1: the chapter's default data).
     rng : int or numpy.random.Generator
         Seed or generator of the training and test streams (``make_rng(rng).spawn(2)``; keyword-only,
         no default). The recognisers' k-means++ starts use seed 0, as the chapter's recogniser does.
     n_train, n_test : int
-        Training and test shapes per class.
+        Training (at least 6) and test shapes per class, at most ``MAX_PER_CLASS``.
     classes : tuple of str
         Pose classes (the six of Table 1 by default).
 
@@ -92,12 +92,12 @@ def mode_separation_trial(separation: float, *, rng: int | np.random.Generator, 
     Al-Shaher & Hancock, AMDO 2004, Sec. 4: mixtures of PDMs for shape variation one covariance
     matrix cannot capture.
     """
-    separation = check_positive(separation, "separation", allow_zero=True)
-    n_train = check_positive_int(n_train, "n_train", minimum=6)
-    n_test = check_positive_int(n_test, "n_test")
+    separation = check_in_range(separation, "separation", 0, MAX_MODE_SEPARATION, closed="both")
+    n_train = check_positive_int(n_train, "n_train", minimum=6, maximum=MAX_PER_CLASS)
+    n_test = check_positive_int(n_test, "n_test", maximum=MAX_PER_CLASS)
     train_rng, test_rng = spawn_rngs(make_rng(rng, "rng"), 2)
-    train = generate_pose_dataset(classes, n_train, rng=train_rng, mode_separation=separation)
-    test = generate_pose_dataset(classes, n_test, rng=test_rng, mode_separation=separation)
+    train = make_pose_dataset(classes, n_train, rng=train_rng, mode_separation=separation)
+    test = make_pose_dataset(classes, n_test, rng=test_rng, mode_separation=separation)
     models = (ArticulatedShapeRecogniser(rng=0, n_shape_components=2), ArticulatedShapeRecogniser(rng=0, n_shape_components=1),
               SingleCartesianPDMClassifier())
     with one_blas_thread():  # small matrices: BLAS threads only contend on a shared machine

@@ -6,8 +6,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive, check_positive_int
-from amdo_lab.pdm_mixtures.pdm import MAX_MAGNITUDE
+from amdo_lab.common import MAX_ITERATIONS, as_finite_array, check_positive, check_positive_int
+from amdo_lab.pdm_mixtures.pdm import MAX_MAGNITUDE, check_shapes_agree
 
 __all__ = ["GaussianMixtureResult", "fit_gaussian_mixture", "gaussian_log_density"]
 
@@ -66,13 +66,18 @@ def gaussian_log_density(points: np.ndarray, means: np.ndarray, covariances: np.
     """
     points = as_finite_array(points, "points", ndim=2, max_abs=MAX_MAGNITUDE)
     means = as_finite_array(means, "means", ndim=2, max_abs=MAX_MAGNITUDE)
-    if means.shape[1] != points.shape[1]:
-        raise ValueError(f"points and means must have as many columns, got {points.shape[1]} and {means.shape[1]}")
+    check_shapes_agree("points", points.shape[1:], "means", means.shape[1:])  # as many columns
     covariances = as_finite_array(covariances, "covariances", shape=(len(means), points.shape[1], points.shape[1]))
+    _check_positive_definite(covariances, "covariances")
+    return _gaussian_log_density(points, means, covariances)
+
+
+def _check_positive_definite(matrices: np.ndarray, name: str) -> None:
+    """Refuse a stack of matrices of which one is not positive definite (its Cholesky factorisation fails)."""
     try:
-        return _gaussian_log_density(points, means, covariances)
-    except np.linalg.LinAlgError:  # raised by the Cholesky factorisation only
-        raise ValueError("covariances must be positive definite (every (d, d) matrix)") from None
+        np.linalg.cholesky(matrices)
+    except np.linalg.LinAlgError:
+        raise ValueError(f"{name} must be positive definite (every (d, d) matrix)") from None
 
 
 def gaussian_log_density_reference(points: np.ndarray, means: np.ndarray, covariances: np.ndarray) -> np.ndarray:
@@ -153,7 +158,7 @@ def fit_gaussian_mixture(
     weights_init : (K,) array_like, optional
         Starting mixing weights (uniform when omitted).
     n_iter : int
-        Number of EM iterations (fixed: no tolerance test, so runs are reproducible).
+        Number of EM iterations, at most ``MAX_ITERATIONS`` (fixed: no tolerance test, so runs are reproducible).
     reg_covar : float
         Non-negative ridge added to covariance diagonals.
 
@@ -169,26 +174,18 @@ def fit_gaussian_mixture(
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4, eqs. 2-8 (E-step eq. 4, M-step eqs. 5, 7, 8).
     """
     points = as_finite_array(X, "X", ndim=2, max_abs=MAX_MAGNITUDE)
-    k = check_positive_int(n_components, "n_components")
-    n_iter = check_positive_int(n_iter, "n_iter")
-    reg_covar = check_positive(reg_covar, "reg_covar", allow_zero=True)
     t, d = points.shape
-    if t < k:
-        raise ValueError(f"X must have at least n_components={k} rows, got {t}")
+    k = check_positive_int(n_components, "n_components", maximum=t)  # at most one component per row of X
+    n_iter = check_positive_int(n_iter, "n_iter", maximum=MAX_ITERATIONS)
+    reg_covar = check_positive(reg_covar, "reg_covar", allow_zero=True)
     means = as_finite_array(means_init, "means_init", shape=(k, None), max_abs=MAX_MAGNITUDE)
-    if means.shape[1] != d:
-        raise ValueError(f"X and means_init must have as many columns, got {d} and {means.shape[1]}")
+    check_shapes_agree("X", (d,), "means_init", means.shape[1:])  # as many columns
     covariances = as_finite_array(covariances_init, "covariances_init", shape=(k, d, d))
-    try:
-        np.linalg.cholesky(covariances)
-    except np.linalg.LinAlgError:
-        raise ValueError("covariances_init must be positive definite (every (d, d) matrix)") from None
-    if weights_init is None:
-        weights = np.full(k, 1.0 / k)
-    else:
-        weights = as_finite_array(weights_init, "weights_init", shape=(k,))
-        if np.any(weights <= 0) or not np.isclose(weights.sum(), 1.0):
-            raise ValueError("weights_init must be positive and sum to 1")
+    _check_positive_definite(covariances, "covariances_init")
+    weights = np.full(k, 1.0 / k) if weights_init is None else as_finite_array(
+        weights_init, "weights_init", shape=(k,), bounds=(0, 1), closed="right")
+    if not np.isclose(weights.sum(), 1.0):
+        raise ValueError(f"weights_init must sum to 1, got {weights.sum():g}")
     # history: the mean over the patterns of ln sum_w pi_w p(X_t | w), the log-likelihood of eq. (2) with the
     # weights of eq. (5); each M-step below maximises Q of eq. (3) at the posteriors of the E-step.
     history = []

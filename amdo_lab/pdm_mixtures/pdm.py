@@ -6,7 +6,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive, check_positive_int, procrustes_align
+from amdo_lab.common import (MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check_bool, check_in_range, check_positive_int,
+                             procrustes_align)
+from amdo_lab.pdm_mixtures.representation import MAX_MAGNITUDE
 
 __all__ = [
     "PointDistributionModel",
@@ -23,6 +25,9 @@ __all__ = [
 @dataclass(frozen=True)
 class PointDistributionModel:
     """A point distribution model: mean long-vector, leading eigenmodes and their variances.
+
+    Each field is checked when the record is built: finite, ``mean`` and ``variances`` at most 1e150
+    in magnitude, ``variances`` non-negative, ``modes`` entries within +-1.
 
     Parameters
     ----------
@@ -46,6 +51,17 @@ class PointDistributionModel:
     variances: np.ndarray
     residual_variance: float
 
+    def __post_init__(self) -> None:
+        # a record a user may build: each field checked once, then stored as a float array
+        mean = as_finite_array(self.mean, "mean", ndim=1, max_abs=MAX_MAGNITUDE)
+        modes = as_finite_array(self.modes, "modes", ndim=2, max_abs=1 + 1e-9)  # orthonormal columns
+        variances = as_finite_array(self.variances, "variances", ndim=1, bounds=(0, MAX_MAGNITUDE))
+        residual = check_in_range(self.residual_variance, "residual_variance", 0, MAX_MAGNITUDE, closed="right")
+        if modes.shape != (len(mean), len(variances)) or len(variances) >= len(mean):
+            raise ValueError(f"mean, modes, variances need shapes (D,), (D, M), (M,) with M < D, got {modes.shape}")
+        for name, value in (("mean", mean), ("modes", modes), ("variances", variances), ("residual_variance", residual)):
+            object.__setattr__(self, name, value)
+
     @property
     def n_modes(self) -> int:
         """Number of kept eigenmodes M."""
@@ -60,7 +76,6 @@ def _check_model(model: object) -> PointDistributionModel:
 
 def pdm_from_moments(
     mean: np.ndarray, covariance: np.ndarray, *, variance_fraction: float = 0.95, max_modes: int | None = None,
-    min_residual_variance: float = 1e-12,
 ) -> PointDistributionModel:
     """Build a PDM from a mean and covariance: keep the leading eigenmodes of ``covariance``
     (``Sigma phi = alpha phi``) that explain ``variance_fraction`` of the variance.
@@ -74,29 +89,32 @@ def pdm_from_moments(
     variance_fraction : float
         Fraction of the variance to keep, in (0, 1].
     max_modes : int, optional
-        Upper bound on the number of modes (at most D - 1 are kept in any case).
-    min_residual_variance : float
-        Non-negative floor of the residual variance.
+        Upper bound on the number of modes, at most ``MAX_SAMPLES`` (at most D - 1 are kept in any case).
 
     Returns
     -------
     PointDistributionModel
         The mean, the kept modes (at least 1, at most D - 1), their eigenvalues and the mean of the
-        discarded eigenvalues as the residual variance.
+        discarded eigenvalues (floored at 1e-12) as the residual variance.
 
     References
     ----------
     Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (eigenmodes of the covariance, Sigma phi = alpha phi).
     """
-    covariance = as_finite_array(covariance, "covariance", ndim=2)
+    covariance = as_finite_array(covariance, "covariance", ndim=2, max_abs=MAX_MAGNITUDE)
     if covariance.shape[0] != covariance.shape[1] or covariance.shape[0] < 2:
         raise ValueError(f"covariance must be a square (D, D) matrix with D >= 2, got shape {covariance.shape}")
-    mean = as_finite_array(mean, "mean", shape=(covariance.shape[0],))
+    mean = as_finite_array(mean, "mean", ndim=1, max_abs=MAX_MAGNITUDE)
+    check_shapes_agree("mean", mean.shape, "covariance", covariance.shape[:1])  # D entries
     variance_fraction = check_in_range(variance_fraction, "variance_fraction", 0, 1, closed="right")
-    if max_modes is not None:
-        max_modes = check_positive_int(max_modes, "max_modes")
-    min_residual_variance = check_positive(min_residual_variance, "min_residual_variance", allow_zero=True)
+    max_modes = None if max_modes is None else check_positive_int(max_modes, "max_modes", maximum=MAX_SAMPLES)
+    return _pdm_from_moments(mean, covariance, variance_fraction, max_modes)
+
+
+def _pdm_from_moments(mean: np.ndarray, covariance: np.ndarray, variance_fraction: float,
+                      max_modes: int | None) -> PointDistributionModel:
+    """:func:`pdm_from_moments` on checked input."""
     eigenvalues, eigenvectors = np.linalg.eigh(covariance)  # Sigma phi_i = alpha_i phi_i (Sec. 2)
     order = np.argsort(eigenvalues)[::-1]
     eigenvalues = np.clip(eigenvalues[order], 0.0, None)  # round-off negatives of a PSD matrix
@@ -105,11 +123,11 @@ def pdm_from_moments(
     n_modes = int(np.searchsorted(np.cumsum(eigenvalues), variance_fraction * total) + 1) if total > 0 else 1
     limit = len(eigenvalues) - 1 if max_modes is None else min(max_modes, len(eigenvalues) - 1)
     n_modes = max(1, min(n_modes, limit))
-    residual = float(max(eigenvalues[n_modes:].mean(), min_residual_variance))
+    residual = float(max(eigenvalues[n_modes:].mean(), 1e-12))  # floored: the PPCA density divides by it
     return PointDistributionModel(mean, eigenvectors[:, :n_modes], eigenvalues[:n_modes], residual)
 
 
-def fit_pdm(long_vectors: np.ndarray, *, variance_fraction: float = 0.95, max_modes: int | None = None) -> PointDistributionModel:
+def fit_pdm(long_vectors: np.ndarray, *, variance_fraction: float = 0.95) -> PointDistributionModel:
     """PDM of a training set: mean ``Y``, covariance of eq. 1 (normalised by 1/T), leading eigenmodes.
 
     At most ``T - 1`` modes are kept (the rank of eq. 1), so the residual variance is positive.
@@ -120,8 +138,6 @@ def fit_pdm(long_vectors: np.ndarray, *, variance_fraction: float = 0.95, max_mo
         Training long-vectors as rows, ``T >= 3`` examples of ``D >= 2`` coordinates.
     variance_fraction : float
         Fraction of the total variance the kept modes explain, in (0, 1].
-    max_modes : int, optional
-        Positive upper bound on the number of modes (``T - 1`` and ``D - 1`` bound it anyway).
 
     Returns
     -------
@@ -142,18 +158,13 @@ def fit_pdm(long_vectors: np.ndarray, *, variance_fraction: float = 0.95, max_mo
     """
     vectors = as_finite_array(long_vectors, "long_vectors", ndim=2, max_abs=MAX_MAGNITUDE)
     t = vectors.shape[0]
-    if t < 3:
-        raise ValueError(f"long_vectors needs at least 3 training examples for a covariance, got {t}")
-    if vectors.shape[1] < 2:
-        raise ValueError(f"long_vectors needs at least 2 columns (one mode kept, one discarded), got {vectors.shape[1]}")
+    if t < 3 or vectors.shape[1] < 2:  # a covariance; one mode kept and one discarded
+        raise ValueError(f"long_vectors needs at least 3 rows (examples) and 2 columns, got shape {vectors.shape}")
     variance_fraction = check_in_range(variance_fraction, "variance_fraction", 0, 1, closed="right")
-    if max_modes is not None:
-        max_modes = check_positive_int(max_modes, "max_modes")
     mean = vectors.mean(axis=0)  # Y = (1/T) sum_t X_t
     centred = vectors - mean
     covariance = centred.T @ centred / t  # eq. 1
-    cap = t - 1 if max_modes is None else min(max_modes, t - 1)
-    return pdm_from_moments(mean, covariance, variance_fraction=variance_fraction, max_modes=cap)
+    return _pdm_from_moments(mean, covariance, variance_fraction, t - 1)  # at most T - 1 modes: the rank of eq. 1
 
 
 def fit_modes(model: PointDistributionModel, observed: np.ndarray, *, clamp: bool = True) -> np.ndarray:
@@ -186,6 +197,11 @@ def fit_modes(model: PointDistributionModel, observed: np.ndarray, *, clamp: boo
     if observed.ndim not in (1, 2) or observed.shape[-1] != len(model.mean):
         raise ValueError(f"observed must have shape (n, {len(model.mean)}) like the model mean, got {observed.shape}")
     clamp = check_bool(clamp, "clamp")
+    return _fit_modes(model, observed, clamp)
+
+
+def _fit_modes(model: PointDistributionModel, observed: np.ndarray, clamp: bool = True) -> np.ndarray:
+    """:func:`fit_modes` on checked input."""
     # eqs. (9) and (15): the best-fit γ = argmax_γ p(z | Φ, γ), for a Gaussian the least-squares γ = Φ^T (X_o - Y)
     gamma = (observed - model.mean) @ model.modes  # gamma = Phi^T (X_o - Y), least squares (Sec. 2)
     if clamp:  # -3 sqrt(alpha_k) <= gamma_k <= 3 sqrt(alpha_k) (Sec. 4)
@@ -218,6 +234,11 @@ def reconstruct(model: PointDistributionModel, gamma: np.ndarray) -> np.ndarray:
     gamma = as_finite_array(gamma, "gamma")
     if gamma.ndim not in (1, 2) or gamma.shape[-1] != model.n_modes:
         raise ValueError(f"gamma must have shape (n, {model.n_modes}) (one coefficient per mode), got {gamma.shape}")
+    return _reconstruct(model, gamma)
+
+
+def _reconstruct(model: PointDistributionModel, gamma: np.ndarray) -> np.ndarray:
+    """:func:`reconstruct` on checked input."""
     return model.mean + gamma @ model.modes.T  # X_hat = Y + Phi gamma (Sec. 2)
 
 
@@ -254,8 +275,8 @@ def ppca_log_density(model: PointDistributionModel, observed: np.ndarray) -> np.
     model = _check_model(model)
     observed = as_finite_array(observed, "observed", shape=(None, len(model.mean)), max_abs=MAX_MAGNITUDE)
     d, m = observed.shape[1], model.n_modes
-    gamma = fit_modes(model, observed)  # clamped to +-3 sqrt(alpha_k)
-    residual = np.sum((observed - reconstruct(model, gamma)) ** 2, axis=1)  # |r|^2, eq. 16
+    gamma = _fit_modes(model, observed)  # clamped to +-3 sqrt(alpha_k)
+    residual = np.sum((observed - _reconstruct(model, gamma)) ** 2, axis=1)  # |r|^2, eq. 16
     return -0.5 * (
         np.sum(gamma**2 / model.variances, axis=1) + residual / model.residual_variance
         + np.sum(np.log(model.variances)) + (d - m) * np.log(model.residual_variance) + d * np.log(2 * np.pi)
@@ -280,7 +301,7 @@ def normalise_shape(points: np.ndarray) -> np.ndarray:
     Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (landmarks aligned before the PDM, after Cootes et al.).
     """
-    points = as_finite_array(points, "points", shape=(None, 2))
+    points = as_finite_array(points, "points", shape=(None, 2), max_abs=MAX_MAGNITUDE)
     if np.all(points == points[0]):
         raise ValueError("points must not all coincide (their centroid size is zero)")
     return _normalise_shape(points)
@@ -289,11 +310,6 @@ def normalise_shape(points: np.ndarray) -> np.ndarray:
 def _normalise_shape(points: np.ndarray) -> np.ndarray:
     centred = points - points.mean(axis=0)
     return centred / np.sqrt(np.sum(centred**2))
-
-
-#: Largest accepted magnitude of a coordinate or feature: squares and sums of squares of larger
-#: numbers (covariances, distances, centroid sizes) overflow float64 (max about 1.8e308).
-MAX_MAGNITUDE = 1e150
 
 
 def check_point_set_sizes(point_sets: np.ndarray, name: str) -> None:
@@ -323,6 +339,59 @@ def check_point_set_sizes(point_sets: np.ndarray, name: str) -> None:
     if np.any(coincident):
         raise ValueError(f"{name} must not contain a point set whose points all coincide "
                          f"(zero centroid size at index {int(np.argmax(coincident))})")
+
+
+def check_shapes_agree(first: str, first_axes: tuple[int, ...], second: str, second_axes: tuple[int, ...]) -> None:
+    """Refuse two arrays whose shared axes differ, naming both (either may be the one at fault).
+
+    Parameters
+    ----------
+    first, second : str
+        The arguments' names, used in the error message.
+    first_axes, second_axes : tuple of int
+        The axes of each that must be equal (e.g. ``points.shape[1:]`` and ``means.shape[1:]``).
+
+    Raises
+    ------
+    ValueError
+        Naming both arguments, when the axes differ.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75 (arrays of the same long-vectors, classes or components).
+    """
+    if tuple(first_axes) != tuple(second_axes):
+        raise ValueError(f"{first} and {second} must agree in shape, got {tuple(first_axes)} and {tuple(second_axes)}")
+
+
+def check_articulated_shapes(shapes: object, name: str = "shapes", *,
+                             landmarks_per_limb: int | None = None) -> np.ndarray:
+    """Articulated shapes ``(n, 13, m, 2)``: finite, ``m >= 2`` (or ``landmarks_per_limb``), none a single point.
+
+    Parameters
+    ----------
+    shapes : (n, 13, m, 2) array_like
+        The user's input.
+    name : str
+        The argument's name, used in error messages.
+    landmarks_per_limb : int, optional
+        The ``m`` a fitted model was trained with.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``shapes`` as a float array.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 3 (a shape as K limbs of landmarks).
+    """
+    array = as_finite_array(shapes, name, shape=(None, 13, landmarks_per_limb, 2))
+    check_positive_int(array.shape[2], f"the landmarks per limb of {name}", minimum=2)
+    check_point_set_sizes(array.reshape(len(array), -1, 2), name)
+    return array
 
 
 #: Largest float class id accepted: every whole number up to 2**53 is exactly a float64, so no two ids merge.
@@ -359,12 +428,9 @@ def check_labels(labels: object, n_shapes: int) -> np.ndarray:
     AMDO 2004, LNCS 3179, pp. 62-75 (the shape classes recognised).
     """
     labels = np.asarray(labels)
-    if labels.shape != (n_shapes,):
-        raise ValueError(f"labels must have shape ({n_shapes},) (one per shape), got {labels.shape}")
-    if labels.dtype.kind == "f" and not np.isfinite(labels).all():
-        raise ValueError("labels must not contain NaN or inf (every shape needs a finite class id)")
-    if labels.dtype.kind == "f" and np.any((np.abs(labels) > MAX_FLOAT_LABEL) | (labels != np.round(labels))):
-        raise ValueError("labels must be class names or integer class ids (whole numbers within ±2**53)")
+    check_shapes_agree("labels", labels.shape, "shapes", (n_shapes,))  # one label per shape
+    if labels.dtype.kind == "f":  # ids as floats: whole numbers, exact in float64
+        as_finite_array(labels, "labels", dtype=np.int64, max_abs=MAX_FLOAT_LABEL)
     return labels
 
 
@@ -379,7 +445,7 @@ def generalized_procrustes(point_sets: np.ndarray, *, n_iter: int = 5) -> tuple[
     point_sets : (T, L, 2) array_like
         ``T`` sets of ``L`` landmarks; no set may have all its points coincide.
     n_iter : int
-        Fixed number of rounds (positive; default 5).
+        Fixed number of rounds, from 1 to ``MAX_ITERATIONS`` (default 5).
 
     Returns
     -------
@@ -394,7 +460,7 @@ def generalized_procrustes(point_sets: np.ndarray, *, n_iter: int = 5) -> tuple[
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (training shapes aligned before the PDM); Gower, Psychometrika 40 (1975).
     """
     sets = as_finite_array(point_sets, "point_sets", shape=(None, None, 2))
-    check_positive_int(n_iter, "n_iter")
+    check_positive_int(n_iter, "n_iter", maximum=MAX_ITERATIONS)
     check_point_set_sizes(sets, "point_sets")
     reference = _normalise_shape(sets[0])
     aligned = sets
@@ -427,7 +493,7 @@ def align_to_reference(point_sets: np.ndarray, reference: np.ndarray) -> np.ndar
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (aligned landmarks); Umeyama, IEEE PAMI 13 (1991).
     """
     sets = as_finite_array(point_sets, "point_sets", shape=(None, None, 2))
-    reference = as_finite_array(reference, "reference", shape=(sets.shape[1], 2))
+    reference = as_finite_array(reference, "reference", shape=(sets.shape[1], 2), max_abs=MAX_MAGNITUDE)
     check_point_set_sizes(sets, "point_sets")
     return _align_to_reference(sets, reference)
 

@@ -10,15 +10,19 @@ import numpy as np
 
 from amdo_lab.common import as_finite_array
 
+#: Largest accepted magnitude of a coordinate or feature: squares and sums of squares of larger
+#: numbers (covariances, distances, centroid sizes) overflow float64 (max about 1.8e308).
+MAX_MAGNITUDE = 1e150
+
 __all__ = ["limb_centres", "articulation_centre", "limb_angles", "wrap_angle", "polar_shape_vector", "centred_limbs"]
 
 
 def _check_shapes(shapes: object) -> np.ndarray:
-    return as_finite_array(shapes, "shapes", shape=(None, None, None, 2))
+    return as_finite_array(shapes, "shapes", shape=(None, None, None, 2), max_abs=MAX_MAGNITUDE)
 
 
 def _check_centres(centres: object) -> np.ndarray:
-    return as_finite_array(centres, "centres", shape=(None, None, 2))
+    return as_finite_array(centres, "centres", shape=(None, None, 2), max_abs=MAX_MAGNITUDE)
 
 
 def wrap_angle(angles: np.ndarray) -> np.ndarray:
