@@ -1,0 +1,47 @@
+"""Chapter 9: modal matching of pedobarography objects by finite-element modes and assignment.
+
+Bastos & Tavares, AMDO 2004. A seeded synthetic pressure sequence of a foot stands in for the
+recorded one; its analytic pressure field gives the truth of every node's partner.
+"""
+
+from amdo_lab.modal_matching.element import (
+    MAX_CONDITION,
+    MAX_COORDINATE_MM,
+    GaussianElement,
+    gaussian_element,
+    interpolate_field,
+    mean_spacing,
+)
+from amdo_lab.modal_matching.matching import (
+    ALIGNMENTS,
+    SEARCHES,
+    MatchResult,
+    adcom,
+    affinity_matrix,
+    global_search,
+    local_search,
+    match_objects,
+    mode_features,
+)
+from amdo_lab.modal_matching.modes import ModalBasis, exact_rigid_motions, modal_analysis
+
+__all__ = [
+    "MAX_CONDITION",
+    "MAX_COORDINATE_MM",
+    "GaussianElement",
+    "gaussian_element",
+    "interpolate_field",
+    "mean_spacing",
+    "ALIGNMENTS",
+    "SEARCHES",
+    "MatchResult",
+    "adcom",
+    "affinity_matrix",
+    "global_search",
+    "local_search",
+    "match_objects",
+    "mode_features",
+    "ModalBasis",
+    "exact_rigid_motions",
+    "modal_analysis",
+]
