@@ -24,6 +24,17 @@ from amdo_lab.modal_matching.matching import (
     mode_features,
 )
 from amdo_lab.modal_matching.modes import ModalBasis, exact_rigid_motions, modal_analysis
+from amdo_lab.modal_matching.peers import CPD_KINDS, match_coordinates, match_cpd
+from amdo_lab.modal_matching.pedobarography import (
+    LOAD_NAMES,
+    PAPER_PAIRS,
+    ObjectPair,
+    PedobarographySequence,
+    correct_share,
+    make_pedobarography_sequence,
+    paper_pair,
+    resample_closed_curve,
+)
 
 __all__ = [
     "MAX_CONDITION",
@@ -44,4 +55,15 @@ __all__ = [
     "ModalBasis",
     "exact_rigid_motions",
     "modal_analysis",
+    "CPD_KINDS",
+    "match_coordinates",
+    "match_cpd",
+    "LOAD_NAMES",
+    "PAPER_PAIRS",
+    "ObjectPair",
+    "PedobarographySequence",
+    "correct_share",
+    "make_pedobarography_sequence",
+    "paper_pair",
+    "resample_closed_curve",
 ]

@@ -1,0 +1,377 @@
+"""A seeded synthetic dynamic pedobarography sequence, with the truth of every node's partner.
+
+Twelve anisotropic Gaussian loads (heel, lateral midfoot, the five metatarsal heads, hallux and four
+lesser toes) rise and fall on a stance schedule; each frame is the pressure on a pixel grid plus
+noise, with the pixels under a calibration floor set to zero and a Gaussian filter applied (Sec. 3.2,
+step 1). The pressure is also available as an analytic field, which the filter only widens: from it,
+a node's partner on another contour is where the field's gradient flow carries it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage
+from skimage import measure
+
+from amdo_lab.common import (MAX_SAMPLES, MAX_SIDE, as_finite_array, check_choice, check_positive, check_positive_int,
+                             make_rng)
+from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, _mean_spacing
+
+__all__ = ["LOAD_NAMES", "ObjectPair", "PAPER_PAIRS", "PedobarographySequence", "correct_share",
+           "make_pedobarography_sequence", "paper_pair", "resample_closed_curve"]
+
+_REFERENCE = ("Bastos & Tavares. Improvement of Modal Matching Image Objects in Dynamic Pedobarography Using "
+              "Optimization Techniques. AMDO 2004, LNCS 3179, Sec. 2-3.")
+
+#: The twelve loads, heel to toes.
+LOAD_NAMES = ("heel", "lateral midfoot", "M1", "M2", "M3", "M4", "M5", "hallux", "toe 2", "toe 3", "toe 4", "toe 5")
+# per load: centre x, y (mm), standard deviations along x, y (mm), tilt (rad), peak (kPa),
+# time of the peak and its spread (fractions of the stance)
+_LOADS = np.array([
+    [80, 62, 17, 21, 0.00, 260, 0.22, 0.20],
+    [108, 125, 13, 34, 0.10, 90, 0.45, 0.25],
+    [58, 205, 11, 11, 0.00, 230, 0.68, 0.20],
+    [74, 212, 9, 10, 0.00, 200, 0.66, 0.20],
+    [89, 210, 9, 10, 0.00, 170, 0.64, 0.20],
+    [103, 203, 9, 10, 0.00, 140, 0.62, 0.20],
+    [117, 190, 10, 11, 0.20, 120, 0.60, 0.20],
+    [57, 262, 11, 13, 0.00, 200, 0.82, 0.14],
+    [80, 258, 6, 7, 0.00, 90, 0.80, 0.14],
+    [93, 252, 6, 7, 0.00, 80, 0.79, 0.14],
+    [105, 245, 6, 6, 0.00, 70, 0.78, 0.14],
+    [116, 236, 6, 6, 0.00, 60, 0.77, 0.14],
+])
+#: The pairs of Tables 1 and 2, as (frame, level in kPa, nodes) of object 1 and of object 2: the foot's
+#: outline at the calibration level in two consecutive frames (64 and 58 nodes, as printed), and two
+#: isobars of the heel in the second frame (54 and 46 nodes). The frames and levels are our choice.
+PAPER_PAIRS = {"contours": ((4, 15.0, 64), (5, 15.0, 58)), "isobars": ((5, 100.0, 54), (5, 120.0, 46))}
+#: Longest Newton step (mm) of :meth:`PedobarographySequence.follow`, so flat regions do not throw a point away.
+_MAX_NEWTON_STEP_MM = 2.0
+#: Standard deviations of the seeded perturbations: centres (mm), log peaks, peak times (stance).
+_JITTER = (3.0, 0.10, 0.02)
+
+
+@dataclass(frozen=True)
+class PedobarographySequence:
+    """Pressure images of one step, and the analytic field behind them.
+
+    Parameters
+    ----------
+    frames : ndarray, shape (n_frames, rows, cols)
+        Pressure (kPa) per pixel after the calibration floor and the Gaussian filter.
+    mm_per_px : float
+        Pixel size (mm); pixel (r, c) is at x = c mm_per_px, y = r mm_per_px.
+    centres, covariances, peaks, peak_times, spreads : ndarray
+        The loads: centres (12, 2) in mm, covariances (12, 2, 2) in mm^2 including the filter's
+        widening, peaks (12,) in kPa after it, times of the peaks and their spreads in frames.
+    floor : float
+        The calibration floor (kPa).
+
+    References
+    ----------
+    Bastos & Tavares, AMDO 2004, Sec. 2 and 3.2 (step 1).
+    """
+
+    frames: np.ndarray
+    mm_per_px: float
+    centres: np.ndarray
+    covariances: np.ndarray
+    peaks: np.ndarray
+    peak_times: np.ndarray
+    spreads: np.ndarray
+    floor: float
+
+    def pressure(self, xy_mm: np.ndarray, t: float) -> np.ndarray:
+        """The analytic pressure (kPa) at points ``xy_mm`` (shape (p, 2)) and time ``t`` (frames)."""
+        value, _ = self._field(np.asarray(xy_mm, dtype=float), float(t))
+        return value
+
+    def _field(self, xy: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """Pressure and its gradient (kPa/mm) at points xy (p, 2) and time t."""
+        weights = self.peaks * np.exp(-0.5 * ((t - self.peak_times) / self.spreads) ** 2)
+        precision = np.linalg.inv(self.covariances)
+        d = xy[:, None, :] - self.centres[None]
+        Pd = np.einsum("kab,pkb->pka", precision, d)
+        loads = weights * np.exp(-0.5 * np.einsum("pka,pka->pk", d, Pd))
+        return loads.sum(axis=1), -np.einsum("pk,pka->pa", loads, Pd)
+
+    def contour(self, frame: int, level: float, n_nodes: int) -> np.ndarray:
+        """The longest closed isobar of a frame at ``level`` kPa, resampled to ``n_nodes`` nodes.
+
+        Parameters
+        ----------
+        frame : int
+            Index of the frame.
+        level : float
+            Pressure (kPa), above the calibration floor.
+        n_nodes : int
+            Nodes of the resampled contour, at least 4 and at most 1,000,000.
+
+        Returns
+        -------
+        ndarray, shape (n_nodes, 2)
+            Nodes (mm), counter-clockwise, equally spaced along the contour, the first the lowest
+            (smallest y) point.
+        """
+        frame = check_positive_int(frame, "frame", minimum=0, maximum=self.frames.shape[0] - 1)
+        level = check_positive(level, "level")
+        n_nodes = check_positive_int(n_nodes, "n_nodes", minimum=4, maximum=MAX_SAMPLES)
+        # a zero border closes the isobars that leave the plate
+        padded = np.pad(self.frames[frame], 1)
+        curves = [c - 1 for c in measure.find_contours(padded, level) if np.allclose(c[0], c[-1])]
+        if not curves:
+            raise ValueError(f"no closed contour at level {level:g} kPa in frame {frame}")
+        longest = max(curves, key=len)
+        return _resample_closed_curve(longest[:, ::-1] * self.mm_per_px, n_nodes)
+
+    def follow(self, points: np.ndarray, t_from: float, level_from: float, t_to: float, level_to: float,
+               *, steps: int = 16) -> np.ndarray:
+        """Where the field's gradient flow carries points from one isobar (t, level) to another.
+
+        Each of ``steps`` sub-steps moves the time and the level a little and projects every point
+        back onto the current isobar along the gradient (Newton steps): between frames this is the
+        isobar's normal motion, between levels the steepest ascent.
+
+        Parameters
+        ----------
+        points : ndarray, shape (p, 2)
+            Points (mm) on or near the isobar ``level_from`` at time ``t_from``.
+        t_from, t_to : float
+            Times (frames).
+        level_from, level_to : float
+            Pressures (kPa).
+        steps : int
+            Sub-steps, at least 1 and at most 100,000.
+
+        Returns
+        -------
+        ndarray, shape (p, 2)
+            The points carried to the isobar ``level_to`` at time ``t_to``.
+        """
+        P = as_finite_array(points, "points", ndim=2, shape=(None, 2), max_abs=MAX_COORDINATE_MM)
+        steps = check_positive_int(steps, "steps", maximum=100_000)
+        t_from, t_to = check_positive(t_from, "t_from", allow_zero=True), check_positive(t_to, "t_to", allow_zero=True)
+        level_from, level_to = check_positive(level_from, "level_from"), check_positive(level_to, "level_to")
+        for fraction in np.linspace(0, 1, steps + 1):
+            t = t_from + fraction * (t_to - t_from)
+            level = level_from + fraction * (level_to - level_from)
+            for _ in range(4):
+                value, grad = self._field(P, t)
+                move = ((level - value) / np.maximum(np.sum(grad**2, axis=1), 1e-12))[:, None] * grad
+                length = np.linalg.norm(move, axis=1, keepdims=True)  # damped where the field is flat
+                P = P + move * np.minimum(1.0, _MAX_NEWTON_STEP_MM / np.maximum(length, 1e-300))
+        return P
+
+
+@dataclass(frozen=True)
+class ObjectPair:
+    """Two objects to match and where each node of the first truly goes.
+
+    Parameters
+    ----------
+    X1, X2 : ndarray, shapes (m1, 2) and (m2, 2)
+        The nodes (mm) of the two contours, counter-clockwise.
+    truth : ndarray, shape (m1, 2)
+        Each node of ``X1`` carried by the pressure field's gradient flow onto ``X2``'s isobar.
+
+    References
+    ----------
+    Bastos & Tavares, AMDO 2004, Sec. 5.
+    """
+
+    X1: np.ndarray
+    X2: np.ndarray
+    truth: np.ndarray
+
+
+def paper_pair(sequence: PedobarographySequence, which: str) -> ObjectPair:
+    """The contour pair of Table 1 or the isobar pair of Table 2 in a sequence, with its truth.
+
+    Parameters
+    ----------
+    sequence : PedobarographySequence
+        From :func:`make_pedobarography_sequence` (15 frames).
+    which : {"contours", "isobars"}
+        Which pair of :data:`PAPER_PAIRS`.
+
+    Returns
+    -------
+    ObjectPair
+        Object 1, object 2 and the truth.
+
+    References
+    ----------
+    Bastos & Tavares, AMDO 2004, Sec. 5, Tables 1 and 2.
+    """
+    if not isinstance(sequence, PedobarographySequence):
+        raise TypeError(f"sequence must be a PedobarographySequence, got {type(sequence).__name__}")
+    which = check_choice(which, "which", tuple(PAPER_PAIRS))
+    (t1, level1, n1), (t2, level2, n2) = PAPER_PAIRS[which]
+    if sequence.frames.shape[0] <= max(t1, t2):
+        raise ValueError(f"sequence must hold at least {max(t1, t2) + 1} frames")
+    X1 = sequence.contour(t1, level1, n1)
+    return ObjectPair(X1, sequence.contour(t2, level2, n2), sequence.follow(X1, t1, level1, t2, level2))
+
+
+def resample_closed_curve(curve: np.ndarray, n_nodes: int) -> np.ndarray:
+    """Resample a closed polyline to ``n_nodes`` nodes equally spaced along its length.
+
+    Parameters
+    ----------
+    curve : ndarray, shape (p, 2)
+        Vertices (mm), the last may repeat the first.
+    n_nodes : int
+        Nodes wanted, at least 4 and at most 1,000,000.
+
+    Returns
+    -------
+    ndarray, shape (n_nodes, 2)
+        Counter-clockwise nodes, the first at the lowest (smallest y) vertex.
+
+    References
+    ----------
+    Bastos & Tavares, AMDO 2004, Sec. 5 (contours of 64 and 58 nodes; the sampling is not described).
+    """
+    curve = as_finite_array(curve, "curve", ndim=2, shape=(None, 2), max_abs=MAX_COORDINATE_MM)
+    n_nodes = check_positive_int(n_nodes, "n_nodes", minimum=4, maximum=MAX_SAMPLES)
+    if len(curve) < 3:
+        raise ValueError(f"curve must hold at least 3 vertices, got {len(curve)}")
+    return _resample_closed_curve(curve, n_nodes)
+
+
+def _resample_closed_curve(curve: np.ndarray, n: int) -> np.ndarray:
+    if np.allclose(curve[0], curve[-1]):
+        curve = curve[:-1]
+    x, y = curve[:, 0], curve[:, 1]
+    if np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y) < 0:  # signed area: make it counter-clockwise
+        curve = curve[::-1]
+    curve = np.roll(curve, -int(np.argmin(curve[:, 1])), axis=0)
+    closed = np.vstack([curve, curve[:1]])
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(closed, axis=0), axis=1))])
+    s = np.linspace(0, arc[-1], n, endpoint=False)
+    return np.c_[np.interp(s, arc, closed[:, 0]), np.interp(s, arc, closed[:, 1])]
+
+
+def make_pedobarography_sequence(*, rng: int | np.random.Generator, n_frames: int = 15,
+                                 shape: tuple[int, int] = (150, 80), mm_per_px: float = 2.0,
+                                 noise: float = 3.0, floor: float = 8.0,
+                                 filter_px: float = 1.0) -> PedobarographySequence:
+    """A seeded pressure sequence of one step on the plate: 12 loads on a stance schedule.
+
+    Parameters
+    ----------
+    rng : int or numpy.random.Generator
+        Seed of the loads' perturbations and of the pixel noise.
+    n_frames : int
+        Frames over the stance, at least 2 and at most 4,096.
+    shape : (int, int)
+        Rows and columns of a frame, each at most 4,096; rows run from heel to toes.
+    mm_per_px : float
+        Pixel size (mm), in (0, 100].
+    noise : float
+        Standard deviation of the pixel noise (kPa), ≥ 0.
+    floor : float
+        Calibration floor (kPa), ≥ 0: pixels below it are set to zero before the filter.
+    filter_px : float
+        Standard deviation of the Gaussian filter (pixels), > 0.
+
+    Returns
+    -------
+    PedobarographySequence
+        The frames and the analytic field (the filter's widening included).
+
+    References
+    ----------
+    Bastos & Tavares, AMDO 2004, Sec. 2 and 3.2 (step 1); the loads are our choice.
+
+    Examples
+    --------
+    >>> step = make_pedobarography_sequence(rng=0, n_frames=4)
+    >>> step.frames.shape
+    (4, 150, 80)
+    """
+    generator = make_rng(rng, "rng")
+    n_frames = check_positive_int(n_frames, "n_frames", minimum=2, maximum=MAX_SIDE)
+    rows, cols = (check_positive_int(side, "shape", minimum=8, maximum=MAX_SIDE) for side in _pair(shape))
+    mm_per_px = check_positive(mm_per_px, "mm_per_px")
+    if mm_per_px > 100:
+        raise ValueError(f"mm_per_px must be at most 100, got {mm_per_px}")
+    noise = check_positive(noise, "noise", allow_zero=True)
+    floor = check_positive(floor, "floor", allow_zero=True)
+    filter_px = check_positive(filter_px, "filter_px")
+    if noise > 1e6 or floor > 1e6 or filter_px > MAX_SIDE:
+        raise ValueError("noise and floor must be at most 1e6 kPa and filter_px at most 4096")
+    return _make_sequence(generator, n_frames, rows, cols, mm_per_px, noise, floor, filter_px)
+
+
+def _pair(shape: object) -> tuple[object, object]:
+    if not isinstance(shape, tuple) or len(shape) != 2:
+        raise TypeError(f"shape must be a pair of ints, got {shape!r}")
+    return shape
+
+
+def _make_sequence(rng: np.random.Generator, n_frames: int, rows: int, cols: int, mm_per_px: float,
+                   noise: float, floor: float, filter_px: float) -> PedobarographySequence:
+    loads = _LOADS.copy()
+    n = len(loads)
+    loads[:, :2] += rng.normal(0.0, _JITTER[0], (n, 2))
+    loads[:, 5] *= np.exp(rng.normal(0.0, _JITTER[1], n))
+    loads[:, 6] += rng.normal(0.0, _JITTER[2], n)
+    # the foot's layout is given for a 160 x 300 mm plate: scale it to this one
+    scale = np.array([cols, rows]) * mm_per_px / np.array([160.0, 300.0])
+    centres = loads[:, :2] * scale
+    c, s = np.cos(loads[:, 4]), np.sin(loads[:, 4])
+    R = np.stack([np.stack([c, -s], -1), np.stack([s, c], -1)], -2)
+    covariances = R @ (np.eye(2) * (loads[:, 2:4] * scale) [:, None, :] ** 2) @ R.transpose(0, 2, 1)
+    # the filter widens each Gaussian load by its own covariance and lowers its peak by the same factor
+    widened = covariances + (filter_px * mm_per_px) ** 2 * np.eye(2)
+    ratio = np.sqrt(np.linalg.det(covariances) / np.linalg.det(widened))
+    raw = PedobarographySequence(np.zeros(0), mm_per_px, centres, covariances, loads[:, 5],
+                                 loads[:, 6] * (n_frames - 1), loads[:, 7] * (n_frames - 1), floor)
+    ys, xs = np.mgrid[0:rows, 0:cols] * mm_per_px
+    grid = np.c_[xs.ravel(), ys.ravel()]
+    frames = np.empty((n_frames, rows, cols))
+    for t in range(n_frames):
+        image = raw.pressure(grid, t).reshape(rows, cols) + rng.normal(0.0, noise, (rows, cols))
+        image[image < floor] = 0.0  # the calibration floor
+        frames[t] = ndimage.gaussian_filter(image, filter_px)
+    return PedobarographySequence(frames, mm_per_px, centres, widened, loads[:, 5] * ratio,
+                                  raw.peak_times, raw.spreads, floor)
+
+
+def correct_share(pairs: np.ndarray, truth: np.ndarray, X2: np.ndarray) -> float:
+    """Share of pairs whose partner lies within one node spacing of the true partner position.
+
+    Parameters
+    ----------
+    pairs : ndarray of int, shape (k, 2)
+        Pairs (i in object 1, j in object 2), k ≥ 1.
+    truth : ndarray, shape (m1, D)
+        Where each node of object 1 truly goes (mm), e.g. from :meth:`PedobarographySequence.follow`.
+    X2 : ndarray, shape (m2, D)
+        Object 2's nodes (mm).
+
+    Returns
+    -------
+    float
+        In [0, 1]; the tolerance is object 2's mean nearest-neighbour spacing.
+
+    References
+    ----------
+    Bastos & Tavares, AMDO 2004, Sec. 5 (the paper counts "satisfactory" matches by eye).
+    """
+    truth = as_finite_array(truth, "truth", ndim=2, max_abs=MAX_COORDINATE_MM)
+    X2 = as_finite_array(X2, "X2", ndim=2, shape=(None, truth.shape[1]), max_abs=MAX_COORDINATE_MM)
+    if len(X2) < 2:
+        raise ValueError(f"X2 must hold at least 2 nodes, got {len(X2)}")
+    pairs = as_finite_array(pairs, "pairs", ndim=2, shape=(None, 2), dtype=int, bounds=(0, len(truth) - 1))
+    if np.any(pairs[:, 1] >= len(X2)):
+        raise ValueError(f"pairs name a node of X2 beyond its {len(X2)} nodes")
+    return _correct_share(pairs, truth, X2)
+
+
+def _correct_share(pairs: np.ndarray, truth: np.ndarray, X2: np.ndarray) -> float:
+    distance = np.linalg.norm(X2[pairs[:, 1]] - truth[pairs[:, 0]], axis=1)
+    return float(np.mean(distance <= _mean_spacing(X2)))
