@@ -260,6 +260,14 @@ CHAPTER_7 = {
 }
 
 # ---------------------------------------------------------------------------------------------
+# Chapter 9, Bastos & Tavares 2004: amdo_lab.modal_matching
+
+_MM = "amdo_lab.modal_matching"
+_MODES = (f"{_MM}.modes.modal_analysis", "test_modes_solve_the_generalised_eigenproblem_of_eqs_1_and_2")
+_AFFINITY = (f"{_MM}.matching.affinity_matrix", "test_affinity_is_eqs_3_and_4_on_the_mode_features")
+CHAPTER_9 = {1: _MODES, 2: _MODES, 3: _AFFINITY, 4: _AFFINITY}
+
+# ---------------------------------------------------------------------------------------------
 
 CHAPTERS = {
     1: (CHAPTER_1, "test_em_articulated.py"),
@@ -269,6 +277,7 @@ CHAPTERS = {
     5: (CHAPTER_5, "test_face_glmm.py"),
     6: (CHAPTER_6, "test_cue_fusion_pf.py"),
     7: (CHAPTER_7, "test_incremental_svd.py"),
+    9: (CHAPTER_9, "test_modal_matching.py"),
 }
 
 

@@ -13,9 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import (MAX_SAMPLES, as_finite_array, check_in_range, check_positive)
+from amdo_lab.common import MAX_SAMPLES, as_finite_array, check_in_range
 
-__all__ = ["GaussianElement", "MAX_CONDITION", "MAX_COORDINATE_MM", "gaussian_element", "interpolate_field",
+__all__ = ["GaussianElement", "MAX_CONDITION", "MAX_MATERIAL", "check_same_dimension", "MAX_COORDINATE_MM", "gaussian_element", "interpolate_field",
            "mean_spacing"]
 
 _REFERENCE = ("L. F. Bastos, J. M. R. S. Tavares. Improvement of Modal Matching Image Objects in Dynamic "
@@ -25,6 +25,8 @@ _REFERENCE = ("L. F. Bastos, J. M. R. S. Tavares. Improvement of Modal Matching 
 #: Largest condition number of the Gaussian interpolation matrix G accepted: beyond it A = G^-1 loses
 #: most of its digits and M stops being numerically positive definite.
 MAX_CONDITION = 1e10
+#: Largest Young's modulus or density accepted: K and M scale with them and stay finite below it.
+MAX_MATERIAL = 1e100
 #: Largest node coordinate (mm): squared distances of nodes this far apart stay far below overflow.
 MAX_COORDINATE_MM = 1e100
 
@@ -110,14 +112,14 @@ def gaussian_element(
     nodes : ndarray, shape (m, D)
         Node positions (mm), D = 2 or 3, at least D + 2 distinct nodes and at most 1,000,000.
     sigma : float
-        Width of each node's Gaussian (mm), > 0. The interpolation matrix G must stay conditioned
+        Width of each node's Gaussian (mm), in (0, 1e100]. The interpolation matrix G must stay conditioned
         below :data:`MAX_CONDITION` (about sigma ≤ 2 h for h the node spacing).
     young : float
-        Young's modulus E of the virtual material, > 0 (only scales the frequencies).
+        Young's modulus E of the virtual material, in (0, 1e100] (only scales the frequencies).
     poisson : float
         Poisson's ratio nu, in (-1, 0.5); in 2-D the plane-stress law is used.
     density : float
-        Density rho, > 0 (only scales the frequencies).
+        Density rho, in (0, 1e100] (only scales the frequencies).
 
     Returns
     -------
@@ -138,12 +140,30 @@ def gaussian_element(
     """
     X = as_finite_array(nodes, "nodes", ndim=2, max_abs=MAX_COORDINATE_MM)
     _check_nodes(X, "nodes")
-    sigma = check_positive(sigma, "sigma")
-    young = check_positive(young, "young")
+    sigma = check_in_range(sigma, "sigma", 0.0, MAX_COORDINATE_MM, closed="right")
+    young = check_in_range(young, "young", 0.0, MAX_MATERIAL, closed="right")
     poisson = check_in_range(poisson, "poisson", -1.0, 0.5)
-    density = check_positive(density, "density")
+    density = check_in_range(density, "density", 0.0, MAX_MATERIAL, closed="right")
     _check_condition(X, sigma)
     return _gaussian_element(X, sigma, young, poisson, density)
+
+
+def check_same_dimension(X1: np.ndarray, X2: np.ndarray, names: str = "X1 and X2") -> None:
+    """Raise, naming both arguments, when two node sets have different numbers of coordinates.
+
+    Parameters
+    ----------
+    X1, X2 : ndarray, shapes (m1, D1) and (m2, D2)
+        Two node sets.
+    names : str
+        How the error names them.
+
+    References
+    ----------
+    Bastos & Tavares, AMDO 2004, Sec. 4 (eq. (3) compares 2-D with 2-D, eq. (4) 3-D with 3-D).
+    """
+    if X1.shape[1] != X2.shape[1]:
+        raise ValueError(f"{names} must have the same number of coordinates, got {X1.shape[1]} and {X2.shape[1]}")
 
 
 def _check_nodes(X: np.ndarray, name: str) -> None:
@@ -244,6 +264,8 @@ def interpolate_field(model: GaussianElement, displacements: np.ndarray, points:
     ----------
     Sclaroff & Pentland, IEEE PAMI 17, 1995 (H = A g), the element of Bastos & Tavares, AMDO 2004.
     """
+    if not isinstance(model, GaussianElement):
+        raise TypeError(f"model must be a GaussianElement, got {type(model).__name__}")
     m, D = model.nodes.shape
     U = as_finite_array(displacements, "displacements", ndim=2, shape=(D * m, None))
     P = as_finite_array(points, "points", ndim=2, shape=(None, D), max_abs=MAX_COORDINATE_MM)

@@ -16,8 +16,8 @@ import numpy as np
 from scipy import stats
 from scipy.optimize import linear_sum_assignment
 
-from amdo_lab.common import as_finite_array, check_bool, check_choice, check_positive, check_positive_int
-from amdo_lab.modal_matching.element import (MAX_COORDINATE_MM, _check_condition, _check_nodes,
+from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_positive_int
+from amdo_lab.modal_matching.element import (MAX_COORDINATE_MM, _check_condition, _check_nodes, check_same_dimension,
                                              _gaussian_element, _interpolate_field, _mean_spacing)
 from amdo_lab.modal_matching.modes import ModalBasis, _modal_analysis
 
@@ -303,7 +303,8 @@ def match_objects(X1: np.ndarray, X2: np.ndarray, *, sigma: float | None = None,
         The two objects' nodes (mm), D = 2 or 3, at least D + 2 distinct nodes each; for ADCom, in
         contour order.
     sigma : float, optional
-        Width of the Gaussians (mm) for both objects; default: object 1's mean node spacing h.
+        Width of the Gaussians (mm) for both objects, in (0, 1e100]; default: object 1's mean node
+        spacing h.
     n_modes : int
         Modes compared, from 1 to D min(m1, m2).
     align : {"none", "sign", "procrustes"}
@@ -331,10 +332,11 @@ def match_objects(X1: np.ndarray, X2: np.ndarray, *, sigma: float | None = None,
     (11, 2)
     """
     X1 = as_finite_array(X1, "X1", ndim=2, max_abs=MAX_COORDINATE_MM)
-    X2 = as_finite_array(X2, "X2", ndim=2, shape=(None, X1.shape[1]), max_abs=MAX_COORDINATE_MM)
+    X2 = as_finite_array(X2, "X2", ndim=2, max_abs=MAX_COORDINATE_MM)
+    check_same_dimension(X1, X2)
     _check_nodes(X1, "X1")
     _check_nodes(X2, "X2")
-    sigma = _mean_spacing(X1) if sigma is None else check_positive(sigma, "sigma")
+    sigma = _mean_spacing(X1) if sigma is None else check_in_range(sigma, "sigma", 0.0, MAX_COORDINATE_MM, closed="right")
     n_modes = check_positive_int(n_modes, "n_modes", maximum=X1.shape[1] * min(len(X1), len(X2)))
     align = check_choice(align, "align", ALIGNMENTS)
     search = check_choice(search, "search", SEARCHES)

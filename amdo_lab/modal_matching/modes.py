@@ -12,8 +12,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import linalg
 
-from amdo_lab.common import check_positive_int
-from amdo_lab.modal_matching.element import GaussianElement
+from amdo_lab.common import as_finite_array, check_positive_int
+from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, GaussianElement, _check_nodes
 
 __all__ = ["ModalBasis", "exact_rigid_motions", "modal_analysis"]
 
@@ -68,7 +68,7 @@ class ModalBasis:
         ndarray, shape (D (D + 1) / 2,)
             Translations along each axis, then rotations; 1 means the motion lies in the span.
         """
-        rigid = exact_rigid_motions(self.model.nodes)
+        rigid = _exact_rigid_motions(self.model.nodes)
         basis, _ = np.linalg.qr(self.shapes[:, :rigid.shape[1]])
         rigid = rigid / np.linalg.norm(rigid, axis=0)
         return np.linalg.norm(basis.T @ rigid, axis=0)
@@ -80,7 +80,7 @@ def exact_rigid_motions(nodes: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     nodes : ndarray, shape (m, D)
-        Node positions (mm), D = 2 or 3.
+        Node positions (mm), D = 2 or 3, at least D + 2 distinct nodes.
 
     Returns
     -------
@@ -91,7 +91,12 @@ def exact_rigid_motions(nodes: np.ndarray) -> np.ndarray:
     ----------
     Bastos & Tavares, AMDO 2004, Sec. 4 ("the first three (six) modes are rigid").
     """
-    X = np.asarray(nodes, dtype=float)
+    X = as_finite_array(nodes, "nodes", ndim=2, max_abs=MAX_COORDINATE_MM)
+    _check_nodes(X, "nodes")
+    return _exact_rigid_motions(X)
+
+
+def _exact_rigid_motions(X: np.ndarray) -> np.ndarray:
     m, D = X.shape
     centred = X - X.mean(axis=0)
     columns = [np.kron(np.eye(D)[a], np.ones(m)) for a in range(D)]

@@ -15,9 +15,10 @@ import numpy as np
 from scipy import ndimage
 from skimage import measure
 
-from amdo_lab.common import (MAX_SAMPLES, MAX_SIDE, as_finite_array, check_choice, check_positive, check_positive_int,
+from amdo_lab.common import (MAX_SAMPLES, MAX_SIDE, as_finite_array, check_choice, check_in_range, check_positive,
+                             check_positive_int,
                              make_rng)
-from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, _mean_spacing
+from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, _mean_spacing, check_same_dimension
 
 __all__ = ["LOAD_NAMES", "ObjectPair", "PAPER_PAIRS", "PedobarographySequence", "correct_share",
            "make_pedobarography_sequence", "paper_pair", "resample_closed_curve"]
@@ -47,6 +48,10 @@ _LOADS = np.array([
 #: outline at the calibration level in two consecutive frames (64 and 58 nodes, as printed), and two
 #: isobars of the heel in the second frame (54 and 46 nodes). The frames and levels are our choice.
 PAPER_PAIRS = {"contours": ((4, 15.0, 64), (5, 15.0, 58)), "isobars": ((5, 100.0, 54), (5, 120.0, 46))}
+#: Largest pressure (kPa) accepted as a level or a noise: a thousand times a foot's peak.
+MAX_PRESSURE_KPA = 1e6
+#: Latest time (frames) the field is evaluated at: far beyond any step, and (t - t_k)^2 stays finite.
+MAX_TIME_FRAMES = 1e6
 #: Longest Newton step (mm) of :meth:`PedobarographySequence.follow`, so flat regions do not throw a point away.
 _MAX_NEWTON_STEP_MM = 2.0
 #: Standard deviations of the seeded perturbations: centres (mm), log peaks, peak times (stance).
@@ -84,8 +89,9 @@ class PedobarographySequence:
     floor: float
 
     def pressure(self, xy_mm: np.ndarray, t: float) -> np.ndarray:
-        """The analytic pressure (kPa) at points ``xy_mm`` (shape (p, 2)) and time ``t`` (frames)."""
-        value, _ = self._field(np.asarray(xy_mm, dtype=float), float(t))
+        """The analytic pressure (kPa) at points ``xy_mm`` (shape (p, 2), mm) and time ``t`` (frames, in [0, 1e6])."""
+        xy = as_finite_array(xy_mm, "xy_mm", ndim=2, shape=(None, 2), max_abs=MAX_COORDINATE_MM)
+        value, _ = self._field(xy, check_in_range(t, "t", 0.0, MAX_TIME_FRAMES, closed="both"))
         return value
 
     def _field(self, xy: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
@@ -139,9 +145,9 @@ class PedobarographySequence:
         points : ndarray, shape (p, 2)
             Points (mm) on or near the isobar ``level_from`` at time ``t_from``.
         t_from, t_to : float
-            Times (frames).
+            Times (frames), in [0, 1e6].
         level_from, level_to : float
-            Pressures (kPa).
+            Pressures (kPa), in (0, 1e6].
         steps : int
             Sub-steps, at least 1 and at most 100,000.
 
@@ -152,8 +158,10 @@ class PedobarographySequence:
         """
         P = as_finite_array(points, "points", ndim=2, shape=(None, 2), max_abs=MAX_COORDINATE_MM)
         steps = check_positive_int(steps, "steps", maximum=100_000)
-        t_from, t_to = check_positive(t_from, "t_from", allow_zero=True), check_positive(t_to, "t_to", allow_zero=True)
-        level_from, level_to = check_positive(level_from, "level_from"), check_positive(level_to, "level_to")
+        t_from = check_in_range(t_from, "t_from", 0.0, MAX_TIME_FRAMES, closed="both")
+        t_to = check_in_range(t_to, "t_to", 0.0, MAX_TIME_FRAMES, closed="both")
+        level_from = check_in_range(level_from, "level_from", 0.0, MAX_PRESSURE_KPA, closed="right")
+        level_to = check_in_range(level_to, "level_to", 0.0, MAX_PRESSURE_KPA, closed="right")
         for fraction in np.linspace(0, 1, steps + 1):
             t = t_from + fraction * (t_to - t_from)
             level = level_from + fraction * (level_to - level_from)
@@ -271,11 +279,11 @@ def make_pedobarography_sequence(*, rng: int | np.random.Generator, n_frames: in
     mm_per_px : float
         Pixel size (mm), in (0, 100].
     noise : float
-        Standard deviation of the pixel noise (kPa), ≥ 0.
+        Standard deviation of the pixel noise (kPa), in [0, 1e6].
     floor : float
-        Calibration floor (kPa), ≥ 0: pixels below it are set to zero before the filter.
+        Calibration floor (kPa), in [0, 1e6]: pixels below it are set to zero before the filter.
     filter_px : float
-        Standard deviation of the Gaussian filter (pixels), > 0.
+        Standard deviation of the Gaussian filter (pixels), in (0, 4096].
 
     Returns
     -------
@@ -295,14 +303,10 @@ def make_pedobarography_sequence(*, rng: int | np.random.Generator, n_frames: in
     generator = make_rng(rng, "rng")
     n_frames = check_positive_int(n_frames, "n_frames", minimum=2, maximum=MAX_SIDE)
     rows, cols = (check_positive_int(side, "shape", minimum=8, maximum=MAX_SIDE) for side in _pair(shape))
-    mm_per_px = check_positive(mm_per_px, "mm_per_px")
-    if mm_per_px > 100:
-        raise ValueError(f"mm_per_px must be at most 100, got {mm_per_px}")
-    noise = check_positive(noise, "noise", allow_zero=True)
-    floor = check_positive(floor, "floor", allow_zero=True)
-    filter_px = check_positive(filter_px, "filter_px")
-    if noise > 1e6 or floor > 1e6 or filter_px > MAX_SIDE:
-        raise ValueError("noise and floor must be at most 1e6 kPa and filter_px at most 4096")
+    mm_per_px = check_in_range(mm_per_px, "mm_per_px", 0.0, 100.0, closed="right")
+    noise = check_in_range(noise, "noise", 0.0, MAX_PRESSURE_KPA, closed="both")
+    floor = check_in_range(floor, "floor", 0.0, MAX_PRESSURE_KPA, closed="both")
+    filter_px = check_in_range(filter_px, "filter_px", 0.0, MAX_SIDE, closed="right")
     return _make_sequence(generator, n_frames, rows, cols, mm_per_px, noise, floor, filter_px)
 
 
@@ -363,7 +367,8 @@ def correct_share(pairs: np.ndarray, truth: np.ndarray, X2: np.ndarray) -> float
     Bastos & Tavares, AMDO 2004, Sec. 5 (the paper counts "satisfactory" matches by eye).
     """
     truth = as_finite_array(truth, "truth", ndim=2, max_abs=MAX_COORDINATE_MM)
-    X2 = as_finite_array(X2, "X2", ndim=2, shape=(None, truth.shape[1]), max_abs=MAX_COORDINATE_MM)
+    X2 = as_finite_array(X2, "X2", ndim=2, max_abs=MAX_COORDINATE_MM)
+    check_same_dimension(truth, X2, "truth and X2")
     if len(X2) < 2:
         raise ValueError(f"X2 must hold at least 2 nodes, got {len(X2)}")
     pairs = as_finite_array(pairs, "pairs", ndim=2, shape=(None, 2), dtype=int, bounds=(0, len(truth) - 1))

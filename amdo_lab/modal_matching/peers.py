@@ -11,7 +11,7 @@ import time
 import numpy as np
 
 from amdo_lab.common import as_finite_array, check_choice
-from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, _check_nodes
+from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, _check_nodes, check_same_dimension
 from amdo_lab.modal_matching.matching import MatchResult, _adcom, _global_search
 
 __all__ = ["CPD_KINDS", "match_coordinates", "match_cpd"]
@@ -22,7 +22,8 @@ CPD_KINDS = ("rigid", "deformable")
 
 def _check_objects(X1: object, X2: object) -> tuple[np.ndarray, np.ndarray]:
     X1 = as_finite_array(X1, "X1", ndim=2, max_abs=MAX_COORDINATE_MM)
-    X2 = as_finite_array(X2, "X2", ndim=2, shape=(None, X1.shape[1]), max_abs=MAX_COORDINATE_MM)
+    X2 = as_finite_array(X2, "X2", ndim=2, max_abs=MAX_COORDINATE_MM)
+    check_same_dimension(X1, X2)
     _check_nodes(X1, "X1")
     _check_nodes(X2, "X2")
     return X1, X2
