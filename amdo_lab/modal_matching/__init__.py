@@ -32,6 +32,7 @@ from amdo_lab.modal_matching.pedobarography import (
     PedobarographySequence,
     correct_share,
     make_pedobarography_sequence,
+    move_object,
     paper_pair,
     resample_closed_curve,
 )
@@ -64,6 +65,7 @@ __all__ = [
     "PedobarographySequence",
     "correct_share",
     "make_pedobarography_sequence",
+    "move_object",
     "paper_pair",
     "resample_closed_curve",
 ]

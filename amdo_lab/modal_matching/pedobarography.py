@@ -21,7 +21,7 @@ from amdo_lab.common import (MAX_SAMPLES, MAX_SIDE, as_finite_array, check_choic
 from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, _mean_spacing, check_same_dimension
 
 __all__ = ["LOAD_NAMES", "ObjectPair", "PAPER_PAIRS", "PedobarographySequence", "correct_share",
-           "make_pedobarography_sequence", "paper_pair", "resample_closed_curve"]
+           "make_pedobarography_sequence", "move_object", "paper_pair", "resample_closed_curve"]
 
 _REFERENCE = ("Bastos & Tavares. Improvement of Modal Matching Image Objects in Dynamic Pedobarography Using "
               "Optimization Techniques. AMDO 2004, LNCS 3179, Sec. 2-3.")
@@ -221,6 +221,41 @@ def paper_pair(sequence: PedobarographySequence, which: str) -> ObjectPair:
         raise ValueError(f"sequence must hold at least {max(t1, t2) + 1} frames")
     X1 = sequence.contour(t1, level1, n1)
     return ObjectPair(X1, sequence.contour(t2, level2, n2), sequence.follow(X1, t1, level1, t2, level2))
+
+
+def move_object(pair: ObjectPair, *, angle_deg: float, shift_mm: float) -> ObjectPair:
+    """Turn object 2 (and the truth with it) about its centroid, then shift it along x.
+
+    Parameters
+    ----------
+    pair : ObjectPair
+        The objects and the truth.
+    angle_deg : float
+        Counter-clockwise turn (degrees), in [-360, 360].
+    shift_mm : float
+        Shift along x (mm), in [-1e6, 1e6].
+
+    Returns
+    -------
+    ObjectPair
+        Object 1 unchanged; object 2 and the truth moved rigidly.
+
+    References
+    ----------
+    Bastos & Tavares, AMDO 2004, Sec. 4 (the modes are claimed to be close "even in the presence of an
+    affine transformation").
+    """
+    if not isinstance(pair, ObjectPair):
+        raise TypeError(f"pair must be an ObjectPair, got {type(pair).__name__}")
+    angle = np.deg2rad(check_in_range(angle_deg, "angle_deg", -360.0, 360.0, closed="both"))
+    shift = check_in_range(shift_mm, "shift_mm", -MAX_PRESSURE_KPA, MAX_PRESSURE_KPA, closed="both")
+    centre = pair.X2.mean(axis=0)
+    R = np.array([[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]])
+
+    def move(points: np.ndarray) -> np.ndarray:
+        return (points - centre) @ R.T + centre + np.array([shift, 0.0])
+
+    return ObjectPair(pair.X1, move(pair.X2), move(pair.truth))
 
 
 def resample_closed_curve(curve: np.ndarray, n_nodes: int) -> np.ndarray:

@@ -42,6 +42,7 @@ def cases() -> dict[str, Case]:
     Z = mm.affinity_matrix(modes1, modes2, n_modes=4)
     pairs = mm.global_search(Z)
     step = mm.make_pedobarography_sequence(rng=0)
+    pair = mm.ObjectPair(X1, X2, X1)
     objects = {"X1": X1, "X2": X2}
     object_kinds = {"X1": "array", "X2": "array"}
     rectangular = frozenset({("Z", "a wrong trailing axis")})  # another m2 is another valid problem
@@ -96,6 +97,8 @@ def cases() -> dict[str, Case]:
              "level_to": "positive", "steps": "count"}),
         "paper_pair": Case(mm.paper_pair, {"sequence": step, "which": "isobars"},
                            {"sequence": "object", "which": "name"}),
+        "move_object": Case(mm.move_object, {"pair": pair, "angle_deg": 20.0, "shift_mm": 40.0},
+                            {"pair": "object", "angle_deg": "real", "shift_mm": "real"}),
         "resample_closed_curve": Case(mm.resample_closed_curve, {"curve": X1, "n_nodes": 12},
                                       {"curve": "array", "n_nodes": "count"}),
         "correct_share": Case(mm.correct_share, {"pairs": pairs, "truth": X1, "X2": X2},
