@@ -89,7 +89,20 @@ class PedobarographySequence:
     floor: float
 
     def pressure(self, xy_mm: np.ndarray, t: float) -> np.ndarray:
-        """The analytic pressure (kPa) at points ``xy_mm`` (shape (p, 2), mm) and time ``t`` (frames, in [0, 1e6])."""
+        """The analytic pressure at some points and time, the filter's widening included.
+
+        Parameters
+        ----------
+        xy_mm : ndarray, shape (p, 2)
+            Points (mm).
+        t : float
+            Time (frames), in [0, 1e6].
+
+        Returns
+        -------
+        ndarray, shape (p,)
+            Pressure (kPa).
+        """
         xy = as_finite_array(xy_mm, "xy_mm", ndim=2, shape=(None, 2), max_abs=MAX_COORDINATE_MM)
         value, _ = self._field(xy, check_in_range(t, "t", 0.0, MAX_TIME_FRAMES, closed="both"))
         return value
