@@ -53,3 +53,8 @@ __all__ = [
     "perturb_pose", "random_pose", "register_em", "softassign_register", "track_sequence", "TRACKING_SETTINGS",
     "visible_points",
 ]
+
+from amdo_lab.common.equations import with_equation_map as _with_equation_map  # noqa: E402
+from amdo_lab.em_articulated.equations import EQUATIONS as _EQUATIONS, TEST_FILE as _TEST_FILE  # noqa: E402
+
+__doc__ = _with_equation_map(__doc__, _EQUATIONS, _TEST_FILE)
