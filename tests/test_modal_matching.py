@@ -191,11 +191,23 @@ def test_peers_return_one_to_one_pairs_and_adcom_pairs():
         assert correct_share(result.pairs, pair.truth, pair.X2) >= 0.9
 
 
-def test_toy_match_with_six_modes():
-    X1 = _blob(12)
-    X2 = _blob(11, 1)
-    result = match_objects(X1, X2, n_modes=6, align="procrustes")
+def _toy_outline(angle, stretch=1.3, shift=(0.0, 0.0)):
+    """The notebook's toy curve (mm)."""
+    radius = 10 * (1 + 0.25 * np.cos(2 * angle - 0.5) + 0.12 * np.sin(3 * angle))
+    return np.c_[stretch * radius * np.cos(angle) + shift[0], radius * np.sin(angle) + shift[1]]
+
+
+@pytest.mark.parametrize("align", ["sign", "procrustes"])
+def test_the_toy_pairs_at_least_ten_of_eleven_nodes_correctly(align):
+    angles = np.linspace(0, 2 * np.pi, 12, endpoint=False) + 0.1
+    X1 = _toy_outline(angles)
+    X2 = _toy_outline(np.linspace(0, 2 * np.pi, 11, endpoint=False) + 0.3, 1.4, (1.5, 0.8))
+    truth = _toy_outline(angles, 1.4, (1.5, 0.8))
+    result = match_objects(X1, X2, n_modes=6, align=align)
     assert len(result.pairs) == 11 and len(result.excess_pairs) == 1
+    assert round(correct_share(result.pairs, truth, X2) * 11) >= 10
+    local = match_objects(X1, X2, n_modes=6, align=align, search="local")
+    assert len(local.pairs) < 11  # the mutual-best rule leaves nodes unmatched
 
 
 REJECTIONS = [
