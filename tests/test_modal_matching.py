@@ -168,6 +168,8 @@ def test_correct_share_is_a_share_within_one_spacing():
     assert correct_share(identity, X, X) == 1.0
     shifted = np.c_[np.arange(10), (np.arange(10) + 3) % 10]
     assert correct_share(shifted, X, X) == 0.0
+    larger = _blob(14, 1)  # object 2 may have more nodes than object 1
+    assert 0.0 <= correct_share(np.array([[0, 13], [9, 12]]), X, larger) <= 1.0
 
 
 @pytest.mark.parametrize("seed", UNUSED_SEEDS)

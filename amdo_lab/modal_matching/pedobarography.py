@@ -419,9 +419,10 @@ def correct_share(pairs: np.ndarray, truth: np.ndarray, X2: np.ndarray) -> float
     check_same_dimension(truth, X2, "truth and X2")
     if len(X2) < 2:
         raise ValueError(f"X2 must hold at least 2 nodes, got {len(X2)}")
-    pairs = as_finite_array(pairs, "pairs", ndim=2, shape=(None, 2), dtype=int, bounds=(0, len(truth) - 1))
-    if np.any(pairs[:, 1] >= len(X2)):
-        raise ValueError(f"pairs name a node of X2 beyond its {len(X2)} nodes")
+    pairs = as_finite_array(pairs, "pairs", ndim=2, shape=(None, 2), dtype=int,
+                            bounds=(0, max(len(truth), len(X2)) - 1))
+    if np.any(pairs >= np.array([len(truth), len(X2)])):
+        raise ValueError(f"pairs name a node beyond truth's {len(truth)} or X2's {len(X2)} nodes")
     return _correct_share(pairs, truth, X2)
 
 
