@@ -15,8 +15,8 @@ import numpy as np
 
 from amdo_lab.common import MAX_SAMPLES, as_finite_array, check_in_range
 
-__all__ = ["GaussianElement", "MAX_CONDITION", "MAX_MATERIAL", "check_same_dimension", "MAX_COORDINATE_MM", "gaussian_element", "interpolate_field",
-           "mean_spacing"]
+__all__ = ["GaussianElement", "MAX_CONDITION", "MAX_COORDINATE_MM", "MAX_MATERIAL", "check_nodes",
+           "check_same_dimension", "gaussian_element", "interpolate_field", "mean_spacing"]
 
 _REFERENCE = ("L. F. Bastos, J. M. R. S. Tavares. Improvement of Modal Matching Image Objects in Dynamic "
               "Pedobarography Using Optimization Techniques. AMDO 2004, LNCS 3179, Sec. 3-4; the element is "
@@ -139,7 +139,7 @@ def gaussian_element(
     (16, 16)
     """
     X = as_finite_array(nodes, "nodes", ndim=2, max_abs=MAX_COORDINATE_MM)
-    _check_nodes(X, "nodes")
+    check_nodes(X, "nodes")
     sigma = check_in_range(sigma, "sigma", 0.0, MAX_COORDINATE_MM, closed="right")
     young = check_in_range(young, "young", 0.0, MAX_MATERIAL, closed="right")
     poisson = check_in_range(poisson, "poisson", -1.0, 0.5)
@@ -166,8 +166,25 @@ def check_same_dimension(X1: np.ndarray, X2: np.ndarray, names: str = "X1 and X2
         raise ValueError(f"{names} must have the same number of coordinates, got {X1.shape[1]} and {X2.shape[1]}")
 
 
-def _check_nodes(X: np.ndarray, name: str) -> None:
-    """Refuse a node set the element cannot model: wrong D, too few nodes, duplicates."""
+def check_nodes(X: np.ndarray, name: str) -> None:
+    """Refuse, naming the argument, a node set the element cannot model.
+
+    Parameters
+    ----------
+    X : ndarray, shape (m, D)
+        Finite node positions (mm).
+    name : str
+        The argument's name, used in error messages.
+
+    Raises
+    ------
+    ValueError
+        When D is not 2 or 3, when m is below D + 2 or above 1,000,000, or when two nodes coincide.
+
+    References
+    ----------
+    Sclaroff & Pentland, IEEE PAMI 17, 1995 (G must be invertible), the element of Bastos & Tavares, AMDO 2004.
+    """
     m, D = X.shape
     if D not in (2, 3):
         raise ValueError(f"{name} must hold 2-D or 3-D points, got {D} coordinates")

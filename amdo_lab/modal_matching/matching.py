@@ -17,9 +17,9 @@ from scipy import stats
 from scipy.optimize import linear_sum_assignment
 
 from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_positive_int
-from amdo_lab.modal_matching.element import (MAX_COORDINATE_MM, _check_condition, _check_nodes, check_same_dimension,
-                                             _gaussian_element, _interpolate_field, _mean_spacing)
-from amdo_lab.modal_matching.modes import ModalBasis, _modal_analysis
+from amdo_lab.modal_matching.element import (MAX_COORDINATE_MM, check_nodes, check_same_dimension, gaussian_element,
+                                             interpolate_field, mean_spacing)
+from amdo_lab.modal_matching.modes import ModalBasis, modal_analysis
 
 __all__ = ["ALIGNMENTS", "MatchResult", "SEARCHES", "adcom", "affinity_matrix", "global_search", "local_search",
            "match_objects", "mode_features"]
@@ -123,7 +123,7 @@ def _sign_alignment(Phi1: np.ndarray, Phi2: np.ndarray) -> np.ndarray:
 
 def _procrustes_alignment(modes1: ModalBasis, Phi1: np.ndarray, modes2: ModalBasis, Phi2: np.ndarray) -> np.ndarray:
     """The orthogonal R minimising |Phi2 R - P|, P = object 1's modes interpolated at object 2's nodes."""
-    P = _interpolate_field(modes1.model, Phi1, modes2.model.nodes)
+    P = interpolate_field(modes1.model, Phi1, modes2.model.nodes)
     U, _, Vt = np.linalg.svd(Phi2.T @ P)
     return U @ Vt
 
@@ -334,23 +334,22 @@ def match_objects(X1: np.ndarray, X2: np.ndarray, *, sigma: float | None = None,
     X1 = as_finite_array(X1, "X1", ndim=2, max_abs=MAX_COORDINATE_MM)
     X2 = as_finite_array(X2, "X2", ndim=2, max_abs=MAX_COORDINATE_MM)
     check_same_dimension(X1, X2)
-    _check_nodes(X1, "X1")
-    _check_nodes(X2, "X2")
-    sigma = _mean_spacing(X1) if sigma is None else check_in_range(sigma, "sigma", 0.0, MAX_COORDINATE_MM, closed="right")
+    check_nodes(X1, "X1")
+    check_nodes(X2, "X2")
+    if sigma is not None:
+        sigma = check_in_range(sigma, "sigma", 0.0, MAX_COORDINATE_MM, closed="right")
     n_modes = check_positive_int(n_modes, "n_modes", maximum=X1.shape[1] * min(len(X1), len(X2)))
     align = check_choice(align, "align", ALIGNMENTS)
     search = check_choice(search, "search", SEARCHES)
     excess = check_bool(excess, "excess")
-    _check_condition(X1, sigma)
-    _check_condition(X2, sigma)
-    return _match_objects(X1, X2, sigma, n_modes, align, search, excess)
+    return _match_objects(X1, X2, mean_spacing(X1) if sigma is None else sigma, n_modes, align, search, excess)
 
 
 def _match_objects(X1: np.ndarray, X2: np.ndarray, sigma: float, n_modes: int, align: str, search: str,
                    excess: bool) -> MatchResult:
     start = time.perf_counter()
-    modes1 = _modal_analysis(_gaussian_element(X1, sigma, 1.0, 0.3, 1.0))
-    modes2 = _modal_analysis(_gaussian_element(X2, sigma, 1.0, 0.3, 1.0))
+    modes1 = modal_analysis(gaussian_element(X1, sigma=sigma))   # refuses a sigma that makes G singular
+    modes2 = modal_analysis(gaussian_element(X2, sigma=sigma))
     Z = _affinity(*_mode_features(modes1, modes2, n_modes, align))
     pairs = _global_search(Z) if search == "global" else _local_search(Z)
     extra = _adcom(Z, pairs) if excess and search == "global" else np.zeros((0, 2), dtype=int)

@@ -13,7 +13,7 @@ import numpy as np
 from scipy import linalg
 
 from amdo_lab.common import as_finite_array, check_positive_int
-from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, GaussianElement, _check_nodes
+from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, GaussianElement, check_nodes
 
 __all__ = ["ModalBasis", "exact_rigid_motions", "modal_analysis"]
 
@@ -92,7 +92,7 @@ def exact_rigid_motions(nodes: np.ndarray) -> np.ndarray:
     Bastos & Tavares, AMDO 2004, Sec. 4 ("the first three (six) modes are rigid").
     """
     X = as_finite_array(nodes, "nodes", ndim=2, max_abs=MAX_COORDINATE_MM)
-    _check_nodes(X, "nodes")
+    check_nodes(X, "nodes")
     return _exact_rigid_motions(X)
 
 

@@ -18,7 +18,7 @@ from skimage import measure
 from amdo_lab.common import (MAX_SAMPLES, MAX_SIDE, as_finite_array, check_choice, check_in_range, check_positive,
                              check_positive_int,
                              make_rng)
-from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, _mean_spacing, check_same_dimension
+from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, check_same_dimension, mean_spacing
 
 __all__ = ["LOAD_NAMES", "ObjectPair", "PAPER_PAIRS", "PedobarographySequence", "correct_share",
            "make_pedobarography_sequence", "move_object", "paper_pair", "resample_closed_curve"]
@@ -428,4 +428,4 @@ def correct_share(pairs: np.ndarray, truth: np.ndarray, X2: np.ndarray) -> float
 
 def _correct_share(pairs: np.ndarray, truth: np.ndarray, X2: np.ndarray) -> float:
     distance = np.linalg.norm(X2[pairs[:, 1]] - truth[pairs[:, 0]], axis=1)
-    return float(np.mean(distance <= _mean_spacing(X2)))
+    return float(np.mean(distance <= mean_spacing(X2)))

@@ -11,8 +11,8 @@ import time
 import numpy as np
 
 from amdo_lab.common import as_finite_array, check_choice
-from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, _check_nodes, check_same_dimension
-from amdo_lab.modal_matching.matching import MatchResult, _adcom, _global_search
+from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, check_nodes, check_same_dimension
+from amdo_lab.modal_matching.matching import MatchResult, adcom, global_search
 
 __all__ = ["CPD_KINDS", "match_coordinates", "match_cpd"]
 
@@ -24,8 +24,8 @@ def _check_objects(X1: object, X2: object) -> tuple[np.ndarray, np.ndarray]:
     X1 = as_finite_array(X1, "X1", ndim=2, max_abs=MAX_COORDINATE_MM)
     X2 = as_finite_array(X2, "X2", ndim=2, max_abs=MAX_COORDINATE_MM)
     check_same_dimension(X1, X2)
-    _check_nodes(X1, "X1")
-    _check_nodes(X2, "X2")
+    check_nodes(X1, "X1")
+    check_nodes(X2, "X2")
     return X1, X2
 
 
@@ -60,8 +60,8 @@ def match_coordinates(X1: np.ndarray, X2: np.ndarray) -> MatchResult:
     X1, X2 = _check_objects(X1, X2)
     start = time.perf_counter()
     Z = _squared_distances(X1, X2)
-    pairs = _global_search(Z)
-    return MatchResult(pairs, _adcom(Z, pairs), Z, time.perf_counter() - start)
+    pairs = global_search(Z)
+    return MatchResult(pairs, adcom(Z, pairs), Z, time.perf_counter() - start)
 
 
 def match_cpd(X1: np.ndarray, X2: np.ndarray, *, kind: str = "deformable") -> MatchResult:
@@ -96,5 +96,5 @@ def match_cpd(X1: np.ndarray, X2: np.ndarray, *, kind: str = "deformable") -> Ma
     registration = (RigidRegistration if kind == "rigid" else DeformableRegistration)(X=fixed, Y=moving)
     moved, _ = registration.register()
     Z = _squared_distances(fixed, moved)
-    pairs = _global_search(Z)
-    return MatchResult(pairs, _adcom(Z, pairs), Z, time.perf_counter() - start)
+    pairs = global_search(Z)
+    return MatchResult(pairs, adcom(Z, pairs), Z, time.perf_counter() - start)
