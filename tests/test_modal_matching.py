@@ -185,6 +185,16 @@ def test_procrustes_aligned_modes_match_the_paper_pairs_on_unused_seeds(seed):
         assert correct_share(local.pairs, pair.truth, pair.X2) >= 0.95
 
 
+@pytest.mark.parametrize("seed", UNUSED_SEEDS[:2])
+def test_surfaces_match_about_half_right_and_the_plate_position_nearly_all(seed):
+    pair = paper_pair(make_pedobarography_sequence(rng=seed), "surfaces")
+    assert pair.X1.shape[1] == 3 and 90 <= len(pair.X2) <= len(pair.X1) <= 140
+    result = match_objects(pair.X1, pair.X2, n_modes=24)
+    assert correct_share(result.pairs, pair.truth, pair.X2) >= 0.35
+    plate = match_coordinates(pair.X1[:, :2], pair.X2[:, :2])
+    assert correct_share(plate.pairs, pair.truth[:, :2], pair.X2[:, :2]) >= 0.9
+
+
 def test_peers_return_one_to_one_pairs_and_adcom_pairs():
     step = make_pedobarography_sequence(rng=UNUSED_SEEDS[0])
     pair = paper_pair(step, "contours")

@@ -28,6 +28,7 @@ from amdo_lab.modal_matching.peers import CPD_KINDS, match_coordinates, match_cp
 from amdo_lab.modal_matching.pedobarography import (
     LOAD_NAMES,
     PAPER_PAIRS,
+    SURFACE_BOX_MM,
     ObjectPair,
     PedobarographySequence,
     correct_share,
@@ -61,6 +62,7 @@ __all__ = [
     "match_cpd",
     "LOAD_NAMES",
     "PAPER_PAIRS",
+    "SURFACE_BOX_MM",
     "ObjectPair",
     "PedobarographySequence",
     "correct_share",

@@ -20,7 +20,7 @@ from amdo_lab.common import (MAX_SAMPLES, MAX_SIDE, as_finite_array, check_choic
                              make_rng)
 from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, check_same_dimension, mean_spacing
 
-__all__ = ["LOAD_NAMES", "ObjectPair", "PAPER_PAIRS", "PedobarographySequence", "correct_share",
+__all__ = ["LOAD_NAMES", "ObjectPair", "PAPER_PAIRS", "PedobarographySequence", "SURFACE_BOX_MM", "correct_share",
            "make_pedobarography_sequence", "move_object", "paper_pair", "resample_closed_curve"]
 
 _REFERENCE = ("Bastos & Tavares. Improvement of Modal Matching Image Objects in Dynamic Pedobarography Using "
@@ -44,10 +44,15 @@ _LOADS = np.array([
     [105, 245, 6, 6, 0.00, 70, 0.78, 0.14],
     [116, 236, 6, 6, 0.00, 60, 0.77, 0.14],
 ])
-#: The pairs of Tables 1 and 2, as (frame, level in kPa, nodes) of object 1 and of object 2: the foot's
-#: outline at the calibration level in two consecutive frames (64 and 58 nodes, as printed), and two
-#: isobars of the heel in the second frame (54 and 46 nodes). The frames and levels are our choice.
-PAPER_PAIRS = {"contours": ((4, 15.0, 64), (5, 15.0, 58)), "isobars": ((5, 100.0, 54), (5, 120.0, 46))}
+#: The pairs of Tables 1-3, as (frame, level in kPa, nodes) of object 1 and of object 2: the foot's
+#: outline at the calibration level in two consecutive frames (64 and 58 nodes, as printed), two
+#: isobars of the heel in the second frame (54 and 46 nodes), and the heel's pressure surface in the
+#: two frames (every 3rd pixel). The frames and levels are our choice.
+PAPER_PAIRS = {"contours": ((4, 15.0, 64), (5, 15.0, 58)), "isobars": ((5, 100.0, 54), (5, 120.0, 46)),
+               "surfaces": ((4, 50.0, 3), (5, 50.0, 3))}
+#: Table 3's surfaces: the heel's circumscribing rectangle (x0, x1, y0, y1 in mm) sampled every
+#: ``nodes`` pixels (the third entry of the "surfaces" pair) where the pressure reaches the level.
+SURFACE_BOX_MM = (30.0, 130.0, 0.0, 110.0)
 #: Largest pressure (kPa) accepted as a level or a noise: a thousand times a foot's peak.
 MAX_PRESSURE_KPA = 1e6
 #: Latest time (frames) the field is evaluated at: far beyond any step, and (t - t_k)^2 stays finite.
@@ -145,6 +150,41 @@ class PedobarographySequence:
         longest = max(curves, key=len)
         return _resample_closed_curve(longest[:, ::-1] * self.mm_per_px, n_nodes)
 
+    def surface(self, frame: int, level: float, *, stride_px: int = 3,
+                box_mm: tuple[float, float, float, float] = SURFACE_BOX_MM, z_mm_per_kpa: float = 1.0) -> np.ndarray:
+        """The pressure surface of a frame as 3-D nodes: every ``stride_px``-th pixel inside a rectangle
+        where the pressure reaches ``level``, with the pressure (scaled) as third coordinate.
+
+        Parameters
+        ----------
+        frame : int
+            Index of the frame.
+        level : float
+            Pressure (kPa), > 0.
+        stride_px : int
+            Sampling step (pixels), from 1 to 4,096.
+        box_mm : (float, float, float, float)
+            The rectangle x0, x1, y0, y1 (mm).
+        z_mm_per_kpa : float
+            Scale of the third coordinate (mm per kPa), > 0.
+
+        Returns
+        -------
+        ndarray, shape (m, 3)
+            Nodes (x, y, z) in mm, row by row.
+        """
+        frame = check_positive_int(frame, "frame", minimum=0, maximum=self.frames.shape[0] - 1)
+        level = check_in_range(level, "level", 0.0, MAX_PRESSURE_KPA, closed="right")
+        stride = check_positive_int(stride_px, "stride_px", maximum=MAX_SIDE)
+        x0, x1, y0, y1 = as_finite_array(box_mm, "box_mm", shape=(4,), max_abs=MAX_COORDINATE_MM)
+        z_scale = check_in_range(z_mm_per_kpa, "z_mm_per_kpa", 0.0, MAX_COORDINATE_MM / MAX_PRESSURE_KPA,
+                                 closed="right")
+        image = self.frames[frame]
+        rows, cols = np.mgrid[0:image.shape[0]:stride, 0:image.shape[1]:stride]
+        x, y, p = cols * self.mm_per_px, rows * self.mm_per_px, image[rows, cols]
+        inside = (x >= x0) & (x <= x1) & (y >= y0) & (y <= y1) & (p >= level)
+        return np.c_[x[inside], y[inside], z_scale * p[inside]]
+
     def follow(self, points: np.ndarray, t_from: float, level_from: float, t_to: float, level_to: float,
                *, steps: int = 16) -> np.ndarray:
         """Where the field's gradient flow carries points from one isobar (t, level) to another.
@@ -192,10 +232,11 @@ class ObjectPair:
 
     Parameters
     ----------
-    X1, X2 : ndarray, shapes (m1, 2) and (m2, 2)
-        The nodes (mm) of the two contours, counter-clockwise.
-    truth : ndarray, shape (m1, 2)
-        Each node of ``X1`` carried by the pressure field's gradient flow onto ``X2``'s isobar.
+    X1, X2 : ndarray, shapes (m1, D) and (m2, D)
+        The nodes (mm) of the two contours (D = 2, counter-clockwise) or surfaces (D = 3).
+    truth : ndarray, shape (m1, D)
+        Each node of ``X1`` carried by the pressure field's gradient flow onto ``X2``'s isobar, or,
+        for surfaces, kept at its plate position with the pressure of object 2's frame.
 
     References
     ----------
@@ -208,13 +249,13 @@ class ObjectPair:
 
 
 def paper_pair(sequence: PedobarographySequence, which: str) -> ObjectPair:
-    """The contour pair of Table 1 or the isobar pair of Table 2 in a sequence, with its truth.
+    """The contour pair of Table 1, the isobar pair of Table 2 or the surface pair of Table 3, with its truth.
 
     Parameters
     ----------
     sequence : PedobarographySequence
         From :func:`make_pedobarography_sequence` (15 frames).
-    which : {"contours", "isobars"}
+    which : {"contours", "isobars", "surfaces"}
         Which pair of :data:`PAPER_PAIRS`.
 
     Returns
@@ -232,6 +273,13 @@ def paper_pair(sequence: PedobarographySequence, which: str) -> ObjectPair:
     (t1, level1, n1), (t2, level2, n2) = PAPER_PAIRS[which]
     if sequence.frames.shape[0] <= max(t1, t2):
         raise ValueError(f"sequence must hold at least {max(t1, t2) + 1} frames")
+    if which == "surfaces":  # the plate position is the truth: a node keeps its x and y
+        x0, x1 = SURFACE_BOX_MM[:2]
+        S1 = sequence.surface(t1, level1, stride_px=n1)
+        scale = (x1 - x0) / S1[:, 2].max()  # z spans the same range as x (Sec. 3.2, step 6)
+        S1[:, 2] *= scale
+        truth = np.c_[S1[:, :2], scale * sequence.pressure(S1[:, :2], t2)]
+        return ObjectPair(S1, sequence.surface(t2, level2, stride_px=n2, z_mm_per_kpa=scale), truth)
     X1 = sequence.contour(t1, level1, n1)
     return ObjectPair(X1, sequence.contour(t2, level2, n2), sequence.follow(X1, t1, level1, t2, level2))
 

@@ -90,6 +90,11 @@ def cases() -> dict[str, Case]:
         "PedobarographySequence.contour": Case(method(step, "contour"), {"frame": 4, "level": 15.0, "n_nodes": 20},
                                                {"frame": "count", "level": "positive", "n_nodes": "count"},
                                                accept=frozenset({("frame", "zero")})),
+        "PedobarographySequence.surface": Case(
+            method(step, "surface"), {"frame": 4, "level": 50.0, "stride_px": 6, "box_mm": (30.0, 130.0, 0.0, 110.0),
+                                      "z_mm_per_kpa": 0.5},
+            {"frame": "count", "level": "positive", "stride_px": "count", "box_mm": "array", "z_mm_per_kpa": "positive"},
+            accept=frozenset({("frame", "zero")})),
         "PedobarographySequence.follow": Case(
             method(step, "follow"), {"points": step.contour(4, 15.0, 20), "t_from": 4.0, "level_from": 15.0,
                                      "t_to": 5.0, "level_to": 15.0, "steps": 4},
