@@ -7,6 +7,8 @@ Tables, one BLAS thread:
   seeds    per seed, the share of correct one-to-one pairs on the contour pair (frames 4-5, 64/58 nodes)
            and the isobar pair (heel, 100/120 kPa, 54/46 nodes): local search (pairs kept, correct),
            global search with sign and with Procrustes alignment, ADCom's excess pairs, the peers;
+  surfaces Table 3's heel surfaces (frames 4-5, 50 kPa, every 3rd pixel, 3-D, 24 modes): local search,
+           sign and Procrustes global search, 3-D coordinates and the plate position (x, y) alone;
   failure  object 2 of the contour pair shifted 40 mm and turned by 0-90 degrees: correct share of
            sign-aligned modes, Procrustes-aligned modes, raw coordinates and rigid CPD;
   spread   min and max over the seeds of every share the chapter asserts.
@@ -68,6 +70,19 @@ def main() -> None:
             seeds.add(seed, which, *row)
             for name, value in zip(seeds.columns[2:], row):
                 columns.setdefault((which, name), []).append(value)
+
+    surfaces = bench.table("seed", "nodes", "local kept", "local correct", "sign global", "Procrustes global",
+                           "3-D coordinates", "x, y only", title="Table 3: heel surfaces (3-D, 24 modes)")
+    for seed in args.seeds:
+        p = mm.paper_pair(mm.make_pedobarography_sequence(rng=seed), "surfaces")
+        local = mm.match_objects(p.X1, p.X2, n_modes=24, search="local")
+        row = (len(local.pairs), share(local, p), share(mm.match_objects(p.X1, p.X2, n_modes=24, align="sign"), p),
+               share(mm.match_objects(p.X1, p.X2, n_modes=24), p), share(mm.match_coordinates(p.X1, p.X2), p),
+               round(mm.correct_share(mm.match_coordinates(p.X1[:, :2], p.X2[:, :2]).pairs, p.truth[:, :2],
+                                      p.X2[:, :2]), 3))
+        surfaces.add(seed, f"{len(p.X1)}/{len(p.X2)}", *row)
+        for name, value in zip(surfaces.columns[2:], row):
+            columns.setdefault(("surfaces", name), []).append(value)
 
     failure = bench.table("seed", *[f"{method} {angle} deg" for angle in ANGLES for method in ("sign", "Procrustes",
                                                                                                  "coordinates", "CPD")],
