@@ -199,6 +199,25 @@ CHAPTERS: tuple[Chapter, ...] = (
         difficulty=2,
         study_minutes=75,
     ),
+    Chapter(
+        9,
+        "09_modal_matching_pedobarography.ipynb",
+        "Modal matching of pedobarography objects by finite-element modes and assignment",
+        "A Gaussian finite element built by hand on a 12-node and an 11-node outline: its mass and stiffness in "
+        "closed form, the modes of K phi = omega^2 M phi as each node's own coordinates, the affinity matrix, "
+        "mutual-best matches against the assignment problem with fictitious nodes, and ADCom for the excess "
+        "nodes; then contours and isobars of a synthetic pressure sequence with the truth of every node: why "
+        "the first modes are not quite rigid, why the modes' signs decide everything, raw coordinates and "
+        "coherent point drift as peers, and a shifted and turned foot as the failure case.",
+        "L. F. Bastos, J. M. R. S. Tavares. Improvement of Modal Matching Image Objects in Dynamic "
+        "Pedobarography Using Optimization Techniques. AMDO 2004, LNCS 3179.",
+        exercises="amdo_lab.modal_matching.exercises",
+        prerequisites=needs(("the shared notation", 0), ("Procrustes alignment", 0),
+                            "eigenvalues and eigenvectors of symmetric matrices"),
+        teaches=("finite-element modes of a shape", "matching as an assignment problem"),
+        difficulty=2,
+        study_minutes=90,
+    ),
 )
 
 

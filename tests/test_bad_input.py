@@ -46,8 +46,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))  # the tables: tests/ba
 
 from bad_input_cases._core import FINITE_LABELS, Case, all_finite, spoil  # noqa: E402
 
-SUBPACKAGES = ("common", "introduction", "em_articulated", "pdm_mixtures", "cat_fluid", "ear_biometrics",
-               "face_glmm", "cue_fusion_pf", "incremental_svd")
+from amdo_lab.chapters import CHAPTERS  # noqa: E402
+
+#: The shared floor and every chapter's subpackage (the one holding its exercises), from the registry.
+SUBPACKAGES = ("common", *(chapter.exercises.split(".")[1] for chapter in CHAPTERS))
 
 
 def table(subpackage: str):

@@ -1,0 +1,111 @@
+"""Bad-input table of ``amdo_lab.modal_matching``: a valid call and the kind of each argument.
+
+The valid inputs are small: outlines of 9 and 8 nodes, a 15-frame pressure sequence.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from bad_input_cases._core import Case
+
+#: (callable, argument, spoiled label) calls known to fail the test, with the reason; each must
+#: still fail (remove it once fixed).
+KNOWN_FAILURES: dict[tuple[str, str, str], str] = {}
+
+#: Public names not called with user input, with the reason.
+EXEMPT = {
+    "GaussianElement": "a result record, built by gaussian_element from checked input",
+    "ModalBasis": "a result record, built by modal_analysis from a checked element",
+    "MatchResult": "a result record, built by the matching functions from checked input",
+    "ObjectPair": "a result record, built by paper_pair from a checked sequence",
+    "PedobarographySequence": "a result record, built by make_pedobarography_sequence from checked input",
+}
+
+#: A node set of another dimension is a valid object of its own (a 3-D outline).
+_ANY_D = frozenset({("nodes", "a wrong trailing axis")})
+
+
+def _outline(n: int, seed: int = 0) -> np.ndarray:
+    angle = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    noise = np.random.default_rng(seed).normal(0, 0.2, (n, 2))
+    return np.c_[13 * np.cos(angle), 10 * np.sin(angle) * (1 + 0.2 * np.cos(3 * angle))] + noise
+
+
+def cases() -> dict[str, Case]:
+    """The public callables of ``amdo_lab.modal_matching``, by name."""
+    from amdo_lab import modal_matching as mm
+
+    X1, X2 = _outline(9), _outline(8, 1)
+    model = mm.gaussian_element(X1, sigma=mm.mean_spacing(X1))
+    modes1, modes2 = mm.modal_analysis(model), mm.modal_analysis(mm.gaussian_element(X2, sigma=mm.mean_spacing(X1)))
+    Z = mm.affinity_matrix(modes1, modes2, n_modes=4)
+    pairs = mm.global_search(Z)
+    step = mm.make_pedobarography_sequence(rng=0)
+    pair = mm.ObjectPair(X1, X2, X1)
+    objects = {"X1": X1, "X2": X2}
+    object_kinds = {"X1": "array", "X2": "array"}
+    rectangular = frozenset({("Z", "a wrong trailing axis")})  # another m2 is another valid problem
+
+    def method(owner, name):
+        return lambda **kwargs: getattr(owner, name)(**kwargs)
+
+    return {
+        "gaussian_element": Case(mm.gaussian_element, {"nodes": X1, "sigma": 3.0, "young": 1.0, "poisson": 0.3,
+                                                       "density": 1.0},
+                                 {"nodes": "array", "sigma": "positive", "young": "positive", "poisson": "real",
+                                  "density": "positive"}, accept=_ANY_D | {("poisson", "zero")}),
+        "mean_spacing": Case(mm.mean_spacing, {"nodes": X1}, {"nodes": "array"}, accept=_ANY_D),
+        "interpolate_field": Case(mm.interpolate_field, {"model": model, "displacements": modes1.shapes[:, :3],
+                                                         "points": X2},
+                                  {"model": "object", "displacements": "array", "points": "array"},
+                                  accept=frozenset({("displacements", "a wrong trailing axis")})),
+        "modal_analysis": Case(mm.modal_analysis, {"model": model}, {"model": "object"}),
+        "ModalBasis.node_vectors": Case(method(modes1, "node_vectors"), {"n_modes": 3}, {"n_modes": "count"}),
+        "exact_rigid_motions": Case(mm.exact_rigid_motions, {"nodes": X1}, {"nodes": "array"}, accept=_ANY_D),
+        "mode_features": Case(mm.mode_features, {"modes1": modes1, "modes2": modes2, "n_modes": 4,
+                                                 "align": "sign"},
+                              {"modes1": "object", "modes2": "object", "n_modes": "count", "align": "name"}),
+        "affinity_matrix": Case(mm.affinity_matrix, {"modes1": modes1, "modes2": modes2, "n_modes": 4,
+                                                     "align": "procrustes"},
+                                {"modes1": "object", "modes2": "object", "n_modes": "count", "align": "name"}),
+        "local_search": Case(mm.local_search, {"Z": Z}, {"Z": "array"}, accept=rectangular),
+        "global_search": Case(mm.global_search, {"Z": Z, "pad": True}, {"Z": "array", "pad": "flag"},
+                              accept=rectangular),
+        "adcom": Case(mm.adcom, {"Z": Z, "pairs": pairs}, {"Z": "array", "pairs": "array"}, accept=rectangular),
+        "match_objects": Case(mm.match_objects, {**objects, "sigma": 3.0, "n_modes": 4, "align": "sign",
+                                                 "search": "global", "excess": True},
+                              {**object_kinds, "sigma": "positive", "n_modes": "count", "align": "name",
+                               "search": "name", "excess": "flag"}, accept=frozenset({("sigma", "None")})),
+        "match_coordinates": Case(mm.match_coordinates, objects, object_kinds),
+        "match_cpd": Case(mm.match_cpd, {**objects, "kind": "rigid"}, {**object_kinds, "kind": "name"}),
+        "make_pedobarography_sequence": Case(
+            mm.make_pedobarography_sequence,
+            {"rng": 0, "n_frames": 2, "shape": (30, 16), "mm_per_px": 10.0, "noise": 1.0, "floor": 5.0,
+             "filter_px": 1.0},
+            {"rng": "seed", "n_frames": "count", "shape": "object", "mm_per_px": "positive",
+             "noise": "non_negative", "floor": "non_negative", "filter_px": "positive"}),
+        "PedobarographySequence.pressure": Case(method(step, "pressure"), {"xy_mm": X1 + 80, "t": 3.0},
+                                                {"xy_mm": "array", "t": "non_negative"}),
+        "PedobarographySequence.contour": Case(method(step, "contour"), {"frame": 4, "level": 15.0, "n_nodes": 20},
+                                               {"frame": "count", "level": "positive", "n_nodes": "count"},
+                                               accept=frozenset({("frame", "zero")})),
+        "PedobarographySequence.surface": Case(
+            method(step, "surface"), {"frame": 4, "level": 50.0, "stride_px": 6, "box_mm": (30.0, 130.0, 0.0, 110.0),
+                                      "z_mm_per_kpa": 0.5},
+            {"frame": "count", "level": "positive", "stride_px": "count", "box_mm": "array", "z_mm_per_kpa": "positive"},
+            accept=frozenset({("frame", "zero")})),
+        "PedobarographySequence.follow": Case(
+            method(step, "follow"), {"points": step.contour(4, 15.0, 20), "t_from": 4.0, "level_from": 15.0,
+                                     "t_to": 5.0, "level_to": 15.0, "steps": 4},
+            {"points": "array", "t_from": "non_negative", "level_from": "positive", "t_to": "non_negative",
+             "level_to": "positive", "steps": "count"}),
+        "paper_pair": Case(mm.paper_pair, {"sequence": step, "which": "isobars"},
+                           {"sequence": "object", "which": "name"}),
+        "move_object": Case(mm.move_object, {"pair": pair, "angle_deg": 20.0, "shift_mm": 40.0},
+                            {"pair": "object", "angle_deg": "real", "shift_mm": "real"}),
+        "resample_closed_curve": Case(mm.resample_closed_curve, {"curve": X1, "n_nodes": 12},
+                                      {"curve": "array", "n_nodes": "count"}),
+        "correct_share": Case(mm.correct_share, {"pairs": pairs, "truth": X1, "X2": X2},
+                              {"pairs": "array", "truth": "array", "X2": "array"}),
+    }
