@@ -218,7 +218,7 @@ def track_sir(sequence: BodySequence, *, rng: int | np.random.Generator, n_parti
     particles, poses, evaluations = run.start(), [], []
     for t, observation in enumerate(run.observations()):
         if t:
-            particles = run.predict(particles)  # eq. (1): the prediction by the system model
+            particles = run.predict(particles)  # eqs. (1), (8): the prediction by the system model
         costs = observation._cost(particles[:, :run.p])
         weights = _normalised_weights(observation.alpha * -costs)  # eqs. (2), (7)
         poses.append(_weighted_mean(weights, particles[:, :run.p]))

@@ -147,7 +147,7 @@ def make_jump_sequence(*, rng: int | np.random.Generator, n_frames: int = 60,
     """A countermovement jump seen from the side (Fig. 8): stand, squat, push off, fly 27 px, land.
 
     The foot stays pinned to the ground while it touches it (the hip is placed so that the ankle does not
-    move); knee flexion reaches 90 deg and hip flexion 80 deg at the bottom of the squat.
+    move); knee flexion reaches 90 deg and hip flexion 65 deg at the bottom of the squat.
 
     Parameters
     ----------
@@ -188,14 +188,14 @@ def make_jump_sequence(*, rng: int | np.random.Generator, n_frames: int = 60,
 
     depth = depth_scale * (ramp(0.15, 0.42) - ramp(0.42, 0.64) + 0.5 * ramp(0.8, 0.9) - 0.5 * ramp(0.9, 1.0))
     flight = np.where((s > 0.64) & (s < 0.8), np.sin(np.pi * np.clip((s - 0.64) / 0.16, 0, 1)), 0.0)
-    knee, hip, lean = np.deg2rad(90.0) * depth, np.deg2rad(80.0) * depth, np.deg2rad(35.0) * depth
+    knee, hip, lean = np.deg2rad(90.0) * depth, np.deg2rad(65.0) * depth, np.deg2rad(25.0) * depth
     truth = np.zeros((n_frames, model.n_pose))
     truth[:, 2] = -np.pi / 2 + lean  # trunk leans forward (+x) in the squat
     truth[:, 3] = np.deg2rad(5.0) * depth  # head
     truth[:, 4] = np.pi - hip - lean  # thigh relative to the trunk: the hip angle
     truth[:, 5] = knee  # shank relative to the thigh: the knee angle
     shank = truth[:, 2] + truth[:, 4] + truth[:, 5]
-    truth[:, 6] = -shank + np.deg2rad(40.0) * flight  # foot flat on the ground, pointed in flight
+    truth[:, 6] = -shank + np.deg2rad(30.0) * flight  # foot flat on the ground, pointed in flight
     ankle = model._forward(truth)[0][:, 4]  # foot joint with the hip at the origin
     ground = np.array([size[1] * 0.45, size[0] - 12.0])
     truth[:, :2] = ground - ankle
