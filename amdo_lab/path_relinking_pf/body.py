@@ -97,7 +97,7 @@ class BodyModel:
     """
 
     def __init__(self, limbs) -> None:
-        limbs = tuple(limbs)
+        limbs = tuple(limbs) if isinstance(limbs, (list, tuple)) else ()
         if not limbs or not all(isinstance(limb, Limb) for limb in limbs):
             raise TypeError("limbs must be a non-empty sequence of Limb")
         for k, limb in enumerate(limbs):

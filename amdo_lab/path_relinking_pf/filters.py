@@ -329,8 +329,10 @@ def line_path(start: np.ndarray, end: np.ndarray, steps: np.ndarray) -> np.ndarr
            [3.  , 0.75]])
     """
     start = as_finite_array(start, "start", ndim=1, max_abs=1e5)
-    end = as_finite_array(end, "end", shape=start.shape, max_abs=1e5)
-    steps = as_finite_array(steps, "steps", shape=start.shape, bounds=(0.0, 1e5), closed="right")
+    end = as_finite_array(end, "end", ndim=1, max_abs=1e5)
+    steps = as_finite_array(steps, "steps", ndim=1, bounds=(0.0, 1e5), closed="right")
+    if not start.shape == end.shape == steps.shape:
+        raise ValueError(f"start, end and steps must have one shape, got {start.shape}, {end.shape}, {steps.shape}")
     return _line_path(start, end, steps)
 
 
