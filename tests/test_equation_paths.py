@@ -260,6 +260,24 @@ CHAPTER_7 = {
 }
 
 # ---------------------------------------------------------------------------------------------
+# Chapter 10, Pantrigo, Sánchez, Gianikellis & Montemayor 2004: amdo_lab.path_relinking_pf
+
+_PR = "amdo_lab.path_relinking_pf"
+_COSTS = (f"{_PR}.observation.ObservationModel.cost_reference", "test_fast_cost_equals_eqs_5_6_summed_over_all_pixels")
+_SIR = (f"{_PR}.filters.track_sir", "test_track_sir_weighs_n_particles_a_frame_and_predicts_by_eq8")
+CHAPTER_10 = {
+    1: _SIR,
+    2: _SIR,
+    3: _SIR,
+    4: (None, "notation: the state of a particle, the pose (x1, y1 and one angle per limb) followed by its "
+              "velocities, which the trackers keep side by side in one array"),
+    5: _COSTS,
+    6: _COSTS,
+    7: (f"{_PR}.observation.ObservationModel.log_weights", "test_log_weights_are_eq7_and_favour_the_truth"),
+    8: _SIR,
+}
+
+# ---------------------------------------------------------------------------------------------
 
 CHAPTERS = {
     1: (CHAPTER_1, "test_em_articulated.py"),
@@ -269,6 +287,7 @@ CHAPTERS = {
     5: (CHAPTER_5, "test_face_glmm.py"),
     6: (CHAPTER_6, "test_cue_fusion_pf.py"),
     7: (CHAPTER_7, "test_incremental_svd.py"),
+    10: (CHAPTER_10, "test_path_relinking_pf.py"),
 }
 
 

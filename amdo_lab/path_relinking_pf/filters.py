@@ -14,7 +14,7 @@ import numpy as np
 
 from amdo_lab.common import (MAX_LEVELS, MAX_SAMPLES, as_finite_array, check_bool, check_choice, check_in_range,
                              check_positive_int, make_rng)
-from amdo_lab.common.particles import _normalised_weights, systematic_resample
+from amdo_lab.common.particles import normalised_weights, systematic_resample
 from amdo_lab.path_relinking_pf.body import BodyModel
 from amdo_lab.path_relinking_pf.observation import MAX_ALPHA, ObservationModel, measure
 from amdo_lab.path_relinking_pf.sequences import BodySequence
@@ -220,7 +220,7 @@ def track_sir(sequence: BodySequence, *, rng: int | np.random.Generator, n_parti
         if t:
             particles = run.predict(particles)  # eqs. (1), (8): the prediction by the system model
         costs = observation._cost(particles[:, :run.p])
-        weights = _normalised_weights(observation.alpha * -costs)  # eqs. (2), (7)
+        weights = normalised_weights(observation.alpha * -costs)  # eqs. (2), (7)
         poses.append(_weighted_mean(weights, particles[:, :run.p]))
         particles = particles[systematic_resample(weights, run.generator.random())]
         evaluations.append(observation.n_evaluations)
@@ -289,7 +289,7 @@ def track_apf(sequence: BodySequence, *, rng: int | np.random.Generator, n_parti
         for m in range(layers):
             costs = observation._cost(particles[:, :run.p])
             beta = _annealing_exponent(observation.alpha * costs, survival)
-            weights = _normalised_weights(beta * observation.alpha * -costs)
+            weights = normalised_weights(beta * observation.alpha * -costs)
             if m == layers - 1:
                 poses.append(_weighted_mean(weights, particles[:, :run.p]))
             particles = particles[systematic_resample(weights, run.generator.random())]
@@ -511,7 +511,7 @@ def track_prpf(sequence: BodySequence, *, rng: int | np.random.Generator, n_part
         particles[worst] = np.hstack([refset, ref_velocity])
         costs[worst] = ref_costs
         poses.append(refset[0])  # the estimate: the best RefSet member (our reading of the lost eq. 3)
-        weights = _normalised_weights(observation.alpha * -costs)
+        weights = normalised_weights(observation.alpha * -costs)
         particles = particles[systematic_resample(weights, run.generator.random())]
         evaluations.append(observation.n_evaluations)
         rounds.append(used)
