@@ -60,7 +60,13 @@ class Limb:
     grey: int = 200
 
     def outline(self) -> np.ndarray:
-        """Vertices of the limb's polygon in its own frame, ``(m, 2)`` rows of ``(along, across)``."""
+        """Vertices of the limb's polygon in its own frame.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(m, 2)`` rows of ``(along, across)``, pixels: 4 for a trapezium, 16 for an ellipse.
+        """
         if self.shape == "T":
             length, near, far = self.size
             return np.array([[0.0, -near / 2], [0.0, near / 2], [length, far / 2], [length, -far / 2]])

@@ -74,7 +74,20 @@ class FilterSettings:
             as_finite_array(getattr(self, name), name, shape=(), bounds=(0.0, 100.0), closed="right")
 
     def scales(self, n_pose: int, px: str, deg: str) -> np.ndarray:
-        """Per-coordinate scale ``[px, px, deg, ..., deg]`` (angles in radians) of two of the settings."""
+        """Per-coordinate scale ``[px, px, deg, ..., deg]`` of two of the settings (angles in radians).
+
+        Parameters
+        ----------
+        n_pose : int
+            Length of a pose.
+        px, deg : str
+            Names of the settings for x1, y1 (pixels) and for every angle (degrees).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n_pose,)`` the scales.
+        """
         return np.r_[np.full(2, getattr(self, px)), np.full(n_pose - 2, np.deg2rad(getattr(self, deg)))]
 
 
@@ -121,6 +134,10 @@ def check_sequence(sequence: object) -> BodySequence:
     -------
     BodySequence
         The same object.
+
+    References
+    ----------
+    Pantrigo et al., AMDO 2004, Sec. 6 (the trackers start from the first frame).
     """
     if not isinstance(sequence, BodySequence):
         raise TypeError(f"sequence must be a BodySequence, got {type(sequence).__name__}")
