@@ -350,7 +350,5 @@ def joint_errors_px(model: BodyModel, poses: np.ndarray, truth: np.ndarray) -> n
     if not isinstance(model, BodyModel):
         raise TypeError(f"model must be a BodyModel, got {type(model).__name__}")
     poses = model.check_poses(poses, "poses")
-    truth = model.check_poses(truth, "truth")
-    if poses.shape != truth.shape:
-        raise ValueError(f"poses and truth must have the same shape, got {poses.shape} and {truth.shape}")
+    truth = as_finite_array(truth, "truth", shape=poses.shape, max_abs=MAX_POSE)
     return np.linalg.norm(model._forward(poses)[0] - model._forward(truth)[0], axis=-1)

@@ -15,7 +15,6 @@ import numpy as np
 from amdo_lab.common import (MAX_LEVELS, MAX_SAMPLES, as_finite_array, check_bool, check_choice, check_in_range,
                              check_positive_int, make_rng)
 from amdo_lab.common.particles import normalised_weights, systematic_resample
-from amdo_lab.path_relinking_pf.body import BodyModel
 from amdo_lab.path_relinking_pf.observation import MAX_ALPHA, ObservationModel, measure
 from amdo_lab.path_relinking_pf.sequences import BodySequence
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_positive_int
+from amdo_lab.common import as_finite_array
 from amdo_lab.path_relinking_pf.body import BodyModel, _edge_map
 
 __all__ = ["PAPER_ALPHA", "Measurement", "ObservationModel", "check_frame_pair", "measure"]
@@ -192,7 +192,7 @@ class ObservationModel:
         Parameters
         ----------
         poses : numpy.ndarray
-            ``(n_pose,)`` or ``(N, n_pose)`` poses, N at most 1,000,000.
+            ``(n_pose,)`` or ``(N, n_pose)`` poses.
 
         Returns
         -------
@@ -203,9 +203,7 @@ class ObservationModel:
         ----------
         Pantrigo et al., AMDO 2004, eqs. (5) and (6).
         """
-        poses = np.atleast_2d(self.model.check_poses(poses))
-        check_positive_int(len(poses), "poses", maximum=1_000_000)
-        return self._cost(poses)
+        return self._cost(np.atleast_2d(self.model.check_poses(poses)))
 
     def _cost(self, poses: np.ndarray) -> np.ndarray:
         """Check-free batched cost: kinematics for all poses at once, then one small crop per pose."""
