@@ -174,6 +174,7 @@ REJECTIONS = [
            ValueError, "limbs: limb 1"),
     reject("a second root", lambda: BodyModel([Limb("a", "T", -1, (1.0, 1.0, 1.0)), Limb("b", "E", -1, (1.0, 1.0))]),
            ValueError, "only root"),
+    reject("a limb of NaN size", lambda: BodyModel([Limb("a", "T", -1, (np.nan, 1.0, 1.0))]), ValueError, "limbs"),
     reject("pose of the wrong length", lambda sequence: sequence.model.forward(np.zeros(7)), ValueError, "poses"),
     reject("frame unlike the background", lambda sequence: measure(sequence.frames[0], sequence.background[:50]),
            ValueError, "frame and background"),

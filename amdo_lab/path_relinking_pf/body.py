@@ -112,6 +112,7 @@ class BodyModel:
                                  "only root and every father comes before its children (no cycle)")
             if limb.shape not in ("T", "E") or len(limb.size) != (3 if limb.shape == "T" else 2):
                 raise ValueError(f"limbs: limb {k} ({limb.name}) needs shape 'T' with 3 sizes or 'E' with 2")
+            as_finite_array(np.r_[limb.size, limb.position], "limbs (sizes and positions)", max_abs=MAX_POSE)
         self.limbs = limbs
         self.n_pose = 2 + len(limbs)
         levels = np.zeros(len(limbs), int)
