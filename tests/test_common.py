@@ -490,3 +490,16 @@ def test_check_odd_int_and_check_dataframe():
         check_dataframe({"correct": [1]}, "table")
     with pytest.raises(ValueError, match=r"table must have columns \['correct', 'subject'\], missing \['subject'\]"):
         check_dataframe(frame, "table", columns=("correct", "subject"))
+
+
+def test_particle_weights_resampling_and_planar_chain():
+    from amdo_lab.common import effective_sample_size, normalised_weights, planar_chain, systematic_resample
+
+    weights = normalised_weights(np.array([-2000.0, -2001.0, -2003.0]))  # exp alone underflows to 0
+    assert np.isclose(weights.sum(), 1.0) and weights[0] > weights[1] > weights[2] > 0
+    assert effective_sample_size(np.full(5, 0.2)) == pytest.approx(5.0)
+    assert effective_sample_size(np.array([1.0, 0.0])) == pytest.approx(1.0)
+    counts = np.bincount(systematic_resample(np.array([0.5, 0.3, 0.2]), 0.1), minlength=3)
+    assert counts.tolist() == [2, 1, 0]  # floor or ceil of N w_i copies
+    joints = planar_chain(np.array([np.pi / 2, -np.pi / 2]), np.array([2.0, 3.0]), base=(1.0, 1.0))
+    assert np.allclose(joints, [[1.0, 1.0], [1.0, 3.0], [4.0, 3.0]])

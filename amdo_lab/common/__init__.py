@@ -8,6 +8,7 @@ from amdo_lab.common.exercises import check_answer
 from amdo_lab.common.geometry import (
     apply_rigid,
     apply_similarity_2d,
+    planar_chain,
     procrustes_align,
     rigid_transform,
     rotation_2d,
@@ -16,6 +17,7 @@ from amdo_lab.common.geometry import (
     rotation_y,
     rotation_z,
 )
+from amdo_lab.common.particles import effective_sample_size, normalised_weights, systematic_resample
 from amdo_lab.common.plotting import PALETTE, savefig, use_style
 from amdo_lab.common.rng import make_rng, spawn_rngs
 from amdo_lab.common.stats import PairedComparison, RateInterval, paired_comparison, rate_interval
@@ -82,9 +84,12 @@ __all__ = [
     "check_positive_int",
     "check_same_shape",
     "check_seed",
+    "effective_sample_size",
     "make_rng",
+    "normalised_weights",
     "one_blas_thread",
     "paired_comparison",
+    "planar_chain",
     "procrustes_align",
     "rate_interval",
     "rigid_transform",
@@ -95,5 +100,6 @@ __all__ = [
     "rotation_z",
     "savefig",
     "spawn_rngs",
+    "systematic_resample",
     "use_style",
 ]

@@ -25,6 +25,7 @@ __all__ = [
     "ProcrustesResult",
     "apply_rigid",
     "apply_similarity_2d",
+    "planar_chain",
     "procrustes_align",
     "rigid_transform",
     "rotation_2d",
@@ -315,3 +316,51 @@ def procrustes_align(
     rms = float(np.sqrt(np.mean(np.sum((aligned - target) ** 2, axis=1))))
     check_overflow([*aligned.ravel(), rms], "source and target")
     return ProcrustesResult(aligned, scale, rotation, translation, rms)
+
+
+#: Lengths and offsets beyond this are refused (pixels or millimetres: far beyond any image or body).
+MAX_CHAIN_LENGTH = 1e6
+
+
+def planar_chain(angles: np.ndarray, lengths: np.ndarray, base: np.ndarray = (0.0, 0.0)) -> np.ndarray:
+    """Joint positions of a planar kinematic chain: each link turns by its angle relative to the last.
+
+    Link k points along the absolute angle ``phi_k = angles[0] + ... + angles[k]`` (radians, measured
+    from the +x axis towards +y), so joint k+1 is joint k plus ``lengths[k] (cos phi_k, sin phi_k)``.
+
+    Parameters
+    ----------
+    angles : numpy.ndarray
+        (..., n) relative joint angles in radians, |angle| at most 1e6; leading axes are a batch.
+    lengths : numpy.ndarray
+        (n,) link lengths, at most 1e6 in magnitude.
+    base : array_like
+        (2,) position of the first joint, at most 1e6 in magnitude.
+
+    Returns
+    -------
+    numpy.ndarray
+        (..., n + 1, 2) the base and the n joints after it.
+
+    References
+    ----------
+    Pantrigo et al., AMDO 2004, Sec. 5.1 (each limb in its father's frame); the planar arm of
+    chapter 1's toy.
+
+    Examples
+    --------
+    >>> planar_chain(np.array([0.0, np.pi / 2]), np.array([2.0, 1.0])).round(6)
+    array([[0., 0.],
+           [2., 0.],
+           [2., 1.]])
+    """
+    angles = as_finite_array(angles, "angles", max_abs=MAX_CHAIN_LENGTH)
+    lengths = as_finite_array(lengths, "lengths", ndim=1, max_abs=MAX_CHAIN_LENGTH)
+    base = as_finite_array(base, "base", shape=(2,), max_abs=MAX_CHAIN_LENGTH)
+    if angles.ndim == 0 or angles.shape[-1] != len(lengths):
+        raise ValueError(f"angles must end in one angle per link: angles has shape {angles.shape}, "
+                         f"lengths has {len(lengths)} links")
+    absolute = np.cumsum(angles, axis=-1)
+    steps = lengths[..., None] * np.stack([np.cos(absolute), np.sin(absolute)], axis=-1)
+    joints = np.concatenate([np.zeros(steps.shape[:-2] + (1, 2)), np.cumsum(steps, axis=-2)], axis=-2)
+    return joints + base

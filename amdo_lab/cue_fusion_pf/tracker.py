@@ -10,6 +10,7 @@ import numpy as np
 
 from amdo_lab.common import (MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check_bool, check_choice,
                              check_image_shape, check_in_range, check_names, check_positive_int, make_rng)
+from amdo_lab.common.particles import systematic_resample  # shared with chapter 10, re-exported here
 from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
 from amdo_lab.cue_fusion_pf.likelihoods import COLOR_SPACES, MAX_PIXELS, PAPER_SIGMAS, SIGMA_RANGE, ColorLikelihood, EdgeLikelihood
 from amdo_lab.cue_fusion_pf.shape import SHAPE_KINDS, ShapeSpace
@@ -82,38 +83,6 @@ class TrackResult:
     def ms_per_frame(self) -> float:
         """Milliseconds per frame of the run."""
         return 1000.0 * self.seconds / len(self.states)
-
-
-def systematic_resample(weights: np.ndarray, u: float) -> np.ndarray:
-    """Indices drawn by systematic resampling (Fig. 1, step 5) with one uniform ``u`` in [0, 1).
-
-    The N pointers ``(u + i) / N`` walk through the cumulative weights, so particle i is copied
-    ``floor`` or ``ceil`` of ``N w_i`` times: lower variance than N independent draws.
-
-    Parameters
-    ----------
-    weights : numpy.ndarray
-        (N,) normalised weights (non-negative, summing to 1).
-    u : float
-        One uniform number in [0, 1).
-
-    Returns
-    -------
-    numpy.ndarray
-        (N,) indices of the chosen particles, in increasing order.
-
-    References
-    ----------
-    Li & Chaumette, AMDO 2004, Fig. 1, step 5.
-    """
-    weights = as_finite_array(weights, "weights", ndim=1)
-    if np.any(weights < 0) or not np.isclose(weights.sum(), 1.0, rtol=0.0, atol=1e-6):
-        raise ValueError(f"weights must be non-negative and sum to 1, got sum {weights.sum():.6g}")
-    u = check_in_range(u, "u", 0.0, 1.0, closed="left")
-    n = len(weights)
-    cumulative = np.cumsum(weights)
-    cumulative[-1] = 1.0  # guard against round-off
-    return np.searchsorted(cumulative, (u + np.arange(n)) / n, side="right").clip(max=n - 1)
 
 
 def default_dynamics(mean: np.ndarray, *, beta=(2.0, 2.0, 10.0), stationary_std=STATIONARY_STD,

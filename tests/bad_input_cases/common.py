@@ -98,6 +98,17 @@ def cases() -> dict[str, Case]:
         "make_rng": Case(c.make_rng, {"seed": 0, "name": "rng"}, {"seed": "seed"}, names={"seed": "rng"}),
         "paired_comparison": Case(c.paired_comparison, {"first": right, "second": wrong},
                                   {"first": "bool_array", "second": "bool_array"}),
+        "planar_chain": Case(c.planar_chain, {"angles": np.array([0.3, -0.2]), "lengths": np.array([2.0, 1.0]),
+                                              "base": np.zeros(2)},
+                             {"angles": "array", "lengths": "array", "base": "array"},
+                             accept=frozenset({("angles", "one more axis")})),  # a batch of one chain
+        "effective_sample_size": Case(c.effective_sample_size, {"weights": np.array([0.2, 0.5, 0.3])},
+                                      {"weights": "array"}),
+        "normalised_weights": Case(c.normalised_weights, {"log_weights": np.array([-3.0, -1.0, -2.0])},
+                                   {"log_weights": "array"},
+                                   accept=frozenset({("log_weights", "a wrong trailing axis")})),  # any N
+        "systematic_resample": Case(c.systematic_resample, {"weights": np.array([0.2, 0.5, 0.3]), "u": 0.4},
+                                    {"weights": "array", "u": "probability"}),
         "procrustes_align": Case(c.procrustes_align, {"source": points2, "target": points2[::-1].copy()},
                                  {"source": "points", "target": "points"}),
         "rate_interval": Case(c.rate_interval, {"outcomes": right, "confidence": 0.95},
