@@ -470,20 +470,20 @@ def test_registration_images_pass_the_check_unchanged():
 def test_stencil_steps_follow_eqs_5_12_and_14_on_polynomial_fields():
     """The three steps inside fluid_stencil, each against a hand computation: the gradient (eq. 5) of
     the bilinear velocity (eq. 13), the stress (eq. 12) and the flux over the dual cell (eqs. 8-11, 14)."""
-    from amdo_lab.cat_fluid.stencil import _bilinear_gradient, _flux, _stress
-
     gradient = np.array([[0.3, -1.2], [2.0, 0.7]])  # ∂v_i/∂x_j of a linear field: exact at every point
     linear = lambda i, j: gradient @ np.array([i, j], float) + np.array([5.0, -1.0])  # noqa: E731
     for point in ([0.25, 0.5], [-0.75, -0.25], [0.1, -0.9]):
-        np.testing.assert_allclose(_bilinear_gradient(linear, np.array(point)), gradient, atol=1e-12)
+        np.testing.assert_allclose(cf.bilinear_gradient(linear, point), gradient, atol=1e-12)
     product = lambda i, j: np.array([i * j, 0.0])  # noqa: E731  bilinear: ∂(x1 x2) = (x2, x1)
-    np.testing.assert_allclose(_bilinear_gradient(product, np.array([0.25, 0.75])), [[0.75, 0.25], [0, 0]])
+    np.testing.assert_allclose(cf.bilinear_gradient(product, [0.25, 0.75]), [[0.75, 0.25], [0, 0]])
     strain = (gradient + gradient.T) / 2
-    np.testing.assert_allclose(_stress(gradient, 2.0, 3.0), 2.0 * np.trace(strain) * np.eye(2) + 2 * 3.0 * strain)
+    np.testing.assert_allclose(cf.viscous_stress(gradient, 2.0, 3.0),
+                               2.0 * np.trace(strain) * np.eye(2) + 2 * 3.0 * strain)
     for kind, field in QUADRATIC_FIELDS.items():
         corners = lambda i, j, field=field: np.array(field(float(i), float(j)))  # noqa: E731
-        np.testing.assert_allclose(_flux(corners, 2.0, 3.0), continuous_operator(kind, 2.0, 3.0), atol=1e-12)
-    np.testing.assert_allclose(_flux(linear, 2.0, 3.0), 0.0, atol=1e-12)
+        np.testing.assert_allclose(cf.dual_cell_force(corners, 2.0, 3.0), continuous_operator(kind, 2.0, 3.0),
+                                   atol=1e-12)
+    np.testing.assert_allclose(cf.dual_cell_force(linear, 2.0, 3.0), 0.0, atol=1e-12)
 
 
 # --- rejections: one table -----------------------------------------------------------------

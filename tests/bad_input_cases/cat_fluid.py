@@ -70,6 +70,12 @@ def cases() -> dict[str, Case]:
         "stencil_grid": Case(cf.stencil_grid, {"stencil": stencil, "row": 1, "component": 1},
                              {"stencil": "array", "row": "count", "component": "count"},
                              accept=frozenset({("row", "zero"), ("component", "zero")})),  # indices 0 and 1
+        "bilinear_gradient": Case(cf.bilinear_gradient, {"velocity": lambda i, j: (i * j, 0.0), "point": [0.25, 0.5]},
+                                  {"velocity": "object", "point": "array"}),
+        "viscous_stress": Case(cf.viscous_stress, {"gradient": [[0.3, -1.2], [2.0, 0.7]], "lam": 1.0, "mu": 5.0},
+                               {"gradient": "array", "lam": "non_negative", "mu": "non_negative"}),
+        "dual_cell_force": Case(cf.dual_cell_force, {"velocity": lambda i, j: (j * j, 0.0), "lam": 1.0, "mu": 5.0},
+                                {"velocity": "object", "lam": "non_negative", "mu": "non_negative"}),
         "consistency_errors": Case(cf.consistency_errors, {"stencil": stencil, "lam": 1.0, "mu": 5.0},
                                    {"stencil": "array", "lam": "non_negative", "mu": "non_negative"}),
         # -- the solvers
