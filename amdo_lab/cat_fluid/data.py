@@ -9,14 +9,13 @@ stresses that its pairs A and B do not contain the same grey/white-matter config
 
 from __future__ import annotations
 
-import numbers
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.ndimage import binary_fill_holes, gaussian_filter
 
-from amdo_lab.cat_fluid.registration import warp_image
-from amdo_lab.common import (as_bool_mask, as_finite_array, check_choice, check_image_shape, check_in_range,
+from amdo_lab.cat_fluid.registration import check_pixel_mask, warp_image
+from amdo_lab.common import (as_finite_array, check_choice, check_image_shape, check_in_range,
                              check_positive, make_rng)
 
 __all__ = ["PAIR_NAMES", "DIPY_IMAGES", "BLOB_CENTRE_FRACTION", "BLOB_SD", "BLOB_HEIGHT", "RegistrationPair", "load_dipy_image", "smooth_warp", "foreground_mask",
@@ -101,9 +100,7 @@ def smooth_warp(shape: tuple[int, int], *, rng: int | np.random.Generator, ampli
     amplitude_px = check_positive(amplitude_px, "amplitude_px")
     smoothness_px = check_in_range(smoothness_px, "smoothness_px", 0, MAX_SMOOTHNESS_PX, closed="right")
     if support is not None:
-        support = as_bool_mask(support, "support", shape=shape)
-        if not support.any():
-            raise ValueError("support must contain at least one pixel, got an all-False mask")
+        support = check_pixel_mask(support, shape, "support")
     field = np.stack([gaussian_filter(rng.normal(size=shape), smoothness_px, mode="wrap") for _ in range(2)])
     if support is not None:
         field *= gaussian_filter(support.astype(float), smoothness_px / 2)[None]
@@ -134,9 +131,7 @@ def foreground_mask(image: object, threshold: float = 0.05) -> np.ndarray:
     Table 1 (the region over which residuals are compared).
     """
     image = as_finite_array(image, "image", shape=(None, None))
-    if isinstance(threshold, bool) or not isinstance(threshold, numbers.Real) or not np.isfinite(threshold):
-        raise ValueError(f"threshold must be a finite real number, got {threshold!r}")
-    return binary_fill_holes(image > threshold)
+    return binary_fill_holes(image > check_in_range(threshold, "threshold", -np.inf, np.inf))
 
 
 @dataclass(frozen=True)

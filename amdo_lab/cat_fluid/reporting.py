@@ -14,7 +14,7 @@ import pandas as pd
 from amdo_lab.cat_fluid.data import RegistrationPair
 from amdo_lab.cat_fluid.registration import (MAX_GREY_LEVEL, displacement_rmse, grey_level_difference,
                                              inverse_consistency_error, jacobian_determinant)
-from amdo_lab.common import as_finite_array, check_bool, check_positive, check_positive_int
+from amdo_lab.common import as_finite_array, check_bool, check_dataframe, check_positive, check_positive_int
 
 __all__ = ["PAPER_TABLE1", "paper_table1", "grey_level_table", "mean_sd_strings", "accuracy_row"]
 
@@ -115,8 +115,7 @@ def mean_sd_strings(table: pd.DataFrame, digits: int = 2) -> pd.DataFrame:
     AMDO 2004, LNCS 3179, pp. 76-85,
     Table 1 (its "mean / sd" layout).
     """
-    if not isinstance(table, pd.DataFrame):
-        raise TypeError(f"table must be a pandas DataFrame, got {type(table).__name__}")
+    check_dataframe(table, "table")
     digits = check_positive_int(digits, "digits", minimum=0, maximum=17)  # float64 carries 17 digits
     labels = list(dict.fromkeys(label for label, _ in table.columns))
     return pd.DataFrame({label: [f"{m:.{digits}f} / {s:.{digits}f}" for m, s in

@@ -13,7 +13,7 @@ import numpy as np
 
 from scipy import ndimage
 
-from amdo_lab.common import (as_finite_array, check_choice, check_image_shape, check_positive,
+from amdo_lab.common import (as_finite_array, check_choice, check_image_shape, check_in_range,
                              check_positive_int, make_rng, MAX_ITERATIONS)
 
 __all__ = ["LATENT_NAMES", "MOTIONS", "PAPER_SIZE", "SIMILARITY_BOUNDS", "TalkingFace", "corner_error_px",
@@ -116,9 +116,7 @@ def similarity_points(params: np.ndarray, points: np.ndarray, size: tuple[int, i
     >>> similarity_points([1.0, 2.0, 0.0, 0.0], [[0.0, 0.0]], (5, 5)).tolist()
     [[1.0, 2.0]]
     """
-    params = as_finite_array(params, "params", max_abs=1e6)
-    if params.shape[-1:] != (4,) or params.ndim > 2:
-        raise ValueError(f"params must have shape (4,) or (n, 4), got {params.shape}")
+    params = as_finite_array(params, "params", shape=(4,) if np.ndim(params) == 1 else (None, 4), max_abs=1e6)
     points = as_finite_array(points, "points", shape=(None, 2), max_abs=1e9)
     rows, cols = check_image_shape(size, "size")
     return _place(params, points, rows, cols)
@@ -324,9 +322,7 @@ def make_talking_face(n_frames: int, *, rng: int | np.random.Generator, size: tu
     n_frames = check_positive_int(n_frames, "n_frames", minimum=2, maximum=MAX_ITERATIONS)
     generator = make_rng(rng, "rng")
     size = check_image_shape(size, "size", minimum=32)
-    noise = check_positive(noise, "noise", allow_zero=True)
-    if noise > 1:
-        raise ValueError(f"noise must be at most 1 (grey levels are in [0, 1]), got {noise}")
+    noise = check_in_range(noise, "noise", 0, 1, closed="both")  # grey levels are in [0, 1]
     check_choice(motion, "motion", MOTIONS)
     latent = _latent_tracks(generator, n_frames)
     clean = render_faces(latent, size=size)
