@@ -627,3 +627,43 @@ REJECTIONS = [
 @pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
 def test_rejections(request, call, error, message):
     check_rejection(request, call, error, message)
+
+
+# --- known answers at the bounds: a finite result is not enough, it must be the right one -----------
+# The bad-input test checks that a huge input is refused or gives finite output; these operations have
+# an answer known in closed form, checked at the largest magnitudes their docstrings accept.
+_BIG = 1e100  # MAX_FIELD: the largest displacement, velocity or force component accepted
+_SHIFT = np.full((2, 8, 8), _BIG)  # a uniform displacement: no gradient
+_RAMP = np.stack([0.5 * np.indices((8, 8))[0], np.zeros((8, 8))])  # u_1 = x1 / 2: det(I - ∇u) = 1/2
+_IMAGE = make_rng(3).random((8, 8))
+
+KNOWN_ANSWERS = {
+    "uniform shift has no area change": (lambda: cf.jacobian_determinant(_SHIFT), np.ones((8, 8))),
+    "a ramp halves the area": (lambda: cf.jacobian_determinant(_RAMP), np.full((8, 8), 0.5)),
+    "zero displacement leaves the image": (lambda: cf.warp_image(_IMAGE, np.zeros((2, 8, 8))), _IMAGE),
+    "composing with zero": (lambda: cf.compose_displacements(_SHIFT, np.zeros((2, 8, 8))), _SHIFT),
+    "zero velocity leaves u": (lambda: cf.material_update(_SHIFT, np.zeros((2, 8, 8)), 0.5), _SHIFT),
+    "from rest, u = Δt v": (lambda: cf.material_update(np.zeros((2, 8, 8)), _SHIFT, 0.5), 0.5 * _SHIFT),
+    "an estimate equal to the truth": (lambda: cf.displacement_rmse(_SHIFT, _SHIFT), 0.0),
+    "twice the truth misses by its length": (lambda: cf.displacement_rmse(2 * _SHIFT, _SHIFT), np.sqrt(2) * _BIG),
+    "an image against itself": (lambda: cf.grey_level_difference(_IMAGE, _IMAGE, scale=255.0), (0.0, 0.0)),
+    "constant velocity feels no force": (
+        lambda: cf.apply_stencil(cf.fluid_stencil(1e150, 1e150), np.ones((2, 8, 8))) / 1e150, np.zeros((2, 8, 8))),
+    "the stencil at the largest moduli is consistent": (
+        lambda: max(cf.consistency_errors(cf.fluid_stencil(1e150, 1e150), 1e150, 1e150).values()) / 1e150, 0.0),
+    "stress of a pure shear": (lambda: cf.viscous_stress([[0.0, _BIG], [0.0, 0.0]], 0.0, 1.0),
+                               np.array([[0.0, _BIG], [_BIG, 0.0]])),
+}
+
+
+@pytest.mark.parametrize("name", KNOWN_ANSWERS)
+def test_known_answers_hold_at_the_bounds(name):
+    call, expected = KNOWN_ANSWERS[name]
+    np.testing.assert_allclose(call(), expected, rtol=1e-12, atol=1e-12)
+
+
+def test_the_cat_operator_is_negative_semidefinite_and_zero_at_zero_frequency():
+    symbol = cf.cat_symbol((8, 8), 1e150, 1e150) / 1e150  # the largest moduli accepted
+    rows, cols = np.indices((8, 5)).reshape(2, -1)
+    eigenvalues = cf.symbol_eigenvalues(symbol, rows, cols)
+    assert np.all(eigenvalues <= 1e-12) and np.abs(eigenvalues[0]).max() < 1e-12

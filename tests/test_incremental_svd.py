@@ -250,3 +250,33 @@ def test_non_causal_rounds_refit_and_realign(moving_face):
     assert np.median(error) < 0.02 * _HALF[0]                                        # 0.74 px here
     U, s, V, mean = batch.models["mouth"]
     assert np.max(np.abs(U.T @ U - np.eye(s.size))) < 1e-8
+
+
+# --- known answers at the bounds: a finite result is not enough, it must be the right one -----------
+_SCALE = 1e90  # data near MAX_ABS (1e100): the updates must stay right, not only finite
+
+
+def test_updates_at_large_scale_match_the_exact_svd_and_mean():
+    M = _low_rank_columns(p=60, q=12) * _SCALE
+    U, s, Vt = np.linalg.svd(M[:, :10], full_matrices=False)
+    grown = brand_update(U, s, Vt.T, M[:, 10:])
+    np.testing.assert_allclose(grown.s, np.linalg.svd(M, compute_uv=False), rtol=1e-9, atol=1e-9 * grown.s[0])
+    assert np.abs(grown.U.T @ grown.U - np.eye(grown.U.shape[1])).max() < 1e-10
+    old = M[:, :10]
+    U, s, Vt = np.linalg.svd(old - old.mean(axis=1, keepdims=True), full_matrices=False)
+    moved = update_with_mean(U, s, Vt.T, old.mean(axis=1), M[:, 10:])
+    np.testing.assert_allclose(moved.mean, M.mean(axis=1), rtol=1e-10, atol=1e-10 * _SCALE)
+    np.testing.assert_allclose(extract_mean(*np.linalg.svd(M, full_matrices=False)[:2],
+                                            np.linalg.svd(M, full_matrices=False)[2].T).mean,
+                               M.mean(axis=1), rtol=1e-10, atol=1e-10 * _SCALE)
+
+
+def test_scalar_helpers_give_their_closed_forms_at_the_bounds():
+    assert noise_edge(1e100, 100, 25) == pytest.approx(1e100 * 15)
+    assert tau_schedule(0, start=1e100, end=1.0) == 1e100 and tau_schedule(25, start=1e100, end=1.0) == 1.0
+    points = np.array([[0.0, 0.0], [1e9, -1e9]])
+    np.testing.assert_array_equal(isvd.similarity_points(np.zeros(4), points, (40, 41)), points)
+    np.testing.assert_allclose(isvd.similarity_points([1e6, -1e6, 0, 0], points, (40, 41)), points + [1e6, -1e6])
+    params = np.array([[1e6, -1e6, 0.5, 0.1]])
+    assert isvd.corner_error_px(params, params, (40, 41))[0] == 0
+    assert isvd.psnr_db(np.full(4, 0.5 + 1e-50), np.full(4, 0.5)) > 300
