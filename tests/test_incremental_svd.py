@@ -280,3 +280,16 @@ def test_scalar_helpers_give_their_closed_forms_at_the_bounds():
     params = np.array([[1e6, -1e6, 0.5, 0.1]])
     assert isvd.corner_error_px(params, params, (40, 41))[0] == 0
     assert isvd.psnr_db(np.full(4, 0.5 + 1e-50), np.full(4, 0.5)) > 300
+
+
+def test_error_less_offset_is_zero_for_a_constant_offset_and_the_error_otherwise():
+    rng = np.random.default_rng(4)
+    truth = rng.uniform(-1, 1, (30, 4)) * [6.0, 6.0, 0.07, 0.04]
+    k_true, t_true = np.exp(truth[:, 3] + 1j * truth[:, 2]), truth[:, 0] + 1j * truth[:, 1]
+    k_off, t_off = np.exp(0.01 + 0.02j), 1.5 - 0.7j                     # O: 1.5 px, 0.02 rad, 1 %
+    k, t = k_true * k_off, k_true * t_off + t_true                       # estimate = truth composed with O
+    estimate = np.column_stack([t.real, t.imag, np.angle(k), np.log(np.abs(k))])
+    assert np.median(isvd.corner_error_px(estimate, truth, _HALF)) > 1.0
+    assert np.max(isvd.corner_error_less_offset_px(estimate, truth, _HALF)) < 1e-9
+    jitter = estimate + [[0.5, 0.0, 0.0, 0.0]] * np.where(np.arange(30) % 2, 1, -1)[:, None]   # ±0.5 px on top
+    np.testing.assert_allclose(isvd.corner_error_less_offset_px(jitter, truth, _HALF), 0.5, atol=0.05)
