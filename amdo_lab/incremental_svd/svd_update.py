@@ -242,7 +242,7 @@ def truncate(state: SvdState, *, max_rank: int | None = None, tol: float | None 
     state : SvdState
         The model.
     max_rank : int, optional
-        Largest number of directions kept.
+        Largest number of directions kept, 1 to 4,096.
     tol : float, optional
         Singular values at or below ``tol`` are dropped (same units as the data).
 
@@ -256,11 +256,14 @@ def truncate(state: SvdState, *, max_rank: int | None = None, tol: float | None 
     Melenchón, Meler & Iriondo, AMDO 2004, Sec. 3.2 (the threshold τ).
     """
     U, s, V, mean = _check_state(state)
-    if max_rank is not None:
-        max_rank = check_positive_int(max_rank, "max_rank", maximum=MAX_SIDE)
-    if tol is not None:
-        tol = check_positive(tol, "tol", allow_zero=True)
+    max_rank, tol = _check_trim(max_rank, tol)
     return _truncate(SvdState(U, s, V, mean), max_rank=max_rank, tol=tol)
+
+
+def _check_trim(max_rank: object, tol: object) -> tuple[int | None, float | None]:
+    """Step 4's options, each optional: a rank cap (1 to 4,096) and a threshold τ >= 0 (the data's units)."""
+    return (None if max_rank is None else check_positive_int(max_rank, "max_rank", maximum=MAX_SIDE),
+            None if tol is None else check_positive(tol, "tol", allow_zero=True))
 
 
 def _truncate(state: SvdState, *, max_rank: int | None, tol: float | None) -> SvdState:
@@ -513,7 +516,7 @@ class IncrementalSVD:
     Parameters
     ----------
     max_rank : int, optional
-        Largest number of directions kept after each update (step 4 of the paper's loop).
+        Largest number of directions kept after each update (step 4 of the paper's loop), 1 to 4,096.
     tol : float, optional
         Singular values at or below ``tol`` are dropped after each update (the paper's τ; same
         units as the pixels). ``None`` drops only numerically null directions. May be changed
@@ -556,10 +559,7 @@ class IncrementalSVD:
         self.mean = mean
 
     def _check_parameters(self) -> None:
-        if self.max_rank is not None:
-            check_positive_int(self.max_rank, "max_rank", maximum=MAX_SIDE)
-        if self.tol is not None:
-            check_positive(self.tol, "tol", allow_zero=True)
+        _check_trim(self.max_rank, self.tol)
         check_choice(self.mean, "mean", MEAN_MODES)
 
     def partial_fit(self, X: np.ndarray) -> IncrementalSVD:
