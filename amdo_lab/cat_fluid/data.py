@@ -22,7 +22,7 @@ __all__ = ["PAIR_NAMES", "DIPY_IMAGES", "BLOB_CENTRE_FRACTION", "BLOB_SD", "BLOB
            "make_pair"]
 
 PAIR_NAMES = ("A", "B", "C")
-MAX_SMOOTHNESS_PX = 1000.0  # smooth_warp's largest filter width: its kernel has 8 x 1000 taps
+WARP_SMOOTHNESS_PX = 20.0  # smooth_warp's filter width (s.d., pixels): warps smooth over tens of pixels
 DIPY_IMAGES = ("t1_coronal_slice", "reg_o", "reg_c")
 
 # Decided from the paper's description of its pairs before any registration was run:
@@ -64,10 +64,10 @@ def load_dipy_image(name: str) -> np.ndarray:
 
 
 def smooth_warp(shape: tuple[int, int], *, rng: int | np.random.Generator, amplitude_px: float = 4.0,
-                smoothness_px: float = 20.0, support: np.ndarray | None = None) -> np.ndarray:
+                support: np.ndarray | None = None) -> np.ndarray:
     """A random smooth displacement (2, H, W) in pixels whose largest length is ``amplitude_px``.
 
-    Gaussian-filtered white noise (standard deviation ``smoothness_px`` pixels, periodic); with a
+    Gaussian-filtered white noise (standard deviation :data:`WARP_SMOOTHNESS_PX`, 20 pixels, periodic); with a
     boolean ``support`` it fades out away from the object, so the border stays still.
 
     Parameters
@@ -78,9 +78,6 @@ def smooth_warp(shape: tuple[int, int], *, rng: int | np.random.Generator, ampli
         Seed (non-negative) or generator of the white noise; keyword-only, no default.
     amplitude_px : float, optional
         Largest displacement length in pixels, > 0 (default 4).
-    smoothness_px : float, optional
-        Standard deviation of the Gaussian filter in pixels, in (0, 1000] (default 20): larger is
-        smoother (the filter's kernel spans 8 standard deviations, so a larger one is only slower).
     support : numpy.ndarray of bool, shape (H, W), optional
         The object; at least one True pixel. The displacement is damped outside it.
 
@@ -98,12 +95,11 @@ def smooth_warp(shape: tuple[int, int], *, rng: int | np.random.Generator, ampli
     shape = check_image_shape(shape, axes="H, W")
     rng = make_rng(rng, "rng")
     amplitude_px = check_positive(amplitude_px, "amplitude_px")
-    smoothness_px = check_in_range(smoothness_px, "smoothness_px", 0, MAX_SMOOTHNESS_PX, closed="right")
     if support is not None:
         support = check_pixel_mask(support, shape, "support")
-    field = np.stack([gaussian_filter(rng.normal(size=shape), smoothness_px, mode="wrap") for _ in range(2)])
+    field = np.stack([gaussian_filter(rng.normal(size=shape), WARP_SMOOTHNESS_PX, mode="wrap") for _ in range(2)])
     if support is not None:
-        field *= gaussian_filter(support.astype(float), smoothness_px / 2)[None]
+        field *= gaussian_filter(support.astype(float), WARP_SMOOTHNESS_PX / 2)[None]
     return amplitude_px * field / np.max(np.hypot(field[0], field[1]))
 
 

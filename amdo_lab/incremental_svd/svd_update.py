@@ -437,20 +437,21 @@ def _ross_update(U: np.ndarray, s: np.ndarray, mean: np.ndarray, n_seen: int, I:
     return SvdState(U_t, s_t, None, new_mean)
 
 
-def tau_schedule(t: int, *, start: float = 0.5, end: float = 5e-4, frames: int = 25) -> float:
-    """The threshold τ of Sec. 3.2 at frame ``t``: from ``start`` down to ``end`` over ``frames`` frames.
+#: The paper's τ (Sec. 3.2): from 0.5 down to 0.5e-3 over the first second at 25 frames/s.
+TAU_START, TAU_END, TAU_FRAMES = 0.5, 5e-4, 25
+
+
+def tau_schedule(t: int) -> float:
+    """The threshold τ of Sec. 3.2 at frame ``t``: from 0.5 down to 0.5·10⁻³ over the first 25 frames.
 
     The paper gives the two ends and the duration (one second at 25 frames/s) but not the shape;
-    we read it as geometric, ``start (end / start)^(t / frames)``, constant at ``end`` afterwards.
+    we read it as geometric, ``TAU_START (TAU_END / TAU_START)^(t / TAU_FRAMES)``, constant at
+    ``TAU_END`` afterwards.
 
     Parameters
     ----------
     t : int
-        Frame index, 0 for the first frame.
-    start, end : float
-        τ at frame 0 and from frame ``frames`` on; positive, ``end <= start``.
-    frames : int
-        Length of the decrease, in frames.
+        Frame index, 0 for the first frame; at most 1,000,000.
 
     Returns
     -------
@@ -467,11 +468,7 @@ def tau_schedule(t: int, *, start: float = 0.5, end: float = 5e-4, frames: int =
     0.0005
     """
     t = check_positive_int(t, "t", minimum=0, maximum=MAX_SAMPLES)
-    start, end = check_positive(start, "start"), check_positive(end, "end")
-    if end > start:
-        raise ValueError(f"end must be at most start ({start}), got {end}")
-    frames = check_positive_int(frames, "frames", maximum=MAX_SAMPLES)
-    return float(start * (end / start) ** (min(t, frames) / frames))
+    return float(TAU_START * (TAU_END / TAU_START) ** (min(t, TAU_FRAMES) / TAU_FRAMES))
 
 
 def noise_edge(sigma: float, p: int, q: int) -> float:
