@@ -470,20 +470,20 @@ def test_registration_images_pass_the_check_unchanged():
 def test_stencil_steps_follow_eqs_5_12_and_14_on_polynomial_fields():
     """The three steps inside fluid_stencil, each against a hand computation: the gradient (eq. 5) of
     the bilinear velocity (eq. 13), the stress (eq. 12) and the flux over the dual cell (eqs. 8-11, 14)."""
-    from amdo_lab.cat_fluid.stencil import _bilinear_gradient, _flux, _stress
-
     gradient = np.array([[0.3, -1.2], [2.0, 0.7]])  # ∂v_i/∂x_j of a linear field: exact at every point
     linear = lambda i, j: gradient @ np.array([i, j], float) + np.array([5.0, -1.0])  # noqa: E731
     for point in ([0.25, 0.5], [-0.75, -0.25], [0.1, -0.9]):
-        np.testing.assert_allclose(_bilinear_gradient(linear, np.array(point)), gradient, atol=1e-12)
+        np.testing.assert_allclose(cf.bilinear_gradient(linear, point), gradient, atol=1e-12)
     product = lambda i, j: np.array([i * j, 0.0])  # noqa: E731  bilinear: ∂(x1 x2) = (x2, x1)
-    np.testing.assert_allclose(_bilinear_gradient(product, np.array([0.25, 0.75])), [[0.75, 0.25], [0, 0]])
+    np.testing.assert_allclose(cf.bilinear_gradient(product, [0.25, 0.75]), [[0.75, 0.25], [0, 0]])
     strain = (gradient + gradient.T) / 2
-    np.testing.assert_allclose(_stress(gradient, 2.0, 3.0), 2.0 * np.trace(strain) * np.eye(2) + 2 * 3.0 * strain)
+    np.testing.assert_allclose(cf.viscous_stress(gradient, 2.0, 3.0),
+                               2.0 * np.trace(strain) * np.eye(2) + 2 * 3.0 * strain)
     for kind, field in QUADRATIC_FIELDS.items():
         corners = lambda i, j, field=field: np.array(field(float(i), float(j)))  # noqa: E731
-        np.testing.assert_allclose(_flux(corners, 2.0, 3.0), continuous_operator(kind, 2.0, 3.0), atol=1e-12)
-    np.testing.assert_allclose(_flux(linear, 2.0, 3.0), 0.0, atol=1e-12)
+        np.testing.assert_allclose(cf.dual_cell_force(corners, 2.0, 3.0), continuous_operator(kind, 2.0, 3.0),
+                                   atol=1e-12)
+    np.testing.assert_allclose(cf.dual_cell_force(linear, 2.0, 3.0), 0.0, atol=1e-12)
 
 
 # --- rejections: one table -----------------------------------------------------------------
@@ -518,7 +518,7 @@ REJECTIONS = [
     # --- the cubical complex (Sec. 2)
     reject("CubicalComplex 1-D shape", lambda: cf.CubicalComplex((4,)), ValueError, r"shape must be a pair \(H, W\)"),
     reject("CubicalComplex one row", lambda: cf.CubicalComplex((1, 4)), ValueError, r"shape\[0\] must be at least 2"),
-    reject("boundary q 3", lambda: cf.CubicalComplex((3, 3)).boundary(3), ValueError, "q must be 1 or 2 for a 2-D complex"),
+    reject("boundary q 3", lambda: cf.CubicalComplex((3, 3)).boundary(3), ValueError, "q must be one of 1, 2"),
     reject("boundary q 1.0", lambda: cf.CubicalComplex((3, 3)).boundary(1.0), TypeError, "q must be an int"),
     # --- the stencil and its symbol (Sec. 4)
     reject("stencil_blocks boolean stencil", lambda: cf.stencil_blocks(np.ones((2, 18), bool)),
@@ -547,7 +547,7 @@ REJECTIONS = [
            ValueError, r"omega must be in \(0, 2\)"),
     reject("sor_solve ordering lexicographic", lambda: cf.sor_solve(np.zeros((2, 8, 8)), LAM, MU, ordering="lexicographic"),
            ValueError, "ordering"),
-    reject("sor_solve odd grid", lambda: cf.sor_solve(np.zeros((2, 7, 8)), LAM, MU), ValueError, "even H and W"),
+    reject("sor_solve odd grid", lambda: cf.sor_solve(np.zeros((2, 7, 8)), LAM, MU), ValueError, "force must have even H and W"),
     reject("solve_velocity method multigrid", lambda: cf.solve_velocity(np.zeros((2, 8, 8)), "multigrid"),
            ValueError, "method must be one of"),
     reject("symbol_eigenvalues rows and cols differ",
@@ -608,7 +608,7 @@ REJECTIONS = [
     reject("make_pair D", lambda: cf.make_pair("D", rng=0), ValueError, "name must be one of 'A', 'B', 'C'"),
     reject("load_dipy_image t2_axial", lambda: cf.load_dipy_image("t2_axial"), ValueError, "name must be one of"),
     reject("smooth_warp empty support", lambda: cf.smooth_warp((16, 16), rng=0, support=np.zeros((16, 16), bool)),
-           ValueError, "support must contain at least one pixel"),
+           ValueError, "support must select at least one pixel"),
     reject("smooth_warp 1-D shape", lambda: cf.smooth_warp((16,), rng=0), ValueError, r"shape must be a pair \(H, W\)"),
     reject("grey_level_table deformed pair not in pairs", lambda: cf.grey_level_table(
         {"C": cf.RegistrationPair("C", np.ones((4, 4)), np.ones((4, 4)), np.zeros((2, 4, 4)), np.ones((4, 4), bool))},
@@ -627,3 +627,43 @@ REJECTIONS = [
 @pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
 def test_rejections(request, call, error, message):
     check_rejection(request, call, error, message)
+
+
+# --- known answers at the bounds: a finite result is not enough, it must be the right one -----------
+# The bad-input test checks that a huge input is refused or gives finite output; these operations have
+# an answer known in closed form, checked at the largest magnitudes their docstrings accept.
+_BIG = 1e100  # MAX_FIELD: the largest displacement, velocity or force component accepted
+_SHIFT = np.full((2, 8, 8), _BIG)  # a uniform displacement: no gradient
+_RAMP = np.stack([0.5 * np.indices((8, 8))[0], np.zeros((8, 8))])  # u_1 = x1 / 2: det(I - ∇u) = 1/2
+_IMAGE = make_rng(3).random((8, 8))
+
+KNOWN_ANSWERS = {
+    "uniform shift has no area change": (lambda: cf.jacobian_determinant(_SHIFT), np.ones((8, 8))),
+    "a ramp halves the area": (lambda: cf.jacobian_determinant(_RAMP), np.full((8, 8), 0.5)),
+    "zero displacement leaves the image": (lambda: cf.warp_image(_IMAGE, np.zeros((2, 8, 8))), _IMAGE),
+    "composing with zero": (lambda: cf.compose_displacements(_SHIFT, np.zeros((2, 8, 8))), _SHIFT),
+    "zero velocity leaves u": (lambda: cf.material_update(_SHIFT, np.zeros((2, 8, 8)), 0.5), _SHIFT),
+    "from rest, u = Δt v": (lambda: cf.material_update(np.zeros((2, 8, 8)), _SHIFT, 0.5), 0.5 * _SHIFT),
+    "an estimate equal to the truth": (lambda: cf.displacement_rmse(_SHIFT, _SHIFT), 0.0),
+    "twice the truth misses by its length": (lambda: cf.displacement_rmse(2 * _SHIFT, _SHIFT), np.sqrt(2) * _BIG),
+    "an image against itself": (lambda: cf.grey_level_difference(_IMAGE, _IMAGE, scale=255.0), (0.0, 0.0)),
+    "constant velocity feels no force": (
+        lambda: cf.apply_stencil(cf.fluid_stencil(1e150, 1e150), np.ones((2, 8, 8))) / 1e150, np.zeros((2, 8, 8))),
+    "the stencil at the largest moduli is consistent": (
+        lambda: max(cf.consistency_errors(cf.fluid_stencil(1e150, 1e150), 1e150, 1e150).values()) / 1e150, 0.0),
+    "stress of a pure shear": (lambda: cf.viscous_stress([[0.0, _BIG], [0.0, 0.0]], 0.0, 1.0),
+                               np.array([[0.0, _BIG], [_BIG, 0.0]])),
+}
+
+
+@pytest.mark.parametrize("name", KNOWN_ANSWERS)
+def test_known_answers_hold_at_the_bounds(name):
+    call, expected = KNOWN_ANSWERS[name]
+    np.testing.assert_allclose(call(), expected, rtol=1e-12, atol=1e-12)
+
+
+def test_the_cat_operator_is_negative_semidefinite_and_zero_at_zero_frequency():
+    symbol = cf.cat_symbol((8, 8), 1e150, 1e150) / 1e150  # the largest moduli accepted
+    rows, cols = np.indices((8, 5)).reshape(2, -1)
+    eigenvalues = cf.symbol_eigenvalues(symbol, rows, cols)
+    assert np.all(eigenvalues <= 1e-12) and np.abs(eigenvalues[0]).max() < 1e-12

@@ -35,7 +35,9 @@ from amdo_lab.cat_fluid.solvers import (
 from amdo_lab.cat_fluid.stencil import (
     NEIGHBOUR_OFFSETS,
     apply_stencil,
+    bilinear_gradient,
     consistency_errors,
+    dual_cell_force,
     fluid_stencil,
     polynomial_test_fields,
     printed_stencil,
@@ -43,6 +45,7 @@ from amdo_lab.cat_fluid.stencil import (
     stencil_at_origin,
     stencil_blocks,
     stencil_grid,
+    viscous_stress,
 )
 
 __all__ = [
@@ -55,7 +58,7 @@ __all__ = [
     "stencil_blocks", "stencil_symbol", "warp_image",
     "PAPER_TABLE1", "accuracy_row", "consistency_errors", "grey_level_table", "mean_sd_strings", "paper_table1",
     "polynomial_test_fields", "solve_stencil_reference", "sor_reference", "stencil_grid", "stencil_matrix",
-    "symbol_eigenvalues",
+    "symbol_eigenvalues", "bilinear_gradient", "dual_cell_force", "viscous_stress",
 ]
 
 from amdo_lab.common.equations import with_equation_map as _with_equation_map  # noqa: E402

@@ -9,12 +9,11 @@ transpose, maps (q-1)-cochains (values on (q-1)-pixels) to q-cochains.
 
 from __future__ import annotations
 
-import numbers
 
 import numpy as np
 import scipy.sparse as sp
 
-from amdo_lab.common import check_image_shape
+from amdo_lab.common import check_choice, check_image_shape, check_positive_int
 
 __all__ = ["CubicalComplex"]
 
@@ -78,7 +77,7 @@ class CubicalComplex:
         scipy.sparse.csr_matrix of int, shape (n_{q-1}, n_q)
             Entries in {-1, 0, 1}; ``boundary(1) @ boundary(2)`` is zero.
         """
-        _check_degree(q)
+        check_choice(check_positive_int(q, "q", minimum=0), "q", (1, 2))  # an int: True and 1.0 are refused
         h, w = self.shape
         if q == 1:
             # an oriented edge's boundary is head - tail
@@ -87,17 +86,15 @@ class CubicalComplex:
             rows = np.concatenate([heads, tails])
             values = np.concatenate([np.ones(len(edges)), -np.ones(len(edges))])
             return sp.csr_matrix((values, (rows, np.concatenate([edges, edges]))), shape=(h * w, len(edges)), dtype=int)
-        if q == 2:
-            horizontal = np.arange(h * (w - 1)).reshape(h, w - 1)
-            vertical = h * (w - 1) + np.arange((h - 1) * w).reshape(h - 1, w)
-            squares = np.arange((h - 1) * (w - 1))
-            # counter-clockwise: bottom edge +, right edge +, top edge -, left edge -
-            faces = [(horizontal[:-1, :], 1), (vertical[:, 1:], 1), (horizontal[1:, :], -1), (vertical[:, :-1], -1)]
-            rows = np.concatenate([edges.ravel() for edges, _ in faces])
-            values = np.concatenate([np.full(squares.size, sign) for _, sign in faces])
-            cols = np.tile(squares, 4)
-            return sp.csr_matrix((values, (rows, cols)), shape=(self.n_pixels[1], squares.size), dtype=int)
-        raise ValueError(f"q must be 1 or 2 for a 2-D complex, got {q!r}")
+        horizontal = np.arange(h * (w - 1)).reshape(h, w - 1)
+        vertical = h * (w - 1) + np.arange((h - 1) * w).reshape(h - 1, w)
+        squares = np.arange((h - 1) * (w - 1))
+        # counter-clockwise: bottom edge +, right edge +, top edge -, left edge -
+        faces = [(horizontal[:-1, :], 1), (vertical[:, 1:], 1), (horizontal[1:, :], -1), (vertical[:, :-1], -1)]
+        rows = np.concatenate([edges.ravel() for edges, _ in faces])
+        values = np.concatenate([np.full(squares.size, sign) for _, sign in faces])
+        cols = np.tile(squares, 4)
+        return sp.csr_matrix((values, (rows, cols)), shape=(self.n_pixels[1], squares.size), dtype=int)
 
     def coboundary(self, q: int) -> sp.csr_matrix:
         """Coboundary δ_q: q-cochains -> (q+1)-cochains, (δ_q f)(γ) = f(∂γ), so δ_q = ∂_{q+1}ᵀ.
@@ -114,14 +111,6 @@ class CubicalComplex:
         scipy.sparse.csr_matrix of int, shape (n_{q+1}, n_q)
             The transpose of ``boundary(q + 1)``.
         """
-        _check_degree(q)
-        if q not in (0, 1):
-            raise ValueError(f"q must be 0 or 1 for a 2-D complex, got {q!r}")
+        check_choice(check_positive_int(q, "q", minimum=0), "q", (0, 1))  # an int: True and 0.0 are refused
         # eq. (7) for q = 0: D_1(γ) = Ψ_0(∂γ) = Ψ_0(x_*) - Ψ_0(x_#), the transpose of the boundary map
         return self.boundary(q + 1).T.tocsr()
-
-
-def _check_degree(q: object) -> None:
-    """A chain degree is an int (``True`` or ``1.0`` would otherwise pass as 1)."""
-    if isinstance(q, bool) or not isinstance(q, numbers.Integral):
-        raise TypeError(f"q must be an int, got {type(q).__name__}")

@@ -9,21 +9,20 @@ stresses that its pairs A and B do not contain the same grey/white-matter config
 
 from __future__ import annotations
 
-import numbers
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.ndimage import binary_fill_holes, gaussian_filter
 
-from amdo_lab.cat_fluid.registration import warp_image
-from amdo_lab.common import (as_bool_mask, as_finite_array, check_choice, check_image_shape, check_in_range,
+from amdo_lab.cat_fluid.registration import check_pixel_mask, warp_image
+from amdo_lab.common import (as_finite_array, check_choice, check_image_shape, check_in_range,
                              check_positive, make_rng)
 
 __all__ = ["PAIR_NAMES", "DIPY_IMAGES", "BLOB_CENTRE_FRACTION", "BLOB_SD", "BLOB_HEIGHT", "RegistrationPair", "load_dipy_image", "smooth_warp", "foreground_mask",
            "make_pair"]
 
 PAIR_NAMES = ("A", "B", "C")
-MAX_SMOOTHNESS_PX = 1000.0  # smooth_warp's largest filter width: its kernel has 8 x 1000 taps
+WARP_SMOOTHNESS_PX = 20.0  # smooth_warp's filter width (s.d., pixels): warps smooth over tens of pixels
 DIPY_IMAGES = ("t1_coronal_slice", "reg_o", "reg_c")
 
 # Decided from the paper's description of its pairs before any registration was run:
@@ -65,10 +64,10 @@ def load_dipy_image(name: str) -> np.ndarray:
 
 
 def smooth_warp(shape: tuple[int, int], *, rng: int | np.random.Generator, amplitude_px: float = 4.0,
-                smoothness_px: float = 20.0, support: np.ndarray | None = None) -> np.ndarray:
+                support: np.ndarray | None = None) -> np.ndarray:
     """A random smooth displacement (2, H, W) in pixels whose largest length is ``amplitude_px``.
 
-    Gaussian-filtered white noise (standard deviation ``smoothness_px`` pixels, periodic); with a
+    Gaussian-filtered white noise (standard deviation :data:`WARP_SMOOTHNESS_PX`, 20 pixels, periodic); with a
     boolean ``support`` it fades out away from the object, so the border stays still.
 
     Parameters
@@ -79,9 +78,6 @@ def smooth_warp(shape: tuple[int, int], *, rng: int | np.random.Generator, ampli
         Seed (non-negative) or generator of the white noise; keyword-only, no default.
     amplitude_px : float, optional
         Largest displacement length in pixels, > 0 (default 4).
-    smoothness_px : float, optional
-        Standard deviation of the Gaussian filter in pixels, in (0, 1000] (default 20): larger is
-        smoother (the filter's kernel spans 8 standard deviations, so a larger one is only slower).
     support : numpy.ndarray of bool, shape (H, W), optional
         The object; at least one True pixel. The displacement is damped outside it.
 
@@ -99,14 +95,11 @@ def smooth_warp(shape: tuple[int, int], *, rng: int | np.random.Generator, ampli
     shape = check_image_shape(shape, axes="H, W")
     rng = make_rng(rng, "rng")
     amplitude_px = check_positive(amplitude_px, "amplitude_px")
-    smoothness_px = check_in_range(smoothness_px, "smoothness_px", 0, MAX_SMOOTHNESS_PX, closed="right")
     if support is not None:
-        support = as_bool_mask(support, "support", shape=shape)
-        if not support.any():
-            raise ValueError("support must contain at least one pixel, got an all-False mask")
-    field = np.stack([gaussian_filter(rng.normal(size=shape), smoothness_px, mode="wrap") for _ in range(2)])
+        support = check_pixel_mask(support, shape, "support")
+    field = np.stack([gaussian_filter(rng.normal(size=shape), WARP_SMOOTHNESS_PX, mode="wrap") for _ in range(2)])
     if support is not None:
-        field *= gaussian_filter(support.astype(float), smoothness_px / 2)[None]
+        field *= gaussian_filter(support.astype(float), WARP_SMOOTHNESS_PX / 2)[None]
     return amplitude_px * field / np.max(np.hypot(field[0], field[1]))
 
 
@@ -134,9 +127,7 @@ def foreground_mask(image: object, threshold: float = 0.05) -> np.ndarray:
     Table 1 (the region over which residuals are compared).
     """
     image = as_finite_array(image, "image", shape=(None, None))
-    if isinstance(threshold, bool) or not isinstance(threshold, numbers.Real) or not np.isfinite(threshold):
-        raise ValueError(f"threshold must be a finite real number, got {threshold!r}")
-    return binary_fill_holes(image > threshold)
+    return binary_fill_holes(image > check_in_range(threshold, "threshold", -np.inf, np.inf))
 
 
 @dataclass(frozen=True)

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.cat_fluid.solvers import SOLVERS, cat_symbol, finite_difference_symbol, solve_symbol, sor_solve
+from amdo_lab.cat_fluid.solvers import SOLVERS, cat_symbol, check_sor_grid, finite_difference_symbol, solve_symbol, sor_solve
 from amdo_lab.cat_fluid.stencil import check_moduli
 from amdo_lab.common import MAX_ITERATIONS
 from amdo_lab.common import (
@@ -28,7 +28,8 @@ from amdo_lab.common import (
 
 __all__ = ["FluidResult", "HISTORY_COLUMNS", "register_fluid", "warp_image", "external_force",
            "material_update", "displacement_jacobian", "jacobian_determinant", "compose_displacements",
-           "grey_level_difference", "inverse_consistency_error", "displacement_rmse", "sample_bilinear"]
+           "grey_level_difference", "inverse_consistency_error", "displacement_rmse", "sample_bilinear",
+           "check_pixel_mask"]
 
 #: Columns of :attr:`FluidResult.history`; row 0 is the starting state.
 HISTORY_COLUMNS = ("mean_abs_difference", "seconds", "min_jacobian", "step_pixels")
@@ -50,8 +51,7 @@ def _check_displacement(displacement: object, shape: tuple[int, ...], name: str 
     names both arguments, since either may be the one at fault."""
     field = as_finite_array(displacement, name, shape=(2, None, None))
     if field.shape[1:] != tuple(shape):
-        raise ValueError(f"{name} and {match} must cover the same pixels: {name} has shape {field.shape}, "
-                         f"{match} {tuple(shape)} pixels")
+        raise ValueError(f"{name} and {match} must cover the same pixels, got {field.shape} and {tuple(shape)}")
     return field
 
 
@@ -313,15 +313,35 @@ def grey_level_difference(image: object, reference: object, mask: object | None 
     scale = check_positive(scale, "scale")
     diff = _finite(scale * np.abs(image - reference), "scale, image and reference")
     if mask is not None:
-        diff = diff[_check_mask(mask, image.shape)]
+        diff = diff[check_pixel_mask(mask, image.shape)]
     return float(_finite(diff.mean(), "scale, image and reference")), float(_finite(diff.std(), "scale, image and reference"))
 
 
-def _check_mask(mask: object, shape: tuple[int, ...]) -> np.ndarray:
-    """A boolean mask of ``shape`` with at least one pixel (an empty mean would be NaN)."""
-    mask = as_bool_mask(mask, "mask", shape=shape)
+def check_pixel_mask(mask: object, shape: tuple[int, ...], name: str = "mask") -> np.ndarray:
+    """A boolean mask of ``shape`` that selects at least one pixel (an empty mean would be NaN).
+
+    Parameters
+    ----------
+    mask : array_like of bool, shape ``shape``
+        The user's mask.
+    shape : tuple of int
+        (H, W) of the images it selects pixels of.
+    name : str, optional
+        The argument's name, used in error messages.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        The mask.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85, Table 1 (residuals over a region).
+    """
+    mask = as_bool_mask(mask, name, shape=shape)
     if not mask.any():
-        raise ValueError("mask must select at least one pixel, got an all-False mask")
+        raise ValueError(f"{name} must select at least one pixel, got an all-False mask")
     return mask
 
 
@@ -355,7 +375,7 @@ def displacement_rmse(displacement: object, truth: object, mask: object | None =
 
 def _rmse(error: np.ndarray, mask: object | None, names: str) -> float:
     squared = _finite(np.sum(error ** 2, axis=0), names)
-    return float(_finite(np.sqrt(squared.mean() if mask is None else squared[_check_mask(mask, squared.shape)].mean()),
+    return float(_finite(np.sqrt(squared.mean() if mask is None else squared[check_pixel_mask(mask, squared.shape)].mean()),
                          names))
 
 
@@ -470,8 +490,7 @@ def check_registration_images(template: object, study: object) -> tuple[np.ndarr
         raise ValueError(f"images must be at least 4x4 pixels, got {template.shape}")
     for image, name in ((template, "template"), (study, "study")):
         if np.ptp(image) == 0:
-            raise ValueError(f"{name} is constant: it has no grey-level structure, so eq. (18) gives no force "
-                             "to register with")
+            raise ValueError(f"{name} is constant: without grey-level structure eq. (18) gives no force")
     return template, study
 
 
@@ -559,15 +578,14 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
     lam, mu = check_moduli(lam, mu, require_positive_mu=True)
     check_bool(backtrack, "backtrack")
     check_bool(sor_warm_start, "sor_warm_start")
-    n_iter = check_positive_int(DEFAULT_ITERATIONS[method] if n_iter is None else n_iter, "n_iter",
-                                maximum=MAX_ITERATIONS)
+    n_iter = check_positive_int(DEFAULT_ITERATIONS[method] if n_iter is None else n_iter, "n_iter", maximum=MAX_ITERATIONS)
     step_bound = check_in_range(max_step_px, "max_step_px", 0, max(template.shape), closed="right")
     regrid_threshold = check_in_range(regrid_threshold, "regrid_threshold", 0, 1, closed="left")
     sor_n_sweeps = check_positive_int(sor_n_sweeps, "sor_n_sweeps", maximum=MAX_ITERATIONS)
     if sor_omega is not None:
         check_in_range(sor_omega, "sor_omega", 0, 2)  # SOR converges for 0 < omega < 2 only
-    if method == "sor" and (template.shape[0] % 2 or template.shape[1] % 2):
-        raise ValueError(f"method='sor' needs even image sizes (four-colour ordering), got {template.shape}")
+    if method == "sor":
+        check_sor_grid(template.shape, "template")
     start = time.perf_counter()
     symbol = None
     if method != "sor":

@@ -14,7 +14,7 @@ import pandas as pd
 from amdo_lab.cat_fluid.data import RegistrationPair
 from amdo_lab.cat_fluid.registration import (MAX_GREY_LEVEL, displacement_rmse, grey_level_difference,
                                              inverse_consistency_error, jacobian_determinant)
-from amdo_lab.common import as_finite_array, check_bool, check_positive, check_positive_int
+from amdo_lab.common import as_finite_array, check_bool, check_dataframe, check_positive
 
 __all__ = ["PAPER_TABLE1", "paper_table1", "grey_level_table", "mean_sd_strings", "accuracy_row"]
 
@@ -93,16 +93,14 @@ def grey_level_table(pairs: Mapping[str, RegistrationPair], deformed: Mapping[st
     return pd.DataFrame(table).rename_axis("pair")
 
 
-def mean_sd_strings(table: pd.DataFrame, digits: int = 2) -> pd.DataFrame:
-    """Collapse (label, "mean"/"sd") columns into one "mean / sd" text column per label.
+def mean_sd_strings(table: pd.DataFrame) -> pd.DataFrame:
+    """Collapse (label, "mean"/"sd") columns into one "mean / sd" text column per label, two decimals.
 
     Parameters
     ----------
     table : pandas.DataFrame
         Columns (label, "mean") and (label, "sd"), as from :func:`grey_level_table` or
         :func:`paper_table1`.
-    digits : int, optional
-        Decimals shown (default 2). At most 17.
 
     Returns
     -------
@@ -115,11 +113,9 @@ def mean_sd_strings(table: pd.DataFrame, digits: int = 2) -> pd.DataFrame:
     AMDO 2004, LNCS 3179, pp. 76-85,
     Table 1 (its "mean / sd" layout).
     """
-    if not isinstance(table, pd.DataFrame):
-        raise TypeError(f"table must be a pandas DataFrame, got {type(table).__name__}")
-    digits = check_positive_int(digits, "digits", minimum=0, maximum=17)  # float64 carries 17 digits
+    check_dataframe(table, "table")
     labels = list(dict.fromkeys(label for label, _ in table.columns))
-    return pd.DataFrame({label: [f"{m:.{digits}f} / {s:.{digits}f}" for m, s in
+    return pd.DataFrame({label: [f"{m:.2f} / {s:.2f}" for m, s in
                                  zip(table[(label, "mean")], table[(label, "sd")])] for label in labels},
                         index=table.index)
 

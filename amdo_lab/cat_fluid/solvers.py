@@ -29,7 +29,7 @@ from amdo_lab.common import as_finite_array, check_choice, check_image_shape, ch
 
 __all__ = ["SOLVERS", "stencil_symbol", "cat_symbol", "finite_difference_symbol", "apply_finite_difference",
            "solve_symbol", "sor_solve", "solve_velocity", "default_omega", "SOR_ORDERINGS", "symbol_eigenvalues",
-           "stencil_matrix", "solve_stencil_reference", "sor_reference"]
+           "stencil_matrix", "solve_stencil_reference", "sor_reference", "check_sor_grid"]
 
 SOLVERS = ("cat", "sor", "fft")
 SOR_ORDERINGS = ("four-colour", "red-black", "red-black-together")
@@ -205,12 +205,10 @@ def symbol_eigenvalues(symbol: object, rows: object, cols: object) -> np.ndarray
     Sec. 4, eq. (15): the symbol of its stencil.
     """
     symbol = as_finite_array(symbol, "symbol", shape=(2, 2, None, None), max_abs=1e153)
-    rows, cols = as_finite_array(rows, "rows", ndim=1, dtype=int), as_finite_array(cols, "cols", ndim=1, dtype=int)
+    rows = as_finite_array(rows, "rows", ndim=1, dtype=int, bounds=(0, symbol.shape[2] - 1))  # frequency indices
+    cols = as_finite_array(cols, "cols", ndim=1, dtype=int, bounds=(0, symbol.shape[3] - 1))
     if rows.shape != cols.shape:
         raise ValueError(f"rows and cols must be 1-D of the same length, got shapes {rows.shape} and {cols.shape}")
-    for index, name, size in ((rows, "rows", symbol.shape[2]), (cols, "cols", symbol.shape[3])):
-        if index.min() < 0 or index.max() >= size:
-            raise ValueError(f"{name} must index the symbol's {size} frequencies (0 to {size - 1}), got {index}")
     matrices = np.moveaxis(symbol[:, :, rows, cols], -1, 0)  # (n, 2, 2): one matrix per frequency
     return np.linalg.eigvalsh(matrices)
 
@@ -314,6 +312,30 @@ def default_omega(shape: tuple[int, int]) -> float:
     return 2.0 / (1.0 + np.sin(np.pi / max(shape)))
 
 
+def check_sor_grid(shape: tuple[int, int], name: str) -> None:
+    """Refuse a grid SOR's four-colour ordering cannot sweep: H and W must be even.
+
+    Parameters
+    ----------
+    shape : tuple of int
+        (H, W) of the grid.
+    name : str
+        The argument the grid comes from, named in the error.
+
+    Raises
+    ------
+    ValueError
+        If H or W is odd.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85, Sec. 5 (its SOR solver).
+    """
+    if shape[0] % 2 or shape[1] % 2:
+        raise ValueError(f"{name} must have even H and W for SOR's four-colour ordering, got {tuple(shape)}")
+
+
 def sor_solve(force: np.ndarray, lam: float, mu: float, *, n_sweeps: int = 250, omega: float | None = None,
               initial: np.ndarray | None = None, ordering: str = "four-colour") -> np.ndarray:
     """Successive over-relaxation for the finite-difference eq. (17), periodic, four-colour ordering.
@@ -368,8 +390,7 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, n_sweeps: int = 250, 
     h, w = force.shape[1:]
     # SOR converges for 0 < omega < 2 only
     omega = default_omega((h, w)) if omega is None else check_in_range(omega, "omega", 0, 2)
-    if h % 2 or w % 2:
-        raise ValueError(f"force must have even H and W for SOR's four-colour ordering, got {(h, w)}")
+    check_sor_grid((h, w), "force")
     start = (np.zeros_like(force) if initial is None
              else as_finite_array(initial, "initial", shape=force.shape, max_abs=MAX_FIELD))
     force = force - force.mean(axis=(1, 2), keepdims=True)

@@ -25,15 +25,15 @@ from collections.abc import Callable
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive_int
+from amdo_lab.common import MAX_SIDE, as_finite_array, check_choice, check_in_range, check_positive_int
 
 #: Largest stencil entry accepted: a stencil built from Lamé constants up to 1e150 has entries a few
 #: times that; sums over the nine blocks and the squares in a symbol's 2x2 eigenproblem stay finite.
 MAX_STENCIL_ENTRY = 1e152
 
-__all__ = ["NEIGHBOUR_OFFSETS", "check_moduli", "fluid_stencil", "printed_stencil", "apply_stencil",
+__all__ = ["NEIGHBOUR_OFFSETS", "bilinear_gradient", "check_moduli", "dual_cell_force", "fluid_stencil", "printed_stencil", "apply_stencil",
            "stencil_at_origin", "rotate_stencil", "stencil_blocks", "stencil_grid", "polynomial_test_fields",
-           "consistency_errors"]
+           "consistency_errors", "viscous_stress"]
 
 #: (axis-0, axis-1) offsets of the 9 neighbours behind the 18 columns (two components each):
 #: our reading of the paper's "00, 01, ..., -1-1" sequence in eq. (15). The printed k values fix
@@ -65,9 +65,18 @@ def check_moduli(lam: object, mu: object, *, require_positive_mu: bool = False) 
             check_in_range(mu, "mu", 0, MAX_MODULUS, closed="right" if require_positive_mu else "both"))
 
 
+def _checked_velocity(velocity: object) -> Callable[..., np.ndarray]:
+    """``velocity`` as a function whose every value is checked to be a finite 2-vector (within ±1e100)."""
+    if not callable(velocity):
+        raise TypeError(f"velocity must be a function of (x1, x2), got {type(velocity).__name__}")
+    def checked(*x: float) -> np.ndarray:
+        name = f"velocity({', '.join(f'{value:g}' for value in x)})"  # the point named, e.g. velocity(0, 1)
+        return as_finite_array(velocity(*x), name, shape=(2,), max_abs=MAX_FIELD)
+    return checked
+
+
 def _bilinear_gradient(corner_velocity: Callable[[int, int], np.ndarray], point: np.ndarray) -> np.ndarray:
-    """d[i, j] = ∂v_i/∂x_j of the bilinear interpolation (eq. 13) at ``point``, inside the primal
-    2-pixel whose lower corner is floor(point)."""
+    """Check-free kernel of :func:`bilinear_gradient`."""
     a, b = int(np.floor(point[0])), int(np.floor(point[1]))
     s, t = point[0] - a, point[1] - b  # local coordinates in [0, 1]^2
     v00, v10, v01, v11 = (corner_velocity(a + da, b + db) for da, db in ((0, 0), (1, 0), (0, 1), (1, 1)))
@@ -78,14 +87,83 @@ def _bilinear_gradient(corner_velocity: Callable[[int, int], np.ndarray], point:
     return np.column_stack([d_dx1, d_dx2])
 
 
+def bilinear_gradient(velocity: Callable[[int, int], object], point: object) -> np.ndarray:
+    """d[i, j] = ∂v_i/∂x_j (eq. 5) of the bilinear velocity (eq. 13) at ``point``.
+
+    Inside the primal 2-pixel whose lower corner is floor(point), the velocity is the bilinear
+    interpolation of its four corner values; its gradient blends the differences along two
+    opposite edges of the square.
+
+    Parameters
+    ----------
+    velocity : callable
+        ``velocity(i, j)`` returns the two finite velocity components (within ±1e100) at the integer
+        corner (i, j) (x1 along array axis 0, unit pixel spacing).
+    point : array_like, shape (2,)
+        (x1, x2) where the gradient is taken, within ±4096 pixels.
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2, 2)
+        d, row i the velocity component, column j the derivative along x_j.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eqs. (5) and (13).
+
+    Examples
+    --------
+    >>> from amdo_lab.cat_fluid import bilinear_gradient
+    >>> bilinear_gradient(lambda i, j: (i * j, 0.0), [0.25, 0.75]).tolist()  # ∂(x1 x2) = (x2, x1)
+    [[0.75, 0.25], [0.0, 0.0]]
+    """
+    point = as_finite_array(point, "point", shape=(2,), max_abs=MAX_SIDE)
+    return _bilinear_gradient(_checked_velocity(velocity), point)
+
+
 def _stress(grad: np.ndarray, lam: float, mu: float) -> np.ndarray:
-    """Eq. (12) without the pressure term: σ = λ tr((d + dᵀ)/2) I + μ (d + dᵀ)."""
+    """Check-free kernel of :func:`viscous_stress`."""
     # eq. (12) with ε = (d + dᵀ)/2: σ = λ tr(ε) I + μ (d + dᵀ) (no pressure term, as eq. 17)
     return lam * np.trace(grad) * np.eye(2) + mu * (grad + grad.T)
 
 
+def viscous_stress(gradient: object, lam: float = 1.0, mu: float = 5.0) -> np.ndarray:
+    """The stress of eq. (12) without the pressure term: σ = λ tr(ε) I + 2μ ε, ε = (d + dᵀ)/2.
+
+    Parameters
+    ----------
+    gradient : array_like, shape (2, 2)
+        Velocity gradient d[i, j] = ∂v_i/∂x_j (eq. 5), entries within ±1e100.
+    lam : float, optional
+        Lamé constant λ, 0 ≤ λ ≤ 1e150 (default 1, as the paper).
+    mu : float, optional
+        Lamé constant μ, 0 ≤ μ ≤ 1e150 (default 5, as the paper).
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2, 2)
+        σ, symmetric.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eq. (12).
+
+    Examples
+    --------
+    >>> from amdo_lab.cat_fluid import viscous_stress
+    >>> viscous_stress([[1.0, 0.0], [0.0, 0.0]], lam=1.0, mu=5.0).tolist()  # a stretch along x1
+    [[11.0, 0.0], [0.0, 1.0]]
+    """
+    gradient = as_finite_array(gradient, "gradient", shape=(2, 2), max_abs=MAX_FIELD)
+    return _stress(gradient, *check_moduli(lam, mu))
+
+
 def _flux(corner_velocity: Callable[[int, int], np.ndarray], lam: float, mu: float) -> np.ndarray:
-    """∮ σ n dl over ∂γ_F, the sum of the four S_1 of eq. (11), for given corner velocities."""
+    """Check-free kernel of :func:`dual_cell_force`."""
     # eqs. (8)-(11): by the divergence theorem the force on the dual cell γ_F is the flux of σ through
     # its boundary, a sum over its four sides S_i (eq. 11), each split in two halves lying in different
     # primal squares; σ is linear along a half, so its midpoint value times its length is exact.
@@ -95,6 +173,44 @@ def _flux(corner_velocity: Callable[[int, int], np.ndarray], lam: float, mu: flo
         grad = _bilinear_gradient(corner_velocity, np.array(point))
         force += length * _stress(grad, lam, mu) @ np.array(normal)
     return force
+
+
+def dual_cell_force(velocity: Callable[[int, int], object], lam: float = 1.0, mu: float = 5.0) -> np.ndarray:
+    """∮ σ n dl over the dual cell γ_F of the pixel at the origin (eqs. 8-11 and 14).
+
+    By the divergence theorem (eqs. 8-10) the viscous force on γ_F = [-1/2, 1/2]² is the flux of the
+    stress (eq. 12) through its four sides (eq. 11); each side is split into the two halves lying in
+    different primal 2-pixels, where the velocity is bilinear (eq. 13), and the midpoint rule is
+    exact on each half. :func:`fluid_stencil` is this force for one unit corner velocity at a time.
+
+    Parameters
+    ----------
+    velocity : callable
+        ``velocity(i, j)`` returns the two finite velocity components (within ±1e100) at the pixel
+        (i, j), i, j in {-1, 0, 1}.
+    lam : float, optional
+        Lamé constant λ, 0 ≤ λ ≤ 1e150 (default 1, as the paper).
+    mu : float, optional
+        Lamé constant μ, 0 ≤ μ ≤ 1e150 (default 5, as the paper).
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2,)
+        The internal force on γ_F, which approximates μΔv + (λ+μ)∇(∇·v) at the origin.
+
+    References
+    ----------
+    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
+    AMDO 2004, LNCS 3179, pp. 76-85,
+    eqs. (8)-(14).
+
+    Examples
+    --------
+    >>> from amdo_lab.cat_fluid import dual_cell_force
+    >>> dual_cell_force(lambda i, j: (j * j, 0.0), lam=1.0, mu=5.0).tolist()  # μ Δ(x2², 0) = (2μ, 0)
+    [10.0, 0.0]
+    """
+    return _flux(_checked_velocity(velocity), *check_moduli(lam, mu))
 
 
 def fluid_stencil(lam: float = 1.0, mu: float = 5.0) -> np.ndarray:
@@ -271,11 +387,8 @@ def stencil_at_origin(stencil: object, velocity: Callable[[float, float], tuple[
     AMDO 2004, LNCS 3179, pp. 76-85,
     eq. (15).
     """
-    blocks = stencil_blocks(stencil)
-    if not callable(velocity):
-        raise TypeError(f"velocity must be a function of (x1, x2), got {type(velocity).__name__}")
-    return sum(block @ as_finite_array(velocity(float(d0), float(d1)), f"velocity({d0}, {d1})", shape=(2,))
-               for block, (d0, d1) in zip(blocks, NEIGHBOUR_OFFSETS))
+    blocks, velocity = stencil_blocks(stencil), _checked_velocity(velocity)
+    return sum(block @ velocity(float(d0), float(d1)) for block, (d0, d1) in zip(blocks, NEIGHBOUR_OFFSETS))
 
 
 def rotate_stencil(stencil: object) -> np.ndarray:

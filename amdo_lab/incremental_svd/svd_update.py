@@ -23,6 +23,7 @@ from amdo_lab.common import (
     check_bool,
     check_choice,
     check_fitted,
+    check_in_range,
     check_positive,
     check_positive_int,
     MAX_SAMPLES,
@@ -91,35 +92,30 @@ class SvdState(tuple):
 MAX_ABS = 1e100
 
 
-def _check_factors(U: object, s: object, V: object | None) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+def _check_basis(U: object, s: object) -> tuple[np.ndarray, np.ndarray]:
+    """The left factor (p x r, p >= 1) and its r non-negative singular values."""
     U = as_finite_array(U, "U", ndim=2, allow_empty=True, max_abs=MAX_ABS)
-    if U.shape[0] == 0:
-        raise ValueError(f"U must have at least one row (pixel), got shape {U.shape}")
-    s = as_finite_array(s, "s", ndim=1, allow_empty=True, max_abs=MAX_ABS)
-    if s.size != U.shape[1]:
+    check_positive_int(U.shape[0], "U's number of rows (pixels)")
+    s = as_finite_array(s, "s", ndim=1, allow_empty=True, bounds=(0, MAX_ABS))
+    if s.size != U.shape[1]:  # either may be at fault: name both
         raise ValueError(f"s must hold one singular value per column of U ({U.shape[1]}), got {s.size}")
-    if np.any(s < 0):
-        raise ValueError("s must be non-negative (singular values)")
-    if V is not None:
-        V = as_finite_array(V, "V", ndim=2, allow_empty=True, max_abs=MAX_ABS)
-        if V.shape[1] != U.shape[1] or V.shape[0] < V.shape[1]:
-            raise ValueError(f"V must have {U.shape[1]} orthonormal columns (as many as U), so at least as many "
-                             f"rows, got shape {V.shape}")
-    return U, s, V
+    return U, s
+
+
+def _check_right_factor(V: object, r: int, min_rows: int) -> np.ndarray:
+    """The right factor: r orthonormal columns, so at least ``min_rows`` (>= r) rows, one per column seen."""
+    V = as_finite_array(V, "V", shape=(None, r), allow_empty=True, max_abs=MAX_ABS)
+    if V.shape[0] < min_rows:
+        raise ValueError(f"V must have at least {min_rows} rows (one per column seen), got shape {V.shape}")
+    return V
 
 
 def _check_state(state: object) -> SvdState:
     if not isinstance(state, tuple) or len(state) != 4:
         raise TypeError(f"state must be a tuple (U, s, V, mean), got {type(state).__name__}")
-    U, s, V = _check_factors(*state[:3])
+    U, s = _check_basis(*state[:2])
+    V = None if state[2] is None else _check_right_factor(state[2], s.size, s.size)
     return SvdState(U, s, V, as_finite_array(state[3], "mean", shape=(U.shape[0],), max_abs=MAX_ABS))
-
-
-def _check_columns(I: object, p: int, name: str = "I") -> np.ndarray:
-    I = as_finite_array(I, name, ndim=2, max_abs=MAX_ABS)
-    if I.shape[0] != p:
-        raise ValueError(f"{name} must have {p} rows (the model's p pixels), got {I.shape[0]}")
-    return I
 
 
 def _residual_basis(U: np.ndarray, I_hat: np.ndarray, scale: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -176,11 +172,9 @@ def brand_update(U: np.ndarray, s: np.ndarray, V: np.ndarray, I: np.ndarray) -> 
     >>> bool(np.allclose(st, np.linalg.svd(M, compute_uv=False)))
     True
     """
-    U, s, V = _check_factors(U, s, V)
-    I = _check_columns(I, U.shape[0])
-    if V is None:
-        raise ValueError("V must be an array (q, r); brand_update keeps the right factor")
-    return _brand_update(U, s, V, I)
+    U, s = _check_basis(U, s)
+    V = _check_right_factor(V, s.size, s.size)
+    return _brand_update(U, s, V, as_finite_array(I, "I", shape=(U.shape[0], None), max_abs=MAX_ABS))
 
 
 def _brand_update(U: np.ndarray, s: np.ndarray, V: np.ndarray, I: np.ndarray) -> SvdState:
@@ -248,7 +242,7 @@ def truncate(state: SvdState, *, max_rank: int | None = None, tol: float | None 
     state : SvdState
         The model.
     max_rank : int, optional
-        Largest number of directions kept.
+        Largest number of directions kept, 1 to 4,096.
     tol : float, optional
         Singular values at or below ``tol`` are dropped (same units as the data).
 
@@ -262,11 +256,14 @@ def truncate(state: SvdState, *, max_rank: int | None = None, tol: float | None 
     Melenchón, Meler & Iriondo, AMDO 2004, Sec. 3.2 (the threshold τ).
     """
     U, s, V, mean = _check_state(state)
-    if max_rank is not None:
-        max_rank = check_positive_int(max_rank, "max_rank", maximum=MAX_SIDE)
-    if tol is not None:
-        tol = check_positive(tol, "tol", allow_zero=True)
+    max_rank, tol = _check_trim(max_rank, tol)
     return _truncate(SvdState(U, s, V, mean), max_rank=max_rank, tol=tol)
+
+
+def _check_trim(max_rank: object, tol: object) -> tuple[int | None, float | None]:
+    """Step 4's options, each optional: a rank cap (1 to 4,096) and a threshold τ >= 0 (the data's units)."""
+    return (None if max_rank is None else check_positive_int(max_rank, "max_rank", maximum=MAX_SIDE),
+            None if tol is None else check_positive(tol, "tol", allow_zero=True))
 
 
 def _truncate(state: SvdState, *, max_rank: int | None, tol: float | None) -> SvdState:
@@ -319,11 +316,10 @@ def update_with_mean(U: np.ndarray, s: np.ndarray, V: np.ndarray, mean: np.ndarr
     >>> bool(np.allclose(state.mean, M.mean(axis=1)))
     True
     """
-    U, s, V = _check_factors(U, s, V)
-    if V is None:
-        raise ValueError("V must be an array (q, r); the paper's mean update needs the right factor")
+    U, s = _check_basis(U, s)
+    V = _check_right_factor(V, s.size, s.size)
     mean = as_finite_array(mean, "mean", shape=(U.shape[0],), max_abs=MAX_ABS)
-    I = _check_columns(I, U.shape[0])
+    I = as_finite_array(I, "I", shape=(U.shape[0], None), max_abs=MAX_ABS)
     fast = check_bool(fast, "fast")
     return _update_with_mean(U, s, V, mean, I, fast=fast)
 
@@ -383,9 +379,8 @@ def extract_mean(U: np.ndarray, s: np.ndarray, V: np.ndarray, *, fast: bool = Tr
     >>> bool(np.allclose(extract_mean(U, s, Vt.T).mean, S.mean(axis=1)))
     True
     """
-    U, s, V = _check_factors(U, s, V)
-    if V is None or V.shape[0] == 0:
-        raise ValueError("V must be an array (q, r) with q >= 1 rows")
+    U, s = _check_basis(U, s)
+    V = _check_right_factor(V, s.size, max(s.size, 1))
     fast = check_bool(fast, "fast")
     # Sec. 2.4: eqs. (12)-(13) applied to S itself; the old mean m̄_i is zero, so m̄_f = m̄_t
     left, s_f, V_f, v_bar = _centre_right_factor(s, V, U_t=U, fast=fast)
@@ -424,9 +419,9 @@ def ross_update(U: np.ndarray, s: np.ndarray, mean: np.ndarray, n_seen: int, I: 
     D. A. Ross, J. Lim, R.-S. Lin, M.-H. Yang. Incremental learning for robust visual tracking.
     IJCV 77, 2008 (Sec. 3.1); Melenchón, Meler & Iriondo, AMDO 2004, eq. (11) for the update.
     """
-    U, s, _ = _check_factors(U, s, None)
+    U, s = _check_basis(U, s)
     mean = as_finite_array(mean, "mean", shape=(U.shape[0],), max_abs=MAX_ABS)
-    I = _check_columns(I, U.shape[0])
+    I = as_finite_array(I, "I", shape=(U.shape[0], None), max_abs=MAX_ABS)
     n_seen = check_positive_int(n_seen, "n_seen", minimum=0, maximum=MAX_SAMPLES)
     return _ross_update(U, s, mean, n_seen, I)
 
@@ -442,20 +437,21 @@ def _ross_update(U: np.ndarray, s: np.ndarray, mean: np.ndarray, n_seen: int, I:
     return SvdState(U_t, s_t, None, new_mean)
 
 
-def tau_schedule(t: int, *, start: float = 0.5, end: float = 5e-4, frames: int = 25) -> float:
-    """The threshold τ of Sec. 3.2 at frame ``t``: from ``start`` down to ``end`` over ``frames`` frames.
+#: The paper's τ (Sec. 3.2): from 0.5 down to 0.5e-3 over the first second at 25 frames/s.
+TAU_START, TAU_END, TAU_FRAMES = 0.5, 5e-4, 25
+
+
+def tau_schedule(t: int) -> float:
+    """The threshold τ of Sec. 3.2 at frame ``t``: from 0.5 down to 0.5·10⁻³ over the first 25 frames.
 
     The paper gives the two ends and the duration (one second at 25 frames/s) but not the shape;
-    we read it as geometric, ``start (end / start)^(t / frames)``, constant at ``end`` afterwards.
+    we read it as geometric, ``TAU_START (TAU_END / TAU_START)^(t / TAU_FRAMES)``, constant at
+    ``TAU_END`` afterwards.
 
     Parameters
     ----------
     t : int
-        Frame index, 0 for the first frame.
-    start, end : float
-        τ at frame 0 and from frame ``frames`` on; positive, ``end <= start``.
-    frames : int
-        Length of the decrease, in frames.
+        Frame index, 0 for the first frame; at most 1,000,000.
 
     Returns
     -------
@@ -472,11 +468,7 @@ def tau_schedule(t: int, *, start: float = 0.5, end: float = 5e-4, frames: int =
     0.0005
     """
     t = check_positive_int(t, "t", minimum=0, maximum=MAX_SAMPLES)
-    start, end = check_positive(start, "start"), check_positive(end, "end")
-    if end > start:
-        raise ValueError(f"end must be at most start ({start}), got {end}")
-    frames = check_positive_int(frames, "frames", maximum=MAX_SAMPLES)
-    return float(start * (end / start) ** (min(t, frames) / frames))
+    return float(TAU_START * (TAU_END / TAU_START) ** (min(t, TAU_FRAMES) / TAU_FRAMES))
 
 
 def noise_edge(sigma: float, p: int, q: int) -> float:
@@ -506,9 +498,7 @@ def noise_edge(sigma: float, p: int, q: int) -> float:
     >>> noise_edge(0.01, 100, 25)
     0.15
     """
-    sigma = check_positive(sigma, "sigma")
-    if sigma > MAX_ABS:
-        raise ValueError(f"sigma must be at most {MAX_ABS:g}, got {sigma:g}")
+    sigma = check_in_range(sigma, "sigma", 0, MAX_ABS, closed="right")
     p, q = check_positive_int(p, "p", maximum=MAX_SIDE**2), check_positive_int(q, "q", maximum=MAX_SAMPLES)
     return float(sigma * (np.sqrt(p) + np.sqrt(q)))
 
@@ -523,7 +513,7 @@ class IncrementalSVD:
     Parameters
     ----------
     max_rank : int, optional
-        Largest number of directions kept after each update (step 4 of the paper's loop).
+        Largest number of directions kept after each update (step 4 of the paper's loop), 1 to 4,096.
     tol : float, optional
         Singular values at or below ``tol`` are dropped after each update (the paper's τ; same
         units as the pixels). ``None`` drops only numerically null directions. May be changed
@@ -566,10 +556,7 @@ class IncrementalSVD:
         self.mean = mean
 
     def _check_parameters(self) -> None:
-        if self.max_rank is not None:
-            check_positive_int(self.max_rank, "max_rank", maximum=MAX_SIDE)
-        if self.tol is not None:
-            check_positive(self.tol, "tol", allow_zero=True)
+        _check_trim(self.max_rank, self.tol)
         check_choice(self.mean, "mean", MEAN_MODES)
 
     def partial_fit(self, X: np.ndarray) -> IncrementalSVD:
@@ -586,14 +573,13 @@ class IncrementalSVD:
             ``self``.
         """
         self._check_parameters()
-        X = as_finite_array(X, "X", ndim=2, max_abs=MAX_ABS)
-        if getattr(self, "U_", None) is None:
+        fitted = getattr(self, "U_", None) is not None  # then X must have the model's p pixels (columns)
+        X = as_finite_array(X, "X", shape=(None, self.U_.shape[0] if fitted else None), max_abs=MAX_ABS)
+        if not fitted:
             p = X.shape[1]
             self.U_, self.singular_values_ = np.zeros((p, 0)), np.zeros(0)
             self.V_ = None if self.mean == "ross" else np.zeros((0, 0))
             self.mean_, self.n_seen_ = np.zeros(p), 0
-        elif X.shape[1] != self.U_.shape[0]:
-            raise ValueError(f"X must have {self.U_.shape[0]} columns (the model's pixels), got {X.shape[1]}")
         I = X.T
         with one_blas_thread():  # thin products (p x r by r x r): more threads only contend
             if self.mean == "paper":

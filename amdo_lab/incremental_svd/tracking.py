@@ -59,30 +59,32 @@ class TrainingResult:
     peak_bytes: int
 
 
-def _check_inputs(frames: object, masks: object, init: object, init_name: str = "init",
-                  frames_name: str = "frames") -> tuple[np.ndarray, dict, np.ndarray]:
-    if frames_name == "frame":
-        frames = as_finite_array(frames, "frame", ndim=2, max_abs=1e6)[None]
-    else:
-        frames = as_finite_array(frames, "frames", ndim=3, max_abs=1e6)
-        if frames.shape[0] < 2:
-            raise ValueError(f"frames must hold at least 2 frames, got {frames.shape[0]}")
+def _check_masks(masks: object, shape: tuple[int, ...], image_name: str) -> dict[str, np.ndarray]:
+    """Non-empty, disjoint boolean masks of the images' size, by region name."""
     if not isinstance(masks, dict) or not masks:
         raise ValueError("masks must be a non-empty dict of region name to boolean mask")
-    checked, taken = {}, np.zeros(frames.shape[1:], bool)
+    checked, taken = {}, np.zeros(shape, bool)
     for name, mask in masks.items():
-        if np.shape(mask) != frames.shape[1:]:
-            raise ValueError(f"masks and {frames_name} must have the same image size, got {np.shape(mask)} "
-                             f"and {frames.shape[1:]}")
-        mask = as_bool_mask(mask, "masks", shape=frames.shape[1:])
-        if not mask.any():
-            raise ValueError(f"masks[{name!r}] must not be empty")
-        if np.any(taken & mask):
-            raise ValueError(f"masks must not overlap; {name!r} overlaps an earlier mask")
+        if np.shape(mask) != shape:  # either argument may be at fault: name both
+            raise ValueError(f"masks and {image_name} must have the same image size, got {np.shape(mask)} and {shape}")
+        mask = as_bool_mask(mask, "masks", shape=shape)
+        if not mask.any() or np.any(taken & mask):
+            raise ValueError(f"masks must be non-empty and must not overlap; {name!r} is empty or overlaps")
         taken |= mask
         checked[name] = mask
-    init = as_finite_array(init, init_name, shape=(4,), max_abs=1e3)
-    return frames, checked, init
+    return checked
+
+
+def _check_training(frames: object, masks: object, init: object, max_rank: object, tau: object,
+                    noise: object) -> tuple[np.ndarray, dict, np.ndarray, int, float]:
+    """The inputs both trainers share: frames, masks, first placement, rank cap, threshold mode, noise."""
+    frames = as_finite_array(frames, "frames", ndim=3, max_abs=1e6)
+    if frames.shape[0] < 2:
+        raise ValueError(f"frames must hold at least 2 frames, got {frames.shape[0]}")
+    masks = _check_masks(masks, frames.shape[1:], "frames")
+    init = as_finite_array(init, "init", shape=(4,), max_abs=1e3)
+    check_choice(tau, "tau", TAU_MODES)
+    return frames, masks, init, check_positive_int(max_rank, "max_rank", maximum=MAX_SIDE), check_positive(noise, "noise")
 
 
 class _Regions:
@@ -152,17 +154,17 @@ def align_frame(frame: np.ndarray, masks: dict[str, np.ndarray], models: dict[st
     ----------
     Melenchón, Meler & Iriondo, AMDO 2004, Sec. 3.2, step 2 of Fig. 3 (the aligner of their [7]).
     """
-    frames, masks, start = _check_inputs(frame, masks, start, "start", "frame")
+    frames = as_finite_array(frame, "frame", ndim=2, max_abs=1e6)[None]
+    masks = _check_masks(masks, frames.shape[1:], "frame")
+    start = as_finite_array(start, "start", shape=(4,), max_abs=1e3)
     if not isinstance(models, dict) or set(models) != set(masks):
         raise ValueError("models must be a dict with one model per mask")
     regions = _Regions(masks, frames)
     states = []
     for name, size in zip(regions.names, np.diff(np.r_[0, regions.splits, regions.points.shape[0]])):
         U, s, V, mean = models[name]
-        U = as_finite_array(U, "models", ndim=2, allow_empty=True, max_abs=1e6)
+        U = as_finite_array(U, "models", shape=(size, None), allow_empty=True, max_abs=1e6)  # one row per pixel
         mean = as_finite_array(mean, "models", shape=(size,), max_abs=1e6)
-        if U.shape[0] != size:
-            raise ValueError(f"models[{name!r}] must have {size} pixels, got {U.shape[0]}")
         states.append(SvdState(U, np.asarray(s), V, mean))
     return _align(regions, 0, states, start)
 
@@ -205,10 +207,7 @@ def train_on_the_fly(frames: np.ndarray, masks: dict[str, np.ndarray], init: np.
     ----------
     Melenchón, Meler & Iriondo, AMDO 2004, Sec. 3.2 and Fig. 3.
     """
-    frames, masks, init = _check_inputs(frames, masks, init)
-    max_rank = check_positive_int(max_rank, "max_rank", maximum=MAX_SIDE)
-    check_choice(tau, "tau", TAU_MODES)
-    noise = check_positive(noise, "noise")
+    frames, masks, init, max_rank, noise = _check_training(frames, masks, init, max_rank, tau, noise)
     if learn_at is not None:
         learn_at = as_finite_array(learn_at, "learn_at", shape=(frames.shape[0], 4), max_abs=1e3)
     start_time = time.perf_counter()
@@ -279,10 +278,7 @@ def train_non_causal(frames: np.ndarray, masks: dict[str, np.ndarray], init: np.
     Melenchón, Meler & Iriondo, AMDO 2004, Sec. 4 and Fig. 4(b) (their non-causal method [7], read
     as described above).
     """
-    frames, masks, init = _check_inputs(frames, masks, init)
-    max_rank = check_positive_int(max_rank, "max_rank", maximum=MAX_SIDE)
-    check_choice(tau, "tau", TAU_MODES)
-    noise = check_positive(noise, "noise")
+    frames, masks, init, max_rank, noise = _check_training(frames, masks, init, max_rank, tau, noise)
     rounds = check_positive_int(rounds, "rounds", minimum=0, maximum=MAX_ROUNDS)
     start_time = time.perf_counter()
     regions = _Regions(masks, frames)
