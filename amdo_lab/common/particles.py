@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from amdo_lab.common.validation import as_finite_array, check_in_range
+from amdo_lab.common.validation import as_finite_array, as_probabilities, check_in_range
 
 __all__ = ["effective_sample_size", "normalised_weights", "systematic_resample"]
 
@@ -73,15 +73,8 @@ def effective_sample_size(weights: np.ndarray) -> float:
     >>> effective_sample_size(np.full(4, 0.25))
     4.0
     """
-    weights = _check_weights(weights)
+    weights = as_probabilities(weights, "weights")
     return float(1.0 / np.sum(weights**2))
-
-
-def _check_weights(weights: object) -> np.ndarray:
-    weights = as_finite_array(weights, "weights", ndim=1)
-    if np.any(weights < 0) or not np.isclose(weights.sum(), 1.0, rtol=0.0, atol=1e-6):
-        raise ValueError(f"weights must be non-negative and sum to 1, got sum {weights.sum():.6g}")
-    return weights
 
 
 def systematic_resample(weights: np.ndarray, u: float) -> np.ndarray:
@@ -111,9 +104,7 @@ def systematic_resample(weights: np.ndarray, u: float) -> np.ndarray:
     >>> systematic_resample(np.array([0.5, 0.25, 0.25]), 0.5)
     array([0, 1, 2])
     """
-    weights = as_finite_array(weights, "weights", ndim=1)
-    if np.any(weights < 0) or not np.isclose(weights.sum(), 1.0, rtol=0.0, atol=1e-6):
-        raise ValueError(f"weights must be non-negative and sum to 1, got sum {weights.sum():.6g}")
+    weights = as_probabilities(weights, "weights")
     u = check_in_range(u, "u", 0.0, 1.0, closed="left")
     n = len(weights)
     cumulative = np.cumsum(weights)

@@ -20,6 +20,7 @@ __all__ = [
     "as_image_pair",
     "as_outcomes",
     "as_points",
+    "as_probabilities",
     "as_rotation",
     "as_weights",
     "check_axes",
@@ -248,6 +249,29 @@ def as_points(value: object, name: str, *, dim: int, allow_empty: bool = True,
     if points.ndim not in (1, 2) or points.shape[-1] != dim:
         raise ValueError(f"{name} must have shape (n, {dim}) or ({dim},), got {points.shape}")
     return points
+
+
+def as_probabilities(value: object, name: str, *, atol: float = 1e-6) -> np.ndarray:
+    """Return ``value`` as a 1-D array of non-negative weights summing to 1 (to ``atol``), or raise.
+
+    Parameters
+    ----------
+    value : array_like
+        The user's input (normalised particle weights, a discrete distribution).
+    name : str
+        The argument's name, used in error messages.
+    atol : float
+        Largest accepted deviation of the sum from 1.
+
+    Returns
+    -------
+    numpy.ndarray
+        A new float array.
+    """
+    weights = as_finite_array(value, name, ndim=1)
+    if np.any(weights < 0) or not np.isclose(weights.sum(), 1.0, rtol=0.0, atol=atol):
+        raise ValueError(f"{name} must be non-negative and sum to 1, got sum {weights.sum():.6g}")
+    return weights
 
 
 def as_rotation(value: object, name: str, *, tol: float = 1e-6) -> np.ndarray:

@@ -62,6 +62,8 @@ def cases() -> dict[str, Case]:
         "check_seed": Case(c.check_seed, {"value": 3, "name": "rng"}, {"value": "seed"}, names={"value": "rng"}),
         "as_points": Case(c.as_points, {"value": points2, "name": "points", "dim": 2, "allow_empty": False},
                           {"value": "points"}, names={"value": "points"}),
+        "as_probabilities": Case(c.as_probabilities, {"value": [0.25, 0.75], "name": "weights"},
+                                 {"value": "array"}, names={"value": "weights"}),
         "as_rotation": Case(c.as_rotation, {"value": np.eye(3), "name": "rotation"},
                             {"value": "array"}, names={"value": "rotation"},
                             accept=frozenset({("value", "one more axis")})),  # a stack of one rotation
