@@ -47,7 +47,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))  # the tables: tests/ba
 from bad_input_cases._core import FINITE_LABELS, Case, all_finite, spoil  # noqa: E402
 
 SUBPACKAGES = ("common", "em_articulated", "pdm_mixtures", "cat_fluid", "ear_biometrics", "face_glmm",
-               "cue_fusion_pf", "incremental_svd")
+               "cue_fusion_pf", "incremental_svd", "active_contours")
 
 
 def table(subpackage: str):

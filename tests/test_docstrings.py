@@ -15,7 +15,7 @@ import pytest
 numpydoc_validate = pytest.importorskip("numpydoc.validate")
 
 SUBPACKAGES = ("common", "em_articulated", "pdm_mixtures", "cat_fluid", "ear_biometrics", "face_glmm",
-               "cue_fusion_pf", "incremental_svd")
+               "cue_fusion_pf", "incremental_svd", "active_contours")
 CHAPTER_SUBPACKAGES = SUBPACKAGES[1:]
 
 #: GL08 no docstring; SS01 no summary; PR01 a parameter not documented; PR02 a documented parameter

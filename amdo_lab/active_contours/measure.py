@@ -103,7 +103,7 @@ def _segment(potential: np.ndarray, init: np.ndarray, method: str):
     if method == "greedy":
         result = _greedy(local, init - offset, weights, 3, 2.0, 6.0, 300, vectorised=True)
     elif method == "dynamic":
-        result = _dp(local, init - offset, weights, 3, 2.0, 6.0, 300)
+        result = _dp(local, init - offset, weights, 3, 2.0, 6.0, 100)
     else:
         result = _variational(local.max() - local, init - offset, weights, 0.5, 2.0, 6.0, 200, 0.2, 80)
     return result.points + offset, result
@@ -166,6 +166,8 @@ def segment_study(study: HamStudy, method: str, *, every: int = 1, hams: tuple[i
         raise TypeError(f"study must be a HamStudy, got {type(study).__name__}")
     method = check_choice(method, "method", METHODS)
     every = check_positive_int(every, "every", maximum=1000)
+    if hams is not None and not isinstance(hams, (tuple, list)):
+        raise TypeError(f"hams must be a tuple of ham numbers, got {type(hams).__name__}")
     chosen = range(study.n_hams) if hams is None else [check_positive_int(h, "hams", minimum=0,
                                                                           maximum=study.n_hams - 1) for h in hams]
     rows = []

@@ -88,35 +88,89 @@ class MuscleShape:
     twist: np.ndarray
 
     def r0(self, z_mm: float) -> float:
-        """Mean radius of the cross-section at height ``z_mm`` (0 outside the solid)."""
+        """Mean radius of the cross-section at height ``z_mm`` (0 outside the solid).
+
+        Parameters
+        ----------
+        z_mm : float
+            Height along the muscle, mm (0 at its middle).
+
+        Returns
+        -------
+        float
+            ``R sqrt(1 - z^2 / L^2)`` for ``|z| <= 0.8 L``, else 0, in mm.
+        """
         ratio = z_mm / self.half_length_mm
         return self.radius_mm * float(np.sqrt(1.0 - ratio ** 2)) if abs(ratio) <= 0.8 else 0.0
 
     def radius(self, theta: np.ndarray, z_mm: float) -> tuple[np.ndarray, np.ndarray]:
-        """``r(theta)`` and ``dr/dtheta`` at height ``z_mm``, in mm."""
+        """``r(theta)`` and ``dr/dtheta`` at height ``z_mm``, in mm.
+
+        Parameters
+        ----------
+        theta : ndarray
+            Polar angles, radians.
+        z_mm : float
+            Height along the muscle, mm.
+
+        Returns
+        -------
+        r, dr : ndarray
+            The radius and its derivative in ``theta``, shaped as ``theta``.
+        """
         k, a, phi = self.coefficients.T
         angle = k * np.asarray(theta)[..., None] + phi + self.twist * z_mm
         r0 = self.r0(z_mm)
         return r0 * (1 + np.sum(a * np.cos(angle), axis=-1)), -r0 * np.sum(k * a * np.sin(angle), axis=-1)
 
     def area_mm2(self, z_mm: float) -> float:
-        """Exact area of the cross-section (inside the septum's centre line) at ``z_mm``, mm^2."""
+        """Exact area of the cross-section (inside the septum's centre line) at ``z_mm``, mm^2.
+
+        Parameters
+        ----------
+        z_mm : float
+            Height along the muscle, mm.
+
+        Returns
+        -------
+        float
+            ``pi r0(z)^2 (1 + sum_k a_k^2 / 2)``.
+        """
         return float(np.pi * self.r0(z_mm) ** 2 * (1 + 0.5 * np.sum(self.coefficients[:, 1] ** 2)))
 
     def volume_mm3(self) -> float:
-        """Exact volume of the solid, mm^3: the integral of :meth:`area_mm2` over ``|z| <= 0.8 L``."""
+        """Exact volume of the solid, mm^3: the integral of :meth:`area_mm2` over ``|z| <= 0.8 L``.
+
+        Returns
+        -------
+        float
+            The volume, mm^3.
+        """
         shape = 1 + 0.5 * np.sum(self.coefficients[:, 1] ** 2)
         return float(np.pi * shape * self.radius_mm ** 2 * self.half_length_mm * (1.6 - 2 * 0.8 ** 3 / 3))
 
     def contour_px(self, z_mm: float, n_points: int = 400) -> np.ndarray:
-        """The septum's centre line at ``z_mm`` as ``(n_points, 2)`` (row, col) pixel coordinates."""
+        """The septum's centre line at ``z_mm`` as ``(n_points, 2)`` (row, col) pixel coordinates.
+
+        Parameters
+        ----------
+        z_mm : float
+            Height along the muscle, mm.
+        n_points : int
+            Points on the line.
+
+        Returns
+        -------
+        (n_points, 2) ndarray
+            The closed line, counter-clockwise in (row, col).
+        """
         theta = np.linspace(0, 2 * np.pi, n_points, endpoint=False)
         r, _ = self.radius(theta, z_mm)
         rows = self.centre_mm[0] + r * np.sin(theta)
         cols = self.centre_mm[1] + r * np.cos(theta)
         return np.column_stack([rows / PIXEL_MM[0], cols / PIXEL_MM[1]])
 
-    def scaled(self, factor: float, centre_factor: float) -> MuscleShape:
+    def _scaled(self, factor: float, centre_factor: float) -> MuscleShape:
         """The solid shrunk by ``factor`` in every direction, its centre moved towards the ham's."""
         centre = np.asarray(_HAM_CENTRE) + centre_factor * (self.centre_mm - np.asarray(_HAM_CENTRE))
         return MuscleShape(centre, self.radius_mm * factor, self.half_length_mm * factor, self.coefficients,
@@ -259,7 +313,7 @@ def make_ham_slice(*, rng: int | np.random.Generator, scale: float = 1.0, noise:
     scale = check_in_range(scale, "scale", 0.5, 1.2, closed="right")
     noise = check_in_range(noise, "noise", 0.0, 0.3, closed="both")
     ham = _draw_ham(generator)
-    ham = _Ham({name: shape.scaled(scale, 1.0) for name, shape in ham.muscles.items()}, ham.fat_flecks,
+    ham = _Ham({name: shape._scaled(scale, 1.0) for name, shape in ham.muscles.items()}, ham.fat_flecks,
                ham.distractors)
     return _render(ham, 0.0, 1.0, generator, noise)
 
@@ -316,7 +370,18 @@ class HamStudy:
             self.volume_fraction[gone, stage] = np.nan
 
     def hams_at(self, stage: int) -> list[int]:
-        """The hams still in the study at ``stage`` (0 raw ... 3 dry-cured): the last ones are withdrawn first."""
+        """The hams still in the study at ``stage``: the last ones are withdrawn first.
+
+        Parameters
+        ----------
+        stage : int
+            0 (raw) to 3 (dry-cured).
+
+        Returns
+        -------
+        list of int
+            The hams scanned at that stage.
+        """
         return list(range(self.n_hams - WITHDRAWN_PER_STAGE * stage))
 
     def _checked(self, ham: object, stage: object) -> tuple[int, int]:
@@ -327,20 +392,46 @@ class HamStudy:
         return ham, stage
 
     def muscle(self, ham: int, stage: int, muscle: str) -> MuscleShape:
-        """The solid of ``muscle`` in ``ham`` at ``stage`` (mm)."""
+        """The solid of ``muscle`` in ``ham`` at ``stage`` (mm).
+
+        Parameters
+        ----------
+        ham : int
+            A ham still in the study at ``stage``.
+        stage : int
+            0 (raw) to 3 (dry-cured).
+        muscle : str
+            One of :data:`MUSCLES`.
+
+        Returns
+        -------
+        MuscleShape
+            The shrunk solid.
+        """
         ham, stage = self._checked(ham, stage)
         check_choice(muscle, "muscle", MUSCLES)
         return self._muscle(ham, stage, muscle)
 
     def _muscle(self, ham: int, stage: int, muscle: str) -> MuscleShape:
         factor = self.volume_fraction[ham, stage] ** (1 / 3)
-        return self._hams[ham].muscles[muscle].scaled(factor, self._ham_scale(ham, stage))
+        return self._hams[ham].muscles[muscle]._scaled(factor, self._ham_scale(ham, stage))
 
     def _ham_scale(self, ham: int, stage: int) -> float:
         return float((self.weights[ham, stage] / self.weights[ham, 0]) ** (1 / 3))
 
     def slice_positions(self, ham: int, stage: int) -> np.ndarray:
-        """Heights (mm) of the slices of ``ham`` at ``stage``, 2 mm apart, through the longer muscle."""
+        """Heights (mm) of the slices of ``ham`` at ``stage``, 2 mm apart, through the longer muscle.
+
+        Parameters
+        ----------
+        ham, stage : int
+            As in :meth:`muscle`.
+
+        Returns
+        -------
+        ndarray
+            The heights, ascending.
+        """
         ham, stage = self._checked(ham, stage)
         return self._positions(ham, stage)
 
@@ -350,7 +441,20 @@ class HamStudy:
         return np.arange(first, extent, SLICE_MM)
 
     def slice(self, ham: int, stage: int, index: int) -> HamSlice:
-        """Render slice ``index`` of ``ham`` at ``stage`` (seeded by the study, the ham, the stage and the index)."""
+        """Render slice ``index`` of ``ham`` at ``stage`` (seeded by the study, the ham, the stage and the index).
+
+        Parameters
+        ----------
+        ham, stage : int
+            As in :meth:`muscle`.
+        index : int
+            Position in :meth:`slice_positions`.
+
+        Returns
+        -------
+        HamSlice
+            The image and its truth.
+        """
         ham, stage = self._checked(ham, stage)
         positions = self._positions(ham, stage)
         index = check_positive_int(index, "index", minimum=0, maximum=len(positions) - 1)
@@ -372,7 +476,20 @@ class HamStudy:
         return arcs
 
     def volume(self, ham: int, stage: int, muscle: str) -> float:
-        """Exact volume (mm^3) of ``muscle`` in ``ham`` at ``stage``."""
+        """Exact volume (mm^3) of ``muscle`` in ``ham`` at ``stage``.
+
+        Parameters
+        ----------
+        ham, stage : int
+            As in :meth:`muscle`.
+        muscle : str
+            One of :data:`MUSCLES`.
+
+        Returns
+        -------
+        float
+            The volume of the solid, mm^3.
+        """
         return self.muscle(ham, stage, muscle).volume_mm3()
 
 
@@ -442,6 +559,8 @@ def initial_contour(
     ----------
     Caro et al., AMDO 2004, Sec. 3.2 ("initial snakes").
     """
+    if not isinstance(ham_slice, HamSlice):
+        raise TypeError(f"ham_slice must be a HamSlice, got {type(ham_slice).__name__}")
     check_choice(muscle, "muscle", sorted(ham_slice.contours))
     generator = make_rng(rng, "rng")
     low, high = as_finite_array(enlarge, "enlarge", shape=(2,), bounds=(0.0, 1.0))

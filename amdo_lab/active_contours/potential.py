@@ -26,11 +26,11 @@ EDGE_MODES = ("sobel", "ridge")
 MAX_INTENSITY = 1e100
 
 
-def _image(image: object) -> np.ndarray:
-    image = as_finite_array(image, "image", ndim=2, max_abs=MAX_INTENSITY)
-    check_positive_int(max(image.shape), "image side", maximum=MAX_SIDE)
+def _image(image: object, name: str = "image") -> np.ndarray:
+    image = as_finite_array(image, name, ndim=2, max_abs=MAX_INTENSITY)
+    check_positive_int(max(image.shape), f"{name} side", maximum=MAX_SIDE)
     if min(image.shape) < 7:
-        raise ValueError(f"image must be at least 7 x 7 pixels (the Gaussian's size), got {image.shape}")
+        raise ValueError(f"{name} must be at least 7 x 7 pixels (the Gaussian's size), got {image.shape}")
     return image
 
 
@@ -223,7 +223,7 @@ def gradient_vector_flow(edge_map: np.ndarray, *, mu: float = 0.2, n_iter: int =
     C. Xu, J.L. Prince, Gradient Vector Flow: A New External Force for Snakes, CVPR 1997; used as
     the variational snake's force by Caro et al., AMDO 2004, Sec. 3.1.
     """
-    edge_map = _image(edge_map)
+    edge_map = _image(edge_map, "edge_map")
     mu = check_in_range(mu, "mu", 0.0, 0.25, closed="right")
     n_iter = check_positive_int(n_iter, "n_iter", maximum=MAX_ITERATIONS)
     return _gvf(edge_map, mu, n_iter)

@@ -8,7 +8,9 @@ with E_cont = | dbar - |v_i - v_{i-1}| | (eq. 5, our reading of the printed ``v_
 the mean spacing), E_curv = |v_{i-1} - 2 v_i + v_{i+1}|^2 (eq. 6) and E_image = -e / e_max
 (eq. 7), where the edge strength ``e = max(P) - P`` comes from the potential ``P`` of Sec. 3.2 and
 ``e_max``, which the paper leaves undefined, is the largest ``e`` in the point's neighbourhood
-(Williams & Shah's normalisation).
+(Williams & Shah's normalisation). The paper says every term is normalised without saying how:
+E_cont and E_curv are measured in units of ``dbar`` and ``dbar^2`` (dividing them by their
+neighbourhood maximum, as Williams & Shah do, lets a tiny curvature outvote the image term).
 
 - :func:`greedy_snake` (Williams & Shah): each point moves to the best of its ``window x window``
   candidates; points are updated in two colours (even, then odd indices), so a colour moves at once
@@ -128,14 +130,13 @@ def _weights(alpha: object, beta: object, gamma: object) -> SnakeWeights:
     return SnakeWeights(*weights)
 
 
-def _snake_input(field: object, init: object, field_name: str) -> tuple[np.ndarray, np.ndarray]:
-    field = _image(field) if field_name == "image" else as_finite_array(field, field_name, ndim=2, max_abs=1e100)
-    if min(field.shape) < 7:
-        raise ValueError(f"{field_name} must be at least 7 x 7 pixels, got {field.shape}")
-    init = as_finite_array(init, "init", shape=(None, 2), max_abs=1e9)
-    check_positive_int(init.shape[0], "init points", minimum=5, maximum=MAX_POINTS)
+def _snake_input(field: object, init: object, field_name: str,
+                 init_name: str = "init") -> tuple[np.ndarray, np.ndarray]:
+    field = _image(field, field_name)
+    init = as_finite_array(init, init_name, shape=(None, 2), max_abs=1e9)
+    check_positive_int(init.shape[0], f"{init_name} points", minimum=5, maximum=MAX_POINTS)
     if np.any(init < 0) or np.any(init > np.asarray(field.shape) - 1):
-        raise ValueError(f"init must lie inside the {field_name} (rows 0-{field.shape[0] - 1}, "
+        raise ValueError(f"{init_name} must lie inside the {field_name} (rows 0-{field.shape[0] - 1}, "
                          f"columns 0-{field.shape[1] - 1})")
     return field, init
 
@@ -200,7 +201,7 @@ def _edge_of(potential: np.ndarray) -> np.ndarray:
 
 def _greedy_energies(points: np.ndarray, movers: np.ndarray, edge: np.ndarray, weights: SnakeWeights,
                      d_bar: float, offsets: np.ndarray) -> np.ndarray:
-    """Eq. (4) for each candidate of each mover, each term normalised by its neighbourhood's maximum."""
+    """Eq. (4) for each candidate of each mover: E_image over its neighbourhood's maximum, the others over dbar."""
     n = points.shape[0]
     candidates = points[movers, None, :] + offsets[None]                     # (k, m, 2)
     previous, following = points[(movers - 1) % n, None, :], points[(movers + 1) % n, None, :]
@@ -210,9 +211,8 @@ def _greedy_energies(points: np.ndarray, movers: np.ndarray, edge: np.ndarray, w
     cols = np.clip(candidates[..., 1], 0, edge.shape[1] - 1).astype(int)
     e = edge[rows, cols]
     e_image = -e / _positive(e.max(axis=1, keepdims=True))                   # eq. (7), e_max: the neighbourhood's
-    energy = (weights.alpha * e_cont / _positive(e_cont.max(axis=1, keepdims=True))
-              + weights.beta * e_curv / _positive(e_curv.max(axis=1, keepdims=True))
-              + weights.gamma * e_image)                                     # eq. (4)
+    scale = max(d_bar, 1.0)                                                  # E_cont, E_curv in units of dbar
+    energy = weights.alpha * e_cont / scale + weights.beta * e_curv / scale ** 2 + weights.gamma * e_image  # eq. (4)
     outside = ((candidates < 0) | (candidates > np.asarray(edge.shape) - 1)).any(axis=2)
     return np.where(outside, np.inf, energy)
 
@@ -223,7 +223,7 @@ def _positive(values: np.ndarray) -> np.ndarray:
 
 def greedy_energies(potential: np.ndarray, points: np.ndarray, *, alpha: float = 0.4, beta: float = 0.4,
                     gamma: float = 1.2, window: int = 3) -> np.ndarray:
-    """Eq. (4)'s energy of every candidate of every point, terms normalised per neighbourhood.
+    """Eq. (4)'s energy of every candidate of every point (E_image per neighbourhood, the others per dbar).
 
     Parameters
     ----------
@@ -246,7 +246,7 @@ def greedy_energies(potential: np.ndarray, points: np.ndarray, *, alpha: float =
     Caro et al., AMDO 2004, eqs. (4)-(7); D.J. Williams, M. Shah, A fast algorithm for active contours
     and curvature estimation, CVGIP: Image Understanding 55, 1992.
     """
-    potential, points = _snake_input(potential, points, "potential")
+    potential, points = _snake_input(potential, points, "potential", "points")
     weights = _weights(alpha, beta, gamma)
     offsets = _offsets(check_odd_int(window, "window", maximum=MAX_WINDOW))
     d_bar = float(np.mean(np.linalg.norm(np.roll(points, -1, axis=0) - points, axis=1)))
@@ -304,7 +304,7 @@ def greedy_snake(
     """Williams & Shah's greedy snake on Sec. 3.2's potential, points moved in two colours at once.
 
     Each iteration computes the mean spacing ``dbar``, moves the even points to their best candidate
-    (eq. 4, terms normalised per neighbourhood), then the odd ones, then respaces. It stops when no
+    (eq. 4), then the odd ones, then respaces. It stops when no
     point moves, when the snake returns to one of its last two states (an oscillation), or after
     ``max_iter`` iterations. Points on the same colour do not see each other's moves, so a colour
     can move at once: :func:`greedy_snake_loop` moves them one at a time and gives the same snake.
@@ -470,7 +470,7 @@ def dp_snake(
     window: int = 3,
     d_min_px: float = 2.0,
     d_max_px: float = 6.0,
-    max_iter: int = 300,
+    max_iter: int = 100,
 ) -> SnakeResult:
     """Amini's dynamic-programming snake on Sec. 3.2's potential (closed: one point fixed per iteration).
 
