@@ -260,6 +260,22 @@ CHAPTER_7 = {
 }
 
 # ---------------------------------------------------------------------------------------------
+# Chapter 8, Caro et al. 2004: amdo_lab.active_contours
+
+_AC = "amdo_lab.active_contours.snakes"
+_VARIATIONAL = (f"{_AC}.variational_snake", "test_variational_snake_and_its_matrix_follow_kass_finite_differences")
+_DISCRETE = (f"{_AC}.greedy_energies", "test_energy_terms_match_the_printed_equations")
+CHAPTER_8 = {
+    1: _VARIATIONAL,
+    2: _VARIATIONAL,
+    3: _VARIATIONAL,
+    4: _DISCRETE,
+    5: _DISCRETE,
+    6: _DISCRETE,
+    7: _DISCRETE,
+}
+
+# ---------------------------------------------------------------------------------------------
 
 CHAPTERS = {
     1: (CHAPTER_1, "test_em_articulated.py"),
@@ -269,6 +285,7 @@ CHAPTERS = {
     5: (CHAPTER_5, "test_face_glmm.py"),
     6: (CHAPTER_6, "test_cue_fusion_pf.py"),
     7: (CHAPTER_7, "test_incremental_svd.py"),
+    8: (CHAPTER_8, "test_active_contours.py"),
 }
 
 

@@ -535,7 +535,8 @@ def _variational(edge_map: np.ndarray, init: np.ndarray, weights: SnakeWeights, 
         force = np.stack([ndimage.map_coordinates(component, points.T, order=1, mode="nearest")
                           for component in flow], axis=1)
         evaluations += points.shape[0]
-        # eq. (1) by finite differences, semi-implicit: (A + I/tau) x_{t+1} = x_t / tau + gamma f(x_t)
+        # eq. (1) by finite differences, semi-implicit: (A + I/tau) x_{t+1} = x_t / tau + gamma f(x_t);
+        # A holds eq. (2)'s alpha |v_s|^2 + beta |v_ss|^2, f replaces eq. (3)'s -grad E_image by the unit GVF
         new = scipy.linalg.lu_solve(factor, points / tau + weights.gamma * force)
         points = np.clip(new, 0, limit)
     return SnakeResult(points, iteration, evaluations, time.perf_counter() - start)
