@@ -4,15 +4,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from amdo_lab.active_contours.measure import _polygon_area
+from amdo_lab.active_contours.measure import _polygon_area, _segment
 from amdo_lab.active_contours.phantom import PIXEL_MM
-from amdo_lab.active_contours.snakes import SnakeWeights, _greedy
+from amdo_lab.active_contours.snakes import SnakeWeights
 from amdo_lab.common.exercises import Exercise, ExerciseSet, WrongAnswer
 
 __all__ = ["EXERCISES", "greedy_probe_error"]
 
 
-def greedy_probe_error(probe: list, *, gamma: float = 1.2, window: int = 3, d_max_px: float = 6.0) -> float:
+def greedy_probe_error(probe: list, *, gamma: float = 1.2, window: int = 3) -> float:
     """Mean |area error| (%) of the greedy snake over the probe contours, with one setting changed.
 
     Parameters
@@ -23,8 +23,6 @@ def greedy_probe_error(probe: list, *, gamma: float = 1.2, window: int = 3, d_ma
         Image weight of eq. (4) (Table 1: 1.2).
     window : int
         Odd side of the neighbourhood.
-    d_max_px : float
-        Largest spacing of the snake's points.
 
     Returns
     -------
@@ -33,8 +31,8 @@ def greedy_probe_error(probe: list, *, gamma: float = 1.2, window: int = 3, d_ma
     """
     errors = []
     for potential, init, true_mm2 in probe:
-        result = _greedy(potential, init, SnakeWeights(0.4, 0.4, gamma), window, 2.0, d_max_px, 300, True)
-        errors.append(abs(_polygon_area(result.points, np.asarray(PIXEL_MM)) / true_mm2 - 1))
+        points, _ = _segment(potential, init, "greedy", SnakeWeights(0.4, 0.4, gamma), window)
+        errors.append(abs(_polygon_area(points, np.asarray(PIXEL_MM)) / true_mm2 - 1))
     return float(100 * np.mean(errors))
 
 

@@ -10,7 +10,7 @@ import numpy as np
 
 from amdo_lab.active_contours.phantom import MUSCLES, PIXEL_MM, SLICE_MM, HamStudy, _initial_contour
 from amdo_lab.active_contours.potential import _potential_field
-from amdo_lab.active_contours.snakes import TABLE_1, _dp, _greedy, _variational
+from amdo_lab.active_contours.snakes import TABLE_1, SnakeWeights, _dp, _greedy, _variational
 from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
 
 __all__ = ["METHODS", "polygon_area_mm2", "segment_contour", "segment_study", "volume_mm3"]
@@ -96,14 +96,16 @@ def _crop(init: np.ndarray, shape: tuple[int, int]) -> tuple[slice, slice]:
     return slice(low[0], high[0]), slice(low[1], high[1])
 
 
-def _segment(potential: np.ndarray, init: np.ndarray, method: str):
+def _segment(potential: np.ndarray, init: np.ndarray, method: str, weights: SnakeWeights | None = None,
+             window: int = 3):
+    """Run ``method`` in a crop round ``init``; Table 1's weights unless ``weights`` is given."""
     rows, cols = _crop(init, potential.shape)
     local, offset = potential[rows, cols], np.array([rows.start, cols.start])
-    weights = TABLE_1[method]
+    weights = TABLE_1[method] if weights is None else weights
     if method == "greedy":
-        result = _greedy(local, init - offset, weights, 3, 2.0, 6.0, 300, vectorised=True)
+        result = _greedy(local, init - offset, weights, window, 2.0, 6.0, 300, vectorised=True)
     elif method == "dynamic":
-        result = _dp(local, init - offset, weights, 3, 2.0, 6.0, 100)
+        result = _dp(local, init - offset, weights, window, 2.0, 6.0, 100)
     else:
         result = _variational(local.max() - local, init - offset, weights, 0.5, 2.0, 6.0, 200, 0.2, 80)
     return result.points + offset, result
