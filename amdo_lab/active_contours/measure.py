@@ -11,7 +11,7 @@ import numpy as np
 from amdo_lab.active_contours.phantom import MUSCLES, PIXEL_MM, SLICE_MM, HamStudy, _initial_contour
 from amdo_lab.active_contours.potential import _potential_field
 from amdo_lab.active_contours.snakes import TABLE_1, SnakeWeights, _dp, _greedy, _variational
-from amdo_lab.common import as_finite_array, check_choice, check_positive, check_positive_int
+from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive_int
 
 __all__ = ["METHODS", "polygon_area_mm2", "segment_contour", "segment_study", "volume_mm3"]
 
@@ -84,9 +84,7 @@ def volume_mm3(areas_mm2: np.ndarray, slice_mm: float = SLICE_MM) -> float:
     640.0
     """
     areas = as_finite_array(areas_mm2, "areas_mm2", ndim=1, bounds=(0.0, 1e12))
-    slice_mm = check_positive(slice_mm, "slice_mm")
-    if slice_mm > 1e3:
-        raise ValueError(f"slice_mm must be at most 1000, got {slice_mm}")
+    slice_mm = check_in_range(slice_mm, "slice_mm", 0.0, 1e3, closed="right")
     return float(slice_mm * areas.sum())
 
 

@@ -34,7 +34,8 @@ import scipy.linalg
 from scipy import ndimage
 
 from amdo_lab.active_contours.potential import _gvf, _image
-from amdo_lab.common import MAX_ITERATIONS, as_finite_array, check_odd_int, check_positive, check_positive_int
+from amdo_lab.common import MAX_ITERATIONS, as_finite_array, check_in_range, check_odd_int, check_positive, \
+    check_positive_int
 
 __all__ = ["MAX_POINTS", "SnakeResult", "SnakeWeights", "TABLE_1", "candidate_offsets", "dp_snake",
            "greedy_energies", "greedy_snake", "greedy_snake_loop", "respace", "variational_snake"]
@@ -587,9 +588,7 @@ def variational_snake(
     """
     edge_map, init = _snake_input(edge_map, init, "edge_map")
     weights = _weights(alpha, beta, gamma)
-    tau = check_positive(tau, "tau")
-    if tau > 100:
-        raise ValueError(f"tau must be at most 100, got {tau}")
+    tau = check_in_range(tau, "tau", 0.0, 100.0, closed="right")
     d_min, d_max = _spacing(d_min_px, d_max_px)
     max_iter = check_positive_int(max_iter, "max_iter", maximum=MAX_ITERATIONS)
     mu = float(as_finite_array(mu, "mu", bounds=(0.0, 0.25), closed="right"))
