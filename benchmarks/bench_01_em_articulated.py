@@ -27,6 +27,7 @@ BLAS is limited to one thread (benchmarks/_harness.py); ``--json PATH`` writes t
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 
 from _harness import Benchmark  # first: pins BLAS threads before numpy is imported
 
@@ -74,11 +75,11 @@ def registration_rows(table, hand, trials: int, seed: int, name: str, problem: d
 
     from amdo_lab.em_articulated import OUR_SETTINGS, PAPER_SETTINGS, run_registration_trials
 
-    runs = [("paper", PAPER_SETTINGS, None), ("ours", OUR_SETTINGS, None)]
+    runs = [("paper", PAPER_SETTINGS, False), ("ours", OUR_SETTINGS, False)]
     if name in DIGIT_SEARCH_CONDITIONS:
-        runs.append(("ours+digits", OUR_SETTINGS, {}))
+        runs.append(("ours+digits", OUR_SETTINGS, True))
     for label, settings, digit_search in runs:
-        summary = run_registration_trials(hand, trials, rng=seed, problem=problem, em_settings=settings,
+        summary = run_registration_trials(hand, trials, rng=seed, problem=problem, settings=settings,
                                           surface_max_iter=0, digit_search=digit_search)
         floors = summary.oracle_rmse_deg[np.isfinite(summary.oracle_rmse_deg)]
         floor = float(np.median(floors)) if floors.size else float("nan")  # textureless: no true matches
@@ -143,7 +144,7 @@ def e_step_table(bench: Benchmark, hand) -> None:
 
     from amdo_lab.em_articulated import PAPER_C, e_step_statistics, e_step_statistics_kdtree, make_registration_problem
     # Not exported by the subpackage: the pair-share estimate and the dense/k-d tree switch register_em uses.
-    from amdo_lab.em_articulated.registration import DENSE_PAIR_FRACTION, ClosePairs
+    from amdo_lab.em_articulated.kdtree import DENSE_PAIR_FRACTION, ClosePairs
 
     problem = make_registration_problem(hand, rng=0, joint_error_deg=0.0, noise_mm=2.0, outlier_ratio=1.0)
     model, data = problem.model_points, problem.data_points
@@ -180,12 +181,11 @@ def _track(hand, seed: int, n_frames: int, **overrides):
     be repeated alone); seconds per frame is that time over the ``n_frames - 1`` tracked frames."""
     import numpy as np
 
-    from amdo_lab.em_articulated import TRACKING_SETTINGS, joint_rmse_deg, make_tracking_sequence, track_sequence
+    from amdo_lab.em_articulated import TRACKING_SETTINGS, joint_rmse_deg, make_tracking_sequence, track
 
     sequence = make_tracking_sequence(hand, rng=seed, n_frames=n_frames, fps=20.0)
     start = time.perf_counter()
-    result = track_sequence(sequence.frames, hand, sequence.poses[0], sigma_max=8.0, sigma_min=3.0,
-                            em_settings={**TRACKING_SETTINGS, **overrides})
+    result = track(sequence.frames, hand, sequence.poses[0], settings=replace(TRACKING_SETTINGS, **overrides))
     per_frame = (time.perf_counter() - start) / (n_frames - 1)
     errors = np.array([joint_rmse_deg(est, true) for est, true in zip(result.poses, sequence.poses)])
     return per_frame, errors, (sequence, result)
@@ -201,8 +201,8 @@ def tracking_line(bench: Benchmark, hand, n_frames: int) -> None:
     points = [len(frame) for frame in sequence.frames]
     table = bench.table("frames", "points min", "points max", "ms/frame", "median RMSE", "worst RMSE", "last RMSE",
                         "texture kept",
-                        title=f"tracking the chapter's sequence (seed 5, 20 fps): {TRACKING_SETTINGS['n_levels']} sigma "
-                              f"levels x {TRACKING_SETTINGS['max_iter']} EM iterations + 3 surface steps "
+                        title=f"tracking the chapter's sequence (seed 5, 20 fps): {TRACKING_SETTINGS.n_levels} sigma "
+                              f"levels x {TRACKING_SETTINGS.max_iter} EM iterations + 3 surface steps "
                               "per frame; joint RMSE in deg over the frames after the first, texture kept = median texture points")
     table.add(n_frames, min(points), max(points), round(1000 * per_frame), round(float(np.median(errors[1:])), 1),
               round(float(errors.max()), 1), round(float(errors[-1]), 1), round(float(np.median(result.n_texture[1:]))))
@@ -226,8 +226,8 @@ def frame_timing(bench: Benchmark, hand, n_frames: int = 20) -> None:
         problem = make_registration_problem(hand, rng=rng, joint_error_deg=5.0, noise_mm=2.0, outlier_ratio=1.0,
                                             n_model=500, n_data=500)
         start = time.perf_counter()
-        em = register_em(problem.model_points, problem.data_points, hand, problem.theta_init, 8.0, 3.0,
-                         **TRACKING_SETTINGS)
+        em = register_em(problem.model_points, problem.data_points, hand, problem.theta_init,
+                         settings=TRACKING_SETTINGS)
         close = np.abs(hand.surface_distance(problem.data_points, em.theta)) < 5.0
         fit_surface(problem.data_points[close], hand, em.theta, max_iter=3)
         seconds.append(time.perf_counter() - start)
@@ -282,7 +282,7 @@ def peer_table(bench: Benchmark, hand, trials: int) -> None:
             # pycpd maps row vectors as s * Y @ R + t: its R is the transpose of the column-vector rotation
             row += [np.linalg.norm(scale * palm_init @ rotation + translation - palm_true), seconds]
         start = time.perf_counter()
-        em = register_em(problem.model_points, problem.data_points, hand, problem.theta_init, **OUR_SETTINGS)
+        em = register_em(problem.model_points, problem.data_points, hand, problem.theta_init, settings=OUR_SETTINGS)
         row += [np.linalg.norm(hand.part_transforms(em.theta)[0, :3, 3] - palm_true), time.perf_counter() - start]
         rows.append(row)
     med = np.median(np.array(rows), axis=0)
@@ -305,7 +305,7 @@ def objective_table(bench: Benchmark, hand, trials: int, seed: int = 4242) -> No
 
     from amdo_lab.em_articulated import OUR_SETTINGS, objective_check
 
-    check = objective_check(hand, trials, rng=seed, problem=OBJECTIVE_CONDITION, em_settings=OUR_SETTINGS)
+    check = objective_check(hand, trials, rng=seed, problem=OBJECTIVE_CONDITION, settings=OUR_SETTINGS)
     table = bench.table("trial", "EM", "floor", "climbed", "L(EM)-L(floor)", "L(EM)-L(truth)", "L(climbed)-L(EM)",
                         title=f"optimizer or objective? {trials} trials, start 10 deg, 2 mm per coordinate on texture "
                               f"and data, 1:1 outliers, objective at sigma {check.sigma:g} mm; joint RMSE in deg")
@@ -338,7 +338,7 @@ def schedule_table(bench: Benchmark, hand, trials: int, seed: int = 1012) -> Non
     for label, settings in (("paper", PAPER_SETTINGS), ("ours", OUR_SETTINGS)):
         for schedule in ("per-step", "levels"):
             summary = run_registration_trials(hand, trials, rng=seed, problem=problem,
-                                              em_settings={**settings, "schedule": schedule}, surface_max_iter=0)
+                                              settings=replace(settings, schedule=schedule), surface_max_iter=0)
             interval = summary.success_interval()
             table.add(label, schedule, round(summary.median_rmse_deg, 2), round(summary.success_rate, 2),
                       round(interval.low, 2), round(interval.high, 2),

@@ -24,6 +24,8 @@ Sections (all by default, about 3 minutes on one core; ``--only NAME`` runs one)
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from _harness import Benchmark  # first: pins BLAS threads before numpy is imported
 
 SECTIONS = ("kdtree", "bending", "sigma", "tracking", "softassign", "ambiguity", "objective", "cpd",
@@ -111,14 +113,14 @@ def _sigma(table, hand, np) -> None:
     for seed in (15, 16, 17, 18, 19, 20):
         problem = make_registration_problem(hand, rng=seed, **_headline(np))
         run = register_em(problem.model_points, problem.data_points, hand, problem.theta_init,
-                          **{**OUR_SETTINGS, "sigma_mode": "estimate"})
+                          settings=replace(OUR_SETTINGS, sigma_mode="estimate"))
         final[seed] = float(run.history[-1, 0])
     report(table, "Sec. 3.3: estimated sigma at the end (mm)", final[15], [final[s] for s in range(16, 21)], 1.0,
            above=False)
 
 
 def _tracking(table, hand, np) -> None:
-    from amdo_lab.em_articulated import TRACKING_SETTINGS, joint_rmse_deg, make_tracking_sequence, track_sequence
+    from amdo_lab.em_articulated import TRACKING_SETTINGS, joint_rmse_deg, make_tracking_sequence, track
 
     def errors(seq, tracked):
         return np.array([joint_rmse_deg(est, true) for est, true in zip(tracked.poses, seq.poses)])
@@ -126,12 +128,10 @@ def _tracking(table, hand, np) -> None:
     build_up, drift_gain, bend_worst, bend_kept = {}, {}, {}, {}
     for seed in (5, 6, 7, 8, 9, 10):
         seq = make_tracking_sequence(hand, rng=seed, n_frames=100, fps=20.0)
-        full = track_sequence(seq.frames, hand, seq.poses[0], sigma_max=8.0, sigma_min=3.0,
-                              em_settings=TRACKING_SETTINGS)
+        full = track(seq.frames, hand, seq.poses[0], settings=TRACKING_SETTINGS)
         err = errors(seq, full)
         build_up[seed] = abs(np.median(err[75:]) - np.median(err[1:26]))
-        drift = track_sequence(seq.frames[:40], hand, seq.poses[0], sigma_max=8.0, sigma_min=3.0,
-                               em_settings=TRACKING_SETTINGS, surface_max_iter=0)
+        drift = track(seq.frames[:40], hand, seq.poses[0], settings=TRACKING_SETTINGS, surface_max_iter=0)
         drift_gain[seed] = np.median(errors(seq, drift)[1:]) - np.median(err[1:40])
         print(f"tracking seed {seed}: median {np.median(err[1:]):.1f}, worst {err.max():.1f}, "
               f"quarters {np.median(err[1:26]):.1f} / {np.median(err[75:]):.1f}, kept {np.median(full.n_texture[1:]):.0f}")
@@ -142,8 +142,7 @@ def _tracking(table, hand, np) -> None:
         worst, kept = [], []
         for camera in ([0.0, 40.0, 500.0], [500.0, 40.0, 100.0]):
             seq = make_tracking_sequence(hand, rng=seed, n_frames=60, motion="bend", camera=np.array(camera))
-            bent = track_sequence(seq.frames, hand, seq.poses[0], sigma_max=8.0, sigma_min=3.0,
-                                  em_settings=TRACKING_SETTINGS)
+            bent = track(seq.frames, hand, seq.poses[0], settings=TRACKING_SETTINGS)
             worst.append(errors(seq, bent).max())
             kept.append(abs(np.median(bent.n_texture[1:]) / kept_reference - 1))
         bend_worst[seed], bend_kept[seed] = max(worst), max(kept)
@@ -158,13 +157,13 @@ def _tracking(table, hand, np) -> None:
 
 
 def _softassign(table, hand, np) -> None:
-    from amdo_lab.em_articulated import make_registration_problem, softassign_register
+    from amdo_lab.em_articulated import make_registration_problem, register_softassign
 
     swing = {}
     for seed in range(11, 17):
         small = make_registration_problem(hand, rng=seed, joint_error_deg=5.0, noise_mm=2.0, outlier_ratio=1.0,
                                           n_model=200, n_data=200)
-        mass = [softassign_register(small.model_points, small.data_points, hand, small.theta_init, 15.0, 3.0,
+        mass = [register_softassign(small.model_points, small.data_points, hand, small.theta_init, 15.0, 3.0,
                                     slack=s, n_levels=3, n_iter=1).inlier_prob.mean()
                 for s in (1e-6, 1e-3, 1e-1, 1e1, 1e3)]
         swing[seed] = max(mass) - min(mass)
@@ -194,7 +193,7 @@ def _objective(table, hand, np) -> None:
     prefers_floor, prefers_truth, ratio = {}, {}, {}
     for seed in (4242, 1, 2, 3, 4, 5):
         study = objective_check(hand, 20, rng=seed, problem=dict(joint_error_deg=10.0, noise_mm=2.0, outlier_ratio=1.0),
-                                em_settings=OUR_SETTINGS)
+                                settings=OUR_SETTINGS)
         prefers_floor[seed] = float(np.mean(study.em_log_likelihood > study.floor_log_likelihood))
         prefers_truth[seed] = float(np.mean(study.em_log_likelihood > study.truth_log_likelihood))
         ratio[seed] = float(np.median(study.climbed_rmse_deg) / np.median(study.floor_rmse_deg))
@@ -228,9 +227,9 @@ def _cpd(table, hand, np) -> None:
             _, (scale, rotation, translation) = RigidRegistration(X=problem.data_points, Y=problem.model_points, w=w,
                                                                   max_iterations=40).register()
             cpd.append(gap(scale * problem.model_points @ rotation + translation))
-        em = register_em(problem.model_points, problem.data_points, hand, problem.theta_init, **OUR_SETTINGS)
+        em = register_em(problem.model_points, problem.data_points, hand, problem.theta_init, settings=OUR_SETTINGS)
         digits = refine_digits(problem.model_points, problem.data_points, hand, problem.theta_init, em.theta,
-                               **OUR_SETTINGS)
+                               settings=OUR_SETTINGS)
         floor = fit_known_correspondences(problem.model_points[texture_index], problem.data_points[matched_index],
                                           hand, problem.theta_init)
         floor_gap = gap(hand.transform_texture(binding, floor))
@@ -250,7 +249,7 @@ def _textured(table, hand, np) -> None:
     gain = {}
     for seed in (2, 3, 4, 5, 6, 7):
         medians = [run_registration_trials(hand, 8, rng=seed, problem={**_headline(np), "repeatability": r},
-                                           em_settings=OUR_SETTINGS, surface_max_iter=0).median_rmse_deg
+                                           settings=OUR_SETTINGS, surface_max_iter=0).median_rmse_deg
                    for r in (0.8, 0.0)]
         gain[seed] = medians[1] / medians[0]
         print(f"textured vs textureless, seed {seed}, 8 trials: medians {medians[0]:.1f} / {medians[1]:.1f} deg")

@@ -1,6 +1,8 @@
 """Tests for Chapter 1 (amdo_lab.em_articulated): Dewaele et al., ECCV 2006."""
 
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from rejections import check_rejection, reject
@@ -11,6 +13,7 @@ from amdo_lab.em_articulated import (
     OUR_SETTINGS,
     PAPER_C,
     HandModel,
+    TextureBinding,
     TrialSummary,
     e_step_reference,
     e_step_statistics,
@@ -18,7 +21,8 @@ from amdo_lab.em_articulated import (
     robust_log_likelihood,
     register_em_reference,
     climb_objective,
-    dof_lever_arms,
+    EMSettings,
+    gauss_newton_step,
     fit_known_correspondences,
     fit_surface,
     make_skin_texture,
@@ -32,11 +36,12 @@ from amdo_lab.em_articulated import (
     refine_digits,
     register_em,
     run_registration_trials,
-    softassign_register,
-    track_sequence,
+    register_softassign,
+    track,
 )
+from amdo_lab.em_articulated.digits import digit_starts
+from amdo_lab.em_articulated.estep import robust_log_likelihood_reference
 from amdo_lab.em_articulated.hand import DIGIT_DOFS
-from amdo_lab.em_articulated.registration import digit_starts, robust_log_likelihood_reference
 
 
 @pytest.fixture(scope="module")
@@ -163,7 +168,7 @@ def test_register_em_exact_correspondences_converges(hand):
     theta_init = perturb_pose(hand, theta_true, 10.0, rng=rng)
     model = hand.sample_surface(theta_init, 400, rng=rng)
     data = hand.transform_texture(hand.texture_binding(model, theta_init), theta_true)
-    result = register_em(model, data, hand, theta_init, 10.0, 1.0, max_iter=4)
+    result = register_em(model, data, hand, theta_init, settings=EMSettings(sigma_max=10.0, sigma_min=1.0, max_iter=4))
     assert joint_rmse_deg(result.theta, theta_true) < 1.0
     assert result.history.shape[1] == 2 and result.history[-1, 0] == pytest.approx(1.0)
     limits = hand.joint_limits()
@@ -173,7 +178,8 @@ def test_register_em_exact_correspondences_converges(hand):
 def test_register_em_inlier_prob_separates_outliers(hand):
     problem = make_registration_problem(hand, rng=7, joint_error_deg=5.0, noise_mm=1.0, outlier_ratio=1.0,
                                         n_model=300, n_data=300)
-    result = register_em(problem.model_points, problem.data_points, hand, problem.theta_init, 15.0, 3.0)
+    result = register_em(problem.model_points, problem.data_points, hand, problem.theta_init,
+                         settings=EMSettings(sigma_max=15.0, sigma_min=3.0))
     assert result.inlier_prob.shape == (len(problem.data_points),)
     assert np.mean(result.inlier_prob[~problem.is_outlier]) > 3 * np.mean(result.inlier_prob[problem.is_outlier])
 
@@ -192,8 +198,8 @@ def test_softassign_slack_extremes(hand):
     problem = make_registration_problem(hand, rng=9, joint_error_deg=5.0, noise_mm=1.0, outlier_ratio=0.5,
                                         n_model=150, n_data=150)
     args = (problem.model_points, problem.data_points, hand, problem.theta_init, 10.0, 3.0)
-    high = softassign_register(*args, slack=1e3, n_levels=2, n_iter=1)
-    low = softassign_register(*args, slack=1e-8, n_levels=2, n_iter=1)
+    high = register_softassign(*args, slack=1e3, n_levels=2, n_iter=1)
+    low = register_softassign(*args, slack=1e-8, n_levels=2, n_iter=1)
     # too high a slack: everything is an outlier; too low: every model point gets matched
     assert np.mean(high.inlier_prob) < 0.2
     assert low.inlier_prob.sum() > 0.9 * len(problem.model_points)
@@ -222,41 +228,15 @@ def test_registration_problems_never_start_with_crossed_fingers(hand):
         assert joint_rmse_deg(problem.theta_init, problem.theta_true) > 15.0
 
 
-def test_lever_arms_shrink_along_each_finger(hand):
-    from amdo_lab.em_articulated import dof_lever_arms
-    theta = hand.rest_pose()
-    points = hand.sample_surface(theta, 400, rng=make_rng(3))
-    lever = dof_lever_arms(hand, hand.texture_binding(points, theta), theta)
-    assert np.all(np.isinf(lever[:3]))
-    for first in (11, 15, 19, 23):  # abduction, then the three flexions of each finger
-        assert lever[first + 1] > lever[first + 2] > lever[first + 3] > 0
-
-
-def test_release_ratio_holds_short_levers_while_sigma_is_large(hand):
-    rng = make_rng(4)
-    theta = hand.rest_pose()
-    model = hand.sample_surface(theta, 200, rng=rng)
-    moved = theta.copy()
-    moved[:3] += [3.0, -2.0, 1.0]
-    moved[12] += 0.2
-    data = hand.transform_texture(hand.texture_binding(model, theta), moved)
-    # σ = 20 mm with ratio 10: only DOFs whose lever arm exceeds 200 mm (the palm translation) move
-    held = register_em(model, data, hand, theta, 20.0, 19.0, release_ratio=10.0, n_levels=2)
-    np.testing.assert_array_equal(held.theta[3:], theta[3:])
-    assert np.linalg.norm(held.theta[:3] - moved[:3]) < 1.5
-    free = register_em(model, data, hand, theta, 20.0, 19.0, n_levels=2)
-    assert np.any(free.theta[6:] != theta[6:])
-
-
 def test_debiased_targets_keep_a_perfect_fit_at_large_sigma(hand):
     """Data that coincide with the texture: the paper's blurred targets G_i move the hand at
     σ = 20 mm (fingers curl towards the middle), the bias-corrected ones leave it in place."""
     rng = make_rng(21)
     theta = random_pose(hand, rng=rng)
     texture = hand.sample_surface(theta, 400, rng=rng)
-    paper = register_em(texture, texture, hand, theta, 20.0, 19.0, n_levels=1, max_iter=5)
-    ours = register_em(texture, texture, hand, theta, 20.0, 19.0, n_levels=1, max_iter=5,
-                       targets="debiased")
+    paper_settings = EMSettings(sigma_max=20.0, sigma_min=19.0, n_levels=1, max_iter=5)
+    paper = register_em(texture, texture, hand, theta, settings=paper_settings)
+    ours = register_em(texture, texture, hand, theta, settings=replace(paper_settings, targets="debiased"))
     assert joint_rmse_deg(paper.theta, theta) > 5.0
     assert joint_rmse_deg(ours.theta, theta) < 0.1
 
@@ -265,8 +245,8 @@ def test_register_em_stops_a_level_once_converged(hand):
     rng = make_rng(22)
     theta = random_pose(hand, rng=rng)
     texture = hand.sample_surface(theta, 200, rng=rng)
-    result = register_em(texture, texture, hand, theta, 10.0, 3.0, n_levels=3, max_iter=10,
-                         tol=1e-3, targets="debiased")
+    result = register_em(texture, texture, hand, theta,
+                         settings=EMSettings(sigma_max=10.0, sigma_min=3.0, n_levels=3, targets="debiased"))
     assert len(result.history) < 3 * 10  # each level ends as soon as Θ stops changing
     assert sorted(set(result.history[:, 0]), reverse=True) == pytest.approx(np.geomspace(10.0, 3.0, 3))
 
@@ -333,8 +313,9 @@ def test_kdtree_e_step_matches_dense(hand):
         for a, b in zip(dense[:3], tree[:3]):
             np.testing.assert_allclose(a, b, atol=2e-3 * max(1.0, np.abs(a).max()))
         assert tree[3] == pytest.approx(dense[3], rel=2e-2)
-    em_dense = register_em(model, data, hand, theta, 10.0, 3.0, n_levels=2)
-    em_tree = register_em(model, data, hand, theta, 10.0, 3.0, n_levels=2, e_step="kdtree")
+    dense_settings = EMSettings(sigma_max=10.0, sigma_min=3.0, n_levels=2)
+    em_dense = register_em(model, data, hand, theta, settings=dense_settings)
+    em_tree = register_em(model, data, hand, theta, settings=replace(dense_settings, e_step="kdtree"))
     assert np.max(np.abs(em_dense.theta - em_tree.theta)) < 1e-2
 
 
@@ -366,7 +347,7 @@ def test_batched_kinematics_match_the_part_by_part_chain(hand):
 
 def test_close_pair_cache_returns_the_pairs_of_a_fresh_query(hand):
     from scipy.spatial import cKDTree
-    from amdo_lab.em_articulated.registration import ClosePairs
+    from amdo_lab.em_articulated.kdtree import ClosePairs
     rng = make_rng(4)
     data = rng.uniform(-60, 60, size=(400, 3))
     model = rng.uniform(-60, 60, size=(300, 3))
@@ -410,7 +391,7 @@ def test_dense_e_step_matches_a_logsumexp_reference(precision, rtol):
 
 
 def test_pair_fraction_estimate_and_the_dense_switch(hand):
-    from amdo_lab.em_articulated.registration import DENSE_PAIR_FRACTION, ClosePairs
+    from amdo_lab.em_articulated.kdtree import DENSE_PAIR_FRACTION, ClosePairs
     rng = make_rng(13)
     theta = hand.rest_pose()
     model = hand.sample_surface(theta, 300, rng=rng)
@@ -423,8 +404,9 @@ def test_pair_fraction_estimate_and_the_dense_switch(hand):
     # at σ of 15-20 mm the 4σ balls hold more than the switch's share of all pairs, so "kdtree"
     # runs the dense E-step, and the two settings give the same pose
     assert ClosePairs(data).pair_fraction(model, 4 * 15.0) > DENSE_PAIR_FRACTION
-    em_dense = register_em(model, data, hand, theta, 20.0, 15.0, n_levels=2)
-    em_tree = register_em(model, data, hand, theta, 20.0, 15.0, n_levels=2, e_step="kdtree")
+    dense_settings = EMSettings(sigma_max=20.0, sigma_min=15.0, n_levels=2)
+    em_dense = register_em(model, data, hand, theta, settings=dense_settings)
+    em_tree = register_em(model, data, hand, theta, settings=replace(dense_settings, e_step="kdtree"))
     np.testing.assert_array_equal(em_dense.theta, em_tree.theta)
 
 
@@ -446,12 +428,12 @@ def _worst_finger_deg(theta, theta_true):
 def test_digit_search_frees_a_finger_the_em_leaves_on_its_neighbour(hand):
     # seed 15: the annealed EM ends with the ring and little fingers up to 22 and 27 degrees off
     case = make_registration_problem(hand, rng=15, **_LENIENT)
-    em = register_em(case.model_points, case.data_points, hand, case.theta_init, **OUR_SETTINGS)
+    em = register_em(case.model_points, case.data_points, hand, case.theta_init, settings=OUR_SETTINGS)
     assert _worst_finger_deg(em.theta, case.theta_true) > 15
     args = (case.model_points, case.data_points, hand, case.theta_init, em.theta)
-    rerun = refine_digits(*args, max_passes=0, **OUR_SETTINGS)  # the EM's last levels again, no re-seeding
+    rerun = refine_digits(*args, max_passes=0, settings=OUR_SETTINGS)  # the EM's last levels again, no re-seeding
     assert _worst_finger_deg(rerun.theta, case.theta_true) > 15 and rerun.accepted == ()
-    search = refine_digits(*args, **OUR_SETTINGS)
+    search = refine_digits(*args, settings=OUR_SETTINGS)
     assert _worst_finger_deg(search.theta, case.theta_true) < 10
     assert search.accepted and all(gain > 1.0 for _, gain in search.accepted)
     assert search.log_likelihood > rerun.log_likelihood
@@ -468,13 +450,13 @@ def _log_likelihood_reference(hand, model_points, theta_init, theta, data, sigma
 def test_digit_search_never_lowers_the_criterion(hand, seed):
     case = make_registration_problem(hand, rng=seed, joint_error_deg=20.0, noise_mm=2.0, outlier_ratio=1.0,
                                      n_model=150, n_data=150)
-    settings = dict(OUR_SETTINGS, max_iter=3)
+    settings = replace(OUR_SETTINGS, max_iter=3)
     # from the start pose itself (far from converged) and from a finger bent onto the limit
     bent = case.theta_init.copy()
     bent[16:19] = hand.joint_limits()[16:19, 1]
     for theta in (case.theta_init, bent):
         search = refine_digits(case.model_points, case.data_points, hand, case.theta_init, theta,
-                               search_levels=1, min_gain=0.0, max_passes=1, **settings)
+                               search_levels=1, min_gain=0.0, max_passes=1, settings=settings)
         before = _log_likelihood_reference(hand, case.model_points, case.theta_init, theta, case.data_points, 3.0)
         after = _log_likelihood_reference(hand, case.model_points, case.theta_init, search.theta, case.data_points, 3.0)
         assert search.start_log_likelihood == pytest.approx(before, rel=1e-9)
@@ -487,7 +469,7 @@ def test_digit_search_never_lowers_the_criterion(hand, seed):
 def test_digit_search_keeps_an_exact_fit(hand):
     theta = hand.rest_pose()
     texture = hand.sample_surface(theta, 200, rng=0)
-    search = refine_digits(texture, texture, hand, theta, theta, search_levels=1, **OUR_SETTINGS)
+    search = refine_digits(texture, texture, hand, theta, theta, search_levels=1, settings=OUR_SETTINGS)
     assert search.accepted == ()
     assert np.degrees(np.max(np.abs(search.theta - theta))) < 1.0
     assert search.log_likelihood >= search.start_log_likelihood
@@ -526,10 +508,10 @@ def test_digit_starts_move_one_digit_within_the_limits(hand):
 
 def test_trials_run_the_digit_search_only_when_asked(hand):
     problem = dict(joint_error_deg=10.0, n_model=100, n_data=100)
-    settings = dict(OUR_SETTINGS, max_iter=2)
-    plain = run_registration_trials(hand, 1, rng=0, problem=problem, em_settings=settings, surface_max_iter=0)
-    rerun = run_registration_trials(hand, 1, rng=0, problem=problem, em_settings=settings, surface_max_iter=0,
-                                    digit_search=dict(max_passes=0))
+    settings = replace(OUR_SETTINGS, max_iter=2)
+    plain = run_registration_trials(hand, 1, rng=0, problem=problem, settings=settings, surface_max_iter=0)
+    rerun = run_registration_trials(hand, 1, rng=0, problem=problem, settings=settings, surface_max_iter=0,
+                                    digit_search=True)
     assert np.isfinite(rerun.rmse_deg).all() and rerun.rmse_deg[0] != plain.rmse_deg[0]
 
 
@@ -543,8 +525,8 @@ def test_trial_summary_success_interval_counts_the_successful_trials():
 
 def test_noise_floor_trials_are_the_trial_runners_floors_without_the_em(hand):
     problem = dict(joint_error_deg=10.0, n_model=100, n_data=100)
-    settings = dict(OUR_SETTINGS, max_iter=1)
-    trials = run_registration_trials(hand, 2, rng=3, problem=problem, em_settings=settings, surface_max_iter=0)
+    settings = replace(OUR_SETTINGS, max_iter=1)
+    trials = run_registration_trials(hand, 2, rng=3, problem=problem, settings=settings, surface_max_iter=0)
     rmse, worst = noise_floor_trials(hand, 2, rng=3, problem=problem)
     np.testing.assert_array_equal(rmse, trials.oracle_rmse_deg)
     np.testing.assert_array_equal(worst, trials.oracle_max_error_deg)
@@ -595,11 +577,43 @@ def test_public_robust_log_likelihood_matches_logsumexp():
 def test_register_em_reference_equals_the_fast_em(hand, targets):
     case = make_registration_problem(hand, rng=4, joint_error_deg=10.0, noise_mm=1.0, outlier_ratio=0.5,
                                      n_model=120, n_data=120)
-    settings = dict(sigma_max=12.0, sigma_min=3.0, n_levels=3, max_iter=4, targets=targets)
-    reference = register_em_reference(case.model_points, case.data_points, hand, case.theta_init, **settings)
-    fast = register_em(case.model_points, case.data_points, hand, case.theta_init, e_step="dense", **settings)
+    settings = EMSettings(sigma_max=12.0, sigma_min=3.0, n_levels=3, max_iter=4, targets=targets)
+    reference = register_em_reference(case.model_points, case.data_points, hand, case.theta_init, settings=settings)
+    fast = register_em(case.model_points, case.data_points, hand, case.theta_init, settings=settings)
     assert np.max(np.abs(reference - fast.theta)) < 1e-4  # the fast path exponentiates in single precision
     assert joint_rmse_deg(reference, case.theta_init) > 1.0  # the EM moved: the comparison is not trivial
+
+
+def test_a_texture_binding_built_by_hand_moves_its_points_as_eq3(hand):
+    """A TextureBinding built from plain lists is checked into arrays and, at its own pose, puts every
+    point back where it was observed (both part motions of eq. 3 agree there)."""
+    theta = random_pose(hand, rng=make_rng(31))
+    points = hand.sample_surface(theta, 20, rng=make_rng(32))
+    made = hand.texture_binding(points, theta)
+    rebuilt = TextureBinding(made.part_p.tolist(), made.part_r.tolist(), made.weight_p.tolist(),
+                             made.local_p.tolist(), made.local_r.tolist())
+    assert rebuilt.part_p.dtype.kind == "i" and rebuilt.local_p.shape == (20, 3)
+    np.testing.assert_allclose(hand.transform_texture(rebuilt, theta), points, atol=1e-9)
+
+
+def test_gauss_newton_step_solves_the_weighted_least_squares_of_eq20():
+    """Undamped, the step is the weighted least-squares solution of J ΔΘ = r (eq. 20 linearised)."""
+    rng = make_rng(30)
+    jacobian, residuals, weights = rng.normal(size=(40, 3, 5)), rng.normal(size=(40, 3)), rng.uniform(0, 2, 40)
+    sqrt_w = np.sqrt(weights)[:, None]
+    expected = np.linalg.lstsq((sqrt_w[:, :, None] * jacobian).reshape(-1, 5), (sqrt_w * residuals).ravel(),
+                               rcond=None)[0]
+    np.testing.assert_allclose(gauss_newton_step(jacobian, residuals, weights, damping=0.0), expected, rtol=1e-10)
+    damped = gauss_newton_step(jacobian, residuals, weights)  # the M-step's 1e-3 damping changes it a little
+    np.testing.assert_allclose(damped, expected, atol=1e-2 * np.abs(expected).max())
+    assert not np.allclose(damped, expected, rtol=1e-10, atol=0)
+
+
+def test_em_settings_name_the_paper_and_ours():
+    from amdo_lab.em_articulated import PAPER_SETTINGS
+    assert PAPER_SETTINGS.targets == "paper" and OUR_SETTINGS.targets == "debiased"
+    assert replace(PAPER_SETTINGS, targets="debiased") == OUR_SETTINGS
+    np.testing.assert_allclose(OUR_SETTINGS.sigmas, np.geomspace(20.0, 3.0, 5))
 
 
 def test_climb_objective_never_lowers_the_objective(hand):
@@ -617,8 +631,8 @@ def test_climb_objective_never_lowers_the_objective(hand):
 def test_objective_check_fields_agree_with_their_definitions(hand):
     from amdo_lab.em_articulated import objective_check
     problem = dict(joint_error_deg=10.0, noise_mm=2.0, outlier_ratio=1.0, n_model=150, n_data=150)
-    check = objective_check(hand, 2, rng=5, problem=problem, em_settings=OUR_SETTINGS)
-    assert check.em_rmse_deg.shape == (2,) and check.sigma == OUR_SETTINGS["sigma_min"]
+    check = objective_check(hand, 2, rng=5, problem=problem, settings=OUR_SETTINGS)
+    assert check.em_rmse_deg.shape == (2,) and check.sigma == OUR_SETTINGS.sigma_min
     # the climb starts at the floor pose and only goes up
     assert np.all(check.climbed_log_likelihood >= check.floor_log_likelihood - 1e-6)
 
@@ -626,11 +640,14 @@ def test_objective_check_fields_agree_with_their_definitions(hand):
 def test_per_step_schedule_runs_one_iteration_per_falling_sigma(hand):
     case = make_registration_problem(hand, rng=6, joint_error_deg=10.0, noise_mm=1.0, outlier_ratio=1.0,
                                      n_model=150, n_data=150)
-    settings = dict(sigma_max=20.0, sigma_min=3.0, n_levels=5, max_iter=10, tol=0.0)
-    per_step = register_em(case.model_points, case.data_points, hand, case.theta_init, schedule="per-step", **settings)
-    levels = register_em(case.model_points, case.data_points, hand, case.theta_init, **settings)
-    np.testing.assert_allclose(per_step.history[:, 0], np.r_[np.geomspace(20.0, 3.0, 5)[:4], np.full(10, 3.0)])
-    assert len(levels.history) == 50
+    settings = EMSettings(sigma_max=20.0, sigma_min=3.0, n_levels=5, max_iter=10)
+    per_step = register_em(case.model_points, case.data_points, hand, case.theta_init,
+                           settings=replace(settings, schedule="per-step"))
+    levels = register_em(case.model_points, case.data_points, hand, case.theta_init, settings=settings)
+    # one iteration at each σ above σ_min, then up to ten at σ_min (fewer once Θ stops changing)
+    np.testing.assert_allclose(per_step.history[:4, 0], np.geomspace(20.0, 3.0, 5)[:4])
+    assert 1 <= len(per_step.history) - 4 <= 10 and np.all(per_step.history[4:, 0] == 3.0)
+    assert len(per_step.history) < len(levels.history) <= 50
 
 
 def test_bend_sequence_keeps_the_palm_still_and_the_camera_selects_the_points(hand):
@@ -723,7 +740,7 @@ def test_transform_texture_is_eq3_blend_of_the_two_part_motions(hand):
 
 
 def test_robust_log_likelihood_reference_equals_the_streamed_path():
-    from amdo_lab.em_articulated.registration import robust_log_likelihood_reference
+    from amdo_lab.em_articulated.estep import robust_log_likelihood_reference
     rng = np.random.default_rng(44)
     model, data = rng.normal(0, 15, (50, 3)), rng.normal(0, 15, (80, 3))
     for sigma in (2.0, 6.0):
@@ -776,36 +793,39 @@ REJECTIONS = [
         np.array([[2e6, 0, 0]]), hand.rest_pose()), ValueError, "points must be at most"),
     reject("part_transforms theta beyond 1e6", lambda hand: hand.part_transforms(np.full(27, 2e6)),
            ValueError, "theta must be at most"),
-    reject("dof_lever_arms points for a binding", lambda hand: dof_lever_arms(hand, _points(hand), hand.rest_pose()),
-           TypeError, "binding must be a TextureBinding"),
+    reject("TextureBinding part beyond the hand", lambda: TextureBinding([16], [0], [0.5], [[0.0, 0, 0]],
+                                                                         [[0.0, 0, 0]]),
+           ValueError, r"part_p must lie in \[0, 15\]"),
+    reject("transform_texture points for a binding", lambda hand: hand.transform_texture(
+        _points(hand), hand.rest_pose()), TypeError, "binding must be a TextureBinding"),
     # E- and M-steps (eqs. 17-20)
     reject("e_step precision half", lambda: e_step_statistics(np.zeros((2, 3)), np.ones((3, 3)), 1.0, 0.0,
                                                              precision="half"), ValueError, "precision must be one of"),
     reject("m_step alpha columns differ from the data", lambda: m_step_targets(np.zeros((2, 4)), np.zeros((3, 3))),
            ValueError, r"alpha must have shape \(n, 3\)"),
     reject("m_step alpha above 1", lambda: m_step_targets(np.full((2, 3), 1.5), np.zeros((3, 3))),
-           ValueError, r"alpha must hold posteriors in \[0, 1\]"),
+           ValueError, r"alpha must lie in \[0, 1\]"),
     reject("m_step alpha below 0", lambda: m_step_targets(np.full((2, 3), -0.1), np.zeros((3, 3))),
-           ValueError, r"alpha must hold posteriors in \[0, 1\]"),
+           ValueError, r"alpha must lie in \[0, 1\]"),
     reject("robust_log_likelihood data beyond 1e6 mm",
            lambda: robust_log_likelihood(np.zeros((2, 3)), np.full((2, 3), 2e6), 1.0),
            ValueError, r"data_points must be at most 1e\+06"),
     reject("robust_log_likelihood_reference sigma 0", lambda: robust_log_likelihood_reference(
         np.zeros((2, 3)), np.ones((2, 3)), 0.0), ValueError, r"sigma must be in \(0, 1e\+06\]"),
     # register_em: the annealing schedule, the joint limits, the named options
-    reject("register_em sigma_min above sigma_max", lambda hand: register_em(
-        _points(hand), _points(hand), hand, hand.rest_pose(), 20.0, 30.0),
-        ValueError, "sigma_min must be smaller than sigma_max"),
+    reject("EMSettings sigma_min above sigma_max", lambda: EMSettings(sigma_max=20.0, sigma_min=30.0),
+           ValueError, r"sigma_min must be in \(0, 20\)"),
     reject("register_em theta_init outside the limits", lambda hand: register_em(
-        _points(hand), _points(hand), hand, _outside_limits(hand), 20.0, 2.0),
+        _points(hand), _points(hand), hand, _outside_limits(hand)),
         ValueError, r"theta_init must lie within joint_limits\(\); DOF \[12\]"),
-    reject("register_em targets mean", lambda hand: register_em(
-        _points(hand), _points(hand), hand, hand.rest_pose(), targets="mean"), ValueError, "targets must be one of"),
-    reject("register_em schedule fast", lambda hand: register_em(
-        _points(hand), _points(hand), hand, hand.rest_pose(), schedule="fast"), ValueError, "schedule must be one of"),
+    reject("EMSettings targets mean", lambda: EMSettings(targets="mean"), ValueError, "targets must be one of"),
+    reject("EMSettings schedule fast", lambda: EMSettings(schedule="fast"), ValueError, "schedule must be one of"),
+    reject("register_em settings as a dict", lambda hand: register_em(
+        _points(hand), _points(hand), hand, hand.rest_pose(), settings={"n_levels": 2}),
+        TypeError, "settings must be an EMSettings"),
     reject("fit_surface weights beyond 1e6", lambda hand: fit_surface(
-        _points(hand), hand, hand.rest_pose(), weights=np.full(30, 1e7)), ValueError, "weights must be at most"),
-    reject("track_sequence no frames", lambda hand: track_sequence([], hand, hand.rest_pose()),
+        _points(hand), hand, hand.rest_pose(), weights=np.full(30, 1e7)), ValueError, r"weights must lie in \[0, 1e\+06\]"),
+    reject("track no frames", lambda hand: track([], hand, hand.rest_pose()),
            ValueError, "frames must be a non-empty list"),
     reject("make_tracking_sequence motion wave", lambda hand: make_tracking_sequence(hand, rng=3, n_frames=4,
                                                                                      motion="wave"),
@@ -815,14 +835,9 @@ REJECTIONS = [
         _points(hand), _points(hand), hand, hand.rest_pose(), np.full(27, 3.0)), ValueError, "theta must lie within"),
     reject("refine_digits search_levels above n_levels", lambda hand: refine_digits(
         _points(hand), _points(hand), hand, hand.rest_pose(), hand.rest_pose(), search_levels=6),
-        ValueError, "search_levels must be at most n_levels"),
-    reject("refine_digits targets mean", lambda hand: refine_digits(
-        _points(hand), _points(hand), hand, hand.rest_pose(), hand.rest_pose(), targets="mean"),
-        ValueError, "targets must be one of"),
+        ValueError, "search_levels must be at most 5"),
     reject("refine_digits unknown setting", lambda hand: refine_digits(
         _points(hand), _points(hand), hand, hand.rest_pose(), hand.rest_pose(), spread=3), TypeError, "spread"),
-    reject("run_registration_trials unknown digit_search setting", lambda hand: run_registration_trials(
-        hand, 1, rng=0, problem=dict(n_model=100, n_data=100), digit_search=dict(spread=1)), TypeError, "spread"),
     # the rng convention: errors start with "rng", TypeError for a non-seed, ValueError for a negative seed
     *[reject(f"{name} rng {bad!r}", lambda hand, draw=draw, bad=bad: draw(hand, bad), error, "^rng ")
       for name, (_, draw) in sorted(_DRAWING.items()) for bad, error in (("seed", TypeError), (-1, ValueError))],

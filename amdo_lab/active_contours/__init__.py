@@ -58,3 +58,8 @@ __all__ = [
     "greedy_snake_loop", "respace", "variational_snake",
     "METHODS", "polygon_area_mm2", "segment_contour", "segment_study", "volume_mm3",
 ]
+
+from amdo_lab.common.equations import with_equation_map as _with_equation_map  # noqa: E402
+from amdo_lab.active_contours.equations import EQUATIONS as _EQUATIONS, TEST_FILE as _TEST_FILE  # noqa: E402
+
+__doc__ = _with_equation_map(__doc__, _EQUATIONS, _TEST_FILE)

@@ -57,3 +57,8 @@ __all__ = [
     "polynomial_test_fields", "solve_stencil_reference", "sor_reference", "stencil_grid", "stencil_matrix",
     "symbol_eigenvalues",
 ]
+
+from amdo_lab.common.equations import with_equation_map as _with_equation_map  # noqa: E402
+from amdo_lab.cat_fluid.equations import EQUATIONS as _EQUATIONS, TEST_FILE as _TEST_FILE  # noqa: E402
+
+__doc__ = _with_equation_map(__doc__, _EQUATIONS, _TEST_FILE)

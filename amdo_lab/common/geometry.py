@@ -10,7 +10,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common.validation import as_finite_array, check_bool, check_positive
+from amdo_lab.common.validation import (
+    as_finite_array,
+    as_points,
+    as_rotation,
+    as_weights,
+    check_bool,
+    check_overflow,
+    check_positive,
+    check_same_shape,
+)
 
 __all__ = [
     "ProcrustesResult",
@@ -153,11 +162,8 @@ def rigid_transform(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray
     numpy.ndarray
         ``(..., d+1, d+1)`` homogeneous matrices with ``[R t; 0 1]``.
     """
-    rotation = as_finite_array(rotation, "rotation")
-    if rotation.ndim < 2 or rotation.shape[-1] != rotation.shape[-2]:
-        raise ValueError(f"rotation must be a square (d, d) matrix or a stack (..., d, d), got shape {rotation.shape}")
+    rotation = as_rotation(rotation, "rotation")
     d = rotation.shape[-1]
-    _check_rotation(rotation, "rotation")
     translation = as_finite_array(translation, "translation")
     if translation.ndim < 1 or translation.shape[-1] != d or not _broadcasts_to(translation.shape, rotation.shape[:-1]):
         raise ValueError(f"translation must have shape (..., {d}) matching rotation {rotation.shape}, "
@@ -167,25 +173,6 @@ def rigid_transform(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray
     out[..., :d, d] = translation
     out[..., d, d] = 1.0
     return out
-
-
-def _check_rotation(rotation: np.ndarray, name: str, *, tol: float = 1e-6) -> None:
-    """Raise a ``ValueError`` naming ``name`` unless every ``(d, d)`` matrix is a proper rotation.
-
-    Parameters
-    ----------
-    rotation : (..., d, d) numpy.ndarray
-        Finite matrices.
-    name : str
-        The argument's name, used in error messages.
-    tol : float
-        Largest accepted deviation of ``R^T R`` from the identity and of ``det R`` from 1.
-    """
-    d = rotation.shape[-1]
-    gram_error = np.max(np.abs(np.swapaxes(rotation, -1, -2) @ rotation - np.eye(d)), initial=0.0)
-    if gram_error > tol or np.any(np.abs(np.linalg.det(rotation) - 1.0) > tol):
-        raise ValueError(f"{name} must be a rotation (orthonormal, determinant +1), "
-                         f"got R^T R off the identity by {gram_error:.3g}")
 
 
 def _broadcasts_to(shape: tuple[int, ...], target: tuple[int, ...]) -> bool:
@@ -214,13 +201,10 @@ def apply_rigid(transform: np.ndarray, points: np.ndarray) -> np.ndarray:
     d = transform.shape[-1] - 1
     if d < 1 or transform.shape != (d + 1, d + 1):
         raise ValueError(f"transform must be a homogeneous (d+1, d+1) matrix with d >= 1, got shape {transform.shape}")
-    points = as_finite_array(points, "points", allow_empty=True)
-    if points.ndim not in (1, 2) or points.shape[-1] != d:
-        raise ValueError(f"points must have shape (n, {d}) to match transform {transform.shape}, got {points.shape}")
+    points = as_points(points, "points", dim=d)
     with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused by name just below
         mapped = points @ transform[:d, :d].T + transform[:d, d]
-    if not np.all(np.isfinite(mapped)):  # finite input whose products or sums overflow a float
-        raise ValueError("points and transform are too large: the mapped points overflow a float")
+    check_overflow(mapped, "points and transform")
     return mapped
 
 
@@ -245,15 +229,13 @@ def apply_similarity_2d(
     numpy.ndarray
         The mapped points, of the shape of ``points``.
     """
-    points = as_finite_array(points, "points", allow_empty=True)
-    if points.ndim not in (1, 2) or points.shape[-1] != 2:
-        raise ValueError(f"points must have shape (n, 2), got {points.shape}")
+    points = as_points(points, "points", dim=2)
     scale = check_positive(scale, "scale")
     angle = as_finite_array(angle, "angle", ndim=0)
     translation = as_finite_array(translation, "translation", shape=(2,))
-    mapped = scale * points @ _rotation_2d(angle).T + translation
-    if not np.all(np.isfinite(mapped)):  # finite input whose product overflows a float
-        raise ValueError("points, scale and translation are too large: the mapped points overflow a float")
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused by name just below
+        mapped = scale * points @ _rotation_2d(angle).T + translation
+    check_overflow(mapped, "points, scale and translation")
     return mapped
 
 
@@ -307,16 +289,10 @@ def procrustes_align(
     target = as_finite_array(target, "target", ndim=2, max_abs=1e150)
     allow_scale = check_bool(allow_scale, "allow_scale")
     allow_reflection = check_bool(allow_reflection, "allow_reflection")
-    if source.shape != target.shape:
-        raise ValueError(f"source and target must have the same shape, got {source.shape} and {target.shape}")
+    check_same_shape(source, target, "source", "target")
     n, d = source.shape
-    if weights is None:
-        w = np.full(n, 1.0 / n)
-    else:
-        w = as_finite_array(weights, "weights", shape=(n,))
-        if np.any(w < 0) or w.sum() <= 0:
-            raise ValueError("weights must be non-negative with a positive sum")
-        w = w / w.sum()
+    w = np.full(n, 1.0) if weights is None else as_weights(weights, "weights", n=n)
+    w = w / w.sum()
     mu_source = w @ source
     mu_target = w @ target
     centred_source = source - mu_source
@@ -337,6 +313,5 @@ def procrustes_align(
     translation = mu_target - scale * rotation @ mu_source
     aligned = scale * source @ rotation.T + translation
     rms = float(np.sqrt(np.mean(np.sum((aligned - target) ** 2, axis=1))))
-    if not (np.all(np.isfinite(aligned)) and np.isfinite(rms)):  # finite input whose squares overflow
-        raise ValueError("source and target are too large: their squared distances overflow a float")
+    check_overflow([*aligned.ravel(), rms], "source and target")
     return ProcrustesResult(aligned, scale, rotation, translation, rms)

@@ -13,6 +13,8 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 from matplotlib.figure import Figure
 
+from amdo_lab.common.validation import check_instance
+
 __all__ = ["FIG_DIR_VARIABLE", "PALETTE", "STYLE_PATH", "savefig", "use_style"]
 
 #: Okabe & Ito's colour-blind-safe palette, in the order of the style's colour cycle.
@@ -54,8 +56,7 @@ def savefig(fig: Figure, name: str) -> None:
         Nothing, so a figure cell that ends with this call shows no output value (a returned path
         would print the reader's own machine path in the book).
     """
-    if not isinstance(fig, Figure):
-        raise TypeError(f"fig must be a matplotlib Figure, got {type(fig).__name__}")
+    check_instance(fig, "fig", Figure, what="a matplotlib Figure")
     if not isinstance(name, str) or not _NAME_PATTERN.match(name):
         raise ValueError(
             f"name must be a file stem of letters, digits, '_', '-' or '.', got {name!r}"

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common.validation import as_finite_array
+from amdo_lab.common.validation import as_finite_array, check_in_range
 
 __all__ = ["RateInterval", "PairedComparison", "rate_interval", "paired_comparison"]
 
@@ -103,14 +103,6 @@ def _check_outcomes(outcomes: object, name: str) -> np.ndarray:
     return array
 
 
-def _check_confidence(confidence: object) -> float:
-    if isinstance(confidence, bool) or not isinstance(confidence, (int, float, np.integer, np.floating)):
-        raise TypeError(f"confidence must be a number in (0, 1), got {type(confidence).__name__}")
-    if not 0 < confidence < 1:  # also refuses NaN
-        raise ValueError(f"confidence must be a number in (0, 1), got {confidence!r}")
-    return float(confidence)
-
-
 def rate_interval(outcomes: np.ndarray, confidence: float = 0.95) -> RateInterval:
     """Rate of ``True`` in ``outcomes`` with its Wilson score interval.
 
@@ -133,7 +125,7 @@ def rate_interval(outcomes: np.ndarray, confidence: float = 0.95) -> RateInterva
     from statsmodels.stats.proportion import proportion_confint  # lazy: statsmodels is slow to import
 
     outcomes = _check_outcomes(outcomes, "outcomes")
-    confidence = _check_confidence(confidence)
+    confidence = check_in_range(confidence, "confidence", 0, 1)
     successes, trials = int(outcomes.sum()), int(outcomes.size)
     low, high = proportion_confint(successes, trials, alpha=1 - confidence, method="wilson")
     return RateInterval(successes, trials, float(low), float(high), confidence)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 from contextlib import AbstractContextManager
 
 from threadpoolctl import ThreadpoolController
@@ -9,6 +10,7 @@ from threadpoolctl import ThreadpoolController
 __all__ = ["one_blas_thread"]
 
 _CONTROLLER: ThreadpoolController | None = None
+_MODULES_SEEN = 0  # len(sys.modules) when the controller was built: a native library loads with a module
 
 
 def one_blas_thread() -> AbstractContextManager:
@@ -28,7 +30,7 @@ def one_blas_thread() -> AbstractContextManager:
     contextlib.AbstractContextManager
         Use as ``with one_blas_thread(): ...``.
     """
-    global _CONTROLLER
-    if _CONTROLLER is None:
-        _CONTROLLER = ThreadpoolController()
+    global _CONTROLLER, _MODULES_SEEN
+    if _CONTROLLER is None or len(sys.modules) != _MODULES_SEEN:
+        _CONTROLLER, _MODULES_SEEN = ThreadpoolController(), len(sys.modules)
     return _CONTROLLER.limit(limits=1)

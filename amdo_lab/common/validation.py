@@ -18,6 +18,9 @@ __all__ = [
     "as_bool_mask",
     "as_finite_array",
     "as_image_pair",
+    "as_points",
+    "as_rotation",
+    "as_weights",
     "check_axes",
     "check_bool",
     "check_choice",
@@ -25,8 +28,11 @@ __all__ = [
     "check_fitted",
     "check_image_shape",
     "check_in_range",
+    "check_instance",
     "check_names",
     "check_odd_int",
+    "check_overflow",
+    "check_same_shape",
     "check_positive",
     "check_positive_int",
 ]
@@ -212,6 +218,143 @@ def check_positive_int(value: object, name: str, *, minimum: int = 1, maximum: i
     if maximum is not None and value > maximum:
         raise ValueError(f"{name} must be at most {maximum:,}, got {value:,}")
     return int(value)
+
+
+def as_points(value: object, name: str, *, dim: int, allow_empty: bool = True,
+              max_abs: float | None = None) -> np.ndarray:
+    """Return ``value`` as finite points ``(n, dim)``, or one point ``(dim,)``, or raise naming ``name``.
+
+    Parameters
+    ----------
+    value : array_like
+        The user's input: points as rows.
+    name : str
+        The argument's name, used in error messages.
+    dim : int
+        Required length of the last axis (2 for the plane, 3 for space).
+    allow_empty : bool
+        Whether an empty ``(0, dim)`` set is accepted.
+    max_abs : float, optional
+        Largest accepted magnitude (see :func:`as_finite_array`).
+
+    Returns
+    -------
+    numpy.ndarray
+        A new float array of the input's shape.
+    """
+    points = as_finite_array(value, name, allow_empty=allow_empty, max_abs=max_abs)
+    if points.ndim not in (1, 2) or points.shape[-1] != dim:
+        raise ValueError(f"{name} must have shape (n, {dim}) or ({dim},), got {points.shape}")
+    return points
+
+
+def as_rotation(value: object, name: str, *, tol: float = 1e-6) -> np.ndarray:
+    """Return ``value`` as a proper rotation ``(d, d)`` (or a stack ``(..., d, d)``), or raise naming ``name``.
+
+    Parameters
+    ----------
+    value : array_like
+        The user's input: orthonormal with determinant +1.
+    name : str
+        The argument's name, used in error messages.
+    tol : float
+        Largest accepted deviation of ``R^T R`` from the identity and of ``det R`` from 1.
+
+    Returns
+    -------
+    numpy.ndarray
+        A new float array.
+    """
+    rotation = as_finite_array(value, name)
+    if rotation.ndim < 2 or rotation.shape[-1] != rotation.shape[-2]:
+        raise ValueError(f"{name} must be a square (d, d) matrix or a stack (..., d, d), got shape {rotation.shape}")
+    gram = np.swapaxes(rotation, -1, -2) @ rotation
+    gram_error = np.max(np.abs(gram - np.eye(rotation.shape[-1])), initial=0.0)
+    if gram_error > tol or np.any(np.abs(np.linalg.det(rotation) - 1.0) > tol):
+        raise ValueError(f"{name} must be a rotation (orthonormal, determinant +1), "
+                         f"got R^T R off the identity by {gram_error:.3g}")
+    return rotation
+
+
+def as_weights(value: object, name: str, *, n: int) -> np.ndarray:
+    """Return ``value`` as ``n`` non-negative weights with a positive sum (not normalised), or raise.
+
+    Parameters
+    ----------
+    value : array_like
+        The user's input.
+    name : str
+        The argument's name, used in error messages.
+    n : int
+        Required length.
+
+    Returns
+    -------
+    numpy.ndarray
+        A new float array of shape ``(n,)``.
+    """
+    weights = as_finite_array(value, name, shape=(n,), bounds=(0, np.inf))
+    with np.errstate(over="ignore"):
+        total = weights.sum()
+    if not 0 < total < np.inf:
+        raise ValueError(f"{name} must be non-negative with a positive, finite sum, got {total:g}")
+    return weights
+
+
+def check_same_shape(first: np.ndarray, second: np.ndarray, first_name: str, second_name: str) -> None:
+    """Raise naming both arguments unless the two arrays have the same shape.
+
+    Parameters
+    ----------
+    first, second : numpy.ndarray
+        Arrays already converted by :func:`as_finite_array`.
+    first_name, second_name : str
+        The arguments' names, used in the error message.
+    """
+    if np.shape(first) != np.shape(second):
+        raise ValueError(f"{first_name} and {second_name} must have the same shape, "
+                         f"got {np.shape(first)} and {np.shape(second)}")
+
+
+def check_overflow(result: object, names: str) -> None:
+    """Raise naming the inputs when a result computed from finite input is not finite (it overflowed).
+
+    Parameters
+    ----------
+    result : array_like
+        The computed values.
+    names : str
+        The inputs that drove it out of range, as the message should name them ("points and
+        transform").
+    """
+    if not np.all(np.isfinite(result)):
+        raise ValueError(f"{names} are too large: the result overflows a float")
+
+
+def check_instance(value: object, name: str, expected: type | tuple[type, ...], *, what: str = "") -> object:
+    """Return ``value`` after checking it is an instance of ``expected``, or raise a ``TypeError``.
+
+    Parameters
+    ----------
+    value : object
+        The user's input.
+    name : str
+        The argument's name, used in error messages.
+    expected : type or tuple of types
+        Accepted type(s).
+    what : str, optional
+        How the message names the expected type ("a matplotlib Figure"); by default the type names.
+
+    Returns
+    -------
+    object
+        ``value``.
+    """
+    if not isinstance(value, expected):
+        types = expected if isinstance(expected, tuple) else (expected,)
+        wanted = what or " or ".join(t.__name__ for t in types)
+        raise TypeError(f"{name} must be {wanted}, got {type(value).__name__}")
+    return value
 
 
 def check_odd_int(value: object, name: str, *, minimum: int = 3, maximum: int | None = None) -> int:
@@ -496,9 +639,7 @@ def check_axes(ax: object, name: str = "ax") -> object:
     """
     from matplotlib.axes import Axes  # here, not at the top: validation must not need matplotlib
 
-    if not isinstance(ax, Axes):
-        raise TypeError(f"{name} must be a matplotlib Axes, got {type(ax).__name__}")
-    return ax
+    return check_instance(ax, name, Axes, what="a matplotlib Axes")
 
 
 def check_fitted(estimator: object, attributes: str | Sequence[str]) -> None:

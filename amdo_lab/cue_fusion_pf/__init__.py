@@ -56,3 +56,8 @@ __all__ = [
     "track_camshift", "track_mil", "track_pfilter", "train_cascade",
     "WALKER_SEGMENTS", "WalkerSequence", "box_iou", "fit_similarity", "make_walker_sequence",
 ]
+
+from amdo_lab.common.equations import with_equation_map as _with_equation_map  # noqa: E402
+from amdo_lab.cue_fusion_pf.equations import EQUATIONS as _EQUATIONS, TEST_FILE as _TEST_FILE  # noqa: E402
+
+__doc__ = _with_equation_map(__doc__, _EQUATIONS, _TEST_FILE)

@@ -74,3 +74,8 @@ from amdo_lab.ear_biometrics.evaluation import (
     peer_closed_set,
 )
 from amdo_lab.ear_biometrics.plotting import draw_circles, draw_topology
+
+from amdo_lab.common.equations import with_equation_map as _with_equation_map  # noqa: E402
+from amdo_lab.ear_biometrics.equations import EQUATIONS as _EQUATIONS, TEST_FILE as _TEST_FILE  # noqa: E402
+
+__doc__ = _with_equation_map(__doc__, _EQUATIONS, _TEST_FILE)

@@ -10,7 +10,7 @@ from amdo_lab.common import MAX_ITERATIONS, MAX_SAMPLES
 from amdo_lab.common import (as_finite_array, check_bool, check_choice, check_in_range, check_positive,
                              check_positive_int, make_rng)
 
-from amdo_lab.em_articulated.hand import MAX_LENGTH_MM, SIDEWAYS_DOFS, HandModel, TextureBinding, check_hand
+from amdo_lab.em_articulated.hand import MAX_LENGTH_MM, SIDEWAYS_DOFS, HandModel, TextureBinding, check_hand, check_points
 
 __all__ = ["RegistrationProblem", "make_registration_problem", "perturb_pose", "visible_points",
            "make_tracking_sequence", "TrackingSequence", "joint_rmse_deg", "worst_joint_deg", "SkinTexture", "make_skin_texture",
@@ -42,9 +42,7 @@ def joint_rmse_deg(theta_est: np.ndarray, theta_true: np.ndarray) -> float:
     (its Sec. 5 tracks real stereo data without ground truth); this measure is ours, over the 21
     finger and thumb joints (the palm's 6 DOF excluded).
     """
-    theta_est = as_finite_array(theta_est, "theta_est", ndim=1, shape=(27,), max_abs=MAX_LENGTH_MM)
-    theta_true = as_finite_array(theta_true, "theta_true", ndim=1, shape=(27,), max_abs=MAX_LENGTH_MM)
-    return float(np.degrees(np.sqrt(np.mean((theta_est[_ARTICULATION] - theta_true[_ARTICULATION]) ** 2))))
+    return float(np.sqrt(np.mean(_joint_errors_deg(theta_est, theta_true) ** 2)))
 
 
 def worst_joint_deg(theta_est: np.ndarray, theta_true: np.ndarray) -> float:
@@ -71,9 +69,14 @@ def worst_joint_deg(theta_est: np.ndarray, theta_true: np.ndarray) -> float:
     bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591. Our success criterion: the paper reports
     no joint-angle error and no success rate (its Sec. 5 tracks real stereo data without ground truth).
     """
+    return float(np.max(np.abs(_joint_errors_deg(theta_est, theta_true))))
+
+
+def _joint_errors_deg(theta_est: object, theta_true: object) -> np.ndarray:
+    """The checked poses' errors on the 21 finger and thumb joint angles (DOFs 6-26), degrees."""
     theta_est = as_finite_array(theta_est, "theta_est", ndim=1, shape=(27,), max_abs=MAX_LENGTH_MM)
     theta_true = as_finite_array(theta_true, "theta_true", ndim=1, shape=(27,), max_abs=MAX_LENGTH_MM)
-    return float(np.degrees(np.max(np.abs(theta_est[_ARTICULATION] - theta_true[_ARTICULATION]))))
+    return np.degrees(theta_est[_ARTICULATION] - theta_true[_ARTICULATION])
 
 
 #: Poses whose digits overlap by more than this (mm) are physically impossible and are redrawn.
@@ -221,7 +224,7 @@ def visible_points(hand: HandModel, points: np.ndarray, theta: np.ndarray, camer
     are used) and Sec. 5 (stereo data seen from one side).
     """
     check_hand(hand)
-    points = as_finite_array(points, "points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+    points = check_points(points, "points")
     camera = as_finite_array(camera, "camera", ndim=1, shape=(3,), max_abs=MAX_LENGTH_MM)
     normals = hand.surface_normals(points, theta)
     return np.sum(normals * (camera - points), axis=1) > 0
@@ -453,9 +456,7 @@ def make_registration_problem(hand: HandModel, *, rng: np.random.Generator | int
     occlusion = check_bool(occlusion, "occlusion")
     n_model = check_positive_int(n_model, "n_model", maximum=MAX_SAMPLES)
     n_data = check_positive_int(n_data, "n_data", maximum=MAX_SAMPLES)
-    repeatability = check_positive(repeatability, "repeatability", allow_zero=True)
-    if repeatability > 1:
-        raise ValueError(f"repeatability must lie in [0, 1], got {repeatability}")
+    repeatability = check_in_range(repeatability, "repeatability", 0.0, 1.0, closed="both")
     for _ in range(_MAX_DRAWS):
         theta_true = random_pose(hand, rng=rng)
         try:
@@ -576,9 +577,7 @@ def make_tracking_sequence(hand: HandModel, *, rng: np.random.Generator | int, n
     camera = _CAMERA if camera is None else as_finite_array(camera, "camera", ndim=1, shape=(3,),
                                                             max_abs=MAX_LENGTH_MM)
     noise_mm = check_in_range(noise_mm, "noise_mm", 0.0, MAX_LENGTH_MM, closed="both")
-    repeatability = check_positive(repeatability, "repeatability")
-    if repeatability > 1:
-        raise ValueError(f"repeatability must lie in (0, 1], got {repeatability}")
+    repeatability = check_in_range(repeatability, "repeatability", 0.0, 1.0, closed="right")
     time = np.arange(n_frames) / check_positive(fps, "fps")
     base = hand.rest_pose()
     poses = np.repeat(base[None], n_frames, axis=0)

@@ -17,7 +17,7 @@ from collections.abc import Callable, Mapping
 import numpy as np
 
 from amdo_lab.common.exercises import Exercise, ExerciseSet, WrongAnswer
-from amdo_lab.em_articulated.registration import PAPER_C
+from amdo_lab.em_articulated.estep import PAPER_C
 
 __all__ = ["EXERCISES"]
 
@@ -37,15 +37,18 @@ def _worst_joint_deg(poses: list, true: np.ndarray) -> float:
 
 
 def _without_outlier_class(toy, toy_em: Callable, toy_start, toy_sigmas) -> float:
+    """Worst joint error (deg) of the notebook's toy EM run with c = 0 (no outlier class)."""
     return _worst_joint_deg(toy_em(toy, toy_start, toy_sigmas, c=NO_OUTLIER_C), toy.true)
 
 
 def _single_sigma(toy, toy_em: Callable, toy_start) -> float:
+    """Worst joint error (deg) of the notebook's toy EM at one small σ, without annealing."""
     return _worst_joint_deg(toy_em(toy, toy_start, [SINGLE_SIGMA_MM], iterations=SINGLE_SIGMA_ITERATIONS),
                             toy.true)
 
 
 def _rigid_share(hand, ring, theta0, a: float = LARGE_EXPONENT) -> float:
+    """Share of the ring's texture points that move (almost) rigidly with one part at exponent ``a``."""
     return float(np.mean(hand.texture_binding(ring, theta0, a=a).weight_p > RIGID_WEIGHT))
 
 

@@ -8,18 +8,42 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import MAX_ITERATIONS
-from amdo_lab.common import RateInterval, check_positive, check_positive_int, make_rng, rate_interval, spawn_rngs
+from amdo_lab.common import RateInterval, check_bool, check_positive_int, make_rng, rate_interval, spawn_rngs
 
 from amdo_lab.em_articulated.data import (RegistrationProblem, joint_rmse_deg, make_registration_problem,
                                           worst_joint_deg)
 from amdo_lab.em_articulated.hand import HandModel, check_hand
-from amdo_lab.em_articulated.registration import (check_settings, climb_objective, fit_known_correspondences,
-                                                  fit_surface, refine_digits, register_em, robust_log_likelihood)
+from amdo_lab.em_articulated.diagnostics import climb_objective, fit_known_correspondences
+from amdo_lab.em_articulated.digits import refine_digits
+from amdo_lab.em_articulated.em import OUR_SETTINGS, EMSettings, check_em_settings, register_em
+from amdo_lab.em_articulated.estep import robust_log_likelihood
+from amdo_lab.em_articulated.surface import fit_surface
+from amdo_lab.em_articulated.tracking import EPSILON_MM
 
 __all__ = ["TrialSummary", "run_registration_trials", "SUCCESS_DEG", "ObjectiveCheck", "objective_check"]
 
 #: A trial succeeds when every one of the 21 finger/thumb joints ends within this many degrees.
 SUCCESS_DEG = 10.0
+
+
+def check_settings(value: object, name: str) -> dict:
+    """A copy of ``value`` (a dict of keyword arguments, or None for none), or a ``TypeError`` naming ``name``.
+
+    Parameters
+    ----------
+    value : dict or None
+        Keyword arguments, e.g. of :func:`make_registration_problem`.
+    name : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    dict
+        A copy of ``value`` ({} for None).
+    """
+    if value is not None and not isinstance(value, dict):
+        raise TypeError(f"{name} must be a dict of keyword arguments or None, got {type(value).__name__}")
+    return dict(value or {})
 
 
 @dataclass(frozen=True)
@@ -135,13 +159,13 @@ def noise_floor_trials(hand: HandModel, n_trials: int, *, rng: np.random.Generat
 
 
 def run_registration_trials(hand: HandModel, n_trials: int, *, rng: np.random.Generator | int,
-                            problem: dict | None = None, em_settings: dict | None = None, surface_max_iter: int = 10,
-                            epsilon_mm: float = 5.0, digit_search: dict | None = None) -> TrialSummary:
+                            problem: dict | None = None, settings: EMSettings = OUR_SETTINGS,
+                            surface_max_iter: int = 10, digit_search: bool = False) -> TrialSummary:
     """Seeded registration trials: EM, optional digit search, then surface fit, scored against the truth.
 
     Draws ``n_trials`` problems (:func:`make_registration_problem` with ``problem``), runs
-    :func:`register_em` with ``em_settings`` then :func:`fit_surface` (Sec. 3.4) on the points
-    within ``epsilon_mm`` of the surface, weighted by the EM inlier probabilities.
+    :func:`register_em` with ``settings`` then :func:`fit_surface` (Sec. 3.4) on the points
+    within 5 mm of the surface, weighted by the EM inlier probabilities.
 
     Parameters
     ----------
@@ -154,15 +178,14 @@ def run_registration_trials(hand: HandModel, n_trials: int, *, rng: np.random.Ge
         trial k draws the same problem whatever ``n_trials``.
     problem : dict, optional
         Keyword arguments of :func:`make_registration_problem`.
-    em_settings : dict, optional
-        Keyword arguments of :func:`register_em` (e.g. ``OUR_SETTINGS``).
+    settings : EMSettings, default OUR_SETTINGS
+        Settings of :func:`register_em`.
     surface_max_iter : int, default 10
         Most Gauss-Newton steps of the surface fit (≥ 0; 0 skips it).
-    epsilon_mm : float, default 5.0
-        The surface fit uses the data within this distance of the surface, mm (> 0).
-    digit_search : dict, optional
-        Keyword arguments of :func:`refine_digits`, run between the EM and the surface fit with the
-        same ``em_settings`` (None: no search); the surface fit then uses its inlier probabilities.
+        At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
+    digit_search : bool, default False
+        Whether :func:`refine_digits` runs between the EM and the surface fit, with the same
+        ``settings``; the surface fit then uses its inlier probabilities.
 
     Returns
     -------
@@ -177,24 +200,22 @@ def run_registration_trials(hand: HandModel, n_trials: int, *, rng: np.random.Ge
     check_hand(hand)
     rng = make_rng(rng, "rng")
     n_trials = check_positive_int(n_trials, "n_trials", maximum=MAX_ITERATIONS)
-    problem, em_settings = check_settings(problem, "problem"), check_settings(em_settings, "em_settings")
-    digit_search = None if digit_search is None else check_settings(digit_search, "digit_search")
-    surface_max_iter = check_positive_int(surface_max_iter, "surface_max_iter", minimum=0,
-                                          maximum=MAX_ITERATIONS)
-    epsilon_mm = check_positive(epsilon_mm, "epsilon_mm")
+    problem, settings = check_settings(problem, "problem"), check_em_settings(settings)
+    surface_max_iter = check_positive_int(surface_max_iter, "surface_max_iter", minimum=0, maximum=MAX_ITERATIONS)
+    digit_search = check_bool(digit_search, "digit_search")
     rmse, worst, seconds, oracle, oracle_worst = [], [], [], [], []
     for trial_rng in spawn_rngs(rng, n_trials):
         case = make_registration_problem(hand, rng=trial_rng, **problem)
         start = time.perf_counter()
-        em = register_em(case.model_points, case.data_points, hand, case.theta_init, **em_settings)
+        em = register_em(case.model_points, case.data_points, hand, case.theta_init, settings=settings)
         theta, inlier_prob = em.theta, em.inlier_prob
-        if digit_search is not None:
+        if digit_search:
             search = refine_digits(case.model_points, case.data_points, hand, case.theta_init, theta,
-                                   **digit_search, **em_settings)
+                                   settings=settings)
             theta, inlier_prob = search.theta, search.inlier_prob
         if surface_max_iter:
             theta = fit_surface(case.data_points, hand, theta, weights=inlier_prob, max_iter=surface_max_iter,
-                                epsilon_mm=epsilon_mm).theta
+                                epsilon_mm=EPSILON_MM).theta
         seconds.append(time.perf_counter() - start)
         floor_rmse, floor_worst = _floor_errors(hand, case)
         oracle.append(floor_rmse)
@@ -240,7 +261,7 @@ class ObjectiveCheck:
 
 
 def objective_check(hand: HandModel, n_trials: int, *, rng: np.random.Generator | int, problem: dict | None = None,
-                    em_settings: dict | None = None) -> ObjectiveCheck:
+                    settings: EMSettings = OUR_SETTINGS) -> ObjectiveCheck:
     """Optimizer or objective: where the EM's own objective puts its maximum, on seeded problems.
 
     On ``n_trials`` seeded problems, run :func:`register_em` and fit the
@@ -261,9 +282,8 @@ def objective_check(hand: HandModel, n_trials: int, *, rng: np.random.Generator 
         Seed (≥ 0) or generator of the trials' random streams (:func:`amdo_lab.common.spawn_rngs`).
     problem : dict, optional
         Keyword arguments of :func:`make_registration_problem`.
-    em_settings : dict, optional
-        Keyword arguments of :func:`register_em`; the objective is taken at their ``sigma_min``
-        (3 mm by default).
+    settings : EMSettings, default OUR_SETTINGS
+        Settings of :func:`register_em`; the objective is taken at their ``sigma_min``.
 
     Returns
     -------
@@ -277,12 +297,12 @@ def objective_check(hand: HandModel, n_trials: int, *, rng: np.random.Generator 
     check_hand(hand)
     rng = make_rng(rng, "rng")
     n_trials = check_positive_int(n_trials, "n_trials", maximum=MAX_ITERATIONS)
-    problem, settings = check_settings(problem, "problem"), check_settings(em_settings, "em_settings")
-    sigma = float(settings.get("sigma_min", 3.0))
+    problem, settings = check_settings(problem, "problem"), check_em_settings(settings)
+    sigma = float(settings.sigma_min)
     rows = []
     for trial_rng in spawn_rngs(rng, n_trials):
         case = make_registration_problem(hand, rng=trial_rng, **problem)
-        em = register_em(case.model_points, case.data_points, hand, case.theta_init, **settings)
+        em = register_em(case.model_points, case.data_points, hand, case.theta_init, settings=settings)
         model_index, data_index = case.true_matches()
         floor = fit_known_correspondences(case.model_points[model_index], case.data_points[data_index], hand,
                                           case.theta_init)

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import MAX_ITERATIONS, MAX_SAMPLES
-from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive_int, make_rng
 from amdo_lab.common.geometry import rigid_transform, rotation_matrix, skew
 
 __all__ = ["HandModel", "PART_NAMES"]
@@ -58,6 +58,8 @@ _FLEX = -_X  # positive flexion curls the finger towards -z (the palm side)
 
 @dataclass(frozen=True)
 class _Part:
+    """One rigid part of the kinematic tree: its parent, fixed offset, DOFs and their rotation axes."""
+
     parent: int  # -1 for the palm
     offset: np.ndarray  # 4x4 fixed transform from parent frame to this joint's frame
     dofs: tuple[int, ...]
@@ -326,7 +328,7 @@ class HandModel:
         numpy.ndarray, shape (M, 16)
             Distances, mm.
         """
-        points = as_finite_array(points, "points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+        points = check_points(points, "points")
         frames = self._forward(self.check_theta(theta))[0]
         # local[m, p] = R_p^T (x_m - t_p) - c_p
         local = self._local_coordinates(points, frames)
@@ -420,7 +422,7 @@ class HandModel:
         jacobian : numpy.ndarray, shape (M, 27)
             ∂d/∂Θ: mm per mm for the palm translation, mm per radian for the rest.
         """
-        points = as_finite_array(points, "points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+        points = check_points(points, "points")
         theta = self.check_theta(theta)
         frames, axes, origins = self._forward(theta)
         rotations = frames[:, :3, :3]
@@ -495,6 +497,7 @@ class HandModel:
         return np.concatenate(kept)[:n]
 
     def _distance_gradient(self, points: np.ndarray, theta: np.ndarray, step: float = 1e-3) -> np.ndarray:
+        """∂d/∂Y of eq. (2) at each point by central differences of ``step`` mm (for the surface normals)."""
         grad = np.empty_like(points)
         for axis in range(3):
             shift = np.zeros(3)
@@ -518,7 +521,7 @@ class HandModel:
         numpy.ndarray, shape (M, 3)
             Unit vectors (zero where the gradient vanishes).
         """
-        points = as_finite_array(points, "points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+        points = check_points(points, "points")
         grad = self._distance_gradient(points, self.check_theta(theta))
         return grad / np.maximum(np.linalg.norm(grad, axis=1, keepdims=True), 1e-12)
 
@@ -578,7 +581,7 @@ class HandModel:
         TextureBinding
             Both parts, the weight of the first, and the local coordinates.
         """
-        points = as_finite_array(points, "points", ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
+        points = check_points(points, "points")
         theta = self.check_theta(theta)
         a = check_in_range(a, "a", 0.0, MAX_BENDING_EXPONENT, closed="right")
         fields = self.part_fields(points, theta)
@@ -681,16 +684,16 @@ class TextureBinding:
 
     Parameters
     ----------
-    part_p : numpy.ndarray of int, shape (N,)
-        Strongest part p of each point.
-    part_r : numpy.ndarray of int, shape (N,)
-        Its strongest kinematic neighbour r.
-    weight_p : numpy.ndarray, shape (N,)
+    part_p : array_like of int, shape (N,)
+        Strongest part p of each point, 0 to 15.
+    part_r : array_like of int, shape (N,)
+        Its strongest kinematic neighbour r, 0 to 15.
+    weight_p : array_like, shape (N,)
         φ_p^a / (φ_p^a + φ_r^a) of eq. (3), in [0, 1], frozen at the binding pose.
-    local_p : numpy.ndarray, shape (N, 3)
-        The point in part p's frame, mm.
-    local_r : numpy.ndarray, shape (N, 3)
-        The point in part r's frame, mm.
+    local_p : array_like, shape (N, 3)
+        The point in part p's frame, mm, within ±1e6.
+    local_r : array_like, shape (N, 3)
+        The point in part r's frame, mm, within ±1e6.
 
     References
     ----------
@@ -703,6 +706,18 @@ class TextureBinding:
     weight_p: np.ndarray
     local_p: np.ndarray
     local_r: np.ndarray
+
+    def __post_init__(self) -> None:
+        """Check the arrays once, as any user-built record is (the package's own bindings pass too)."""
+        local_p = check_points(self.local_p, "local_p")
+        object.__setattr__(self, "local_p", local_p)
+        object.__setattr__(self, "local_r", as_finite_array(self.local_r, "local_r", shape=local_p.shape,
+                                                            max_abs=MAX_LENGTH_MM))
+        for name in ("part_p", "part_r"):
+            object.__setattr__(self, name, as_finite_array(getattr(self, name), name, shape=(len(local_p),),
+                                                           dtype=int, bounds=(0, HandModel.n_parts - 1)))
+        object.__setattr__(self, "weight_p", as_finite_array(self.weight_p, "weight_p", shape=(len(local_p),),
+                                                             bounds=(0.0, 1.0)))
 
     def world_points(self, frames: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Each point carried rigidly by part p and by part r (the two terms eq. 3 blends).
@@ -724,6 +739,11 @@ class TextureBinding:
         world_p = np.einsum("nij,nj->ni", frames[self.part_p, :3, :3], self.local_p) + frames[self.part_p, :3, 3]
         world_r = np.einsum("nij,nj->ni", frames[self.part_r, :3, :3], self.local_r) + frames[self.part_r, :3, 3]
         return world_p, world_r
+
+
+def check_points(points: object, name: str) -> np.ndarray:
+    """``points`` as an (N, 3) float array within ±:data:`MAX_LENGTH_MM` mm, or an error naming ``name``."""
+    return as_finite_array(points, name, ndim=2, shape=(None, 3), max_abs=MAX_LENGTH_MM)
 
 
 def check_hand(hand: object) -> HandModel:

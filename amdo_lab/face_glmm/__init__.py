@@ -67,3 +67,8 @@ __all__ = [
     "weighted_sq_distances", "PAPER_NUMBERS", "PAPER_TABLE2", "cell_predictions", "findings",
     "plot_figure1", "plot_figure2", "table2_comparison", "recovery_study",
 ]
+
+from amdo_lab.common.equations import with_equation_map as _with_equation_map  # noqa: E402
+from amdo_lab.face_glmm.equations import EQUATIONS as _EQUATIONS, TEST_FILE as _TEST_FILE  # noqa: E402
+
+__doc__ = _with_equation_map(__doc__, _EQUATIONS, _TEST_FILE)

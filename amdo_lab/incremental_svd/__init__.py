@@ -64,3 +64,8 @@ __all__ = [
     "truncate",
     "update_with_mean",
 ]
+
+from amdo_lab.common.equations import with_equation_map as _with_equation_map  # noqa: E402
+from amdo_lab.incremental_svd.equations import EQUATIONS as _EQUATIONS, TEST_FILE as _TEST_FILE  # noqa: E402
+
+__doc__ = _with_equation_map(__doc__, _EQUATIONS, _TEST_FILE)

@@ -55,3 +55,8 @@ from amdo_lab.pdm_mixtures.baselines import (
 )
 from amdo_lab.pdm_mixtures.plotting import draw_shape
 from amdo_lab.pdm_mixtures.experiments import SEPARATION_MODELS, SeparationTrial, mode_separation_trial
+
+from amdo_lab.common.equations import with_equation_map as _with_equation_map  # noqa: E402
+from amdo_lab.pdm_mixtures.equations import EQUATIONS as _EQUATIONS, TEST_FILE as _TEST_FILE  # noqa: E402
+
+__doc__ = _with_equation_map(__doc__, _EQUATIONS, _TEST_FILE)

@@ -13,6 +13,8 @@ KNOWN_FAILURES: dict[tuple[str, str, str], str] = {}
 #: Public names not called with user input, with the reason.
 EXEMPT = {
     "check_answer": "an exercise check prints its verdict and never raises, by design",
+    "check_overflow": "checks a result the package computed from already-checked input, not user input",
+    "check_same_shape": "compares two arrays already converted by as_finite_array, not user input",
     "one_blas_thread": "takes no argument",
     "use_style": "takes no argument",
     "RateInterval": "a result record, built by rate_interval from checked input",
@@ -54,6 +56,13 @@ def cases() -> dict[str, Case]:
                                                ("value", "a wrong trailing axis")})),
         "as_finite_array": Case(c.as_finite_array, {"value": points3, "name": "points", "shape": (None, 3)},
                                 {"value": "points"}, names={"value": "points"}),
+        "as_points": Case(c.as_points, {"value": points2, "name": "points", "dim": 2, "allow_empty": False},
+                          {"value": "points"}, names={"value": "points"}),
+        "as_rotation": Case(c.as_rotation, {"value": np.eye(3), "name": "rotation"},
+                            {"value": "array"}, names={"value": "rotation"},
+                            accept=frozenset({("value", "one more axis")})),  # a stack of one rotation
+        "as_weights": Case(c.as_weights, {"value": [1.0, 2.0], "name": "weights", "n": 2},
+                           {"value": "array"}, names={"value": "weights"}),
         "as_image_pair": Case(c.as_image_pair, {"first": np.ones((4, 4)), "second": np.zeros((4, 4))},
                               {"first": "image", "second": "image"},
                               names={"first": "template", "second": "study"}),
@@ -74,6 +83,8 @@ def cases() -> dict[str, Case]:
         "check_names": Case(c.check_names, {"values": ("fist", "point"), "name": "classes",
                                             "allowed": ("fist", "point", "open")},
                             {"values": "object"}, names={"values": "classes"}),
+        "check_instance": Case(c.check_instance, {"value": 1.0, "name": "sigma", "expected": float},
+                               {"value": "object"}, names={"value": "sigma"}),
         "check_odd_int": Case(c.check_odd_int, {"value": 3, "name": "window", "maximum": 99},
                               {"value": "count"}, names={"value": "window"}),
         "check_positive": Case(c.check_positive, {"value": 2.0, "name": "sigma"},

@@ -17,20 +17,19 @@ KNOWN_FAILURES: dict[tuple[str, str, str], str] = {}
 #: Public names not called with user input, with the reason.
 EXEMPT = {
     "EMResult": "a result record, built by register_em from checked input",
-    "SoftAssignResult": "a result record, built by softassign_register from checked input",
+    "SoftAssignResult": "a result record, built by register_softassign from checked input",
     "SurfaceFitResult": "a result record, built by fit_surface from checked input",
     "DigitSearchResult": "a result record, built by refine_digits from checked input",
-    "TrackingResult": "a result record, built by track_sequence from checked input",
+    "TrackResult": "a result record, built by track from checked input",
     "TrackingSequence": "a result record, built by make_tracking_sequence from checked input",
     "RegistrationProblem": "a result record, built by make_registration_problem from checked input",
     "TrialSummary": "a result record, built by run_registration_trials (its success_interval is tabled)",
     "ObjectiveCheck": "a result record, built by objective_check from checked input",
-    "TextureBinding": "a result record, built by HandModel.texture_binding (its world_points is tabled)",
     "SkinTexture": "a result record, built by make_skin_texture (its positions is tabled)",
 }
 
 # Arguments whose default is None: None is a documented valid value.
-_NONE_OK = frozenset({("problem", "None"), ("em_settings", "None"), ("digit_search", "None")})
+_NONE_OK = frozenset({("problem", "None")})
 
 
 def cases() -> dict[str, Case]:
@@ -47,7 +46,8 @@ def cases() -> dict[str, Case]:
     camera = np.array([0.0, 40.0, 500.0])
     summary = e.TrialSummary(np.ones(3), np.array([1.0, 20.0, 2.0]), np.ones(3), np.ones(3), np.ones(3))
     tiny_problem = {"n_model": 10, "n_data": 10, "joint_error_deg": 5.0}
-    tiny_em = {"n_levels": 1, "max_iter": 1}
+    tiny_settings = e.EMSettings(sigma_max=10.0, sigma_min=3.0, n_levels=1, max_iter=1)
+    jacobian = hand.texture_jacobian(binding, theta)[1]
     em_kinds = {"model_points": "points", "data_points": "points", "hand": "object", "theta_init": "array"}
     em_valid = {"model_points": points, "data_points": moved, "hand": hand, "theta_init": theta}
     pose = {"theta": theta}
@@ -87,6 +87,11 @@ def cases() -> dict[str, Case]:
                                        {"points": points, "theta_from": theta, "theta_to": theta, "a": 2.0},
                                        {"points": "points", "theta_from": "array", "theta_to": "array",
                                         "a": "positive"}),
+        "TextureBinding": Case(e.TextureBinding,
+                               {"part_p": binding.part_p, "part_r": binding.part_r, "weight_p": binding.weight_p,
+                                "local_p": binding.local_p, "local_r": binding.local_r},
+                               {"part_p": "array", "part_r": "array", "weight_p": "array", "local_p": "points",
+                                "local_r": "points"}),
         "TextureBinding.world_points": Case(binding.world_points, {"frames": frames}, {"frames": "array"}),
         "SkinTexture.positions": Case(skin.positions, {"hand": hand, "theta": theta},
                                       {"hand": "object", "theta": "array"}),
@@ -134,10 +139,9 @@ def cases() -> dict[str, Case]:
                                   {"model_points": "points", "data_points": "points", "sigma": "positive",
                                    "log_c": "real", "chunk": "count", "precision": "name"}),
         "e_step_statistics_kdtree": Case(e.e_step_statistics_kdtree,
-                                         {"model_points": points, "data_points": moved, "sigma": 3.0, "log_c": 1.0,
-                                          "radius_sigmas": 4.0},
+                                         {"model_points": points, "data_points": moved, "sigma": 3.0, "log_c": 1.0},
                                          {"model_points": "points", "data_points": "points", "sigma": "positive",
-                                          "log_c": "real", "radius_sigmas": "positive"}),
+                                          "log_c": "real"}),
         "m_step_targets": Case(e.m_step_targets,
                                {"alpha": e.e_step_reference(points, moved, 3.0), "data_points": moved},
                                {"alpha": "array", "data_points": "points"}),
@@ -145,67 +149,64 @@ def cases() -> dict[str, Case]:
                                       {"model_points": points, "data_points": moved, "sigma": 3.0, "c": 2.0},
                                       {"model_points": "points", "data_points": "points", "sigma": "positive",
                                        "c": "positive"}),
-        "dof_lever_arms": Case(e.dof_lever_arms, {"hand": hand, "binding": binding, "theta": theta},
-                               {"hand": "object", "binding": "object", "theta": "array"}),
-        # ---------------------------------------------------------------- registration
-        "register_em": Case(
-            e.register_em,
-            {**em_valid, "sigma_max": 10.0, "sigma_min": 3.0, "n_levels": 1, "max_iter": 1, "tol": 1e-3,
-             "outlier_c": 2.0, "sigma_mode": "anneal", "targets": "debiased", "a": 2.0, "gauss_newton_steps": 1,
-             "damping": 1e-3, "chunk": 8, "release_ratio": 1.0, "e_step": "kdtree", "schedule": "levels"},
-            {**em_kinds, "sigma_max": "positive", "sigma_min": "positive", "n_levels": "count", "max_iter": "count",
-             "tol": "non_negative", "outlier_c": "positive", "sigma_mode": "name", "targets": "name", "a": "positive",
-             "gauss_newton_steps": "count", "damping": "non_negative", "chunk": "count",
-             "release_ratio": "positive", "e_step": "name", "schedule": "name"},
-            # None: c of eq. (18); None: every DOF free at every σ (both documented defaults)
-            accept=frozenset({("outlier_c", "None"), ("release_ratio", "None")})),
-        "register_em_reference": Case(
-            e.register_em_reference,
-            {**em_valid, "sigma_max": 10.0, "sigma_min": 3.0, "n_levels": 1, "max_iter": 1, "tol": 1e-3,
-             "targets": "debiased", "a": 2.0, "gauss_newton_steps": 1, "damping": 1e-3},
-            {**em_kinds, "sigma_max": "positive", "sigma_min": "positive", "n_levels": "count", "max_iter": "count",
-             "tol": "non_negative", "targets": "name", "a": "positive", "gauss_newton_steps": "count",
-             "damping": "non_negative"}),
-        "climb_objective": Case(e.climb_objective,
-                                {**em_valid, "theta_start": theta, "sigma": 3.0, "max_iter": 1, "tol": 1e-3},
-                                {**em_kinds, "theta_start": "array", "sigma": "positive", "max_iter": "count",
-                                 "tol": "non_negative"}),
+        "robust_log_likelihood_reference": Case(e.robust_log_likelihood_reference,
+                                                {"model_points": points, "data_points": moved, "sigma": 3.0,
+                                                 "c": 2.0},
+                                                {"model_points": "points", "data_points": "points",
+                                                 "sigma": "positive", "c": "positive"}),
+        # ---------------------------------------------------------------- the EM (eqs. 19-20)
+        "EMSettings": Case(
+            e.EMSettings,
+            {"sigma_max": 10.0, "sigma_min": 3.0, "n_levels": 1, "max_iter": 1, "targets": "debiased",
+             "e_step": "kdtree", "sigma_mode": "anneal", "schedule": "levels"},
+            {"sigma_max": "positive", "sigma_min": "positive", "n_levels": "count", "max_iter": "count",
+             "targets": "name", "e_step": "name", "sigma_mode": "name", "schedule": "name"}),
+        "gauss_newton_step": Case(e.gauss_newton_step,
+                                  {"jacobian": jacobian, "residuals": moved - points, "weights": np.ones(len(points)),
+                                   "damping": 1e-3},
+                                  {"jacobian": "array", "residuals": "array", "weights": "array",
+                                   "damping": "non_negative"},
+                                  # any number K of parameters is valid: one more is another valid problem
+                                  accept=frozenset({("jacobian", "a wrong trailing axis")})),
+        "register_em": Case(e.register_em, {**em_valid, "settings": tiny_settings},
+                            {**em_kinds, "settings": "object"}),
+        "register_em_reference": Case(e.register_em_reference, {**em_valid, "settings": tiny_settings},
+                                      {**em_kinds, "settings": "object"}),
+        "climb_objective": Case(e.climb_objective, {**em_valid, "theta_start": theta, "sigma": 3.0},
+                                {**em_kinds, "theta_start": "array", "sigma": "positive"}),
         "refine_digits": Case(
             e.refine_digits,
-            {**em_valid, "theta": theta, "search_levels": 1, "abduction_step_deg": 20.0, "flexion_step_deg": 25.0,
-             "max_passes": 1, "min_gain": 1.0, "n_levels": 1, "max_iter": 1, "sigma_max": 10.0},
-            {**em_kinds, "theta": "array", "search_levels": "count", "abduction_step_deg": "positive",
-             "flexion_step_deg": "positive", "max_passes": "count", "min_gain": "non_negative"},
+            {**em_valid, "theta": theta, "settings": tiny_settings, "search_levels": 1, "max_passes": 1,
+             "min_gain": 1.0},
+            {**em_kinds, "theta": "array", "settings": "object", "search_levels": "count", "max_passes": "count",
+             "min_gain": "non_negative"},
             # max_passes=0 is documented: only the re-run from theta
             accept=frozenset({("max_passes", "zero")})),
         "fit_known_correspondences": Case(e.fit_known_correspondences,
                                           {"model_points": points, "matched_points": moved, "hand": hand,
-                                           "theta_init": theta, "a": 2.0, "max_iter": 2},
+                                           "theta_init": theta},
                                           {"model_points": "points", "matched_points": "points", "hand": "object",
-                                           "theta_init": "array", "a": "positive", "max_iter": "count"}),
+                                           "theta_init": "array"}),
         "fit_surface": Case(e.fit_surface,
                             {"data_points": moved, "hand": hand, "theta_init": theta, "weights": np.ones(len(moved)),
-                             "sigma": 3.0, "max_iter": 1, "damping": 1e-2, "epsilon_mm": 5.0},
+                             "sigma": 3.0, "max_iter": 1, "epsilon_mm": 5.0},
                             {"data_points": "points", "hand": "object", "theta_init": "array", "weights": "array",
-                             "sigma": "positive", "max_iter": "count", "damping": "non_negative",
-                             "epsilon_mm": "positive"},
+                             "sigma": "positive", "max_iter": "count", "epsilon_mm": "positive"},
                             # None: all weights 1, no eq. (22), all points (documented defaults)
                             accept=frozenset({("weights", "None"), ("sigma", "None"), ("epsilon_mm", "None"),
                                               ("max_iter", "zero")})),  # max_iter=0: no step (documented)
-        "softassign_register": Case(
-            e.softassign_register,
-            {**em_valid, "sigma_max": 10.0, "sigma_min": 3.0, "slack": 1e-2, "n_levels": 1, "n_iter": 1,
-             "n_sweeps": 2, "a": 2.0},
+        "register_softassign": Case(
+            e.register_softassign,
+            {**em_valid, "sigma_max": 10.0, "sigma_min": 3.0, "slack": 1e-2, "n_levels": 1, "n_iter": 1},
             {**em_kinds, "sigma_max": "positive", "sigma_min": "positive", "slack": "positive", "n_levels": "count",
-             "n_iter": "count", "n_sweeps": "count", "a": "positive"}),
-        "track_sequence": Case(
-            e.track_sequence,
-            {"frames": [points, moved], "hand": hand, "theta_start": theta, "epsilon_mm": 5.0, "sigma_max": 10.0,
-             "sigma_min": 3.0, "max_texture": 20, "surface_max_iter": 1, "em_settings": {"n_levels": 1}},
-            {"frames": "object", "hand": "object", "theta_start": "array", "epsilon_mm": "positive",
-             "sigma_max": "positive", "sigma_min": "positive", "max_texture": "count", "surface_max_iter": "count",
-             "em_settings": "object"},
-            accept=_NONE_OK | {("surface_max_iter", "zero")}),  # 0 skips the surface fit (documented)
+             "n_iter": "count"}),
+        "track": Case(
+            e.track,
+            {"frames": [points, moved], "hand": hand, "theta_start": theta, "settings": tiny_settings,
+             "surface_max_iter": 1},
+            {"frames": "object", "hand": "object", "theta_start": "array", "settings": "object",
+             "surface_max_iter": "count"},
+            accept=frozenset({("surface_max_iter", "zero")})),  # 0 skips the surface fit (documented)
         # ---------------------------------------------------------------- experiments
         "noise_floor_trials": Case(e.noise_floor_trials, {"hand": hand, "n_trials": 1, "rng": 0,
                                                           "problem": tiny_problem},
@@ -213,14 +214,14 @@ def cases() -> dict[str, Case]:
                                    accept=_NONE_OK),
         "run_registration_trials": Case(
             e.run_registration_trials,
-            {"hand": hand, "n_trials": 1, "rng": 0, "problem": tiny_problem, "em_settings": tiny_em,
-             "surface_max_iter": 1, "epsilon_mm": 5.0, "digit_search": {"max_passes": 0, "search_levels": 1}},
-            {"hand": "object", "n_trials": "count", "rng": "seed", "problem": "object", "em_settings": "object",
-             "surface_max_iter": "count", "epsilon_mm": "positive", "digit_search": "object"},
+            {"hand": hand, "n_trials": 1, "rng": 0, "problem": tiny_problem, "settings": tiny_settings,
+             "surface_max_iter": 1, "digit_search": False},
+            {"hand": "object", "n_trials": "count", "rng": "seed", "problem": "object", "settings": "object",
+             "surface_max_iter": "count", "digit_search": "flag"},
             accept=_NONE_OK | {("surface_max_iter", "zero")}),  # 0 skips the surface fit (documented)
         "objective_check": Case(e.objective_check, {"hand": hand, "n_trials": 1, "rng": 0, "problem": tiny_problem,
-                                                    "em_settings": tiny_em},
+                                                    "settings": tiny_settings},
                                 {"hand": "object", "n_trials": "count", "rng": "seed", "problem": "object",
-                                 "em_settings": "object"},
+                                 "settings": "object"},
                                 accept=_NONE_OK),
     }
