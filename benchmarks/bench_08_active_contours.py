@@ -99,7 +99,7 @@ def main() -> None:
                         rows.append({"ham": ham, "stage": stage, "index": index, "muscle": muscle, "method": method,
                                      "true_mm2": true, "found_mm2": ac.polygon_area_mm2(points),
                                      "seconds": time.perf_counter() - start})
-            print(f"ham {ham} done", flush=True)
+        print(f"ham {ham} done", flush=True)
     found = pd.DataFrame(rows)
     found["error"] = 100 * (found["found_mm2"] / found["true_mm2"] - 1)
     accuracy = bench.table("method", "contours", "mean |area error| %", "mean error %", "ms per contour (median)",

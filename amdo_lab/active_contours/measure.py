@@ -136,8 +136,8 @@ def segment_contour(potential: np.ndarray, init: np.ndarray, method: str) -> np.
     return _segment(potential, init, method)[0]
 
 
-def segment_study(study: HamStudy, method: str, *, every: int = 1, hams: tuple[int, ...] | None = None) -> list:
-    """Segment both muscles on every ``every``-th slice of the study's hams: one row per contour.
+def segment_study(study: HamStudy, method: str, *, hams: tuple[int, ...], every: int = 1) -> list:
+    """Segment both muscles on every ``every``-th slice of the chosen hams: one row per contour.
 
     Starting snakes are drawn by :func:`~amdo_lab.active_contours.initial_contour` (10-20 % larger)
     from a seed of the slice, so every method starts from the same snakes.
@@ -148,10 +148,10 @@ def segment_study(study: HamStudy, method: str, *, every: int = 1, hams: tuple[i
         The study.
     method : {"greedy", "dynamic", "variational"}
         The paradigm (Table 1's weights).
+    hams : tuple of int
+        The hams to segment.
     every : int
         Use slices 0, every, 2 every, ... (1 to 1,000); volumes then use a spacing of ``every`` x 2 mm.
-    hams : tuple of int, optional
-        The hams to segment (default: all).
 
     Returns
     -------
@@ -166,10 +166,9 @@ def segment_study(study: HamStudy, method: str, *, every: int = 1, hams: tuple[i
         raise TypeError(f"study must be a HamStudy, got {type(study).__name__}")
     method = check_choice(method, "method", METHODS)
     every = check_positive_int(every, "every", maximum=1000)
-    if hams is not None and not isinstance(hams, (tuple, list)):
+    if not isinstance(hams, (tuple, list)):
         raise TypeError(f"hams must be a tuple of ham numbers, got {type(hams).__name__}")
-    chosen = range(study.n_hams) if hams is None else [check_positive_int(h, "hams", minimum=0,
-                                                                          maximum=study.n_hams - 1) for h in hams]
+    chosen = [check_positive_int(h, "hams", minimum=0, maximum=study.n_hams - 1) for h in hams]
     rows = []
     for ham in chosen:
         for stage in range(4):
