@@ -3,8 +3,8 @@
 For the chapter's seeds and five others:
   probe    four slices (seeds base .. base + 3), both muscles, starts 10-20 % larger: mean |area error|
            and mean signed error (%) of the greedy, dynamic-programming and variational snakes; scikit-image's
-           active_contour with the gallery's weights and on our potential (smoothed by 2 px); the greedy snake from starts 15 %
-           and 30 % larger;
+           active_contour with the gallery's weights and on our potential (smoothed by 2 px); the greedy snake
+           from starts 15 % and 30 % larger; greedy and dynamic programming on the thinned-ridge potential;
   toy      the 24-point greedy snake on the noisy 64 x 64 disc: area error (%) for noise seeds;
   volumes  (unless --skip-volumes) every eighth slice of hams 0 and 1 of make_ham_study(rng=seed), greedy and
            variational: the largest gap (points) between the mean volume reduction from the snakes and from
@@ -34,12 +34,15 @@ def main() -> None:
 
     table = bench.table("base seed", "greedy |e| %", "dynamic |e| %", "variational |e| %", "greedy mean %",
                         "dynamic mean %", "gallery |e| %", "peer on P |e| %", "greedy 15 % |e|", "greedy 30 % |e|",
+                        "greedy ridge |e| %", "dynamic ridge |e| %",
                         title="probe: 8 contours per base seed")
     for base in args.bases:
-        errors = {name: [] for name in ("greedy", "dynamic", "variational", "gallery", "peer", "far15", "far30")}
+        errors = {name: [] for name in ("greedy", "dynamic", "variational", "gallery", "peer", "far15", "far30",
+                                        "ridge greedy", "ridge dynamic")}
         for k in range(4):
             ham = ac.make_ham_slice(rng=base + k)
             potential = ac.potential_field(ham.image)
+            ridge = ac.potential_field(ham.image, edges="ridge")
             smooth = ac.smooth_7x7(ham.image)
             for j, muscle in enumerate(ac.MUSCLES):
                 true = ham.areas_mm2[muscle]
@@ -52,6 +55,9 @@ def main() -> None:
                 field = -ndimage.gaussian_filter(potential, 2.0) / potential.max()
                 peer = active_contour(field, init, alpha=0.01, beta=1.0, gamma=0.01, w_line=1.0, w_edge=0.0)
                 errors["peer"].append(100 * (ac.polygon_area_mm2(peer) / true - 1))
+                for method in ("greedy", "dynamic"):
+                    points = ac.segment_contour(ridge, init, method)
+                    errors["ridge " + method].append(100 * (ac.polygon_area_mm2(points) / true - 1))
                 for enlarge, key in ((0.15, "far15"), (0.30, "far30")):
                     start = ac.initial_contour(ham, muscle, rng=7, enlarge=(enlarge, enlarge))
                     points = ac.segment_contour(potential, start, "greedy")
@@ -59,7 +65,8 @@ def main() -> None:
         mean_abs = {key: float(np.mean(np.abs(values))) for key, values in errors.items()}
         table.add(base, *(round(mean_abs[m], 1) for m in ac.METHODS), round(float(np.mean(errors["greedy"])), 1),
                   round(float(np.mean(errors["dynamic"])), 1), round(mean_abs["gallery"], 1),
-                  round(mean_abs["peer"], 1), round(mean_abs["far15"], 1), round(mean_abs["far30"], 1))
+                  round(mean_abs["peer"], 1), round(mean_abs["far15"], 1), round(mean_abs["far30"], 1),
+                  round(mean_abs["ridge greedy"], 1), round(mean_abs["ridge dynamic"], 1))
         print(f"base {base} done", flush=True)
 
     toy = bench.table("noise seed", "toy area error %", title="toy: 24-point greedy snake, noisy 64 x 64 disc")
