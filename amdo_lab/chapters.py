@@ -200,6 +200,24 @@ CHAPTERS: tuple[Chapter, ...] = (
         study_minutes=75,
     ),
     Chapter(
+        8,
+        "08_active_contours_muscle.ipynb",
+        "Active contours for muscle recognition: greedy, dynamic programming and variational snakes",
+        "A 24-point greedy snake built by hand on a noisy disc, then three ways to minimise one snake energy "
+        "(Williams and Shah's greedy search, Amini's dynamic programming, Kass's variational steps pushed by the "
+        "gradient vector flow) on synthetic MRI slices of Iberian hams: Table 1's weights, the pre-processing of "
+        "Sec. 3.2 read and checked against OpenCV, area errors against the truth, energy evaluations nm against "
+        "nm^3, muscle volumes per ripening stage, scikit-image's snake as a peer and a failure from a larger start.",
+        "A. Caro, P.G. Rodríguez, M.L. Durán, M.M. Ávila, T. Antequera, R. Gallardo. A Comparison of Algorithm "
+        "Design Paradigms in Active Contours for Muscle Recognition. AMDO 2004, LNCS 3179, pp. 249-258.",
+        exercises="amdo_lab.active_contours.exercises",
+        prerequisites=needs(("the shared notation", 0), "image gradients and Gaussian smoothing",
+                            "dynamic programming"),
+        teaches=("active contours",),
+        difficulty=2,
+        study_minutes=80,
+    ),
+    Chapter(
         9,
         "09_modal_matching_pedobarography.ipynb",
         "Modal matching of pedobarography objects by finite-element modes and assignment",

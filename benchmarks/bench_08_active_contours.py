@@ -1,0 +1,130 @@
+"""Chapter 8 benchmark: greedy, dynamic-programming and variational snakes on a synthetic ham MRI study.
+
+Tables, one BLAS thread, one run (so every ratio compares calls made on the same machine state):
+  costs    ms per iteration of the dynamic-programming snake at 9, 25 and 49 candidates (the m^3 of Sec. 3.1
+           predicts x7.5 from 25 to 49) and of the greedy snake, on a 100-point snake; the log-log slope in n
+           (50, 100, 200 points); energy evaluations per iteration (n m and about n m^3);
+  study    make_ham_study(rng=seed): both muscles on every slice of the 15 hams (the paper: 1,104 images of the
+           six hams scanned at all four stages) by the greedy and variational snakes and by scikit-image's
+           active_contour on our potential (smoothed by 2 px), dynamic programming on every fifth slice: mean |area error| (%),
+           ms per contour, seconds per slice of pre-processing; (--quick: three of the six hams scanned at all
+           stages, every fourth slice, dynamic programming on every eighth);
+  volumes  the mean volume reduction per stage of each method against the reduction of the true areas and of
+           the solids' exact volumes, over the hams scanned at all four stages.
+
+Run:  .venv/bin/python benchmarks/bench_08_active_contours.py [--quick] [--json PATH]
+"""
+
+from __future__ import annotations
+
+import time
+
+from _harness import Benchmark  # first: pins BLAS threads before numpy is imported
+
+
+def _dp_ms(ac, np, potential, n, window, iterations=3):
+    theta = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    ring = np.rint(200 + 80 * np.column_stack([np.sin(theta), np.cos(theta)]))
+    start = time.perf_counter()
+    result = ac.dp_snake(potential, ring, window=window, max_iter=iterations, d_min_px=0.1, d_max_px=100)
+    return 1e3 * (time.perf_counter() - start) / result.n_iter, result.energy_evaluations // result.n_iter
+
+
+def _greedy_ms(ac, np, potential, n, window, iterations=20):
+    theta = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    ring = np.rint(200 + 80 * np.column_stack([np.sin(theta), np.cos(theta)]))
+    start = time.perf_counter()
+    result = ac.greedy_snake(potential, ring, window=window, max_iter=iterations, d_min_px=0.1, d_max_px=100)
+    return 1e3 * (time.perf_counter() - start) / result.n_iter, result.energy_evaluations // result.n_iter
+
+
+def main() -> None:
+    bench = Benchmark(__doc__, seed=2004)
+    bench.parser.add_argument("--quick", action="store_true", help="three hams, every fourth slice (a few minutes)")
+    bench.parser.add_argument("--skip-costs", action="store_true", help="skip the cost table")
+    args = bench.parse()
+
+    import numpy as np
+    import pandas as pd
+    from scipy import ndimage
+    from skimage.segmentation import active_contour
+
+    from amdo_lab import active_contours as ac
+
+    if not args.skip_costs:
+        potential = ac.potential_field(ac.make_ham_slice(rng=args.seed).image)
+        costs = bench.table("snake", "window", "m", "n", "ms per iteration", "evaluations per iteration",
+                            title="cost per iteration (Sec. 3.1)")
+        dp_by_window = {}
+        for window in (3, 5, 7):
+            ms, count = _dp_ms(ac, np, potential, 100, window)
+            dp_by_window[window] = ms
+            costs.add("dynamic", window, window ** 2, 100, round(ms, 1), count)
+            ms, count = _greedy_ms(ac, np, potential, 100, window)
+            costs.add("greedy", window, window ** 2, 100, round(ms, 2), count)
+        slopes = {}
+        for name, timer in (("dynamic", _dp_ms), ("greedy", _greedy_ms)):
+            times = [timer(ac, np, potential, n, 3)[0] for n in (50, 100, 200)]
+            slopes[name] = float(np.polyfit(np.log([50, 100, 200]), np.log(times), 1)[0])
+        bench.note(f"dynamic programming, 25 -> 49 candidates: x{dp_by_window[7] / dp_by_window[5]:.1f} "
+                   f"(m^3 predicts x{(49 / 25) ** 3:.1f}); slope in n: dynamic {slopes['dynamic']:.2f}, "
+                   f"greedy {slopes['greedy']:.2f}")
+
+    study = ac.make_ham_study(rng=args.seed)
+    hams = range(3) if args.quick else range(study.n_hams)
+    every, dp_every = (4, 8) if args.quick else (1, 5)
+    rows, prep_seconds = [], []
+    for ham in hams:
+        for stage in range(4):
+            if ham not in study.hams_at(stage):
+                continue
+            for index in range(0, len(study.slice_positions(ham, stage)), every):
+                ham_slice = study.slice(ham, stage, index)
+                start = time.perf_counter()
+                potential = ac.potential_field(ham_slice.image)
+                prep_seconds.append(time.perf_counter() - start)
+                for j, muscle in enumerate(ac.MUSCLES):
+                    if muscle not in ham_slice.contours:
+                        continue
+                    seed = np.random.default_rng([args.seed, ham, stage, index, j])
+                    init = ac.initial_contour(ham_slice, muscle, rng=seed)
+                    true = ham_slice.areas_mm2[muscle]
+                    methods = list(ac.METHODS) if index % dp_every == 0 else ["greedy", "variational"]
+                    for method in methods + ["active_contour"]:
+                        start = time.perf_counter()
+                        if method == "active_contour":
+                            field = -ndimage.gaussian_filter(potential, 2.0) / potential.max()
+                            points = active_contour(field, init, alpha=0.01, beta=1.0, gamma=0.01, w_line=1.0,
+                                                    w_edge=0.0)
+                        else:
+                            points = ac.segment_contour(potential, init, method)
+                        rows.append({"ham": ham, "stage": stage, "index": index, "muscle": muscle, "method": method,
+                                     "true_mm2": true, "found_mm2": ac.polygon_area_mm2(points),
+                                     "seconds": time.perf_counter() - start})
+        print(f"ham {ham} done", flush=True)
+    found = pd.DataFrame(rows)
+    found["error"] = 100 * (found["found_mm2"] / found["true_mm2"] - 1)
+    accuracy = bench.table("method", "contours", "mean |area error| %", "mean error %", "ms per contour (median)",
+                           title=f"study: {found.groupby(['ham', 'stage', 'index']).ngroups} slices")
+    for method, group in found.groupby("method"):
+        accuracy.add(method, len(group), round(float(group["error"].abs().mean()), 1),
+                     round(float(group["error"].mean()), 1), round(1e3 * float(group["seconds"].median()), 0))
+    bench.note(f"pre-processing (potential) per slice: median {1e3 * np.median(prep_seconds):.0f} ms")
+
+    volumes = bench.table("method", "stage", "reduction from snakes %", "from true areas %", "from solids %",
+                          title="mean volume reduction against raw, hams scanned at all stages")
+    complete = found[found["ham"].isin(study.hams_at(3))]
+    for method, group in complete.groupby("method"):
+        step = (dp_every if method == "dynamic" else 1) * every
+        sums = group.groupby(["ham", "muscle", "stage"])[["true_mm2", "found_mm2"]].sum() * step * ac.SLICE_MM
+        reduction = 100 * (1 - sums / sums.xs(0, level="stage"))
+        for stage in range(1, 4):
+            part = reduction.xs(stage, level="stage")
+            solids = 100 * (1 - np.mean(study.volume_fraction[study.hams_at(3), stage]))
+            volumes.add(method, ac.STAGES[stage], round(float(part["found_mm2"].mean()), 1),
+                        round(float(part["true_mm2"].mean()), 1), round(float(solids), 1))
+    bench.finish()
+
+
+if __name__ == "__main__":
+    main()
