@@ -11,7 +11,8 @@ One module per step: ``images`` (the inputs), ``contours`` (eqs. 1-5), ``normali
 ``plotting``.
 """
 
-from amdo_lab.ear_biometrics.circles import CROSSING_READINGS, CircleFeatures, circle_features, circle_features_reference
+from amdo_lab.ear_biometrics.circles import (CROSSING_READINGS, CircleFeatures, circle_features,
+                                             circle_features_reference)
 from amdo_lab.ear_biometrics.contours import canny_contours, clean_contours, detect_contours, detect_contours_reference
 from amdo_lab.ear_biometrics.evaluation import (
     ClosedSetResult,
@@ -51,7 +52,8 @@ from amdo_lab.ear_biometrics.matcher import (
 from amdo_lab.ear_biometrics.normalisation import NORMALISATION_MODES, Normalisation, normalise_coordinates
 from amdo_lab.ear_biometrics.peers import HogNearestNeighbour, LbpNearestNeighbour
 from amdo_lab.ear_biometrics.plotting import draw_circles, draw_topology
-from amdo_lab.ear_biometrics.skeleton import crossing_number, prune_spurs, skeleton_graph, smooth_polylines, thin_contours
+from amdo_lab.ear_biometrics.skeleton import (crossing_number, prune_spurs, skeleton_graph, smooth_polylines,
+                                              thin_contours)
 from amdo_lab.ear_biometrics.synthetic import (
     NUISANCE_FACTORS,
     CapturePose,

@@ -4,14 +4,16 @@ circles around the centroid, in the frame of eq. (6)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from amdo_lab.common import MAX_ITERATIONS, as_bool_mask, check_choice, check_in_range, check_positive, check_positive_int
+from amdo_lab.common import (MAX_ITERATIONS, MAX_SIDE, as_bool_mask, check_choice, check_in_range, check_positive,
+                             check_positive_int)
 from amdo_lab.ear_biometrics.images import as_contour_image, check_instance
-from amdo_lab.ear_biometrics.normalisation import Normalisation, normalise_coordinates
+from amdo_lab.ear_biometrics.normalisation import NORMALISATION_MODES, Normalisation, normalise_coordinates
 from amdo_lab.ear_biometrics.skeleton import prune_spurs, skeleton_graph, smooth_polylines, thin_contours
 
 CROSSING_READINGS = ("pixels", "polyline")
@@ -21,6 +23,19 @@ contours read as polylines (see :func:`circle_features`)."""
 MAX_CIRCLES = 64
 """Most circles N_r of eq. (7): the paper draws a handful; each circle is sampled at least twice per
 pixel of its circumference."""
+
+READING_RULES = {  # the range of each setting of V's reading (scikit-learn's _parameter_constraints)
+    "n_circles": partial(check_positive_int, maximum=MAX_CIRCLES),
+    "step": check_positive,
+    "mode": partial(check_choice, choices=NORMALISATION_MODES),
+    "min_gap_px": partial(check_positive, allow_zero=True),
+    "crossings": partial(check_choice, choices=CROSSING_READINGS),
+    "polyline_smoothing": partial(check_positive_int, minimum=0, maximum=MAX_ITERATIONS),
+    "band_px": partial(check_positive, allow_zero=True),
+    "spur_length_px": partial(check_positive_int, minimum=0, maximum=MAX_SIDE),
+}
+"""How :func:`circle_features`, :func:`~amdo_lab.ear_biometrics.topology.topology_features` and
+:class:`~amdo_lab.ear_biometrics.matcher.EarMatcher` check each setting of V: a function of (value, name)."""
 
 
 @dataclass(frozen=True)
@@ -105,7 +120,7 @@ def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *,
         must go from below R - band to above R + band, so a graze is not counted.
     spur_length_px : int
         ``"polyline"`` only: spurs shorter than this, pixels, are pruned first (:func:`prune_spurs`); from
-        0 to the image's larger side.
+        0 to ``MAX_SIDE`` (4,096).
     skeleton : numpy.ndarray or None
         ``"polyline"`` only: an already thinned image of the contours' shape (saves the thinning).
     normalisation : Normalisation or None
@@ -135,12 +150,10 @@ def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *,
     [4, 4]
     """
     array = as_contour_image(contours)
-    n_circles = check_positive_int(n_circles, "n_circles", maximum=MAX_CIRCLES)
-    min_gap_px = check_positive(min_gap_px, "min_gap_px", allow_zero=True)
-    check_choice(crossings, "crossings", CROSSING_READINGS)
-    polyline_smoothing = check_positive_int(polyline_smoothing, "polyline_smoothing", minimum=0, maximum=MAX_ITERATIONS)
-    band_px = check_positive(band_px, "band_px", allow_zero=True)
-    spur_length_px = check_positive_int(spur_length_px, "spur_length_px", minimum=0, maximum=max(array.shape))
+    reading = dict(n_circles=n_circles, mode=mode, min_gap_px=min_gap_px, crossings=crossings,
+                   polyline_smoothing=polyline_smoothing, band_px=band_px, spur_length_px=spur_length_px)
+    for name, value in reading.items():
+        READING_RULES[name](value, name)
     if normalisation is None:
         norm = normalise_coordinates(array, mode)
     else:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
+
 import numpy as np
 
 from amdo_lab.common import check_in_range
@@ -32,9 +34,7 @@ def check_subject_id(value: object, name: str) -> object:
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 5, step 5 (a rejection names no subject).
     """
-    if value is None:
-        raise ValueError(f"{name} must not be None (None means rejection)")
-    if not isinstance(value, str):
+    if not isinstance(value, str):  # None (a rejection), a bool or NaN are refused here
         check_in_range(value, name, -MAX_NUMERIC_ID, MAX_NUMERIC_ID, closed="both")
     return value
 
@@ -64,16 +64,14 @@ def check_subject_ids(values: object, name: str, *, size: int | None = None, per
     LNCS 3179, pp. 51-61, Sec. 6 (two images per subject).
     """
     ids = np.asarray(values)
-    if ids.ndim != 1:
-        raise ValueError(f"{name} must be a 1-D sequence of subject ids, got shape {ids.shape}")
-    if size is not None and len(ids) != size:
-        raise ValueError(f"{name} must give one subject per {per} ({size}), got {len(ids)}")
+    if ids.ndim != 1 or (size is not None and len(ids) != size):
+        raise ValueError(f"{name} must be a 1-D sequence giving one subject per {per}, got shape {ids.shape}")
     for index, value in enumerate(ids.tolist()):
         check_subject_id(value, f"{name}[{index}]")
     return ids
 
 
-class Enrolment:
+class Enrolment(ABC):
     """What every matcher of the chapter shares: :meth:`fit` is one :meth:`enroll` per image.
 
     A subclass defines ``enroll(subject_id, image)`` and ``_forget()`` (drop every enrolled
@@ -111,9 +109,11 @@ class Enrolment:
                 raise ValueError(f"images[{index}]: {error}") from error
         return self
 
+    @abstractmethod
     def _forget(self) -> None:
-        raise NotImplementedError
+        """Drop every enrolled template."""
 
+    @abstractmethod
     def enroll(self, subject_id: object, image: object) -> object:
         """Add one reference image of ``subject_id`` (defined by each matcher).
 
@@ -129,4 +129,3 @@ class Enrolment:
         object
             What the matcher stores for the image.
         """
-        raise NotImplementedError

@@ -341,8 +341,7 @@ def closed_set(matcher: EarMatcher, templates: list[EarTemplate], subject_ids: o
 def _check_pairs(n_items: int, ids: np.ndarray, name: str) -> None:
     """Two captures per subject: as many ids as items, an even number of them."""
     if len(ids) != n_items or len(ids) % 2:
-        raise ValueError(f"{name} and subject_ids must have the same even length (two captures per subject), "
-                         f"got {n_items} {name} and subject_ids of shape {ids.shape}")
+        raise ValueError(f"{name} and subject_ids must have the same even length (two per subject), got {n_items}")
 
 
 def peer_closed_set(images: np.ndarray, subject_ids: object,
@@ -417,7 +416,8 @@ def hog_closed_set(images: np.ndarray, subject_ids: object, pixels_per_cell: int
     LNCS 3179, pp. 51-61, Sec. 6 (the protocol).
     N. Dalal, B. Triggs, "Histograms of Oriented Gradients for Human Detection", CVPR 2005.
     """
-    return peer_closed_set(images, subject_ids, None if pixels_per_cell is None else HogNearestNeighbour(pixels_per_cell))
+    baseline = None if pixels_per_cell is None else HogNearestNeighbour(pixels_per_cell)
+    return peer_closed_set(images, subject_ids, baseline)
 
 
 RELAXED_VIOLATIONS = 2
@@ -459,8 +459,7 @@ def nuisance_study(n_subjects: int, conditions: Mapping[str, tuple], *, rng: int
     n_subjects = check_positive_int(n_subjects, "n_subjects", minimum=2, maximum=MAX_SUBJECTS)
     generator = make_rng(rng, "rng")  # each condition draws from a copy of this state
     # Everything is checked before the first (slow) database is drawn.
-    if not isinstance(conditions, Mapping):
-        raise TypeError(f"conditions must map row names to factors to disable, got {type(conditions).__name__}")
+    check_instance(conditions, "conditions", Mapping, "a dict of row names and factors to disable")
     for disabled in conditions.values():
         check_disable(disabled)
     check_positive_int(size, "size", minimum=MIN_SIZE, maximum=MAX_SIDE)

@@ -19,7 +19,7 @@ import numpy as np
 
 from amdo_lab.common import MAX_SIDE, as_finite_array, check_choice, check_in_range, make_rng
 from amdo_lab.ear_biometrics.images import as_bool_image, as_grey_image, check_instance
-from amdo_lab.ear_biometrics.normalisation import NORMALISATION_MODES, Normalisation
+from amdo_lab.ear_biometrics.normalisation import NORMALISATION_MODES, Normalisation, check_spread
 
 FRAME_SOURCES = ("image", "silhouette", "contours")
 """Where the canonical frame comes from: ``"image"`` (none: the image as given, the paper's
@@ -156,21 +156,26 @@ def moment_frame(mask: np.ndarray, shape: tuple[int, int]) -> CanonicalFrame:
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 3, eq. (6). Beyond the paper: its Sec. 3 moments (eq. 6) taken of the silhouette and applied to the image.
     """
-    mask, shape = as_bool_image(mask, "mask"), _check_shape(shape)
+    mask, shape = _check_mask(mask), _check_shape(shape)
     pixels = np.argwhere(mask).astype(float)  # (n, 2) row, col
-    if len(pixels) < 3:
-        raise ValueError("mask must hold at least 3 pixels to define a frame (no ear found?)")
     centroid = pixels.mean(axis=0)
     offsets = pixels - centroid
     variances, vectors = np.linalg.eigh(offsets.T @ offsets / len(offsets))  # ascending
-    if variances[0] <= 1e-12 * variances[1]:
-        raise ValueError("mask must not lie on a single straight line (no spread across it)")
+    check_spread(variances, "mask")
     axis = vectors[:, 1]
     along = offsets @ axis
     third = float(np.mean(along**3) / variances[1] ** 1.5)
     if third < 0:  # the 180-degree ambiguity: point the axis towards the longer tail
         axis, third = -axis, -third
     return _frame(centroid, axis, variances, third, shape)
+
+
+def _check_mask(mask: object) -> np.ndarray:
+    """A boolean image with at least 3 pixels set (fewer define no frame)."""
+    mask = as_bool_image(mask, "mask")
+    if np.count_nonzero(mask) < 3:
+        raise ValueError("mask must hold at least 3 pixels to define a frame (no ear found?)")
+    return mask
 
 
 def _check_shape(shape: object) -> tuple[int, int]:
@@ -201,16 +206,13 @@ def moment_frame_fast(mask: np.ndarray, shape: tuple[int, int]) -> CanonicalFram
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 3, eq. (6). Beyond the paper: its Sec. 3 moments (eq. 6) taken of the silhouette and applied to the image.
     """
-    mask, shape = as_bool_image(mask, "mask"), _check_shape(shape)
+    mask, shape = _check_mask(mask), _check_shape(shape)
     m = cv2.moments(mask.astype(np.uint8), binaryImage=True)
-    if m["m00"] < 3:
-        raise ValueError("mask must hold at least 3 pixels to define a frame (no ear found?)")
     n = m["m00"]
     centroid = np.array([m["m01"], m["m10"]]) / n  # (row, col)
     covariance = np.array([[m["mu02"], m["mu11"]], [m["mu11"], m["mu20"]]]) / n  # (row, col)
     variances, vectors = np.linalg.eigh(covariance)
-    if variances[0] <= 1e-12 * variances[1]:
-        raise ValueError("mask must not lie on a single straight line (no spread across it)")
+    check_spread(variances, "mask")
     axis = vectors[:, 1]
     r, c = axis
     # E[((p - centroid) . axis)^3] expanded in the third-order central moments

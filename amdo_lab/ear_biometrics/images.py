@@ -143,9 +143,7 @@ def check_images(images: object, name: str = "images") -> None:
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 6 (a database of grey-level ear images).
     """
-    if isinstance(images, (str, bytes)) or not hasattr(images, "__len__"):
-        raise TypeError(f"{name} must be a sequence of grey-level images, got {type(images).__name__}")
-    if len(images) == 0:
-        raise ValueError(f"{name} must not be empty")
+    if isinstance(images, (str, bytes)) or not hasattr(images, "__len__") or len(images) == 0:
+        raise ValueError(f"{name} must be a non-empty sequence of grey-level images, got {type(images).__name__}")
     for index, image in enumerate(images):
         as_grey_image(image, f"{name}[{index}]")

@@ -9,8 +9,9 @@ from functools import partial
 import cv2
 import numpy as np
 
-from amdo_lab.common import MAX_ITERATIONS, MAX_SIDE, check_choice, check_fitted, check_in_range, check_positive, check_positive_int
-from amdo_lab.ear_biometrics.circles import CROSSING_READINGS, MAX_CIRCLES, CircleFeatures
+from amdo_lab.common import (MAX_ITERATIONS, MAX_SIDE, check_choice, check_fitted, check_in_range, check_positive,
+                             check_positive_int)
+from amdo_lab.ear_biometrics.circles import MAX_CIRCLES, READING_RULES, CircleFeatures
 from amdo_lab.ear_biometrics.contours import MAX_CLOSING_PX, MAX_K, clean_contours, detect_contours
 from amdo_lab.ear_biometrics.enrolment import Enrolment, check_subject_id
 from amdo_lab.ear_biometrics.frame import (FRAME_SOURCES, CanonicalFrame, frame_normalisation, moment_frame_fast,
@@ -257,18 +258,11 @@ def check_distance_threshold(value: object, name: str) -> float:
 SETTING_RULES = {  # the range of each of EarMatcher's settings, as scikit-learn's _parameter_constraints
     "k": partial(check_in_range, low=0, high=MAX_K, closed="both"),
     "smoothing": partial(check_in_range, low=0, high=MAX_BLUR_PX, closed="both"),
-    "n_circles": partial(check_positive_int, maximum=MAX_CIRCLES),
-    "step": check_positive,
     "min_component_size": partial(check_positive_int, maximum=MAX_COMPONENT_SIZE),
     "closing": partial(check_positive_int, minimum=0, maximum=MAX_CLOSING_PX),
     "max_count_violations": partial(check_positive_int, minimum=0, maximum=MAX_CIRCLES),
     "distance_threshold": check_distance_threshold,
-    "mode": partial(check_choice, choices=NORMALISATION_MODES),
-    "min_gap_px": partial(check_positive, allow_zero=True),
-    "crossings": partial(check_choice, choices=CROSSING_READINGS),
-    "polyline_smoothing": partial(check_positive_int, minimum=0, maximum=MAX_ITERATIONS),
-    "band_px": partial(check_positive, allow_zero=True),
-    "spur_length_px": partial(check_positive_int, minimum=0, maximum=MAX_SIDE),
+    **READING_RULES,  # n_circles, step, mode, min_gap_px, crossings, polyline_smoothing, band_px, spur_length_px
     "frame": partial(check_choice, choices=FRAME_SOURCES),
     "origin": partial(check_choice, choices=("frame", "contours")),
     "ranking": partial(check_choice, choices=RANKINGS),
@@ -512,8 +506,7 @@ class EarMatcher(Enrolment):
         EarTemplate
             The enrolled features.
         """
-        check_subject_id(subject_id, "subject_id")
-        return self.enroll_template(subject_id, self.extract(image))
+        return self.enroll_template(subject_id, self.extract(image))  # which checks subject_id
 
     def enroll_template(self, subject_id: object, template: EarTemplate) -> EarTemplate:
         """Add already extracted features (from :meth:`extract` with the same settings).
@@ -575,8 +568,7 @@ class EarMatcher(Enrolment):
             The decision, the candidates and every enrolled template's score.
         """
         check_fitted(self, "templates_")  # NotFittedError (a ValueError) before any enrolment
-        as_grey_image(image)  # bad dtype/shape/NaN -> TypeError/ValueError
-        try:
+        try:  # a bad image raises in extract (TypeError, or a ValueError about the image)
             query = self.extract(image)
         except ValueError as error:
             if "no contour" in str(error):
@@ -620,7 +612,8 @@ class EarMatcher(Enrolment):
         candidates, final = candidates[order], final[order]
         scores = scores.copy()
         scores[candidates] = final - 10.0  # gated candidates rank ahead of all others
-        return IdentificationResult(self.subject_ids_[candidates[0]], tuple(self.subject_ids_[i] for i in candidates), final, scores)
+        return IdentificationResult(self.subject_ids_[candidates[0]], tuple(self.subject_ids_[i] for i in candidates),
+                                    final, scores)
 
 
 def check_templates(templates: object, name: str) -> None:
@@ -642,6 +635,5 @@ def check_templates(templates: object, name: str) -> None:
     """
     if isinstance(templates, (str, np.ndarray)) or not hasattr(templates, "__len__") or not len(templates):
         raise ValueError(f"{name} must be a non-empty list of EarTemplate")
-    wrong = [type(t).__name__ for t in templates if not isinstance(t, EarTemplate)]
-    if wrong:
-        raise TypeError(f"{name} must hold EarTemplate objects (from EarMatcher.extract), got {wrong[0]}")
+    for index, template in enumerate(templates):
+        check_instance(template, f"{name}[{index}]", EarTemplate, "EarMatcher.extract")

@@ -74,15 +74,31 @@ MAX_COORDINATE = 1e6
 
 def _check_points(points: object, name: str) -> np.ndarray:
     """Finite 2-D points as rows; an (n, 3) array is refused rather than silently re-cut into pairs."""
-    array = as_finite_array(points, name, allow_empty=True, max_abs=MAX_COORDINATE)
-    if array.ndim not in (1, 2) or array.shape[-1] != 2:
-        raise ValueError(f"{name} must have shape (n, 2) or (2,), got {array.shape}")
-    return array.reshape(-1, 2)
+    return as_finite_array(np.atleast_2d(points), name, shape=(None, 2), allow_empty=True, max_abs=MAX_COORDINATE)
 
 
 def _image_axes_matrix(spread: np.ndarray) -> np.ndarray:
     # x to the right (columns), y up (minus rows), each divided by its sigma
     return np.array([[0.0, 1.0 / spread[1]], [-1.0 / spread[0], 0.0]])
+
+
+def check_spread(variances: np.ndarray, name: str) -> None:
+    """Refuse points that lie on one straight line: the smaller variance is (nearly) zero.
+
+    Parameters
+    ----------
+    variances : numpy.ndarray, shape (2,)
+        The two variances (eigenvalues of the points' covariance, or per-axis variances), ascending.
+    name : str
+        The argument the points come from, for the error message.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 3, eq. (6) (each axis is divided by its spread).
+    """
+    if variances[0] <= 1e-12 * variances[1]:
+        raise ValueError(f"{name} must not lie on a single straight line (no spread across it)")
 
 
 def normalise_coordinates(contours: object, mode: str = "principal") -> Normalisation:
@@ -130,16 +146,14 @@ def normalise_coordinates(contours: object, mode: str = "principal") -> Normalis
     centroid = pixels.mean(axis=0)
     offsets = pixels - centroid
     spread = offsets.std(axis=0)
-    if np.any(spread == 0):
-        raise ValueError("contours must not lie on a single row or column (zero spread)")
+    check_spread(np.sort(spread**2), "contours")  # a single row or column: no spread to divide by
     if mode == "axes":
         return Normalisation(centroid, spread, _image_axes_matrix(spread))
     if mode == "isotropic":
         spread = np.full(2, np.sqrt(np.mean(spread**2)))
         return Normalisation(centroid, spread, _image_axes_matrix(spread))
     variances, vectors = np.linalg.eigh(np.cov(offsets.T, bias=True))  # ascending: minor, major
-    if variances[0] <= 1e-12 * variances[1]:
-        raise ValueError("contours must not lie on a single straight line (zero spread across it)")
+    check_spread(variances, "contours")
     projected = offsets @ vectors  # (n, 2): along minor, major axis
     signs = np.where(np.mean(projected**3, axis=0) < 0, -1.0, 1.0)  # positive skewness on both axes
     spread = np.sqrt(variances)

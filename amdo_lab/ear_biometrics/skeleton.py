@@ -7,7 +7,7 @@ import cv2
 import numpy as np
 from skimage.morphology import skeletonize
 
-from amdo_lab.common import MAX_ITERATIONS, as_finite_array, check_positive_int
+from amdo_lab.common import MAX_ITERATIONS, MAX_SIDE, as_finite_array, check_positive_int
 from amdo_lab.ear_biometrics.images import as_bool_image, as_contour_image
 
 MAX_NODE_COORDINATE = 1e6
@@ -62,7 +62,7 @@ def prune_spurs(skeleton: object, length_px: int) -> np.ndarray:
     skeleton : array_like, shape (rows, cols), bool
         A thinned contour image, not empty.
     length_px : int
-        Longest spur removed, pixels, from 0 (the skeleton unchanged) to the image's larger side.
+        Longest spur removed, pixels, from 0 (the skeleton unchanged) to ``MAX_SIDE`` (4,096).
 
     Returns
     -------
@@ -75,7 +75,7 @@ def prune_spurs(skeleton: object, length_px: int) -> np.ndarray:
     LNCS 3179, pp. 51-61, Sec. 4 (beyond the paper: endings of eq. (9) that a ragged contour would add).
     """
     thin = as_bool_image(skeleton, "skeleton")
-    length = check_positive_int(length_px, "length_px", minimum=0, maximum=max(thin.shape))
+    length = check_positive_int(length_px, "length_px", minimum=0, maximum=MAX_SIDE)
     kernel = np.ones((3, 3), np.uint8)
 
     def ends(mask: np.ndarray) -> np.ndarray:  # one branch (N_c = 1) or isolated (N_c = 0)
@@ -194,7 +194,8 @@ def smooth_polylines(nodes: np.ndarray, edges: np.ndarray, n_iter: int) -> np.nd
     """
     n_iter = check_positive_int(n_iter, "n_iter", minimum=0, maximum=MAX_ITERATIONS)
     positions = as_finite_array(nodes, "nodes", shape=(None, 2), max_abs=MAX_NODE_COORDINATE)
-    edges = as_finite_array(edges, "edges", shape=(None, 2), dtype=int, allow_empty=True, bounds=(0, len(positions) - 1))
+    edges = as_finite_array(edges, "edges", shape=(None, 2), dtype=int, allow_empty=True,
+                            bounds=(0, len(positions) - 1))
     degree = np.bincount(edges.ravel(), minlength=len(positions))
     interior = degree == 2
     for _ in range(n_iter):

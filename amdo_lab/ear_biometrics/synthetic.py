@@ -148,8 +148,8 @@ class EarShape:
     def __post_init__(self) -> None:
         # a record the user may build: every parameter finite, of its shape, within MAX_SHAPE_VALUE
         for item in fields(self):
-            value = as_finite_array(getattr(self, item.name), f"shape.{item.name}", shape=_SHAPE_FIELDS.get(item.name, ()),
-                                    max_abs=MAX_SHAPE_VALUE)
+            value = as_finite_array(getattr(self, item.name), f"shape.{item.name}",
+                                    shape=_SHAPE_FIELDS.get(item.name, ()), max_abs=MAX_SHAPE_VALUE)
             object.__setattr__(self, item.name, value if value.ndim else float(value))
 
 
@@ -649,11 +649,9 @@ def load_ear_folder(folder: str | Path, *, size: int | None = None) -> tuple[lis
     if size is not None:
         size = check_positive_int(size, "size", maximum=MAX_SIDE)
     folder = Path(folder)
-    if not folder.is_dir():
-        raise ValueError(f"folder must be an existing directory, got {folder.name!r}")
-    files = sorted(p for p in folder.iterdir() if p.suffix.lower() in IMAGE_SUFFIXES)
+    files = sorted(p for p in folder.iterdir() if p.suffix.lower() in IMAGE_SUFFIXES) if folder.is_dir() else []
     if not files:
-        raise ValueError(f"folder contains no image files with suffixes {IMAGE_SUFFIXES}")
+        raise ValueError(f"folder must be an existing directory holding image files, got {folder.name!r}")
     images, ids = [], []
     for path in files:
         image = cv2.imread(str(path), cv2.IMREAD_GRAYSCALE)

@@ -124,7 +124,7 @@ def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, 
     band_px : float
         As in :func:`circle_features`, pixels, >= 0.
     spur_length_px : int
-        As in :func:`circle_features`, pixels, from 0 to the image's larger side.
+        As in :func:`circle_features`, pixels, from 0 to 4,096.
     normalisation : Normalisation or None
         A given frame in place of eq. (6) on the contour pixels.
 
