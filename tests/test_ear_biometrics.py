@@ -291,6 +291,31 @@ def test_crossing_number_endings_and_bifurcation():
     assert np.all(n_c[~skeleton] == 0)
 
 
+def test_connectivity_number_differs_from_the_crossing_number_where_branches_touch():
+    tee = np.zeros((5, 5), bool)
+    tee[2, 1:4] = True
+    tee[3, 2] = True  # arms west, east and south of the centre, touching diagonally
+    plus = np.zeros((5, 5), bool)
+    plus[2, 1:4] = plus[1:4, 2] = True
+    y_shape = np.zeros((15, 15), bool)
+    y_shape[7, 2:8] = True
+    for step in range(1, 6):
+        y_shape[7 - step, 7 + step] = y_shape[7 + step, 7 + step] = True  # branches apart from each other
+    assert (eb.connectivity_number(tee)[2, 2], eb.crossing_number(tee)[2, 2]) == (1, 3)
+    assert (eb.connectivity_number(plus)[2, 2], eb.crossing_number(plus)[2, 2]) == (0, 4)
+    assert eb.connectivity_number(y_shape)[7, 7] == eb.crossing_number(y_shape)[7, 7] == 3
+    assert eb.connectivity_number(tee)[2, 1] == 1 and eb.connectivity_number(y_shape)[7, 4] == 2
+
+
+def test_topology_features_reads_eq8_either_way_on_a_y_contour():
+    contours = np.zeros((80, 80), bool)
+    for end in ((10, 40), (70, 10), (70, 70)):
+        cv2.line(contours.view(np.uint8), (40, 40), end, 1, 1)
+    for eq8 in eb.EQ8_READINGS:
+        n_e, n_b, _ = eb.topology_features(contours, n_circles=4, step=0.4, eq8=eq8).contours[0].triple
+        assert (n_e, n_b) == (3, 1), eq8
+
+
 def test_topology_features_of_a_y_contour():
     contours = np.zeros((80, 80), bool)
     cv2.line(contours.view(np.uint8), (10, 40), (40, 40), 1, 1)
@@ -750,6 +775,8 @@ REJECTIONS = [
                              ("skeleton_graph", eb.skeleton_graph), ("crossing_number", eb.crossing_number))
       for shape in ((0, 0), (5, 0))],
     # --- V and F (eqs. 6-9): contours to measure, named readings, a skeleton of the contours' size
+    reject("topology_features eq8 zhang", lambda: eb.topology_features(_plus(), eq8="zhang"),
+           ValueError, "eq8 must be one of"),
     reject("normalise_coordinates mode whiten", lambda clean_ear_contours: eb.normalise_coordinates(
         clean_ear_contours, "whiten"), ValueError, "mode must be one of"),
     reject("circle_features no contour", lambda: eb.circle_features(np.zeros((20, 20), bool)), ValueError, "no contour"),

@@ -52,8 +52,8 @@ from amdo_lab.ear_biometrics.matcher import (
 from amdo_lab.ear_biometrics.normalisation import NORMALISATION_MODES, Normalisation, normalise_coordinates
 from amdo_lab.ear_biometrics.peers import HogNearestNeighbour, LbpNearestNeighbour
 from amdo_lab.ear_biometrics.plotting import draw_circles, draw_topology
-from amdo_lab.ear_biometrics.skeleton import (crossing_number, prune_spurs, skeleton_graph, smooth_polylines,
-                                              thin_contours)
+from amdo_lab.ear_biometrics.skeleton import (EQ8_READINGS, connectivity_number, crossing_number, prune_spurs,
+                                              skeleton_graph, smooth_polylines, thin_contours)
 from amdo_lab.ear_biometrics.synthetic import (
     NUISANCE_FACTORS,
     CapturePose,
@@ -76,7 +76,7 @@ __all__ = [
     # V (eq. 7)
     "CROSSING_READINGS", "CircleFeatures", "circle_features", "circle_features_reference",
     # the thinned contours and eq. 8
-    "thin_contours", "crossing_number", "prune_spurs", "skeleton_graph", "smooth_polylines",
+    "thin_contours", "EQ8_READINGS", "crossing_number", "connectivity_number", "prune_spurs", "skeleton_graph", "smooth_polylines",
     # F (eq. 9)
     "ContourTopology", "TopologyFeatures", "topology_features",
     # the canonical frame

@@ -18,6 +18,7 @@ from amdo_lab.ear_biometrics.frame import (FRAME_SOURCES, CanonicalFrame, frame_
                                            silhouette, to_canonical)
 from amdo_lab.ear_biometrics.images import as_grey_image, check_instance
 from amdo_lab.ear_biometrics.normalisation import NORMALISATION_MODES, Normalisation
+from amdo_lab.ear_biometrics.skeleton import EQ8_READINGS
 from amdo_lab.ear_biometrics.topology import TopologyFeatures, topology_features
 
 @dataclass(frozen=True)
@@ -266,6 +267,7 @@ SETTING_RULES = {  # the range of each of EarMatcher's settings, as scikit-learn
     "frame": partial(check_choice, choices=FRAME_SOURCES),
     "origin": partial(check_choice, choices=("frame", "contours")),
     "ranking": partial(check_choice, choices=RANKINGS),
+    "eq8": partial(check_choice, choices=EQ8_READINGS),
 }
 """How :class:`EarMatcher` checks each setting: a function of (value, name) from ``amdo_lab.common``."""
 
@@ -337,6 +339,9 @@ class EarMatcher(Enrolment):
         Steps 6-9: :func:`point_distance` between the characteristic points of F (``"points"``), or
         the literal exact triples then coordinates (:func:`topology_similarity`), combined with the
         distance-sum gap (``"triples"``).
+    eq8 : {"crossing", "yokoi"}
+        Reading of eq. (8) for F's endings and bifurcations (see
+        :func:`~amdo_lab.ear_biometrics.topology.topology_features`).
 
     Attributes
     ----------
@@ -382,6 +387,7 @@ class EarMatcher(Enrolment):
     frame: str = "silhouette"
     origin: str = "frame"
     ranking: str = "points"
+    eq8: str = "crossing"
     # learned from the enrolled images (scikit-learn's trailing underscore); None until the first one
     subject_ids_: list | None = field(default=None, init=False, repr=False)
     templates_: list | None = field(default=None, init=False, repr=False)
@@ -488,7 +494,7 @@ class EarMatcher(Enrolment):
         topology = topology_features(self._contours(work), self.n_circles, self.step, mode=self.mode,
                                      min_gap_px=self.min_gap_px, crossings=self.crossings,
                                      polyline_smoothing=self.polyline_smoothing, band_px=self.band_px,
-                                     spur_length_px=self.spur_length_px, normalisation=normalisation)
+                                     spur_length_px=self.spur_length_px, eq8=self.eq8, normalisation=normalisation)
         return EarTemplate(topology.circles, topology)
 
     def enroll(self, subject_id: object, image: object) -> EarTemplate:

@@ -50,6 +50,47 @@ def _crossing_number(skeleton: np.ndarray) -> np.ndarray:
     return np.where(skeleton, transitions, 0)
 
 
+EQ8_READINGS = ("crossing", "yokoi")
+"""Readings of eq. (8)'s "connected number": Rutovitz's crossing number (:func:`crossing_number`) or
+Yokoi's connectivity number (:func:`connectivity_number`)."""
+
+
+def connectivity_number(skeleton: np.ndarray) -> np.ndarray:
+    """Yokoi's 8-connectivity number of every skeleton pixel: the other reading of eq. (8).
+
+    With q_k = 1 - p_k over the 8 neighbours in cyclic order from a 4-neighbour (N, NE, E, ...),
+    N = sum over the 4-neighbours k of (q_k - q_k q_{k+1} q_{k+2}): the number of separate groups of
+    8-connected neighbours that the pixel joins. Like :func:`crossing_number` it is 1 at an ending
+    and 2 along a line; where branches meet it differs, because neighbours that touch diagonally form
+    one group: a T of 4-adjacent arms gives 1 (the crossing number 3), a one-pixel "+" gives 0 (4).
+
+    Parameters
+    ----------
+    skeleton : array_like, shape (rows, cols), bool
+        A thinned contour image, not empty.
+
+    Returns
+    -------
+    numpy.ndarray, shape (rows, cols), int
+        N on the skeleton, 0 off it.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 4, eq. (8).
+    S. Yokoi, J. Toriwaki, T. Fukumura, "An analysis of topological properties of digitized binary
+    pictures using local features", Computer Graphics and Image Processing 4(1), 1975.
+    """
+    thin = as_bool_image(skeleton, "skeleton")
+    padded = np.pad(thin.astype(np.int8), 1)
+    h, w = thin.shape
+    ring = [(0, 1), (0, 2), (1, 2), (2, 2), (2, 1), (2, 0), (1, 0), (0, 0)]  # N, NE, E, SE, S, SW, W, NW
+    q = np.stack([1 - padded[r:r + h, c:c + w] for r, c in ring])
+    # N = Σ_{k = N, E, S, W} (q_k - q_k q_{k+1} q_{k+2}), indices around the ring
+    groups = sum(q[k] - q[k] * q[k + 1] * q[(k + 2) % 8] for k in (0, 2, 4, 6))
+    return np.where(thin, groups, 0)
+
+
 def prune_spurs(skeleton: object, length_px: int) -> np.ndarray:
     """Remove side branches shorter than ``length_px`` pixels from a thinned image.
 

@@ -8,10 +8,11 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from amdo_lab.common import check_choice
 from amdo_lab.ear_biometrics.circles import CircleFeatures, circle_features
 from amdo_lab.ear_biometrics.images import as_contour_image
 from amdo_lab.ear_biometrics.normalisation import Normalisation
-from amdo_lab.ear_biometrics.skeleton import crossing_number, thin_contours
+from amdo_lab.ear_biometrics.skeleton import EQ8_READINGS, connectivity_number, crossing_number, thin_contours
 
 @dataclass(frozen=True)
 class ContourTopology:
@@ -95,7 +96,7 @@ def _cluster_centres(mask: np.ndarray) -> np.ndarray:
 
 def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, *, mode: str = "principal",
                       min_gap_px: float = 0.0, crossings: str = "pixels", polyline_smoothing: int = 2,
-                      band_px: float = 0.0, spur_length_px: int = 0,
+                      band_px: float = 0.0, spur_length_px: int = 0, eq8: str = "crossing",
                       normalisation: Normalisation | None = None) -> TopologyFeatures:
     """Second feature vector F, eq. (9).
 
@@ -125,6 +126,9 @@ def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, 
         As in :func:`circle_features`, pixels, >= 0.
     spur_length_px : int
         As in :func:`circle_features`, pixels, from 0 to 4,096.
+    eq8 : {"crossing", "yokoi"}
+        Reading of eq. (8): Rutovitz's crossing number or Yokoi's connectivity number; either way 1
+        marks an ending and 3 or more a bifurcation.
     normalisation : Normalisation or None
         A given frame in place of eq. (6) on the contour pixels.
 
@@ -139,6 +143,7 @@ def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, 
     LNCS 3179, pp. 51-61, Sec. 4, eqs. (7)-(9) and Figs. 7-8.
     """
     array = as_contour_image(contours)
+    check_choice(eq8, "eq8", EQ8_READINGS)
     full_skeleton = thin_contours(array)
     circles = circle_features(array, n_circles, step, mode=mode, min_gap_px=min_gap_px, crossings=crossings,
                               polyline_smoothing=polyline_smoothing, band_px=band_px, spur_length_px=spur_length_px,
@@ -150,7 +155,7 @@ def topology_features(contours: object, n_circles: int = 8, step: float = 0.25, 
     crop = array[top:rows[-1] + 2, left:cols[-1] + 2]
     offset = np.array([top, left])
     thin = full_skeleton[top:rows[-1] + 2, left:cols[-1] + 2]
-    n_c = crossing_number(thin)  # eq. (8): 1 at an ending, 3 or more at a bifurcation
+    n_c = (crossing_number if eq8 == "crossing" else connectivity_number)(thin)  # eq. (8): 1 ending, > 2 bifurcation
     endings = _cluster_centres(n_c == 1) + offset
     bifurcations = _cluster_centres(n_c > 2) + offset
     # Thinning preserves 8-connectivity, so a skeleton component is the skeleton of exactly one
