@@ -56,6 +56,7 @@ VARIANTS = {
     "image frame, points of F": dict(frame="image", origin="contours"),
     "canonical frame, triples": dict(ranking="triples"),
     "eq. 6 on contour pixels": dict(origin="contours"),
+    "Yokoi's eq. 8": dict(eq8="yokoi"),
     "frame from contour pixels": dict(frame="contours"),
     "band 0": dict(band_px=0.0),
     "band 3": dict(band_px=3.0),
