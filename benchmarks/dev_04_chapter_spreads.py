@@ -10,7 +10,12 @@ chapter's own): rank-1 of the ranking, the paper's rule, and the queries only on
 and scaled by 0.9 (no shift), and the frame's spread of the copy is compared with 0.9 times the
 original's: the relative error, for the ears whose silhouette touches the border and for the others.
 
+``--nuisance``: the chapter's nuisance study (30 subjects, one factor at a time) drawn from seeds
+``--nuisance-seeds`` (4004 is the chapter's): per row the AUC of step 4's distance-sum gaps ("ours
+AUC"), of the distance D between F's points, and of HOG on the image as given.
+
     .venv/bin/python benchmarks/dev_04_chapter_spreads.py --eq8 --border [--seeds 2004 2005 2006 2007 2008]
+    .venv/bin/python benchmarks/dev_04_chapter_spreads.py --nuisance [--nuisance-seeds 4004 4005 4006]
 """
 
 from __future__ import annotations
@@ -63,6 +68,20 @@ def border_study(bench: Benchmark, seeds: list[int]) -> None:
         table.add(seed, touching.mean(), cut, error[~touching].mean(), cut / error[~touching].mean())
 
 
+def nuisance_auc(bench: Benchmark, seeds: list[int]) -> None:
+    """AUC of ours (step 4's sums, F's points) and of HOG per nuisance condition, per seed."""
+    from amdo_lab import ear_biometrics as eb
+
+    factors = [f for f in eb.NUISANCE_FACTORS if f != "illumination"]  # as in the chapter
+    conditions = {"all on": ()}
+    conditions.update({f"only {f}": tuple(g for g in eb.NUISANCE_FACTORS if g != f) for f in factors})
+    table = bench.table("seed", "condition", "ours AUC", "ours AUC (F points)", "HOG AUC",
+                        title="nuisance study, 30 easy subjects")
+    for seed in seeds:
+        for row in eb.nuisance_study(30, conditions, rng=seed):
+            table.add(seed, row["condition"], row["ours AUC"], row["ours AUC (F points)"], row["HOG AUC"])
+
+
 def main() -> None:
     bench = Benchmark(__doc__)
     bench.parser.add_argument("--eq8", action="store_true", help="identification with both readings of eq. 8")
@@ -70,11 +89,16 @@ def main() -> None:
     bench.parser.add_argument("--seeds", type=int, nargs="+", default=[2004, 2005, 2006, 2007, 2008],
                               help="seeds (default 2004-2008; 2004 is the chapter's)")
     bench.parser.add_argument("--subjects", type=int, default=40, help="easy subjects for --eq8 (default 40)")
+    bench.parser.add_argument("--nuisance", action="store_true", help="AUC per nuisance condition over seeds")
+    bench.parser.add_argument("--nuisance-seeds", type=int, nargs="+", default=[4004, 4005, 4006],
+                              help="seeds of the nuisance study (default 4004-4006; 4004 is the chapter's)")
     args = bench.parse()
     if args.eq8:
         eq8_study(bench, args.seeds, args.subjects)
     if args.border:
         border_study(bench, args.seeds)
+    if args.nuisance:
+        nuisance_auc(bench, args.nuisance_seeds)
     bench.finish()
 
 
