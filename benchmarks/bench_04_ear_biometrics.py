@@ -43,7 +43,7 @@ def similarity_study(bench: Benchmark, subjects: list[int], seeds: list[int]) ->
     table = bench.table("pipeline", "subjects", "rank-1", "95 % low", "95 % high", "strict rule",
                         title="the same enrolled image after a random similarity (rotation, scale, shift)")
     for n_subjects, seed in zip(subjects, seeds):
-        database = eb.generate_ear_database(n_subjects, 2, "easy", rng=seed)
+        database = eb.make_ear_database(n_subjects, 2, "easy", rng=seed)
         gallery, ids = database.images[0::2], database.subject_ids[0::2]
         rng = make_rng(seed + 1)
         copies = [eb.similarity_copy(image, rng=rng) for image in gallery]
@@ -92,7 +92,7 @@ def speed(bench: Benchmark, args) -> None:
     from amdo_lab import ear_biometrics as eb
     from amdo_lab.ear_biometrics.frame import moment_frame_fast
 
-    database = eb.generate_ear_database(args.enrolled, 2, "easy", rng=args.seed, size=args.size)
+    database = eb.make_ear_database(args.enrolled, 2, "easy", rng=args.seed, size=args.size)
     gallery = database.images[0::2]
     gallery_ids = database.subject_ids[0::2]
     queries = database.images[1::2][: args.queries]

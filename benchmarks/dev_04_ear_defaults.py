@@ -56,6 +56,7 @@ VARIANTS = {
     "image frame, points of F": dict(frame="image", origin="contours"),
     "canonical frame, triples": dict(ranking="triples"),
     "eq. 6 on contour pixels": dict(origin="contours"),
+    "Yokoi's eq. 8": dict(eq8="yokoi"),
     "frame from contour pixels": dict(frame="contours"),
     "band 0": dict(band_px=0.0),
     "band 3": dict(band_px=3.0),
@@ -126,7 +127,7 @@ def peer_study(bench: Benchmark, seeds: list[int]) -> None:
     table = bench.table("seed", "descriptor", "frame", "rank-1", "ours only", "peer only", "McNemar p",
                         title="120 easy subjects per seed: each descriptor against ours in the canonical frame")
     for seed in seeds:
-        easy = eb.generate_ear_database(120, 2, "easy", rng=spawn_rngs(seed, 5)[0])
+        easy = eb.make_ear_database(120, 2, "easy", rng=spawn_rngs(seed, 5)[0])
         ids, default = easy.subject_ids, eb.EarMatcher()
         canonical = np.array([default.canonical_image(image) for image in easy.images])
         ours = eb.closed_set(eb.EarMatcher(max_count_violations=2), [default.extract(im) for im in easy.images],
@@ -243,7 +244,7 @@ def main() -> None:
     from amdo_lab import ear_biometrics as eb
 
     np.seterr(all="raise")  # a silent NaN would corrupt the comparison
-    databases = {seed: eb.generate_ear_database(args.subjects, 2, "easy", rng=seed) for seed in args.seeds}
+    databases = {seed: eb.make_ear_database(args.subjects, 2, "easy", rng=seed) for seed in args.seeds}
     columns = [name for s in args.seeds for name in (f"seed {s} paper", f"seed {s} rank-1")]
     table = bench.table("variant", *columns,
                         title=f"{args.subjects} easy subjects per development seed, 256 px; paper = share of "

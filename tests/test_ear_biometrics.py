@@ -8,9 +8,11 @@ from sklearn.exceptions import NotFittedError
 
 from amdo_lab import ear_biometrics as eb
 from amdo_lab.common import make_rng
-from amdo_lab.ear_biometrics.features import as_bool_image, detect_contours_reference
+from amdo_lab.ear_biometrics.contours import detect_contours_reference
+from amdo_lab.ear_biometrics.enrolment import check_subject_id, check_subject_ids
 from amdo_lab.ear_biometrics.frame import moment_frame_fast
-from amdo_lab.ear_biometrics.matcher import check_images, check_subject_id, check_subject_ids, check_templates
+from amdo_lab.ear_biometrics.images import as_bool_image, check_images
+from amdo_lab.ear_biometrics.matcher import check_templates
 
 
 @pytest.fixture(scope="module")
@@ -26,9 +28,9 @@ def clean_ear_contours():
 
 
 def test_generator_is_seeded_and_unpacks():
-    images, ids = eb.generate_ear_database(3, 2, "easy", rng=11)
-    again = eb.generate_ear_database(3, 2, "easy", rng=11)
-    other = eb.generate_ear_database(3, 2, "easy", rng=12)
+    images, ids = eb.make_ear_database(3, 2, "easy", rng=11)
+    again = eb.make_ear_database(3, 2, "easy", rng=11)
+    other = eb.make_ear_database(3, 2, "easy", rng=12)
     assert images.shape == (6, 256, 256) and images.dtype == np.uint8
     assert ids.tolist() == [0, 0, 1, 1, 2, 2]
     assert np.array_equal(images, again.images)
@@ -38,29 +40,29 @@ def test_generator_is_seeded_and_unpacks():
 
 def test_difficult_images_carry_more_clutter_than_easy_ones():
     """Same subjects and seeds: occluders, noise and uneven light add contour pixels."""
-    easy = eb.generate_ear_database(4, 1, "easy", rng=3).images
-    hard = eb.generate_ear_database(4, 1, "difficult", rng=3).images
+    easy = eb.make_ear_database(4, 1, "easy", rng=3).images
+    hard = eb.make_ear_database(4, 1, "difficult", rng=3).images
     clutter = [np.mean([eb.clean_contours(eb.detect_contours(im)).mean() for im in ims]) for ims in (easy, hard)]
     assert clutter[1] > 1.5 * clutter[0]
 
 
 def test_disabling_a_factor_changes_only_that_factor():
-    base = eb.generate_ear_database(3, 2, "easy", rng=4)
-    no_yaw = eb.generate_ear_database(3, 2, "easy", rng=4, disable=("yaw",))
+    base = eb.make_ear_database(3, 2, "easy", rng=4)
+    no_yaw = eb.make_ear_database(3, 2, "easy", rng=4, disable=("yaw",))
     assert all(p.yaw == 0.0 for p in no_yaw.poses)
     assert [(p.rotation, p.scale) for p in no_yaw.poses] == [(p.rotation, p.scale) for p in base.poses]
     assert np.array_equal(no_yaw.images[0::2], base.images[0::2])  # perpendicular captures unchanged
     assert not np.array_equal(no_yaw.images[1::2], base.images[1::2])
-    still = eb.generate_ear_database(3, 2, "easy", rng=4, disable=eb.NUISANCE_FACTORS)
+    still = eb.make_ear_database(3, 2, "easy", rng=4, disable=eb.NUISANCE_FACTORS)
     assert np.array_equal(still.images[0::2], still.images[1::2])  # no nuisance: identical captures
 
 
 def test_easy_lighting_is_fixed_and_difficult_lighting_varies():
     """Paper Sec. 6: the easy images have no illumination changes."""
-    easy = eb.generate_ear_database(3, 2, "easy", rng=8)
-    assert np.array_equal(easy.images, eb.generate_ear_database(3, 2, "easy", rng=8, disable=("illumination",)).images)
-    hard = eb.generate_ear_database(3, 2, "difficult", rng=8)
-    assert not np.array_equal(hard.images, eb.generate_ear_database(3, 2, "difficult", rng=8, disable=("illumination",)).images)
+    easy = eb.make_ear_database(3, 2, "easy", rng=8)
+    assert np.array_equal(easy.images, eb.make_ear_database(3, 2, "easy", rng=8, disable=("illumination",)).images)
+    hard = eb.make_ear_database(3, 2, "difficult", rng=8)
+    assert not np.array_equal(hard.images, eb.make_ear_database(3, 2, "difficult", rng=8, disable=("illumination",)).images)
 
 
 def test_crura_end_beneath_the_helix():
@@ -74,7 +76,7 @@ def test_crura_end_beneath_the_helix():
 
 
 def test_loader_reads_grey_and_colour_files(tmp_path):
-    images, _ = eb.generate_ear_database(2, 1, "easy", rng=5)
+    images, _ = eb.make_ear_database(2, 1, "easy", rng=5)
     cv2.imwrite(str(tmp_path / "007_a.png"), images[0])
     cv2.imwrite(str(tmp_path / "012_b.png"), cv2.cvtColor(images[1], cv2.COLOR_GRAY2BGR))
     (tmp_path / "notes.txt").write_text("not an image")
@@ -289,6 +291,31 @@ def test_crossing_number_endings_and_bifurcation():
     assert np.all(n_c[~skeleton] == 0)
 
 
+def test_connectivity_number_differs_from_the_crossing_number_where_branches_touch():
+    tee = np.zeros((5, 5), bool)
+    tee[2, 1:4] = True
+    tee[3, 2] = True  # arms west, east and south of the centre, touching diagonally
+    plus = np.zeros((5, 5), bool)
+    plus[2, 1:4] = plus[1:4, 2] = True
+    y_shape = np.zeros((15, 15), bool)
+    y_shape[7, 2:8] = True
+    for step in range(1, 6):
+        y_shape[7 - step, 7 + step] = y_shape[7 + step, 7 + step] = True  # branches apart from each other
+    assert (eb.connectivity_number(tee)[2, 2], eb.crossing_number(tee)[2, 2]) == (1, 3)
+    assert (eb.connectivity_number(plus)[2, 2], eb.crossing_number(plus)[2, 2]) == (0, 4)
+    assert eb.connectivity_number(y_shape)[7, 7] == eb.crossing_number(y_shape)[7, 7] == 3
+    assert eb.connectivity_number(tee)[2, 1] == 1 and eb.connectivity_number(y_shape)[7, 4] == 2
+
+
+def test_topology_features_reads_eq8_either_way_on_a_y_contour():
+    contours = np.zeros((80, 80), bool)
+    for end in ((10, 40), (70, 10), (70, 70)):
+        cv2.line(contours.view(np.uint8), (40, 40), end, 1, 1)
+    for eq8 in eb.EQ8_READINGS:
+        n_e, n_b, _ = eb.topology_features(contours, n_circles=4, step=0.4, eq8=eq8).contours[0].triple
+        assert (n_e, n_b) == (3, 1), eq8
+
+
 def test_topology_features_of_a_y_contour():
     contours = np.zeros((80, 80), bool)
     cv2.line(contours.view(np.uint8), (10, 40), (40, 40), 1, 1)
@@ -303,7 +330,7 @@ def test_topology_features_of_a_y_contour():
 
 @pytest.fixture(scope="module")
 def small_database():
-    return eb.generate_ear_database(6, 2, "easy", rng=99)
+    return eb.make_ear_database(6, 2, "easy", rng=99)
 
 
 def test_matcher_finds_an_enrolled_image_and_rejects_blank(small_database):
@@ -556,7 +583,7 @@ RNG_CALLS = {
     "draw_ear_shape": lambda rng: eb.draw_ear_shape(rng=rng),
     "render_ear": lambda rng: eb.render_ear(eb.draw_ear_shape(rng=0), _POSE, rng=rng, size=64),
     "draw_capture_pose": lambda rng: eb.draw_capture_pose(rng=rng, frontal=True, size=64, difficulty="easy"),
-    "generate_ear_database": lambda rng: eb.generate_ear_database(1, 1, rng=rng, size=64),
+    "make_ear_database": lambda rng: eb.make_ear_database(1, 1, rng=rng, size=64),
     "similarity_copy": lambda rng: eb.similarity_copy(np.zeros((16, 16), np.uint8), rng=rng),
     "nuisance_study": lambda rng: eb.nuisance_study(2, {"a": ()}, rng=rng),
 }
@@ -572,8 +599,8 @@ def test_drawing_functions_take_rng_keyword_only_without_default(name):
 
 
 def test_an_int_seed_and_its_generator_draw_the_same_ears():
-    by_seed = eb.generate_ear_database(2, 2, rng=21, size=64).images
-    np.testing.assert_array_equal(by_seed, eb.generate_ear_database(2, 2, rng=make_rng(21), size=64).images)
+    by_seed = eb.make_ear_database(2, 2, rng=21, size=64).images
+    np.testing.assert_array_equal(by_seed, eb.make_ear_database(2, 2, rng=make_rng(21), size=64).images)
     np.testing.assert_array_equal(eb.similarity_copy(by_seed[0], rng=3), eb.similarity_copy(by_seed[0], rng=make_rng(3)))
 
 
@@ -592,7 +619,7 @@ def test_draw_circles_draws_the_circles_and_the_centroid(clean_ear_contours):
         plt.close(fig)
 
 
-@pytest.mark.parametrize("module", ["synthetic", "features", "matcher"])
+@pytest.mark.parametrize("module", ["synthetic", "contours", "circles", "matcher"])
 def test_docstring_examples_run(module):
     import doctest
     import importlib
@@ -705,39 +732,38 @@ def _enrolled(matcher, templates):
 
 REJECTIONS = [
     # --- the synthetic ears: named difficulties and nuisance factors, pose records in range
-    reject("generate_ear_database difficulty medium", lambda: eb.generate_ear_database(2, 2, "medium", rng=0),
+    reject("make_ear_database difficulty medium", lambda: eb.make_ear_database(2, 2, "medium", rng=0),
            ValueError, "difficulty must be one of"),
-    reject("generate_ear_database disable glare", lambda: eb.generate_ear_database(2, 2, "easy", rng=0,
+    reject("make_ear_database disable glare", lambda: eb.make_ear_database(2, 2, "easy", rng=0,
                                                                                    disable=("glare",)),
-           ValueError, r"disable holds unknown nuisance factors \['glare'\]"),
+           ValueError, r"disable holds unknown name\(s\) \['glare'\]"),
     reject("draw_capture_pose difficulty hard", lambda: eb.draw_capture_pose(rng=0, frontal=True, size=128,
                                                                              difficulty="hard"),
            ValueError, "difficulty must be one of"),
     reject("draw_capture_pose size 31", lambda: eb.draw_capture_pose(rng=0, frontal=True, size=31, difficulty="easy"),
            ValueError, "size must be at least 32"),
-    reject("draw_capture_pose max_yaw_deg 120", lambda: eb.draw_capture_pose(
-        rng=0, frontal=False, size=128, difficulty="easy", max_yaw_deg=120),
-        ValueError, "max_yaw_deg must be below 90"),
     reject("render_ear tuple for a pose", lambda ctx: eb.render_ear(ctx.shape, (0.0, 1.0), rng=0),
            TypeError, "pose must be a CapturePose"),
     reject("render_ear NaN pose.rotation", lambda ctx: eb.render_ear(
         ctx.shape, eb.CapturePose(np.nan, 1.0, np.zeros(2), 0.0), rng=0), ValueError, "pose.rotation must be finite"),
     reject("render_ear pose.scale 0", lambda ctx: eb.render_ear(
-        ctx.shape, eb.CapturePose(0.0, 0.0, np.zeros(2), 0.0), rng=0), ValueError, "pose.scale must be positive"),
+        ctx.shape, eb.CapturePose(0.0, 0.0, np.zeros(2), 0.0), rng=0), ValueError, r"pose.scale must be in \(0, 10\]"),
     reject("render_ear pose.yaw 2 rad", lambda ctx: eb.render_ear(
         ctx.shape, eb.CapturePose(0.0, 1.0, np.zeros(2), 2.0), rng=0),
-        ValueError, r"pose.yaw must be within \(-pi/2, pi/2\)"),
+        ValueError, r"pose.yaw must be in \(-1.5708, 1.5708\)"),
     reject("ear_curves NaN shape.lobule_depth", lambda ctx: eb.ear_curves(
         eb.EarShape(**{**vars(ctx.shape), "lobule_depth": np.nan})), ValueError, "shape.lobule_depth must be finite"),
     reject("load_ear_folder no image files", lambda tmp_path: eb.load_ear_folder(tmp_path),
-           ValueError, "folder contains no image files"),
+           ValueError, "folder must be an existing directory holding image files"),
     reject("load_ear_folder missing folder", lambda tmp_path: eb.load_ear_folder(tmp_path / "missing"),
            ValueError, "folder must be an existing directory"),
     # --- the contour detector (eqs. 1-5): a grey 2-D image, an odd window
     reject("detect_contours 1-D image", lambda: eb.detect_contours(np.zeros(16)),
-           ValueError, "image must be a 2-D grey-level image"),
+           ValueError, "image must have 2 dimensions"),
     reject("detect_contours boolean image", lambda: eb.detect_contours(np.zeros((16, 16), bool)),
-           TypeError, "image must be a real numeric"),
+           TypeError, "image must be a numeric array"),
+    reject("detect_contours 7 x 16 image", lambda: eb.detect_contours(np.zeros((7, 16))),
+           ValueError, r"image side must be in \[8, inf\)"),
     reject("detect_contours window 4", lambda: eb.detect_contours(np.ones((16, 16)), window=4),
            ValueError, "window must be odd"),
     reject("detect_contours_reference window 4", lambda: detect_contours_reference(np.ones((16, 16)), 2.0, window=4),
@@ -749,6 +775,8 @@ REJECTIONS = [
                              ("skeleton_graph", eb.skeleton_graph), ("crossing_number", eb.crossing_number))
       for shape in ((0, 0), (5, 0))],
     # --- V and F (eqs. 6-9): contours to measure, named readings, a skeleton of the contours' size
+    reject("topology_features eq8 zhang", lambda: eb.topology_features(_plus(), eq8="zhang"),
+           ValueError, "eq8 must be one of"),
     reject("normalise_coordinates mode whiten", lambda clean_ear_contours: eb.normalise_coordinates(
         clean_ear_contours, "whiten"), ValueError, "mode must be one of"),
     reject("circle_features no contour", lambda: eb.circle_features(np.zeros((20, 20), bool)), ValueError, "no contour"),
@@ -758,30 +786,28 @@ REJECTIONS = [
            ValueError, "crossings must be one of"),
     reject("circle_features skeleton of another size", lambda: eb.circle_features(
         _plus(), crossings="polyline", skeleton=np.zeros((5, 5), bool)),
-        ValueError, "skeleton must be a boolean image of the contours' shape"),
+        ValueError, r"skeleton must have shape \(201, 201\)"),
     reject("smooth_polylines edges beyond the nodes", lambda: eb.smooth_polylines(
-        np.zeros((3, 2)), np.array([[0, 1], [1, 3]]), 2), ValueError, "edges must index"),
-    reject("smooth_polylines float edges", lambda: eb.smooth_polylines(np.zeros((3, 2)), np.array([[0.0, 1.0]]), 2),
-           ValueError, r"edges must be an \(m, 2\) integer array"),
+        np.zeros((3, 2)), np.array([[0, 1], [1, 3]]), 2), ValueError, r"edges must lie in \[0, 2\]"),
+    reject("smooth_polylines fractional edges", lambda: eb.smooth_polylines(np.zeros((3, 2)), np.array([[0.5, 1.0]]), 2),
+           ValueError, "edges must hold whole numbers"),
     reject("to_pixels 1-D xy", lambda clean_ear_contours: eb.normalise_coordinates(clean_ear_contours).to_pixels(
         np.ones(4)), ValueError, r"xy must have shape \(n, 2\)"),
     reject("crossing_number 1-D skeleton", lambda: eb.crossing_number(np.ones(5, bool)),
            TypeError, "skeleton must be a 2-D boolean image"),
     reject("topology_similarity circles for topology", lambda ctx: eb.topology_similarity(
-        ctx.features.circles, ctx.features), TypeError, "query must be TopologyFeatures"),
+        ctx.features.circles, ctx.features), TypeError, "query must be a TopologyFeatures"),
     reject("point_distance circles for topology", lambda ctx: eb.point_distance(ctx.templates[0].circles, None),
-           TypeError, "query must be TopologyFeatures"),
+           TypeError, "query must be a TopologyFeatures"),
     reject("characteristic_points image for features", lambda ctx: eb.characteristic_points(ctx.image),
-           TypeError, "features must be TopologyFeatures"),
+           TypeError, "features must be a TopologyFeatures"),
     # --- the canonical frame (beyond the paper): a boolean silhouette of at least 3 pixels, spreads below 0.5
     reject("silhouette boolean image", lambda ctx: eb.silhouette(ctx.image > 100),
-           TypeError, "image must be a real numeric"),
+           TypeError, "image must be a numeric array"),
     reject("moment_frame empty mask", lambda: eb.moment_frame(np.zeros((32, 32), bool), (32, 32)),
            ValueError, "mask must hold at least 3 pixels"),
-    reject("moment_frame list for shape", lambda ctx: eb.moment_frame(ctx.image > 100, [256, 256]),
-           TypeError, r"shape must be a \(rows, cols\) tuple"),
-    reject("moment_frame spread_fraction 0.7", lambda ctx: eb.moment_frame(ctx.image > 100, ctx.image.shape, 0.7),
-           ValueError, "spread_fraction must be below 0.5"),
+    reject("moment_frame shape of 4 rows", lambda ctx: eb.moment_frame(ctx.image > 100, (4, 256)),
+           ValueError, r"shape must lie in \[8, 4096\]"),
     reject("frame_normalisation mode affine", lambda ctx: eb.frame_normalisation(
         eb.moment_frame(ctx.image > 100, ctx.image.shape), ctx.image.shape, "affine"),
         ValueError, "mode must be one of"),
@@ -792,14 +818,13 @@ REJECTIONS = [
                                                                           rotation_deg=np.nan),
            ValueError, "rotation_deg must be finite"),
     # --- EarMatcher's settings: an odd window, the named readings, frames, origins and rankings
-    reject("EarMatcher window 4", lambda: eb.EarMatcher(window=4), ValueError, "window must be odd"),
     reject("EarMatcher mode affine", lambda: eb.EarMatcher(mode="affine"), ValueError, "mode must be one of"),
     reject("EarMatcher crossings edges", lambda: eb.EarMatcher(crossings="edges"), ValueError, "crossings must be one of"),
     reject("EarMatcher frame affine", lambda: eb.EarMatcher(frame="affine"), ValueError, "frame must be one of"),
     reject("EarMatcher origin centre", lambda: eb.EarMatcher(origin="centre"), ValueError, "origin must be one of"),
     reject("EarMatcher ranking votes", lambda: eb.EarMatcher(ranking="votes"), ValueError, "ranking must be one of"),
-    reject("EarMatcher canonical_spread 0.6", lambda: eb.EarMatcher(canonical_spread=0.6),
-           ValueError, "canonical_spread must be below 0.5"),
+    reject("EarMatcher window 10**9", lambda: eb.EarMatcher(n_circles=10**9),
+           ValueError, "n_circles must be at most 64"),
     # --- matching: fitted first (scikit-learn's NotFittedError), templates of the matcher's settings
     reject("EarMatcher.identify not fitted", lambda ctx: eb.EarMatcher().identify(ctx.image),
            NotFittedError, "not fitted yet"),
@@ -808,12 +833,12 @@ REJECTIONS = [
     reject("EarMatcher.identify_template not fitted", lambda ctx: eb.EarMatcher().identify_template(ctx.templates[0]),
            ValueError, "EarMatcher is not fitted yet"),  # NotFittedError is a ValueError
     reject("EarMatcher.identify boolean image", lambda ctx: ctx.matcher.identify(ctx.image > 100), TypeError,
-           "image must be a real numeric"),
+           "image must be a numeric array"),
     reject("EarMatcher.fit one id for two images", lambda ctx: eb.EarMatcher().fit(
         ctx.images[0::2], ctx.ids[0::2][:2]),
-           ValueError, "subject_ids must give one subject per image"),
+           ValueError, "subject_ids must be a 1-D sequence giving one subject per image"),
     reject("HogNearestNeighbour.fit one id for two images", lambda ctx: eb.HogNearestNeighbour().fit(
-        ctx.images[0::2], ctx.ids[0::2][:2]), ValueError, "subject_ids must give one subject per image"),
+        ctx.images[0::2], ctx.ids[0::2][:2]), ValueError, "subject_ids must be a 1-D sequence giving one subject per image"),
     reject("EarMatcher.enroll blank image", lambda: eb.EarMatcher().enroll(1, np.zeros((64, 64), np.uint8)),
            ValueError, "image has no contour"),
     reject("EarMatcher.enroll_template image for a template", lambda ctx: eb.EarMatcher().enroll_template(
@@ -835,7 +860,7 @@ REJECTIONS = [
     # --- evaluation protocols: ids that match the scores, thresholds, 1-based ranks, an empty matcher
     reject("open_set_rates one id for three templates", lambda ctx: eb.open_set_rates(
         ctx.matcher, ctx.templates[1::2], [0], ctx.templates[:1], [1.0]),
-        ValueError, "genuine_ids must give one subject per genuine template"),
+        ValueError, "genuine_ids must be a 1-D sequence giving one subject per genuine template"),
     reject("open_set_rates scalar thresholds", lambda ctx: eb.open_set_rates(
         ctx.matcher, ctx.templates[1::2], ctx.ids[1:6:2], ctx.templates[:1], 1.0),
         ValueError, "thresholds must be a non-empty 1-D sequence"),
@@ -844,15 +869,15 @@ REJECTIONS = [
         ValueError, "impostors must be a non-empty list of EarTemplate"),
     reject("open_set_rates images for templates", lambda ctx: eb.open_set_rates(
         ctx.matcher, list(ctx.images[1:6:2]), ctx.ids[1:6:2], ctx.templates[:1], [1.0]),
-        TypeError, "genuine must hold EarTemplate objects"),
+        TypeError, r"genuine\[0\] must be an EarTemplate"),
     reject("open_set_rates matcher not fitted", lambda ctx: eb.open_set_rates(
         eb.EarMatcher(), ctx.templates[1::2], ctx.ids[1:6:2], ctx.templates[:1], [1.0]),
         ValueError, "EarMatcher is not fitted yet"),
     reject("rank_of_truth true_id not enrolled", lambda: eb.rank_of_truth([0.1, 0.5], [0, 1], 7),
            ValueError, "true_id 7 is not among enrolled_ids"),
     reject("rank_of_truth three scores two ids", lambda: eb.rank_of_truth([0.1, 0.5, 0.3], [0, 1], 1),
-           ValueError, "enrolled_ids must have one subject per score"),
-    reject("cumulative_match rank 0", lambda: eb.cumulative_match([0, 1], 3), ValueError, "ranks must be 1-based"),
+           ValueError, "enrolled_ids must be a 1-D sequence giving one subject per entry of scores"),
+    reject("cumulative_match rank 0", lambda: eb.cumulative_match([0, 1], 3), ValueError, r"ranks must lie in \[1, inf\]"),
     reject("cumulative_match rank 1.5", lambda: eb.cumulative_match([1.5, 1], 3), ValueError,
            "ranks must hold whole numbers"),
     reject("genuine_impostor_separation query id not enrolled", lambda: eb.genuine_impostor_separation(
@@ -860,7 +885,7 @@ REJECTIONS = [
         ValueError, "every subject of query_ids must be in enrolled_ids"),
     reject("genuine_impostor_separation two rows three ids", lambda: eb.genuine_impostor_separation(
         np.eye(3)[:2], [0, 1, 2], [0, 1, 2]),
-        ValueError, "query_ids must give one subject per row of distances"),
+        ValueError, "query_ids must be a 1-D sequence giving one subject per row of distances"),
     reject("distance_sum_gaps no queries", lambda ctx: eb.distance_sum_gaps([], ctx.templates),
            ValueError, "queries must be a non-empty list of EarTemplate"),
     reject("distance_sum_gaps 5 circles for 8", lambda ctx: eb.distance_sum_gaps([ctx.five_circles], ctx.templates),
@@ -873,11 +898,9 @@ REJECTIONS = [
     reject("hog_closed_set ids of another length", lambda ctx: eb.hog_closed_set(ctx.images, ctx.ids[:4]),
            ValueError, "images and subject_ids must have the same even length"),
     reject("nuisance_study list for conditions", lambda: eb.nuisance_study(2, ["baseline"], rng=0),
-           TypeError, "conditions must map row names"),
-    reject("nuisance_study NaN topology_weight passed on", lambda: eb.nuisance_study(
-        2, {"a": ()}, rng=0, size=64, topology_weight=np.nan), ValueError, "topology_weight must be finite"),
+           TypeError, "conditions must be a Mapping"),
     # --- the checks evaluation.py and plotting.py share with matcher.py and features.py name what they are given
-    reject("check_subject_id None", lambda: check_subject_id(None, "who"), ValueError, "who"),
+    reject("check_subject_id None", lambda: check_subject_id(None, "who"), TypeError, "who"),
     reject("check_subject_id bool", lambda: check_subject_id(True, "who"), TypeError, "who"),
     reject("check_subject_id 1e308", lambda: check_subject_id(1e308, "who"), ValueError, "who"),
     reject("as_grey_image 1e308", lambda: eb.as_grey_image(np.full((9, 9), 1e308), "photo"), ValueError, "photo"),
@@ -890,8 +913,8 @@ REJECTIONS = [
     reject("as_bool_image numbers", lambda: as_bool_image(np.zeros((5, 5)), "edges"), TypeError, "edges"),
     reject("moment_frame_fast numbers for a mask", lambda: moment_frame_fast(np.ones((9, 9)), (64, 64)),
            TypeError, "mask"),
-    reject("moment_frame_fast spread_fraction 0.7", lambda: moment_frame_fast(np.ones((9, 9), bool), (64, 64), 0.7),
-           ValueError, "spread_fraction"),
+    reject("moment_frame_fast shape of 3 numbers", lambda: moment_frame_fast(np.ones((9, 9), bool), (64, 64, 1)),
+           ValueError, "shape"),
     # --- the rng convention: errors start with "rng", TypeError for a non-seed, ValueError for a negative seed
     *[reject(f"{name} rng {bad!r}", lambda draw=draw, bad=bad: draw(bad), error, "^rng must be")
       for name, draw in sorted(RNG_CALLS.items()) for bad, error in (("7", TypeError), (-1, ValueError))],

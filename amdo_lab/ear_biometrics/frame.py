@@ -17,9 +17,9 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from amdo_lab.common import (as_finite_array, check_choice, check_in_range, check_positive, check_positive_int,
-                             make_rng)
-from amdo_lab.ear_biometrics.features import Normalisation, as_grey_image, check_normalisation_mode
+from amdo_lab.common import MAX_SIDE, as_finite_array, check_choice, check_in_range, make_rng
+from amdo_lab.ear_biometrics.images import as_bool_image, as_grey_image, check_instance
+from amdo_lab.ear_biometrics.normalisation import NORMALISATION_MODES, Normalisation, check_spread
 
 FRAME_SOURCES = ("image", "silhouette", "contours")
 """Where the canonical frame comes from: ``"image"`` (none: the image as given, the paper's
@@ -30,6 +30,15 @@ CANONICAL_SPREAD = 0.18
 """Root of the summed second moments of the silhouette in the canonical image, as a fraction of the
 image side (a little below the spread of an ear drawn at scale 1 by the generator, so that the most
 elongated ears still fit the image and detection runs at about the resolution of a capture)."""
+
+SILHOUETTE_BLUR_PX = 2.0
+"""Standard deviation of the Gaussian blur before the silhouette's threshold, pixels."""
+
+SILHOUETTE_CLOSING_PX = 7
+"""Side of the elliptic closing element that seals the silhouette's seams, pixels."""
+
+MAX_SCALE = 10.0
+"""Largest scale factor of :func:`similarity_copy`: a copy ten times larger shows another part of the scene."""
 
 
 @dataclass(frozen=True)
@@ -71,12 +80,12 @@ class CanonicalFrame:
         return float(np.degrees(np.arctan2(self.axis[1], self.axis[0])))
 
 
-def silhouette(image: np.ndarray, sigma: float = 2.0, closing: int = 7) -> np.ndarray:
+def silhouette(image: np.ndarray) -> np.ndarray:
     """The ear's silhouette: pixels that differ from the background level, largest part, holes filled.
 
     The background level is the median of the image border. Skin is brighter and grooves darker than
-    the background, so the absolute difference (after a Gaussian blur of ``sigma`` pixels) is
-    thresholded by Otsu's rule; a ``closing`` x ``closing`` elliptic closing seals the thin seams
+    the background, so the absolute difference (after a Gaussian blur of :data:`SILHOUETTE_BLUR_PX`
+    pixels) is thresholded by Otsu's rule; an elliptic closing (:data:`SILHOUETTE_CLOSING_PX`) seals the thin seams
     where a blurred groove passes through the background level; the largest 8-connected part is kept
     and its holes filled. Assumes a cropped ear in front of a roughly even background. An 8-bit
     image is blurred in 8 bits (fast); a float one in float32 (the masks can differ by rounding).
@@ -84,11 +93,7 @@ def silhouette(image: np.ndarray, sigma: float = 2.0, closing: int = 7) -> np.nd
     Parameters
     ----------
     image : array_like, shape (rows, cols)
-        Grey levels, as :func:`~amdo_lab.ear_biometrics.features.as_grey_image` accepts them.
-    sigma : float
-        Standard deviation of the Gaussian blur, pixels, > 0 and at most the image's larger side.
-    closing : int
-        Side of the elliptic closing element, pixels, >= 1.
+        Grey levels, as :func:`~amdo_lab.ear_biometrics.images.as_grey_image` accepts them.
 
     Returns
     -------
@@ -102,10 +107,8 @@ def silhouette(image: np.ndarray, sigma: float = 2.0, closing: int = 7) -> np.nd
     N. Otsu, "A Threshold Selection Method from Gray-Level Histograms", IEEE SMC 9(1), 1979.
     """
     grey = as_grey_image(image)
-    sigma = check_in_range(check_positive(sigma, "sigma"), "sigma", 0, max(grey.shape), closed="right")
-    closing = check_positive_int(closing, "closing")
-    array = np.asarray(image)
-    blurred = cv2.GaussianBlur(array if array.dtype == np.uint8 else array.astype(np.float32), (0, 0), sigma)
+    array = np.asarray(image) if np.asarray(image).dtype == np.uint8 else grey.astype(np.float32)
+    blurred = cv2.GaussianBlur(array, (0, 0), SILHOUETTE_BLUR_PX)
     border = np.r_[blurred[0], blurred[-1], blurred[:, 0], blurred[:, -1]]
     level = np.median(border)
     if blurred.dtype == np.uint8:  # |I - level| in 8 bits without a float pass
@@ -114,7 +117,8 @@ def silhouette(image: np.ndarray, sigma: float = 2.0, closing: int = 7) -> np.nd
     else:
         difference = np.clip(np.abs(blurred - level), 0, 255).astype(np.uint8)
     _, mask = cv2.threshold(difference, 0, 1, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
-    mask = cv2.morphologyEx(mask, cv2.MORPH_CLOSE, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (closing,) * 2))
+    element = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (SILHOUETTE_CLOSING_PX,) * 2)
+    mask = cv2.morphologyEx(mask, cv2.MORPH_CLOSE, element)
     n, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8)
     if n < 2:
         return np.zeros(mask.shape, bool)
@@ -124,8 +128,7 @@ def silhouette(image: np.ndarray, sigma: float = 2.0, closing: int = 7) -> np.nd
     return outside[1:-1, 1:-1] != 2
 
 
-def moment_frame(mask: np.ndarray, shape: tuple[int, int], spread_fraction: float = CANONICAL_SPREAD
-                 ) -> CanonicalFrame:
+def moment_frame(mask: np.ndarray, shape: tuple[int, int]) -> CanonicalFrame:
     """Canonical frame of a binary ``mask`` from its moments (plain-numpy reference).
 
     The moments of the paper's Sec. 3, applied to the image rather than to the contour pixels.
@@ -134,16 +137,14 @@ def moment_frame(mask: np.ndarray, shape: tuple[int, int], spread_fraction: floa
     lambda_major) (rotation invariant, scales with the ear). The eigenvector's sign is arbitrary (a
     180-degree ambiguity): we take the sign for which the third moment mean(((p - c) . e)^3) is
     positive, i.e. e points towards the longer tail of the shape. The map sends c to the centre of
-    an image of ``shape``, e to the downward vertical, and scales by ``spread_fraction`` * side / s.
+    an image of ``shape``, e to the downward vertical, and scales by :data:`CANONICAL_SPREAD` * side / s.
 
     Parameters
     ----------
     mask : array_like, shape (rows, cols), bool
         The silhouette (or contours): at least 3 pixels, not on one straight line.
     shape : tuple of int
-        (rows, cols) of the canonical image, each >= 8.
-    spread_fraction : float
-        Spread of the mask in the canonical image, as a fraction of the shorter side, in (0, 0.5).
+        (rows, cols) of the canonical image, each from 8 to ``MAX_SIDE`` (4,096).
 
     Returns
     -------
@@ -155,35 +156,34 @@ def moment_frame(mask: np.ndarray, shape: tuple[int, int], spread_fraction: floa
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 3, eq. (6). Beyond the paper: its Sec. 3 moments (eq. 6) taken of the silhouette and applied to the image.
     """
-    mask, shape, spread_fraction = _check_frame_input(mask, shape, spread_fraction)
+    mask, shape = _check_mask(mask), _check_shape(shape)
     pixels = np.argwhere(mask).astype(float)  # (n, 2) row, col
-    if len(pixels) < 3:
-        raise ValueError("mask must hold at least 3 pixels to define a frame (no ear found?)")
     centroid = pixels.mean(axis=0)
     offsets = pixels - centroid
     variances, vectors = np.linalg.eigh(offsets.T @ offsets / len(offsets))  # ascending
-    if variances[0] <= 1e-12 * variances[1]:
-        raise ValueError("mask must not lie on a single straight line (no spread across it)")
+    check_spread(variances, "mask")
     axis = vectors[:, 1]
     along = offsets @ axis
     third = float(np.mean(along**3) / variances[1] ** 1.5)
     if third < 0:  # the 180-degree ambiguity: point the axis towards the longer tail
         axis, third = -axis, -third
-    return _frame(centroid, axis, variances, third, shape, spread_fraction)
+    return _frame(centroid, axis, variances, third, shape)
 
 
-def _check_frame_input(mask: object, shape: object, spread_fraction: object) -> tuple:
-    array = np.asarray(mask)
-    if array.dtype != bool or array.ndim != 2:
-        raise TypeError(f"mask must be a 2-D boolean image, got dtype {array.dtype}, shape {array.shape}")
-    if not isinstance(shape, tuple) or len(shape) != 2:
-        raise TypeError(f"shape must be a (rows, cols) tuple, got {shape!r}")
-    shape = (check_positive_int(shape[0], "shape[0]", minimum=8), check_positive_int(shape[1], "shape[1]", minimum=8))
-    return array, shape, check_spread_fraction(spread_fraction, "spread_fraction")
+def _check_mask(mask: object) -> np.ndarray:
+    """A boolean image with at least 3 pixels set (fewer define no frame)."""
+    mask = as_bool_image(mask, "mask")
+    if np.count_nonzero(mask) < 3:
+        raise ValueError("mask must hold at least 3 pixels to define a frame (no ear found?)")
+    return mask
 
 
-def moment_frame_fast(mask: np.ndarray, shape: tuple[int, int], spread_fraction: float = CANONICAL_SPREAD
-                      ) -> CanonicalFrame:
+def _check_shape(shape: object) -> tuple[int, int]:
+    """(rows, cols) of a canonical image, each from 8 to ``MAX_SIDE`` pixels."""
+    return tuple(int(v) for v in as_finite_array(shape, "shape", shape=(2,), dtype=int, bounds=(8, MAX_SIDE)))
+
+
+def moment_frame_fast(mask: np.ndarray, shape: tuple[int, int]) -> CanonicalFrame:
     """:func:`moment_frame` from OpenCV's image moments (the fast path the matcher uses).
 
     The same centroid, covariance and third moment as the plain-numpy reference, from the central
@@ -194,9 +194,7 @@ def moment_frame_fast(mask: np.ndarray, shape: tuple[int, int], spread_fraction:
     mask : array_like, shape (rows, cols), bool
         The silhouette (or contours): at least 3 pixels, not on one straight line.
     shape : tuple of int
-        (rows, cols) of the canonical image, each >= 8.
-    spread_fraction : float
-        Spread of the mask in the canonical image, as a fraction of the shorter side, in (0, 0.5).
+        (rows, cols) of the canonical image, each from 8 to ``MAX_SIDE`` (4,096).
 
     Returns
     -------
@@ -208,16 +206,13 @@ def moment_frame_fast(mask: np.ndarray, shape: tuple[int, int], spread_fraction:
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 3, eq. (6). Beyond the paper: its Sec. 3 moments (eq. 6) taken of the silhouette and applied to the image.
     """
-    mask, shape, spread_fraction = _check_frame_input(mask, shape, spread_fraction)
+    mask, shape = _check_mask(mask), _check_shape(shape)
     m = cv2.moments(mask.astype(np.uint8), binaryImage=True)
-    if m["m00"] < 3:
-        raise ValueError("mask must hold at least 3 pixels to define a frame (no ear found?)")
     n = m["m00"]
     centroid = np.array([m["m01"], m["m10"]]) / n  # (row, col)
     covariance = np.array([[m["mu02"], m["mu11"]], [m["mu11"], m["mu20"]]]) / n  # (row, col)
     variances, vectors = np.linalg.eigh(covariance)
-    if variances[0] <= 1e-12 * variances[1]:
-        raise ValueError("mask must not lie on a single straight line (no spread across it)")
+    check_spread(variances, "mask")
     axis = vectors[:, 1]
     r, c = axis
     # E[((p - centroid) . axis)^3] expanded in the third-order central moments
@@ -225,15 +220,15 @@ def moment_frame_fast(mask: np.ndarray, shape: tuple[int, int], spread_fraction:
     third /= variances[1] ** 1.5
     if third < 0:
         axis, third = -axis, -third
-    return _frame(centroid, axis, variances, float(third), shape, spread_fraction)
+    return _frame(centroid, axis, variances, float(third), shape)
 
 
 def _frame(centroid: np.ndarray, axis: np.ndarray, variances: np.ndarray, third: float,
-           shape: tuple[int, int], spread_fraction: float) -> CanonicalFrame:
+           shape: tuple[int, int]) -> CanonicalFrame:
     """The similarity sending ``centroid`` to the image centre, ``axis`` to the downward vertical and
-    the total spread sqrt(sum of ``variances``) to ``spread_fraction`` * side."""
+    the total spread sqrt(sum of ``variances``) to :data:`CANONICAL_SPREAD` * side."""
     spread = float(np.sqrt(variances.sum()))
-    scale = spread_fraction * min(shape) / spread
+    scale = CANONICAL_SPREAD * min(shape) / spread
     # rotation taking the axis (row, col) = (cos, sin) to (1, 0), written in (x, y) = (col, row)
     cos, sin = axis[0], axis[1]
     rotation = np.array([[cos, -sin], [sin, cos]])
@@ -253,7 +248,7 @@ def to_canonical(image: np.ndarray, frame: CanonicalFrame) -> np.ndarray:
     Parameters
     ----------
     image : array_like, shape (rows, cols)
-        Grey levels, as :func:`~amdo_lab.ear_biometrics.features.as_grey_image` accepts them.
+        Grey levels, as :func:`~amdo_lab.ear_biometrics.images.as_grey_image` accepts them.
     frame : CanonicalFrame
         The frame (from :func:`moment_frame`).
 
@@ -268,8 +263,7 @@ def to_canonical(image: np.ndarray, frame: CanonicalFrame) -> np.ndarray:
     LNCS 3179, pp. 51-61, Sec. 3. Beyond the paper: its Sec. 3 moments (eq. 6) taken of the silhouette and applied to the image.
     """
     as_grey_image(image)
-    if not isinstance(frame, CanonicalFrame):
-        raise TypeError(f"frame must be a CanonicalFrame (from moment_frame), got {type(frame).__name__}")
+    check_instance(frame, "frame", CanonicalFrame, "moment_frame")
     array = np.asarray(image)
     scale = float(np.sqrt(abs(np.linalg.det(frame.matrix[:, :2]))))
     if scale < 1:
@@ -278,12 +272,11 @@ def to_canonical(image: np.ndarray, frame: CanonicalFrame) -> np.ndarray:
                           borderMode=cv2.BORDER_REPLICATE)
 
 
-def frame_normalisation(frame: CanonicalFrame, shape: tuple[int, int], mode: str = "principal",
-                        spread_fraction: float = CANONICAL_SPREAD) -> Normalisation:
+def frame_normalisation(frame: CanonicalFrame, shape: tuple[int, int], mode: str = "principal") -> Normalisation:
     """Eq. (6) with the silhouette's moments instead of the contour pixels', in the canonical image.
 
     In the canonical image of ``shape`` the silhouette's centroid is the image centre, its major axis
-    the vertical and its total spread S = ``spread_fraction`` * side. ``mode="principal"`` or
+    the vertical and its total spread S = :data:`CANONICAL_SPREAD` * side. ``mode="principal"`` or
     ``"axes"`` divide the vertical by the spread along the major axis and the horizontal by the one
     along the minor axis (their ratio is the frame's elongation e: sigma_minor = S / sqrt(1 + e^2),
     sigma_major = e sigma_minor), as eq. 6 divides each axis by its own sigma; ``"isotropic"``
@@ -294,11 +287,9 @@ def frame_normalisation(frame: CanonicalFrame, shape: tuple[int, int], mode: str
     frame : CanonicalFrame
         The silhouette's frame (from :func:`moment_frame`).
     shape : tuple of int
-        (rows, cols) of the canonical image, each >= 8.
+        (rows, cols) of the canonical image, each from 8 to ``MAX_SIDE`` (4,096).
     mode : {"principal", "axes", "isotropic"}
         Reading of eq. (6), as above.
-    spread_fraction : float
-        The ``spread_fraction`` the frame was made with, in (0, 0.5).
 
     Returns
     -------
@@ -310,11 +301,10 @@ def frame_normalisation(frame: CanonicalFrame, shape: tuple[int, int], mode: str
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 3, eq. (6).
     """
-    if not isinstance(frame, CanonicalFrame):
-        raise TypeError(f"frame must be a CanonicalFrame (from moment_frame), got {type(frame).__name__}")
-    check_normalisation_mode(mode)
-    _, shape, spread_fraction = _check_frame_input(np.zeros((1, 1), bool), shape, spread_fraction)
-    total = spread_fraction * min(shape)
+    check_instance(frame, "frame", CanonicalFrame, "moment_frame")
+    check_choice(mode, "mode", NORMALISATION_MODES)
+    shape = _check_shape(shape)
+    total = CANONICAL_SPREAD * min(shape)
     if mode == "isotropic":
         spread = np.full(2, total / np.sqrt(2))
     else:
@@ -323,19 +313,6 @@ def frame_normalisation(frame: CanonicalFrame, shape: tuple[int, int], mode: str
     centre = np.array([shape[0], shape[1]]) / 2.0
     matrix = np.array([[0.0, 1.0 / spread[1]], [-1.0 / spread[0], 0.0]])  # x right, y up
     return Normalisation(centre, spread, matrix)
-
-
-def check_frame_source(source: object, name: str = "frame") -> str:
-    """One of :data:`FRAME_SOURCES`."""
-    return check_choice(source, name, FRAME_SOURCES)
-
-
-def check_spread_fraction(value: object, name: str = "canonical_spread") -> float:
-    """A positive fraction of the image side below 0.5 (a larger spread would not fit the image)."""
-    value = check_positive(value, name)
-    if value >= 0.5:
-        raise ValueError(f"{name} must be below 0.5 of the image side, got {value}")
-    return value
 
 
 def similarity_copy(image: object, *, rng: int | np.random.Generator, max_rotation_deg: float = 25.0,
@@ -351,14 +328,14 @@ def similarity_copy(image: object, *, rng: int | np.random.Generator, max_rotati
     Parameters
     ----------
     image : array_like, shape (rows, cols)
-        Grey levels, as :func:`~amdo_lab.ear_biometrics.features.as_grey_image` accepts them.
+        Grey levels, as :func:`~amdo_lab.ear_biometrics.images.as_grey_image` accepts them.
     rng : int or numpy.random.Generator
         Seed or generator of the rotation, scale and shift; a generator is advanced (the rotation is
         drawn even when ``rotation_deg`` is given, so the stream does not depend on it).
     max_rotation_deg : float
         Largest rotation, degrees, in [0, 180].
     scale_range : tuple of float
-        (low, high) of the scale factor, 0 < low <= high.
+        (low, high) of the scale factor, 0 < low <= high <= :data:`MAX_SCALE`.
     max_shift_px : float
         Largest shift per axis, pixels, >= 0 and at most the image's larger side.
     rotation_deg : float or None
@@ -377,13 +354,11 @@ def similarity_copy(image: object, *, rng: int | np.random.Generator, max_rotati
     as_grey_image(image)
     array = np.asarray(image)
     rng = make_rng(rng, "rng")
-    check_in_range(check_positive(max_rotation_deg, "max_rotation_deg", allow_zero=True), "max_rotation_deg", 0, 180,
-                   closed="both")
-    low, high = as_finite_array(scale_range, "scale_range", shape=(2,))
-    if not 0 < low <= high:
-        raise ValueError(f"scale_range must be (low, high) with 0 < low <= high, got {tuple(scale_range)}")
-    check_in_range(check_positive(max_shift_px, "max_shift_px", allow_zero=True), "max_shift_px", 0, max(array.shape),
-                   closed="both")
+    check_in_range(max_rotation_deg, "max_rotation_deg", 0, 180, closed="both")
+    low, high = as_finite_array(scale_range, "scale_range", shape=(2,), bounds=(0, MAX_SCALE), closed="right")
+    if low > high:
+        raise ValueError(f"scale_range must be (low, high) with low <= high, got {tuple(scale_range)}")
+    check_in_range(max_shift_px, "max_shift_px", 0, max(array.shape), closed="both")
     angle = rng.uniform(-max_rotation_deg, max_rotation_deg)
     if rotation_deg is not None:
         angle = float(as_finite_array(rotation_deg, "rotation_deg", ndim=0))

@@ -7,16 +7,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from amdo_lab.common import PALETTE, check_axes, check_bool
-from amdo_lab.ear_biometrics.features import CircleFeatures, TopologyFeatures, as_bool_image
+from amdo_lab.ear_biometrics.circles import CircleFeatures
+from amdo_lab.ear_biometrics.images import as_bool_image, check_instance
+from amdo_lab.ear_biometrics.topology import TopologyFeatures
 
 if TYPE_CHECKING:  # matplotlib is imported by the caller's figure
     from matplotlib.axes import Axes
-
-
-def _check_plot_arguments(ax: object, features: object, kind: type) -> None:
-    check_axes(ax)
-    if not isinstance(features, kind):
-        raise TypeError(f"features must be {kind.__name__}, got {type(features).__name__}")
 
 
 def _circle_pixels(features: CircleFeatures, radius: float, n: int = 200) -> np.ndarray:
@@ -43,7 +39,8 @@ def draw_circles(ax: Axes, contours: np.ndarray, features: CircleFeatures, *, sh
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 4, eq. (7) and Figs. 5-6.
     """
-    _check_plot_arguments(ax, features, CircleFeatures)
+    check_axes(ax)
+    check_instance(features, "features", CircleFeatures, "circle_features")
     check_bool(show_crossings, "show_crossings")
     contours = as_bool_image(contours, "contours")
     ax.imshow(contours, cmap="gray_r", interpolation="nearest")
@@ -77,7 +74,8 @@ def draw_topology(ax: Axes, features: TopologyFeatures) -> None:
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 4, eqs. (8)-(9) and Figs. 7-8.
     """
-    _check_plot_arguments(ax, features, TopologyFeatures)
+    check_axes(ax)
+    check_instance(features, "features", TopologyFeatures, "topology_features")
     ax.imshow(features.skeleton, cmap="gray_r", interpolation="nearest")
     circles = features.circles
     for radius in circles.radii:

@@ -16,12 +16,13 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from amdo_lab.common import (as_finite_array, check_choice, check_in_range, check_positive, check_positive_int,
-                             make_rng)
+from amdo_lab.common import (MAX_SIDE, as_finite_array, check_bool, check_choice, check_in_range, check_names,
+                             check_positive_int, make_rng)
+from amdo_lab.ear_biometrics.images import check_instance
 
 DIFFICULTIES = ("easy", "difficult")
 NUISANCE_FACTORS = ("rotation", "scale", "translation", "yaw", "illumination", "noise", "jitter")
-"""Per-capture nuisance factors that :func:`generate_ear_database` can switch off (``disable=``):
+"""Per-capture nuisance factors that :func:`make_ear_database` can switch off (``disable=``):
 in-plane rotation, scale, translation, the camera's yaw, illumination (difficult images only: light
 direction, groove contrast, background level, gradient and gain; easy images never vary it), sensor noise with
 skin texture, and the small per-capture shape jitter. A disabled factor is still drawn (so the
@@ -29,24 +30,62 @@ random stream, and hence every other factor, stays the same) and then set to its
 
 FIXED_LIGHT = 0.75 * np.pi  # highlight direction (image angle) when illumination does not vary
 
+MIN_SIZE = 32
+"""Smallest image side of a synthetic ear, pixels (the grooves are drawn at least one pixel wide)."""
+
+MAX_SUBJECTS = 10_000
+"""Most subjects of one synthetic database (the paper's has 180 images)."""
+
+MAX_IMAGES_PER_SUBJECT = 100
+"""Most captures of one subject in a synthetic database (the paper takes two)."""
+
+MAX_YAW_DEG = 30.0
+"""Largest yaw of a non-frontal capture, degrees (the paper's second capture is at about 30)."""
+
+MAX_ROTATION_DEG = {"easy": 10.0, "difficult": 20.0}
+"""Largest in-plane rotation of a capture, degrees, per difficulty."""
+
+MAX_SHAPE_VALUE = 10.0
+"""Largest magnitude of an :class:`EarShape` parameter (units of about half an ear height; a drawn
+ear's parameters stay below 2)."""
+
+MAX_POSE_SCALE = 10.0
+"""Largest scale of a :class:`CapturePose`: at 10 an ear is several times the image."""
+
+_SHAPE_FIELDS = {"helix_axes": (2,), "helix_harmonics": (3, 2), "antihelix_harmonics": (3, 2),
+                 "superior_crus_end": (2,), "inferior_crus_end": (2,), "concha_centre": (2,), "concha_axes": (2,),
+                 "tragus_centre": (2,), "antitragus_centre": (2,)}  # the others are numbers, shape ()
+
 
 def check_disable(disable: object) -> frozenset:
-    """Validate a collection of nuisance-factor names (see :data:`NUISANCE_FACTORS`)."""
-    if isinstance(disable, str):
-        raise TypeError(f"disable must be a collection of factor names, got the string {disable!r}")
-    try:
-        names = frozenset(disable)
-    except TypeError:
-        raise TypeError(f"disable must be a collection of factor names, got {type(disable).__name__}") from None
-    unknown = sorted(str(n) for n in names - set(NUISANCE_FACTORS))
-    if unknown:
-        raise ValueError(f"disable holds unknown nuisance factors {unknown}; choose from {NUISANCE_FACTORS}")
-    return names
+    """Validate a collection of nuisance-factor names (see :data:`NUISANCE_FACTORS`); empty: none.
+
+    Parameters
+    ----------
+    disable : collection of str
+        Names from :data:`NUISANCE_FACTORS`, each at most once, or an empty collection.
+
+    Returns
+    -------
+    frozenset of str
+        The names.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 6 (the captures' nuisance, which the synthetic data can switch off).
+    """
+    if isinstance(disable, (tuple, list, set, frozenset)) and not disable:
+        return frozenset()  # nothing switched off
+    return frozenset(check_names(disable, "disable", allowed=NUISANCE_FACTORS))
 
 
 @dataclass(frozen=True)
 class EarShape:
     """Per-subject shape parameters of a synthetic ear (canonical frame, units of about half an ear height).
+
+    Every parameter is finite and at most :data:`MAX_SHAPE_VALUE` in magnitude (checked when the
+    record is made).
 
     Parameters
     ----------
@@ -106,6 +145,13 @@ class EarShape:
     tragus_size: float  # relative size of the tragus
     antitragus_size: float  # relative size of the antitragus
 
+    def __post_init__(self) -> None:
+        # a record the user may build: every parameter finite, of its shape, within MAX_SHAPE_VALUE
+        for item in fields(self):
+            value = as_finite_array(getattr(self, item.name), f"shape.{item.name}",
+                                    shape=_SHAPE_FIELDS.get(item.name, ()), max_abs=MAX_SHAPE_VALUE)
+            object.__setattr__(self, item.name, value if value.ndim else float(value))
+
 
 @dataclass(frozen=True)
 class CapturePose:
@@ -114,11 +160,11 @@ class CapturePose:
     Parameters
     ----------
     rotation : float
-        In-plane rotation, radians (counter-clockwise as displayed).
+        In-plane rotation, radians (counter-clockwise as displayed), in [-2 pi, 2 pi].
     scale : float
-        Scale factor, > 0 (1 = an ear about 0.36 x 2.15 of the image side tall).
+        Scale factor, in (0, :data:`MAX_POSE_SCALE`] (1 = an ear about 0.36 x 2.15 of the image side tall).
     translation : numpy.ndarray, shape (2,)
-        Shift (columns, rows) of the ear from the image centre, pixels.
+        Shift (columns, rows) of the ear from the image centre, pixels, each within +-4,096.
     yaw : float
         The camera's turn about the head's vertical axis, radians, in (-pi/2, pi/2); it foreshortens
         the ear horizontally by cos(yaw).
@@ -133,6 +179,14 @@ class CapturePose:
     scale: float
     translation: np.ndarray
     yaw: float
+
+    def __post_init__(self) -> None:
+        # a record the user may build: checked here, once, under the names render_ear reports
+        check_in_range(self.rotation, "pose.rotation", -2 * np.pi, 2 * np.pi, closed="both")
+        check_in_range(self.scale, "pose.scale", 0, MAX_POSE_SCALE, closed="right")
+        object.__setattr__(self, "translation", as_finite_array(self.translation, "pose.translation", shape=(2,),
+                                                                max_abs=MAX_SIDE))
+        check_in_range(self.yaw, "pose.yaw", -np.pi / 2, np.pi / 2)  # at +-90 degrees the ear is seen edge-on
 
 
 @dataclass(frozen=True)
@@ -166,7 +220,7 @@ class EarDatabase:
     poses: tuple[CapturePose, ...]
     difficulty: str
 
-    def __iter__(self):  # allows ``images, ids = generate_ear_database(...)``
+    def __iter__(self):  # allows ``images, ids = make_ear_database(...)``
         return iter((self.images, self.subject_ids))
 
 
@@ -240,27 +294,6 @@ def _bezier(start: np.ndarray, control: np.ndarray, end: np.ndarray, n: int = 40
     return (1 - t) ** 2 * start + 2 * (1 - t) * t * control + t**2 * end
 
 
-def _check_ear_shape(shape: object) -> EarShape:
-    """An :class:`EarShape` whose parameters are all finite (a NaN would draw a garbage image silently)."""
-    if not isinstance(shape, EarShape):
-        raise TypeError(f"shape must be an EarShape (from draw_ear_shape), got {type(shape).__name__}")
-    for item in fields(EarShape):
-        as_finite_array(getattr(shape, item.name), f"shape.{item.name}")
-    return shape
-
-
-def _check_pose(pose: object) -> CapturePose:
-    """A :class:`CapturePose` with finite values, a positive scale and a yaw under 90 degrees."""
-    if not isinstance(pose, CapturePose):
-        raise TypeError(f"pose must be a CapturePose (from draw_capture_pose), got {type(pose).__name__}")
-    as_finite_array(pose.rotation, "pose.rotation", ndim=0)
-    check_positive(pose.scale, "pose.scale")
-    as_finite_array(pose.translation, "pose.translation", shape=(2,))
-    if not abs(as_finite_array(pose.yaw, "pose.yaw", ndim=0)) < np.pi / 2:
-        raise ValueError(f"pose.yaw must be within (-pi/2, pi/2) (the ear faces the camera), got {pose.yaw}")
-    return pose
-
-
 def ear_curves(shape: EarShape) -> list[np.ndarray]:
     """Polylines of the ear's anatomical curves in the canonical frame (y up).
 
@@ -280,7 +313,7 @@ def ear_curves(shape: EarShape) -> list[np.ndarray]:
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Fig. 8 (the contours the method traces). Synthetic data: no equation of the paper; stands in for its database of Sec. 6 (Figs. 1-2).
     """
-    return _ear_curves(_check_ear_shape(shape))
+    return _ear_curves(check_instance(shape, "shape", EarShape, "draw_ear_shape"))
 
 
 def _ear_curves(shape: EarShape) -> list[np.ndarray]:
@@ -356,7 +389,7 @@ def render_ear(
     difficulty : {"easy", "difficult"}
         Kind of image, as above.
     size : int
-        Image side in pixels, at least 32.
+        Image side in pixels, from 32 to ``MAX_SIDE`` (4,096).
     disable : collection of str
         Nuisance factors switched off: ``"illumination"`` (difficult images only) and ``"noise"``
         (see :data:`NUISANCE_FACTORS`); the random stream is drawn all the same.
@@ -371,11 +404,11 @@ def render_ear(
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 6 and Figs. 1-2 (easy and difficult images). Synthetic data: no equation of the paper; stands in for its database of Sec. 6 (Figs. 1-2).
     """
-    _check_ear_shape(shape)
-    _check_pose(pose)
+    check_instance(shape, "shape", EarShape, "draw_ear_shape")
+    check_instance(pose, "pose", CapturePose, "draw_capture_pose")
     rng = make_rng(rng, "rng")
     check_choice(difficulty, "difficulty", DIFFICULTIES)
-    size = check_positive_int(size, "size", minimum=32)
+    size = check_positive_int(size, "size", minimum=MIN_SIZE, maximum=MAX_SIDE)
     disable = check_disable(disable)
     return _render_ear(shape, pose, rng, difficulty=difficulty, size=size, disable=disable)
 
@@ -455,13 +488,12 @@ def _add_occluders(image: np.ndarray, curves: list[np.ndarray], rng: np.random.G
     return image * (1 - 0.75 * np.clip(arm, 0, 1)) + 0.08 * np.clip(arm, 0, 1)
 
 
-def draw_capture_pose(*, rng: int | np.random.Generator, frontal: bool, size: int, difficulty: str,
-                      max_yaw_deg: float = 30.0, max_rotation_deg: float | None = None) -> CapturePose:
+def draw_capture_pose(*, rng: int | np.random.Generator, frontal: bool, size: int, difficulty: str) -> CapturePose:
     """Draw one capture's nuisance: rotation, scale, shift and yaw.
 
-    Rotation uniform in +-10 degrees (+-20 for difficult images) unless ``max_rotation_deg`` is
-    given, scale uniform in 0.85-1.1, shift uniform in +-6 % of the image side per axis, yaw 0 for
-    the perpendicular capture, else uniform in [2/3, 1] x ``max_yaw_deg``.
+    Rotation uniform in +-10 degrees (+-20 for difficult images, :data:`MAX_ROTATION_DEG`), scale
+    uniform in 0.85-1.1, shift uniform in +-6 % of the image side per axis, yaw 0 for the
+    perpendicular capture, else uniform in [2/3, 1] x :data:`MAX_YAW_DEG`.
 
     Parameters
     ----------
@@ -470,13 +502,9 @@ def draw_capture_pose(*, rng: int | np.random.Generator, frontal: bool, size: in
     frontal : bool
         True for the capture with the camera perpendicular to the head (yaw 0).
     size : int
-        Image side in pixels, at least 32 (scales the shift).
+        Image side in pixels, from 32 to ``MAX_SIDE`` (4,096) (scales the shift).
     difficulty : {"easy", "difficult"}
-        Sets the default rotation range.
-    max_yaw_deg : float
-        Largest yaw of a non-frontal capture, degrees, in [0, 90).
-    max_rotation_deg : float or None
-        Largest in-plane rotation, degrees, in [0, 180]; None for the default of ``difficulty``.
+        Sets the rotation range.
 
     Returns
     -------
@@ -489,36 +517,19 @@ def draw_capture_pose(*, rng: int | np.random.Generator, frontal: bool, size: in
     LNCS 3179, pp. 51-61, Sec. 6: one capture perpendicular to the head, one at 30 degrees.
     """
     rng = make_rng(rng, "rng")
-    if not isinstance(frontal, (bool, np.bool_)):
-        raise TypeError(f"frontal must be a bool, got {type(frontal).__name__}")
-    size = check_positive_int(size, "size", minimum=32)
+    check_bool(frontal, "frontal")
+    size = check_positive_int(size, "size", minimum=MIN_SIZE, maximum=MAX_SIDE)
     check_choice(difficulty, "difficulty", DIFFICULTIES)
-    max_yaw_deg, max_rotation_deg = _check_pose_ranges(max_yaw_deg, max_rotation_deg)
-    return _draw_capture_pose(rng, frontal=frontal, size=size, difficulty=difficulty, max_yaw_deg=max_yaw_deg,
-                              max_rotation_deg=max_rotation_deg)
+    return _draw_capture_pose(rng, frontal=frontal, size=size, difficulty=difficulty)
 
 
-def _check_pose_ranges(max_yaw_deg: object, max_rotation_deg: object) -> tuple[object, object]:
-    """``max_yaw_deg`` in [0, 90) degrees (at 90 the ear is seen edge-on) and ``max_rotation_deg`` in [0, 180]."""
-    if not check_positive(max_yaw_deg, "max_yaw_deg", allow_zero=True) < 90:
-        raise ValueError(f"max_yaw_deg must be below 90 degrees, got {max_yaw_deg}")
-    if max_rotation_deg is not None:
-        check_in_range(check_positive(max_rotation_deg, "max_rotation_deg", allow_zero=True), "max_rotation_deg", 0,
-                       180, closed="both")
-    return max_yaw_deg, max_rotation_deg
-
-
-def _draw_capture_pose(rng: np.random.Generator, *, frontal: bool, size: int, difficulty: str,
-                       max_yaw_deg: float, max_rotation_deg: float | None) -> CapturePose:
+def _draw_capture_pose(rng: np.random.Generator, *, frontal: bool, size: int, difficulty: str) -> CapturePose:
     """:func:`draw_capture_pose` on validated input."""
-    hard = difficulty == "difficult"
-    if max_rotation_deg is None:
-        max_rotation_deg = 20.0 if hard else 10.0
     return CapturePose(
-        rotation=float(np.deg2rad(rng.uniform(-1, 1) * max_rotation_deg)),
+        rotation=float(np.deg2rad(rng.uniform(-1, 1) * MAX_ROTATION_DEG[difficulty])),
         scale=float(rng.uniform(0.85, 1.1)),
         translation=rng.uniform(-0.06, 0.06, 2) * size,
-        yaw=0.0 if frontal else float(np.deg2rad(rng.uniform(2 / 3, 1) * max_yaw_deg)),
+        yaw=0.0 if frontal else float(np.deg2rad(rng.uniform(2 / 3, 1) * MAX_YAW_DEG)),
     )
 
 
@@ -532,15 +543,13 @@ def _neutralise(pose: CapturePose, disable: frozenset) -> CapturePose:
     )
 
 
-def generate_ear_database(
+def make_ear_database(
     n_subjects: int,
     images_per_subject: int = 2,
     difficulty: str = "easy",
     *,
     rng: int | np.random.Generator,
     size: int = 256,
-    max_yaw_deg: float = 30.0,
-    max_rotation_deg: float | None = None,
     disable: object = (),
 ) -> EarDatabase:
     """Seeded synthetic ear database: capture 0 of a subject is perpendicular, the others yawed.
@@ -553,19 +562,15 @@ def generate_ear_database(
     Parameters
     ----------
     n_subjects : int
-        Number of subjects, at least 1.
+        Number of subjects, from 1 to :data:`MAX_SUBJECTS`.
     images_per_subject : int
-        Captures per subject, at least 1.
+        Captures per subject, from 1 to :data:`MAX_IMAGES_PER_SUBJECT`.
     difficulty : {"easy", "difficult"}
         Kind of images (see :func:`render_ear`).
     rng : int or numpy.random.Generator
         Seed or generator of the whole database; a generator is advanced.
     size : int
-        Image side in pixels, at least 32.
-    max_yaw_deg : float
-        Largest yaw of the non-frontal captures, degrees, in [0, 90).
-    max_rotation_deg : float or None
-        Largest in-plane rotation, degrees, in [0, 180]; None for 10 (easy) or 20 (difficult).
+        Image side in pixels, from 32 to ``MAX_SIDE`` (4,096).
     disable : collection of str
         Nuisance factors switched off (names from :data:`NUISANCE_FACTORS`); the random stream is
         unchanged, so a database with a factor disabled differs from the default one only in that
@@ -585,15 +590,14 @@ def generate_ear_database(
     Examples
     --------
     >>> from amdo_lab import ear_biometrics as eb
-    >>> images, ids = eb.generate_ear_database(2, 2, "easy", rng=0, size=128)
+    >>> images, ids = eb.make_ear_database(2, 2, "easy", rng=0, size=128)
     >>> images.shape, images.dtype.name, ids.tolist()
     ((4, 128, 128), 'uint8', [0, 0, 1, 1])
     """
-    n_subjects = check_positive_int(n_subjects, "n_subjects")
-    images_per_subject = check_positive_int(images_per_subject, "images_per_subject")
+    n_subjects = check_positive_int(n_subjects, "n_subjects", maximum=MAX_SUBJECTS)
+    images_per_subject = check_positive_int(images_per_subject, "images_per_subject", maximum=MAX_IMAGES_PER_SUBJECT)
     check_choice(difficulty, "difficulty", DIFFICULTIES)
-    size = check_positive_int(size, "size", minimum=32)
-    max_yaw_deg, max_rotation_deg = _check_pose_ranges(max_yaw_deg, max_rotation_deg)
+    size = check_positive_int(size, "size", minimum=MIN_SIZE, maximum=MAX_SIDE)
     disable = check_disable(disable)
     rng = make_rng(rng, "rng")
     shapes, poses, images, ids = [], [], [], []
@@ -601,8 +605,7 @@ def generate_ear_database(
         shape = draw_ear_shape(rng=rng)
         shapes.append(shape)
         for capture in range(images_per_subject):
-            pose = _neutralise(_draw_capture_pose(rng, frontal=capture == 0, size=size, difficulty=difficulty,
-                                                  max_yaw_deg=max_yaw_deg, max_rotation_deg=max_rotation_deg), disable)
+            pose = _neutralise(_draw_capture_pose(rng, frontal=capture == 0, size=size, difficulty=difficulty), disable)
             jittered = _jitter_shape(shape, rng, 0.005)
             if "jitter" in disable:
                 jittered = shape
@@ -626,7 +629,8 @@ def load_ear_folder(folder: str | Path, *, size: int | None = None) -> tuple[lis
     folder : str or os.PathLike
         An existing directory holding .png, .jpg, .jpeg, .bmp, .tif, .tiff or .pgm files.
     size : int or None
-        When given (>= 1), every image is resized to ``size`` x ``size`` (area interpolation).
+        When given (1 to ``MAX_SIDE``, 4,096), every image is resized to ``size`` x ``size`` (area
+        interpolation).
 
     Returns
     -------
@@ -643,13 +647,11 @@ def load_ear_folder(folder: str | Path, *, size: int | None = None) -> tuple[lis
     if not isinstance(folder, (str, os.PathLike)):
         raise TypeError(f"folder must be a path (str or pathlib.Path), got {type(folder).__name__}")
     if size is not None:
-        size = check_positive_int(size, "size")
+        size = check_positive_int(size, "size", maximum=MAX_SIDE)
     folder = Path(folder)
-    if not folder.is_dir():
-        raise ValueError(f"folder must be an existing directory, got {folder.name!r}")
-    files = sorted(p for p in folder.iterdir() if p.suffix.lower() in IMAGE_SUFFIXES)
+    files = sorted(p for p in folder.iterdir() if p.suffix.lower() in IMAGE_SUFFIXES) if folder.is_dir() else []
     if not files:
-        raise ValueError(f"folder contains no image files with suffixes {IMAGE_SUFFIXES}")
+        raise ValueError(f"folder must be an existing directory holding image files, got {folder.name!r}")
     images, ids = [], []
     for path in files:
         image = cv2.imread(str(path), cv2.IMREAD_GRAYSCALE)
