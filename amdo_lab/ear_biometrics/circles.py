@@ -12,7 +12,7 @@ from scipy.sparse.csgraph import connected_components
 
 from amdo_lab.common import (MAX_ITERATIONS, MAX_SIDE, as_bool_mask, check_choice, check_in_range, check_positive,
                              check_positive_int)
-from amdo_lab.ear_biometrics.images import as_contour_image, check_instance
+from amdo_lab.ear_biometrics.images import as_contour_image, check_record
 from amdo_lab.ear_biometrics.normalisation import NORMALISATION_MODES, Normalisation, normalise_coordinates
 from amdo_lab.ear_biometrics.skeleton import prune_spurs, skeleton_graph, smooth_polylines, thin_contours
 
@@ -157,7 +157,7 @@ def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *,
     if normalisation is None:
         norm = normalise_coordinates(array, mode)
     else:
-        norm = check_instance(normalisation, "normalisation", Normalisation, "normalise_coordinates")
+        norm = check_record(normalisation, "normalisation", Normalisation, "normalise_coordinates")
     # the first circle must reach into the image (beyond it every count is 0 and the sampling grows without bound)
     check_in_range(step, "step", 0, np.hypot(*array.shape) / norm.spread.max(), closed="right")
     radii = step * np.arange(1, n_circles + 1)

@@ -11,7 +11,7 @@ import numpy as np
 
 from amdo_lab.common import MAX_SAMPLES, MAX_SIDE, as_finite_array, check_fitted, check_positive_int, make_rng
 from amdo_lab.ear_biometrics.enrolment import check_subject_id, check_subject_ids
-from amdo_lab.ear_biometrics.images import check_images, check_instance
+from amdo_lab.ear_biometrics.images import check_images, check_record
 from amdo_lab.ear_biometrics.matcher import EarMatcher, EarTemplate, check_distance_threshold, check_templates
 from amdo_lab.ear_biometrics.peers import HogNearestNeighbour, LbpNearestNeighbour
 from amdo_lab.ear_biometrics.synthetic import MAX_SUBJECTS, MIN_SIZE, check_disable, make_ear_database
@@ -173,7 +173,7 @@ def open_set_rates(matcher: EarMatcher, genuine: list, genuine_ids: list, impost
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 5, steps 4-5.
     """
-    check_instance(matcher, "matcher", EarMatcher, "EarMatcher()")
+    check_record(matcher, "matcher", EarMatcher, "EarMatcher()")
     check_fitted(matcher, "templates_")
     check_templates(genuine, "genuine")
     check_templates(impostors, "impostors")
@@ -322,7 +322,7 @@ def closed_set(matcher: EarMatcher, templates: list[EarTemplate], subject_ids: o
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 5 (steps 1-9) and Sec. 6 (the protocol: perpendicular and 30-degree captures).
     """
-    check_instance(matcher, "matcher", EarMatcher, "EarMatcher()")
+    check_record(matcher, "matcher", EarMatcher, "EarMatcher()")
     if matcher.n_enrolled:
         raise ValueError("matcher must be empty (a fresh EarMatcher)")
     check_templates(templates, "templates")
@@ -382,7 +382,7 @@ def peer_closed_set(images: np.ndarray, subject_ids: object,
     _check_pairs(len(images), ids, "images")
     if baseline is None:
         baseline = HogNearestNeighbour(max(2, int(np.shape(images)[-1]) // 8))
-    check_instance(baseline, "baseline", HogNearestNeighbour, "HogNearestNeighbour() or LbpNearestNeighbour()")
+    check_record(baseline, "baseline", HogNearestNeighbour, "HogNearestNeighbour() or LbpNearestNeighbour()")
     baseline = copy.deepcopy(baseline).fit(images[0::2], ids[0::2])
     distances = np.array([baseline.distances(image) for image in images[1::2]])
     ranks = np.array([rank_of_truth(d, ids[0::2], s) for d, s in zip(distances, ids[1::2])])
@@ -460,7 +460,7 @@ def nuisance_study(n_subjects: int, conditions: Mapping[str, tuple], *, rng: int
     n_subjects = check_positive_int(n_subjects, "n_subjects", minimum=2, maximum=MAX_SUBJECTS)
     generator = make_rng(rng, "rng")  # each condition draws from a copy of this state
     # Everything is checked before the first (slow) database is drawn.
-    check_instance(conditions, "conditions", Mapping, "a dict of row names and factors to disable")
+    check_record(conditions, "conditions", Mapping, "a dict of row names and factors to disable")
     for disabled in conditions.values():
         check_disable(disabled)
     check_positive_int(size, "size", minimum=MIN_SIZE, maximum=MAX_SIDE)

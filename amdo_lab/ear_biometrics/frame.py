@@ -18,7 +18,7 @@ import cv2
 import numpy as np
 
 from amdo_lab.common import MAX_SIDE, as_finite_array, check_choice, check_in_range, make_rng
-from amdo_lab.ear_biometrics.images import as_bool_image, as_grey_image, check_instance
+from amdo_lab.ear_biometrics.images import as_bool_image, as_grey_image, check_record
 from amdo_lab.ear_biometrics.normalisation import NORMALISATION_MODES, Normalisation, check_spread
 
 FRAME_SOURCES = ("image", "silhouette", "contours")
@@ -263,7 +263,7 @@ def to_canonical(image: np.ndarray, frame: CanonicalFrame) -> np.ndarray:
     LNCS 3179, pp. 51-61, Sec. 3. Beyond the paper: its Sec. 3 moments (eq. 6) taken of the silhouette and applied to the image.
     """
     as_grey_image(image)
-    check_instance(frame, "frame", CanonicalFrame, "moment_frame")
+    check_record(frame, "frame", CanonicalFrame, "moment_frame")
     array = np.asarray(image)
     scale = float(np.sqrt(abs(np.linalg.det(frame.matrix[:, :2]))))
     if scale < 1:
@@ -301,7 +301,7 @@ def frame_normalisation(frame: CanonicalFrame, shape: tuple[int, int], mode: str
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 3, eq. (6).
     """
-    check_instance(frame, "frame", CanonicalFrame, "moment_frame")
+    check_record(frame, "frame", CanonicalFrame, "moment_frame")
     check_choice(mode, "mode", NORMALISATION_MODES)
     shape = _check_shape(shape)
     total = CANONICAL_SPREAD * min(shape)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from amdo_lab.common import as_bool_mask, as_finite_array, check_in_range
+from amdo_lab.common import as_bool_mask, as_finite_array, check_in_range, check_instance
 
 MAX_GREY_LEVEL = 1e6
 """Largest grey level of an image: 8- and 16-bit images and float images fit with room to spare;
@@ -43,7 +43,7 @@ def as_grey_image(image: object, name: str = "image") -> np.ndarray:
     return grey
 
 
-def check_instance(value: object, name: str, kind: type, source: str) -> object:
+def check_record(value: object, name: str, kind: type, source: str) -> object:
     """Check that ``value`` is a ``kind`` (a record of the chapter), naming ``name`` and where one comes from.
 
     Parameters
@@ -67,10 +67,8 @@ def check_instance(value: object, name: str, kind: type, source: str) -> object:
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61 (the records V, F and the stored templates of Secs. 4-5).
     """
-    if not isinstance(value, kind):
-        article = "an" if kind.__name__[0] in "AEIOU" else "a"
-        raise TypeError(f"{name} must be {article} {kind.__name__} (from {source}), got {type(value).__name__}")
-    return value
+    article = "an" if kind.__name__[0] in "AEIOU" else "a"
+    return check_instance(value, name, kind, what=f"{article} {kind.__name__} (from {source})")
 
 
 def as_bool_image(value: object, name: str) -> np.ndarray:

@@ -16,7 +16,7 @@ from amdo_lab.ear_biometrics.contours import MAX_CLOSING_PX, MAX_K, clean_contou
 from amdo_lab.ear_biometrics.enrolment import Enrolment, check_subject_id
 from amdo_lab.ear_biometrics.frame import (FRAME_SOURCES, CanonicalFrame, frame_normalisation, moment_frame_fast,
                                            silhouette, to_canonical)
-from amdo_lab.ear_biometrics.images import as_grey_image, check_instance
+from amdo_lab.ear_biometrics.images import as_grey_image, check_record
 from amdo_lab.ear_biometrics.normalisation import NORMALISATION_MODES, Normalisation
 from amdo_lab.ear_biometrics.skeleton import EQ8_READINGS
 from amdo_lab.ear_biometrics.topology import TopologyFeatures, topology_features
@@ -118,8 +118,8 @@ def topology_similarity(query: TopologyFeatures, reference: TopologyFeatures) ->
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 5, steps 7-9, on F of eq. (9).
     """
-    check_instance(query, "query", TopologyFeatures, "topology_features")
-    check_instance(reference, "reference", TopologyFeatures, "topology_features")
+    check_record(query, "query", TopologyFeatures, "topology_features")
+    check_record(reference, "reference", TopologyFeatures, "topology_features")
     return _topology_similarity(query, reference)
 
 
@@ -169,7 +169,7 @@ def characteristic_points(features: TopologyFeatures) -> np.ndarray:
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 4, eq. (9).
     """
-    return _points(check_instance(features, "features", TopologyFeatures, "topology_features"))
+    return _points(check_record(features, "features", TopologyFeatures, "topology_features"))
 
 
 def _points(features: TopologyFeatures) -> np.ndarray:
@@ -205,8 +205,8 @@ def point_distance(query: TopologyFeatures, reference: TopologyFeatures) -> floa
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 5, steps 8-9, on the points of eq. (9).
     """
-    check_instance(query, "query", TopologyFeatures, "topology_features")
-    check_instance(reference, "reference", TopologyFeatures, "topology_features")
+    check_record(query, "query", TopologyFeatures, "topology_features")
+    check_record(reference, "reference", TopologyFeatures, "topology_features")
     a, b = _points(query), _points(reference)
     cap = POINT_DISTANCE_CAP
     if len(a) == 0 or len(b) == 0:
@@ -547,7 +547,7 @@ class EarMatcher(Enrolment):
 
     def _check_template(self, template: object, name: str) -> None:
         """An :class:`EarTemplate` with this matcher's number of circles, else an error naming ``name``."""
-        check_instance(template, name, EarTemplate, "EarMatcher.extract")
+        check_record(template, name, EarTemplate, "EarMatcher.extract")
         if len(template.circles.counts) != self.n_circles:
             raise ValueError(f"{name} has {len(template.circles.counts)} circles, matcher expects {self.n_circles}")
 
@@ -642,4 +642,4 @@ def check_templates(templates: object, name: str) -> None:
     if isinstance(templates, (str, np.ndarray)) or not hasattr(templates, "__len__") or not len(templates):
         raise ValueError(f"{name} must be a non-empty list of EarTemplate")
     for index, template in enumerate(templates):
-        check_instance(template, f"{name}[{index}]", EarTemplate, "EarMatcher.extract")
+        check_record(template, f"{name}[{index}]", EarTemplate, "EarMatcher.extract")

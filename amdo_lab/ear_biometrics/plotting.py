@@ -8,7 +8,7 @@ import numpy as np
 
 from amdo_lab.common import PALETTE, check_axes, check_bool
 from amdo_lab.ear_biometrics.circles import CircleFeatures
-from amdo_lab.ear_biometrics.images import as_bool_image, check_instance
+from amdo_lab.ear_biometrics.images import as_bool_image, check_record
 from amdo_lab.ear_biometrics.topology import TopologyFeatures
 
 if TYPE_CHECKING:  # matplotlib is imported by the caller's figure
@@ -40,7 +40,7 @@ def draw_circles(ax: Axes, contours: np.ndarray, features: CircleFeatures, *, sh
     LNCS 3179, pp. 51-61, Sec. 4, eq. (7) and Figs. 5-6.
     """
     check_axes(ax)
-    check_instance(features, "features", CircleFeatures, "circle_features")
+    check_record(features, "features", CircleFeatures, "circle_features")
     check_bool(show_crossings, "show_crossings")
     contours = as_bool_image(contours, "contours")
     ax.imshow(contours, cmap="gray_r", interpolation="nearest")
@@ -75,7 +75,7 @@ def draw_topology(ax: Axes, features: TopologyFeatures) -> None:
     LNCS 3179, pp. 51-61, Sec. 4, eqs. (8)-(9) and Figs. 7-8.
     """
     check_axes(ax)
-    check_instance(features, "features", TopologyFeatures, "topology_features")
+    check_record(features, "features", TopologyFeatures, "topology_features")
     ax.imshow(features.skeleton, cmap="gray_r", interpolation="nearest")
     circles = features.circles
     for radius in circles.radii:

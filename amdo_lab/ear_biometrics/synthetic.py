@@ -18,7 +18,7 @@ import numpy as np
 
 from amdo_lab.common import (MAX_SIDE, as_finite_array, check_bool, check_choice, check_in_range, check_names,
                              check_positive_int, make_rng)
-from amdo_lab.ear_biometrics.images import check_instance
+from amdo_lab.ear_biometrics.images import check_record
 
 DIFFICULTIES = ("easy", "difficult")
 NUISANCE_FACTORS = ("rotation", "scale", "translation", "yaw", "illumination", "noise", "jitter")
@@ -313,7 +313,7 @@ def ear_curves(shape: EarShape) -> list[np.ndarray]:
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Fig. 8 (the contours the method traces). Synthetic data: no equation of the paper; stands in for its database of Sec. 6 (Figs. 1-2).
     """
-    return _ear_curves(check_instance(shape, "shape", EarShape, "draw_ear_shape"))
+    return _ear_curves(check_record(shape, "shape", EarShape, "draw_ear_shape"))
 
 
 def _ear_curves(shape: EarShape) -> list[np.ndarray]:
@@ -404,8 +404,8 @@ def render_ear(
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 6 and Figs. 1-2 (easy and difficult images). Synthetic data: no equation of the paper; stands in for its database of Sec. 6 (Figs. 1-2).
     """
-    check_instance(shape, "shape", EarShape, "draw_ear_shape")
-    check_instance(pose, "pose", CapturePose, "draw_capture_pose")
+    check_record(shape, "shape", EarShape, "draw_ear_shape")
+    check_record(pose, "pose", CapturePose, "draw_capture_pose")
     rng = make_rng(rng, "rng")
     check_choice(difficulty, "difficulty", DIFFICULTIES)
     size = check_positive_int(size, "size", minimum=MIN_SIZE, maximum=MAX_SIDE)
