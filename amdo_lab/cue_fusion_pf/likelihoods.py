@@ -15,7 +15,7 @@ from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 
 __all__ = [
-    "COLOR_SPACES", "CalibrationResult", "ColorLikelihood", "EdgeLikelihood", "MAX_CLUTTER_DENSITY", "MAX_DISTANCE", "MAX_PIXELS", "PAPER_SIGMAS", "SIGMA_RANGE", "bhattacharyya",
+    "COLOR_SPACES", "CalibrationResult", "check_cues", "check_frames", "ColorLikelihood", "EdgeLikelihood", "MAX_CLUTTER_DENSITY", "MAX_DISTANCE", "MAX_PIXELS", "PAPER_SIGMAS", "SIGMA_RANGE", "bhattacharyya",
     "calibrate_sigma", "check_frame", "check_shape_space", "edge_line_likelihood", "fused_log_likelihood",
     "kernel_histogram", "simulate_measurement_lines", "to_color_space",
 ]
@@ -85,6 +85,37 @@ def check_frame(frame: np.ndarray, name: str = "frame") -> np.ndarray:
     if frame.size == 0:
         raise ValueError(f"{name} must not be empty, got shape {frame.shape}")
     return frame
+
+
+def check_frames(frames: object) -> np.ndarray:
+    """Return ``frames`` as a (T, H, W, 3) uint8 array after checking it is a non-empty RGB sequence.
+
+    Parameters
+    ----------
+    frames : array_like
+        (T, H, W, 3) uint8 RGB, or float RGB with whole grey levels in [0, 255] (rounded).
+
+    Returns
+    -------
+    numpy.ndarray
+        (T, H, W, 3) uint8 frames (not copied when already uint8).
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 4 (the tracked sequences).
+    """
+    array = np.asarray(frames)
+    if array.ndim != 4 or array.shape[-1] != 3:
+        raise ValueError(f"frames must be a (T, H, W, 3) RGB array, got shape {array.shape}")
+    if array.shape[0] == 0:
+        raise ValueError("frames must hold at least one frame")
+    if array.dtype == np.uint8:
+        return array
+    if not np.issubdtype(array.dtype, np.floating):
+        raise TypeError(f"frames must be uint8 or float RGB, got dtype {array.dtype}")
+    if not np.all(np.isfinite(array)) or array.min() < 0 or array.max() > 255:
+        raise ValueError("frames must be finite and within [0, 255]")
+    return np.rint(array).astype(np.uint8)
 
 
 def _check_bins(bins: object) -> int:
@@ -612,6 +643,31 @@ def _bilinear(image: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
 
 # --- fusion: eq. (6) ----------------------------------------------------------------------------
 
+def check_cues(cues: object) -> dict:
+    """Return ``cues`` after checking it is a dict of likelihood objects (each with ``.log_likelihood``).
+
+    Parameters
+    ----------
+    cues : dict
+        Name -> likelihood object (:class:`ColorLikelihood`, :class:`EdgeLikelihood`, ...), at least one;
+        each has ``.log_likelihood(frame, states)`` and ``.shape_space``.
+
+    Returns
+    -------
+    dict
+        ``cues``.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eq. (6) (the cues fused).
+    """
+    if not isinstance(cues, dict) or not cues or not all(isinstance(getattr(cue, "shape_space", None), ShapeSpace)
+                                                          and hasattr(cue, "log_likelihood") for cue in cues.values()):
+        raise TypeError(f"cues must be a non-empty dict of likelihood objects (with .log_likelihood and .shape_space), "
+                        f"got {type(cues).__name__}")
+    return cues
+
+
 def fused_log_likelihood(cues: dict, frame: np.ndarray, states: np.ndarray) -> np.ndarray:
     """Eq. (6) in the log domain: the sum of the cues' log-likelihoods (independent cues).
 
@@ -633,16 +689,10 @@ def fused_log_likelihood(cues: dict, frame: np.ndarray, states: np.ndarray) -> n
     ----------
     Li & Chaumette, AMDO 2004, eq. (6).
     """
-    if not isinstance(cues, dict) or not all(hasattr(cue, "log_likelihood") for cue in cues.values()):
-        raise TypeError(f"cues must be a dict of likelihood objects (with .log_likelihood), got {type(cues).__name__}")
+    cues = check_cues(cues)
     frame = check_frame(frame)
-    states = as_finite_array(states, "states", allow_empty=True)
-    if states.ndim not in (1, 2):
-        raise ValueError(f"states must have shape (d,) or (N, d), got shape {states.shape}")
-    total = np.zeros(len(np.atleast_2d(states)))
-    for cue in cues.values():  # eq. (6) in the log domain: the product of the cues' likelihoods is a sum
-        total += cue.log_likelihood(frame, states)
-    return total
+    # eq. (6) in the log domain: the product of the cues' likelihoods is a sum (each cue checks the states)
+    return sum(cue.log_likelihood(frame, states) for cue in cues.values())
 
 
 # --- calibration of σ ---------------------------------------------------------------------------
