@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 import cv2
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_in_range, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_in_range, make_rng
 from amdo_lab.cue_fusion_pf.data import SequenceWithTruth
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 
