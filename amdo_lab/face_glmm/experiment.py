@@ -12,7 +12,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from amdo_lab.common import MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check_image_shape, check_positive, check_positive_int, make_rng
+from amdo_lab.common import (MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check_image_shape, check_names, check_positive,
+                             check_positive_int, make_rng)
 from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.face_glmm.pcalda import METRICS, PcaLda, pca_basis, weighted_sq_distances
 from amdo_lab.face_glmm.population import (
@@ -76,16 +77,8 @@ class FactorialDesign:
         check_positive_int(self.n_training_sets, "n_training_sets", maximum=MAX_ITERATIONS)
         check_positive_int(self.n_galleries, "n_galleries", maximum=MAX_ITERATIONS)
         check_positive(self.nuisance, "nuisance")
-        if not 2 <= check_positive_int(self.n_train_subjects, "n_train_subjects") <= self.n_subjects:
-            raise ValueError(f"n_train_subjects must be in [2, n_subjects={self.n_subjects}], "
-                             f"got {self.n_train_subjects}")
-        if not isinstance(self.supplements, (tuple, list, str)):  # a str is refused by name below
-            raise TypeError(f"supplements must be a tuple of str, got {type(self.supplements).__name__}")
-        bad = [s for s in self.supplements if s not in SUPPLEMENTS]
-        if bad or not self.supplements:
-            raise ValueError(f"supplements must be a non-empty subset of {SUPPLEMENTS}, got {self.supplements}")
-        if len(set(self.supplements)) != len(self.supplements):
-            raise ValueError(f"supplements must not repeat a supplement, got {self.supplements}")
+        check_positive_int(self.n_train_subjects, "n_train_subjects", minimum=2, maximum=self.n_subjects)
+        check_names(self.supplements, "supplements", allowed=SUPPLEMENTS)
         # checked here rather than after the population is drawn: the small size halves each side
         rows, cols = check_image_shape(self.shape, minimum=8)
         if rows % 2 or cols % 2:
