@@ -61,18 +61,22 @@ def binomial_deviance(y: np.ndarray, n_trials: np.ndarray, eta: np.ndarray) -> f
     McCullagh & Nelder (1989), Generalized Linear Models, 2nd ed., Sec. 4.4.3 (binomial deviance); the
     dev(y, eta) term of the Laplace deviance of eq. (2) in Givens et al. (2004), AMDO, LNCS 3179.
     """
-    y = as_finite_array(y, "y")
+    y, n_trials = _check_counts(y, n_trials)
     eta = as_finite_array(eta, "eta", max_abs=MAX_ABS_ETA)
     if eta.shape != y.shape:  # which of the two is at fault is unknowable: name both
         raise ValueError(f"eta must have shape {y.shape}, the shape of y, got {eta.shape}")
-    n_trials = as_finite_array(n_trials, "n_trials", max_abs=MAX_TRIALS)
+    return _binomial_deviance(y, n_trials, eta)
+
+
+def _check_counts(y: object, n_trials: object) -> tuple[np.ndarray, np.ndarray]:
+    """Counts y in [0, n_trials] and binomial sizes in (0, MAX_TRIALS], one per count or one for all."""
+    y = as_finite_array(y, "y", bounds=(0.0, MAX_TRIALS))
+    n_trials = as_finite_array(n_trials, "n_trials", bounds=(0.0, MAX_TRIALS), closed="right")
     if n_trials.shape not in ((), y.shape):
         raise ValueError(f"n_trials must be a number or have the shape of y {y.shape}, got {n_trials.shape}")
-    if np.any(n_trials <= 0):
-        raise ValueError("n_trials must be positive")
-    if np.any(y < 0) or np.any(y > n_trials):
+    if np.any(y > n_trials):
         raise ValueError("y must hold counts in [0, n_trials]")
-    return _binomial_deviance(y, n_trials, eta)
+    return y, n_trials
 
 
 def _binomial_deviance(y: np.ndarray, n_trials: np.ndarray, eta: np.ndarray, saturated: float | None = None) -> float:
@@ -164,8 +168,8 @@ def laplace_deviance_reference(y: np.ndarray, n_trials: np.ndarray, x: np.ndarra
     ----------
     y : array_like, shape (n,)
         Success counts, each in [0, n_trials].
-    n_trials : array_like, shape (n,)
-        Binomial sizes, each in (0, 1e15].
+    n_trials : float or array_like, shape (n,)
+        Binomial sizes, one per count or one for all, each in (0, 1e15].
     x : array_like, shape (n, p)
         Fixed-effects design of full rank, entries within ±1e6, the first column the intercept.
     z : array_like, shape (n, q)
@@ -189,15 +193,13 @@ def laplace_deviance_reference(y: np.ndarray, n_trials: np.ndarray, x: np.ndarra
     Givens et al. (2004), AMDO, LNCS 3179, eq. (2); Bates, Maechler, Bolker & Walker (2015),
     J. Stat. Softw. 67, Sec. 3; Breslow & Clayton (1993), JASA 88, eqs. (5)-(7).
     """
-    n_trials = as_finite_array(n_trials, "n_trials", ndim=1, bounds=(0.0, MAX_TRIALS), closed="right")
-    y = as_finite_array(y, "y", shape=n_trials.shape, bounds=(0.0, MAX_TRIALS))
+    y, n_trials = _check_counts(y, n_trials)
+    n_trials = np.broadcast_to(n_trials, y.shape)
     x = as_finite_array(x, "x", shape=(y.size, None), max_abs=MAX_ABS_ETA)
     z = as_finite_array(z, "z", shape=(y.size, None), bounds=(0.0, 1.0))
     sd_of_columns = as_finite_array(sd_of_columns, "sd_of_columns", ndim=1, bounds=(0.0, MAX_SD))
     if sd_of_columns.size != z.shape[1]:  # which of the two is at fault is unknowable: name both
         raise ValueError(f"sd_of_columns must have one entry per column of z ({z.shape[1]}), got {sd_of_columns.size}")
-    if np.any(y > n_trials):
-        raise ValueError("y must hold counts in [0, n_trials]")
     if np.linalg.matrix_rank(x) < x.shape[1]:
         raise ValueError(f"x must have full column rank, got rank {np.linalg.matrix_rank(x)} < {x.shape[1]} columns")
     return _laplace_deviance_reference(y, n_trials, x, z, sd_of_columns)
