@@ -163,9 +163,9 @@ def test_fast_colour_path_equals_the_per_pixel_histogram(sequence):
     state = np.array([120.0, 90.0, 0.0])
     colour = cf.ColorLikelihood(space, sequence.frames[0], sequence.truth[0], stride=1.0)
     reference = cf.bhattacharyya(cf.kernel_histogram(frame, space.ellipses(state)[0]), colour.target)
-    assert colour.bhattacharyya(frame, state[None])[0] == pytest.approx(reference, rel=1e-9)
+    assert colour.rho(frame, state[None])[0] == pytest.approx(reference, rel=1e-9)
     np.testing.assert_allclose(colour.target.sum(), 1.0)
-    assert colour.bhattacharyya(sequence.frames[0], sequence.truth[0][None])[0] > 0.85
+    assert colour.rho(sequence.frames[0], sequence.truth[0][None])[0] > 0.85
 
 
 # --- edges, eqs. (13)-(14) ----------------------------------------------------------------------
@@ -359,7 +359,7 @@ def test_track_with_printed_eq4_diverges(sequence):
 def test_colour_distance_and_likelihood_are_eqs_9_and_11(sequence, space):
     colour = cf.ColorLikelihood(space, sequence.frames[0], sequence.truth[0], sigma=0.1)
     states = sequence.truth[5] + make_rng(7).normal(size=(20, 3)) * [6, 6, 0.05]
-    rho = colour.bhattacharyya(sequence.frames[5], states)
+    rho = colour.rho(sequence.frames[5], states)
     np.testing.assert_allclose(colour.distance(sequence.frames[5], states), 1.0 - rho)  # eq. (9), squared
     expected = np.log(np.exp(-(1.0 - rho) / (2 * 0.1**2)) / (np.sqrt(2 * np.pi) * 0.1))  # eq. (11)
     np.testing.assert_allclose(colour.log_likelihood(sequence.frames[5], states), expected, rtol=1e-12)

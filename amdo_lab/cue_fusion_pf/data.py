@@ -14,10 +14,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive, check_positive_int, make_rng
-from amdo_lab.cue_fusion_pf.likelihoods import check_frames
+from amdo_lab.cue_fusion_pf.likelihoods import MAX_PIXELS, check_frames
 from amdo_lab.cue_fusion_pf.shape import as_states
 
-__all__ = ["HEAD_AXES", "HeadSequence", "SEQUENCE_KINDS", "SequenceWithTruth", "ellipse_iou", "head_views", "make_head_sequence"]
+__all__ = ["HEAD_AXES", "HeadSequence", "SEQUENCE_KINDS", "SequenceWithTruth", "as_ellipse", "ellipse_iou", "head_views", "make_head_sequence"]
 
 #: Semi-axes (a along x, b along y) of the head at scale s = 0, in pixels.
 HEAD_AXES = (20.0, 26.0)
@@ -387,6 +387,35 @@ def make_head_sequence(kind: str, *, rng: int | np.random.Generator, noise_std: 
     return HeadSequence(frames, truth, true_ellipses, segments, kind)
 
 
+def as_ellipse(ellipse: object, name: str, *, allow_stack: bool = False) -> np.ndarray:
+    """Return ``ellipse`` as a float array ``(cx, cy, a, b, angle)`` after checking it.
+
+    Parameters
+    ----------
+    ellipse : array_like
+        (5,), or (T, 5) when ``allow_stack``: centre and semi-axes in pixels (axes > 0), angle in
+        radians; every entry within ±:data:`~amdo_lab.cue_fusion_pf.likelihoods.MAX_PIXELS`.
+    name : str
+        The argument's name, used in error messages.
+    allow_stack : bool
+        Whether a (T, 5) stack of ellipses is accepted.
+
+    Returns
+    -------
+    numpy.ndarray
+        The ellipse(s), shape as given.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 2.1 (the ellipse of a contour).
+    """
+    ellipse = as_finite_array(ellipse, name, max_abs=MAX_PIXELS)
+    if ellipse.ndim not in ((1, 2) if allow_stack else (1,)) or ellipse.shape[-1] != 5 or np.any(ellipse[..., 2:4] <= 0):
+        raise ValueError(f"{name} must be an ellipse (cx, cy, a, b, angle) with positive axes, of shape (5,)"
+                         f"{' or (T, 5)' if allow_stack else ''}, got shape {ellipse.shape}")
+    return ellipse
+
+
 def ellipse_iou(first: np.ndarray, second: np.ndarray, *, step: float = 0.5) -> np.ndarray:
     """Intersection over union of ellipses ``(cx, cy, a, b, angle)``, row by row, on a grid of ``step`` px.
 
@@ -408,15 +437,12 @@ def ellipse_iou(first: np.ndarray, second: np.ndarray, *, step: float = 0.5) -> 
     ----------
     The success criterion of this chapter (IoU >= 0.5); the paper shows its results as figures.
     """
-    first = as_finite_array(first, "first", max_abs=1e6)
-    second = as_finite_array(second, "second", max_abs=1e6)
+    first, second = as_ellipse(first, "first", allow_stack=True), as_ellipse(second, "second", allow_stack=True)
     step = check_in_range(step, "step", 0.0, 1e6, closed="right")
+    if second.shape != first.shape:  # which one is at fault is unknowable: name both
+        raise ValueError(f"first and second must have the same shape, got {first.shape} and {second.shape}")
     single = first.ndim == 1
     first, second = np.atleast_2d(first), np.atleast_2d(second)
-    if first.shape[1] != 5 or second.shape != first.shape:
-        raise ValueError(f"first and second must both have shape (5,) or (T, 5), got {first.shape} and {second.shape}")
-    if np.any(first[:, 2:4] <= 0) or np.any(second[:, 2:4] <= 0):
-        raise ValueError("ellipse axes must be positive")
     scores = np.empty(len(first))
     for row, (e1, e2) in enumerate(zip(first, second)):
         # count grid points inside both ellipses over the overlap of their bounding boxes only; the

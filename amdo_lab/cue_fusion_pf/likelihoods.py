@@ -214,7 +214,7 @@ def bhattacharyya(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     p, q : numpy.ndarray
-        Histograms (at least 1-D, summing to 1 along the last axis).
+        Histograms (at least 1-D, bins in [0, 1] summing to 1 along the last axis).
 
     Returns
     -------
@@ -225,15 +225,10 @@ def bhattacharyya(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     ----------
     Li & Chaumette, AMDO 2004, eq. (10).
     """
-    p = as_finite_array(p, "p")
-    q = as_finite_array(q, "q")
-    for name, histogram in (("p", p), ("q", q)):
-        if histogram.ndim == 0:
-            raise ValueError(f"{name} must be a histogram (an array of bins), got a scalar")
-    if p.shape[-1] != q.shape[-1]:
-        raise ValueError(f"p and q must have the same number of bins, got shapes {p.shape} and {q.shape}")
-    if np.any(p < 0) or np.any(q < 0):
-        raise ValueError("p and q must be histograms, with no negative bin")
+    p = as_finite_array(p, "p", bounds=(0.0, 1.0))  # bins of a histogram that sums to 1
+    q = as_finite_array(q, "q", bounds=(0.0, 1.0))
+    if p.ndim == 0 or q.ndim == 0 or p.shape[-1] != q.shape[-1]:  # which one is at fault is unknowable: name both
+        raise ValueError(f"p and q must be histograms with the same number of bins, got shapes {p.shape} and {q.shape}")
     return np.sum(np.sqrt(p * q), axis=-1)  # eq. (10): ρ = Σ_u √(p_u q_u)
 
 
@@ -297,8 +292,10 @@ class ColorLikelihood:
         self._unit_points = np.stack([gx[keep], gy[keep]], axis=1)  # points of the unit disc
         self._kernel = 1.0 - np.sum(self._unit_points**2, axis=1)  # eq. (7), profile 1 - r²
 
-    def bhattacharyya(self, frame: np.ndarray, states: np.ndarray) -> np.ndarray:
-        """ρ(q̂, p̂(x)) of eq. (10) for each state.
+    def rho(self, frame: np.ndarray, states: np.ndarray) -> np.ndarray:
+        """The Bhattacharyya coefficient ρ(q̂, p̂(x)) of eq. (10) for each state, by the fast path.
+
+        :func:`bhattacharyya` is the plain per-histogram formula it is tested against.
 
         Parameters
         ----------
@@ -347,7 +344,7 @@ class ColorLikelihood:
         numpy.ndarray
             (N,) distances in [0, 1].
         """
-        return 1.0 - self.bhattacharyya(frame, states)  # eq. (9) squared: d² = 1 - ρ
+        return 1.0 - self.rho(frame, states)  # eq. (9) squared: d² = 1 - ρ
 
     def log_likelihood(self, frame: np.ndarray, states: np.ndarray) -> np.ndarray:
         """Eq. (11) in the log domain, for each state.
@@ -753,10 +750,7 @@ def calibrate_sigma(distances_true: np.ndarray, distances_prior: np.ndarray, gri
     if len(distances_prior) != distances_true.size:
         raise ValueError(f"distances_true and distances_prior must have one row per frame, got {distances_true.size} and "
                          f"{len(distances_prior)}")
-    grid = np.geomspace(0.005, 10.0, 60) if grid is None else as_finite_array(grid, "grid", ndim=1)
-    if np.any(grid < SIGMA_RANGE[0]) or np.any(grid > SIGMA_RANGE[1]):
-        raise ValueError(f"grid must hold values of sigma in [{SIGMA_RANGE[0]:g}, {SIGMA_RANGE[1]:g}], got {grid.min():g} to "
-                         f"{grid.max():g}")
+    grid = np.geomspace(0.005, 10.0, 60) if grid is None else as_finite_array(grid, "grid", ndim=1, bounds=SIGMA_RANGE)
     scores = []
     for sigma in grid:
         log_prior = -distances_prior / (2.0 * sigma**2)

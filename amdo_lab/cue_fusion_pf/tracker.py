@@ -13,10 +13,11 @@ from amdo_lab.common import (MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check
 from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
 from amdo_lab.cue_fusion_pf.likelihoods import (COLOR_SPACES, MAX_PIXELS, PAPER_SIGMAS, SIGMA_RANGE, ColorLikelihood,
                                                 EdgeLikelihood, check_cues, check_frame, check_frames)
+from amdo_lab.cue_fusion_pf.data import as_ellipse
 from amdo_lab.cue_fusion_pf.shape import SHAPE_KINDS, ShapeSpace, as_states
 from amdo_lab.cue_fusion_pf.structure import CASCADE_SEED, StructureLikelihood, load_or_train_cascade
 
-__all__ = ["CALIBRATED_SIGMAS", "CUES", "FUSIONS", "TRACK_DEFAULTS", "TrackResult", "WALKER_SIGMAS", "as_ellipse",
+__all__ = ["CALIBRATED_SIGMAS", "CUES", "FUSIONS", "TRACK_DEFAULTS", "TrackResult", "WALKER_SIGMAS",
            "build_cues", "calibration_distances", "check_state_spread", "default_dynamics", "resolve_sigmas",
            "shape_space_of", "systematic_resample", "track", "weigh_particles"]
 
@@ -145,32 +146,6 @@ def default_dynamics(mean: np.ndarray, *, beta=(2.0, 2.0, 10.0), stationary_std=
     mean = as_finite_array(mean, "mean", ndim=1)
     return ARDynamics(beta, np.zeros(mean.size), FRAME_PERIOD, stationary_std, mean, printed_order=printed_order,
                       allow_unstable=printed_order)
-
-
-def as_ellipse(ellipse: object, name: str) -> np.ndarray:
-    """Return ``ellipse`` as a (5,) float array ``(cx, cy, a, b, angle)`` after checking it.
-
-    Parameters
-    ----------
-    ellipse : array_like
-        (5,) centre and semi-axes in pixels (axes > 0), angle in radians; every entry within
-        ±:data:`MAX_PIXELS`.
-    name : str
-        The argument's name, used in error messages.
-
-    Returns
-    -------
-    numpy.ndarray
-        (5,) the ellipse.
-
-    References
-    ----------
-    Li & Chaumette, AMDO 2004, Sec. 2.1 (the ellipse of a contour).
-    """
-    ellipse = as_finite_array(ellipse, name, shape=(5,), max_abs=MAX_PIXELS)
-    if ellipse[2] <= 0 or ellipse[3] <= 0:
-        raise ValueError(f"{name} ellipse axes must be positive, got a={ellipse[2]}, b={ellipse[3]}")
-    return ellipse
 
 
 def shape_space_of(init: object, frame_shape: tuple[int, int], kind: str = "translation_scale") -> tuple[ShapeSpace, np.ndarray]:

@@ -122,9 +122,7 @@ def fit_similarity(template: np.ndarray, points: np.ndarray) -> np.ndarray:
     """
     template = as_finite_array(template, "template", shape=(None, 2), max_abs=1e6)
     points = as_finite_array(points, "points", max_abs=1e6)
-    if points.shape[-2:] != template.shape:
-        raise ValueError(f"points must have shape {template.shape} or (T, {template.shape[0]}, 2), got {points.shape}")
-    if points.ndim not in (2, 3):
+    if points.shape[-2:] != template.shape or points.ndim not in (2, 3):
         raise ValueError(f"points must have shape {template.shape} or (T, {template.shape[0]}, 2), got {points.shape}")
     centred = template - template.mean(axis=0)
     q = centred[:, 0] + 1j * centred[:, 1]

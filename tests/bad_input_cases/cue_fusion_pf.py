@@ -29,7 +29,7 @@ EMPTY = frozenset()
 def cases() -> dict[str, Case]:
     """The public callables of ``amdo_lab.cue_fusion_pf``, by name."""
     from amdo_lab import cue_fusion_pf as cf
-    from amdo_lab.cue_fusion_pf import likelihoods as likelihoods_module, structure as structure_module, tracker as tracker_module
+    from amdo_lab.cue_fusion_pf import data as data_module, likelihoods as likelihoods_module, structure as structure_module, tracker as tracker_module
 
     sequence = cf.make_head_sequence("twin", rng=0)
     frames = sequence.frames[:2]
@@ -120,7 +120,7 @@ def cases() -> dict[str, Case]:
                                  "bins": "count", "sigma": "positive", "stride": "positive"}),
         "ColorLikelihood.log_likelihood": Case(method(color, "log_likelihood"), {"frame": frame, "states": states},
                                                frame_kinds, accept=empty_states),
-        "ColorLikelihood.bhattacharyya": Case(method(color, "bhattacharyya"), {"frame": frame, "states": states},
+        "ColorLikelihood.rho": Case(method(color, "rho"), {"frame": frame, "states": states},
                                               frame_kinds, accept=empty_states),
         "ColorLikelihood.distance": Case(method(color, "distance"), {"frame": frame, "states": states},
                                          frame_kinds, accept=empty_states),
@@ -210,7 +210,7 @@ def cases() -> dict[str, Case]:
         "likelihoods.check_shape_space": Case(likelihoods_module.check_shape_space, {"shape_space": space},
                                               {"shape_space": "object"}),
         "likelihoods.check_frames": Case(likelihoods_module.check_frames, {"frames": frames}, {"frames": "image"}),
-        "tracker.as_ellipse": Case(tracker_module.as_ellipse, {"ellipse": ellipse, "name": "init"}, {"ellipse": "array"},
+        "data.as_ellipse": Case(data_module.as_ellipse, {"ellipse": ellipse, "name": "init"}, {"ellipse": "array"},
                                    names={"ellipse": "init"}),
         "tracker.shape_space_of": Case(tracker_module.shape_space_of, {"init": ellipse, "frame_shape": frame.shape[:2]},
                                        {"init": "array", "frame_shape": "object"}),
