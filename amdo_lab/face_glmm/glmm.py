@@ -253,12 +253,10 @@ def laplace_deviance(table: pd.DataFrame, fixed: str, random: list[str] | tuple[
     the model is eq. (2) of Givens et al. (2004), AMDO, LNCS 3179.
     """
     random = check_names(random, "random", accept_single=True)  # grouping terms such as "t", "p", "t:p"
-    sd = as_finite_array(sd, "sd", max_abs=MAX_SD)
+    sd = as_finite_array(sd, "sd", bounds=(0.0, MAX_SD))
     sd = sd.reshape(1, -1) if sd.ndim == 1 else sd
     if sd.ndim != 2 or sd.shape[1] != len(random):
         raise ValueError(f"sd must have {len(random)} columns (one per random term), got shape {sd.shape}")
-    if np.any(sd < 0):
-        raise ValueError("sd must be non-negative")
     with one_blas_thread():
         problem, start = _setup(table, fixed, random, n_trials)
         beta, u_rest, u_big = start

@@ -122,9 +122,7 @@ def summarise_recovery(true: pd.Series, estimates: np.ndarray, ses: np.ndarray, 
         raise TypeError(f"true must be a pandas Series of coefficients, got {type(true).__name__}")
     as_finite_array(true.to_numpy(), "true")
     estimates = as_finite_array(estimates, "estimates", shape=(None, len(true)), max_abs=MAX_ABS_ESTIMATE)
-    ses = as_finite_array(ses, "ses", shape=estimates.shape, max_abs=MAX_ABS_ESTIMATE)
-    if np.any(ses < 0):
-        raise ValueError("ses must be non-negative")
+    ses = as_finite_array(ses, "ses", shape=estimates.shape, bounds=(0.0, MAX_ABS_ESTIMATE))
     _check_level(level)
     z = stats.norm.ppf(0.5 + level / 2)
     covered = np.abs(estimates - true.to_numpy()) <= z * ses
