@@ -15,7 +15,7 @@ from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 
 __all__ = [
-    "COLOR_SPACES", "CalibrationResult", "check_cues", "check_frames", "ColorLikelihood", "EdgeLikelihood", "MAX_CLUTTER_DENSITY", "MAX_DISTANCE", "MAX_PIXELS", "PAPER_SIGMAS", "SIGMA_RANGE", "bhattacharyya",
+    "COLOR_SPACES", "CalibrationResult", "EDGE_SMOOTHING_PX", "check_cues", "check_frames", "ColorLikelihood", "EdgeLikelihood", "MAX_CLUTTER_DENSITY", "MAX_DISTANCE", "MAX_PIXELS", "PAPER_SIGMAS", "SIGMA_RANGE", "bhattacharyya",
     "calibrate_sigma", "check_frame", "check_shape_space", "edge_line_likelihood", "fused_log_likelihood",
     "kernel_histogram", "simulate_measurement_lines", "to_color_space",
 ]
@@ -32,6 +32,8 @@ SIGMA_RANGE = (1e-6, 1e6)
 MAX_DISTANCE = 1e6
 #: Largest clutter density λ, features per pixel: a 1-D edge detector finds at most one per pixel.
 MAX_CLUTTER_DENSITY = 1.0
+#: σ of the Gaussian blur of the grey image before the edges' 1-D derivative (the "1-D Canny"), pixels.
+EDGE_SMOOTHING_PX = 1.0
 
 
 # --- colour: eqs. (7)-(11) ----------------------------------------------------------------------
@@ -469,9 +471,6 @@ class EdgeLikelihood:
     threshold : float
         Smallest gradient magnitude of a feature, grey levels per pixel, in (0, 255] (the central
         difference of grey levels never exceeds 127.5 per pixel).
-    smoothing : float
-        σ of the Gaussian applied to the grey image before the 1-D derivative, pixels, in
-        (0, half_length] (a wider blur erases the edges the lines look for).
     exponent : float
         α in (0, 1]: the log-likelihood of eq. (14) is multiplied by α (the product of the lines
         raised to the power α, a *tempered* likelihood). 1 is the paper's eq. (14); α < 1 counts the
@@ -479,8 +478,8 @@ class EdgeLikelihood:
 
     Notes
     -----
-    A "1-D Canny" on each line: the grey image is smoothed once per frame, sampled along the line
-    at 1 px steps (bilinear), differentiated with a central difference, and the local maxima of
+    A "1-D Canny" on each line: the grey image is smoothed once per frame (σ =
+    :data:`EDGE_SMOOTHING_PX`), sampled along the line at 1 px steps (bilinear), differentiated with a central difference, and the local maxima of
     the magnitude above ``threshold`` are the features. λ, the clutter density, is not given by
     the paper: we estimate it per frame as the mean number of features per line divided by L.
 
@@ -490,15 +489,13 @@ class EdgeLikelihood:
     """
 
     def __init__(self, shape_space: ShapeSpace, *, n_lines: int = 40, half_length: int = 12, p0: float = 0.2,
-                 sigma_e: float = float(np.sqrt(2.0)), threshold: float = 6.0, smoothing: float = 1.0,
-                 exponent: float = 1.0):
+                 sigma_e: float = float(np.sqrt(2.0)), threshold: float = 6.0, exponent: float = 1.0):
         self.shape_space = check_shape_space(shape_space)
         self.n_lines = check_positive_int(n_lines, "n_lines", minimum=3, maximum=MAX_SAMPLES)
         self.half_length = check_positive_int(half_length, "half_length", minimum=2, maximum=MAX_SIDE)
         self.p0 = check_in_range(p0, "p0", 0.0, 1.0)
         self.sigma_e = check_in_range(sigma_e, "sigma_e", 0.0, MAX_PIXELS, closed="right")
         self.threshold = check_in_range(threshold, "threshold", 0.0, 255.0, closed="right")
-        self.smoothing = check_in_range(smoothing, "smoothing", 0.0, float(self.half_length), closed="right")
         self.exponent = check_in_range(exponent, "exponent", 0.0, 1.0, closed="right")
         self._points, self._normals = shape_space.template_normals(self.n_lines)
         self.offsets = np.arange(-self.half_length, self.half_length + 1, dtype=float)
@@ -518,7 +515,7 @@ class EdgeLikelihood:
             (H, W) float32 grey levels.
         """
         grey = check_frame(frame).astype(np.float32).mean(axis=2)
-        return cv2.GaussianBlur(grey, (0, 0), self.smoothing)
+        return cv2.GaussianBlur(grey, (0, 0), EDGE_SMOOTHING_PX)
 
     def profiles(self, frame: np.ndarray, states: np.ndarray, *, reference: bool = False) -> np.ndarray:
         """Grey levels (N, N_e, 2L+1) along every measurement line of every state.

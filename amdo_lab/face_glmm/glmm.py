@@ -25,6 +25,9 @@ from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.face_glmm.design import DesignMatrix, build_design, group_indices, parse_formula
 from amdo_lab.face_glmm.laplace import MAX_SD, CrossedProblem
 
+#: Starting value of every random-effect standard deviation (logit scale) in the fit's optimiser.
+START_SD = 0.5
+
 __all__ = ["GlmmResult", "fit_binomial_glmm", "laplace_deviance", "response_counts"]
 
 
@@ -291,8 +294,6 @@ def fit_binomial_glmm(
     fixed: str = "Y ~ M * D + U",
     random: list[str] | tuple[str, ...] = ("t", "p", "t:p"),
     n_trials: int = 30,
-    *,
-    start_sd: float = 0.5,
 ) -> GlmmResult:
     """Fit the binomial GLMM of eq. (2) by the Laplace approximation (lme4's nAGQ=0).
 
@@ -313,8 +314,6 @@ def fit_binomial_glmm(
     n_trials : int, default 30
         Binomial size n of every row (30 galleries in the paper), 1 to 1,000,000; the response must hold
         integer counts in [0, n_trials].
-    start_sd : float, default 0.5
-        Starting value of every random-effect standard deviation (logit scale), in [0, 1e3].
 
     Returns
     -------
@@ -345,13 +344,11 @@ def fit_binomial_glmm(
     [0.8, -0.5]
     """
     with one_blas_thread():
-        return _fit(table, fixed, random, n_trials, start_sd)
+        return _fit(table, fixed, random, n_trials)
 
 
-def _fit(table, fixed, random, n_trials, start_sd) -> GlmmResult:
+def _fit(table, fixed, random, n_trials) -> GlmmResult:
     random = check_names(random, "random", accept_single=True)  # grouping terms such as "t", "p", "t:p"
-    # L-BFGS-B would clip a negative start silently; a huge one overflows the first penalised IRLS
-    start_sd = check_in_range(start_sd, "start_sd", 0.0, MAX_SD, closed="both")
     problem, (beta0, u_rest0, u_big0) = _setup(table, fixed, random, n_trials)
     design = problem.design
     y = problem.y
@@ -363,7 +360,7 @@ def _fit(table, fixed, random, n_trials, start_sd) -> GlmmResult:
         state["iters"] += iters
         return value
 
-    theta0 = np.full(len(random), float(start_sd))
+    theta0 = np.full(len(random), START_SD)
     bounds = [(0.0, None)] * len(random)
     # Two stages: cheap forward-difference gradients to get close, then central differences to
     # polish (a forward difference with step h biases the optimum by about h / 2).
