@@ -78,7 +78,9 @@ def main() -> None:
         if use_lme4:
             peer = fg.fit_with_lme4(table, formula, random, 30)
             coef = np.max(np.abs(fit.coefficients.to_numpy() - peer.estimate.to_numpy()))
-            rel = max(abs(fit.variance_components[k] / peer.variance_components[k] - 1) for k in random)
+            # relative to the larger of the two (a component at its bound 0 in one fit would divide by zero)
+            rel = max(abs(fit.variance_components[k] - peer.variance_components[k])
+                      / max(fit.variance_components[k], peer.variance_components[k], 1e-300) for k in random)
             sds = [[np.sqrt(fit.variance_components[k]) for k in random],
                    [np.sqrt(peer.variance_components[k]) for k in random]]
             dev_ours, dev_lme4 = fg.laplace_deviance(table, formula, random, sds, 30)

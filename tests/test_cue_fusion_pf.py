@@ -87,6 +87,28 @@ def test_corrected_dynamics_reach_their_stationary_std():
     assert previous.std() == pytest.approx(3.0, rel=0.05)
 
 
+def test_step_samples_the_prediction_of_eq16():
+    # eq. (16) for a Gaussian posterior of (X_{k-1}, X_{k-2}) and the linear AR(2) is Gaussian with
+    # mean X̄ + a0 (m1 - X̄) + a1 (m2 - X̄) and variance a0² v1 + a1² v2 + 2 a0 a1 c12 + (b0 σ)²
+    model = cf.ARDynamics([2.0], [0.0], 1 / 25, [3.0], [1.0])
+    rng = make_rng(5)
+    previous = 4.0 + 2.0 * rng.standard_normal((200_000, 1))
+    before = previous - 0.5 + 0.5 * rng.standard_normal((200_000, 1))  # correlated with X_{k-1}
+    predicted = model.step(previous, before, rng=6)[:, 0]
+    a0, a1, gain = model.first_lag[0], model.second_lag[0], model.step_std[0]
+    covariance = np.cov(previous[:, 0], before[:, 0])
+    mean = 1.0 + a0 * (previous.mean() - 1.0) + a1 * (before.mean() - 1.0)
+    variance = a0**2 * covariance[0, 0] + a1**2 * covariance[1, 1] + 2 * a0 * a1 * covariance[0, 1] + gain**2
+    assert predicted.mean() == pytest.approx(mean, abs=0.01)
+    assert predicted.var() == pytest.approx(variance, rel=0.01)
+
+
+def test_simulate_names_start_when_an_unstable_model_leaves_the_range():
+    model = cf.ARDynamics([0.5], [0.0], 1 / 25, [1.0], [0.0], printed_order=True, allow_unstable=True)
+    with pytest.raises(ValueError, match=r"\bstart\b"):
+        model.simulate(2000, [1e140], rng=0)
+
+
 def test_ar2_variance_refuses_what_overflows_by_name():
     assert cf.ar2_stationary_variance(1.8, -0.85, 1e150) < np.inf  # a stable model: the bound is not hit
 
@@ -107,6 +129,22 @@ def test_head_sequence_layout(sequence):
     assert sequence.frames[50, cy, cx, 0] < 0.7 * sequence.frames[10, sequence.truth[10, 1].astype(int), sequence.truth[10, 0].astype(int), 0]
 
 
+def test_weigh_particles_is_bayes_rule_with_the_fused_cues(sequence, space):
+    colour = cf.ColorLikelihood(space, sequence.frames[0], sequence.truth[0], sigma=0.1)
+    edge = cf.EdgeLikelihood(space, n_lines=20)
+    particles = sequence.truth[12] + np.array([[0, 0, 0], [4, 0, 0.05], [-6, 3, 0], [0, 0, -0.95]])  # last: too small
+    weights = cf.weigh_particles(sequence.frames[12], particles, {"color": colour, "edge": edge})
+    log_likelihood = (colour.log_likelihood(sequence.frames[12], particles[:3])
+                      + edge.log_likelihood(sequence.frames[12], particles[:3]))  # eq. (6)
+    expected = np.exp(log_likelihood - log_likelihood.max())  # eq. (15): proportional to the likelihood
+    np.testing.assert_allclose(weights[:3], expected / expected.sum(), rtol=1e-12)
+    assert weights[3] == 0.0 and weights.sum() == pytest.approx(1.0)
+    # far apart log-likelihoods (exp would underflow) still give weights: all on the best particle
+    sharp = cf.ColorLikelihood(space, sequence.frames[0], sequence.truth[0], sigma=1e-3)
+    weights = cf.weigh_particles(sequence.frames[12], particles[:3], {"color": sharp})
+    assert np.isfinite(weights).all() and weights.max() == pytest.approx(1.0)
+
+
 def test_ellipse_iou():
     circle = np.array([0.0, 0.0, 10.0, 10.0, 0.0])
     assert cf.ellipse_iou(circle, circle) == pytest.approx(1.0)
@@ -125,9 +163,9 @@ def test_fast_colour_path_equals_the_per_pixel_histogram(sequence):
     state = np.array([120.0, 90.0, 0.0])
     colour = cf.ColorLikelihood(space, sequence.frames[0], sequence.truth[0], stride=1.0)
     reference = cf.bhattacharyya(cf.kernel_histogram(frame, space.ellipses(state)[0]), colour.target)
-    assert colour.bhattacharyya(frame, state[None])[0] == pytest.approx(reference, rel=1e-9)
+    assert colour.rho(frame, state[None])[0] == pytest.approx(reference, rel=1e-9)
     np.testing.assert_allclose(colour.target.sum(), 1.0)
-    assert colour.bhattacharyya(sequence.frames[0], sequence.truth[0][None])[0] > 0.85
+    assert colour.rho(sequence.frames[0], sequence.truth[0][None])[0] > 0.85
 
 
 # --- edges, eqs. (13)-(14) ----------------------------------------------------------------------
@@ -321,7 +359,7 @@ def test_track_with_printed_eq4_diverges(sequence):
 def test_colour_distance_and_likelihood_are_eqs_9_and_11(sequence, space):
     colour = cf.ColorLikelihood(space, sequence.frames[0], sequence.truth[0], sigma=0.1)
     states = sequence.truth[5] + make_rng(7).normal(size=(20, 3)) * [6, 6, 0.05]
-    rho = colour.bhattacharyya(sequence.frames[5], states)
+    rho = colour.rho(sequence.frames[5], states)
     np.testing.assert_allclose(colour.distance(sequence.frames[5], states), 1.0 - rho)  # eq. (9), squared
     expected = np.log(np.exp(-(1.0 - rho) / (2 * 0.1**2)) / (np.sqrt(2 * np.pi) * 0.1))  # eq. (11)
     np.testing.assert_allclose(colour.log_likelihood(sequence.frames[5], states), expected, rtol=1e-12)

@@ -36,8 +36,8 @@ def test_hsv_fast_path_equals_the_per_pixel_histogram_of_the_converted_frame(seq
     colour = cf.ColorLikelihood(space, sequence.frames[0], sequence.truth[0], stride=1.0, color_space="hsv")
     hsv = likelihoods.to_color_space(frame, "hsv")
     reference = cf.bhattacharyya(cf.kernel_histogram(hsv, space.ellipses(state)[0]), colour.target)
-    assert colour.bhattacharyya(frame, state[None])[0] == pytest.approx(reference, rel=1e-9)
-    assert colour.bhattacharyya(sequence.frames[0], sequence.truth[0][None])[0] > 0.85
+    assert colour.rho(frame, state[None])[0] == pytest.approx(reference, rel=1e-9)
+    assert colour.rho(sequence.frames[0], sequence.truth[0][None])[0] > 0.85
     with pytest.raises(ValueError, match="color_space"):
         cf.ColorLikelihood(space, sequence.frames[0], sequence.truth[0], color_space="HSL")
 

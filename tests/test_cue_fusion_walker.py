@@ -198,7 +198,7 @@ REJECTIONS = [
     reject("oracle head states", lambda sequence: sequence.oracle_log_likelihood(0, np.zeros(3)),
            ValueError, r"states must have shape \(4,\) or \(N, 4\)"),
     reject("oracle frame 500", lambda sequence: sequence.oracle_log_likelihood(500, np.zeros(4)),
-           ValueError, "t must be a frame index below 130"),
+           ValueError, "t must be at most 129"),
     # --- the similarity shape space (eqs. 2-3): a template with extent, outlines of its length, the named kinds
     reject("fit_similarity collapsed template", lambda: cf.fit_similarity(np.zeros((5, 2)) + 1.0, np.zeros((5, 2))),
            ValueError, "template must not collapse to a single point"),

@@ -22,7 +22,7 @@ from amdo_lab.face_glmm import (
     elliptical_mask,
     fit_binomial_glmm,
     fit_with_lme4,
-    generate_face_population,
+    make_face_population,
     lme4_available,
     make_supplement,
     parse_formula,
@@ -35,7 +35,7 @@ from amdo_lab.face_glmm import (
 
 @pytest.fixture(scope="module")
 def population():
-    return generate_face_population(40, 4, rng=3, shape=(24, 20))
+    return make_face_population(40, 4, rng=3, shape=(24, 20))
 
 
 @pytest.fixture(scope="module")
@@ -54,11 +54,11 @@ def _crossed_table(n_t=6, n_p=120, seed=0):
 # --- population and preprocessing ------------------------------------------------------
 
 def test_population_is_seeded_and_shaped(population):
-    again = generate_face_population(40, 4, rng=3, shape=(24, 20))
+    again = make_face_population(40, 4, rng=3, shape=(24, 20))
     np.testing.assert_array_equal(population.images, again.images)
     assert population.images.shape == (160, 24, 20)
     np.testing.assert_array_equal(population.labels, np.repeat(np.arange(40), 4))
-    other = generate_face_population(40, 4, rng=4, shape=(24, 20))
+    other = make_face_population(40, 4, rng=4, shape=(24, 20))
     assert not np.allclose(population.images, other.images)
 
 
@@ -79,11 +79,11 @@ def test_power_law_texture_spreads_the_pca_spectrum():
         images = preprocess_images(pop.images).reshape(48, 4, -1)[:, 1:].reshape(144, -1)
         return e90_dimension(pca_basis(images).eigenvalues)
 
-    smooth = generate_face_population(48, 4, rng=2, shape=(40, 36), texture_slope=None)
-    textured = generate_face_population(48, 4, rng=2, shape=(40, 36), texture_slope=2.0, texture_amplitude=0.7)
+    smooth = make_face_population(48, 4, rng=2, shape=(40, 36), texture_slope=None)
+    textured = make_face_population(48, 4, rng=2, shape=(40, 36), texture_slope=2.0, texture_amplitude=0.7)
     np.testing.assert_array_equal(smooth.difficulty, textured.difficulty)  # drawn after everything else
     assert e90_of(textured) > 2.5 * e90_of(smooth)
-    default = generate_face_population(48, 4, rng=2, shape=(40, 36))  # the chapter's faces: texture on
+    default = make_face_population(48, 4, rng=2, shape=(40, 36))  # the chapter's faces: texture on
     assert e90_of(default) > 2.5 * e90_of(smooth)
 
 
@@ -142,6 +142,8 @@ def test_distances_l2_and_soft_l2(population):
     np.testing.assert_allclose(model.distances(imgs[:3], imgs[3:8], "soft_l2"), brute, rtol=1e-8, atol=1e-8)
     brute_l2 = ((a[:, None] - b[None]) ** 2).sum(-1)
     np.testing.assert_allclose(model.distances(imgs[:3], imgs[3:8], "l2"), brute_l2, rtol=1e-8, atol=1e-8)
+    # eq. (1) itself, by the expanded square, against the sum of weighted squared differences
+    np.testing.assert_allclose(fg.weighted_sq_distances(a, b, model.eigenvalues_ ** 0.2), brute, rtol=1e-8, atol=1e-8)
 
 
 # --- the factorial experiment ----------------------------------------------------------
@@ -294,7 +296,7 @@ def test_agrees_with_lme4(simulated):
                          ids=["nested-in-t:p", "one-term", "function-of-cells", "row-level"])
 def test_fast_laplace_deviance_equals_dense_reference(random):
     """The Schur-complement fast path equals the plain dense penalised IRLS + Laplace deviance."""
-    from amdo_lab.face_glmm.glmm import _laplace_deviance_reference, _setup
+    from amdo_lab.face_glmm.glmm import _setup
     table = pd.concat([_crossed_table(3, 10).assign(S=s) for s in ("a", "b")], ignore_index=True)
     table["Y"] = simulate_binomial_glmm(table, "Y ~ M * D + U", TRUE_BETA, {"t": 0.1, "p": 1.0, "t:p": 0.3}, 30, rng=5)
     problem, start = _setup(table, "Y ~ M * D + U", random, 30)
@@ -306,7 +308,7 @@ def test_fast_laplace_deviance_equals_dense_reference(random):
         pd.MultiIndex.from_frame(table[term.split(":")].astype(str)), sort=True)[0] for term in random)]
     z = np.hstack([np.eye(g.max() + 1)[g] for g in groups])
     lam = np.concatenate([np.full(g.max() + 1, sd) for g, sd in zip(groups, theta)])
-    ref_beta, _, ref_value, _ = _laplace_deviance_reference(problem.y, problem.n_trials, problem.x, z, lam)
+    ref_beta, _, ref_value, _ = fg.laplace_deviance_reference(problem.y, problem.n_trials, problem.x, z, lam)
     assert value == pytest.approx(ref_value, rel=1e-10)
     np.testing.assert_allclose(beta, ref_beta, atol=1e-8)
 
@@ -446,7 +448,7 @@ def test_agrees_with_statsmodels_bayes_mixed_glm_on_a_small_table():
 # --- the randomness convention: rng keyword-only, no default, errors name rng -----------------
 
 _DRAWING = {
-    "generate_face_population": lambda rng: fg.generate_face_population(8, 2, rng=rng, shape=(16, 14)),
+    "make_face_population": lambda rng: fg.make_face_population(8, 2, rng=rng, shape=(16, 14)),
     "make_supplement": lambda rng: fg.make_supplement(np.ones((2, 8, 8)), "noise", rng=rng),
     "experiment_draws": lambda rng: fg.experiment_draws(reduced_design(), rng=rng),
     "run_factorial_experiment": lambda rng: fg.run_factorial_experiment(reduced_design(), rng=rng),
@@ -558,13 +560,13 @@ def _response(f, first_value):
 
 REJECTIONS = [
     # --- population and preprocessing: image shapes, enough subjects and pixels
-    reject("generate_face_population one subject", lambda: generate_face_population(1, 4, rng=0),
+    reject("make_face_population one subject", lambda: make_face_population(1, 4, rng=0),
            ValueError, "n_subjects must be at least 2"),
-    reject("generate_face_population 4 x 4 faces", lambda: generate_face_population(4, 4, rng=0, shape=(4, 4)),
+    reject("make_face_population 4 x 4 faces", lambda: make_face_population(4, 4, rng=0, shape=(4, 4)),
            ValueError, r"shape\[0\] must be at least 8"),
-    reject("generate_face_population float shape", lambda: generate_face_population(3, 2, rng=0, shape=(16.7, 14)),
+    reject("make_face_population float shape", lambda: make_face_population(3, 2, rng=0, shape=(16.7, 14)),
            TypeError, r"shape\[0\] must be an int"),
-    reject("generate_face_population scalar shape", lambda: generate_face_population(3, 2, rng=0, shape=16),
+    reject("make_face_population scalar shape", lambda: make_face_population(3, 2, rng=0, shape=16),
            ValueError, "shape must be a pair"),
     reject("elliptical_mask float shape", lambda: elliptical_mask((6.5, 5)), TypeError, r"shape\[0\] must be an int"),
     reject("elliptical_mask zero rows", lambda: elliptical_mask((0, 5)), ValueError, r"shape\[0\] must be at least 1"),
@@ -579,13 +581,13 @@ REJECTIONS = [
     # --- PCA + LDA: enough images per subject, the named metrics and dimensions, fitted first
     reject("pca_basis one row", lambda: fg.pca_basis(np.ones((1, 5))), ValueError, "samples must have at least 2 rows"),
     reject("e90_dimension all-zero spectrum", lambda: fg.e90_dimension(np.zeros(3)),
-           ValueError, "eigenvalues must be non-negative with a positive sum"),
+           ValueError, "eigenvalues must have a positive sum"),
     reject("weighted_sq_distances b of another width", lambda: fg.weighted_sq_distances(_A, _B[:, :3], np.ones(4)),
-           ValueError, r"b must have shape \(n, 4\)"),
+           ValueError, "a, b and weights must have as many axes"),
     reject("weighted_sq_distances weights of another length", lambda: fg.weighted_sq_distances(_A, _B, np.ones(3)),
-           ValueError, r"weights must have shape \(4,\)"),
+           ValueError, "a, b and weights must have as many axes"),
     reject("weighted_sq_distances negative weights", lambda: fg.weighted_sq_distances(_A, _B, -np.ones(4)),
-           ValueError, "weights must be non-negative"),
+           ValueError, "weights must lie in"),
     reject("PcaLda one image per subject", lambda fitted: PcaLda().fit(fitted.images[::4], fitted.labels[::4]),
            ValueError, "too few images for LDA"),
     reject("PcaLda pca_dimension e95", lambda fitted: PcaLda("e95").fit(fitted.images, fitted.labels),
@@ -604,11 +606,11 @@ REJECTIONS = [
     # --- the factorial design: its parts must fit together
     reject("FactorialDesign more training subjects than subjects",
            lambda: FactorialDesign(n_subjects=8, n_train_subjects=9),
-           ValueError, r"n_train_subjects must be in \[2, n_subjects=8\]"),
+           ValueError, "n_train_subjects must be at most 8"),
     reject("FactorialDesign supplement blur", lambda: FactorialDesign(supplements=("none", "blur")),
-           ValueError, "supplements must be a non-empty subset of"),
+           ValueError, r"supplements holds unknown name\(s\) \['blur'\]"),
     reject("FactorialDesign repeated supplement", lambda: FactorialDesign(supplements=("none", "none")),
-           ValueError, "supplements must not repeat"),
+           ValueError, "supplements must not repeat a name"),
     reject("FactorialDesign odd shape", lambda: FactorialDesign(shape=(15, 14)),
            ValueError, "shape must have even rows and cols"),
     reject("FactorialDesign scalar shape", lambda: FactorialDesign(shape=16), ValueError, "shape must be a pair"),
@@ -623,7 +625,7 @@ REJECTIONS = [
     reject("binomial_deviance counts above n_trials", lambda: fg.binomial_deviance(_COUNTS + 40, 30.0, np.zeros(20)),
            ValueError, r"y must hold counts in \[0, n_trials\]"),
     reject("binomial_deviance zero trials", lambda: fg.binomial_deviance(_COUNTS, 0.0, np.zeros(20)),
-           ValueError, "n_trials must be positive"),
+           ValueError, r"n_trials must lie in \(0, 1e\+15\]"),
     reject("binomial_deviance n_trials of another shape",
            lambda: fg.binomial_deviance(_COUNTS, np.full(3, 30.0), np.zeros(20)),
            ValueError, "n_trials must be a number or have the shape of y"),
@@ -654,7 +656,7 @@ REJECTIONS = [
     reject("laplace_deviance two sds for three terms", lambda fitted: fg.laplace_deviance(
         fitted.table, "Y ~ M * D + U", ["t", "p", "t:p"], [1.0, 1.0], 30), ValueError, "sd must have 3 columns"),
     reject("laplace_deviance negative sd", lambda fitted: fg.laplace_deviance(
-        fitted.table, "Y ~ M * D + U", ["t", "p", "t:p"], [1.0, -1.0, 1.0], 30), ValueError, "sd must be non-negative"),
+        fitted.table, "Y ~ M * D + U", ["t", "p", "t:p"], [1.0, -1.0, 1.0], 30), ValueError, r"sd must lie in \[0, 1000\]"),
     reject("response_counts above n_trials", lambda: fg.glmm.response_counts(pd.DataFrame({"Y": [0, 3, 30]}), "Y", 10),
            ValueError, r"integer counts in \[0, n_trials=10\]"),
     # --- predictions from a fit: an interval strictly inside (0, 1), at least one cell
@@ -675,7 +677,7 @@ REJECTIONS = [
     reject("summarise_recovery ses of another shape", lambda: fg.summarise_recovery(
         pd.Series([0.5, 0.0]), np.ones((5, 2)), np.ones((3, 2))), ValueError, r"ses must have shape \(5, 2\)"),
     reject("summarise_recovery negative ses", lambda: fg.summarise_recovery(
-        pd.Series([0.5, 0.0]), np.ones((5, 2)), -np.ones((5, 2))), ValueError, "ses must be non-negative"),
+        pd.Series([0.5, 0.0]), np.ones((5, 2)), -np.ones((5, 2))), ValueError, "ses must lie in"),
     # --- the peers: named columns and terms, counts out of n_trials
     reject("fit_gee group not a column",
            lambda fitted: fg.fit_gee(fitted.table, "Y ~ M", group="q"),

@@ -43,6 +43,7 @@ from amdo_lab.cue_fusion_pf.tracker import (
     default_dynamics,
     systematic_resample,
     track,
+    weigh_particles,
 )
 from amdo_lab.cue_fusion_pf.walker import WALKER_SEGMENTS, WalkerSequence, box_iou, fit_similarity, make_walker_sequence
 
@@ -53,7 +54,7 @@ __all__ = [
     "calibrate_sigma", "calibration_distances", "default_dynamics", "edge_line_likelihood", "ellipse_iou", "ellipse_points",
     "fused_log_likelihood", "haar_features", "head_views", "integral_image", "kernel_histogram", "load_or_train_cascade",
     "make_head_sequence", "make_training_set", "simulate_measurement_lines", "systematic_resample", "track",
-    "track_camshift", "track_mil", "track_pfilter", "train_cascade",
+    "track_camshift", "track_mil", "track_pfilter", "train_cascade", "weigh_particles",
     "WALKER_SEGMENTS", "WalkerSequence", "box_iou", "fit_similarity", "make_walker_sequence",
 ]
 

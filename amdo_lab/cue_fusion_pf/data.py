@@ -14,8 +14,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive, check_positive_int, make_rng
+from amdo_lab.cue_fusion_pf.likelihoods import MAX_PIXELS, check_frames
+from amdo_lab.cue_fusion_pf.shape import as_states
 
-__all__ = ["HEAD_AXES", "HeadSequence", "SEQUENCE_KINDS", "ellipse_iou", "head_views", "make_head_sequence"]
+__all__ = ["HEAD_AXES", "HeadSequence", "SEQUENCE_KINDS", "SequenceWithTruth", "as_ellipse", "ellipse_iou", "head_views", "make_head_sequence"]
 
 #: Semi-axes (a along x, b along y) of the head at scale s = 0, in pixels.
 HEAD_AXES = (20.0, 26.0)
@@ -28,8 +30,54 @@ _CLUTTER_COLOURS = np.array([[40, 60, 110], [150, 150, 160], [30, 90, 60], [190,
                              [20, 20, 25], [230, 230, 235], [90, 120, 150], [60, 130, 140]], float)
 
 
+class SequenceWithTruth:
+    """What a rendered sequence with ground truth offers (shared by :class:`HeadSequence` and the walker's).
+
+    A subclass holds ``frames`` (T, H, W, 3), ``truth`` (T, d) true states, ``segments``
+    ``{name: (start, stop)}`` and ``oracle_std`` (centre std in pixels, std of each shape entry).
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 4 (the sequences and their ground truth).
+    """
+
+    def oracle_log_likelihood(self, t: int, states: np.ndarray) -> np.ndarray:
+        """A likelihood that knows the truth: Gaussian on the centre and on each shape entry.
+
+        Parameters
+        ----------
+        t : int
+            Frame index, in [0, T).
+        states : numpy.ndarray
+            (N, d) or (d,) states, entries within ±:data:`~amdo_lab.cue_fusion_pf.shape.MAX_STATE_ENTRY`.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N,) log-likelihoods (0 at the truth).
+        """
+        t = check_positive_int(t, "t", minimum=0, maximum=len(self.truth) - 1)
+        states = np.atleast_2d(as_states(states, self.truth.shape[1]))
+        centre_sd, shape_sd = self.oracle_std
+        squared = np.sum((states[:, :2] - self.truth[t, :2]) ** 2, axis=1) / centre_sd**2
+        return -0.5 * (squared + np.sum((states[:, 2:] - self.truth[t, 2:]) ** 2, axis=1) / shape_sd**2)
+
+    def segment_of_frames(self) -> np.ndarray:
+        """The name of the segment each frame belongs to.
+
+        Returns
+        -------
+        numpy.ndarray
+            (T,) segment names (object array).
+        """
+        names = np.empty(len(self.frames), dtype=object)
+        for name, (start, stop) in self.segments.items():
+            names[start:stop] = name
+        return names
+
+
 @dataclass
-class HeadSequence:
+class HeadSequence(SequenceWithTruth):
     """A rendered sequence and its ground truth.
 
     Parameters
@@ -45,7 +93,7 @@ class HeadSequence:
     kind : str
         The generator's kind.
     oracle_std : tuple of float
-        Standard deviations of the oracle likelihood: centre (px) and scale.
+        Standard deviations of the oracle likelihood: centre (px) and scale, each in (0, 1e6].
 
     References
     ----------
@@ -59,44 +107,23 @@ class HeadSequence:
     kind: str
     oracle_std: tuple[float, float] = field(default=(2.0, 0.02))
 
-    def oracle_log_likelihood(self, t: int, states: np.ndarray) -> np.ndarray:
-        """A likelihood that knows the truth: Gaussian on the centre (2 px) and the scale (0.02).
+    def __post_init__(self) -> None:
+        self.frames = check_frames(self.frames)
+        self.truth = as_finite_array(self.truth, "truth", shape=(len(self.frames), 3), max_abs=1e6)
+        self.true_ellipses = as_finite_array(self.true_ellipses, "true_ellipses", shape=(len(self.truth), 5), max_abs=1e6)
+        _check_segments(self.segments, len(self.frames))
+        self.kind = check_choice(self.kind, "kind", SEQUENCE_KINDS)
+        self.oracle_std = tuple(as_finite_array(self.oracle_std, "oracle_std", shape=(2,), bounds=(0.0, 1e6), closed="right"))
 
-        Parameters
-        ----------
-        t : int
-            Frame index.
-        states : numpy.ndarray
-            (N, 3) or (3,) states, entries within ±1e6.
 
-        Returns
-        -------
-        numpy.ndarray
-            (N,) log-likelihoods (0 at the truth).
-        """
-        t = check_positive_int(t, "t", minimum=0)
-        if t >= len(self.truth):
-            raise ValueError(f"t must be a frame index below {len(self.truth)}, got {t}")
-        states = as_finite_array(states, "states", allow_empty=True, max_abs=1e6)  # squares stay finite
-        if states.ndim not in (1, 2) or states.shape[-1] != 3:
-            raise ValueError(f"states must have shape (3,) or (N, 3), got shape {states.shape}")
-        states = np.atleast_2d(states)
-        centre_sd, scale_sd = self.oracle_std
-        squared = np.sum((states[:, :2] - self.truth[t, :2]) ** 2, axis=1) / centre_sd**2
-        return -0.5 * (squared + (states[:, 2] - self.truth[t, 2]) ** 2 / scale_sd**2)
-
-    def segment_of_frames(self) -> np.ndarray:
-        """The name of the segment each frame belongs to.
-
-        Returns
-        -------
-        numpy.ndarray
-            (T,) segment names (object array).
-        """
-        names = np.empty(len(self.frames), dtype=object)
-        for name, (start, stop) in self.segments.items():
-            names[start:stop] = name
-        return names
+def _check_segments(segments: object, n_frames: int) -> dict[str, tuple[int, int]]:
+    """``segments`` after checking it maps str names to int frame ranges ``(start, stop)`` within ``n_frames``."""
+    if not isinstance(segments, dict) or not all(
+            isinstance(name, str) and isinstance(span, tuple) and len(span) == 2
+            and all(isinstance(i, int) and not isinstance(i, bool) for i in span) and 0 <= span[0] < span[1] <= n_frames
+            for name, span in segments.items()):
+        raise TypeError(f"segments must be a dict of name -> (start, stop) frame ranges within {n_frames} frames")
+    return segments
 
 
 def office_background(rng: np.random.Generator, height: int, width: int) -> np.ndarray:
@@ -360,6 +387,35 @@ def make_head_sequence(kind: str, *, rng: int | np.random.Generator, noise_std: 
     return HeadSequence(frames, truth, true_ellipses, segments, kind)
 
 
+def as_ellipse(ellipse: object, name: str, *, allow_stack: bool = False) -> np.ndarray:
+    """Return ``ellipse`` as a float array ``(cx, cy, a, b, angle)`` after checking it.
+
+    Parameters
+    ----------
+    ellipse : array_like
+        (5,), or (T, 5) when ``allow_stack``: centre and semi-axes in pixels (axes > 0), angle in
+        radians; every entry within ±:data:`~amdo_lab.cue_fusion_pf.likelihoods.MAX_PIXELS`.
+    name : str
+        The argument's name, used in error messages.
+    allow_stack : bool
+        Whether a (T, 5) stack of ellipses is accepted.
+
+    Returns
+    -------
+    numpy.ndarray
+        The ellipse(s), shape as given.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 2.1 (the ellipse of a contour).
+    """
+    ellipse = as_finite_array(ellipse, name, max_abs=MAX_PIXELS)
+    if ellipse.ndim not in ((1, 2) if allow_stack else (1,)) or ellipse.shape[-1] != 5 or np.any(ellipse[..., 2:4] <= 0):
+        raise ValueError(f"{name} must be an ellipse (cx, cy, a, b, angle) with positive axes, of shape (5,)"
+                         f"{' or (T, 5)' if allow_stack else ''}, got shape {ellipse.shape}")
+    return ellipse
+
+
 def ellipse_iou(first: np.ndarray, second: np.ndarray, *, step: float = 0.5) -> np.ndarray:
     """Intersection over union of ellipses ``(cx, cy, a, b, angle)``, row by row, on a grid of ``step`` px.
 
@@ -381,15 +437,12 @@ def ellipse_iou(first: np.ndarray, second: np.ndarray, *, step: float = 0.5) -> 
     ----------
     The success criterion of this chapter (IoU >= 0.5); the paper shows its results as figures.
     """
-    first = as_finite_array(first, "first", max_abs=1e6)
-    second = as_finite_array(second, "second", max_abs=1e6)
+    first, second = as_ellipse(first, "first", allow_stack=True), as_ellipse(second, "second", allow_stack=True)
     step = check_in_range(step, "step", 0.0, 1e6, closed="right")
+    if second.shape != first.shape:  # which one is at fault is unknowable: name both
+        raise ValueError(f"first and second must have the same shape, got {first.shape} and {second.shape}")
     single = first.ndim == 1
     first, second = np.atleast_2d(first), np.atleast_2d(second)
-    if first.shape[1] != 5 or second.shape != first.shape:
-        raise ValueError(f"first and second must both have shape (5,) or (T, 5), got {first.shape} and {second.shape}")
-    if np.any(first[:, 2:4] <= 0) or np.any(second[:, 2:4] <= 0):
-        raise ValueError("ellipse axes must be positive")
     scores = np.empty(len(first))
     for row, (e1, e2) in enumerate(zip(first, second)):
         # count grid points inside both ellipses over the overlap of their bounding boxes only; the

@@ -123,14 +123,11 @@ class ARDynamics:
 
     def __init__(self, beta, omega, tau: float, stationary_std, mean, *, printed_order: bool = False,
                  allow_unstable: bool = False):
-        self.beta = as_finite_array(beta, "beta", ndim=1)
-        if np.any(self.beta < 0):
-            raise ValueError(f"beta must be non-negative, got {self.beta}")
+        self.beta = as_finite_array(beta, "beta", ndim=1, bounds=(0.0, np.inf))
         self.omega = as_finite_array(omega, "omega", ndim=1)
         self.tau = check_positive(tau, "tau")
-        self.stationary_std = as_finite_array(stationary_std, "stationary_std", ndim=1)
-        if np.any(self.stationary_std <= 0):
-            raise ValueError(f"stationary_std must be positive, got {self.stationary_std}")
+        self.stationary_std = as_finite_array(stationary_std, "stationary_std", ndim=1, bounds=(0.0, np.inf),
+                                              closed="neither")
         self.mean = as_finite_array(mean, "mean", ndim=1, max_abs=MAX_STATE)
         lengths = (self.beta.size, self.omega.size, self.stationary_std.size, self.mean.size)
         if len(set(lengths)) > 1:
@@ -175,16 +172,15 @@ class ARDynamics:
         numpy.ndarray
             (N, d) states X_k.
         """
-        previous = as_finite_array(previous, "previous", shape=(None, self.mean.size), max_abs=MAX_STATE)
-        before = as_finite_array(before, "before", shape=previous.shape, max_abs=MAX_STATE)
+        previous, before = self._check_lags(previous, before)
         noise = as_finite_array(noise, "noise", shape=previous.shape, max_abs=MAX_STATE)
-        # eq. (4) for every component (eq. 5 for the state), about the mean: X_k = a_0 X_{k-1} + a_1 X_{k-2} + b_0 ν
-        # in our order of the lags (printed_order=True: the printed a_1 X_{k-1} + a_0 X_{k-2}, which explodes)
-        return (self.mean + self.first_lag * (previous - self.mean) + self.second_lag * (before - self.mean)
-                + self.step_std * noise)
+        return self._propagate(previous, before, noise)
 
     def step(self, previous: np.ndarray, before: np.ndarray, *, rng: int | np.random.Generator) -> np.ndarray:
-        """Sample ``X_k`` given ``X_{k-1}`` and ``X_{k-2}``.
+        """Sample ``X_k`` given ``X_{k-1}`` and ``X_{k-2}``: the prediction step of the filter.
+
+        Applied to particles that sample the posterior ``p(X_{k-1} | Y_{1:k-1})``, the draws sample
+        the prediction ``p(X_k | Y_{1:k-1})`` of eq. (16) (the integral done by Monte Carlo).
 
         Parameters
         ----------
@@ -197,11 +193,13 @@ class ARDynamics:
         -------
         numpy.ndarray
             (N, d) sampled states X_k.
+
+        References
+        ----------
+        Li & Chaumette, AMDO 2004, eqs. (5) and (16).
         """
-        previous = as_finite_array(previous, "previous", shape=(None, self.mean.size), max_abs=MAX_STATE)
-        before = as_finite_array(before, "before", shape=previous.shape, max_abs=MAX_STATE)
-        # eq. (5): one draw from the transition prior p(X_k | X_{k-1}, X_{k-2}), ν standard normal
-        return self.propagate(previous, before, make_rng(rng, "rng").standard_normal(previous.shape))
+        previous, before = self._check_lags(previous, before)
+        return self._step(previous, before, make_rng(rng, "rng"))
 
     def simulate(self, n_steps: int, start: np.ndarray, *, rng: int | np.random.Generator) -> np.ndarray:
         """A trajectory of the process starting at rest at ``start``.
@@ -211,7 +209,8 @@ class ARDynamics:
         n_steps : int
             Length of the trajectory, 1 to :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
         start : numpy.ndarray
-            (d,) initial state (X_0 = X_{-1}), entries within ±:data:`MAX_STATE`.
+            (d,) initial state (X_0 = X_{-1}), entries within ±:data:`MAX_STATE`; an unstable model
+            whose trajectory from it leaves ±:data:`MAX_STATE` raises a ValueError naming ``start``.
         rng : int or numpy.random.Generator
             Source of the noise.
 
@@ -225,5 +224,26 @@ class ARDynamics:
         generator = make_rng(rng, "rng")
         path = [start, start.copy()]
         for _ in range(n_steps - 2):
-            path.append(self.step(path[-1][None], path[-2][None], rng=generator)[0])
+            path.append(self._step(path[-1][None], path[-2][None], generator)[0])
+            if not np.all(np.abs(path[-1]) <= MAX_STATE):  # only an unstable model gets here
+                raise ValueError(f"start: the trajectory from it leaves ±{MAX_STATE:g} after {len(path) - 2} steps "
+                                 f"(spectral radius {self.spectral_radius():.3f})")
         return np.array(path[:n_steps])
+
+    def _check_lags(self, previous: object, before: object) -> tuple[np.ndarray, np.ndarray]:
+        """The two lagged states as (N, d) float arrays within ±:data:`MAX_STATE` (errors name them)."""
+        previous = as_finite_array(previous, "previous", shape=(None, self.mean.size), max_abs=MAX_STATE)
+        return previous, as_finite_array(before, "before", shape=previous.shape, max_abs=MAX_STATE)
+
+    def _step(self, previous: np.ndarray, before: np.ndarray, generator: np.random.Generator) -> np.ndarray:
+        """:meth:`step` on checked arrays (the filter's loop calls it every frame)."""
+        # eq. (5): one draw from the transition prior p(X_k | X_{k-1}, X_{k-2}), ν standard normal; drawn for
+        # every particle of the posterior at k-1, the draws sample the prediction of eq. (16) (Monte Carlo)
+        return self._propagate(previous, before, generator.standard_normal(previous.shape))
+
+    def _propagate(self, previous: np.ndarray, before: np.ndarray, noise: np.ndarray) -> np.ndarray:
+        """:meth:`propagate` on checked arrays."""
+        # eq. (4) for every component (eq. 5 for the state), about the mean: X_k = a_0 X_{k-1} + a_1 X_{k-2} + b_0 ν
+        # in our order of the lags (printed_order=True: the printed a_1 X_{k-1} + a_0 X_{k-2}, which explodes)
+        return (self.mean + self.first_lag * (previous - self.mean) + self.second_lag * (before - self.mean)
+                + self.step_std * noise)

@@ -38,8 +38,8 @@ EQUATIONS: dict[int, EquationPath] = {
                      test='test_eq13_matches_simulated_lines'),
     14: EquationPath(code='amdo_lab.cue_fusion_pf.likelihoods.EdgeLikelihood.log_likelihood',
                      test='test_fast_edge_path_equals_the_numpy_reference'),
-    15: EquationPath(code='amdo_lab.cue_fusion_pf.tracker._run_filter',
-                     test='test_track_follows_the_head_and_is_seeded'),
-    16: EquationPath(code='amdo_lab.cue_fusion_pf.tracker._run_filter',
-                     test='test_track_follows_the_head_and_is_seeded'),
+    15: EquationPath(code='amdo_lab.cue_fusion_pf.tracker.weigh_particles',
+                     test='test_weigh_particles_is_bayes_rule_with_the_fused_cues'),
+    16: EquationPath(code='amdo_lab.cue_fusion_pf.dynamics.ARDynamics.step',
+                     test='test_step_samples_the_prediction_of_eq16'),
 }

@@ -15,7 +15,7 @@ from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 
 __all__ = [
-    "COLOR_SPACES", "CalibrationResult", "ColorLikelihood", "EdgeLikelihood", "MAX_CLUTTER_DENSITY", "MAX_DISTANCE", "MAX_PIXELS", "PAPER_SIGMAS", "SIGMA_RANGE", "bhattacharyya",
+    "COLOR_SPACES", "CalibrationResult", "EDGE_SMOOTHING_PX", "check_cues", "check_frames", "ColorLikelihood", "EdgeLikelihood", "MAX_CLUTTER_DENSITY", "MAX_DISTANCE", "MAX_PIXELS", "PAPER_SIGMAS", "SIGMA_RANGE", "bhattacharyya",
     "calibrate_sigma", "check_frame", "check_shape_space", "edge_line_likelihood", "fused_log_likelihood",
     "kernel_histogram", "simulate_measurement_lines", "to_color_space",
 ]
@@ -32,6 +32,8 @@ SIGMA_RANGE = (1e-6, 1e6)
 MAX_DISTANCE = 1e6
 #: Largest clutter density λ, features per pixel: a 1-D edge detector finds at most one per pixel.
 MAX_CLUTTER_DENSITY = 1.0
+#: σ of the Gaussian blur of the grey image before the edges' 1-D derivative (the "1-D Canny"), pixels.
+EDGE_SMOOTHING_PX = 1.0
 
 
 # --- colour: eqs. (7)-(11) ----------------------------------------------------------------------
@@ -85,6 +87,37 @@ def check_frame(frame: np.ndarray, name: str = "frame") -> np.ndarray:
     if frame.size == 0:
         raise ValueError(f"{name} must not be empty, got shape {frame.shape}")
     return frame
+
+
+def check_frames(frames: object) -> np.ndarray:
+    """Return ``frames`` as a (T, H, W, 3) uint8 array after checking it is a non-empty RGB sequence.
+
+    Parameters
+    ----------
+    frames : array_like
+        (T, H, W, 3) uint8 RGB, or float RGB with whole grey levels in [0, 255] (rounded).
+
+    Returns
+    -------
+    numpy.ndarray
+        (T, H, W, 3) uint8 frames (not copied when already uint8).
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 4 (the tracked sequences).
+    """
+    array = np.asarray(frames)
+    if array.ndim != 4 or array.shape[-1] != 3:
+        raise ValueError(f"frames must be a (T, H, W, 3) RGB array, got shape {array.shape}")
+    if array.shape[0] == 0:
+        raise ValueError("frames must hold at least one frame")
+    if array.dtype == np.uint8:
+        return array
+    if not np.issubdtype(array.dtype, np.floating):
+        raise TypeError(f"frames must be uint8 or float RGB, got dtype {array.dtype}")
+    if not np.all(np.isfinite(array)) or array.min() < 0 or array.max() > 255:
+        raise ValueError("frames must be finite and within [0, 255]")
+    return np.rint(array).astype(np.uint8)
 
 
 def _check_bins(bins: object) -> int:
@@ -183,7 +216,7 @@ def bhattacharyya(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     p, q : numpy.ndarray
-        Histograms (at least 1-D, summing to 1 along the last axis).
+        Histograms (at least 1-D, bins in [0, 1] summing to 1 along the last axis).
 
     Returns
     -------
@@ -194,15 +227,10 @@ def bhattacharyya(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     ----------
     Li & Chaumette, AMDO 2004, eq. (10).
     """
-    p = as_finite_array(p, "p")
-    q = as_finite_array(q, "q")
-    for name, histogram in (("p", p), ("q", q)):
-        if histogram.ndim == 0:
-            raise ValueError(f"{name} must be a histogram (an array of bins), got a scalar")
-    if p.shape[-1] != q.shape[-1]:
-        raise ValueError(f"p and q must have the same number of bins, got shapes {p.shape} and {q.shape}")
-    if np.any(p < 0) or np.any(q < 0):
-        raise ValueError("p and q must be histograms, with no negative bin")
+    p = as_finite_array(p, "p", bounds=(0.0, 1.0))  # bins of a histogram that sums to 1
+    q = as_finite_array(q, "q", bounds=(0.0, 1.0))
+    if p.ndim == 0 or q.ndim == 0 or p.shape[-1] != q.shape[-1]:  # which one is at fault is unknowable: name both
+        raise ValueError(f"p and q must be histograms with the same number of bins, got shapes {p.shape} and {q.shape}")
     return np.sum(np.sqrt(p * q), axis=-1)  # eq. (10): ρ = Σ_u √(p_u q_u)
 
 
@@ -266,8 +294,10 @@ class ColorLikelihood:
         self._unit_points = np.stack([gx[keep], gy[keep]], axis=1)  # points of the unit disc
         self._kernel = 1.0 - np.sum(self._unit_points**2, axis=1)  # eq. (7), profile 1 - r²
 
-    def bhattacharyya(self, frame: np.ndarray, states: np.ndarray) -> np.ndarray:
-        """ρ(q̂, p̂(x)) of eq. (10) for each state.
+    def rho(self, frame: np.ndarray, states: np.ndarray) -> np.ndarray:
+        """The Bhattacharyya coefficient ρ(q̂, p̂(x)) of eq. (10) for each state, by the fast path.
+
+        :func:`bhattacharyya` is the plain per-histogram formula it is tested against.
 
         Parameters
         ----------
@@ -316,7 +346,7 @@ class ColorLikelihood:
         numpy.ndarray
             (N,) distances in [0, 1].
         """
-        return 1.0 - self.bhattacharyya(frame, states)  # eq. (9) squared: d² = 1 - ρ
+        return 1.0 - self.rho(frame, states)  # eq. (9) squared: d² = 1 - ρ
 
     def log_likelihood(self, frame: np.ndarray, states: np.ndarray) -> np.ndarray:
         """Eq. (11) in the log domain, for each state.
@@ -441,9 +471,6 @@ class EdgeLikelihood:
     threshold : float
         Smallest gradient magnitude of a feature, grey levels per pixel, in (0, 255] (the central
         difference of grey levels never exceeds 127.5 per pixel).
-    smoothing : float
-        σ of the Gaussian applied to the grey image before the 1-D derivative, pixels, in
-        (0, half_length] (a wider blur erases the edges the lines look for).
     exponent : float
         α in (0, 1]: the log-likelihood of eq. (14) is multiplied by α (the product of the lines
         raised to the power α, a *tempered* likelihood). 1 is the paper's eq. (14); α < 1 counts the
@@ -451,8 +478,8 @@ class EdgeLikelihood:
 
     Notes
     -----
-    A "1-D Canny" on each line: the grey image is smoothed once per frame, sampled along the line
-    at 1 px steps (bilinear), differentiated with a central difference, and the local maxima of
+    A "1-D Canny" on each line: the grey image is smoothed once per frame (σ =
+    :data:`EDGE_SMOOTHING_PX`), sampled along the line at 1 px steps (bilinear), differentiated with a central difference, and the local maxima of
     the magnitude above ``threshold`` are the features. λ, the clutter density, is not given by
     the paper: we estimate it per frame as the mean number of features per line divided by L.
 
@@ -462,15 +489,13 @@ class EdgeLikelihood:
     """
 
     def __init__(self, shape_space: ShapeSpace, *, n_lines: int = 40, half_length: int = 12, p0: float = 0.2,
-                 sigma_e: float = float(np.sqrt(2.0)), threshold: float = 6.0, smoothing: float = 1.0,
-                 exponent: float = 1.0):
+                 sigma_e: float = float(np.sqrt(2.0)), threshold: float = 6.0, exponent: float = 1.0):
         self.shape_space = check_shape_space(shape_space)
         self.n_lines = check_positive_int(n_lines, "n_lines", minimum=3, maximum=MAX_SAMPLES)
         self.half_length = check_positive_int(half_length, "half_length", minimum=2, maximum=MAX_SIDE)
         self.p0 = check_in_range(p0, "p0", 0.0, 1.0)
         self.sigma_e = check_in_range(sigma_e, "sigma_e", 0.0, MAX_PIXELS, closed="right")
         self.threshold = check_in_range(threshold, "threshold", 0.0, 255.0, closed="right")
-        self.smoothing = check_in_range(smoothing, "smoothing", 0.0, float(self.half_length), closed="right")
         self.exponent = check_in_range(exponent, "exponent", 0.0, 1.0, closed="right")
         self._points, self._normals = shape_space.template_normals(self.n_lines)
         self.offsets = np.arange(-self.half_length, self.half_length + 1, dtype=float)
@@ -490,7 +515,7 @@ class EdgeLikelihood:
             (H, W) float32 grey levels.
         """
         grey = check_frame(frame).astype(np.float32).mean(axis=2)
-        return cv2.GaussianBlur(grey, (0, 0), self.smoothing)
+        return cv2.GaussianBlur(grey, (0, 0), EDGE_SMOOTHING_PX)
 
     def profiles(self, frame: np.ndarray, states: np.ndarray, *, reference: bool = False) -> np.ndarray:
         """Grey levels (N, N_e, 2L+1) along every measurement line of every state.
@@ -612,6 +637,31 @@ def _bilinear(image: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
 
 # --- fusion: eq. (6) ----------------------------------------------------------------------------
 
+def check_cues(cues: object) -> dict:
+    """Return ``cues`` after checking it is a dict of likelihood objects (each with ``.log_likelihood``).
+
+    Parameters
+    ----------
+    cues : dict
+        Name -> likelihood object (:class:`ColorLikelihood`, :class:`EdgeLikelihood`, ...), at least one;
+        each has ``.log_likelihood(frame, states)`` and ``.shape_space``.
+
+    Returns
+    -------
+    dict
+        ``cues``.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eq. (6) (the cues fused).
+    """
+    if not isinstance(cues, dict) or not cues or not all(isinstance(getattr(cue, "shape_space", None), ShapeSpace)
+                                                          and hasattr(cue, "log_likelihood") for cue in cues.values()):
+        raise TypeError(f"cues must be a non-empty dict of likelihood objects (with .log_likelihood and .shape_space), "
+                        f"got {type(cues).__name__}")
+    return cues
+
+
 def fused_log_likelihood(cues: dict, frame: np.ndarray, states: np.ndarray) -> np.ndarray:
     """Eq. (6) in the log domain: the sum of the cues' log-likelihoods (independent cues).
 
@@ -633,16 +683,10 @@ def fused_log_likelihood(cues: dict, frame: np.ndarray, states: np.ndarray) -> n
     ----------
     Li & Chaumette, AMDO 2004, eq. (6).
     """
-    if not isinstance(cues, dict) or not all(hasattr(cue, "log_likelihood") for cue in cues.values()):
-        raise TypeError(f"cues must be a dict of likelihood objects (with .log_likelihood), got {type(cues).__name__}")
+    cues = check_cues(cues)
     frame = check_frame(frame)
-    states = as_finite_array(states, "states", allow_empty=True)
-    if states.ndim not in (1, 2):
-        raise ValueError(f"states must have shape (d,) or (N, d), got shape {states.shape}")
-    total = np.zeros(len(np.atleast_2d(states)))
-    for cue in cues.values():  # eq. (6) in the log domain: the product of the cues' likelihoods is a sum
-        total += cue.log_likelihood(frame, states)
-    return total
+    # eq. (6) in the log domain: the product of the cues' likelihoods is a sum (each cue checks the states)
+    return sum(cue.log_likelihood(frame, states) for cue in cues.values())
 
 
 # --- calibration of σ ---------------------------------------------------------------------------
@@ -703,10 +747,7 @@ def calibrate_sigma(distances_true: np.ndarray, distances_prior: np.ndarray, gri
     if len(distances_prior) != distances_true.size:
         raise ValueError(f"distances_true and distances_prior must have one row per frame, got {distances_true.size} and "
                          f"{len(distances_prior)}")
-    grid = np.geomspace(0.005, 10.0, 60) if grid is None else as_finite_array(grid, "grid", ndim=1)
-    if np.any(grid < SIGMA_RANGE[0]) or np.any(grid > SIGMA_RANGE[1]):
-        raise ValueError(f"grid must hold values of sigma in [{SIGMA_RANGE[0]:g}, {SIGMA_RANGE[1]:g}], got {grid.min():g} to "
-                         f"{grid.max():g}")
+    grid = np.geomspace(0.005, 10.0, 60) if grid is None else as_finite_array(grid, "grid", ndim=1, bounds=SIGMA_RANGE)
     scores = []
     for sigma in grid:
         log_prior = -distances_prior / (2.0 * sigma**2)

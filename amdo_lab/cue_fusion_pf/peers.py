@@ -10,13 +10,13 @@ import numpy as np
 
 from amdo_lab.common import MAX_SAMPLES, MAX_SIDE
 from amdo_lab.common import check_names, check_positive_int, make_rng
+from amdo_lab.cue_fusion_pf.data import as_ellipse
+from amdo_lab.cue_fusion_pf.likelihoods import check_frames
 from amdo_lab.cue_fusion_pf.tracker import (
     CUES,
     TRACK_DEFAULTS,
     TrackResult,
-    as_ellipse,
     build_cues,
-    check_frames,
     default_dynamics,
     resolve_sigmas,
     shape_space_of,

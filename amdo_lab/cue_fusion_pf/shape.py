@@ -14,10 +14,40 @@ import numpy as np
 from amdo_lab.common import MAX_SAMPLES, MAX_SIDE
 from amdo_lab.common import as_finite_array, check_bool, check_choice, check_positive_int
 
-__all__ = ["SHAPE_KINDS", "ShapeSpace", "bspline_basis", "ellipse_points"]
+__all__ = ["MAX_STATE_ENTRY", "SHAPE_KINDS", "ShapeSpace", "as_states", "bspline_basis", "ellipse_points"]
 
 SHAPE_KINDS = ("translation_scale", "similarity")
 STATE_DIMS = {"translation_scale": 3, "similarity": 4}
+#: Largest magnitude of a state entry (pixels, relative scale): far beyond any frame, so the contours'
+#: pixel coordinates stay finite and within int32, and squared distances between states stay finite.
+MAX_STATE_ENTRY = 1e6
+
+
+def as_states(states: object, state_dim: int, name: str = "states") -> np.ndarray:
+    """Return ``states`` as a float array after checking its shape, (d,) or (N, d), and its range.
+
+    Parameters
+    ----------
+    states : array_like
+        (state_dim,) or (N, state_dim) states; every entry within ±:data:`MAX_STATE_ENTRY`.
+    state_dim : int
+        d: 3 (translation + scale) or 4 (similarity).
+    name : str
+        The argument's name, used in error messages.
+
+    Returns
+    -------
+    numpy.ndarray
+        The states, float, shape as given.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eqs. (2)-(3) (the state of a shape space).
+    """
+    states = as_finite_array(states, name, allow_empty=True, max_abs=MAX_STATE_ENTRY)
+    if states.ndim not in (1, 2) or states.shape[-1] != state_dim:
+        raise ValueError(f"{name} must have shape ({state_dim},) or (N, {state_dim}), got shape {states.shape}")
+    return states
 
 
 def bspline_basis(s: np.ndarray, n_control: int, derivative: bool = False) -> np.ndarray:
@@ -317,8 +347,7 @@ class ShapeSpace:
         Parameters
         ----------
         states : array_like
-            (state_dim,) or (N, state_dim) states; every entry within ±1e6 (pixels, relative scale):
-            far beyond any frame, so the contours' pixel coordinates stay finite and within int32.
+            (state_dim,) or (N, state_dim) states; every entry within ±:data:`MAX_STATE_ENTRY`.
 
         Returns
         -------
@@ -329,7 +358,4 @@ class ShapeSpace:
         ----------
         Li & Chaumette, AMDO 2004, eqs. (2)-(3) (the state of a shape space).
         """
-        states = as_finite_array(states, "states", allow_empty=True, max_abs=1e6)
-        if states.ndim not in (1, 2) or states.shape[-1] != self.state_dim:
-            raise ValueError(f"states must have shape ({self.state_dim},) or (N, {self.state_dim}), got shape {states.shape}")
-        return states
+        return as_states(states, self.state_dim)

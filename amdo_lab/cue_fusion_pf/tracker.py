@@ -12,14 +12,15 @@ from amdo_lab.common import (MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check
                              check_image_shape, check_in_range, check_names, check_positive_int, make_rng)
 from amdo_lab.common.particles import systematic_resample  # shared with chapter 10, re-exported here
 from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
-from amdo_lab.cue_fusion_pf.likelihoods import COLOR_SPACES, MAX_PIXELS, PAPER_SIGMAS, SIGMA_RANGE, ColorLikelihood, EdgeLikelihood
-from amdo_lab.cue_fusion_pf.shape import SHAPE_KINDS, ShapeSpace
+from amdo_lab.cue_fusion_pf.likelihoods import (COLOR_SPACES, MAX_PIXELS, PAPER_SIGMAS, SIGMA_RANGE, ColorLikelihood,
+                                                EdgeLikelihood, check_cues, check_frame, check_frames)
+from amdo_lab.cue_fusion_pf.data import as_ellipse
+from amdo_lab.cue_fusion_pf.shape import SHAPE_KINDS, ShapeSpace, as_states
 from amdo_lab.cue_fusion_pf.structure import CASCADE_SEED, StructureLikelihood, load_or_train_cascade
 
-__all__ = ["CALIBRATED_SIGMAS", "CUES", "FUSIONS", "TRACK_DEFAULTS", "TrackResult", "WALKER_SIGMAS", "as_ellipse",
-           "build_cues", "calibration_distances",
-           "check_frames", "check_state_spread", "default_dynamics", "resolve_sigmas", "shape_space_of",
-           "systematic_resample", "track"]
+__all__ = ["CALIBRATED_SIGMAS", "CUES", "FUSIONS", "TRACK_DEFAULTS", "TrackResult", "WALKER_SIGMAS",
+           "build_cues", "calibration_distances", "check_state_spread", "default_dynamics", "resolve_sigmas",
+           "shape_space_of", "systematic_resample", "track", "weigh_particles"]
 
 CUES = ("color", "edge", "structure", "oracle")
 #: σ_c and σ_s chosen by :func:`calibrate_sigma` on held-out "fusion" seeds (seeds 100-104, rng=0, every 4th frame; the tests re-run it).
@@ -114,63 +115,6 @@ def default_dynamics(mean: np.ndarray, *, beta=(2.0, 2.0, 10.0), stationary_std=
     mean = as_finite_array(mean, "mean", ndim=1)
     return ARDynamics(beta, np.zeros(mean.size), FRAME_PERIOD, stationary_std, mean, printed_order=printed_order,
                       allow_unstable=printed_order)
-
-
-def check_frames(frames: object) -> np.ndarray:
-    """Return ``frames`` as a (T, H, W, 3) uint8 array after checking it is a non-empty RGB sequence.
-
-    Parameters
-    ----------
-    frames : array_like
-        (T, H, W, 3) uint8 RGB, or float RGB with whole grey levels in [0, 255] (rounded).
-
-    Returns
-    -------
-    numpy.ndarray
-        (T, H, W, 3) uint8 frames (not copied when already uint8).
-
-    References
-    ----------
-    Li & Chaumette, AMDO 2004, Sec. 4 (the tracked sequences).
-    """
-    array = np.asarray(frames)
-    if array.ndim != 4 or array.shape[-1] != 3:
-        raise ValueError(f"frames must be a (T, H, W, 3) RGB array, got shape {array.shape}")
-    if array.shape[0] == 0:
-        raise ValueError("frames must hold at least one frame")
-    if array.dtype == np.uint8:
-        return array
-    if not np.issubdtype(array.dtype, np.floating):
-        raise TypeError(f"frames must be uint8 or float RGB, got dtype {array.dtype}")
-    if not np.all(np.isfinite(array)) or array.min() < 0 or array.max() > 255:
-        raise ValueError("frames must be finite and within [0, 255]")
-    return np.rint(array).astype(np.uint8)
-
-
-def as_ellipse(ellipse: object, name: str) -> np.ndarray:
-    """Return ``ellipse`` as a (5,) float array ``(cx, cy, a, b, angle)`` after checking it.
-
-    Parameters
-    ----------
-    ellipse : array_like
-        (5,) centre and semi-axes in pixels (axes > 0), angle in radians; every entry within
-        ±:data:`MAX_PIXELS`.
-    name : str
-        The argument's name, used in error messages.
-
-    Returns
-    -------
-    numpy.ndarray
-        (5,) the ellipse.
-
-    References
-    ----------
-    Li & Chaumette, AMDO 2004, Sec. 2.1 (the ellipse of a contour).
-    """
-    ellipse = as_finite_array(ellipse, name, shape=(5,), max_abs=MAX_PIXELS)
-    if ellipse[2] <= 0 or ellipse[3] <= 0:
-        raise ValueError(f"{name} ellipse axes must be positive, got a={ellipse[2]}, b={ellipse[3]}")
-    return ellipse
 
 
 def shape_space_of(init: object, frame_shape: tuple[int, int], kind: str = "translation_scale") -> tuple[ShapeSpace, np.ndarray]:
@@ -393,11 +337,93 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
     dynamics = default_dynamics(mean, beta=options["beta"], stationary_std=stationary_std,
                                 printed_order=options["printed_order"])
     oracle: Callable | None = options["oracle"] if "oracle" in cues else None
-    return _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles, init_spread, generator, layered)
+    return _run_filter(frames, space, start, cues=cue_objects, oracle=oracle, dynamics=dynamics,
+                       n_particles=n_particles, init_spread=init_spread, generator=generator, layered=layered)
 
 
-def _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles, init_spread, generator,
-                layered: bool = False) -> TrackResult:
+def weigh_particles(frame: np.ndarray, particles: np.ndarray, cues: dict) -> np.ndarray:
+    """Step 3 of Fig. 1: the normalised weight of each particle, Bayes' rule (eq. 15) with the fused cues.
+
+    The particles are a sample of the prediction ``p(X_k | Y_{1:k-1})`` (eq. 16, drawn by
+    :meth:`ARDynamics.step`); weighting each by the likelihood ``p(Y_k | X_k)`` of eq. (6) and
+    normalising makes the weighted set a sample of the posterior ``p(X_k | Y_{1:k})``. The
+    normaliser of eq. (15) is the sum of the weights. A particle that is no plausible contour
+    (scale outside (:data:`MIN_SCALE`, :data:`MAX_SCALE`) of the template, centre beyond
+    ±:data:`MAX_PIXELS`) gets weight 0 and is not shown to the cues.
+
+    Parameters
+    ----------
+    frame : numpy.ndarray
+        (H, W, 3) uint8 RGB image Y_k.
+    particles : numpy.ndarray
+        (N, d) states X_k (d: the cues' shape space), entries within ±1e6 (``shape.MAX_STATE_ENTRY``); at
+        least one plausible.
+    cues : dict
+        Name -> likelihood object with ``.log_likelihood(frame, states)`` (:func:`build_cues`).
+
+    Returns
+    -------
+    numpy.ndarray
+        (N,) weights, non-negative, summing to 1.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eqs. (6), (15)-(16) and Fig. 1, step 3.
+    """
+    frame = check_frame(frame)
+    cues = check_cues(cues)
+    particles = np.atleast_2d(as_states(particles, next(iter(cues.values())).shape_space.state_dim, "particles"))
+    valid = _plausible(particles)
+    if not valid.any():
+        raise ValueError("particles must hold at least one plausible contour (scale and centre in range)")
+    return _normalise(_fused_log_weights(frame, particles, valid, cues.values()))
+
+
+def _plausible(particles: np.ndarray) -> np.ndarray:
+    """(N,) mask of the particles that are a contour at all: finite size, centre near any frame."""
+    if particles.shape[1] == 3:
+        plausible = (particles[:, 2] > MIN_SCALE - 1.0) & (particles[:, 2] < MAX_SCALE - 1.0)
+    else:  # the similarity space: the scale is k = |(1 + s_c, s_s)|
+        scale = np.hypot(1.0 + particles[:, 2], particles[:, 3])
+        plausible = (scale > MIN_SCALE) & (scale < MAX_SCALE)
+    return np.all(np.abs(particles[:, :2]) <= MAX_PIXELS, axis=1) & plausible
+
+
+def _fused_log_weights(frame: np.ndarray, particles: np.ndarray, valid: np.ndarray, cues) -> np.ndarray:
+    """(N,) log p(Y_k | X_k) of eq. (6), the sum of the cues' log-likelihoods; -inf where not ``valid``."""
+    log_weights = np.full(len(particles), -np.inf)
+    log_weights[valid] = 0.0
+    for cue in cues:  # eq. (6): independent cues, so the log-likelihoods add
+        log_weights[valid] += cue.log_likelihood(frame, particles[valid])
+    return log_weights
+
+
+def _normalise(log_weights: np.ndarray) -> np.ndarray:
+    """Weights from log-weights (-inf allowed, one finite at least), summing to 1."""
+    # eq. (15): w_i ∝ p(Y_k | X_k^i), the particles being drawn from the prediction of eq. (16); the
+    # normaliser p(Y_k | Y_1:k-1) is the sum. The maximum is subtracted first: exp(-1e4) would underflow to 0/0.
+    weights = np.exp(log_weights - log_weights.max())
+    return weights / weights.sum()
+
+
+def _run_filter(frames: np.ndarray, space: ShapeSpace, start: np.ndarray, *, cues: dict, oracle: Callable | None,
+                dynamics: ARDynamics, n_particles: int, init_spread: np.ndarray, generator: np.random.Generator,
+                layered: bool) -> TrackResult:
+    """The particle filter of Fig. 1 on checked inputs (what :func:`track` runs).
+
+    Parameters
+    ----------
+    frames : (T, H, W, 3) uint8 frames; space, start : the shape space and the initial state (d,).
+    cues : name -> likelihood object, fused by eq. (6) (or one after the other when ``layered``).
+    oracle : ``(k, states) -> (N,)`` log-likelihood added to the cues', or None.
+    dynamics : the AR(2) of eq. (5) that moves the particles; n_particles : N;
+    init_spread : (d,) std of the initial particles around ``start``; generator : the only source of draws.
+    layered : weigh by each cue but the last alone and resample after it (a layer), then by the last.
+
+    Returns
+    -------
+    TrackResult
+    """
     n_frames = len(frames)
     began = time.perf_counter()
     # The loop approximates the Bayesian recursion by Monte Carlo: moving the particles through the
@@ -410,35 +436,23 @@ def _run_filter(frames, space, start, cue_objects, oracle, dynamics, n_particles
     all_particles, all_weights = np.empty((n_frames, n_particles, start.size)), np.empty((n_frames, n_particles))
     for k in range(n_frames):
         if k > 0:  # 2. sampling from the transition prior, eq. (5); particles carry X_k and X_{k-1}
-            current, previous = dynamics.step(current, previous, rng=generator), current
-        # 3a. weights: eq. (6) in the log domain, on the particles that are a contour at all
-        if start.size == 3:
-            plausible = (current[:, 2] > MIN_SCALE - 1.0) & (current[:, 2] < MAX_SCALE - 1.0)
-        else:  # the similarity space: the scale is k = |(1 + s_c, s_s)|
-            scale = np.hypot(1.0 + current[:, 2], current[:, 3])
-            plausible = (scale > MIN_SCALE) & (scale < MAX_SCALE)
-        valid = np.all(np.abs(current[:, :2]) <= MAX_PIXELS, axis=1) & plausible  # finite and near any frame
+            current, previous = dynamics._step(current, previous, generator), current
+        # 3. weights: eq. (6) in the log domain, on the particles that are a contour at all, then eq. (15)
+        valid = _plausible(current)
         if not valid.any():
             raise RuntimeError(f"the filter diverged at frame {k}: no particle has a finite state of a plausible size "
                                "(unstable dynamics?)")
-        cues = list(cue_objects.values())
+        layers = list(cues.values())
         if layered:  # all cues but the last: weigh by that cue alone, then resample (a layer)
-            for cue in cues[:-1]:
-                layer_weights = np.full(n_particles, -np.inf)
-                layer_weights[valid] = cue.log_likelihood(frames[k], current[valid])
-                layer_weights = np.exp(layer_weights - layer_weights.max())
-                chosen = systematic_resample(layer_weights / layer_weights.sum(), generator.random())
+            for cue in layers[:-1]:
+                layer_weights = _normalise(_fused_log_weights(frames[k], current, valid, [cue]))
+                chosen = systematic_resample(layer_weights, generator.random())
                 current, previous, valid = current[chosen], previous[chosen], valid[chosen]
-            cues = cues[-1:]
-        log_weights = np.full(n_particles, -np.inf)
-        log_weights[valid] = 0.0
-        for cue in cues:
-            log_weights[valid] += cue.log_likelihood(frames[k], current[valid])
+            layers = layers[-1:]
+        log_weights = _fused_log_weights(frames[k], current, valid, layers)
         if oracle is not None:
             log_weights[valid] += oracle(k, current[valid])
-        # 3b. normalise (subtract the maximum first: exp of -1e4 would underflow to 0/0)
-        weights = np.exp(log_weights - log_weights.max())
-        weights /= weights.sum()
+        weights = _normalise(log_weights)
         # 4. output: the weighted mean
         states[k] = weights[valid] @ current[valid]
         ess[k] = 1.0 / np.sum(weights**2)

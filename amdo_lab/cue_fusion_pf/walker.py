@@ -19,7 +19,8 @@ from dataclasses import dataclass, field
 import cv2
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_in_range, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_in_range, make_rng
+from amdo_lab.cue_fusion_pf.data import SequenceWithTruth
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 
 __all__ = ["WALKER_SEGMENTS", "WalkerSequence", "box_iou", "fit_similarity", "make_walker_sequence"]
@@ -47,7 +48,7 @@ _OUTLINE = np.array([
 
 
 @dataclass
-class WalkerSequence:
+class WalkerSequence(SequenceWithTruth):
     """A rendered walker sequence and its ground truth (the interface of ``HeadSequence``).
 
     Parameters
@@ -95,45 +96,6 @@ class WalkerSequence:
         """
         return ShapeSpace(self.template, "similarity")
 
-    def oracle_log_likelihood(self, t: int, states: np.ndarray) -> np.ndarray:
-        """A likelihood that knows the truth: Gaussian on the centre (2 px) and on s_c, s_s (0.02).
-
-        Parameters
-        ----------
-        t : int
-            Frame index.
-        states : numpy.ndarray
-            (N, 4) or (4,) similarity states.
-
-        Returns
-        -------
-        numpy.ndarray
-            (N,) log-likelihoods (0 at the truth).
-        """
-        t = check_positive_int(t, "t", minimum=0)
-        if t >= len(self.truth):
-            raise ValueError(f"t must be a frame index below {len(self.truth)}, got {t}")
-        states = as_finite_array(states, "states", allow_empty=True, max_abs=1e6)
-        if states.ndim not in (1, 2) or states.shape[-1] != 4:
-            raise ValueError(f"states must have shape (4,) or (N, 4), got shape {states.shape}")
-        states = np.atleast_2d(states)
-        centre_sd, shape_sd = self.oracle_std
-        squared = np.sum((states[:, :2] - self.truth[t, :2]) ** 2, axis=1) / centre_sd**2
-        return -0.5 * (squared + np.sum((states[:, 2:] - self.truth[t, 2:]) ** 2, axis=1) / shape_sd**2)
-
-    def segment_of_frames(self) -> np.ndarray:
-        """The name of the segment each frame belongs to.
-
-        Returns
-        -------
-        numpy.ndarray
-            (T,) segment names (object array).
-        """
-        names = np.empty(len(self.frames), dtype=object)
-        for name, (start, stop) in self.segments.items():
-            names[start:stop] = name
-        return names
-
 
 def fit_similarity(template: np.ndarray, points: np.ndarray) -> np.ndarray:
     """The similarity state ``(t_x, t_y, s_c, s_s)`` whose eq. (2) best fits ``points`` (least squares).
@@ -160,9 +122,7 @@ def fit_similarity(template: np.ndarray, points: np.ndarray) -> np.ndarray:
     """
     template = as_finite_array(template, "template", shape=(None, 2), max_abs=1e6)
     points = as_finite_array(points, "points", max_abs=1e6)
-    if points.shape[-2:] != template.shape:
-        raise ValueError(f"points must have shape {template.shape} or (T, {template.shape[0]}, 2), got {points.shape}")
-    if points.ndim not in (2, 3):
+    if points.shape[-2:] != template.shape or points.ndim not in (2, 3):
         raise ValueError(f"points must have shape {template.shape} or (T, {template.shape[0]}, 2), got {points.shape}")
     centred = template - template.mean(axis=0)
     q = centred[:, 0] + 1j * centred[:, 1]

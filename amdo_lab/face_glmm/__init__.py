@@ -28,7 +28,8 @@ from amdo_lab.face_glmm.experiment import (
     reduced_design,
     run_factorial_experiment,
 )
-from amdo_lab.face_glmm.glmm import GlmmResult, binomial_deviance, fit_binomial_glmm, laplace_deviance
+from amdo_lab.face_glmm.glmm import GlmmResult, fit_binomial_glmm, laplace_deviance
+from amdo_lab.face_glmm.laplace import binomial_deviance, laplace_deviance_reference
 from amdo_lab.face_glmm.pcalda import PcaLda, e90_dimension, pca_basis, weighted_sq_distances
 from amdo_lab.face_glmm.population import (
     SMALL_SHAPE,
@@ -36,7 +37,7 @@ from amdo_lab.face_glmm.population import (
     FacePopulation,
     downsample_by_two,
     elliptical_mask,
-    generate_face_population,
+    make_face_population,
     preprocess_images,
 )
 from amdo_lab.face_glmm.simulate import (
@@ -60,8 +61,8 @@ __all__ = [
     "PAPER_FORMULA", "SIZE_FORMULA", "SMALL_SHAPE", "STANDARD_SHAPE", "SUPPLEMENTS",
     "RESULT_MODULES", "ExperimentDraws", "experiment_draws", "DesignMatrix", "FacePopulation", "experiment_cache_key", "FactorialDesign", "GlmmResult", "PcaLda", "PeerFit", "RecoverySummary",
     "binomial_deviance", "build_design", "downsample_by_two", "e90_dimension", "elliptical_mask",
-    "fit_binomial_glmm", "laplace_deviance", "fit_gee", "fit_naive_logistic", "fit_with_lme4",
-    "generate_face_population", "group_indices", "lme4_available", "load_or_run_experiment",
+    "fit_binomial_glmm", "laplace_deviance", "laplace_deviance_reference", "fit_gee", "fit_naive_logistic", "fit_with_lme4",
+    "make_face_population", "group_indices", "lme4_available", "load_or_run_experiment",
     "make_supplement", "paper_design", "parse_formula", "pca_basis", "preprocess_images",
     "reduced_design", "run_factorial_experiment", "simulate_binomial_glmm", "summarise_recovery",
     "weighted_sq_distances", "PAPER_NUMBERS", "PAPER_TABLE2", "cell_predictions", "findings",

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from amdo_lab.common import MAX_SAMPLES, check_choice, check_names, check_positive_int
+from amdo_lab.common import MAX_SAMPLES, check_dataframe, check_choice, check_names, check_positive_int
 from amdo_lab.face_glmm.design import build_design, group_indices, parse_formula
 from amdo_lab.face_glmm.glmm import response_counts
 
@@ -186,8 +186,7 @@ def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), n_t
 
 def _design_and_response(table: object, fixed: str, n_trials: object) -> tuple:
     """The fixed design and the response counts, after checking the table and ``n_trials``."""
-    if not isinstance(table, pd.DataFrame):
-        raise TypeError(f"table must be a pandas DataFrame, got {type(table).__name__}")
+    check_dataframe(table, "table")
     n_trials = check_positive_int(n_trials, "n_trials", maximum=MAX_SAMPLES)
     response, terms = parse_formula(fixed)
     y = response_counts(table, response, n_trials)  # proportions above 1 would not be refused by statsmodels

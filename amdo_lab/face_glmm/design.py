@@ -9,6 +9,8 @@ from itertools import combinations
 import numpy as np
 import pandas as pd
 
+from amdo_lab.common import check_dataframe
+
 __all__ = ["DesignMatrix", "parse_formula", "build_design", "group_indices", "PAPER_FORMULA",
            "SIZE_FORMULA"]
 
@@ -149,7 +151,7 @@ def build_design(table: pd.DataFrame, terms: list[tuple[str, ...]], levels: dict
     ----------
     Givens et al. (2004), AMDO, LNCS 3179, eq. (2) (the fixed effects of the model).
     """
-    _check_table(table)
+    check_dataframe(table, "table")
     if isinstance(terms, (str, tuple)) or not hasattr(terms, "__iter__"):
         raise TypeError(f"terms must be a list of tuples of column names (see parse_formula), got {terms!r}")
     terms = list(terms)
@@ -204,7 +206,7 @@ def group_indices(table: pd.DataFrame, term: str) -> np.ndarray:
     ----------
     Givens et al. (2004), AMDO, LNCS 3179, eq. (2): the random intercepts of training set t, probe p and their interaction.
     """
-    _check_table(table)
+    check_dataframe(table, "table")
     if not isinstance(term, str):
         raise TypeError(f"term must be a grouping term such as 't' or 't:p', got {type(term).__name__}")
     names = [s.strip() for s in term.split(":")]
@@ -220,6 +222,3 @@ def group_indices(table: pd.DataFrame, term: str) -> np.ndarray:
     return pd.factorize(keys, sort=True)[0]
 
 
-def _check_table(table: object) -> None:
-    if not isinstance(table, pd.DataFrame):
-        raise TypeError(f"table must be a pandas DataFrame, got {type(table).__name__}")

@@ -10,8 +10,8 @@ from amdo_lab.common.equations import EquationPath
 TEST_FILE = "test_face_glmm.py"
 
 EQUATIONS: dict[int, EquationPath] = {
-    1: EquationPath(code='amdo_lab.face_glmm.pcalda._weighted_sq_distances',
+    1: EquationPath(code='amdo_lab.face_glmm.pcalda.weighted_sq_distances',
                     test='test_distances_l2_and_soft_l2'),
-    2: EquationPath(code='amdo_lab.face_glmm.glmm._laplace_deviance_reference',
+    2: EquationPath(code='amdo_lab.face_glmm.laplace.laplace_deviance_reference',
                     test='test_fast_laplace_deviance_equals_dense_reference'),
 }

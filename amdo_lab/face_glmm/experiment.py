@@ -12,14 +12,15 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from amdo_lab.common import as_finite_array, check_image_shape, check_positive, check_positive_int, make_rng
+from amdo_lab.common import (MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check_image_shape, check_names, check_positive,
+                             check_positive_int, make_rng)
 from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.face_glmm.pcalda import METRICS, PcaLda, pca_basis, weighted_sq_distances
 from amdo_lab.face_glmm.population import (
     STANDARD_SHAPE,
     downsample_by_two,
     elliptical_mask,
-    generate_face_population,
+    make_face_population,
     preprocess_images,
 )
 
@@ -39,13 +40,13 @@ class FactorialDesign:
     Parameters
     ----------
     n_subjects : int, default 256
-        Subjects in the population, at least 4; each has 4 images (1 probe, 3 candidates).
+        Subjects in the population, 4 to 1,000,000; each has 4 images (1 probe, 3 candidates).
     n_training_sets : int, default 8
-        Training sets t drawn, at least 1.
+        Training sets t drawn, 1 to :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     n_train_subjects : int, default 64
         Subjects per training set, in [2, n_subjects].
     n_galleries : int, default 30
-        Galleries per probe; the response Y counts rank-1 matches among them.
+        Galleries per probe, 1 to 100,000; the response Y counts rank-1 matches among them.
     supplements : tuple of str, default SUPPLEMENTS
         Non-empty subset of ("none", "shift", "reflection", "noise"), without repeats.
     shape : tuple of int, default STANDARD_SHAPE
@@ -55,7 +56,7 @@ class FactorialDesign:
         Per-image variation of the population, > 0 (calibrated: overall rank-1 rate about 75 %,
         paper 76 %).
     population_kwargs : dict, default {}
-        Further keyword arguments of :func:`generate_face_population`.
+        Further keyword arguments of :func:`make_face_population`.
 
     References
     ----------
@@ -72,20 +73,12 @@ class FactorialDesign:
     population_kwargs: dict = field(default_factory=dict, hash=False, compare=False)
 
     def __post_init__(self):
-        check_positive_int(self.n_subjects, "n_subjects", minimum=4)
-        check_positive_int(self.n_training_sets, "n_training_sets")
-        check_positive_int(self.n_galleries, "n_galleries")
+        check_positive_int(self.n_subjects, "n_subjects", minimum=4, maximum=MAX_SAMPLES)
+        check_positive_int(self.n_training_sets, "n_training_sets", maximum=MAX_ITERATIONS)
+        check_positive_int(self.n_galleries, "n_galleries", maximum=MAX_ITERATIONS)
         check_positive(self.nuisance, "nuisance")
-        if not 2 <= check_positive_int(self.n_train_subjects, "n_train_subjects") <= self.n_subjects:
-            raise ValueError(f"n_train_subjects must be in [2, n_subjects={self.n_subjects}], "
-                             f"got {self.n_train_subjects}")
-        if not isinstance(self.supplements, (tuple, list, str)):  # a str is refused by name below
-            raise TypeError(f"supplements must be a tuple of str, got {type(self.supplements).__name__}")
-        bad = [s for s in self.supplements if s not in SUPPLEMENTS]
-        if bad or not self.supplements:
-            raise ValueError(f"supplements must be a non-empty subset of {SUPPLEMENTS}, got {self.supplements}")
-        if len(set(self.supplements)) != len(self.supplements):
-            raise ValueError(f"supplements must not repeat a supplement, got {self.supplements}")
+        check_positive_int(self.n_train_subjects, "n_train_subjects", minimum=2, maximum=self.n_subjects)
+        check_names(self.supplements, "supplements", allowed=SUPPLEMENTS)
         # checked here rather than after the population is drawn: the small size halves each side
         rows, cols = check_image_shape(self.shape, minimum=8)
         if rows % 2 or cols % 2:
@@ -234,7 +227,7 @@ def experiment_draws(design: FactorialDesign, *, rng: int | np.random.Generator)
         raise TypeError(f"design must be a FactorialDesign, got {type(design).__name__}")
     gen = make_rng(rng, "rng")
     pop_rng, split_rng, gallery_rng, noise_seed = gen.spawn(4)
-    pop = generate_face_population(design.n_subjects, 4, rng=pop_rng, shape=design.shape,
+    pop = make_face_population(design.n_subjects, 4, rng=pop_rng, shape=design.shape,
                                    nuisance=design.nuisance, **design.population_kwargs)
     n = design.n_subjects
     training_sets = np.stack([split_rng.permutation(n)[: design.n_train_subjects]

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from amdo_lab.common import as_finite_array, check_choice, check_fitted, check_in_range, check_positive_int
+from amdo_lab.common import MAX_SAMPLES, as_finite_array, check_choice, check_fitted, check_in_range, check_positive_int
 
 __all__ = ["PcaLda", "PcaBasis", "pca_basis", "e90_dimension", "fisher_basis", "METRICS"]
 
@@ -93,11 +93,11 @@ def e90_dimension(eigenvalues: np.ndarray, energy: float = 0.90) -> int:
     ----------
     Givens et al. (2004), AMDO, LNCS 3179, Sec. 4 (the E90 PCA dimension, after Kirby, their ref. [7]).
     """
-    eigenvalues = as_finite_array(eigenvalues, "eigenvalues", ndim=1)
-    if np.any(eigenvalues < 0) or eigenvalues.sum() <= 0:
-        raise ValueError("eigenvalues must be non-negative with a positive sum")
+    eigenvalues = as_finite_array(eigenvalues, "eigenvalues", ndim=1, bounds=(0.0, np.inf))
+    if eigenvalues.max() == 0:
+        raise ValueError("eigenvalues must have a positive sum, got all zeros")
     check_in_range(energy, "energy", 0, 1, closed="right")
-    return _e90_dimension(eigenvalues, energy)
+    return _e90_dimension(eigenvalues / eigenvalues.max(), energy)  # the share is scale-free: no overflow
 
 
 def _e90_dimension(eigenvalues: np.ndarray, energy: float = 0.90) -> int:
@@ -158,12 +158,12 @@ class PcaLda:
     Parameters
     ----------
     pca_dimension : int or {"fixed", "e90"}, default "fixed"
-        Number of PCA eigenvectors kept: a positive int, ``"e90"`` (90 % of the energy) or
+        Number of PCA eigenvectors kept: an int in [1, 1,000,000] (capped by the data), ``"e90"`` (90 % of the energy) or
         ``"fixed"`` (60 % of the PCA rank of the *unsupplemented* training set, i.e. 114 for
         64 subjects x 3 images, the paper's choice). Always capped at ``n_images - n_classes`` so that
         the within-class scatter is non-singular.
     base_images_per_class : int, default 3
-        Images per subject before any supplement (3 in the paper), at least 1; defines "fixed".
+        Images per subject before any supplement (3 in the paper), 1 to 1,000,000; defines "fixed".
 
     References
     ----------
@@ -197,10 +197,10 @@ class PcaLda:
         pca_dimension = self.pca_dimension
         if isinstance(pca_dimension, str):
             check_choice(pca_dimension, "pca_dimension", ("fixed", "e90"))
-        elif (not isinstance(pca_dimension, (int, np.integer)) or isinstance(pca_dimension, (bool, np.bool_))
-              or pca_dimension < 1):
-            raise ValueError(f"pca_dimension must be a positive int, 'fixed' or 'e90', got {pca_dimension!r}")
-        base_images_per_class = check_positive_int(self.base_images_per_class, "base_images_per_class")
+        else:  # a number of PCA axes: at most the number of images, itself bounded by MAX_SAMPLES
+            check_positive_int(pca_dimension, "pca_dimension", maximum=MAX_SAMPLES)
+        base_images_per_class = check_positive_int(self.base_images_per_class, "base_images_per_class",
+                                                   maximum=MAX_SAMPLES)
         samples = _as_samples(images)
         labels = np.asarray(labels)
         if labels.shape != (samples.shape[0],):
@@ -329,10 +329,11 @@ def weighted_sq_distances(a: np.ndarray, b: np.ndarray, weights: np.ndarray) -> 
     Givens et al. (2004), AMDO, LNCS 3179, eq. (1).
     """
     a = as_finite_array(a, "a", ndim=2, max_abs=_MAX_MAGNITUDE)
-    b = as_finite_array(b, "b", shape=(None, a.shape[1]), max_abs=_MAX_MAGNITUDE)
-    weights = as_finite_array(weights, "weights", shape=(a.shape[1],), max_abs=_MAX_MAGNITUDE)
-    if np.any(weights < 0):
-        raise ValueError("weights must be non-negative (a negative weight gives no distance)")
+    b = as_finite_array(b, "b", ndim=2, max_abs=_MAX_MAGNITUDE)
+    weights = as_finite_array(weights, "weights", ndim=1, bounds=(0.0, _MAX_MAGNITUDE))
+    if not a.shape[1] == b.shape[1] == weights.size:  # which one is at fault is unknowable: name the three
+        raise ValueError(f"a, b and weights must have as many axes (columns, entries), got {a.shape[1]}, "
+                         f"{b.shape[1]} and {weights.size}")
     return _weighted_sq_distances(a, b, weights)
 
 

@@ -16,14 +16,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_image_shape, check_in_range, check_positive_int, make_rng
+from amdo_lab.common import MAX_SAMPLES, as_finite_array, check_image_shape, check_in_range, check_positive_int, make_rng
 
 __all__ = [
     "FacePopulation",
     "STANDARD_SHAPE",
     "SMALL_SHAPE",
     "elliptical_mask",
-    "generate_face_population",
+    "make_face_population",
     "preprocess_images",
     "downsample_by_two",
     "TEXTURE_SLOPE",
@@ -84,7 +84,7 @@ def _blob(x, y, cx, cy, sx, sy):
     return np.exp(-0.5 * (((x - cx) / sx) ** 2 + ((y - cy) / sy) ** 2))
 
 
-def generate_face_population(
+def make_face_population(
     n_subjects: int,
     images_per_subject: int,
     *,
@@ -101,9 +101,9 @@ def generate_face_population(
     Parameters
     ----------
     n_subjects : int
-        Number of subjects, at least 2 (paper: 256).
+        Number of subjects, 2 to :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000) (paper: 256).
     images_per_subject : int
-        Images per subject, at least 2 (paper: 4).
+        Images per subject, 2 to 1,000,000 (paper: 4).
     rng : int or numpy.random.Generator
         Seed or generator (via :func:`amdo_lab.common.make_rng`).
     shape : tuple of int, default STANDARD_SHAPE
@@ -137,15 +137,15 @@ def generate_face_population(
 
     Examples
     --------
-    >>> from amdo_lab.face_glmm import generate_face_population
-    >>> population = generate_face_population(3, 4, rng=0, shape=(16, 14))
+    >>> from amdo_lab.face_glmm import make_face_population
+    >>> population = make_face_population(3, 4, rng=0, shape=(16, 14))
     >>> population.images.shape
     (12, 16, 14)
     >>> population.labels.tolist()
     [0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2]
     """
-    n_subjects = check_positive_int(n_subjects, "n_subjects", minimum=2)
-    images_per_subject = check_positive_int(images_per_subject, "images_per_subject", minimum=2)
+    n_subjects = check_positive_int(n_subjects, "n_subjects", minimum=2, maximum=MAX_SAMPLES)
+    images_per_subject = check_positive_int(images_per_subject, "images_per_subject", minimum=2, maximum=MAX_SAMPLES)
     # upper ends: beyond them the images overflow to inf or NaN (see the docstring's ranges)
     nuisance = check_in_range(nuisance, "nuisance", 0.0, 100.0, closed="both")
     difficulty_spread = check_in_range(difficulty_spread, "difficulty_spread", 0.0, 10.0, closed="both")
@@ -273,7 +273,8 @@ def downsample_by_two(images: np.ndarray) -> np.ndarray:
     n, rows, cols = images.shape
     if rows % 2 or cols % 2:
         raise ValueError(f"images must have even rows and cols, got {rows} x {cols}")
-    return images.reshape(n, rows // 2, 2, cols // 2, 2).mean(axis=(2, 4))
+    # a quarter of each pixel, then the sum: the mean of 2 x 2 blocks without overflow near the float maximum
+    return (0.25 * images.reshape(n, rows // 2, 2, cols // 2, 2)).sum(axis=(2, 4))
 
 
 def preprocess_images(images: np.ndarray) -> np.ndarray:

@@ -9,7 +9,8 @@ import numpy as np
 import pandas as pd
 from scipy.special import expit
 
-from amdo_lab.common import as_finite_array, check_in_range, check_positive, check_positive_int, make_rng
+from amdo_lab.common import MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check_dataframe, check_in_range, check_positive, check_positive_int, make_rng
+from amdo_lab.face_glmm.laplace import MAX_ABS_ETA
 from amdo_lab.face_glmm.design import build_design, group_indices, parse_formula
 
 __all__ = ["simulate_binomial_glmm", "RecoverySummary", "summarise_recovery", "recovery_study"]
@@ -29,11 +30,11 @@ def simulate_binomial_glmm(table: pd.DataFrame, fixed: str, coefficients: np.nda
     fixed : str
         Fixed-effects formula (see :func:`parse_formula`); its response name is not used.
     coefficients : array_like, shape (n_columns,)
-        Finite beta, one entry per column of the design of ``fixed`` (logit scale).
+        Finite beta, one entry per column of the design of ``fixed`` (logit scale), each within ±1e6.
     variances : dict
         Grouping term (``"t"``, ``"p"``, ``"t:p"``) -> finite variance sigma_k^2 >= 0; may be empty.
     n_trials : int
-        Binomial size n of every row, at least 1.
+        Binomial size n of every row, 1 to :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     rng : int or numpy.random.Generator
         Seed or generator (via :func:`amdo_lab.common.make_rng`).
 
@@ -55,12 +56,12 @@ def simulate_binomial_glmm(table: pd.DataFrame, fixed: str, coefficients: np.nda
     >>> counts.shape, bool(((counts >= 0) & (counts <= 30)).all())
     ((4,), True)
     """
-    n_trials = check_positive_int(n_trials, "n_trials")
+    n_trials = check_positive_int(n_trials, "n_trials", maximum=MAX_SAMPLES)
     _check_variances(variances)
     gen = make_rng(rng, "rng")
     _, terms = parse_formula(fixed)
     x = build_design(table, terms).matrix
-    coefficients = as_finite_array(coefficients, "coefficients", shape=(x.shape[1],))
+    coefficients = as_finite_array(coefficients, "coefficients", shape=(x.shape[1],), max_abs=MAX_ABS_ETA)
     eta = x @ coefficients
     for term, variance in variances.items():
         idx = group_indices(table, term)
@@ -121,9 +122,7 @@ def summarise_recovery(true: pd.Series, estimates: np.ndarray, ses: np.ndarray, 
         raise TypeError(f"true must be a pandas Series of coefficients, got {type(true).__name__}")
     as_finite_array(true.to_numpy(), "true")
     estimates = as_finite_array(estimates, "estimates", shape=(None, len(true)), max_abs=MAX_ABS_ESTIMATE)
-    ses = as_finite_array(ses, "ses", shape=estimates.shape, max_abs=MAX_ABS_ESTIMATE)
-    if np.any(ses < 0):
-        raise ValueError("ses must be non-negative")
+    ses = as_finite_array(ses, "ses", shape=estimates.shape, bounds=(0.0, MAX_ABS_ESTIMATE))
     _check_level(level)
     z = stats.norm.ppf(0.5 + level / 2)
     covered = np.abs(estimates - true.to_numpy()) <= z * ses
@@ -152,11 +151,11 @@ def recovery_study(table: pd.DataFrame, fixed: str, coefficients: pd.Series, var
     variances : dict
         Grouping term -> true variance sigma_k^2 >= 0; at least one term (the refits need one).
     n_replicates : int
-        Number of simulated tables, at least 1.
+        Number of simulated tables, 1 to :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
     rng : int or numpy.random.Generator
         Seed or generator (via :func:`amdo_lab.common.make_rng`).
     n_trials : int, default 30
-        Binomial size n of every row, at least 1.
+        Binomial size n of every row, 1 to :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     level : float, default 0.95
         Wald interval level in (0, 1).
 
@@ -176,15 +175,14 @@ def recovery_study(table: pd.DataFrame, fixed: str, coefficients: pd.Series, var
 
     # Everything is checked before the first (slow) refit.
     gen = make_rng(rng, "rng")
-    if not isinstance(table, pd.DataFrame):
-        raise TypeError(f"table must be a pandas DataFrame, got {type(table).__name__}")
+    check_dataframe(table, "table")
     if not isinstance(coefficients, pd.Series):
         raise TypeError(f"coefficients must be a pandas Series (named like the fit's), got {type(coefficients).__name__}")
     _check_variances(variances)
     if not variances:
         raise ValueError("variances must name at least one grouping term (the refits need a random effect)")
-    n_replicates = check_positive_int(n_replicates, "n_replicates")
-    check_positive_int(n_trials, "n_trials")
+    n_replicates = check_positive_int(n_replicates, "n_replicates", maximum=MAX_ITERATIONS)
+    check_positive_int(n_trials, "n_trials", maximum=MAX_SAMPLES)
     _check_level(level)
     estimates, ses, components = [], [], []
     for replicate_rng in spawn_rngs(gen, n_replicates):
