@@ -22,6 +22,9 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 COUNT_PREFIXES = ("n_", "max_", "num_")
+#: Parameters that only label an error message (the argument's name, the expected type's wording):
+#: any string is valid, so they are listed but not spoiled.
+LABELS = ("name", "what", "source", "first_name", "second_name", "names")
 COUNT_SUFFIXES = ("_iter", "_steps", "_size", "_rounds", "_levels", "_sweeps")
 
 
@@ -64,7 +67,7 @@ def main() -> None:
                 continue
             default = None if parameter.default is parameter.empty else parameter.default
             untabled.append({"callable": dotted, "parameter": name, "default": repr(default)})
-            bad = _spoils(name, default)
+            bad = None if name in LABELS else _spoils(name, default)
             if bad is not None:
                 extra.setdefault(dotted, {})[name] = bad
                 defaults.setdefault(dotted, {})[name] = default

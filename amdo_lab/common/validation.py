@@ -183,6 +183,7 @@ def check_positive(value: object, name: str, *, allow_zero: bool = False) -> flo
     float
         ``value``.
     """
+    check_bool(allow_zero, "allow_zero")
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
     number = float(value)
@@ -214,6 +215,9 @@ def check_positive_int(value: object, name: str, *, minimum: int = 1, maximum: i
     int
         ``value``.
     """
+    for bound, label in ((minimum, "minimum"), (maximum, "maximum")):
+        if bound is not None and (isinstance(bound, bool) or not isinstance(bound, numbers.Integral)):
+            raise TypeError(f"{label} must be an int, got {type(bound).__name__}")
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
         raise TypeError(f"{name} must be an int, got {type(value).__name__}")
     if value < minimum:
@@ -556,6 +560,7 @@ def check_names(
     tuple of str
         The names, in the order given.
     """
+    check_bool(accept_single, "accept_single")
     if isinstance(values, str) and accept_single:
         values = (values,)
     if isinstance(values, str) or not isinstance(values, Iterable):
@@ -623,6 +628,7 @@ def check_in_range(
     float
         ``value``.
     """
+    check_choice(closed, "closed", ("neither", "left", "right", "both"))
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
     number = float(value)
