@@ -7,6 +7,10 @@ Tables, one BLAS thread:
   seeds    per seed, the share of correct one-to-one pairs on the contour pair (frames 4-5, 64/58 nodes)
            and the isobar pair (heel, 100/120 kPa, 54/46 nodes): local search (pairs kept, correct),
            global search with sign and with Procrustes alignment, ADCom's excess pairs, the peers;
+  elements the contour pair with other elements, Procrustes alignment, 16 modes, global search: the Gaussian
+           element (its own near-rigid modes, as match_objects), the Gaussian element with the exact rigid
+           motions as its first modes (rigid="exact"), linear axial bars (lumped mass) joining each node to
+           its 2 or 3 nearest neighbours on each side along the contour; sign alignment of the exact-rigid element;
   surfaces Table 3's heel surfaces (frames 4-5, 50 kPa, every 3rd pixel, 3-D, 24 modes): local search,
            sign and Procrustes global search, 3-D coordinates and the plate position (x, y) alone;
   failure  object 2 of the contour pair shifted 40 mm and turned by 0-90 degrees: correct share of
@@ -43,6 +47,8 @@ def main() -> None:
     h = mm.mean_spacing(pair.X1)
     for label, call in (
             ("Gaussian element + eigh, 64 nodes", lambda: mm.modal_analysis(mm.gaussian_element(pair.X1, sigma=h))),
+            ("Gaussian element, exact rigid modes", lambda: mm.modal_analysis(mm.gaussian_element(
+                pair.X1, sigma=h, rigid="exact"))),
             ("match_objects, Procrustes", lambda: mm.match_objects(pair.X1, pair.X2)),
             ("match_objects, sign", lambda: mm.match_objects(pair.X1, pair.X2, align="sign")),
             ("linear_sum_assignment 64 x 58", lambda: linear_sum_assignment(np.random.default_rng(0).random((64, 58)))),
@@ -70,6 +76,28 @@ def main() -> None:
             seeds.add(seed, which, *row)
             for name, value in zip(seeds.columns[2:], row):
                 columns.setdefault((which, name), []).append(value)
+
+    def ring(m, reach):
+        return np.array([(i, (i + step) % m) for step in range(1, reach + 1) for i in range(m)])
+
+    def element_share(p, element, align="procrustes"):
+        Z = mm.affinity_matrix(mm.modal_analysis(element(p.X1)), mm.modal_analysis(element(p.X2)), n_modes=16,
+                               align=align)
+        return round(mm.correct_share(mm.global_search(Z), p.truth, p.X2), 3)
+
+    elements = bench.table("seed", "Gaussian", "Gaussian exact rigid", "axial ring 2", "axial ring 3",
+                           "Gaussian exact rigid, sign", title="contour pair: element and rigid modes (Procrustes)")
+    for seed in args.seeds:
+        p = mm.paper_pair(mm.make_pedobarography_sequence(rng=seed), "contours")
+        h = mm.mean_spacing(p.X1)
+        row = (element_share(p, lambda X: mm.gaussian_element(X, sigma=h)),
+               element_share(p, lambda X: mm.gaussian_element(X, sigma=h, rigid="exact")),
+               element_share(p, lambda X: mm.axial_element(X, ring(len(X), 2))),
+               element_share(p, lambda X: mm.axial_element(X, ring(len(X), 3))),
+               element_share(p, lambda X: mm.gaussian_element(X, sigma=h, rigid="exact"), align="sign"))
+        elements.add(seed, *row)
+        for name, value in zip(elements.columns[1:], row):
+            columns.setdefault(("contours", name), []).append(value)
 
     surfaces = bench.table("seed", "nodes", "local kept", "local correct", "sign global", "Procrustes global",
                            "3-D coordinates", "x, y only", title="Table 3: heel surfaces (3-D, 24 modes)")

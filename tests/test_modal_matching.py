@@ -10,6 +10,7 @@ from scipy.optimize import linear_sum_assignment
 from amdo_lab.modal_matching import (
     adcom,
     affinity_matrix,
+    axial_element,
     correct_share,
     exact_rigid_motions,
     gaussian_element,
@@ -103,6 +104,46 @@ def test_the_first_modes_are_close_to_but_not_exactly_rigid():
     # an exact rigid motion has zero strain energy only if the element reproduces it; this one does not
     energy = np.einsum("ik,ij,jk->k", rigid, basis.model.stiffness, rigid)
     assert np.all(energy > 0)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_exact_rigid_option_puts_the_exact_rigid_motions_first(dim):
+    X = _blob(30, dim=dim)
+    model = gaussian_element(X, sigma=mean_spacing(X), rigid="exact")
+    basis = modal_analysis(model)
+    n_rigid = dim * (dim + 1) // 2
+    assert basis.rigid_cosines() == pytest.approx(np.ones(n_rigid), abs=1e-10)
+    Phi, M, K = basis.shapes, model.mass, model.stiffness
+    assert Phi.T @ M @ Phi == pytest.approx(np.eye(len(Phi)), abs=1e-8)  # still M-orthonormal
+    # each mode satisfies K phi = omega^2 M phi within its block (rigid span, then its M-complement)
+    Omega = Phi.T @ K @ Phi
+    assert np.diag(Omega) == pytest.approx(basis.omega**2, rel=1e-8, abs=1e-12)
+    rest = slice(n_rigid, None)
+    assert np.abs(Omega[rest, rest] - np.diag(np.diag(Omega)[rest])).max() < 1e-8 * np.abs(Omega).max()
+    assert np.all(np.diff(basis.omega[rest]) >= 0)
+    # the default keeps the element's own, nearly rigid, modes
+    assert np.all(modal_analysis(gaussian_element(X, sigma=mean_spacing(X))).rigid_cosines() < 0.999)
+
+
+def test_axial_bar_has_the_closed_form_frequency_and_rigid_motions_cost_nothing():
+    L, E, rho = 2.5, 3.0, 0.7
+    X = np.array([[0.0, 0.0], [L, 0.0], [0.0, 1.0], [L, 1.0]])  # two bars side by side (D + 2 nodes)
+    model = axial_element(X, [[0, 1], [2, 3]], young=E, density=rho)
+    # lumped mass rho L / 2 per node and axis; one bar: K_axial = (E / L) [[1, -1], [-1, 1]]
+    assert model.mass == pytest.approx(np.eye(8) * rho * L / 2)
+    assert model.stiffness[np.ix_([0, 1], [0, 1])] == pytest.approx(E / L * np.array([[1, -1], [-1, 1]]))
+    omega = modal_analysis(model).omega
+    # a free bar with lumped ends stretches at omega^2 = 4 E / (rho L^2); all else is free motion
+    assert omega[-2:] == pytest.approx(np.sqrt(4 * E / (rho * L**2)) * np.ones(2))
+    assert omega[:-2] == pytest.approx(np.zeros(6), abs=1e-7)
+    for dim in (2, 3):
+        Y = _blob(20, dim=dim)
+        ring = [(i, (i + step) % 20) for step in (1, 2, 3) for i in range(20)]
+        bars = axial_element(Y, ring)
+        rigid = exact_rigid_motions(Y)
+        energy = np.einsum("ik,ij,jk->k", rigid, bars.stiffness, rigid)
+        assert np.abs(energy).max() < 1e-12 * np.abs(bars.stiffness).max() * np.abs(rigid).max() ** 2
+        assert modal_analysis(bars).rigid_cosines() == pytest.approx(np.ones(dim * (dim + 1) // 2), abs=1e-8)
 
 
 @pytest.mark.parametrize("dim", [2, 3])
@@ -227,6 +268,13 @@ REJECTIONS = [
     reject("duplicate nodes", lambda: gaussian_element(np.r_[_blob(6), _blob(6)[:1]], sigma=3.0), ValueError,
            "duplicate"),
     reject("sigma too wide", lambda: gaussian_element(_blob(30), sigma=40.0), ValueError, "sigma"),
+    reject("unknown rigid", lambda: gaussian_element(_blob(8), sigma=3.0, rigid="rotations"), ValueError, "rigid"),
+    reject("bar from a node to itself", lambda: axial_element(_blob(6), [[0, 1], [2, 2], [3, 4], [4, 5]]),
+           ValueError, "edges"),
+    reject("node on no bar", lambda: axial_element(_blob(6), [[0, 1], [1, 2], [2, 3], [3, 4]]), ValueError,
+           "edges"),
+    reject("bar to a missing node", lambda: axial_element(_blob(6), [[0, 1], [2, 3], [4, 6]]), ValueError,
+           "edges"),
     reject("poisson 0.5", lambda: gaussian_element(_blob(8), sigma=3.0, poisson=0.5), ValueError, "poisson"),
     reject("objects of different D", lambda: match_objects(_blob(8), _blob(8, dim=3)), ValueError, "X2"),
     reject("n_modes beyond D min(m1, m2)", lambda: match_objects(_blob(8), _blob(7), n_modes=15), ValueError,

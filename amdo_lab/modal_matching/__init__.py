@@ -4,9 +4,11 @@ Bastos & Tavares, AMDO 2004. A seeded synthetic pressure sequence of a foot stan
 recorded one; its analytic pressure field gives the truth of every node's partner.
 """
 
+from amdo_lab.modal_matching.axial import AxialElement, axial_element
 from amdo_lab.modal_matching.element import (
     MAX_CONDITION,
     MAX_COORDINATE_MM,
+    RIGID_MODES,
     GaussianElement,
     gaussian_element,
     interpolate_field,
@@ -39,8 +41,11 @@ from amdo_lab.modal_matching.pedobarography import (
 )
 
 __all__ = [
+    "AxialElement",
+    "axial_element",
     "MAX_CONDITION",
     "MAX_COORDINATE_MM",
+    "RIGID_MODES",
     "GaussianElement",
     "gaussian_element",
     "interpolate_field",

@@ -13,9 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import MAX_SAMPLES, as_finite_array, check_in_range
+from amdo_lab.common import MAX_SAMPLES, as_finite_array, check_choice, check_in_range, check_instance
 
-__all__ = ["GaussianElement", "MAX_CONDITION", "MAX_COORDINATE_MM", "MAX_MATERIAL", "check_nodes",
+__all__ = ["GaussianElement", "MAX_CONDITION", "MAX_COORDINATE_MM", "MAX_MATERIAL", "RIGID_MODES", "check_nodes",
            "check_same_dimension", "gaussian_element", "interpolate_field", "mean_spacing"]
 
 _REFERENCE = ("L. F. Bastos, J. M. R. S. Tavares. Improvement of Modal Matching Image Objects in Dynamic "
@@ -29,6 +29,9 @@ MAX_CONDITION = 1e10
 MAX_MATERIAL = 1e100
 #: Largest node coordinate (mm): squared distances of nodes this far apart stay far below overflow.
 MAX_COORDINATE_MM = 1e100
+#: What the first D(D+1)/2 modes are: the element's own lowest modes ("element"), or the exact rigid
+#: motions, M-orthonormalised, with the other modes solved in their M-orthogonal complement ("exact").
+RIGID_MODES = ("element", "exact")
 
 
 @dataclass(frozen=True)
@@ -47,6 +50,8 @@ class GaussianElement:
         A = G^-1: ``h(x) = A g(x)``.
     young, poisson, density : float
         The virtual material: Young's modulus E, Poisson's ratio nu, density rho.
+    rigid : {"element", "exact"}
+        What :func:`~amdo_lab.modal_matching.modal_analysis` puts first (see :data:`RIGID_MODES`).
 
     References
     ----------
@@ -61,6 +66,7 @@ class GaussianElement:
     young: float
     poisson: float
     density: float
+    rigid: str
 
     @property
     def dimension(self) -> int:
@@ -104,6 +110,7 @@ def gaussian_element(
     young: float = 1.0,
     poisson: float = 0.3,
     density: float = 1.0,
+    rigid: str = "element",
 ) -> GaussianElement:
     """Mass and stiffness of an object modelled as one isoparametric Gaussian element.
 
@@ -120,6 +127,10 @@ def gaussian_element(
         Poisson's ratio nu, in (-1, 0.5); in 2-D the plane-stress law is used.
     density : float
         Density rho, in (0, 1e100] (only scales the frequencies).
+    rigid : {"element", "exact"}
+        "element": the modes are the element's own, whose lowest D(D+1)/2 are only nearly rigid.
+        "exact": :func:`~amdo_lab.modal_matching.modal_analysis` replaces them by the exact translations
+        and rotation(s) about the centroid, M-orthonormalised, and solves the other modes M-orthogonal to them.
 
     Returns
     -------
@@ -144,8 +155,9 @@ def gaussian_element(
     young = check_in_range(young, "young", 0.0, MAX_MATERIAL, closed="right")
     poisson = check_in_range(poisson, "poisson", -1.0, 0.5)
     density = check_in_range(density, "density", 0.0, MAX_MATERIAL, closed="right")
+    rigid = check_choice(rigid, "rigid", RIGID_MODES)
     _check_condition(X, sigma)
-    return _gaussian_element(X, sigma, young, poisson, density)
+    return _gaussian_element(X, sigma, young, poisson, density, rigid)
 
 
 def check_same_dimension(X1: np.ndarray, X2: np.ndarray, names: str = "X1 and X2") -> None:
@@ -237,7 +249,8 @@ def _gaussian_overlaps(X: np.ndarray, sigma: float) -> tuple[np.ndarray, np.ndar
     return overlap, overlap[None, None] * moments / sigma**4
 
 
-def _gaussian_element(X: np.ndarray, sigma: float, young: float, poisson: float, density: float) -> GaussianElement:
+def _gaussian_element(X: np.ndarray, sigma: float, young: float, poisson: float, density: float,
+                      rigid: str = "element") -> GaussianElement:
     m, D = X.shape
     G = _gaussians(X, X, sigma)
     A = np.linalg.inv(G)
@@ -257,7 +270,7 @@ def _gaussian_element(X: np.ndarray, sigma: float, young: float, poisson: float,
             block = lam * grad[a, b] + mu * grad[b, a] + (mu * trace if a == b else 0.0)
             stiffness[a * m:(a + 1) * m, b * m:(b + 1) * m] = A @ block @ A
     stiffness = (stiffness + stiffness.T) / 2
-    return GaussianElement(X, sigma, mass, stiffness, A, young, poisson, density)
+    return GaussianElement(X, sigma, mass, stiffness, A, young, poisson, density, rigid)
 
 
 def interpolate_field(model: GaussianElement, displacements: np.ndarray, points: np.ndarray) -> np.ndarray:
@@ -281,8 +294,7 @@ def interpolate_field(model: GaussianElement, displacements: np.ndarray, points:
     ----------
     Sclaroff & Pentland, IEEE PAMI 17, 1995 (H = A g), the element of Bastos & Tavares, AMDO 2004.
     """
-    if not isinstance(model, GaussianElement):
-        raise TypeError(f"model must be a GaussianElement, got {type(model).__name__}")
+    check_instance(model, "model", GaussianElement)
     m, D = model.nodes.shape
     U = as_finite_array(displacements, "displacements", ndim=2, shape=(D * m, None))
     P = as_finite_array(points, "points", ndim=2, shape=(None, D), max_abs=MAX_COORDINATE_MM)

@@ -16,7 +16,8 @@ import numpy as np
 from scipy import stats
 from scipy.optimize import linear_sum_assignment
 
-from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_positive_int
+from amdo_lab.common import (as_finite_array, check_bool, check_choice, check_in_range, check_instance,
+                             check_positive_int)
 from amdo_lab.modal_matching.element import (MAX_COORDINATE_MM, check_nodes, check_same_dimension, gaussian_element,
                                              interpolate_field, mean_spacing)
 from amdo_lab.modal_matching.modes import ModalBasis, modal_analysis
@@ -100,9 +101,8 @@ def mode_features(modes1: ModalBasis, modes2: ModalBasis, *, n_modes: int = 16,
 
 
 def _check_pair(modes1: object, modes2: object) -> None:
-    for name, value in (("modes1", modes1), ("modes2", modes2)):
-        if not isinstance(value, ModalBasis):
-            raise TypeError(f"{name} must be a ModalBasis, got {type(value).__name__}")
+    check_instance(modes1, "modes1", ModalBasis)
+    check_instance(modes2, "modes2", ModalBasis)
     if modes1.model.dimension != modes2.model.dimension:
         raise ValueError(f"modes2 is {modes2.model.dimension}-D but modes1 is {modes1.model.dimension}-D")
 

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import linalg
 
-from amdo_lab.common import as_finite_array, check_positive_int
+from amdo_lab.common import as_finite_array, check_instance, check_positive_int
 from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, GaussianElement, check_nodes
 
 __all__ = ["ModalBasis", "exact_rigid_motions", "modal_analysis"]
@@ -25,7 +25,9 @@ class ModalBasis:
     Parameters
     ----------
     omega : ndarray, shape (D m,)
-        Natural frequencies omega (rad per unit time of the virtual material), ascending.
+        Natural frequencies omega (rad per unit time of the virtual material), ascending; with
+        ``model.rigid == "exact"``, the D(D+1)/2 exact rigid modes come first (their omega is the
+        element's Rayleigh quotient, not 0), then the other modes ascending.
     shapes : ndarray, shape (D m, D m)
         Phi: column i is the shape vector phi_i, M-orthonormal (Phi^T M Phi = I), degrees of freedom
         ordered axis by axis (u_1 ... u_m, v_1 ... v_m[, w ...]), the sign fixed so that the entry
@@ -133,15 +135,28 @@ def modal_analysis(model: GaussianElement) -> ModalBasis:
     >>> basis.shapes.shape
     (16, 16)
     """
-    if not isinstance(model, GaussianElement):
-        raise TypeError(f"model must be a GaussianElement, got {type(model).__name__}")
+    check_instance(model, "model", GaussianElement)
     return _modal_analysis(model)
 
 
 def _modal_analysis(model: GaussianElement) -> ModalBasis:
-    # eqs. (1)-(2): K Phi = M Phi Omega, Omega = diag(omega_i^2), Phi^T M Phi = I
-    omega_sq, shapes = linalg.eigh(model.stiffness, model.mass)
+    if model.rigid == "exact":
+        omega_sq, shapes = _exact_rigid_eigenproblem(model)
+    else:  # eqs. (1)-(2): K Phi = M Phi Omega, Omega = diag(omega_i^2), Phi^T M Phi = I
+        omega_sq, shapes = linalg.eigh(model.stiffness, model.mass)
     # the eigensolver may return -phi as well as phi: make each vector's largest entry positive
     largest = shapes[np.argmax(np.abs(shapes), axis=0), np.arange(shapes.shape[1])]
     shapes = shapes * np.sign(largest)
     return ModalBasis(np.sqrt(np.clip(omega_sq, 0.0, None)), shapes, model)
+
+
+def _exact_rigid_eigenproblem(model: GaussianElement) -> tuple[np.ndarray, np.ndarray]:
+    """Eqs. (1)-(2) with the exact rigid motions first: Rayleigh-Ritz in their span, then in its M-complement."""
+    M, K = model.mass, model.stiffness
+    R = _exact_rigid_motions(model.nodes)
+    # the rigid block: M-orthonormal combinations of the exact motions that diagonalise K in their span
+    rigid_sq, rigid = linalg.eigh(R.T @ K @ R, R.T @ M @ R)
+    # the rest: an orthonormal basis C of the vectors M-orthogonal to every rigid motion (R^T M C = 0)
+    C = linalg.null_space((M @ R).T)
+    rest_sq, rest = linalg.eigh(C.T @ K @ C, C.T @ M @ C)
+    return np.concatenate([rigid_sq, rest_sq]), np.concatenate([R @ rigid, C @ rest], axis=1)

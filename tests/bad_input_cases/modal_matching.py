@@ -16,6 +16,7 @@ KNOWN_FAILURES: dict[tuple[str, str, str], str] = {}
 #: Public names not called with user input, with the reason.
 EXEMPT = {
     "GaussianElement": "a result record, built by gaussian_element from checked input",
+    "AxialElement": "a result record, built by axial_element from checked input",
     "ModalBasis": "a result record, built by modal_analysis from a checked element",
     "MatchResult": "a result record, built by the matching functions from checked input",
     "ObjectPair": "a result record, built by paper_pair from a checked sequence",
@@ -41,6 +42,7 @@ def cases() -> dict[str, Case]:
     modes1, modes2 = mm.modal_analysis(model), mm.modal_analysis(mm.gaussian_element(X2, sigma=mm.mean_spacing(X1)))
     Z = mm.affinity_matrix(modes1, modes2, n_modes=4)
     pairs = mm.global_search(Z)
+    ring = np.array([(i, (i + step) % len(X1)) for step in (1, 2) for i in range(len(X1))])
     step = mm.make_pedobarography_sequence(rng=0)
     pair = mm.ObjectPair(X1, X2, X1)
     objects = {"X1": X1, "X2": X2}
@@ -52,9 +54,12 @@ def cases() -> dict[str, Case]:
 
     return {
         "gaussian_element": Case(mm.gaussian_element, {"nodes": X1, "sigma": 3.0, "young": 1.0, "poisson": 0.3,
-                                                       "density": 1.0},
+                                                       "density": 1.0, "rigid": "exact"},
                                  {"nodes": "array", "sigma": "positive", "young": "positive", "poisson": "real",
-                                  "density": "positive"}, accept=_ANY_D | {("poisson", "zero")}),
+                                  "density": "positive", "rigid": "name"}, accept=_ANY_D | {("poisson", "zero")}),
+        "axial_element": Case(mm.axial_element, {"nodes": X1, "edges": ring, "young": 1.0, "density": 1.0},
+                              {"nodes": "array", "edges": "array", "young": "positive", "density": "positive"},
+                              accept=_ANY_D),
         "mean_spacing": Case(mm.mean_spacing, {"nodes": X1}, {"nodes": "array"}, accept=_ANY_D),
         "interpolate_field": Case(mm.interpolate_field, {"model": model, "displacements": modes1.shapes[:, :3],
                                                          "points": X2},
