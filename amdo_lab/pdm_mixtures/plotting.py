@@ -6,7 +6,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 
-from amdo_lab.common import as_finite_array, check_axes, check_in_range, check_positive
+from amdo_lab.common import as_finite_array, check_axes, check_in_range, check_instance, check_positive
 
 __all__ = ["draw_shape"]
 
@@ -39,6 +39,7 @@ def draw_shape(ax: Axes, shape: np.ndarray, *, color: str = "black", linewidth: 
     shape = as_finite_array(shape, "shape", shape=(13, None, 2))
     linewidth = check_positive(linewidth, "linewidth")
     alpha = check_in_range(alpha, "alpha", 0, 1, closed="both")
+    check_instance(color, "color", str, what="a matplotlib colour name or hex string")
     # one collection of 13 polylines: drawing a training set is then one artist per shape
     ax.add_collection(LineCollection(list(shape), colors=color, linewidths=linewidth, alpha=alpha, label=label))
     ax.autoscale_view()
