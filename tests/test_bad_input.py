@@ -111,6 +111,9 @@ def run_call(dotted: str, argument: str, label: str) -> dict[str, str]:
         return {"outcome": "wrong name", "detail": f"{type(error).__name__}: {error}"}
     except Exception as error:  # noqa: BLE001 - any other exception type is what we look for
         return {"outcome": "crash", "detail": f"{type(error).__name__}: {error}"}
+    problem = case.check(result, {**case.valid, argument: bad}) if case.check else None
+    if problem is not None:
+        return {"outcome": "silent accept", "detail": f"a wrong result: {problem}"}
     if (argument, label) in case.accept:
         return {"outcome": "accepted sensibly"}
     if label in FINITE_LABELS:  # finite input: returning is fine as long as nothing overflowed on the way
@@ -236,6 +239,12 @@ def run_all() -> list[dict[str, object]]:
     missing = [i for i in range(len(calls)) if i not in results]
     assert not missing, f"the worker stopped before {len(missing)} call(s): {done.stderr[-2000:]}"
     return [{"call": calls[i], **results[i]} for i in range(len(calls))]
+
+
+@pytest.mark.parametrize("dotted", [d for d, case in all_cases().items() if case.check is not None])
+def test_known_answers_hold_on_the_valid_call(dotted):
+    case = all_cases()[dotted]
+    assert case.check(case.function(**case.valid), case.valid) is None
 
 
 OUTCOMES = ("clear", "accepted sensibly", "wrong name", "crash", "hang", "silent accept")

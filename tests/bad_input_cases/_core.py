@@ -21,6 +21,10 @@ class Case:
     names: dict[str, str] = field(default_factory=dict)
     #: (argument, spoiled label) pairs that are valid input for this callable
     accept: frozenset[tuple[str, str]] = frozenset()
+    #: For an operation with a known answer: ``check(result, arguments)`` returns what is wrong with a
+    #: returned result (or None), so a call that returns a finite but wrong answer counts as a silent
+    #: accept; it must pass on the valid call.
+    check: Callable[[object, dict], str | None] | None = None
 
 
 #: A finite value far out of any range: a function must either refuse it by name or return finite
@@ -50,6 +54,23 @@ def all_finite(value: object, depth: int = 0) -> bool:
     if dataclasses.is_dataclass(value):
         return all(all_finite(getattr(value, f.name), depth + 1) for f in dataclasses.fields(value))
     return True
+
+
+def rotation_problem(rotation: object, angle: float | None = None, axis: object = None) -> str | None:
+    """What is wrong with ``rotation`` as a proper rotation by ``angle`` about ``axis`` (None if nothing)."""
+    r = np.asarray(rotation, dtype=float)
+    if not np.allclose(r.T @ r, np.eye(len(r)), atol=1e-9) or not np.isclose(np.linalg.det(r), 1.0, atol=1e-9):
+        return "not a proper rotation"
+    if angle is not None:
+        cos_angle = np.cos(float(angle))
+        turned = (np.trace(r) - (len(r) - 2)) / 2  # 2-D: trace = 2 cos; 3-D: trace = 1 + 2 cos
+        if not np.isclose(turned, cos_angle, atol=1e-9):
+            return f"turns by arccos {turned:.6g}, expected cos {cos_angle:.6g}"
+    if axis is not None:
+        unit = np.asarray(axis, dtype=float) / np.max(np.abs(axis))
+        if not np.allclose(r @ unit, unit, atol=1e-9 * np.linalg.norm(unit)):
+            return "moves its own axis"
+    return None
 
 
 def spoil(kind: str, valid: object) -> list[tuple[str, object]]:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from bad_input_cases._core import Case
+from bad_input_cases._core import Case, rotation_problem
 
 #: (callable, argument, spoiled label) calls known to fail the test, with the reason; each must
 #: still fail (remove it once fixed).
@@ -108,23 +108,31 @@ def cases() -> dict[str, Case]:
                                       {"weights": "array"}),
         "normalised_weights": Case(c.normalised_weights, {"log_weights": np.array([-3.0, -1.0, -2.0])},
                                    {"log_weights": "array"},
-                                   accept=frozenset({("log_weights", "a wrong trailing axis")})),  # any N
+                                   accept=frozenset({("log_weights", "a wrong trailing axis")}),  # any N
+                                   check=lambda w, a: None if np.isclose(np.sum(w), 1.0) and np.all(w >= 0)
+                                   else f"weights summing to {np.sum(w)}"),
         "systematic_resample": Case(c.systematic_resample, {"weights": np.array([0.2, 0.5, 0.3]), "u": 0.4},
                                     {"weights": "array", "u": "probability"}),
         "procrustes_align": Case(c.procrustes_align, {"source": points2, "target": points2[::-1].copy()},
-                                 {"source": "points", "target": "points"}),
+                                 {"source": "points", "target": "points"},
+                                 check=lambda result, a: rotation_problem(result.rotation)),
         "rate_interval": Case(c.rate_interval, {"outcomes": right, "confidence": 0.95},
                               {"outcomes": "bool_array", "confidence": "probability"},
                               accept=frozenset({("outcomes", "a wrong trailing axis")})),  # 5 items instead of 4
         "rigid_transform": Case(c.rigid_transform, {"rotation": np.eye(3), "translation": [1.0, 2.0, 3.0]},
                                 {"rotation": "array", "translation": "array"},
                                 accept=frozenset({("rotation", "one more axis")})),  # a stack of one rotation
-        "rotation_2d": Case(c.rotation_2d, {"angle": 0.3}, {"angle": "real"}),
+        "rotation_2d": Case(c.rotation_2d, {"angle": 0.3}, {"angle": "real"},
+                            check=lambda r, a: rotation_problem(r, a["angle"])),
         "rotation_matrix": Case(c.rotation_matrix, {"axis": [0.0, 0.0, 1.0], "angle": 0.3},
-                                {"axis": "array", "angle": "real"}),
-        "rotation_x": Case(c.rotation_x, {"angle": 0.3}, {"angle": "real"}),
-        "rotation_y": Case(c.rotation_y, {"angle": 0.3}, {"angle": "real"}),
-        "rotation_z": Case(c.rotation_z, {"angle": 0.3}, {"angle": "real"}),
+                                {"axis": "array", "angle": "real"},
+                                check=lambda r, a: rotation_problem(r, a["angle"], a["axis"])),
+        "rotation_x": Case(c.rotation_x, {"angle": 0.3}, {"angle": "real"},
+                             check=lambda r, a: rotation_problem(r, a["angle"], np.eye(3)[0])),
+        "rotation_y": Case(c.rotation_y, {"angle": 0.3}, {"angle": "real"},
+                             check=lambda r, a: rotation_problem(r, a["angle"], np.eye(3)[1])),
+        "rotation_z": Case(c.rotation_z, {"angle": 0.3}, {"angle": "real"},
+                             check=lambda r, a: rotation_problem(r, a["angle"], np.eye(3)[2])),
         "savefig": Case(c.savefig, {"fig": figure, "name": "figure"}, {"fig": "object", "name": "name"}),
         "spawn_rngs": Case(c.spawn_rngs, {"seed": 0, "n": 2}, {"seed": "seed", "n": "count"}),
     }
