@@ -15,6 +15,7 @@ import numpy as np
 from amdo_lab.common import (MAX_LEVELS, MAX_SAMPLES, as_finite_array, check_bool, check_choice, check_in_range,
                              check_positive_int, make_rng)
 from amdo_lab.common.particles import normalised_weights, systematic_resample
+from amdo_lab.path_relinking_pf.body import MAX_POSE
 from amdo_lab.path_relinking_pf.observation import MAX_ALPHA, ObservationModel, measure
 from amdo_lab.path_relinking_pf.sequences import BodySequence
 
@@ -407,8 +408,8 @@ def attribute_path(observation: ObservationModel, start: np.ndarray, guide: np.n
     """
     if not isinstance(observation, ObservationModel):
         raise TypeError(f"observation must be an ObservationModel, got {type(observation).__name__}")
-    start = as_finite_array(start, "start", shape=(observation.model.n_pose,))
-    guide = as_finite_array(guide, "guide", shape=(observation.model.n_pose,))
+    start = as_finite_array(start, "start", shape=(observation.model.n_pose,), max_abs=MAX_POSE)
+    guide = as_finite_array(guide, "guide", shape=(observation.model.n_pose,), max_abs=MAX_POSE)
     points, costs = _attribute_paths(observation, start[None], guide[None], _limb_coordinates(observation.model))
     return points[0], costs[0]
 
@@ -555,9 +556,9 @@ def track_prpf(sequence: BodySequence, *, rng: int | np.random.Generator, n_part
     """The path relinking particle filter (Fig. 2): a PF stage, then path relinking among the b best.
 
     Each frame: predict and weigh N particles; the RefSet is the b best; new solutions are built on the
-    paths between every RefSet pair (:func:`line_path` or :func:`attribute_path`) and improved by :func:`local_search`; the RefSet
-    keeps the b best until a round changes nothing (at most ``max_rounds``). The RefSet replaces the
-    worst particles, the best member is the estimate, and the set is resampled.
+    paths between every RefSet pair (:func:`line_path` or :func:`attribute_path`) and improved by
+    :func:`local_search`; the RefSet keeps the b best until a round changes nothing (at most
+    ``max_rounds``). The RefSet replaces the worst particles, the best member is the estimate, and the set is resampled.
 
     Parameters
     ----------
