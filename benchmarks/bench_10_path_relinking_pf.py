@@ -9,9 +9,14 @@ Tables, one BLAS thread:
            errors in deg^2 (frontal: right/left elbow; jump: knee/hip) and evaluations a frame;
   peers    the frontal sequence at several budgets: SIR 500, 1,000, 4,000; pfilter 1,000; APF 8 x 60 and
            8 x 250; PRPF (200, b 3) and (400, b 5): mean joint error (px), lost frames (a joint > 10 px
-           off), evaluations a frame, seconds.
+           off), evaluations a frame, seconds;
+  ablation what does the work, on the frontal sequence: PRPF (200, b 3) with line paths, attribute paths
+           (one limb at a time, greedy), no paths (local search from the RefSet), paths without local
+           search, and the same with b 5; SIR 1,000, APF 8 x 250 and PRPF (200, b 3) with the velocity
+           held at zero and estimated from the last two estimates (FilterSettings(velocity="estimate")).
 Every table runs the seeds given (default 11 12 13 14 15, which the notebook and the tests do not use);
---quick runs one seed and skips the two largest SIR budgets.
+--quick runs one seed and skips the two largest SIR budgets (and, in the ablation, every run over
+2,000 particles x layers).
 
 Run:  .venv/bin/python benchmarks/bench_10_path_relinking_pf.py [--quick] [--seeds 11 12 ...] [--json PATH]
 """
@@ -28,6 +33,7 @@ def main() -> None:
     bench.parser.add_argument("--quick", action="store_true", help="one seed, no SIR at 4,000 or 1,600")
     bench.parser.add_argument("--skip-table2", action="store_true", help="skip Table 2 at the paper's budgets")
     bench.parser.add_argument("--skip-peers", action="store_true", help="skip the peers table")
+    bench.parser.add_argument("--skip-ablation", action="store_true", help="skip the ablation table")
     args = bench.parse()
     seeds = args.seeds[:1] if args.quick else args.seeds
 
@@ -81,6 +87,27 @@ def main() -> None:
                 if args.quick and kwargs["n_particles"] * kwargs.get("layers", 1) > 1000:
                     continue
                 row(peers, seed, name, getattr(pr, tracker)(frontal, rng=seed, **kwargs), frontal, (6, 7))
+    if not args.skip_ablation:
+        ablation = bench.table(*columns, title="ablation on the frontal sequence (a/b: right/left elbow)")
+        estimate = pr.FilterSettings(velocity="estimate")
+        runs = [("PRPF 200 b3 line", "track_prpf", {"n_particles": 200, "refset_size": 3}),
+                ("PRPF 200 b3 attribute", "track_prpf", {"n_particles": 200, "refset_size": 3, "relink": "attribute"}),
+                ("PRPF 200 b3 no paths", "track_prpf", {"n_particles": 200, "refset_size": 3, "relink": "none"}),
+                ("PRPF 200 b3 no local search", "track_prpf",
+                 {"n_particles": 200, "refset_size": 3, "local_search": False}),
+                ("PRPF 400 b5 attribute", "track_prpf", {"n_particles": 400, "refset_size": 5, "relink": "attribute"}),
+                ("PRPF 400 b5 no paths", "track_prpf", {"n_particles": 400, "refset_size": 5, "relink": "none"}),
+                ("PRPF 200 b3 v estimate", "track_prpf", {"n_particles": 200, "refset_size": 3, "settings": estimate}),
+                ("SIR 1000 v zero", "track_sir", {"n_particles": 1000}),
+                ("SIR 1000 v estimate", "track_sir", {"n_particles": 1000, "settings": estimate}),
+                ("APF 8x250 v zero", "track_apf", {"n_particles": 250, "layers": 8}),
+                ("APF 8x250 v estimate", "track_apf", {"n_particles": 250, "layers": 8, "settings": estimate})]
+        for seed in seeds:
+            frontal = pr.make_upper_body_sequence(rng=seed, n_frames=30)
+            for name, tracker, kwargs in runs:
+                if args.quick and kwargs["n_particles"] * kwargs.get("layers", 1) > 2000:
+                    continue
+                row(ablation, seed, name, getattr(pr, tracker)(frontal, rng=seed, **kwargs), frontal, (6, 7))
     bench.note("MSE in deg^2 of the angle; lost: frames with a joint more than 10 px from the truth")
     bench.finish()
 

@@ -11,7 +11,9 @@ from amdo_lab.path_relinking_pf import (
     BodyModel,
     FilterSettings,
     Limb,
+    BodySequence,
     ObservationModel,
+    attribute_path,
     edge_map,
     joint_errors_px,
     line_path,
@@ -113,12 +115,38 @@ def test_sequences_are_seeded_and_move_at_most_11_degrees_a_frame():
     assert np.ptp(jump.truth[:, 1]) > 27.0  # the hip rises in the flight
 
 
+def test_cross_folds_the_forearms_over_the_trunk():
+    trunk_only = BodyModel([BodyModel.upper_body().limbs[0]])
+    for cross, lowest, highest in ((True, 20, None), (False, None, 0)):
+        seq = make_upper_body_sequence(rng=3, n_frames=20, cross=cross)
+        overlaps = []
+        for pose in seq.truth:
+            labels = seq.model.render_labels(pose, seq.frames.shape[1:])
+            trunk = trunk_only.render_labels(pose[:3], seq.frames.shape[1:]) > 0
+            overlaps.append(int((np.isin(labels, (5, 6)) & trunk).sum()))  # forearm pixels on the trunk
+        assert (min(overlaps) >= lowest) if cross else (max(overlaps) <= highest), overlaps
+
+
 # --- the filters ------------------------------------------------------------------------------------
 
 def test_line_path_spaces_points_by_the_step():
     path = line_path(np.zeros(3), np.array([5.0, -2.0, 0.5]), np.array([1.0, 1.0, 1.0]))
     assert path.shape == (4, 3) and np.allclose(np.diff(path, axis=0), [1.0, -0.4, 0.1])
     assert line_path(np.zeros(2), np.array([0.5, 0.5]), np.ones(2)).shape == (0, 2)
+
+
+def test_attribute_path_copies_one_limb_at_a_time_and_ends_at_the_guide(sequence, observation):
+    start, guide = _poses_around(sequence.truth[3], 2, 5, px=3.0, deg=10.0)
+    points, costs = attribute_path(observation, start, guide)
+    copied = np.abs(points - start) > 0  # (8, 10): coordinates that left the start
+    assert np.array_equal(points[-1], guide) and np.allclose(costs, observation.cost(points))
+    assert np.all(copied[1:] >= copied[:-1])  # a growing set of coordinates: each step adds one limb's
+    added = [np.flatnonzero(copied[0])] + [np.flatnonzero(copied[k] & ~copied[k - 1]) for k in range(1, 8)]
+    assert sorted(map(list, added)) == [[0, 1, 2]] + [[k] for k in range(3, 10)]
+    assert np.all((points == start) | (points == guide))  # every coordinate is the start's or the guide's
+    first_trials = observation.cost(np.array([np.where(np.isin(np.arange(10), cols), guide, start)
+                                              for cols in [[0, 1, 2]] + [[k] for k in range(3, 10)]]))
+    assert np.isclose(costs[0], first_trials.min())  # greedy: the first copy is the cheapest one
 
 
 def test_local_search_never_raises_the_cost(sequence, observation):
@@ -139,6 +167,23 @@ def test_track_sir_weighs_n_particles_a_frame_and_predicts_by_eq8(sequence):
     assert not np.array_equal(walk.poses, result.poses)  # eq. (8)'s velocity random walk moves the particles
 
 
+def test_estimate_velocity_predicts_a_constant_velocity_truth_exactly(sequence):
+    from amdo_lab.path_relinking_pf.filters import _Run
+
+    truth = sequence.truth[0] + np.arange(4)[:, None] * np.r_[1.5, -0.5, np.full(8, 0.02)]  # constant velocity
+    linear = BodySequence(sequence.frames[:4], sequence.background, sequence.model, truth)
+    noiseless = {"diffusion_px": 0.0, "diffusion_deg": 0.0}
+    for velocity, exact in (("estimate", True), ("zero", False)):
+        run = _Run(linear, 0, 2, FilterSettings(velocity=velocity, **noiseless))
+        particles = np.hstack([np.tile(truth[2], (2, 1)), np.zeros((2, 10))])
+        predicted = run.predict(particles, list(truth[:3]))[:, :10]
+        assert np.allclose(predicted, truth[3], rtol=0, atol=1e-12) == exact
+    first = _Run(linear, 0, 2, FilterSettings(velocity="estimate", **noiseless)).predict(particles, list(truth[:1]))
+    assert np.array_equal(first[:, :10], particles[:, :10])  # no velocity before two estimates
+    assert np.all(np.isfinite(track_sir(linear, rng=0, n_particles=20,
+                                        settings=FilterSettings(velocity="estimate")).poses))
+
+
 def test_apf_and_pfilter_count_their_evaluations(sequence):
     short = make_upper_body_sequence(rng=7, n_frames=3)
     assert track_apf(short, rng=0, n_particles=20, layers=4).evaluations.tolist() == [80] * 3
@@ -153,6 +198,8 @@ def test_prpf_stage_adapts_its_evaluations_and_keeps_the_refset_best(sequence):
     assert np.all((result.rounds >= 1) & (result.rounds <= 3))
     paths_only = track_prpf(sequence, rng=0, n_particles=50, refset_size=3, local_search=False)
     assert paths_only.evaluations.mean() < result.evaluations.mean()
+    attribute = track_prpf(sequence, rng=0, n_particles=50, refset_size=3, relink="attribute", max_rounds=1)
+    assert np.all(attribute.evaluations >= 50 + 3 * 36)  # three pairs, 8 + 7 + ... + 1 trials each
 
 
 @pytest.mark.parametrize("seed", TEST_SEEDS)
@@ -181,12 +228,13 @@ REJECTIONS = [
     reject("refset larger than N", lambda sequence: track_prpf(sequence, rng=0, n_particles=4, refset_size=5),
            ValueError, "refset_size"),
     reject("one particle", lambda sequence: track_sir(sequence, rng=0, n_particles=1), ValueError, "n_particles"),
-    reject("unknown relinking", lambda sequence: track_prpf(sequence, rng=0, n_particles=4, refset_size=2, relink="attribute"),
+    reject("unknown relinking",
+           lambda sequence: track_prpf(sequence, rng=0, n_particles=4, refset_size=2, relink="diagonal"),
            ValueError, "relink"),
     reject("survival of 1", lambda sequence: track_apf(sequence, rng=0, n_particles=4, survival=1.0),
            ValueError, "survival"),
     reject("zero alpha", lambda: FilterSettings(alpha=0.0), ValueError, "alpha"),
-    reject("unknown velocity", lambda: FilterSettings(velocity="estimate"), ValueError, "velocity"),
+    reject("unknown velocity", lambda: FilterSettings(velocity="constant"), ValueError, "velocity"),
     reject("zero path step", lambda: line_path(np.zeros(2), np.ones(2), np.array([1.0, 0.0])), ValueError, "steps"),
     reject("one frame", lambda: make_upper_body_sequence(rng=0, n_frames=1), ValueError, "n_frames"),
 ]

@@ -119,6 +119,7 @@ class BodyModel:
         for k, limb in enumerate(limbs[1:], start=1):
             levels[k] = levels[limb.father] + 1
         self.draw_order = np.argsort(levels, kind="stable")
+        self._fill_order = tuple(int(k) for k in self.draw_order)
         self._outlines = [limb.outline() for limb in limbs]
 
     @classmethod
@@ -266,9 +267,12 @@ class BodyModel:
 
     def _render_into(self, labels: np.ndarray, polygons: list[np.ndarray]) -> None:
         """Fill one pose's limb polygons ``[(m_k, 2)]`` into ``labels`` (check-free)."""
-        for k in self.draw_order:
-            points = np.round(polygons[k] * (1 << _SHIFT)).astype(np.int32)
-            cv2.fillConvexPoly(labels, points, int(k) + 1, lineType=cv2.LINE_8, shift=_SHIFT)
+        self._fill(labels, _fixed_point(polygons))
+
+    def _fill(self, labels: np.ndarray, fixed: list[np.ndarray]) -> None:
+        """Fill one pose's fixed-point polygons (from :func:`_fixed_point`) into ``labels``, in draw order."""
+        for k in self._fill_order:
+            cv2.fillConvexPoly(labels, fixed[k], k + 1, lineType=cv2.LINE_8, shift=_SHIFT)
 
     def joint_positions(self, poses: np.ndarray) -> np.ndarray:
         """The joints of every limb (its origin), ``(..., n_limbs, 2)`` pixels: what joint errors compare.
@@ -288,6 +292,11 @@ class BodyModel:
         Pantrigo et al., AMDO 2004, Sec. 5.1.
         """
         return self._forward(self.check_poses(poses))[0]
+
+
+def _fixed_point(polygons: list[np.ndarray]) -> list[np.ndarray]:
+    """Polygon vertices ``[(..., m_k, 2)]`` as OpenCV's int32 fixed point (``_SHIFT`` fractional bits)."""
+    return [np.round(polygon * (1 << _SHIFT)).astype(np.int32) for polygon in polygons]
 
 
 def edge_map(labels: np.ndarray) -> np.ndarray:

@@ -15,16 +15,19 @@ import numpy as np
 from amdo_lab.common import (MAX_LEVELS, MAX_SAMPLES, as_finite_array, check_bool, check_choice, check_in_range,
                              check_positive_int, make_rng)
 from amdo_lab.common.particles import normalised_weights, systematic_resample
+from amdo_lab.path_relinking_pf.body import MAX_POSE
 from amdo_lab.path_relinking_pf.observation import MAX_ALPHA, ObservationModel, measure
 from amdo_lab.path_relinking_pf.sequences import BodySequence
 
-__all__ = ["RELINKS", "VELOCITIES", "FilterSettings", "OUR_SETTINGS", "TrackResult", "check_sequence",
-           "line_path", "local_search", "track_apf", "track_pfilter", "track_prpf", "track_sir"]
+__all__ = ["RELINKS", "VELOCITIES", "FilterSettings", "OUR_SETTINGS", "TrackResult", "attribute_path",
+           "check_sequence", "line_path", "local_search", "track_apf", "track_pfilter", "track_prpf", "track_sir"]
 
-#: How PRPF builds new solutions from RefSet pairs: points on the segment, or none (local search only).
-RELINKS = ("line", "none")
-#: Eq. (8)'s velocity: held at 0 (our default), or a random walk with the paper's update (literal eq. 8).
-VELOCITIES = ("zero", "random-walk")
+#: How PRPF builds new solutions from RefSet pairs: points on the segment, one limb at a time from the
+#: guide (Glover's attribute relinking), or none (local search only).
+RELINKS = ("line", "attribute", "none")
+#: Eq. (8)'s velocity: held at 0 (our default), a random walk with the paper's update (literal eq. 8), or
+#: the difference of the last two estimates.
+VELOCITIES = ("zero", "random-walk", "estimate")
 #: Most local-search sweeps or relinking rounds.
 MAX_ROUNDS = 100
 
@@ -40,7 +43,8 @@ class FilterSettings:
     diffusion_px, diffusion_deg : float
         Standard deviations of the diffusion stage for x1, y1 and for every angle, in [0, 100].
     velocity : str
-        ``"zero"`` or ``"random-walk"`` (eq. 8 as printed, with Delta t one frame).
+        ``"zero"``, ``"random-walk"`` (eq. 8 as printed, with Delta t one frame) or ``"estimate"`` (every
+        particle moves by the difference of the last two estimates, ``chi_t - chi_{t-1}``; 0 in frame 2).
     velocity_px, velocity_deg : float
         Eq. (8)'s sigma_X of the velocity random walk, in [0, 100].
     init_px, init_deg : float
@@ -163,6 +167,7 @@ class _Run:
         self.diffusion = settings.scales(self.p, "diffusion_px", "diffusion_deg")
         self.velocity_sigma = settings.scales(self.p, "velocity_px", "velocity_deg")
         self.steps = settings.scales(self.p, "step_px", "step_deg")
+        self.groups = _limb_coordinates(self.model)
         self.began = time.perf_counter()
 
     def observations(self):
@@ -176,9 +181,11 @@ class _Run:
         pose = self.sequence.truth[0] + spread * self.generator.standard_normal((self.n, self.p))
         return np.hstack([pose, np.zeros((self.n, self.p))])
 
-    def predict(self, particles: np.ndarray) -> np.ndarray:
-        """Eq. (8) with Delta t one frame, then the diffusion stage."""
+    def predict(self, particles: np.ndarray, estimates: list) -> np.ndarray:
+        """Eq. (8) with Delta t one frame, then the diffusion stage; ``estimates``: the poses so far."""
         pose, velocity = particles[:, :self.p], particles[:, self.p:]
+        if self.settings.velocity == "estimate":  # xdot_t = chi_t - chi_{t-1}, the same for every particle
+            velocity = np.broadcast_to(_estimated_velocity(estimates, self.p), velocity.shape)
         pose = pose + velocity  # eq. (8): x_{t+1} = x_t + xdot_t
         if self.settings.velocity == "random-walk":  # eq. (8): xdot_{t+1} = xdot_t + G_x
             velocity = velocity + self.velocity_sigma * self.generator.standard_normal(velocity.shape)
@@ -193,6 +200,11 @@ class _Run:
     def result(self, poses, evaluations, rounds=None) -> TrackResult:
         rounds = np.zeros(len(poses), int) if rounds is None else np.asarray(rounds)
         return TrackResult(np.asarray(poses), np.asarray(evaluations), time.perf_counter() - self.began, rounds)
+
+
+def _estimated_velocity(estimates: list, n_pose: int) -> np.ndarray:
+    """The difference of the last two estimates (zeros before the second frame)."""
+    return estimates[-1] - estimates[-2] if len(estimates) > 1 else np.zeros(n_pose)
 
 
 def _weighted_mean(weights: np.ndarray, poses: np.ndarray) -> np.ndarray:
@@ -234,7 +246,7 @@ def track_sir(sequence: BodySequence, *, rng: int | np.random.Generator, n_parti
     particles, poses, evaluations = run.start(), [], []
     for t, observation in enumerate(run.observations()):
         if t:
-            particles = run.predict(particles)  # eqs. (1), (8): the prediction by the system model
+            particles = run.predict(particles, poses)  # eqs. (1), (8): the prediction by the system model
         costs = observation._cost(particles[:, :run.p])
         weights = normalised_weights(observation.alpha * -costs)  # eqs. (2), (7)
         poses.append(_weighted_mean(weights, particles[:, :run.p]))
@@ -301,7 +313,7 @@ def track_apf(sequence: BodySequence, *, rng: int | np.random.Generator, n_parti
     particles, poses, evaluations = run.start(), [], []
     for t, observation in enumerate(run.observations()):
         if t:
-            particles = run.predict(particles)
+            particles = run.predict(particles, poses)
         for m in range(layers):
             costs = observation._cost(particles[:, :run.p])
             beta = _annealing_exponent(observation.alpha * costs, survival)
@@ -356,6 +368,75 @@ def _line_path(start: np.ndarray, end: np.ndarray, steps: np.ndarray) -> np.ndar
     parts = int(np.ceil(np.max(np.abs(end - start) / steps)))
     fractions = np.arange(1, parts)[:, None] / max(parts, 1)
     return start + fractions * (end - start)  # x(l) on the segment from x' to x''
+
+
+def attribute_path(observation: ObservationModel, start: np.ndarray, guide: np.ndarray
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """Glover's attribute relinking: from ``start``, copy the guide's coordinates one limb at a time, greedily.
+
+    The attributes are the limbs: the trunk's coordinates (x1, y1, theta_1) move together, every other limb
+    has its angle. Each step tries every limb not yet copied and keeps the copy of lowest cost, so the
+    path's k-th point differs from ``start`` in k limbs and the last point is the guide. A body of L limbs
+    costs ``L (L + 1) / 2`` evaluations.
+
+    Parameters
+    ----------
+    observation : ObservationModel
+        The frame's weighting function (its body model gives the limbs).
+    start, guide : numpy.ndarray
+        ``(P,)`` the initiating and the guiding solution (px, rad).
+
+    Returns
+    -------
+    points : numpy.ndarray
+        ``(L, P)`` the path x(2), ..., x(r), the last one equal to ``guide``.
+    costs : numpy.ndarray
+        ``(L,)`` their costs.
+
+    References
+    ----------
+    Glover, LNCS 1363, 1997 (path relinking by attributes, ref. [13] of Pantrigo et al., AMDO 2004).
+
+    Examples
+    --------
+    >>> from amdo_lab.path_relinking_pf import make_upper_body_sequence, measure
+    >>> seq = make_upper_body_sequence(rng=0, n_frames=2)
+    >>> obs = ObservationModel(measure(seq.frames[0], seq.background), seq.model)
+    >>> points, costs = attribute_path(obs, seq.truth[0], seq.truth[1])
+    >>> points.shape, bool(np.array_equal(points[-1], seq.truth[1]))
+    ((8, 10), True)
+    """
+    if not isinstance(observation, ObservationModel):
+        raise TypeError(f"observation must be an ObservationModel, got {type(observation).__name__}")
+    start = as_finite_array(start, "start", shape=(observation.model.n_pose,), max_abs=MAX_POSE)
+    guide = as_finite_array(guide, "guide", shape=(observation.model.n_pose,), max_abs=MAX_POSE)
+    points, costs = _attribute_paths(observation, start[None], guide[None], _limb_coordinates(observation.model))
+    return points[0], costs[0]
+
+
+def _limb_coordinates(model) -> list[np.ndarray]:
+    """The pose coordinates of each limb: the trunk's x1, y1, theta_1, then one angle per limb."""
+    return [np.arange(3)] + [np.array([2 + k]) for k in range(1, len(model.limbs))]
+
+
+def _attribute_paths(observation, starts, guides, groups):
+    """Greedy attribute paths for every (start, guide) pair at once: ``(n, L, P)`` points, ``(n, L)`` costs."""
+    n, n_groups = len(starts), len(groups)
+    current, remaining = starts.copy(), np.ones((n, n_groups), bool)
+    points, costs = np.empty((n, n_groups, starts.shape[1])), np.empty((n, n_groups))
+    for step in range(n_groups):
+        pair, group = np.nonzero(remaining)  # row-major: n_groups - step entries per pair
+        trials = current[pair]
+        for g, columns in enumerate(groups):
+            rows = np.flatnonzero(group == g)
+            trials[np.ix_(rows, columns)] = guides[pair[rows]][:, columns]  # copy limb g from the guide
+        trial_costs = observation._cost(trials).reshape(n, n_groups - step)
+        best = np.argmin(trial_costs, axis=1)
+        chosen = np.arange(n) * (n_groups - step) + best
+        current = trials[chosen]
+        remaining[np.arange(n), group[chosen]] = False
+        points[:, step], costs[:, step] = current, trial_costs[np.arange(n), best]
+    return points, costs
 
 
 def local_search(observation: ObservationModel, starts: np.ndarray, moves: np.ndarray,
@@ -431,11 +512,16 @@ def _relink(observation, refset, ref_costs, ref_velocity, run, relink, use_local
     rounds = 0
     for _ in range(max_rounds):
         rounds += 1
-        if relink == "line":
+        if relink != "none":
             pairs = [(i, j) for i in range(b) for j in range(i + 1, b)]
-            paths = [_line_path(refset[i], refset[j], run.steps) for i, j in pairs]
-            path_costs = np.split(observation._cost(np.concatenate(paths + [refset[:0]])),
-                                  np.cumsum([len(path) for path in paths])[:-1])
+            if relink == "line":
+                paths = [_line_path(refset[i], refset[j], run.steps) for i, j in pairs]
+                path_costs = np.split(observation._cost(np.concatenate(paths + [refset[:0]])),
+                                      np.cumsum([len(path) for path in paths])[:-1])
+            else:  # attribute relinking; the last point of a path is the guide itself
+                starts, guides = (refset[[pair[side] for pair in pairs]] for side in (0, 1))
+                points, costs = _attribute_paths(observation, starts, guides, run.groups)
+                paths, path_costs = list(points[:, :-1]), list(costs[:, :-1])
             candidates, candidate_costs, velocities = [], [], []
             for (i, _j), path, cost in zip(pairs, paths, path_costs):
                 best = int(np.argmin(cost)) if len(cost) else -1
@@ -470,9 +556,9 @@ def track_prpf(sequence: BodySequence, *, rng: int | np.random.Generator, n_part
     """The path relinking particle filter (Fig. 2): a PF stage, then path relinking among the b best.
 
     Each frame: predict and weigh N particles; the RefSet is the b best; new solutions are built on the
-    paths between every RefSet pair (:func:`line_path`) and improved by :func:`local_search`; the RefSet
-    keeps the b best until a round changes nothing (at most ``max_rounds``). The RefSet replaces the
-    worst particles, the best member is the estimate, and the set is resampled.
+    paths between every RefSet pair (:func:`line_path` or :func:`attribute_path`) and improved by
+    :func:`local_search`; the RefSet keeps the b best until a round changes nothing (at most
+    ``max_rounds``). The RefSet replaces the worst particles, the best member is the estimate, and the set is resampled.
 
     Parameters
     ----------
@@ -485,7 +571,8 @@ def track_prpf(sequence: BodySequence, *, rng: int | np.random.Generator, n_part
     refset_size : int
         b, from 2 to N.
     relink : str
-        ``"line"`` (paths on the segments) or ``"none"`` (local search from the RefSet only: an ablation).
+        ``"line"`` (paths on the segments), ``"attribute"`` (one limb at a time from the guide, greedy:
+        :func:`attribute_path`) or ``"none"`` (local search from the RefSet only: an ablation).
     local_search : bool
         Whether new solutions are improved by the local search (False: paths only, an ablation).
     max_rounds : int
@@ -517,7 +604,7 @@ def track_prpf(sequence: BodySequence, *, rng: int | np.random.Generator, n_part
     particles, poses, evaluations, rounds = run.start(), [], [], []
     for t, observation in enumerate(run.observations()):
         if t:
-            particles = run.predict(particles)
+            particles = run.predict(particles, poses)
         costs = observation._cost(particles[:, :run.p])  # EVALUATE (Fig. 2)
         best = np.argsort(costs, kind="stable")[:b]  # the RefSet: the b best particles
         refset, ref_costs, ref_velocity, used = _relink(
@@ -579,8 +666,10 @@ def track_pfilter(sequence: BodySequence, *, rng: int | np.random.Generator, n_p
         return start[:n]
 
     def dynamics(particles, **_):  # eq. (8) and, with the velocity random walk, its noise
-        pose = particles[:, :run.p] + particles[:, run.p:]
         velocity = particles[:, run.p:]
+        if settings.velocity == "estimate":
+            velocity = np.broadcast_to(_estimated_velocity(poses, run.p), velocity.shape)
+        pose = particles[:, :run.p] + velocity
         if settings.velocity == "random-walk":
             velocity = velocity + run.velocity_sigma * np.random.standard_normal(velocity.shape)
         return np.hstack([pose, velocity])
@@ -596,9 +685,9 @@ def track_pfilter(sequence: BodySequence, *, rng: int | np.random.Generator, n_p
     def weigh(costs, _observed, **_):  # eq. (7), shifted by the best cost so it never underflows to 0
         return np.exp(-settings.alpha * (costs[:, 0] - costs[:, 0].min()))
 
+    poses, evaluations = [], []
     pf = ParticleFilter(prior_fn=prior, observe_fn=observe, n_particles=run.n, dynamics_fn=dynamics,
                         noise_fn=noise, weight_fn=weigh, resample_fn=pfilter_systematic)
-    poses, evaluations = [], []
     for observation in run.observations():
         state["observation"] = observation
         pf.update(np.zeros(1))

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_image_shape, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_image_shape, check_positive_int, make_rng
 from amdo_lab.path_relinking_pf.body import BodyModel
 
 __all__ = ["MAX_FRAMES", "MAX_RATE_DEG", "BodySequence", "make_jump_sequence", "make_upper_body_sequence"]
@@ -82,8 +82,11 @@ def _wave(t: np.ndarray, low_deg: float, high_deg: float, rate_deg: float, rng: 
 
 def make_upper_body_sequence(*, rng: int | np.random.Generator, n_frames: int = 50,
                              size: tuple[int, int] = (160, 160), noise: float = 8.0,
-                             speed: float = 1.0) -> BodySequence:
+                             speed: float = 1.0, cross: bool = False) -> BodySequence:
     """A frontal upper body waving its arms (Fig. 5): shoulders 25-135 deg, elbows 0-100 deg.
+
+    With ``cross`` the forearms stay folded over the chest instead: shoulders 10-30 deg, elbows bent
+    100-150 deg towards the midline, so the forearms hide the trunk and cross each other.
 
     Every angle follows a sinusoid with a seeded phase and frequency; no angle turns faster than
     ``11 * speed`` degrees a frame. The trunk sways by a few pixels and degrees, the head and hands
@@ -101,6 +104,8 @@ def make_upper_body_sequence(*, rng: int | np.random.Generator, n_frames: int = 
         Standard deviation of the pixel noise, grey levels, in [0, 50].
     speed : float
         Factor on every angular speed, in (0, 4].
+    cross : bool
+        Whether the forearms are folded over the chest (occlusion of the trunk by the arms).
 
     Returns
     -------
@@ -122,6 +127,7 @@ def make_upper_body_sequence(*, rng: int | np.random.Generator, n_frames: int = 
     size = check_image_shape(size, "size", minimum=120)
     noise = float(as_finite_array(noise, "noise", shape=(), bounds=(0.0, 50.0)))
     speed = float(as_finite_array(speed, "speed", shape=(), bounds=(0.0, MAX_SPEED), closed="right"))
+    cross = check_bool(cross, "cross")
     model = BodyModel.upper_body()
     rows, cols = size
     t = np.arange(n_frames, dtype=float)
@@ -131,10 +137,11 @@ def make_upper_body_sequence(*, rng: int | np.random.Generator, n_frames: int = 
     truth[:, 1] = rows / 2 + 45.0 + 2.0 * np.sin(0.07 * t + generator.uniform(0, 2 * np.pi))
     truth[:, 2] = -np.pi / 2 + _wave(t, -4.0, 4.0, 1.0, generator)  # trunk, upright
     truth[:, 3] = _wave(t, -15.0, 15.0, rate / 2, generator)  # head
-    truth[:, 4] = np.pi + _wave(t, 25.0, 135.0, rate, generator)  # R. shoulder: abduction to the image left
-    truth[:, 5] = np.pi - _wave(t, 25.0, 135.0, rate, generator)  # L. shoulder
-    truth[:, 6] = _wave(t, 0.0, 100.0, rate, generator)  # R. elbow
-    truth[:, 7] = -_wave(t, 0.0, 100.0, rate, generator)  # L. elbow
+    shoulders, elbows = ((10.0, 30.0), (-150.0, -100.0)) if cross else ((25.0, 135.0), (0.0, 100.0))
+    truth[:, 4] = np.pi + _wave(t, *shoulders, rate, generator)  # R. shoulder: abduction to the image left
+    truth[:, 5] = np.pi - _wave(t, *shoulders, rate, generator)  # L. shoulder
+    truth[:, 6] = _wave(t, *elbows, rate, generator)  # R. elbow (negative: towards the midline)
+    truth[:, 7] = -_wave(t, *elbows, rate, generator)  # L. elbow
     truth[:, 8] = _wave(t, -15.0, 15.0, rate / 2, generator)  # hands
     truth[:, 9] = _wave(t, -15.0, 15.0, rate / 2, generator)
     background = _background(size, generator)
