@@ -207,11 +207,17 @@ def check_nodes(X: np.ndarray, name: str) -> None:
         raise ValueError(f"{name} holds duplicate nodes")
 
 
-def _check_condition(X: np.ndarray, sigma: float) -> None:
+def _check_condition(X: np.ndarray, sigma: float, *, sigma_is_spacing: bool = False) -> None:
+    """Refuse Gaussians of width sigma whose interpolation matrix G is numerically singular at the nodes X.
+
+    With ``sigma_is_spacing`` the width is not an argument but the mean node spacing h (axial bars), so
+    the message blames the nodes: too unevenly spaced for one common width.
+    """
     condition = np.linalg.cond(_gaussians(X, X, sigma))
+    cure = ("nodes are too unevenly spaced for Gaussians as wide as their mean spacing h = {:g}: spread them "
+            "more evenly" if sigma_is_spacing else "sigma = {:g} is too wide: take a smaller sigma").format(sigma)
     if not condition <= MAX_CONDITION:
-        raise ValueError(f"sigma = {sigma:g} makes the interpolation matrix singular (condition {condition:.1e} "
-                         f"> {MAX_CONDITION:.0e}): take a smaller sigma")
+        raise ValueError(f"{cure} (the interpolation matrix has condition {condition:.1e} > {MAX_CONDITION:.0e})")
 
 
 def _gaussians(points: np.ndarray, centres: np.ndarray, sigma: float) -> np.ndarray:
