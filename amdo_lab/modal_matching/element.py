@@ -13,10 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import MAX_SAMPLES, as_finite_array, check_choice, check_in_range, check_instance
+from amdo_lab.common import MAX_SAMPLES, as_finite_array, check_choice, check_in_range
 
 __all__ = ["GaussianElement", "MAX_CONDITION", "MAX_COORDINATE_MM", "MAX_MATERIAL", "RIGID_MODES", "check_nodes",
-           "check_same_dimension", "gaussian_element", "interpolate_field", "mean_spacing"]
+           "check_same_dimension", "gaussian_element", "mean_spacing"]
 
 _REFERENCE = ("L. F. Bastos, J. M. R. S. Tavares. Improvement of Modal Matching Image Objects in Dynamic "
               "Pedobarography Using Optimization Techniques. AMDO 2004, LNCS 3179, Sec. 3-4; the element is "
@@ -279,35 +279,9 @@ def _gaussian_element(X: np.ndarray, sigma: float, young: float, poisson: float,
     return GaussianElement(X, sigma, mass, stiffness, A, young, poisson, density, rigid)
 
 
-def interpolate_field(model: GaussianElement, displacements: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """The element's displacement field u(x) = sum_i h_i(x) U_i at other points.
-
-    Parameters
-    ----------
-    model : GaussianElement
-        The element whose interpolation functions are used.
-    displacements : ndarray, shape (D m, n)
-        n nodal displacement vectors, ordered axis by axis as the element's degrees of freedom.
-    points : ndarray, shape (p, D)
-        Where to evaluate the field (mm).
-
-    Returns
-    -------
-    ndarray, shape (D p, n)
-        The field at ``points``, ordered axis by axis.
-
-    References
-    ----------
-    Sclaroff & Pentland, IEEE PAMI 17, 1995 (H = A g), the element of Bastos & Tavares, AMDO 2004.
-    """
-    check_instance(model, "model", GaussianElement)
-    m, D = model.nodes.shape
-    U = as_finite_array(displacements, "displacements", ndim=2, shape=(D * m, None))
-    P = as_finite_array(points, "points", ndim=2, shape=(None, D), max_abs=MAX_COORDINATE_MM)
-    return _interpolate_field(model, U, P)
-
-
 def _interpolate_field(model: GaussianElement, U: np.ndarray, P: np.ndarray) -> np.ndarray:
+    """The element's displacement field u(x) = sum_i h_i(x) U_i (H = A g) at points P (p, D), for nodal
+    displacements U (D m, n) ordered axis by axis; returns (D p, n), ordered axis by axis."""
     m, D = model.nodes.shape
     H = _gaussians(P, model.nodes, model.sigma) @ model.interpolation  # (p, m): h_i(x_p)
     return np.concatenate([H @ U[a * m:(a + 1) * m] for a in range(D)], axis=0)

@@ -19,7 +19,7 @@ from scipy.optimize import linear_sum_assignment
 from amdo_lab.common import (as_finite_array, check_bool, check_choice, check_in_range, check_instance,
                              check_positive_int)
 from amdo_lab.modal_matching.element import (MAX_COORDINATE_MM, check_nodes, check_same_dimension, gaussian_element,
-                                             interpolate_field, mean_spacing)
+                                             _interpolate_field, mean_spacing)
 from amdo_lab.modal_matching.modes import ModalBasis, modal_analysis
 
 __all__ = ["ALIGNMENTS", "MatchResult", "SEARCHES", "adcom", "affinity_matrix", "global_search", "local_search",
@@ -123,7 +123,7 @@ def _sign_alignment(Phi1: np.ndarray, Phi2: np.ndarray) -> np.ndarray:
 
 def _procrustes_alignment(modes1: ModalBasis, Phi1: np.ndarray, modes2: ModalBasis, Phi2: np.ndarray) -> np.ndarray:
     """The orthogonal R minimising |Phi2 R - P|, P = object 1's modes interpolated at object 2's nodes."""
-    P = interpolate_field(modes1.model, Phi1, modes2.model.nodes)
+    P = _interpolate_field(modes1.model, Phi1, modes2.model.nodes)
     U, _, Vt = np.linalg.svd(Phi2.T @ P)
     return U @ Vt
 

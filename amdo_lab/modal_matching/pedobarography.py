@@ -15,7 +15,7 @@ import numpy as np
 from scipy import ndimage
 from skimage import measure
 
-from amdo_lab.common import (MAX_SAMPLES, MAX_SIDE, as_finite_array, check_choice, check_in_range, check_positive,
+from amdo_lab.common import (MAX_SAMPLES, MAX_SIDE, as_finite_array, check_choice, check_in_range, check_instance, check_positive,
                              check_positive_int,
                              make_rng)
 from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, check_same_dimension, mean_spacing
@@ -267,8 +267,7 @@ def paper_pair(sequence: PedobarographySequence, which: str) -> ObjectPair:
     ----------
     Bastos & Tavares, AMDO 2004, Sec. 5, Tables 1 and 2.
     """
-    if not isinstance(sequence, PedobarographySequence):
-        raise TypeError(f"sequence must be a PedobarographySequence, got {type(sequence).__name__}")
+    check_instance(sequence, "sequence", PedobarographySequence)
     which = check_choice(which, "which", tuple(PAPER_PAIRS))
     (t1, level1, n1), (t2, level2, n2) = PAPER_PAIRS[which]
     if sequence.frames.shape[0] <= max(t1, t2):
@@ -306,8 +305,7 @@ def move_object(pair: ObjectPair, *, angle_deg: float, shift_mm: float) -> Objec
     Bastos & Tavares, AMDO 2004, Sec. 4 (the modes are claimed to be close "even in the presence of an
     affine transformation").
     """
-    if not isinstance(pair, ObjectPair):
-        raise TypeError(f"pair must be an ObjectPair, got {type(pair).__name__}")
+    check_instance(pair, "pair", ObjectPair)
     angle = np.deg2rad(check_in_range(angle_deg, "angle_deg", -360.0, 360.0, closed="both"))
     shift = check_in_range(shift_mm, "shift_mm", -MAX_PRESSURE_KPA, MAX_PRESSURE_KPA, closed="both")
     centre = pair.X2.mean(axis=0)
