@@ -14,8 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import as_finite_array, check_in_range
-from amdo_lab.modal_matching.element import (MAX_COORDINATE_MM, MAX_MATERIAL, GaussianElement, _gaussians,
-                                             _check_condition, _mean_spacing, check_nodes)
+from amdo_lab.modal_matching.element import (MAX_MATERIAL, GaussianElement, _check_condition, _gaussians,
+                                             _mean_spacing, check_nodes)
 
 __all__ = ["AxialElement", "axial_element"]
 
@@ -89,8 +89,7 @@ def axial_element(nodes: np.ndarray, edges: np.ndarray, *, young: float = 1.0, d
     >>> model.stiffness.shape
     (8, 8)
     """
-    X = as_finite_array(nodes, "nodes", ndim=2, max_abs=MAX_COORDINATE_MM)
-    check_nodes(X, "nodes")
+    X = check_nodes(nodes, "nodes")
     bars = as_finite_array(edges, "edges", shape=(None, 2), dtype=int, bounds=(0, len(X) - 1))
     _check_edges(bars, len(X))
     young = check_in_range(young, "young", 0.0, MAX_MATERIAL, closed="right")

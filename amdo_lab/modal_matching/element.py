@@ -149,8 +149,7 @@ def gaussian_element(
     >>> model.mass.shape
     (16, 16)
     """
-    X = as_finite_array(nodes, "nodes", ndim=2, max_abs=MAX_COORDINATE_MM)
-    check_nodes(X, "nodes")
+    X = check_nodes(nodes, "nodes")
     sigma = check_in_range(sigma, "sigma", 0.0, MAX_COORDINATE_MM, closed="right")
     young = check_in_range(young, "young", 0.0, MAX_MATERIAL, closed="right")
     poisson = check_in_range(poisson, "poisson", -1.0, 0.5)
@@ -178,15 +177,20 @@ def check_same_dimension(X1: np.ndarray, X2: np.ndarray, names: str = "X1 and X2
         raise ValueError(f"{names} must have the same number of coordinates, got {X1.shape[1]} and {X2.shape[1]}")
 
 
-def check_nodes(X: np.ndarray, name: str) -> None:
-    """Refuse, naming the argument, a node set the element cannot model.
+def check_nodes(nodes: object, name: str) -> np.ndarray:
+    """The node set as a float array, refused, naming the argument, when the element cannot model it.
 
     Parameters
     ----------
-    X : ndarray, shape (m, D)
-        Finite node positions (mm).
+    nodes : array_like, shape (m, D)
+        Node positions (mm), finite, each coordinate at most :data:`MAX_COORDINATE_MM` in size.
     name : str
         The argument's name, used in error messages.
+
+    Returns
+    -------
+    ndarray, shape (m, D)
+        The nodes as floats.
 
     Raises
     ------
@@ -197,6 +201,7 @@ def check_nodes(X: np.ndarray, name: str) -> None:
     ----------
     Sclaroff & Pentland, IEEE PAMI 17, 1995 (G must be invertible), the element of Bastos & Tavares, AMDO 2004.
     """
+    X = as_finite_array(nodes, name, ndim=2, max_abs=MAX_COORDINATE_MM)
     m, D = X.shape
     if D not in (2, 3):
         raise ValueError(f"{name} must hold 2-D or 3-D points, got {D} coordinates")
@@ -205,6 +210,15 @@ def check_nodes(X: np.ndarray, name: str) -> None:
     scale = np.max(np.abs(X)) or 1.0
     if len(np.unique(np.round(X / scale, 12), axis=0)) < m:
         raise ValueError(f"{name} holds duplicate nodes")
+    return X
+
+
+def _check_node_pair(X1: object, X2: object) -> tuple[np.ndarray, np.ndarray]:
+    """Two objects' node sets X1 and X2, each checked by :func:`check_nodes`, of the same dimension."""
+    X1 = check_nodes(X1, "X1")
+    X2 = check_nodes(X2, "X2")
+    check_same_dimension(X1, X2)
+    return X1, X2
 
 
 def _check_condition(X: np.ndarray, sigma: float, *, sigma_is_spacing: bool = False) -> None:
