@@ -19,7 +19,7 @@ from scipy.optimize import linear_sum_assignment
 from amdo_lab.common import (as_finite_array, check_bool, check_choice, check_in_range, check_instance,
                              check_positive_int)
 from amdo_lab.modal_matching.element import (MAX_COORDINATE_MM, _check_node_pair, _interpolate_field,
-                                             gaussian_element, mean_spacing)
+                                             check_same_dimension, gaussian_element, mean_spacing)
 from amdo_lab.modal_matching.modes import ModalBasis, modal_analysis
 
 __all__ = ["ALIGNMENTS", "MatchResult", "SEARCHES", "adcom", "affinity_matrix", "global_search", "local_search",
@@ -103,8 +103,7 @@ def mode_features(modes1: ModalBasis, modes2: ModalBasis, *, n_modes: int = 16,
 def _check_pair(modes1: object, modes2: object) -> None:
     check_instance(modes1, "modes1", ModalBasis)
     check_instance(modes2, "modes2", ModalBasis)
-    if modes1.model.dimension != modes2.model.dimension:
-        raise ValueError(f"modes2 is {modes2.model.dimension}-D but modes1 is {modes1.model.dimension}-D")
+    check_same_dimension(modes1.model.nodes, modes2.model.nodes, "modes1 and modes2")
 
 
 def _unit_rms(shapes: np.ndarray) -> np.ndarray:
