@@ -31,7 +31,7 @@ KNOWN_EXCESS: dict[str, dict[str, object]] = {
     "face_glmm": {"validation_share": "21.1 % (222 of 1,053 lines)"},
     "incremental_svd": {"validation_share": "20.6 % (82 of 399 lines)"},
     "introduction": {"validation_share": "37.5 % (6 of 16 lines: one function checking five arguments)"},
-    "modal_matching": {"validation_share": "31.2 % (106 of 340 lines)"},
+    "modal_matching": {"validation_share": "25.4 % (89 of 351 lines)"},
     "pdm_mixtures": {"validation_share": "23.8 % (173 of 726 lines)"},
 }
 

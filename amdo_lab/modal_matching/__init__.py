@@ -11,7 +11,6 @@ from amdo_lab.modal_matching.element import (
     RIGID_MODES,
     GaussianElement,
     gaussian_element,
-    interpolate_field,
     mean_spacing,
 )
 from amdo_lab.modal_matching.matching import (
@@ -48,7 +47,6 @@ __all__ = [
     "RIGID_MODES",
     "GaussianElement",
     "gaussian_element",
-    "interpolate_field",
     "mean_spacing",
     "ALIGNMENTS",
     "SEARCHES",

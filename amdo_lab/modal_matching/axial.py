@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import as_finite_array, check_in_range
-from amdo_lab.modal_matching.element import (MAX_COORDINATE_MM, MAX_MATERIAL, GaussianElement, _gaussians,
+from amdo_lab.modal_matching.element import (MAX_MATERIAL, GaussianElement, _check_condition, _gaussians,
                                              _mean_spacing, check_nodes)
 
 __all__ = ["AxialElement", "axial_element"]
@@ -63,7 +63,9 @@ def axial_element(nodes: np.ndarray, edges: np.ndarray, *, young: float = 1.0, d
         Node positions (mm), D = 2 or 3, at least D + 2 distinct nodes and at most 1,000,000.
     edges : ndarray of int, shape (b, 2)
         The bars: indices of their two end nodes, each in [0, m - 1]; every node must end a bar,
-        and no bar may join a node to itself.
+        and no bar may join a node to itself. The nodes must be spaced evenly enough that the Gaussians
+        of width h (their mean spacing) that carry modes to other points keep the interpolation matrix
+        conditioned below :data:`~amdo_lab.modal_matching.MAX_CONDITION`.
     young : float
         Young's modulus E times the cross-section, in (0, 1e100] (only scales the frequencies).
     density : float
@@ -87,12 +89,12 @@ def axial_element(nodes: np.ndarray, edges: np.ndarray, *, young: float = 1.0, d
     >>> model.stiffness.shape
     (8, 8)
     """
-    X = as_finite_array(nodes, "nodes", ndim=2, max_abs=MAX_COORDINATE_MM)
-    check_nodes(X, "nodes")
+    X = check_nodes(nodes, "nodes")
     bars = as_finite_array(edges, "edges", shape=(None, 2), dtype=int, bounds=(0, len(X) - 1))
     _check_edges(bars, len(X))
     young = check_in_range(young, "young", 0.0, MAX_MATERIAL, closed="right")
     density = check_in_range(density, "density", 0.0, MAX_MATERIAL, closed="right")
+    _check_condition(X, _mean_spacing(X), sigma_is_spacing=True)
     return _axial_element(X, bars, young, density)
 
 

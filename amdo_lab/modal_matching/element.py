@@ -13,10 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import MAX_SAMPLES, as_finite_array, check_choice, check_in_range, check_instance
+from amdo_lab.common import MAX_SAMPLES, as_finite_array, check_choice, check_in_range
 
 __all__ = ["GaussianElement", "MAX_CONDITION", "MAX_COORDINATE_MM", "MAX_MATERIAL", "RIGID_MODES", "check_nodes",
-           "check_same_dimension", "gaussian_element", "interpolate_field", "mean_spacing"]
+           "check_same_dimension", "gaussian_element", "mean_spacing"]
 
 _REFERENCE = ("L. F. Bastos, J. M. R. S. Tavares. Improvement of Modal Matching Image Objects in Dynamic "
               "Pedobarography Using Optimization Techniques. AMDO 2004, LNCS 3179, Sec. 3-4; the element is "
@@ -149,8 +149,7 @@ def gaussian_element(
     >>> model.mass.shape
     (16, 16)
     """
-    X = as_finite_array(nodes, "nodes", ndim=2, max_abs=MAX_COORDINATE_MM)
-    check_nodes(X, "nodes")
+    X = check_nodes(nodes, "nodes")
     sigma = check_in_range(sigma, "sigma", 0.0, MAX_COORDINATE_MM, closed="right")
     young = check_in_range(young, "young", 0.0, MAX_MATERIAL, closed="right")
     poisson = check_in_range(poisson, "poisson", -1.0, 0.5)
@@ -178,15 +177,20 @@ def check_same_dimension(X1: np.ndarray, X2: np.ndarray, names: str = "X1 and X2
         raise ValueError(f"{names} must have the same number of coordinates, got {X1.shape[1]} and {X2.shape[1]}")
 
 
-def check_nodes(X: np.ndarray, name: str) -> None:
-    """Refuse, naming the argument, a node set the element cannot model.
+def check_nodes(nodes: object, name: str) -> np.ndarray:
+    """The node set as a float array, refused, naming the argument, when the element cannot model it.
 
     Parameters
     ----------
-    X : ndarray, shape (m, D)
-        Finite node positions (mm).
+    nodes : array_like, shape (m, D)
+        Node positions (mm), finite, each coordinate at most :data:`MAX_COORDINATE_MM` in size.
     name : str
         The argument's name, used in error messages.
+
+    Returns
+    -------
+    ndarray, shape (m, D)
+        The nodes as floats.
 
     Raises
     ------
@@ -197,6 +201,7 @@ def check_nodes(X: np.ndarray, name: str) -> None:
     ----------
     Sclaroff & Pentland, IEEE PAMI 17, 1995 (G must be invertible), the element of Bastos & Tavares, AMDO 2004.
     """
+    X = as_finite_array(nodes, name, ndim=2, max_abs=MAX_COORDINATE_MM)
     m, D = X.shape
     if D not in (2, 3):
         raise ValueError(f"{name} must hold 2-D or 3-D points, got {D} coordinates")
@@ -205,13 +210,28 @@ def check_nodes(X: np.ndarray, name: str) -> None:
     scale = np.max(np.abs(X)) or 1.0
     if len(np.unique(np.round(X / scale, 12), axis=0)) < m:
         raise ValueError(f"{name} holds duplicate nodes")
+    return X
 
 
-def _check_condition(X: np.ndarray, sigma: float) -> None:
+def _check_node_pair(X1: object, X2: object) -> tuple[np.ndarray, np.ndarray]:
+    """Two objects' node sets X1 and X2, each checked by :func:`check_nodes`, of the same dimension."""
+    X1 = check_nodes(X1, "X1")
+    X2 = check_nodes(X2, "X2")
+    check_same_dimension(X1, X2)
+    return X1, X2
+
+
+def _check_condition(X: np.ndarray, sigma: float, *, sigma_is_spacing: bool = False) -> None:
+    """Refuse Gaussians of width sigma whose interpolation matrix G is numerically singular at the nodes X.
+
+    With ``sigma_is_spacing`` the width is not an argument but the mean node spacing h (axial bars), so
+    the message blames the nodes: too unevenly spaced for one common width.
+    """
     condition = np.linalg.cond(_gaussians(X, X, sigma))
+    cure = ("nodes are too unevenly spaced for Gaussians as wide as their mean spacing h = {:g}: spread them "
+            "more evenly" if sigma_is_spacing else "sigma = {:g} is too wide: take a smaller sigma").format(sigma)
     if not condition <= MAX_CONDITION:
-        raise ValueError(f"sigma = {sigma:g} makes the interpolation matrix singular (condition {condition:.1e} "
-                         f"> {MAX_CONDITION:.0e}): take a smaller sigma")
+        raise ValueError(f"{cure} (the interpolation matrix has condition {condition:.1e} > {MAX_CONDITION:.0e})")
 
 
 def _gaussians(points: np.ndarray, centres: np.ndarray, sigma: float) -> np.ndarray:
@@ -273,35 +293,9 @@ def _gaussian_element(X: np.ndarray, sigma: float, young: float, poisson: float,
     return GaussianElement(X, sigma, mass, stiffness, A, young, poisson, density, rigid)
 
 
-def interpolate_field(model: GaussianElement, displacements: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """The element's displacement field u(x) = sum_i h_i(x) U_i at other points.
-
-    Parameters
-    ----------
-    model : GaussianElement
-        The element whose interpolation functions are used.
-    displacements : ndarray, shape (D m, n)
-        n nodal displacement vectors, ordered axis by axis as the element's degrees of freedom.
-    points : ndarray, shape (p, D)
-        Where to evaluate the field (mm).
-
-    Returns
-    -------
-    ndarray, shape (D p, n)
-        The field at ``points``, ordered axis by axis.
-
-    References
-    ----------
-    Sclaroff & Pentland, IEEE PAMI 17, 1995 (H = A g), the element of Bastos & Tavares, AMDO 2004.
-    """
-    check_instance(model, "model", GaussianElement)
-    m, D = model.nodes.shape
-    U = as_finite_array(displacements, "displacements", ndim=2, shape=(D * m, None))
-    P = as_finite_array(points, "points", ndim=2, shape=(None, D), max_abs=MAX_COORDINATE_MM)
-    return _interpolate_field(model, U, P)
-
-
 def _interpolate_field(model: GaussianElement, U: np.ndarray, P: np.ndarray) -> np.ndarray:
+    """The element's displacement field u(x) = sum_i h_i(x) U_i (H = A g) at points P (p, D), for nodal
+    displacements U (D m, n) ordered axis by axis; returns (D p, n), ordered axis by axis."""
     m, D = model.nodes.shape
     H = _gaussians(P, model.nodes, model.sigma) @ model.interpolation  # (p, m): h_i(x_p)
     return np.concatenate([H @ U[a * m:(a + 1) * m] for a in range(D)], axis=0)

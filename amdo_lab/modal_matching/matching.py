@@ -18,8 +18,8 @@ from scipy.optimize import linear_sum_assignment
 
 from amdo_lab.common import (as_finite_array, check_bool, check_choice, check_in_range, check_instance,
                              check_positive_int)
-from amdo_lab.modal_matching.element import (MAX_COORDINATE_MM, check_nodes, check_same_dimension, gaussian_element,
-                                             interpolate_field, mean_spacing)
+from amdo_lab.modal_matching.element import (MAX_COORDINATE_MM, _check_node_pair, _interpolate_field,
+                                             check_same_dimension, gaussian_element, mean_spacing)
 from amdo_lab.modal_matching.modes import ModalBasis, modal_analysis
 
 __all__ = ["ALIGNMENTS", "MatchResult", "SEARCHES", "adcom", "affinity_matrix", "global_search", "local_search",
@@ -103,8 +103,7 @@ def mode_features(modes1: ModalBasis, modes2: ModalBasis, *, n_modes: int = 16,
 def _check_pair(modes1: object, modes2: object) -> None:
     check_instance(modes1, "modes1", ModalBasis)
     check_instance(modes2, "modes2", ModalBasis)
-    if modes1.model.dimension != modes2.model.dimension:
-        raise ValueError(f"modes2 is {modes2.model.dimension}-D but modes1 is {modes1.model.dimension}-D")
+    check_same_dimension(modes1.model.nodes, modes2.model.nodes, "modes1 and modes2")
 
 
 def _unit_rms(shapes: np.ndarray) -> np.ndarray:
@@ -123,7 +122,7 @@ def _sign_alignment(Phi1: np.ndarray, Phi2: np.ndarray) -> np.ndarray:
 
 def _procrustes_alignment(modes1: ModalBasis, Phi1: np.ndarray, modes2: ModalBasis, Phi2: np.ndarray) -> np.ndarray:
     """The orthogonal R minimising |Phi2 R - P|, P = object 1's modes interpolated at object 2's nodes."""
-    P = interpolate_field(modes1.model, Phi1, modes2.model.nodes)
+    P = _interpolate_field(modes1.model, Phi1, modes2.model.nodes)
     U, _, Vt = np.linalg.svd(Phi2.T @ P)
     return U @ Vt
 
@@ -269,10 +268,15 @@ def adcom(Z: np.ndarray, pairs: np.ndarray) -> np.ndarray:
     Bastos & Tavares, AMDO 2004, Sec. 4 (one sentence: "a neighbourhood criterion"; our reading).
     """
     Z = as_finite_array(Z, "Z", ndim=2, max_abs=MAX_AFFINITY)
-    pairs = as_finite_array(pairs, "pairs", ndim=2, shape=(None, 2), dtype=int, bounds=(0, max(Z.shape) - 1))
-    if np.any(pairs >= np.array(Z.shape)):
-        raise ValueError(f"pairs name a node outside Z's shape {Z.shape}")
-    return _adcom(Z, pairs)
+    return _adcom(Z, _check_index_pairs(pairs, Z.shape, f"Z's shape {Z.shape}"))
+
+
+def _check_index_pairs(pairs: object, sizes: tuple[int, int], what: str) -> np.ndarray:
+    """Rows (i, j) of node indices, i below sizes[0] and j below sizes[1]; ``what`` names the two sizes."""
+    pairs = as_finite_array(pairs, "pairs", ndim=2, shape=(None, 2), dtype=int, bounds=(0, max(sizes) - 1))
+    if np.any(pairs >= np.array(sizes)):
+        raise ValueError(f"pairs name a node outside {what}")
+    return pairs
 
 
 def _adcom(Z: np.ndarray, pairs: np.ndarray) -> np.ndarray:
@@ -331,11 +335,7 @@ def match_objects(X1: np.ndarray, X2: np.ndarray, *, sigma: float | None = None,
     >>> match_objects(X1, X1[:11], n_modes=6).pairs.shape
     (11, 2)
     """
-    X1 = as_finite_array(X1, "X1", ndim=2, max_abs=MAX_COORDINATE_MM)
-    X2 = as_finite_array(X2, "X2", ndim=2, max_abs=MAX_COORDINATE_MM)
-    check_same_dimension(X1, X2)
-    check_nodes(X1, "X1")
-    check_nodes(X2, "X2")
+    X1, X2 = _check_node_pair(X1, X2)
     if sigma is not None:
         sigma = check_in_range(sigma, "sigma", 0.0, MAX_COORDINATE_MM, closed="right")
     n_modes = check_positive_int(n_modes, "n_modes", maximum=X1.shape[1] * min(len(X1), len(X2)))

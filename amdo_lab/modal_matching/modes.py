@@ -12,8 +12,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import linalg
 
-from amdo_lab.common import as_finite_array, check_instance, check_positive_int
-from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, GaussianElement, check_nodes
+from amdo_lab.common import check_instance, check_positive_int
+from amdo_lab.modal_matching.element import GaussianElement, check_nodes
 
 __all__ = ["ModalBasis", "exact_rigid_motions", "modal_analysis"]
 
@@ -93,8 +93,7 @@ def exact_rigid_motions(nodes: np.ndarray) -> np.ndarray:
     ----------
     Bastos & Tavares, AMDO 2004, Sec. 4 ("the first three (six) modes are rigid").
     """
-    X = as_finite_array(nodes, "nodes", ndim=2, max_abs=MAX_COORDINATE_MM)
-    check_nodes(X, "nodes")
+    X = check_nodes(nodes, "nodes")
     return _exact_rigid_motions(X)
 
 

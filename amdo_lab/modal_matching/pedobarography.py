@@ -15,10 +15,10 @@ import numpy as np
 from scipy import ndimage
 from skimage import measure
 
-from amdo_lab.common import (MAX_SAMPLES, MAX_SIDE, as_finite_array, check_choice, check_in_range, check_positive,
-                             check_positive_int,
-                             make_rng)
+from amdo_lab.common import (MAX_SAMPLES, MAX_SIDE, as_finite_array, check_choice, check_in_range, check_instance,
+                             check_positive, check_positive_int, make_rng)
 from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, check_same_dimension, mean_spacing
+from amdo_lab.modal_matching.matching import _check_index_pairs
 
 __all__ = ["LOAD_NAMES", "ObjectPair", "PAPER_PAIRS", "PedobarographySequence", "SURFACE_BOX_MM", "correct_share",
            "make_pedobarography_sequence", "move_object", "paper_pair", "resample_closed_curve"]
@@ -53,8 +53,20 @@ PAPER_PAIRS = {"contours": ((4, 15.0, 64), (5, 15.0, 58)), "isobars": ((5, 100.0
 #: Table 3's surfaces: the heel's circumscribing rectangle (x0, x1, y0, y1 in mm) sampled every
 #: ``nodes`` pixels (the third entry of the "surfaces" pair) where the pressure reaches the level.
 SURFACE_BOX_MM = (30.0, 130.0, 0.0, 110.0)
-#: Largest pressure (kPa) accepted as a level or a noise: a thousand times a foot's peak.
+#: The plate: rows (heel to toes) and columns of a frame, and the pixel size (mm).
+PLATE_SHAPE_PX = (150, 80)
+MM_PER_PX = 2.0
+#: The sensor: standard deviation of the pixel noise (kPa), calibration floor (kPa), and standard
+#: deviation of the Gaussian filter applied after the floor (pixels).
+NOISE_KPA = 3.0
+FLOOR_KPA = 8.0
+FILTER_PX = 1.0
+#: Sub-steps of :meth:`PedobarographySequence.follow` between the start and the end isobar.
+FOLLOW_STEPS = 16
+#: Largest pressure (kPa) accepted as a level: a thousand times a foot's peak.
 MAX_PRESSURE_KPA = 1e6
+#: Largest scale (mm per kPa) of a surface's third coordinate: the largest pressure stays a valid coordinate.
+MAX_Z_MM_PER_KPA = MAX_COORDINATE_MM / MAX_PRESSURE_KPA
 #: Latest time (frames) the field is evaluated at: far beyond any step, and (t - t_k)^2 stays finite.
 MAX_TIME_FRAMES = 1e6
 #: Longest Newton step (mm) of :meth:`PedobarographySequence.follow`, so flat regions do not throw a point away.
@@ -150,10 +162,10 @@ class PedobarographySequence:
         longest = max(curves, key=len)
         return _resample_closed_curve(longest[:, ::-1] * self.mm_per_px, n_nodes)
 
-    def surface(self, frame: int, level: float, *, stride_px: int = 3,
-                box_mm: tuple[float, float, float, float] = SURFACE_BOX_MM, z_mm_per_kpa: float = 1.0) -> np.ndarray:
-        """The pressure surface of a frame as 3-D nodes: every ``stride_px``-th pixel inside a rectangle
-        where the pressure reaches ``level``, with the pressure (scaled) as third coordinate.
+    def surface(self, frame: int, level: float, *, stride_px: int = 3, z_mm_per_kpa: float = 1.0) -> np.ndarray:
+        """The pressure surface of a frame as 3-D nodes: every ``stride_px``-th pixel inside the heel's
+        rectangle :data:`SURFACE_BOX_MM` where the pressure reaches ``level``, with the pressure (scaled)
+        as third coordinate.
 
         Parameters
         ----------
@@ -163,8 +175,6 @@ class PedobarographySequence:
             Pressure (kPa), > 0.
         stride_px : int
             Sampling step (pixels), from 1 to 4,096.
-        box_mm : (float, float, float, float)
-            The rectangle x0, x1, y0, y1 (mm).
         z_mm_per_kpa : float
             Scale of the third coordinate (mm per kPa), > 0.
 
@@ -176,20 +186,19 @@ class PedobarographySequence:
         frame = check_positive_int(frame, "frame", minimum=0, maximum=self.frames.shape[0] - 1)
         level = check_in_range(level, "level", 0.0, MAX_PRESSURE_KPA, closed="right")
         stride = check_positive_int(stride_px, "stride_px", maximum=MAX_SIDE)
-        x0, x1, y0, y1 = as_finite_array(box_mm, "box_mm", shape=(4,), max_abs=MAX_COORDINATE_MM)
-        z_scale = check_in_range(z_mm_per_kpa, "z_mm_per_kpa", 0.0, MAX_COORDINATE_MM / MAX_PRESSURE_KPA,
-                                 closed="right")
+        z_scale = check_in_range(z_mm_per_kpa, "z_mm_per_kpa", 0.0, MAX_Z_MM_PER_KPA, closed="right")
+        x0, x1, y0, y1 = SURFACE_BOX_MM
         image = self.frames[frame]
         rows, cols = np.mgrid[0:image.shape[0]:stride, 0:image.shape[1]:stride]
         x, y, p = cols * self.mm_per_px, rows * self.mm_per_px, image[rows, cols]
         inside = (x >= x0) & (x <= x1) & (y >= y0) & (y <= y1) & (p >= level)
         return np.c_[x[inside], y[inside], z_scale * p[inside]]
 
-    def follow(self, points: np.ndarray, t_from: float, level_from: float, t_to: float, level_to: float,
-               *, steps: int = 16) -> np.ndarray:
+    def follow(self, points: np.ndarray, t_from: float, level_from: float, t_to: float,
+               level_to: float) -> np.ndarray:
         """Where the field's gradient flow carries points from one isobar (t, level) to another.
 
-        Each of ``steps`` sub-steps moves the time and the level a little and projects every point
+        Each of :data:`FOLLOW_STEPS` sub-steps moves the time and the level a little and projects every point
         back onto the current isobar along the gradient (Newton steps): between frames this is the
         isobar's normal motion, between levels the steepest ascent.
 
@@ -201,8 +210,6 @@ class PedobarographySequence:
             Times (frames), in [0, 1e6].
         level_from, level_to : float
             Pressures (kPa), in (0, 1e6].
-        steps : int
-            Sub-steps, at least 1 and at most 100,000.
 
         Returns
         -------
@@ -210,12 +217,11 @@ class PedobarographySequence:
             The points carried to the isobar ``level_to`` at time ``t_to``.
         """
         P = as_finite_array(points, "points", ndim=2, shape=(None, 2), max_abs=MAX_COORDINATE_MM)
-        steps = check_positive_int(steps, "steps", maximum=100_000)
         t_from = check_in_range(t_from, "t_from", 0.0, MAX_TIME_FRAMES, closed="both")
         t_to = check_in_range(t_to, "t_to", 0.0, MAX_TIME_FRAMES, closed="both")
         level_from = check_in_range(level_from, "level_from", 0.0, MAX_PRESSURE_KPA, closed="right")
         level_to = check_in_range(level_to, "level_to", 0.0, MAX_PRESSURE_KPA, closed="right")
-        for fraction in np.linspace(0, 1, steps + 1):
+        for fraction in np.linspace(0, 1, FOLLOW_STEPS + 1):
             t = t_from + fraction * (t_to - t_from)
             level = level_from + fraction * (level_to - level_from)
             for _ in range(4):
@@ -267,8 +273,7 @@ def paper_pair(sequence: PedobarographySequence, which: str) -> ObjectPair:
     ----------
     Bastos & Tavares, AMDO 2004, Sec. 5, Tables 1 and 2.
     """
-    if not isinstance(sequence, PedobarographySequence):
-        raise TypeError(f"sequence must be a PedobarographySequence, got {type(sequence).__name__}")
+    check_instance(sequence, "sequence", PedobarographySequence)
     which = check_choice(which, "which", tuple(PAPER_PAIRS))
     (t1, level1, n1), (t2, level2, n2) = PAPER_PAIRS[which]
     if sequence.frames.shape[0] <= max(t1, t2):
@@ -306,8 +311,7 @@ def move_object(pair: ObjectPair, *, angle_deg: float, shift_mm: float) -> Objec
     Bastos & Tavares, AMDO 2004, Sec. 4 (the modes are claimed to be close "even in the presence of an
     affine transformation").
     """
-    if not isinstance(pair, ObjectPair):
-        raise TypeError(f"pair must be an ObjectPair, got {type(pair).__name__}")
+    check_instance(pair, "pair", ObjectPair)
     angle = np.deg2rad(check_in_range(angle_deg, "angle_deg", -360.0, 360.0, closed="both"))
     shift = check_in_range(shift_mm, "shift_mm", -MAX_PRESSURE_KPA, MAX_PRESSURE_KPA, closed="both")
     centre = pair.X2.mean(axis=0)
@@ -358,11 +362,12 @@ def _resample_closed_curve(curve: np.ndarray, n: int) -> np.ndarray:
     return np.c_[np.interp(s, arc, closed[:, 0]), np.interp(s, arc, closed[:, 1])]
 
 
-def make_pedobarography_sequence(*, rng: int | np.random.Generator, n_frames: int = 15,
-                                 shape: tuple[int, int] = (150, 80), mm_per_px: float = 2.0,
-                                 noise: float = 3.0, floor: float = 8.0,
-                                 filter_px: float = 1.0) -> PedobarographySequence:
+def make_pedobarography_sequence(*, rng: int | np.random.Generator, n_frames: int = 15) -> PedobarographySequence:
     """A seeded pressure sequence of one step on the plate: 12 loads on a stance schedule.
+
+    The plate and its sensor are fixed: :data:`PLATE_SHAPE_PX` pixels of :data:`MM_PER_PX` mm, pixel
+    noise :data:`NOISE_KPA`, calibration floor :data:`FLOOR_KPA` (pixels below it are set to zero
+    before the filter) and a Gaussian filter of :data:`FILTER_PX` pixels.
 
     Parameters
     ----------
@@ -370,16 +375,6 @@ def make_pedobarography_sequence(*, rng: int | np.random.Generator, n_frames: in
         Seed of the loads' perturbations and of the pixel noise.
     n_frames : int
         Frames over the stance, at least 2 and at most 4,096.
-    shape : (int, int)
-        Rows and columns of a frame, each at most 4,096; rows run from heel to toes.
-    mm_per_px : float
-        Pixel size (mm), in (0, 100].
-    noise : float
-        Standard deviation of the pixel noise (kPa), in [0, 1e6].
-    floor : float
-        Calibration floor (kPa), in [0, 1e6]: pixels below it are set to zero before the filter.
-    filter_px : float
-        Standard deviation of the Gaussian filter (pixels), in (0, 4096].
 
     Returns
     -------
@@ -398,18 +393,7 @@ def make_pedobarography_sequence(*, rng: int | np.random.Generator, n_frames: in
     """
     generator = make_rng(rng, "rng")
     n_frames = check_positive_int(n_frames, "n_frames", minimum=2, maximum=MAX_SIDE)
-    rows, cols = (check_positive_int(side, "shape", minimum=8, maximum=MAX_SIDE) for side in _pair(shape))
-    mm_per_px = check_in_range(mm_per_px, "mm_per_px", 0.0, 100.0, closed="right")
-    noise = check_in_range(noise, "noise", 0.0, MAX_PRESSURE_KPA, closed="both")
-    floor = check_in_range(floor, "floor", 0.0, MAX_PRESSURE_KPA, closed="both")
-    filter_px = check_in_range(filter_px, "filter_px", 0.0, MAX_SIDE, closed="right")
-    return _make_sequence(generator, n_frames, rows, cols, mm_per_px, noise, floor, filter_px)
-
-
-def _pair(shape: object) -> tuple[object, object]:
-    if not isinstance(shape, tuple) or len(shape) != 2:
-        raise TypeError(f"shape must be a pair of ints, got {shape!r}")
-    return shape
+    return _make_sequence(generator, n_frames, *PLATE_SHAPE_PX, MM_PER_PX, NOISE_KPA, FLOOR_KPA, FILTER_PX)
 
 
 def _make_sequence(rng: np.random.Generator, n_frames: int, rows: int, cols: int, mm_per_px: float,
@@ -467,10 +451,7 @@ def correct_share(pairs: np.ndarray, truth: np.ndarray, X2: np.ndarray) -> float
     check_same_dimension(truth, X2, "truth and X2")
     if len(X2) < 2:
         raise ValueError(f"X2 must hold at least 2 nodes, got {len(X2)}")
-    pairs = as_finite_array(pairs, "pairs", ndim=2, shape=(None, 2), dtype=int,
-                            bounds=(0, max(len(truth), len(X2)) - 1))
-    if np.any(pairs >= np.array([len(truth), len(X2)])):
-        raise ValueError(f"pairs name a node beyond truth's {len(truth)} or X2's {len(X2)} nodes")
+    pairs = _check_index_pairs(pairs, (len(truth), len(X2)), f"truth's {len(truth)} or X2's {len(X2)} nodes")
     return _correct_share(pairs, truth, X2)
 
 

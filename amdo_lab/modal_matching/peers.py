@@ -10,23 +10,14 @@ import time
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_choice
-from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, check_nodes, check_same_dimension
+from amdo_lab.common import check_choice
+from amdo_lab.modal_matching.element import _check_node_pair
 from amdo_lab.modal_matching.matching import MatchResult, adcom, global_search
 
 __all__ = ["CPD_KINDS", "match_coordinates", "match_cpd"]
 
 #: pycpd's registrations.
 CPD_KINDS = ("rigid", "deformable")
-
-
-def _check_objects(X1: object, X2: object) -> tuple[np.ndarray, np.ndarray]:
-    X1 = as_finite_array(X1, "X1", ndim=2, max_abs=MAX_COORDINATE_MM)
-    X2 = as_finite_array(X2, "X2", ndim=2, max_abs=MAX_COORDINATE_MM)
-    check_same_dimension(X1, X2)
-    check_nodes(X1, "X1")
-    check_nodes(X2, "X2")
-    return X1, X2
 
 
 def _squared_distances(X1: np.ndarray, X2: np.ndarray) -> np.ndarray:
@@ -57,7 +48,7 @@ def match_coordinates(X1: np.ndarray, X2: np.ndarray) -> MatchResult:
     >>> match_coordinates(square, square + 0.1).pairs.tolist()
     [[0, 0], [1, 1], [2, 2], [3, 3]]
     """
-    X1, X2 = _check_objects(X1, X2)
+    X1, X2 = _check_node_pair(X1, X2)
     start = time.perf_counter()
     Z = _squared_distances(X1, X2)
     pairs = global_search(Z)
@@ -88,7 +79,7 @@ def match_cpd(X1: np.ndarray, X2: np.ndarray, *, kind: str = "deformable") -> Ma
     """
     from pycpd import DeformableRegistration, RigidRegistration
 
-    X1, X2 = _check_objects(X1, X2)
+    X1, X2 = _check_node_pair(X1, X2)
     kind = check_choice(kind, "kind", CPD_KINDS)
     start = time.perf_counter()
     centre, scale = X1.mean(axis=0), np.sqrt(np.mean(np.sum((X1 - X1.mean(axis=0)) ** 2, axis=1)))
