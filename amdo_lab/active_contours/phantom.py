@@ -46,6 +46,8 @@ SEPTUM_MM = 0.7
 WITHDRAWN_PER_STAGE = 3
 #: Largest number of hams a study holds.
 MAX_HAMS = 1000
+#: Largest height along a muscle, and largest polar angle, a :class:`MuscleShape` accepts (mm, radians).
+MAX_HEIGHT_MM = MAX_ANGLE = 1e6
 
 _REFERENCE = ("A. Caro, P.G. Rodriguez, M.L. Duran, M.M. Avila, T. Antequera, R. Gallardo. A Comparison of "
               "Algorithm Design Paradigms in Active Contours for Muscle Recognition. AMDO 2004, LNCS 3179, "
@@ -100,6 +102,7 @@ class MuscleShape:
         float
             ``R sqrt(1 - z^2 / L^2)`` for ``|z| <= 0.8 L``, else 0, in mm.
         """
+        z_mm = check_in_range(z_mm, "z_mm", -MAX_HEIGHT_MM, MAX_HEIGHT_MM, closed="both")
         ratio = z_mm / self.half_length_mm
         return self.radius_mm * float(np.sqrt(1.0 - ratio ** 2)) if abs(ratio) <= 0.8 else 0.0
 
@@ -118,9 +121,10 @@ class MuscleShape:
         r, dr : ndarray
             The radius and its derivative in ``theta``, shaped as ``theta``.
         """
-        k, a, phi = self.coefficients.T
-        angle = k * np.asarray(theta)[..., None] + phi + self.twist * z_mm
+        theta = as_finite_array(theta, "theta", allow_empty=True, max_abs=MAX_ANGLE)
         r0 = self.r0(z_mm)
+        k, a, phi = self.coefficients.T
+        angle = k * theta[..., None] + phi + self.twist * z_mm
         return r0 * (1 + np.sum(a * np.cos(angle), axis=-1)), -r0 * np.sum(k * a * np.sin(angle), axis=-1)
 
     def area_mm2(self, z_mm: float) -> float:
@@ -164,6 +168,7 @@ class MuscleShape:
         (n_points, 2) ndarray
             The closed line, counter-clockwise in (row, col).
         """
+        n_points = check_positive_int(n_points, "n_points", minimum=3, maximum=10_000)
         theta = np.linspace(0, 2 * np.pi, n_points, endpoint=False)
         r, _ = self.radius(theta, z_mm)
         rows = self.centre_mm[0] + r * np.sin(theta)
@@ -382,6 +387,7 @@ class HamStudy:
         list of int
             The hams scanned at that stage.
         """
+        stage = check_positive_int(stage, "stage", minimum=0, maximum=3)
         return list(range(self.n_hams - WITHDRAWN_PER_STAGE * stage))
 
     def _checked(self, ham: object, stage: object) -> tuple[int, int]:
