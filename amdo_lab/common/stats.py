@@ -58,7 +58,7 @@ class RateInterval:
         bool
             ``low <= value <= high``.
         """
-        value = float(as_finite_array(value, "value", ndim=0, bounds=(0.0, 1.0)))
+        value = float(as_finite_array(value, "value", ndim=0))
         return self.low <= value <= self.high
 
 
