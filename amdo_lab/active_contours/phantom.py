@@ -48,6 +48,8 @@ WITHDRAWN_PER_STAGE = 3
 MAX_HAMS = 1000
 #: Largest height along a muscle, and largest polar angle, a :class:`MuscleShape` accepts (mm, radians).
 MAX_HEIGHT_MM = MAX_ANGLE = 1e6
+#: Points on a muscle's true centre line (:meth:`MuscleShape.contour_px`).
+CONTOUR_POINTS = 400
 
 _REFERENCE = ("A. Caro, P.G. Rodriguez, M.L. Duran, M.M. Avila, T. Antequera, R. Gallardo. A Comparison of "
               "Algorithm Design Paradigms in Active Contours for Muscle Recognition. AMDO 2004, LNCS 3179, "
@@ -153,23 +155,20 @@ class MuscleShape:
         shape = 1 + 0.5 * np.sum(self.coefficients[:, 1] ** 2)
         return float(np.pi * shape * self.radius_mm ** 2 * self.half_length_mm * (1.6 - 2 * 0.8 ** 3 / 3))
 
-    def contour_px(self, z_mm: float, n_points: int = 400) -> np.ndarray:
-        """The septum's centre line at ``z_mm`` as ``(n_points, 2)`` (row, col) pixel coordinates.
+    def contour_px(self, z_mm: float) -> np.ndarray:
+        """The septum's centre line at ``z_mm`` as ``(CONTOUR_POINTS, 2)`` (row, col) pixel coordinates.
 
         Parameters
         ----------
         z_mm : float
             Height along the muscle, mm.
-        n_points : int
-            Points on the line.
 
         Returns
         -------
-        (n_points, 2) ndarray
+        (CONTOUR_POINTS, 2) ndarray
             The closed line, counter-clockwise in (row, col).
         """
-        n_points = check_positive_int(n_points, "n_points", minimum=3, maximum=10_000)
-        theta = np.linspace(0, 2 * np.pi, n_points, endpoint=False)
+        theta = np.linspace(0, 2 * np.pi, CONTOUR_POINTS, endpoint=False)
         r, _ = self.radius(theta, z_mm)
         rows = self.centre_mm[0] + r * np.sin(theta)
         cols = self.centre_mm[1] + r * np.cos(theta)
@@ -391,9 +390,9 @@ class HamStudy:
         return list(range(self.n_hams - WITHDRAWN_PER_STAGE * stage))
 
     def _checked(self, ham: object, stage: object) -> tuple[int, int]:
-        stage = check_positive_int(stage, "stage", minimum=0, maximum=3)
+        present, stage = self.hams_at(stage), int(stage)  # hams_at checks stage
         ham = check_positive_int(ham, "ham", minimum=0, maximum=self.n_hams - 1)
-        if ham not in self.hams_at(stage):
+        if ham not in present:
             raise ValueError(f"ham {ham} was withdrawn before stage {stage} ({STAGES[stage]})")
         return ham, stage
 

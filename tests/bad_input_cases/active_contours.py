@@ -68,8 +68,7 @@ def cases() -> dict[str, Case]:
         "MuscleShape.area_mm2": Case(shape.area_mm2, {"z_mm": 1.0}, {"z_mm": "real"}),
         "MuscleShape.radius": Case(shape.radius, {"theta": theta, "z_mm": 1.0}, {"theta": "array", "z_mm": "real"},
                                    accept=any_angles),  # r(theta) is shaped as theta
-        "MuscleShape.contour_px": Case(shape.contour_px, {"z_mm": 1.0, "n_points": 20},
-                                       {"z_mm": "real", "n_points": "count"}),
+        "MuscleShape.contour_px": Case(shape.contour_px, {"z_mm": 1.0}, {"z_mm": "real"}),
         "initial_contour": Case(ac.initial_contour, {"ham_slice": ham, "muscle": "semimembranosus", "rng": 0,
                                                      "enlarge": (0.1, 0.2), "n_points": 30},
                                 {"ham_slice": "object", "muscle": "name", "rng": "seed", "enlarge": "array",
