@@ -18,7 +18,8 @@ reported:
   returned after an overflow warning;
 - *wrong name*: the error does not name the argument at fault.
 
-A second test checks that every public name of a subpackage has an entry, so a new function cannot
+A second test checks that every public name of a subpackage has an entry, and a third that every
+public method of its public classes has one (``"Class.method"``), so a new function or method cannot
 escape. A subpackage without a table is expected to fail that test, strictly; a table's
 ``KNOWN_FAILURES`` lists calls not yet refused, each of which must still fail.
 """
@@ -277,6 +278,28 @@ def _public_callables(subpackage: str) -> set[str]:
             if inspect.isfunction(getattr(module, name)) or inspect.isclass(getattr(module, name))}
 
 
+def _public_methods(subpackage: str) -> set[str]:
+    """``Class.method`` of every public method of the subpackage's public classes.
+
+    A method counts when a class of ``amdo_lab`` defines it (its own or an ``amdo_lab`` base class's);
+    what a library class brings (``tuple.count``, ``sklearn``'s ``get_params``) does not. Properties
+    are attributes, not calls, and are left out.
+    """
+    module = importlib.import_module(f"amdo_lab.{subpackage}")
+    names = getattr(module, "__all__", None) or [n for n in dir(module) if not n.startswith("_")]
+    found = set()
+    for name in names:
+        cls = getattr(module, name)
+        if not inspect.isclass(cls) or not cls.__module__.startswith("amdo_lab"):
+            continue
+        for base in cls.__mro__:
+            if base.__module__.startswith("amdo_lab"):
+                found |= {f"amdo_lab.{subpackage}.{name}.{method}" for method, value in vars(base).items()
+                          if not method.startswith("_")
+                          and (inspect.isfunction(value) or isinstance(value, (staticmethod, classmethod)))}
+    return found
+
+
 @pytest.mark.parametrize(
     "subpackage",
     [pytest.param(name, marks=pytest.mark.xfail(strict=True, reason="no table yet")) if table(name) is None
@@ -287,6 +310,19 @@ def test_every_public_callable_is_in_the_table(subpackage):
     exempt = {f"amdo_lab.{subpackage}.{name}" for name in (module.EXEMPT if module else {})}
     missing = sorted(_public_callables(subpackage) - set(all_cases()) - exempt)
     assert not missing, f"{len(missing)} public callable(s) of amdo_lab.{subpackage} missing from its table: {missing}"
+
+
+@pytest.mark.parametrize(
+    "subpackage",
+    [pytest.param(name, marks=pytest.mark.xfail(strict=True, reason="no table yet")) if table(name) is None
+     else name for name in SUBPACKAGES],
+)
+def test_every_public_method_is_in_the_table(subpackage):
+    """A public method takes user input like a function: it is tabled as ``"Class.method"``, or exempt."""
+    module = table(subpackage)
+    exempt = {f"amdo_lab.{subpackage}.{name}" for name in (module.EXEMPT if module else {})}
+    missing = sorted(_public_methods(subpackage) - set(all_cases()) - exempt)
+    assert not missing, f"{len(missing)} public method(s) of amdo_lab.{subpackage} missing from its table: {missing}"
 
 
 if __name__ == "__main__" and sys.argv[1:2] == ["--worker"]:

@@ -46,6 +46,10 @@ SEPTUM_MM = 0.7
 WITHDRAWN_PER_STAGE = 3
 #: Largest number of hams a study holds.
 MAX_HAMS = 1000
+#: Largest height along a muscle, and largest polar angle, a :class:`MuscleShape` accepts (mm, radians).
+MAX_HEIGHT_MM = MAX_ANGLE = 1e6
+#: Points on a muscle's true centre line (:meth:`MuscleShape.contour_px`).
+CONTOUR_POINTS = 400
 
 _REFERENCE = ("A. Caro, P.G. Rodriguez, M.L. Duran, M.M. Avila, T. Antequera, R. Gallardo. A Comparison of "
               "Algorithm Design Paradigms in Active Contours for Muscle Recognition. AMDO 2004, LNCS 3179, "
@@ -100,6 +104,7 @@ class MuscleShape:
         float
             ``R sqrt(1 - z^2 / L^2)`` for ``|z| <= 0.8 L``, else 0, in mm.
         """
+        z_mm = check_in_range(z_mm, "z_mm", -MAX_HEIGHT_MM, MAX_HEIGHT_MM, closed="both")
         ratio = z_mm / self.half_length_mm
         return self.radius_mm * float(np.sqrt(1.0 - ratio ** 2)) if abs(ratio) <= 0.8 else 0.0
 
@@ -118,9 +123,10 @@ class MuscleShape:
         r, dr : ndarray
             The radius and its derivative in ``theta``, shaped as ``theta``.
         """
-        k, a, phi = self.coefficients.T
-        angle = k * np.asarray(theta)[..., None] + phi + self.twist * z_mm
+        theta = as_finite_array(theta, "theta", allow_empty=True, max_abs=MAX_ANGLE)
         r0 = self.r0(z_mm)
+        k, a, phi = self.coefficients.T
+        angle = k * theta[..., None] + phi + self.twist * z_mm
         return r0 * (1 + np.sum(a * np.cos(angle), axis=-1)), -r0 * np.sum(k * a * np.sin(angle), axis=-1)
 
     def area_mm2(self, z_mm: float) -> float:
@@ -149,22 +155,20 @@ class MuscleShape:
         shape = 1 + 0.5 * np.sum(self.coefficients[:, 1] ** 2)
         return float(np.pi * shape * self.radius_mm ** 2 * self.half_length_mm * (1.6 - 2 * 0.8 ** 3 / 3))
 
-    def contour_px(self, z_mm: float, n_points: int = 400) -> np.ndarray:
-        """The septum's centre line at ``z_mm`` as ``(n_points, 2)`` (row, col) pixel coordinates.
+    def contour_px(self, z_mm: float) -> np.ndarray:
+        """The septum's centre line at ``z_mm`` as ``(CONTOUR_POINTS, 2)`` (row, col) pixel coordinates.
 
         Parameters
         ----------
         z_mm : float
             Height along the muscle, mm.
-        n_points : int
-            Points on the line.
 
         Returns
         -------
-        (n_points, 2) ndarray
+        (CONTOUR_POINTS, 2) ndarray
             The closed line, counter-clockwise in (row, col).
         """
-        theta = np.linspace(0, 2 * np.pi, n_points, endpoint=False)
+        theta = np.linspace(0, 2 * np.pi, CONTOUR_POINTS, endpoint=False)
         r, _ = self.radius(theta, z_mm)
         rows = self.centre_mm[0] + r * np.sin(theta)
         cols = self.centre_mm[1] + r * np.cos(theta)
@@ -382,12 +386,13 @@ class HamStudy:
         list of int
             The hams scanned at that stage.
         """
+        stage = check_positive_int(stage, "stage", minimum=0, maximum=3)
         return list(range(self.n_hams - WITHDRAWN_PER_STAGE * stage))
 
     def _checked(self, ham: object, stage: object) -> tuple[int, int]:
-        stage = check_positive_int(stage, "stage", minimum=0, maximum=3)
+        present, stage = self.hams_at(stage), int(stage)  # hams_at checks stage
         ham = check_positive_int(ham, "ham", minimum=0, maximum=self.n_hams - 1)
-        if ham not in self.hams_at(stage):
+        if ham not in present:
             raise ValueError(f"ham {ham} was withdrawn before stage {stage} ({STAGES[stage]})")
         return ham, stage
 

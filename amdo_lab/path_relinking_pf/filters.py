@@ -76,7 +76,7 @@ class FilterSettings:
         for name in ("step_px", "step_deg"):
             as_finite_array(getattr(self, name), name, shape=(), bounds=(0.0, 100.0), closed="right")
 
-    def scales(self, n_pose: int, px: str, deg: str) -> np.ndarray:
+    def _scales(self, n_pose: int, px: str, deg: str) -> np.ndarray:
         """Per-coordinate scale ``[px, px, deg, ..., deg]`` of two of the settings (angles in radians).
 
         Parameters
@@ -164,9 +164,9 @@ class _Run:
             raise TypeError(f"settings must be a FilterSettings, got {type(settings).__name__}")
         self.settings, self.model = settings, sequence.model
         self.p = sequence.model.n_pose
-        self.diffusion = settings.scales(self.p, "diffusion_px", "diffusion_deg")
-        self.velocity_sigma = settings.scales(self.p, "velocity_px", "velocity_deg")
-        self.steps = settings.scales(self.p, "step_px", "step_deg")
+        self.diffusion = settings._scales(self.p, "diffusion_px", "diffusion_deg")
+        self.velocity_sigma = settings._scales(self.p, "velocity_px", "velocity_deg")
+        self.steps = settings._scales(self.p, "step_px", "step_deg")
         self.groups = _limb_coordinates(self.model)
         self.began = time.perf_counter()
 
@@ -177,7 +177,7 @@ class _Run:
 
     def start(self) -> np.ndarray:
         """(N, 2P) particles around the first true pose, at rest (eq. 4: pose, then velocities)."""
-        spread = self.settings.scales(self.p, "init_px", "init_deg")
+        spread = self.settings._scales(self.p, "init_px", "init_deg")
         pose = self.sequence.truth[0] + spread * self.generator.standard_normal((self.n, self.p))
         return np.hstack([pose, np.zeros((self.n, self.p))])
 

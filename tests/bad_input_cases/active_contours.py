@@ -17,6 +17,7 @@ KNOWN_FAILURES: dict[tuple[str, str, str], str] = {}
 EXEMPT = {
     "HamSlice": "a result record, built by make_ham_slice and HamStudy.slice from checked input",
     "MuscleShape": "a record of a drawn solid, built by the generators from checked input",
+    "MuscleShape.volume_mm3": "takes no argument",
     "SnakeResult": "a result record, built by the snakes from checked input",
     "SnakeWeights": "a record of three weights (Table 1), checked where a snake receives them",
 }
@@ -37,6 +38,11 @@ def cases() -> dict[str, Case]:
     ham = ac.make_ham_slice(rng=0)
     study = ac.make_ham_study(rng=0, n_hams=12)
     any_count: frozenset[tuple[str, str]] = frozenset()
+    shape = study.muscle(0, 0, "semimembranosus")
+    ham_stage = {"ham": 0, "stage": 1}
+    ham_stage_kinds = {"ham": "count", "stage": "count"}
+    zero_ok = frozenset({("ham", "zero"), ("stage", "zero")})  # the first ham, the raw stage
+    any_angles = frozenset({("theta", "an empty array"), ("theta", "one more axis"), ("theta", "a wrong trailing axis")})
     return {
         "make_ham_slice": Case(ac.make_ham_slice, {"rng": 0, "scale": 1.0, "noise": 0.04},
                                {"rng": "seed", "scale": "positive", "noise": "non_negative"}),
@@ -48,6 +54,21 @@ def cases() -> dict[str, Case]:
                                {"ham": 0, "stage": 1, "index": 2}, {"ham": "count", "stage": "count",
                                                                     "index": "count"},
                                accept=frozenset({("ham", "zero"), ("index", "zero"), ("stage", "zero")})),
+        "HamStudy.hams_at": Case(lambda stage: study.hams_at(stage), {"stage": 1}, {"stage": "count"},
+                                 accept=frozenset({("stage", "zero")})),
+        "HamStudy.muscle": Case(lambda ham, stage, muscle: study.muscle(ham, stage, muscle),
+                                {**ham_stage, "muscle": "semimembranosus"}, {**ham_stage_kinds, "muscle": "name"},
+                                accept=zero_ok),
+        "HamStudy.volume": Case(lambda ham, stage, muscle: study.volume(ham, stage, muscle),
+                                {**ham_stage, "muscle": "semimembranosus"}, {**ham_stage_kinds, "muscle": "name"},
+                                accept=zero_ok),
+        "HamStudy.slice_positions": Case(lambda ham, stage: study.slice_positions(ham, stage), ham_stage,
+                                         ham_stage_kinds, accept=zero_ok),
+        "MuscleShape.r0": Case(shape.r0, {"z_mm": 1.0}, {"z_mm": "real"}),
+        "MuscleShape.area_mm2": Case(shape.area_mm2, {"z_mm": 1.0}, {"z_mm": "real"}),
+        "MuscleShape.radius": Case(shape.radius, {"theta": theta, "z_mm": 1.0}, {"theta": "array", "z_mm": "real"},
+                                   accept=any_angles),  # r(theta) is shaped as theta
+        "MuscleShape.contour_px": Case(shape.contour_px, {"z_mm": 1.0}, {"z_mm": "real"}),
         "initial_contour": Case(ac.initial_contour, {"ham_slice": ham, "muscle": "semimembranosus", "rng": 0,
                                                      "enlarge": (0.1, 0.2), "n_points": 30},
                                 {"ham_slice": "object", "muscle": "name", "rng": "seed", "enlarge": "array",

@@ -119,6 +119,10 @@ def cases() -> dict[str, Case]:
         "rate_interval": Case(c.rate_interval, {"outcomes": right, "confidence": 0.95},
                               {"outcomes": "bool_array", "confidence": "probability"},
                               accept=frozenset({("outcomes", "a wrong trailing axis")})),  # 5 items instead of 4
+        "RateInterval.contains": Case(c.rate_interval(right).contains, {"value": 0.5},
+                                      {"value": "probability"},
+                                      # a number outside [0, 1] is outside every interval: False, correctly
+                                      accept=frozenset({("value", "below 0"), ("value", "above 1")})),
         "rigid_transform": Case(c.rigid_transform, {"rotation": np.eye(3), "translation": [1.0, 2.0, 3.0]},
                                 {"rotation": "array", "translation": "array"},
                                 accept=frozenset({("rotation", "one more axis")})),  # a stack of one rotation

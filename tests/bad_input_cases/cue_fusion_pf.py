@@ -21,6 +21,11 @@ EXEMPT = {
     "TrackResult": "a result record, built by track and the peers from checked input",
     "BoostedCascade": "a trained model, built by train_cascade (its stages_passed method is tabled)",
     "WalkerSequence": "a result record, built by make_walker_sequence (its oracle method is tabled)",
+    "ARDynamics.spectral_radius": "takes no argument",
+    "ShapeSpace.shape_matrix": "takes no argument",
+    "HeadSequence.segment_of_frames": "takes no argument",
+    "WalkerSequence.segment_of_frames": "takes no argument",
+    "WalkerSequence.shape_space": "takes no argument",
 }
 
 EMPTY = frozenset()
@@ -287,4 +292,10 @@ def _walker_cases(cf, frames: np.ndarray, space) -> dict[str, Case]:
         "track (similarity)": Case(cf.track, tracking, {"init": "array", "shape": "name", "mean": "array",
                                                         "beta": "array"},
                                    accept=frozenset({("mean", "None")})),  # the default: the initial state
+        # one state or a stack of any size (as similarity_parts)
+        "ShapeSpace.check_states": Case(lambda **kwargs: similarity.check_states(**kwargs),
+                                        {"states": states},
+                                        {"states": "array"},
+                                        accept=frozenset({("states", "one more axis"),
+                                                          ("states", "an empty array")})),
     }

@@ -26,6 +26,9 @@ EXEMPT = {
     "TrialSummary": "a result record, built by run_registration_trials (its success_interval is tabled)",
     "ObjectiveCheck": "a result record, built by objective_check from checked input",
     "SkinTexture": "a result record, built by make_skin_texture (its positions is tabled)",
+    "HandModel.rest_pose": "takes no argument",
+    "HandModel.joint_limits": "takes no argument",
+    "RegistrationProblem.true_matches": "takes no argument",
 }
 
 # Arguments whose default is None: None is a documented valid value.

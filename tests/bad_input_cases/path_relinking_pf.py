@@ -20,6 +20,9 @@ EXEMPT = {
     "Measurement": "a result record, built by measure from checked input",
     "TrackResult": "a result record, built by the track_* functions from checked input",
     "Limb": "a row of Table 1, checked when a BodyModel is built from it (the BodyModel case)",
+    "BodyModel.jumper": "a named model of Table 1, takes no argument",
+    "BodyModel.upper_body": "a named model of Table 1, takes no argument",
+    "Limb.outline": "takes no argument",
 }
 
 #: A pose may be one (P,) or a stack (N, P).

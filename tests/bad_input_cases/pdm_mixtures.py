@@ -19,6 +19,7 @@ EXEMPT = {
     "RecognitionTrace": "a result record, built by ArticulatedShapeRecogniser.recognise",
     "ScoreComponents": "a result record, built by ArticulatedShapeRecogniser.score_components",
     "SeparationTrial": "a result record, built by mode_separation_trial from checked input",
+    "ScoreComponents.printed_eq11_scores": "takes no argument",
 }
 
 CLASSES = ("boxing", "kicking")
@@ -116,6 +117,15 @@ def cases() -> dict[str, Case]:
         "NearestProcrustesMeanClassifier": Case(
             lambda shapes, labels: p.NearestProcrustesMeanClassifier().fit(shapes, labels),
             {"shapes": shapes, "labels": int_labels}, {"shapes": "points", "labels": "array"}),
+        "SingleCartesianPDMClassifier.fit": Case(p.SingleCartesianPDMClassifier().fit,
+                                                 {"shapes": shapes, "labels": int_labels},
+                                                 {"shapes": "points", "labels": "array"}),
+        "NearestProcrustesMeanClassifier.fit": Case(p.NearestProcrustesMeanClassifier().fit,
+                                                    {"shapes": shapes, "labels": int_labels},
+                                                    {"shapes": "points", "labels": "array"}),
+        "SklearnGMMClassifier.fit": Case(p.SklearnGMMClassifier(1, rng=0).fit,
+                                         {"shapes": shapes, "labels": int_labels},
+                                         {"shapes": "points", "labels": "array"}),
         "SklearnGMMClassifier": Case(
             lambda shapes, labels, n_components, rng: p.SklearnGMMClassifier(n_components, rng=rng).fit(shapes, labels),
             {"shapes": shapes, "labels": int_labels, "n_components": 1, "rng": 0},
