@@ -25,7 +25,7 @@ ROOT = Path(__file__).resolve().parents[1]
 COUNT_PREFIXES = ("n_", "max_", "num_")
 #: Parameters that only label an error message (the argument's name, the expected type's wording):
 #: any string is valid, so they are listed but not spoiled.
-LABELS = ("name", "what", "source", "first_name", "second_name", "names")
+LABELS = ("name", "what", "source", "first_name", "second_name", "names", "axes")
 COUNT_SUFFIXES = ("_iter", "_steps", "_size", "_rounds", "_levels", "_sweeps")
 
 

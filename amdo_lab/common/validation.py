@@ -100,6 +100,10 @@ def as_finite_array(
     numpy.ndarray
         A new array of ``dtype`` (the input is never modified).
     """
+    check_bool(allow_empty, "allow_empty")
+    if ndim is not None:
+        check_positive_int(ndim, "ndim", minimum=0, maximum=32)
+    check_choice(closed, "closed", ("both", "left", "right", "neither"))
     array = np.asarray(value)
     if array.dtype == object or not np.issubdtype(array.dtype, np.number):
         # booleans are refused too: a mask passed where numbers are expected is a mistake
@@ -272,6 +276,7 @@ def as_probabilities(value: object, name: str, *, atol: float = 1e-6) -> np.ndar
     numpy.ndarray
         A new float array.
     """
+    check_positive(atol, "atol")
     weights = as_finite_array(value, name, ndim=1)
     if np.any(weights < 0) or not np.isclose(weights.sum(), 1.0, rtol=0.0, atol=atol):
         raise ValueError(f"{name} must be non-negative and sum to 1, got sum {weights.sum():.6g}")
@@ -295,6 +300,7 @@ def as_rotation(value: object, name: str, *, tol: float = 1e-6) -> np.ndarray:
     numpy.ndarray
         A new float array.
     """
+    check_positive(tol, "tol")
     rotation = as_finite_array(value, name)
     if rotation.ndim < 2 or rotation.shape[-1] != rotation.shape[-2]:
         raise ValueError(f"{name} must be a square (d, d) matrix or a stack (..., d, d), got shape {rotation.shape}")
@@ -692,6 +698,7 @@ def as_image_pair(
     tuple of numpy.ndarray
         Float copies of ``first`` and ``second``.
     """
+    check_positive_int(ndim, "ndim", maximum=3)
     a = as_finite_array(first, names[0], ndim=ndim)
     b = as_finite_array(second, names[1], ndim=ndim)
     if a.shape != b.shape:
