@@ -27,6 +27,13 @@ __all__ = [
 ]
 
 
+def _check_training_set(shapes: object, labels: object) -> tuple[np.ndarray, np.ndarray]:
+    """Training shapes ``(T, 13, m, 2)`` and one class label for each, checked."""
+    shapes = check_articulated_shapes(shapes)
+    labels = check_labels(labels, len(shapes))
+    return shapes, labels
+
+
 class SingleCartesianPDMClassifier:
     """Baseline: one Cartesian PDM per class on Procrustes-aligned landmark long-vectors.
 
@@ -63,10 +70,9 @@ class SingleCartesianPDMClassifier:
             This classifier, fitted.
         """
         check_in_range(self.variance_fraction, "variance_fraction", 0, 1, closed="right")
-        shapes = check_articulated_shapes(shapes)
+        shapes, labels = _check_training_set(shapes, labels)
         aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
         vectors = aligned.reshape(len(shapes), -1)
-        labels = check_labels(labels, len(shapes))
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
         self.models_ = [fit_pdm(vectors[labels == c], variance_fraction=self.variance_fraction) for c in self.classes_]
         return self
@@ -133,8 +139,7 @@ class NearestProcrustesMeanClassifier:
         NearestProcrustesMeanClassifier
             This classifier, fitted.
         """
-        shapes = check_articulated_shapes(shapes)
-        labels = check_labels(labels, len(shapes))
+        shapes, labels = _check_training_set(shapes, labels)
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
         self.means_ = [generalized_procrustes(shapes[labels == c].reshape(-1, shapes.shape[1] * shapes.shape[2], 2))[1]
                        for c in self.classes_]
@@ -241,10 +246,9 @@ class SklearnGMMClassifier:
 
         check_positive_int(self.n_components, "n_components")
         generator = make_rng(self.rng, "rng")
-        shapes = check_articulated_shapes(shapes)
+        shapes, labels = _check_training_set(shapes, labels)
         aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
         vectors = aligned.reshape(len(shapes), -1)
-        labels = check_labels(labels, len(shapes))
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
         if isinstance(self.rng, np.random.Generator):  # scikit-learn takes an int seed, not a Generator
             seeds = [int(generator.integers(2**31 - 1)) for _ in self.classes_]

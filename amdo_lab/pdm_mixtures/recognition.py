@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_choice, check_in_range
+from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_names
 from amdo_lab.pdm_mixtures.labels import dictionary_log_probs
 
 __all__ = ["EQ11_READINGS", "ScoreComponents", "RecognitionTrace", "gated_component_scores", "class_posteriors",
@@ -250,17 +250,14 @@ class ScoreComponents:
         Parameters
         ----------
         *terms : str
-            One or more of ``"limb_gate"``, ``"label_string"``, ``"shape"``.
+            One or more distinct names of ``"limb_gate"``, ``"label_string"``, ``"shape"``.
 
         Returns
         -------
         numpy.ndarray
             ``(n, C)``: ``ln P(w) + ln sum_m pi_wm exp(sum of the chosen terms)``, in nats.
         """
-        if not terms:
-            raise ValueError("terms must name at least one of 'limb_gate', 'label_string', 'shape'")
-        for term in terms:
-            check_choice(term, "terms", ("limb_gate", "label_string", "shape"))
+        terms = check_names(terms, "terms", allowed=("limb_gate", "label_string", "shape"))  # one or more, distinct
         joint = self.log_weights[None] + sum(getattr(self, term) for term in terms)
         return self.class_log_prior + np.logaddexp.reduce(joint, axis=2)
 
