@@ -11,7 +11,7 @@ from amdo_lab.pdm_mixtures.pdm import (
     align_to_reference,
     check_articulated_shapes,
     check_shapes_agree,
-    check_labels,
+    check_training_set,
     fit_pdm,
     generalized_procrustes,
     ppca_log_density,
@@ -25,13 +25,6 @@ __all__ = [
     "pca_embedding",
     "pairwise_distances",
 ]
-
-
-def _check_training_set(shapes: object, labels: object) -> tuple[np.ndarray, np.ndarray]:
-    """Training shapes ``(T, 13, m, 2)`` and one class label for each, checked."""
-    shapes = check_articulated_shapes(shapes)
-    labels = check_labels(labels, len(shapes))
-    return shapes, labels
 
 
 class SingleCartesianPDMClassifier:
@@ -70,7 +63,7 @@ class SingleCartesianPDMClassifier:
             This classifier, fitted.
         """
         check_in_range(self.variance_fraction, "variance_fraction", 0, 1, closed="right")
-        shapes, labels = _check_training_set(shapes, labels)
+        shapes, labels = check_training_set(shapes, labels)
         aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
         vectors = aligned.reshape(len(shapes), -1)
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
@@ -139,7 +132,7 @@ class NearestProcrustesMeanClassifier:
         NearestProcrustesMeanClassifier
             This classifier, fitted.
         """
-        shapes, labels = _check_training_set(shapes, labels)
+        shapes, labels = check_training_set(shapes, labels)
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
         self.means_ = [generalized_procrustes(shapes[labels == c].reshape(-1, shapes.shape[1] * shapes.shape[2], 2))[1]
                        for c in self.classes_]
@@ -246,7 +239,7 @@ class SklearnGMMClassifier:
 
         check_positive_int(self.n_components, "n_components")
         generator = make_rng(self.rng, "rng")
-        shapes, labels = _check_training_set(shapes, labels)
+        shapes, labels = check_training_set(shapes, labels)
         aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
         vectors = aligned.reshape(len(shapes), -1)
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))

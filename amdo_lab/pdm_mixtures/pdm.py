@@ -427,6 +427,31 @@ def check_labels(labels: object, n_shapes: int) -> np.ndarray:
     return labels
 
 
+def check_training_set(shapes: object, labels: object) -> tuple[np.ndarray, np.ndarray]:
+    """Training shapes ``(T, 13, m, 2)`` (:func:`check_articulated_shapes`) and one label each (:func:`check_labels`).
+
+    Parameters
+    ----------
+    shapes : (T, 13, m, 2) array_like
+        The training shapes.
+    labels : (T,) array_like
+        The class of every shape.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``shapes`` as a float array and ``labels`` as an array.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 3 (labelled training shapes).
+    """
+    shapes = check_articulated_shapes(shapes)
+    labels = check_labels(labels, len(shapes))
+    return shapes, labels
+
+
 def generalized_procrustes(point_sets: np.ndarray, *, n_iter: int = 5) -> tuple[np.ndarray, np.ndarray]:
     """Align point sets to their common mean by iterated similarity Procrustes.
 
