@@ -63,9 +63,7 @@ def simulated_rms(template: np.ndarray, clean: np.ndarray, noise: float, *, rng:
     IEEE TPAMI 13(4), 1991, pp. 376-380.
     """
     template = as_finite_array(template, "template", ndim=2, max_abs=MAX_MAGNITUDE)
-    clean = as_finite_array(clean, "clean", ndim=2, max_abs=MAX_MAGNITUDE)
-    if template.shape != clean.shape:  # one noisy copy of each template point
-        raise ValueError(f"template and clean must have the same shape, got {template.shape} and {clean.shape}")
+    clean = as_finite_array(clean, "clean (like template)", shape=template.shape, max_abs=MAX_MAGNITUDE)
     noise = check_in_range(noise, "noise", 0, MAX_MAGNITUDE, closed="right")
     n_draws = check_positive_int(n_draws, "n_draws", maximum=MAX_ITERATIONS)
     rng = make_rng(rng, "rng")

@@ -11,7 +11,7 @@ from amdo_lab.pdm_mixtures.pdm import (
     align_to_reference,
     check_articulated_shapes,
     check_shapes_agree,
-    check_labels,
+    check_training_set,
     fit_pdm,
     generalized_procrustes,
     ppca_log_density,
@@ -63,10 +63,9 @@ class SingleCartesianPDMClassifier:
             This classifier, fitted.
         """
         check_in_range(self.variance_fraction, "variance_fraction", 0, 1, closed="right")
-        shapes = check_articulated_shapes(shapes)
+        shapes, labels = check_training_set(shapes, labels)
         aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
         vectors = aligned.reshape(len(shapes), -1)
-        labels = check_labels(labels, len(shapes))
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
         self.models_ = [fit_pdm(vectors[labels == c], variance_fraction=self.variance_fraction) for c in self.classes_]
         return self
@@ -133,8 +132,7 @@ class NearestProcrustesMeanClassifier:
         NearestProcrustesMeanClassifier
             This classifier, fitted.
         """
-        shapes = check_articulated_shapes(shapes)
-        labels = check_labels(labels, len(shapes))
+        shapes, labels = check_training_set(shapes, labels)
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
         self.means_ = [generalized_procrustes(shapes[labels == c].reshape(-1, shapes.shape[1] * shapes.shape[2], 2))[1]
                        for c in self.classes_]
@@ -241,10 +239,9 @@ class SklearnGMMClassifier:
 
         check_positive_int(self.n_components, "n_components")
         generator = make_rng(self.rng, "rng")
-        shapes = check_articulated_shapes(shapes)
+        shapes, labels = check_training_set(shapes, labels)
         aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
         vectors = aligned.reshape(len(shapes), -1)
-        labels = check_labels(labels, len(shapes))
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
         if isinstance(self.rng, np.random.Generator):  # scikit-learn takes an int seed, not a Generator
             seeds = [int(generator.integers(2**31 - 1)) for _ in self.classes_]

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import MAX_ITERATIONS, as_finite_array, check_positive, check_positive_int
-from amdo_lab.pdm_mixtures.pdm import MAX_MAGNITUDE, check_shapes_agree
+from amdo_lab.pdm_mixtures.pdm import MAX_MAGNITUDE
 
 __all__ = ["GaussianMixtureResult", "fit_gaussian_mixture", "gaussian_log_density"]
 
@@ -65,8 +65,7 @@ def gaussian_log_density(points: np.ndarray, means: np.ndarray, covariances: np.
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4, eq. 6.
     """
     points = as_finite_array(points, "points", ndim=2, max_abs=MAX_MAGNITUDE)
-    means = as_finite_array(means, "means", ndim=2, max_abs=MAX_MAGNITUDE)
-    check_shapes_agree("points", points.shape[1:], "means", means.shape[1:])  # as many columns
+    means = as_finite_array(means, "means (like points)", shape=(None, points.shape[1]), max_abs=MAX_MAGNITUDE)
     covariances = as_finite_array(covariances, "covariances", shape=(len(means), points.shape[1], points.shape[1]))
     _check_positive_definite(covariances, "covariances")
     return _gaussian_log_density(points, means, covariances)
@@ -178,8 +177,7 @@ def fit_gaussian_mixture(
     k = check_positive_int(n_components, "n_components", maximum=t)  # at most one component per row of X
     n_iter = check_positive_int(n_iter, "n_iter", maximum=MAX_ITERATIONS)
     reg_covar = check_positive(reg_covar, "reg_covar", allow_zero=True)
-    means = as_finite_array(means_init, "means_init", shape=(k, None), max_abs=MAX_MAGNITUDE)
-    check_shapes_agree("X", (d,), "means_init", means.shape[1:])  # as many columns
+    means = as_finite_array(means_init, "means_init (like X)", shape=(k, d), max_abs=MAX_MAGNITUDE)
     covariances = as_finite_array(covariances_init, "covariances_init", shape=(k, d, d))
     _check_positive_definite(covariances, "covariances_init")
     weights = np.full(k, 1.0 / k) if weights_init is None else as_finite_array(

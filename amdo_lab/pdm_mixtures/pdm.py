@@ -6,8 +6,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import (MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check_bool, check_in_range, check_positive_int,
-                             procrustes_align)
+from amdo_lab.common import (MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, as_points, check_bool, check_in_range,
+                             check_instance, check_positive_int, procrustes_align)
 from amdo_lab.pdm_mixtures.representation import MAX_MAGNITUDE
 
 __all__ = [
@@ -69,9 +69,7 @@ class PointDistributionModel:
 
 
 def _check_model(model: object) -> PointDistributionModel:
-    if not isinstance(model, PointDistributionModel):
-        raise TypeError(f"model must be a PointDistributionModel, got {type(model).__name__}")
-    return model
+    return check_instance(model, "model", PointDistributionModel)
 
 
 def pdm_from_moments(
@@ -105,8 +103,7 @@ def pdm_from_moments(
     covariance = as_finite_array(covariance, "covariance", ndim=2, max_abs=MAX_MAGNITUDE)
     if covariance.shape[0] != covariance.shape[1] or covariance.shape[0] < 2:
         raise ValueError(f"covariance must be a square (D, D) matrix with D >= 2, got shape {covariance.shape}")
-    mean = as_finite_array(mean, "mean", ndim=1, max_abs=MAX_MAGNITUDE)
-    check_shapes_agree("mean", mean.shape, "covariance", covariance.shape[:1])  # D entries
+    mean = as_finite_array(mean, "mean (like covariance)", shape=covariance.shape[:1], max_abs=MAX_MAGNITUDE)
     variance_fraction = check_in_range(variance_fraction, "variance_fraction", 0, 1, closed="right")
     max_modes = None if max_modes is None else check_positive_int(max_modes, "max_modes", maximum=MAX_SAMPLES)
     return _pdm_from_moments(mean, covariance, variance_fraction, max_modes)
@@ -193,9 +190,7 @@ def fit_modes(model: PointDistributionModel, observed: np.ndarray, *, clamp: boo
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (modal fit, read as least squares) and Sec. 4 (the +-3 sqrt(alpha_k) clamp).
     """
     model = _check_model(model)
-    observed = as_finite_array(observed, "observed")
-    if observed.ndim not in (1, 2) or observed.shape[-1] != len(model.mean):
-        raise ValueError(f"observed must have shape (n, {len(model.mean)}) like the model mean, got {observed.shape}")
+    observed = as_points(observed, "observed", dim=len(model.mean), allow_empty=False)  # like the model mean
     clamp = check_bool(clamp, "clamp")
     return _fit_modes(model, observed, clamp)
 
@@ -231,9 +226,7 @@ def reconstruct(model: PointDistributionModel, gamma: np.ndarray) -> np.ndarray:
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (X = Y + Phi gamma).
     """
     model = _check_model(model)
-    gamma = as_finite_array(gamma, "gamma")
-    if gamma.ndim not in (1, 2) or gamma.shape[-1] != model.n_modes:
-        raise ValueError(f"gamma must have shape (n, {model.n_modes}) (one coefficient per mode), got {gamma.shape}")
+    gamma = as_points(gamma, "gamma", dim=model.n_modes, allow_empty=False)  # one coefficient per mode
     return _reconstruct(model, gamma)
 
 
@@ -432,6 +425,31 @@ def check_labels(labels: object, n_shapes: int) -> np.ndarray:
     if labels.dtype.kind == "f":  # ids as floats: whole numbers, exact in float64
         as_finite_array(labels, "labels", dtype=np.int64, max_abs=MAX_FLOAT_LABEL)
     return labels
+
+
+def check_training_set(shapes: object, labels: object) -> tuple[np.ndarray, np.ndarray]:
+    """Training shapes ``(T, 13, m, 2)`` (:func:`check_articulated_shapes`) and one label each (:func:`check_labels`).
+
+    Parameters
+    ----------
+    shapes : (T, 13, m, 2) array_like
+        The training shapes.
+    labels : (T,) array_like
+        The class of every shape.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``shapes`` as a float array and ``labels`` as an array.
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 3 (labelled training shapes).
+    """
+    shapes = check_articulated_shapes(shapes)
+    labels = check_labels(labels, len(shapes))
+    return shapes, labels
 
 
 def generalized_procrustes(point_sets: np.ndarray, *, n_iter: int = 5) -> tuple[np.ndarray, np.ndarray]:

@@ -171,6 +171,11 @@ class PoseDataset:
     translations: np.ndarray
 
 
+def _check_landmarks_per_limb(value: object) -> int:
+    """A stroke's landmark count: its two ends at least, ``MAX_LANDMARKS_PER_LIMB`` at most."""
+    return check_positive_int(value, "landmarks_per_limb", minimum=2, maximum=MAX_LANDMARKS_PER_LIMB)
+
+
 def skeleton_strokes(directions_deg: np.ndarray, lengths: np.ndarray, landmarks_per_limb: int) -> np.ndarray:
     """Landmark strokes of stick-figure skeletons with given limb directions and lengths.
 
@@ -197,8 +202,7 @@ def skeleton_strokes(directions_deg: np.ndarray, lengths: np.ndarray, landmarks_
     """
     directions_deg = as_finite_array(directions_deg, "directions_deg", shape=(None, len(LIMB_PARENTS)))
     lengths = as_finite_array(lengths, "lengths", shape=directions_deg.shape, bounds=(0, MAX_NOISE), closed="right")
-    landmarks_per_limb = check_positive_int(landmarks_per_limb, "landmarks_per_limb", minimum=2,
-                                            maximum=MAX_LANDMARKS_PER_LIMB)
+    landmarks_per_limb = _check_landmarks_per_limb(landmarks_per_limb)
     return _skeleton_strokes(directions_deg, lengths, landmarks_per_limb)
 
 
@@ -274,8 +278,7 @@ def make_pose_dataset(
     """
     names = check_names(classes, "classes", allowed=POSES)
     n_per_class = check_positive_int(n_per_class, "n_per_class", maximum=MAX_PER_CLASS)
-    landmarks_per_limb = check_positive_int(landmarks_per_limb, "landmarks_per_limb", minimum=2,
-                                            maximum=MAX_LANDMARKS_PER_LIMB)
+    landmarks_per_limb = _check_landmarks_per_limb(landmarks_per_limb)
     noise = check_in_range(noise, "noise", 0, MAX_NOISE, closed="both")
     joint_jitter_deg = check_in_range(joint_jitter_deg, "joint_jitter_deg", 0, 360, closed="both")
     length_jitter = check_in_range(length_jitter, "length_jitter", 0, 1, closed="both")

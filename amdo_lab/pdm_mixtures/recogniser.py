@@ -29,14 +29,14 @@ from amdo_lab.pdm_mixtures.labels import dictionary_log_probs
 from amdo_lab.pdm_mixtures.pdm import (
     MAX_MAGNITUDE,
     PointDistributionModel,
+    _fit_modes,
+    _reconstruct,
     align_to_reference,
     check_articulated_shapes,
-    check_labels,
-    fit_modes,
+    check_training_set,
     generalized_procrustes,
     pdm_from_moments,
     ppca_log_density,
-    reconstruct,
 )
 from amdo_lab.pdm_mixtures.polar_mixture import (MAX_COMPONENTS, MIN_PER_CLASS, N_EM_ITER, PolarPDM, angles_about_mean,
                                                  circular_mean, fit_polar_mixture, polar_blocks)
@@ -200,8 +200,7 @@ class ArticulatedShapeRecogniser:
         self._check_params()
         for learned in [name for name in vars(self) if name.endswith("_")]:
             delattr(self, learned)  # a refit starts afresh (the landmark count may change)
-        shapes = self._check_shapes(shapes)
-        labels = check_labels(labels, shapes.shape[0])
+        shapes, labels = check_training_set(shapes, labels)  # no landmark count to match: learned ones deleted
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
         counts = {c: int(np.sum(labels == c)) for c in self.classes_}
         if min(counts.values()) < MIN_PER_CLASS * self.n_shape_components:  # a covariance per component
@@ -525,13 +524,13 @@ class ArticulatedShapeRecogniser:
             if observed_limbs is None:
                 strokes.append(model.mean)
             else:  # eq. (15): the limb's label PDM at its best-fit (clamped) parameters γ_k
-                strokes.append(reconstruct(model, fit_modes(model, observed_limbs[k][None]))[0])
+                strokes.append(_reconstruct(model, _fit_modes(model, observed_limbs[k][None], clamp=True))[0])
         return np.stack(strokes).reshape(N_LIMBS, -1, 2) + centres[:, None, :]
 
 
 def _fit_error(model: PointDistributionModel, data: np.ndarray) -> np.ndarray:
     """Squared residual of the clamped least-squares modal fit, per row."""
-    return np.sum((data - reconstruct(model, fit_modes(model, data))) ** 2, axis=1)
+    return np.sum((data - _reconstruct(model, _fit_modes(model, data, clamp=True))) ** 2, axis=1)
 
 
 def _farthest_point_init(data: np.ndarray, n_components: int) -> np.ndarray:

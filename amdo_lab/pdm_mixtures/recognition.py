@@ -12,9 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_choice, check_in_range
+from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_names
 from amdo_lab.pdm_mixtures.labels import dictionary_log_probs
-from amdo_lab.pdm_mixtures.pdm import check_shapes_agree
 
 __all__ = ["EQ11_READINGS", "ScoreComponents", "RecognitionTrace", "gated_component_scores", "class_posteriors",
            "winning_components", "relabel_limbs", "run_recognition"]
@@ -33,12 +32,10 @@ def _check_terms(shape_log_lik: object, limb_gate: object, string_log_prob: obje
                  log_weights: object) -> tuple[np.ndarray, ...]:
     """The four ``(n, C, M)``, ``(n, C, M)``, ``(n, C, M)``, ``(C, M)`` terms of eq. 11, finite and consistent."""
     shape_log_lik = as_finite_array(shape_log_lik, "shape_log_lik", ndim=3, max_abs=MAX_LOG_TERM)
-    limb_gate = as_finite_array(limb_gate, "limb_gate", ndim=3, bounds=(-MAX_LOG_TERM, 0))
-    string_log_prob = as_finite_array(string_log_prob, "string_log_prob", ndim=3, bounds=(-MAX_LOG_TERM, 0))
-    log_weights = as_finite_array(log_weights, "log_weights", ndim=2, bounds=(-MAX_LOG_TERM, 0))
-    check_shapes_agree("shape_log_lik", shape_log_lik.shape, "limb_gate", limb_gate.shape)
-    check_shapes_agree("shape_log_lik", shape_log_lik.shape, "string_log_prob", string_log_prob.shape)
-    check_shapes_agree("shape_log_lik", shape_log_lik.shape[1:], "log_weights", log_weights.shape)
+    shape, log_range = shape_log_lik.shape, (-MAX_LOG_TERM, 0)  # the other three: log-probabilities shaped like it
+    limb_gate = as_finite_array(limb_gate, "limb_gate (like shape_log_lik)", shape=shape, bounds=log_range)
+    string_log_prob = as_finite_array(string_log_prob, "string_log_prob (like shape_log_lik)", shape=shape, bounds=log_range)
+    log_weights = as_finite_array(log_weights, "log_weights (like shape_log_lik)", shape=shape[1:], bounds=log_range)
     return shape_log_lik, limb_gate, string_log_prob, log_weights
 
 
@@ -168,8 +165,7 @@ def winning_components(posterior: np.ndarray, component_scores: np.ndarray) -> t
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 5, eq. 13.
     """
     posterior = as_finite_array(posterior, "posterior", ndim=2, bounds=(0, 1))
-    scores = as_finite_array(component_scores, "component_scores", ndim=3)
-    check_shapes_agree("posterior", posterior.shape, "component_scores", scores.shape[:2])
+    scores = as_finite_array(component_scores, "component_scores (like posterior)", shape=(*posterior.shape, None))
     return _winning_components(posterior, scores)
 
 
@@ -254,17 +250,14 @@ class ScoreComponents:
         Parameters
         ----------
         *terms : str
-            One or more of ``"limb_gate"``, ``"label_string"``, ``"shape"``.
+            One or more distinct names of ``"limb_gate"``, ``"label_string"``, ``"shape"``.
 
         Returns
         -------
         numpy.ndarray
             ``(n, C)``: ``ln P(w) + ln sum_m pi_wm exp(sum of the chosen terms)``, in nats.
         """
-        if not terms:
-            raise ValueError("terms must name at least one of 'limb_gate', 'label_string', 'shape'")
-        for term in terms:
-            check_choice(term, "terms", ("limb_gate", "label_string", "shape"))
+        terms = check_names(terms, "terms", allowed=("limb_gate", "label_string", "shape"))  # one or more, distinct
         joint = self.log_weights[None] + sum(getattr(self, term) for term in terms)
         return self.class_log_prior + np.logaddexp.reduce(joint, axis=2)
 
