@@ -181,7 +181,9 @@ def cases() -> dict[str, Case]:
                             accept=frozenset({("gamma", "one more axis")})),  # (1, M): one row of the (n, M) form
         "ppca_log_density": Case(p.ppca_log_density, {"model": model, "observed": long_vectors[:2]},
                                  {"model": "object", "observed": "points"}),
-        "normalise_shape": Case(p.normalise_shape, {"points": points2}, {"points": "points"}),
+        "normalise_shape": Case(p.normalise_shape, {"points": points2}, {"points": "points"},
+                                check=lambda shape, a: None if np.allclose(shape.mean(axis=0), 0, atol=1e-12)
+                                and np.isclose(np.sum(shape**2), 1.0) else "not centred at unit size"),
         "generalized_procrustes": Case(p.generalized_procrustes, {"point_sets": point_sets, "n_iter": 2},
                                        {"point_sets": "points", "n_iter": "count"}),
         "align_to_reference": Case(p.align_to_reference, {"point_sets": point_sets, "reference": point_sets[0]},
