@@ -534,7 +534,8 @@ def _internal_matrix(n: int, alpha: float, beta: float) -> np.ndarray:
 
 
 def _variational(edge_map: np.ndarray, init: np.ndarray, weights: SnakeWeights, tau: float, d_min: float,
-                 d_max: float, max_iter: int, mu: float, gvf_iter: int, unit_flow: bool = True) -> SnakeResult:
+                 d_max: float, max_iter: int, mu: float, gvf_iter: int,
+                 unit_flow: bool = True) -> SnakeResult:
     start = time.perf_counter()
     flow = _gvf(edge_map, mu, gvf_iter)
     if unit_flow:
