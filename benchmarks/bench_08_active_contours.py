@@ -10,9 +10,19 @@ Tables, one BLAS thread, one run (so every ratio compares calls made on the same
            ms per contour, seconds per slice of pre-processing; (--quick: three of the six hams scanned at all
            stages, every fourth slice, dynamic programming on every eighth);
   volumes  the mean volume reduction per stage of each method against the reduction of the true areas and of
-           the solids' exact volumes, over the hams scanned at all four stages.
+           the solids' exact volumes, over the hams scanned at all four stages;
+  ablations (--ablations; --ablations-only skips the three tables above) on the probe contours (ham 0, raw
+           stage, every seventh slice, both muscles; the same seeded starts for every row): the greedy snake
+           with Williams & Shah's neighbourhood-maximum normalisation of every term (eq. 7's e_max read for
+           E_cont and E_curv too) against ours (dbar, dbar^2); the variational snake on the raw gradient vector
+           flow against the unit-length flow; d_min, d_max of the variable n for greedy and variational;
+  peers    (with --ablations) scikit-image's morphological_geodesic_active_contour (MorphGAC, balloon=-1,
+           200 iterations, smoothing 1) from the same starts, on our potential scaled to [0, 1] (balloon threshold
+           "auto", the 40th percentile, and 0.2: the balloon stops 3 px from an edge) and on
+           inverse_gaussian_gradient of the image (its gallery's stopping function, "auto"): mean |area error|,
+           the worst contour, CPU seconds per contour (area: pixels inside the final level set).
 
-Run:  .venv/bin/python benchmarks/bench_08_active_contours.py [--quick] [--json PATH]
+Run:  .venv/bin/python benchmarks/bench_08_active_contours.py [--quick] [--ablations | --ablations-only] [--json PATH]
 """
 
 from __future__ import annotations
@@ -38,10 +48,100 @@ def _greedy_ms(ac, np, potential, n, window, iterations=20):
     return 1e3 * (time.perf_counter() - start) / result.n_iter, result.energy_evaluations // result.n_iter
 
 
+def _probe(ac, np, seed, every=7):
+    """(slice, muscle, start) of the probe contours: ham 0 raw, every ``every``-th slice, seeded starts."""
+    study = ac.make_ham_study(rng=seed)
+    probe = []
+    for index in range(0, len(study.slice_positions(0, 0)), every):
+        ham_slice = study.slice(0, 0, index)
+        for j, muscle in enumerate(ac.MUSCLES):
+            if muscle in ham_slice.contours:
+                init = ac.initial_contour(ham_slice, muscle, rng=np.random.default_rng([seed, 0, 0, index, j]))
+                probe.append((ham_slice, muscle, init))
+    return probe
+
+
+def _in_crop(np, snake, potential, init, margin=24, **options):
+    """``snake`` run on a crop round ``init`` (as segment_contour does); the points in slice pixels."""
+    low = np.maximum(np.floor(init.min(axis=0)) - margin, 0).astype(int)
+    high = np.minimum(np.ceil(init.max(axis=0)) + margin + 1, potential.shape).astype(int)
+    local = potential[low[0]:high[0], low[1]:high[1]]
+    return snake(local, init - low, **options).points + low
+
+
+def _morphgac_mm2(np, ac, stopping, init, threshold, iterations=200):
+    """Area (mm^2) of MorphGAC's final level set from the polygon of ``init``, balloon -1 (shrinking)."""
+    from skimage.draw import polygon
+    from skimage.segmentation import morphological_geodesic_active_contour
+
+    level = np.zeros(stopping.shape, dtype=np.int8)
+    level[polygon(init[:, 0], init[:, 1], stopping.shape)] = 1
+    final = morphological_geodesic_active_contour(stopping, iterations, init_level_set=level, smoothing=1,
+                                                  threshold=threshold, balloon=-1)
+    return float(final.sum()) * ac.PIXEL_MM[0] * ac.PIXEL_MM[1]
+
+
+def _ablations(bench, ac, np, seed) -> None:
+    """The ablation and MorphGAC tables on the probe contours."""
+    from skimage.segmentation import inverse_gaussian_gradient
+
+    probe = _probe(ac, np, seed)
+    weights = {name: dict(alpha=w.alpha, beta=w.beta, gamma=w.gamma) for name, w in ac.TABLE_1.items()}
+    def greedy(potential, init, **options):
+        return _in_crop(np, ac.greedy_snake, potential, init, **weights["greedy"], **options)
+    def variational(potential, init, **options):
+        edge = potential.max() - potential
+        return _in_crop(np, ac.variational_snake, edge, init, **weights["variational"], **options)
+    variants = [("greedy", "ours: E_cont/dbar, E_curv/dbar^2", greedy, {}),
+                ("greedy", "eq. 7 literally: every term / neighbourhood max", greedy, {"normalise": "neighbourhood"}),
+                ("variational", "ours: unit-length GVF", variational, {}),
+                ("variational", "raw GVF", variational, {"unit_flow": False})]
+    for d_min, d_max in ((1.0, 3.0), (2.0, 6.0), (4.0, 12.0)):
+        for name, run in (("greedy", greedy), ("variational", variational)):
+            variants.append((name, f"d_min {d_min:g}, d_max {d_max:g} px", run,
+                             {"d_min_px": d_min, "d_max_px": d_max}))
+    table = bench.table("snake", "variant", "contours", "mean |area error| %", "mean error %", "worst %",
+                        "CPU ms per contour (median)", title=f"ablations on {len(probe)} probe contours")
+    potentials = {id(s): ac.potential_field(s.image) for s, _, _ in probe}
+    for name, label, run, options in variants:
+        errors, seconds = [], []
+        for ham_slice, muscle, init in probe:
+            start = time.process_time()                       # CPU time: the machine may be shared
+            points = run(potentials[id(ham_slice)], init, **options)
+            seconds.append(time.process_time() - start)
+            errors.append(100 * (ac.polygon_area_mm2(points) / ham_slice.areas_mm2[muscle] - 1))
+        errors = np.array(errors)
+        table.add(name, label, len(errors), round(float(np.abs(errors).mean()), 1), round(float(errors.mean()), 1),
+                  round(float(errors[np.argmax(np.abs(errors))]), 1), round(1e3 * float(np.median(seconds))))
+    peers = bench.table("peer", "stopping function", "threshold", "contours", "mean |area error| %",
+                        "|error| <= 10 %", "mean error %", "worst %", "CPU s per contour (median)",
+                        title="MorphGAC, balloon -1, 200 iterations, same starts")
+    scaled = (lambda s: potentials[id(s)] / potentials[id(s)].max())
+    for label, stopping_of, threshold in (("our potential / its max", scaled, "auto"),
+                                          ("our potential / its max", scaled, 0.2),
+                                          ("inverse_gaussian_gradient(image)",
+                                           lambda s: inverse_gaussian_gradient(s.image), "auto")):
+        errors, seconds = [], []
+        for ham_slice, muscle, init in probe:
+            start = time.process_time()                       # CPU time: the machine may be shared
+            area = _morphgac_mm2(np, ac, stopping_of(ham_slice), init, threshold)
+            seconds.append(time.process_time() - start)
+            errors.append(100 * (area / ham_slice.areas_mm2[muscle] - 1))
+        errors = np.array(errors)
+        peers.add("MorphGAC", label, threshold, len(errors), round(float(np.abs(errors).mean()), 1),
+                  int(np.sum(np.abs(errors) <= 10)), round(float(errors.mean()), 1),
+                  round(float(errors[np.argmax(np.abs(errors))]), 1),
+                  round(float(np.median(seconds)), 1))
+
+
 def main() -> None:
     bench = Benchmark(__doc__, seed=2004)
     bench.parser.add_argument("--quick", action="store_true", help="three hams, every fourth slice (a few minutes)")
     bench.parser.add_argument("--skip-costs", action="store_true", help="skip the cost table")
+    bench.parser.add_argument("--ablations", action="store_true",
+                              help="also the ablation and MorphGAC tables on the probe contours")
+    bench.parser.add_argument("--ablations-only", action="store_true",
+                              help="only the ablation and MorphGAC tables (a few minutes)")
     args = bench.parse()
 
     import numpy as np
@@ -51,6 +151,11 @@ def main() -> None:
 
     from amdo_lab import active_contours as ac
 
+    if args.ablations or args.ablations_only:
+        _ablations(bench, ac, np, args.seed)
+    if args.ablations_only:
+        bench.finish()
+        return
     if not args.skip_costs:
         potential = ac.potential_field(ac.make_ham_slice(rng=args.seed).image)
         costs = bench.table("snake", "window", "m", "n", "ms per iteration", "evaluations per iteration",

@@ -9,7 +9,7 @@ from rejections import check_rejection, reject
 
 from amdo_lab import active_contours as ac
 from amdo_lab.active_contours.measure import _segment
-from amdo_lab.active_contours.snakes import _internal_matrix
+from amdo_lab.active_contours.snakes import _greedy_energies, _internal_matrix
 
 
 def _disc(side=64, radius=16.0, noise=0.0, seed=0):
@@ -45,6 +45,36 @@ def test_energy_terms_match_the_printed_equations(probe):
         e_cont, e_curv, e = np.array(rows).T
         expected = 0.4 * e_cont / d_bar + 0.4 * e_curv / d_bar ** 2 + 1.2 * (-e / max(e.max(), 1e-300))  # eqs. (4), (7)
         np.testing.assert_allclose(energies[i], expected, rtol=1e-12, atol=1e-12)
+
+
+def test_neighbourhood_normalisation_divides_every_term_by_its_candidates_maximum(probe):
+    ham, potential = probe
+    points = np.rint(_circle(30, 40.0, np.array([150.0, 180.0])))
+    offsets, edge = ac.candidate_offsets(3), potential.max() - potential
+    d_bar = float(np.mean(np.linalg.norm(np.roll(points, -1, axis=0) - points, axis=1)))
+    energies = _greedy_energies(points, np.arange(30), edge, ac.TABLE_1["greedy"], d_bar, offsets, "neighbourhood")
+    for i in (0, 7, 29):
+        candidates = points[i] + offsets
+        e_cont = np.abs(d_bar - np.linalg.norm(candidates - points[i - 1], axis=1))            # eq. (5)
+        e_curv = np.sum((points[i - 1] - 2 * candidates + points[(i + 1) % 30]) ** 2, axis=1)    # eq. (6)
+        e = edge[candidates[:, 0].astype(int), candidates[:, 1].astype(int)]
+        top = [term.max() if term.max() > 0 else 1.0 for term in (e_cont, e_curv, e)]   # 1 for an all-zero term
+        expected = 0.4 * e_cont / top[0] + 0.4 * e_curv / top[1] - 1.2 * e / top[2]
+        np.testing.assert_allclose(energies[i], expected, rtol=1e-12, atol=1e-12)
+    init = ac.initial_contour(ham, "semimembranosus", rng=3)
+    ours = ac.greedy_snake(potential, init)
+    literal = ac.greedy_snake(potential, init, normalise="neighbourhood")
+    assert not np.array_equal(ours.points, literal.points)
+
+
+def test_raw_gradient_vector_flow_moves_the_snake_less_than_the_unit_flow():
+    field = ac.potential_field(_disc(64, 16.0))
+    start = _circle(40, 27.0, np.array([31.5, 31.5]))
+    options = dict(max_iter=15, d_min_px=1.0, d_max_px=4.0)
+    unit = ac.variational_snake(field.max() - field, start, **options)
+    raw = ac.variational_snake(field.max() - field, start, unit_flow=False, **options)
+    radius = {name: np.hypot(*(snake.points - 31.5).T).mean() for name, snake in (("unit", unit), ("raw", raw))}
+    assert radius["unit"] < radius["raw"] - 2, radius
 
 
 def test_vectorised_greedy_equals_the_plain_loop(probe):

@@ -37,6 +37,7 @@ from amdo_lab.active_contours.potential import (
     smooth_7x7,
 )
 from amdo_lab.active_contours.snakes import (
+    NORMALISATIONS,
     TABLE_1,
     SnakeResult,
     SnakeWeights,
@@ -54,7 +55,7 @@ __all__ = [
     "HamSlice", "HamStudy", "MuscleShape", "initial_contour", "make_ham_slice", "make_ham_study",
     "EDGE_MODES", "GAUSSIAN_7", "edge_strength", "equalise_histogram", "gradient_vector_flow", "potential_field",
     "smooth_7x7",
-    "TABLE_1", "SnakeResult", "SnakeWeights", "candidate_offsets", "dp_snake", "greedy_energies", "greedy_snake",
+    "NORMALISATIONS", "TABLE_1", "SnakeResult", "SnakeWeights", "candidate_offsets", "dp_snake", "greedy_energies", "greedy_snake",
     "greedy_snake_loop", "respace", "variational_snake",
     "METHODS", "polygon_area_mm2", "segment_contour", "segment_study", "volume_mm3",
 ]

@@ -34,16 +34,19 @@ import scipy.linalg
 from scipy import ndimage
 
 from amdo_lab.active_contours.potential import _gvf, _image
-from amdo_lab.common import MAX_ITERATIONS, as_finite_array, check_in_range, check_odd_int, check_positive, \
-    check_positive_int
+from amdo_lab.common import MAX_ITERATIONS, as_finite_array, check_bool, check_choice, check_in_range, \
+    check_odd_int, check_positive, check_positive_int
 
-__all__ = ["MAX_POINTS", "SnakeResult", "SnakeWeights", "TABLE_1", "candidate_offsets", "dp_snake",
-           "greedy_energies", "greedy_snake", "greedy_snake_loop", "respace", "variational_snake"]
+__all__ = ["MAX_POINTS", "NORMALISATIONS", "SnakeResult", "SnakeWeights", "TABLE_1", "candidate_offsets",
+           "dp_snake", "greedy_energies", "greedy_snake", "greedy_snake_loop", "respace", "variational_snake"]
 
 #: Most points a snake may hold.
 MAX_POINTS = 100_000
 #: Largest window side (candidates per point: window^2).
 MAX_WINDOW = 15
+#: How the greedy snake scales E_cont and E_curv: by dbar and dbar^2 (ours), or by their largest value among
+#: each point's candidates (Williams & Shah's normalisation of every term, eq. 7's e_max read for all three).
+NORMALISATIONS = ("spacing", "neighbourhood")
 
 
 @dataclass(frozen=True)
@@ -201,7 +204,7 @@ def _edge_of(potential: np.ndarray) -> np.ndarray:
 
 
 def _greedy_energies(points: np.ndarray, movers: np.ndarray, edge: np.ndarray, weights: SnakeWeights,
-                     d_bar: float, offsets: np.ndarray) -> np.ndarray:
+                     d_bar: float, offsets: np.ndarray, normalise: str = "spacing") -> np.ndarray:
     """Eq. (4) for each candidate of each mover: E_image over its neighbourhood's maximum, the others over dbar."""
     n = points.shape[0]
     candidates = points[movers, None, :] + offsets[None]                     # (k, m, 2)
@@ -212,6 +215,9 @@ def _greedy_energies(points: np.ndarray, movers: np.ndarray, edge: np.ndarray, w
     cols = np.clip(candidates[..., 1], 0, edge.shape[1] - 1).astype(int)
     e = edge[rows, cols]
     e_image = -e / _positive(e.max(axis=1, keepdims=True))                   # eq. (7), e_max: the neighbourhood's
+    if normalise == "neighbourhood":                                         # Williams & Shah: every term over
+        e_cont = e_cont / _positive(e_cont.max(axis=1, keepdims=True))       # its neighbourhood maximum
+        e_curv, d_bar = e_curv / _positive(e_curv.max(axis=1, keepdims=True)), 1.0
     scale = max(d_bar, 1.0)                                                  # E_cont, E_curv in units of dbar
     energy = weights.alpha * e_cont / scale + weights.beta * e_curv / scale ** 2 + weights.gamma * e_image  # eq. (4)
     outside = ((candidates < 0) | (candidates > np.asarray(edge.shape) - 1)).any(axis=2)
@@ -263,7 +269,7 @@ def _colours(n: int) -> list[np.ndarray]:
 
 
 def _greedy(potential: np.ndarray, init: np.ndarray, weights: SnakeWeights, window: int, d_min: float,
-            d_max: float, max_iter: int, vectorised: bool) -> SnakeResult:
+            d_max: float, max_iter: int, vectorised: bool, normalise: str = "spacing") -> SnakeResult:
     start = time.perf_counter()
     edge, offsets = _edge_of(potential), _offsets(window)
     points = np.rint(init)
@@ -273,7 +279,8 @@ def _greedy(potential: np.ndarray, init: np.ndarray, weights: SnakeWeights, wind
         moved = 0
         for colour in _colours(points.shape[0]):
             if vectorised:
-                best = np.argmin(_greedy_energies(points, colour, edge, weights, d_bar, offsets), axis=1)
+                energy = _greedy_energies(points, colour, edge, weights, d_bar, offsets, normalise)
+                best = np.argmin(energy, axis=1)
                 points[colour] += offsets[best]
                 moved += int(np.count_nonzero(best))
             else:
@@ -301,6 +308,7 @@ def greedy_snake(
     d_min_px: float = 2.0,
     d_max_px: float = 6.0,
     max_iter: int = 300,
+    normalise: str = "spacing",
 ) -> SnakeResult:
     """Williams & Shah's greedy snake on Sec. 3.2's potential, points moved in two colours at once.
 
@@ -324,6 +332,10 @@ def greedy_snake(
         Spacing limits of the variable ``n`` (pixels), ``0 < d_min_px < d_max_px / 2``.
     max_iter : int
         Most iterations, 1 to 100,000.
+    normalise : {"spacing", "neighbourhood"}
+        ``E_cont`` and ``E_curv`` over ``dbar`` and ``dbar^2`` (ours), or each over its largest value
+        among the point's candidates, as Williams & Shah normalise every term (an ablation: a tiny
+        curvature then counts as much as a strong edge).
 
     Returns
     -------
@@ -350,7 +362,8 @@ def greedy_snake(
     window = check_odd_int(window, "window", maximum=MAX_WINDOW)
     d_min, d_max = _spacing(d_min_px, d_max_px)
     max_iter = check_positive_int(max_iter, "max_iter", maximum=MAX_ITERATIONS)
-    return _greedy(potential, init, weights, window, d_min, d_max, max_iter, vectorised=True)
+    normalise = str(check_choice(normalise, "normalise", NORMALISATIONS))
+    return _greedy(potential, init, weights, window, d_min, d_max, max_iter, vectorised=True, normalise=normalise)
 
 
 def greedy_snake_loop(
@@ -521,11 +534,13 @@ def _internal_matrix(n: int, alpha: float, beta: float) -> np.ndarray:
 
 
 def _variational(edge_map: np.ndarray, init: np.ndarray, weights: SnakeWeights, tau: float, d_min: float,
-                 d_max: float, max_iter: int, mu: float, gvf_iter: int) -> SnakeResult:
+                 d_max: float, max_iter: int, mu: float, gvf_iter: int,
+                 unit_flow: bool = True) -> SnakeResult:
     start = time.perf_counter()
     flow = _gvf(edge_map, mu, gvf_iter)
-    length = np.hypot(flow[0], flow[1])
-    flow = np.where(length > 1e-12, flow / np.where(length > 1e-12, length, 1.0), 0.0)   # unit length
+    if unit_flow:
+        length = np.hypot(flow[0], flow[1])
+        flow = np.where(length > 1e-12, flow / np.where(length > 1e-12, length, 1.0), 0.0)   # unit length
     points, evaluations, factor, iteration = init.astype(float), 0, None, 0
     limit = np.asarray(edge_map.shape) - 1.0
     for iteration in range(1, max_iter + 1):
@@ -556,6 +571,7 @@ def variational_snake(
     max_iter: int = 200,
     mu: float = 0.2,
     gvf_iter: int = 80,
+    unit_flow: bool = True,
 ) -> SnakeResult:
     """Kass's snake solved semi-implicitly with an LU factorisation, pushed by the unit-length GVF.
 
@@ -575,6 +591,9 @@ def variational_snake(
         Iterations, 1 to 100,000 (the snake runs all of them).
     mu, gvf_iter : float, int
         Diffusion weight in (0, 0.25] and steps of the gradient vector flow.
+    unit_flow : bool
+        Scale the flow to unit length (ours); ``False`` keeps the raw GVF, whose size follows the edge
+        map's units and is small far from edges (an ablation).
 
     Returns
     -------
@@ -593,4 +612,5 @@ def variational_snake(
     max_iter = check_positive_int(max_iter, "max_iter", maximum=MAX_ITERATIONS)
     mu = float(as_finite_array(mu, "mu", bounds=(0.0, 0.25), closed="right"))
     gvf_iter = check_positive_int(gvf_iter, "gvf_iter", maximum=MAX_ITERATIONS)
-    return _variational(edge_map, init, weights, tau, d_min, d_max, max_iter, mu, gvf_iter)
+    unit_flow = check_bool(unit_flow, "unit_flow")
+    return _variational(edge_map, init, weights, tau, d_min, d_max, max_iter, mu, gvf_iter, unit_flow)
