@@ -22,8 +22,10 @@ from amdo_lab.common import (
     check_bool,
     check_choice,
     check_in_range,
+    check_overflow,
     check_positive,
     check_positive_int,
+    check_same_shape,
 )
 
 __all__ = ["FluidResult", "HISTORY_COLUMNS", "register_fluid", "warp_image", "external_force",
@@ -64,8 +66,7 @@ def _check_differentiable(array: np.ndarray, name: str) -> np.ndarray:
 
 def _finite(result: np.ndarray, names: str) -> np.ndarray:
     """``result``, or a ValueError naming the arguments whose size drove it out of float range."""
-    if not np.all(np.isfinite(result)):
-        raise ValueError(f"{names} too large: the result overflows a float (NaN or inf)")
+    check_overflow(result, names)
     return result
 
 
@@ -484,8 +485,7 @@ def check_registration_images(template: object, study: object) -> tuple[np.ndarr
     """
     template = as_finite_array(template, "template", shape=(None, None), max_abs=MAX_GREY_LEVEL)
     study = as_finite_array(study, "study", shape=(None, None), max_abs=MAX_GREY_LEVEL)
-    if template.shape != study.shape:
-        raise ValueError(f"template and study must have the same shape, got {template.shape} and {study.shape}")
+    check_same_shape(template, study, "template", "study")
     if min(template.shape) < 4:
         raise ValueError(f"images must be at least 4x4 pixels, got {template.shape}")
     for image, name in ((template, "template"), (study, "study")):
