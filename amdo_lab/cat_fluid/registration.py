@@ -59,8 +59,7 @@ def _check_displacement(displacement: object, shape: tuple[int, ...], name: str 
 
 def _check_differentiable(array: np.ndarray, name: str) -> np.ndarray:
     """Finite differences (np.gradient) need at least two pixels along each image axis."""
-    if min(array.shape[-2:]) < 2:
-        raise ValueError(f"{name} must be at least 2x2 pixels for finite differences, got shape {array.shape}")
+    check_positive_int(min(array.shape[-2:]), f"{name}'s smaller image side (pixels)", minimum=2)
     return array
 
 
@@ -486,8 +485,7 @@ def check_registration_images(template: object, study: object) -> tuple[np.ndarr
     template = as_finite_array(template, "template", shape=(None, None), max_abs=MAX_GREY_LEVEL)
     study = as_finite_array(study, "study", shape=(None, None), max_abs=MAX_GREY_LEVEL)
     check_same_shape(template, study, "template", "study")
-    if min(template.shape) < 4:
-        raise ValueError(f"images must be at least 4x4 pixels, got {template.shape}")
+    check_positive_int(min(template.shape), "the images' smaller side (pixels)", minimum=4)
     for image, name in ((template, "template"), (study, "study")):
         if np.ptp(image) == 0:
             raise ValueError(f"{name} is constant: without grey-level structure eq. (18) gives no force")
