@@ -162,7 +162,7 @@ REJECTIONS = [
     reject("update columns of another length", lambda: update_with_mean(*_empty(4), np.zeros(4), np.ones((5, 1))),
            ValueError, r"I must have shape \(4, n\)"),
     reject("extract_mean with no rows", lambda: extract_mean(np.ones((4, 0)), np.zeros(0), np.zeros((0, 0))),
-           ValueError, "V must have at least 1 rows"),
+           ValueError, "V's number of rows \\(one per column seen\\) must be at least 1"),
     reject("negative singular value", lambda: brand_update(np.eye(3)[:, :1], [-1.0], np.ones((1, 1)), np.ones((3, 1))),
            ValueError, r"s must lie in \[0, "),
     reject("one frame", lambda: make_talking_face(1, rng=0), ValueError, "n_frames must be at least 2"),

@@ -25,7 +25,7 @@ MAX_VALIDATION_SHARE = 0.15
 #: The checks left are mostly one line per argument of many small public functions; going lower
 #: needs fewer public entry points or settings objects (measured 2026-11-26).
 KNOWN_EXCESS: dict[str, dict[str, object]] = {
-    "cat_fluid": {"validation_share": "20.7 % (108 of 521 lines)"},
+    "cat_fluid": {"validation_share": "19.3 % (98 of 509 lines)"},
     "common": {"validation_share": "17.6 % (62 of 352 lines; validation.py itself not counted)"},
     "cue_fusion_pf": {"validation_share": "20.0 % (241 of 1,207 lines)"},
     "face_glmm": {"validation_share": "21.1 % (222 of 1,053 lines)"},

@@ -10,7 +10,7 @@ import numpy as np
 
 from amdo_lab.cat_fluid.registration import check_registration_images
 from amdo_lab.common import MAX_ITERATIONS
-from amdo_lab.common import check_choice, check_positive_int
+from amdo_lab.common import as_finite_array, check_choice
 
 __all__ = ["DipyResult", "register_dipy"]
 
@@ -79,17 +79,14 @@ def register_dipy(template: object, study: object, metric: str = "cc",
     """
     template, study = check_registration_images(template, study)
     check_choice(metric, "metric", ("cc", "ssd"))
-    if not isinstance(level_iters, (tuple, list)) or not level_iters:
-        raise ValueError(f"level_iters must be a non-empty tuple of iteration counts, got {level_iters!r}")
-    level_iters = tuple(check_positive_int(n, "level_iters", minimum=0, maximum=MAX_ITERATIONS)
-                        for n in level_iters)
+    level_iters = as_finite_array(level_iters, "level_iters", ndim=1, dtype=int, bounds=(0, MAX_ITERATIONS))
     from dipy.align.imwarp import SymmetricDiffeomorphicRegistration  # lazy: dipy is slow to import
     from dipy.align.metrics import CCMetric, SSDMetric
 
     logging.getLogger("dipy").setLevel(logging.WARNING)  # its per-level INFO lines are noise here
     start = time.perf_counter()
     registration = SymmetricDiffeomorphicRegistration(CCMetric(2) if metric == "cc" else SSDMetric(2),
-                                                      level_iters=list(level_iters))
+                                                      level_iters=level_iters.tolist())
     mapping = registration.optimize(study, template)
     seconds = time.perf_counter() - start
     forward = -np.moveaxis(np.asarray(mapping.get_forward_field(), float), -1, 0)

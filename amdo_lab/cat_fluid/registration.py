@@ -22,8 +22,10 @@ from amdo_lab.common import (
     check_bool,
     check_choice,
     check_in_range,
+    check_overflow,
     check_positive,
     check_positive_int,
+    check_same_shape,
 )
 
 __all__ = ["FluidResult", "HISTORY_COLUMNS", "register_fluid", "warp_image", "external_force",
@@ -57,15 +59,13 @@ def _check_displacement(displacement: object, shape: tuple[int, ...], name: str 
 
 def _check_differentiable(array: np.ndarray, name: str) -> np.ndarray:
     """Finite differences (np.gradient) need at least two pixels along each image axis."""
-    if min(array.shape[-2:]) < 2:
-        raise ValueError(f"{name} must be at least 2x2 pixels for finite differences, got shape {array.shape}")
+    check_positive_int(min(array.shape[-2:]), f"{name}'s smaller image side (pixels)", minimum=2)
     return array
 
 
 def _finite(result: np.ndarray, names: str) -> np.ndarray:
     """``result``, or a ValueError naming the arguments whose size drove it out of float range."""
-    if not np.all(np.isfinite(result)):
-        raise ValueError(f"{names} too large: the result overflows a float (NaN or inf)")
+    check_overflow(result, names)
     return result
 
 
@@ -484,10 +484,8 @@ def check_registration_images(template: object, study: object) -> tuple[np.ndarr
     """
     template = as_finite_array(template, "template", shape=(None, None), max_abs=MAX_GREY_LEVEL)
     study = as_finite_array(study, "study", shape=(None, None), max_abs=MAX_GREY_LEVEL)
-    if template.shape != study.shape:
-        raise ValueError(f"template and study must have the same shape, got {template.shape} and {study.shape}")
-    if min(template.shape) < 4:
-        raise ValueError(f"images must be at least 4x4 pixels, got {template.shape}")
+    check_same_shape(template, study, "template", "study")
+    check_positive_int(min(template.shape), "the images' smaller side (pixels)", minimum=4)
     for image, name in ((template, "template"), (study, "study")):
         if np.ptp(image) == 0:
             raise ValueError(f"{name} is constant: without grey-level structure eq. (18) gives no force")

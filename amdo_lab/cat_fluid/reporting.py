@@ -14,7 +14,7 @@ import pandas as pd
 from amdo_lab.cat_fluid.data import RegistrationPair
 from amdo_lab.cat_fluid.registration import (MAX_GREY_LEVEL, displacement_rmse, grey_level_difference,
                                              inverse_consistency_error, jacobian_determinant)
-from amdo_lab.common import as_finite_array, check_bool, check_dataframe, check_positive
+from amdo_lab.common import as_finite_array, check_bool, check_dataframe, check_instance, check_positive
 
 __all__ = ["PAPER_TABLE1", "paper_table1", "grey_level_table", "mean_sd_strings", "accuracy_row"]
 
@@ -24,11 +24,6 @@ PAPER_TABLE1: dict[str, dict[str, tuple[float, float]]] = {
     "B": {"CAT": (6.8, 13.8), "SOR": (9.3, 17.2)},
     "C": {"CAT": (6.2, 13.2), "SOR": (9.1, 16.6)},
 }
-
-
-def _check_mapping(value: object, name: str) -> None:
-    if not isinstance(value, Mapping):
-        raise TypeError(f"{name} must be a mapping (a dict) by pair name, got {type(value).__name__}")
 
 
 def paper_table1() -> pd.DataFrame:
@@ -78,8 +73,8 @@ def grey_level_table(pairs: Mapping[str, RegistrationPair], deformed: Mapping[st
     """
     scale = check_positive(scale, "scale")
     check_bool(masked, "masked")
-    _check_mapping(pairs, "pairs")
-    _check_mapping(deformed, "deformed")
+    check_instance(pairs, "pairs", Mapping, what="a mapping (a dict) by pair name")
+    check_instance(deformed, "deformed", Mapping, what="a mapping (a dict) by pair name")
     missing = sorted(set(deformed) - set(pairs))
     if missing:
         raise ValueError(f"deformed has pairs {missing} that pairs does not")
@@ -150,8 +145,7 @@ def accuracy_row(pair: RegistrationPair, warped: np.ndarray, displacement: np.nd
     AMDO 2004, LNCS 3179, pp. 76-85,
     Table 1 and Sec. 5.
     """
-    if not isinstance(pair, RegistrationPair):
-        raise TypeError(f"pair must be a RegistrationPair, got {type(pair).__name__}")
+    check_instance(pair, "pair", RegistrationPair)
     warped = as_finite_array(warped, "warped", shape=pair.study.shape, max_abs=MAX_GREY_LEVEL)
     det = jacobian_determinant(displacement)
     return {"residual (mask)": grey_level_difference(warped, pair.study, pair.mask, scale=scale)[0],

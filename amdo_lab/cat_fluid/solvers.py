@@ -26,6 +26,7 @@ import scipy.sparse as sp
 from amdo_lab.cat_fluid.stencil import MAX_FIELD, NEIGHBOUR_OFFSETS, check_moduli, fluid_stencil, stencil_blocks
 from amdo_lab.common import MAX_ITERATIONS
 from amdo_lab.common import as_finite_array, check_choice, check_image_shape, check_in_range, check_positive_int
+from amdo_lab.common import check_same_shape
 
 __all__ = ["SOLVERS", "stencil_symbol", "cat_symbol", "finite_difference_symbol", "apply_finite_difference",
            "solve_symbol", "sor_solve", "solve_velocity", "default_omega", "SOR_ORDERINGS", "symbol_eigenvalues",
@@ -207,8 +208,7 @@ def symbol_eigenvalues(symbol: object, rows: object, cols: object) -> np.ndarray
     symbol = as_finite_array(symbol, "symbol", shape=(2, 2, None, None), max_abs=1e153)
     rows = as_finite_array(rows, "rows", ndim=1, dtype=int, bounds=(0, symbol.shape[2] - 1))  # frequency indices
     cols = as_finite_array(cols, "cols", ndim=1, dtype=int, bounds=(0, symbol.shape[3] - 1))
-    if rows.shape != cols.shape:
-        raise ValueError(f"rows and cols must be 1-D of the same length, got shapes {rows.shape} and {cols.shape}")
+    check_same_shape(rows, cols, "rows", "cols")
     matrices = np.moveaxis(symbol[:, :, rows, cols], -1, 0)  # (n, 2, 2): one matrix per frequency
     return np.linalg.eigvalsh(matrices)
 

@@ -25,7 +25,8 @@ from collections.abc import Callable
 
 import numpy as np
 
-from amdo_lab.common import MAX_SIDE, as_finite_array, check_choice, check_in_range, check_positive_int
+from amdo_lab.common import (MAX_SIDE, as_finite_array, check_choice, check_in_range, check_instance,
+                             check_positive_int)
 
 #: Largest stencil entry accepted: a stencil built from Lamé constants up to 1e150 has entries a few
 #: times that; sums over the nine blocks and the squares in a symbol's 2x2 eigenproblem stay finite.
@@ -67,8 +68,7 @@ def check_moduli(lam: object, mu: object, *, require_positive_mu: bool = False) 
 
 def _checked_velocity(velocity: object) -> Callable[..., np.ndarray]:
     """``velocity`` as a function whose every value is checked to be a finite 2-vector (within ±1e100)."""
-    if not callable(velocity):
-        raise TypeError(f"velocity must be a function of (x1, x2), got {type(velocity).__name__}")
+    check_instance(velocity, "velocity", Callable, what="a function of (x1, x2)")
     def checked(*x: float) -> np.ndarray:
         name = f"velocity({', '.join(f'{value:g}' for value in x)})"  # the point named, e.g. velocity(0, 1)
         return as_finite_array(velocity(*x), name, shape=(2,), max_abs=MAX_FIELD)

@@ -14,7 +14,7 @@ import numpy as np
 from scipy import ndimage
 
 from amdo_lab.common import (as_finite_array, check_choice, check_image_shape, check_in_range,
-                             check_positive_int, make_rng, MAX_ITERATIONS)
+                             check_positive_int, check_same_shape, make_rng, MAX_ITERATIONS)
 
 __all__ = ["LATENT_NAMES", "MOTIONS", "PAPER_SIZE", "SIMILARITY_BOUNDS", "TalkingFace", "corner_error_less_offset_px",
            "corner_error_px",
@@ -414,7 +414,6 @@ def psnr_db(estimate: np.ndarray, clean: np.ndarray) -> float:
     """
     estimate = as_finite_array(estimate, "estimate", max_abs=1e100)
     clean = as_finite_array(clean, "clean", max_abs=1e100)
-    if clean.shape != estimate.shape:
-        raise ValueError(f"estimate and clean must have the same shape, got {estimate.shape} and {clean.shape}")
+    check_same_shape(estimate, clean, "estimate", "clean")
     mse = float(np.mean((estimate - clean) ** 2))
     return float("inf") if mse == 0 else float(-10 * np.log10(mse))

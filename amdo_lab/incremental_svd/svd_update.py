@@ -105,8 +105,7 @@ def _check_basis(U: object, s: object) -> tuple[np.ndarray, np.ndarray]:
 def _check_right_factor(V: object, r: int, min_rows: int) -> np.ndarray:
     """The right factor: r orthonormal columns, so at least ``min_rows`` (>= r) rows, one per column seen."""
     V = as_finite_array(V, "V", shape=(None, r), allow_empty=True, max_abs=MAX_ABS)
-    if V.shape[0] < min_rows:
-        raise ValueError(f"V must have at least {min_rows} rows (one per column seen), got shape {V.shape}")
+    check_positive_int(V.shape[0], "V's number of rows (one per column seen)", minimum=min_rows)
     return V
 
 

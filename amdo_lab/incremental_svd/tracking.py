@@ -79,8 +79,7 @@ def _check_training(frames: object, masks: object, init: object, max_rank: objec
                     noise: object) -> tuple[np.ndarray, dict, np.ndarray, int, float]:
     """The inputs both trainers share: frames, masks, first placement, rank cap, threshold mode, noise."""
     frames = as_finite_array(frames, "frames", ndim=3, max_abs=1e6)
-    if frames.shape[0] < 2:
-        raise ValueError(f"frames must hold at least 2 frames, got {frames.shape[0]}")
+    check_positive_int(frames.shape[0], "frames' number of frames", minimum=2)
     masks = _check_masks(masks, frames.shape[1:], "frames")
     init = as_finite_array(init, "init", shape=(4,), max_abs=1e3)
     check_choice(tau, "tau", TAU_MODES)
