@@ -646,7 +646,7 @@ REJECTIONS = [
         M=pd.Categorical(fitted.table.M, categories=["l2", "soft_l2", "l1"])), "Y ~ M", ["p"], 30),
         ValueError, "factor 'M' has levels with no rows"),
     reject("fit_binomial_glmm factor not in table", lambda fitted: fit_binomial_glmm(fitted.table, "Y ~ Q", ["p"], 30),
-           ValueError, "fixed names columns not in table"),
+           ValueError, r"table \(the terms of fixed\) must have columns \['Q'\], missing \['Q'\]"),
     reject("fit_binomial_glmm random term a number", lambda fitted: fit_binomial_glmm(fitted.table, "Y ~ M", [3], 30),
            TypeError, "random must hold non-empty strings"),
     reject("fit_binomial_glmm repeated random term", lambda fitted: fit_binomial_glmm(fitted.table, "Y ~ M", ["p", "p"], 30),
@@ -690,7 +690,7 @@ REJECTIONS = [
     reject("fit_naive_logistic response not a column", lambda fitted: fg.fit_naive_logistic(fitted.table, "Z ~ M"),
            ValueError, "response 'Z' is not a column of table"),
     reject("fit_with_lme4 random term not a column", lambda fitted: fit_with_lme4(fitted.table, "Y ~ M", ["q"]),
-           ValueError, "random term 'q' names columns not in table"),
+           ValueError, r"table \(random term 'q'\) must have columns \['q'\], missing \['q'\]"),
     # --- the report: a fit of the paper's factors, three axes for Fig. 2
     reject("cell_predictions fit without the paper's factors", lambda fitted: fg.cell_predictions(fitted.fit),
            ValueError, r"result must be a fit with the paper's factors U, M, D and F"),

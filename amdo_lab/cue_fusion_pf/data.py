@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_instance, check_same_shape, check_positive, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf.likelihoods import MAX_PIXELS, check_frames
 from amdo_lab.cue_fusion_pf.shape import as_states
 
@@ -440,8 +440,7 @@ def ellipse_iou(first: np.ndarray, second: np.ndarray, *, step: float = 0.5) -> 
     """
     first, second = as_ellipse(first, "first", allow_stack=True), as_ellipse(second, "second", allow_stack=True)
     step = check_in_range(step, "step", 0.0, 1e6, closed="right")
-    if second.shape != first.shape:  # which one is at fault is unknowable: name both
-        raise ValueError(f"first and second must have the same shape, got {first.shape} and {second.shape}")
+    check_same_shape(first, second, "first", "second")  # which one is at fault is unknowable: name both
     single = first.ndim == 1
     first, second = np.atleast_2d(first), np.atleast_2d(second)
     scores = np.empty(len(first))

@@ -13,8 +13,6 @@ and explodes. :class:`ARDynamics` uses the corrected order and refuses an unstab
 
 from __future__ import annotations
 
-import numbers
-
 import numpy as np
 
 from amdo_lab.common import MAX_ITERATIONS
@@ -53,8 +51,7 @@ def ar2_coefficients(beta: float, omega: float, tau: float) -> tuple[float, floa
     Li & Chaumette, AMDO 2004, eq. (4); Blake & Isard, Active Contours (1998), ch. 9.
     """
     beta = check_positive(beta, "beta", allow_zero=True)
-    if isinstance(omega, bool) or not isinstance(omega, numbers.Real) or not np.isfinite(omega):
-        raise TypeError(f"omega must be a finite real number, got {omega!r}")
+    omega = check_in_range(omega, "omega", -np.inf, np.inf)  # any finite real number
     tau = check_positive(tau, "tau")
     a1 = -np.exp(-2.0 * beta * tau)
     a0 = 2.0 * np.exp(-beta * tau) * np.cos(omega * tau)

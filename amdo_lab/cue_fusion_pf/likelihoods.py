@@ -11,7 +11,7 @@ import cv2
 import numpy as np
 
 from amdo_lab.common import MAX_SAMPLES, MAX_SIDE
-from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_positive, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_instance, check_positive, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 
 __all__ = [
@@ -55,8 +55,7 @@ def check_shape_space(shape_space: object) -> ShapeSpace:
     ----------
     Li & Chaumette, AMDO 2004, eqs. (2)-(3) (the shape space every cue reads its contours from).
     """
-    if not isinstance(shape_space, ShapeSpace):
-        raise TypeError(f"shape_space must be a ShapeSpace, got {type(shape_space).__name__}")
+    check_instance(shape_space, "shape_space", ShapeSpace, what="a ShapeSpace")
     return shape_space
 
 

@@ -18,7 +18,7 @@ import cv2
 import numpy as np
 
 from amdo_lab.common import MAX_ITERATIONS, MAX_SAMPLES
-from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_instance, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf import data as head_data
 from amdo_lab.cue_fusion_pf.likelihoods import SIGMA_RANGE, check_frame, check_shape_space
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
@@ -120,10 +120,9 @@ def haar_features(window: tuple[int, int] = WINDOW) -> HaarFeatures:
     ----------
     Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
     """
-    as_finite_array(window, "window", shape=(2,), max_abs=MAX_WINDOW)  # bounded before the cast to int
+    # at least 2 pixels wide and high; bounded before the cast to int
+    as_finite_array(window, "window", shape=(2,), bounds=(2.0, MAX_WINDOW))
     width, height = as_finite_array(window, "window", shape=(2,), dtype=int)
-    if width < 2 or height < 2:
-        raise ValueError(f"window must be at least 2 pixels wide and high, got {tuple(window)}")
     return _all_haar_features(int(width), int(height))
 
 
@@ -149,11 +148,9 @@ def sample_haar_features(features: HaarFeatures, n_features: int, *,
     ----------
     Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
     """
-    if not isinstance(features, HaarFeatures):
-        raise TypeError(f"features must be HaarFeatures (see haar_features), got {type(features).__name__}")
-    n_features = check_positive_int(n_features, "n_features", maximum=MAX_SAMPLES)
-    if n_features > len(features):
-        raise ValueError(f"n_features must be at most {len(features)} (all the features given), got {n_features}")
+    check_instance(features, "features", HaarFeatures, what="HaarFeatures (see haar_features)")
+    # at most all the features given
+    n_features = check_positive_int(n_features, "n_features", maximum=min(len(features), MAX_SAMPLES))
     return features.subset(np.sort(make_rng(rng, "rng").choice(len(features), n_features, replace=False)))
 
 
@@ -494,8 +491,7 @@ def train_cascade(training: TrainingSet, *, rng: int | np.random.Generator, firs
     ----------
     Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
     """
-    if not isinstance(training, TrainingSet):
-        raise TypeError(f"training must be a TrainingSet (see make_training_set), got {type(training).__name__}")
+    check_instance(training, "training", TrainingSet, what="a TrainingSet (see make_training_set)")
     generator = make_rng(rng, "rng")
     first_stages = check_positive_int(first_stages, "first_stages", maximum=MAX_ITERATIONS)
     second_stages = check_positive_int(second_stages, "second_stages", maximum=MAX_ITERATIONS)
@@ -584,8 +580,7 @@ class StructureLikelihood:
 
     def __init__(self, shape_space: ShapeSpace, cascade: BoostedCascade, *, sigma: float = float(np.sqrt(15.0))):
         self.shape_space = check_shape_space(shape_space)
-        if not isinstance(cascade, BoostedCascade):
-            raise TypeError(f"cascade must be a BoostedCascade (see train_cascade), got {type(cascade).__name__}")
+        check_instance(cascade, "cascade", BoostedCascade, what="a BoostedCascade (see train_cascade)")
         self.cascade = cascade
         self.sigma = check_in_range(sigma, "sigma", *SIGMA_RANGE, closed="both")
 

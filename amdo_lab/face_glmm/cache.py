@@ -18,7 +18,7 @@ from types import ModuleType
 import numpy as np
 import pandas as pd
 
-from amdo_lab.common import make_rng
+from amdo_lab.common import check_instance, make_rng
 from amdo_lab.face_glmm.experiment import FactorialDesign, run_factorial_experiment
 
 __all__ = ["load_or_run_experiment", "experiment_cache_key", "RESULT_MODULES"]
@@ -104,8 +104,7 @@ def load_or_run_experiment(design: FactorialDesign, cache_dir: str | Path, *,
     Givens et al. (2004), AMDO, LNCS 3179, Sec. 4 and Table 1 (the factorial experiment).
     """
     _check_design(design)
-    if not isinstance(cache_dir, (str, os.PathLike)):
-        raise TypeError(f"cache_dir must be a path (str or pathlib.Path), got {type(cache_dir).__name__}")
+    check_instance(cache_dir, "cache_dir", (str, os.PathLike), what="a path (str or pathlib.Path)")
     key = experiment_cache_key(design, rng=rng, modules=RESULT_MODULES)
     path = Path(cache_dir) / f"face_glmm_experiment_{key}.pkl"
     if path.exists():
@@ -117,8 +116,7 @@ def load_or_run_experiment(design: FactorialDesign, cache_dir: str | Path, *,
 
 
 def _check_design(design: object) -> None:
-    if not isinstance(design, FactorialDesign):
-        raise TypeError(f"design must be a FactorialDesign, got {type(design).__name__}")
+    check_instance(design, "design", FactorialDesign, what="a FactorialDesign")
 
 
 def _rng_key(rng: object) -> object:

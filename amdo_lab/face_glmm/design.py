@@ -9,7 +9,7 @@ from itertools import combinations
 import numpy as np
 import pandas as pd
 
-from amdo_lab.common import check_dataframe
+from amdo_lab.common import as_finite_array, check_dataframe, check_instance
 
 __all__ = ["DesignMatrix", "parse_formula", "build_design", "group_indices", "PAPER_FORMULA",
            "SIZE_FORMULA"]
@@ -100,9 +100,7 @@ def _variable_coding(column: pd.Series, name: str, levels=None) -> tuple[np.ndar
     """Sum-to-zero (effect) coding of a factor, or the numeric column itself."""
     is_factor = isinstance(column.dtype, pd.CategoricalDtype) or not pd.api.types.is_numeric_dtype(column)
     if not is_factor:
-        values = column.to_numpy(dtype=float)
-        if not np.all(np.isfinite(values)):
-            raise ValueError(f"column {name!r} has NaN or infinite values")
+        values = as_finite_array(column.to_numpy(dtype=float), f"column {name!r}")
         return values[:, None], [name], None
     if column.isna().any():
         raise ValueError(f"column {name!r} has missing values")
@@ -151,7 +149,6 @@ def build_design(table: pd.DataFrame, terms: list[tuple[str, ...]], levels: dict
     ----------
     Givens et al. (2004), AMDO, LNCS 3179, eq. (2) (the fixed effects of the model).
     """
-    check_dataframe(table, "table")
     if isinstance(terms, (str, tuple)) or not hasattr(terms, "__iter__"):
         raise TypeError(f"terms must be a list of tuples of column names (see parse_formula), got {terms!r}")
     terms = list(terms)
@@ -162,9 +159,7 @@ def build_design(table: pd.DataFrame, terms: list[tuple[str, ...]], levels: dict
     if levels is not None and not isinstance(levels, Mapping):
         raise TypeError(f"levels must map factor names to their levels, got {type(levels).__name__}")
     variables = sorted({v for term in terms for v in term})
-    missing = [v for v in variables if v not in table.columns]
-    if missing:
-        raise ValueError(f"fixed names columns not in table: {missing}")
+    check_dataframe(table, "table (the terms of fixed)", columns=variables)  # names both: either may be wrong
     levels = dict(levels or {})
     codings = {}
     for v in variables:
@@ -206,13 +201,9 @@ def group_indices(table: pd.DataFrame, term: str) -> np.ndarray:
     ----------
     Givens et al. (2004), AMDO, LNCS 3179, eq. (2): the random intercepts of training set t, probe p and their interaction.
     """
-    check_dataframe(table, "table")
-    if not isinstance(term, str):
-        raise TypeError(f"term must be a grouping term such as 't' or 't:p', got {type(term).__name__}")
+    check_instance(term, "term", str, what="a grouping term such as 't' or 't:p'")
     names = [s.strip() for s in term.split(":")]
-    missing = [v for v in names if v not in table.columns]
-    if missing:
-        raise ValueError(f"random term {term!r} names columns not in table: {missing}")
+    check_dataframe(table, f"table (random term {term!r})", columns=names)  # names both: either may be wrong
     for v in names:
         if table[v].isna().any():
             raise ValueError(f"random term column {v!r} has missing values")

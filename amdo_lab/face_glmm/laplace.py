@@ -62,9 +62,7 @@ def binomial_deviance(y: np.ndarray, n_trials: np.ndarray, eta: np.ndarray) -> f
     dev(y, eta) term of the Laplace deviance of eq. (2) in Givens et al. (2004), AMDO, LNCS 3179.
     """
     y, n_trials = _check_counts(y, n_trials)
-    eta = as_finite_array(eta, "eta", max_abs=MAX_ABS_ETA)
-    if eta.shape != y.shape:  # which of the two is at fault is unknowable: name both
-        raise ValueError(f"eta must have shape {y.shape}, the shape of y, got {eta.shape}")
+    eta = as_finite_array(eta, "eta", shape=y.shape, max_abs=MAX_ABS_ETA)  # the shape of y
     return _binomial_deviance(y, n_trials, eta)
 
 

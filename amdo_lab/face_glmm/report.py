@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.axes import Axes
 
-from amdo_lab.common import PALETTE, check_axes
+from amdo_lab.common import PALETTE, check_axes, check_instance
 from amdo_lab.face_glmm.glmm import GlmmResult
 
 __all__ = ["PAPER_TABLE2", "PAPER_NUMBERS", "table2_comparison", "cell_predictions", "findings",
@@ -41,8 +41,7 @@ def _check_result(result: object, name: str = "result", *, compared: bool = Fals
     ``compared``: the levels the findings compare are present; ``drawn``: every level has a colour,
     marker or line style in the figures (a level without one would be dropped from the plot).
     """
-    if not isinstance(result, GlmmResult):
-        raise TypeError(f"{name} must be a GlmmResult (from fit_binomial_glmm), got {type(result).__name__}")
+    check_instance(result, name, GlmmResult, what="a GlmmResult (from fit_binomial_glmm)")
     levels = result.design.levels
     missing = [factor for factor in _COMPARED_LEVELS if levels.get(factor) is None]
     if missing:
@@ -80,8 +79,7 @@ def table2_comparison(result: GlmmResult) -> pd.DataFrame:
     ----------
     Givens et al. (2004), AMDO, LNCS 3179, Table 2 (tests of the fixed effects of eq. 2).
     """
-    if not isinstance(result, GlmmResult):
-        raise TypeError(f"result must be a GlmmResult (from fit_binomial_glmm), got {type(result).__name__}")
+    check_instance(result, "result", GlmmResult, what="a GlmmResult (from fit_binomial_glmm)")
     ours = result.tests.reindex(PAPER_TABLE2.index)
     return pd.DataFrame({"df": PAPER_TABLE2["df"], "F paper": PAPER_TABLE2["F"], "p paper": PAPER_TABLE2["p_value"],
                          "F ours": ours["F"].round(1), "p ours": ours["p_value"].map(lambda p: f"{p:.2g}")})
@@ -143,8 +141,7 @@ def findings(result: GlmmResult, size_result: GlmmResult | None = None) -> pd.Da
     """
     _check_result(result, compared=True)
     if size_result is not None:
-        if not isinstance(size_result, GlmmResult):
-            raise TypeError(f"size_result must be a GlmmResult, got {type(size_result).__name__}")
+        check_instance(size_result, "size_result", GlmmResult, what="a GlmmResult")
         if not any("S" in term.split(":") for term in size_result.tests.index):
             # with no S term, "all p > 0.05" would hold vacuously
             raise ValueError("size_result must be a fit with image-size (S) terms, e.g. of SIZE_FORMULA")

@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 from scipy.special import expit
 
-from amdo_lab.common import MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check_dataframe, check_in_range, check_positive, check_positive_int, make_rng
+from amdo_lab.common import MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check_dataframe, check_in_range, check_instance, check_positive, check_positive_int, make_rng
 from amdo_lab.face_glmm.laplace import MAX_ABS_ETA
 from amdo_lab.face_glmm.design import build_design, group_indices, parse_formula
 
@@ -118,8 +118,7 @@ def summarise_recovery(true: pd.Series, estimates: np.ndarray, ses: np.ndarray, 
     """
     from scipy import stats
 
-    if not isinstance(true, pd.Series):
-        raise TypeError(f"true must be a pandas Series of coefficients, got {type(true).__name__}")
+    check_instance(true, "true", pd.Series, what="a pandas Series of coefficients")
     as_finite_array(true.to_numpy(), "true")
     estimates = as_finite_array(estimates, "estimates", shape=(None, len(true)), max_abs=MAX_ABS_ESTIMATE)
     ses = as_finite_array(ses, "ses", shape=estimates.shape, bounds=(0.0, MAX_ABS_ESTIMATE))
@@ -176,8 +175,7 @@ def recovery_study(table: pd.DataFrame, fixed: str, coefficients: pd.Series, var
     # Everything is checked before the first (slow) refit.
     gen = make_rng(rng, "rng")
     check_dataframe(table, "table")
-    if not isinstance(coefficients, pd.Series):
-        raise TypeError(f"coefficients must be a pandas Series (named like the fit's), got {type(coefficients).__name__}")
+    check_instance(coefficients, "coefficients", pd.Series, what="a pandas Series (named like the fit's)")
     _check_variances(variances)
     if not variances:
         raise ValueError("variances must name at least one grouping term (the refits need a random effect)")
@@ -196,8 +194,7 @@ def recovery_study(table: pd.DataFrame, fixed: str, coefficients: pd.Series, var
 
 
 def _check_variances(variances: object) -> None:
-    if not isinstance(variances, Mapping):
-        raise TypeError(f"variances must map grouping terms to variances, got {type(variances).__name__}")
+    check_instance(variances, "variances", Mapping, what="a mapping of grouping terms to variances")
     for term, variance in variances.items():
         check_positive(variance, f"variances[{term!r}]", allow_zero=True)
 
