@@ -146,7 +146,6 @@ def as_finite_array(
 
 def _check_bounds(array: np.ndarray, name: str, bounds: tuple[float, float], closed: str) -> None:
     """Raise naming ``name`` and its first element outside ``bounds`` (ends per ``closed``)."""
-    check_choice(closed, "closed", ("both", "left", "right", "neither"))
     low, high = bounds
     left_ok = array >= low if closed in ("left", "both") else array > low
     right_ok = array <= high if closed in ("right", "both") else array < high
