@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from amdo_lab.common import (MAX_ITERATIONS, as_finite_array, check_in_range, check_positive_int, make_rng,
+from amdo_lab.common import (as_finite_array, check_in_range, make_rng,
                              procrustes_align)
 from amdo_lab.common.exercises import Exercise, ExerciseSet, WrongAnswer
 
@@ -31,11 +31,10 @@ SUBSET_STEP = 5
 MAX_MAGNITUDE = 1e150
 
 
-def simulated_rms(template: np.ndarray, clean: np.ndarray, noise: float, *, rng: int | np.random.Generator,
-                  n_draws: int = N_DRAWS) -> float:
+def simulated_rms(template: np.ndarray, clean: np.ndarray, noise: float, *, rng: int | np.random.Generator) -> float:
     """Root-mean-square Procrustes residual of ``template`` fitted to noisy copies of ``clean``.
 
-    Each draw adds independent Gaussian noise of standard deviation ``noise`` to every coordinate
+    Each of ``N_DRAWS`` draws adds independent Gaussian noise of standard deviation ``noise`` to every coordinate
     of ``clean``, aligns ``template`` onto it with :func:`amdo_lab.common.procrustes_align` and
     records the squared rms residual; the result is the square root of their mean.
 
@@ -49,8 +48,6 @@ def simulated_rms(template: np.ndarray, clean: np.ndarray, noise: float, *, rng:
         Standard deviation of the noise on each coordinate, in (0, ``MAX_MAGNITUDE``].
     rng : int or numpy.random.Generator
         Seed or generator of the noise draws (the checks use ``rng=11``).
-    n_draws : int
-        Number of noise draws, from 1 to ``MAX_ITERATIONS`` (100,000).
 
     Returns
     -------
@@ -65,10 +62,9 @@ def simulated_rms(template: np.ndarray, clean: np.ndarray, noise: float, *, rng:
     template = as_finite_array(template, "template", ndim=2, max_abs=MAX_MAGNITUDE)
     clean = as_finite_array(clean, "clean (like template)", shape=template.shape, max_abs=MAX_MAGNITUDE)
     noise = check_in_range(noise, "noise", 0, MAX_MAGNITUDE, closed="right")
-    n_draws = check_positive_int(n_draws, "n_draws", maximum=MAX_ITERATIONS)
     rng = make_rng(rng, "rng")
     squares = [procrustes_align(template, clean + rng.normal(scale=noise, size=clean.shape)).rms_error ** 2
-               for _ in range(n_draws)]
+               for _ in range(N_DRAWS)]
     return float(np.sqrt(np.mean(squares)))
 
 

@@ -23,6 +23,6 @@ def cases() -> dict[str, Case]:
     return {
         "simulated_rms": Case(
             intro.simulated_rms,
-            {"template": template, "clean": clean, "noise": 0.1, "rng": 0, "n_draws": 5},
-            {"template": "points", "clean": "points", "noise": "positive", "rng": "seed", "n_draws": "count"}),
+            {"template": template, "clean": clean, "noise": 0.1, "rng": 0},
+            {"template": "points", "clean": "points", "noise": "positive", "rng": "seed"}),
     }
