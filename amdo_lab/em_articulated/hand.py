@@ -329,7 +329,12 @@ class HandModel:
             Distances, mm.
         """
         points = check_points(points, "points")
-        frames = self._forward(self.check_theta(theta))[0]
+        theta = self.check_theta(theta)
+        return self._part_distances(points, theta)
+
+    def _part_distances(self, points: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        """:meth:`part_distances` on checked input."""
+        frames = self._forward(theta)[0]
         # local[m, p] = R_p^T (x_m - t_p) - c_p
         local = self._local_coordinates(points, frames)
         radial = np.linalg.norm(local / self._radii, axis=2)
@@ -350,8 +355,14 @@ class HandModel:
         numpy.ndarray, shape (M, 16)
             φ_p per point and part (1 on an ellipsoid, > 1 inside, clipped at d = -20ν).
         """
+        points = check_points(points, "points")
+        theta = self.check_theta(theta)
+        return self._part_fields(points, theta)
+
+    def _part_fields(self, points: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        """:meth:`part_fields` on checked input."""
         # eq. (1): φ_p(X) = exp(-d(X, Q_p)/ν), d clipped deep inside so that exp cannot overflow
-        return np.exp(-np.clip(self.part_distances(points, theta), -20 * self.nu, None) / self.nu)
+        return np.exp(-np.clip(self._part_distances(points, theta), -20 * self.nu, None) / self.nu)
 
     def fused_field(self, points: np.ndarray, theta: object, *, neighbour_rule: bool = True) -> np.ndarray:
         """φ = Σ φ_p over the strongest part and its kinematic neighbours (Sec. 2).
@@ -371,8 +382,14 @@ class HandModel:
         numpy.ndarray, shape (M,)
             The fused field φ (1 on the surface).
         """
+        points = check_points(points, "points")
+        theta = self.check_theta(theta)
         neighbour_rule = check_bool(neighbour_rule, "neighbour_rule")
-        fields = self.part_fields(points, theta)
+        return self._fused_field(points, theta, neighbour_rule)
+
+    def _fused_field(self, points: np.ndarray, theta: np.ndarray, neighbour_rule: bool = True) -> np.ndarray:
+        """:meth:`fused_field` on checked input."""
+        fields = self._part_fields(points, theta)
         if not neighbour_rule:
             return fields.sum(axis=1)
         strongest = np.argmax(fields, axis=1)
@@ -395,9 +412,15 @@ class HandModel:
         numpy.ndarray, shape (M,)
             Signed distances, mm.
         """
+        points = check_points(points, "points")
+        theta = self.check_theta(theta)
         neighbour_rule = check_bool(neighbour_rule, "neighbour_rule")
+        return self._surface_distance(points, theta, neighbour_rule)
+
+    def _surface_distance(self, points: np.ndarray, theta: np.ndarray, neighbour_rule: bool = True) -> np.ndarray:
+        """:meth:`surface_distance` on checked input (the loops of :meth:`sample_surface` call it)."""
         # eq. (2): d(X, Θ) = -ν log φ(X), φ = Σ_p φ_p the fused field
-        return -self.nu * np.log(self.fused_field(points, theta, neighbour_rule=neighbour_rule))
+        return -self.nu * np.log(self._fused_field(points, theta, neighbour_rule))
 
     def surface_distance_jacobian(self, points: object, theta: object) -> tuple[np.ndarray, np.ndarray]:
         """Distance to the fused surface (eq. 2) and its analytic derivative in Θ, shapes (M,) and (M, 27).
@@ -488,10 +511,10 @@ class HandModel:
             local = centres + direction * radii[part_ids]
             points = np.einsum("nij,nj->ni", frames[part_ids, :3, :3], local) + frames[part_ids, :3, 3]
             for _ in range(newton_steps):
-                dist = self.surface_distance(points, theta)
+                dist = self._surface_distance(points, theta)
                 grad = self._distance_gradient(points, theta)
                 points = points - (dist / np.maximum(np.sum(grad**2, axis=1), 1e-6))[:, None] * grad
-            ok = np.abs(self.surface_distance(points, theta)) < 0.2
+            ok = np.abs(self._surface_distance(points, theta)) < 0.2
             kept.append(points[ok])
             total += int(ok.sum())
         return np.concatenate(kept)[:n]
@@ -502,8 +525,8 @@ class HandModel:
         for axis in range(3):
             shift = np.zeros(3)
             shift[axis] = step
-            grad[:, axis] = (self.surface_distance(points + shift, theta)
-                             - self.surface_distance(points - shift, theta)) / (2 * step)
+            grad[:, axis] = (self._surface_distance(points + shift, theta)
+                             - self._surface_distance(points - shift, theta)) / (2 * step)
         return grad
 
     def surface_normals(self, points: object, theta: object) -> np.ndarray:
@@ -614,7 +637,12 @@ class HandModel:
             The moved texture, mm.
         """
         binding = check_binding(binding)
-        frames = self._forward(self.check_theta(theta))[0]
+        theta = self.check_theta(theta)
+        return self._transform_texture(binding, theta)
+
+    def _transform_texture(self, binding: "TextureBinding", theta: np.ndarray) -> np.ndarray:
+        """:meth:`transform_texture` on checked input (the EM loops call it)."""
+        frames = self._forward(theta)[0]
         world_p, world_r = binding.world_points(frames)
         w = binding.weight_p[:, None]
         # eq. (3): T(X, Θ) = (φ_p^a T_p X + φ_r^a T_r X) / (φ_p^a + φ_r^a), with w = φ_p^a / (φ_p^a + φ_r^a)
@@ -642,7 +670,12 @@ class HandModel:
             dT/dΘ: mm per mm for the palm translation, mm per radian for the rest.
         """
         binding = check_binding(binding)
-        frames, axes, origins = self._forward(self.check_theta(theta))
+        theta = self.check_theta(theta)
+        return self._texture_jacobian(binding, theta)
+
+    def _texture_jacobian(self, binding: "TextureBinding", theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`texture_jacobian` on checked input (the M-step's Gauss-Newton loop calls it)."""
+        frames, axes, origins = self._forward(theta)
         world_p, world_r = binding.world_points(frames)
         w = binding.weight_p[:, None]
         jac = np.empty((len(w), 3, self.n_dof))
