@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import MAX_ITERATIONS, MAX_LEVELS
-from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive_int
+from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_instance, check_positive_int
 from amdo_lab.common.threads import one_blas_thread
 
 from amdo_lab.em_articulated.estep import (CHUNK, MAX_SIGMA_MM, PAPER_C, _posterior_matrix, _weighted_targets,
@@ -149,9 +149,7 @@ def check_em_settings(settings: object) -> EMSettings:
     EMSettings
         ``settings``.
     """
-    if not isinstance(settings, EMSettings):
-        raise TypeError(f"settings must be an EMSettings (e.g. OUR_SETTINGS), got {type(settings).__name__}")
-    return settings
+    return check_instance(settings, "settings", EMSettings, what="an EMSettings (e.g. OUR_SETTINGS)")
 
 
 def check_registration_input(model_points: object, data_points: object, hand: object,

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import MAX_ITERATIONS, MAX_SAMPLES
-from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_instance, check_positive_int, make_rng
 from amdo_lab.common.geometry import rigid_transform, rotation_matrix, skew
 
 __all__ = ["HandModel", "PART_NAMES"]
@@ -225,6 +225,12 @@ class HandModel:
                 raise ValueError(f"{name} must lie within joint_limits(); DOF {bad.tolist()} are outside")
         return theta
 
+    def _check_query(self, points: object, theta: object) -> tuple[np.ndarray, np.ndarray]:
+        """The query points (M, 3) and the pose (27,) that every distance method takes, checked."""
+        points = check_points(points, "points")
+        theta = self.check_theta(theta)
+        return points, theta
+
     def _forward(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Part frames (16, 4, 4), and every DOF's world axis and a point on it (27, 3) each.
 
@@ -328,8 +334,7 @@ class HandModel:
         numpy.ndarray, shape (M, 16)
             Distances, mm.
         """
-        points = check_points(points, "points")
-        theta = self.check_theta(theta)
+        points, theta = self._check_query(points, theta)
         return self._part_distances(points, theta)
 
     def _part_distances(self, points: np.ndarray, theta: np.ndarray) -> np.ndarray:
@@ -355,8 +360,7 @@ class HandModel:
         numpy.ndarray, shape (M, 16)
             φ_p per point and part (1 on an ellipsoid, > 1 inside, clipped at d = -20ν).
         """
-        points = check_points(points, "points")
-        theta = self.check_theta(theta)
+        points, theta = self._check_query(points, theta)
         return self._part_fields(points, theta)
 
     def _part_fields(self, points: np.ndarray, theta: np.ndarray) -> np.ndarray:
@@ -382,8 +386,7 @@ class HandModel:
         numpy.ndarray, shape (M,)
             The fused field φ (1 on the surface).
         """
-        points = check_points(points, "points")
-        theta = self.check_theta(theta)
+        points, theta = self._check_query(points, theta)
         neighbour_rule = check_bool(neighbour_rule, "neighbour_rule")
         return self._fused_field(points, theta, neighbour_rule)
 
@@ -412,8 +415,7 @@ class HandModel:
         numpy.ndarray, shape (M,)
             Signed distances, mm.
         """
-        points = check_points(points, "points")
-        theta = self.check_theta(theta)
+        points, theta = self._check_query(points, theta)
         neighbour_rule = check_bool(neighbour_rule, "neighbour_rule")
         return self._surface_distance(points, theta, neighbour_rule)
 
@@ -445,8 +447,7 @@ class HandModel:
         jacobian : numpy.ndarray, shape (M, 27)
             ∂d/∂Θ: mm per mm for the palm translation, mm per radian for the rest.
         """
-        points = check_points(points, "points")
-        theta = self.check_theta(theta)
+        points, theta = self._check_query(points, theta)
         frames, axes, origins = self._forward(theta)
         rotations = frames[:, :3, :3]
         local = self._local_coordinates(points, frames)
@@ -544,8 +545,12 @@ class HandModel:
         numpy.ndarray, shape (M, 3)
             Unit vectors (zero where the gradient vanishes).
         """
-        points = check_points(points, "points")
-        grad = self._distance_gradient(points, self.check_theta(theta))
+        points, theta = self._check_query(points, theta)
+        return self._surface_normals(points, theta)
+
+    def _surface_normals(self, points: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        """:meth:`surface_normals` on checked input (the data generators call it every frame)."""
+        grad = self._distance_gradient(points, theta)
         return grad / np.maximum(np.linalg.norm(grad, axis=1, keepdims=True), 1e-12)
 
     def ellipsoid_mesh(self, theta: object, resolution: int = 16) -> tuple[np.ndarray, np.ndarray]:
@@ -604,10 +609,9 @@ class HandModel:
         TextureBinding
             Both parts, the weight of the first, and the local coordinates.
         """
-        points = check_points(points, "points")
-        theta = self.check_theta(theta)
+        points, theta = self._check_query(points, theta)
         a = check_in_range(a, "a", 0.0, MAX_BENDING_EXPONENT, closed="right")
-        fields = self.part_fields(points, theta)
+        fields = self._part_fields(points, theta)
         part_p = np.argmax(fields, axis=1)
         neighbour_fields = np.where(self.adjacency[part_p] & (np.arange(self.n_parts) != part_p[:, None]),
                                     fields, -1.0)
@@ -781,13 +785,9 @@ def check_points(points: object, name: str) -> np.ndarray:
 
 def check_hand(hand: object) -> HandModel:
     """``hand`` itself, or a ``TypeError`` when it is not a :class:`HandModel`."""
-    if not isinstance(hand, HandModel):
-        raise TypeError(f"hand must be a HandModel, got {type(hand).__name__}")
-    return hand
+    return check_instance(hand, "hand", HandModel, what="a HandModel")
 
 
 def check_binding(binding: object) -> TextureBinding:
     """``binding`` itself, or a ``TypeError`` when it is not a :class:`TextureBinding`."""
-    if not isinstance(binding, TextureBinding):
-        raise TypeError(f"binding must be a TextureBinding (HandModel.texture_binding), got {type(binding).__name__}")
-    return binding
+    return check_instance(binding, "binding", TextureBinding, what="a TextureBinding (HandModel.texture_binding)")
