@@ -48,7 +48,7 @@ def similarity_study(bench: Benchmark, subjects: list[int], seeds: list[int]) ->
         rng = make_rng(seed + 1)
         copies = [eb.similarity_copy(image, rng=rng) for image in gallery]
         for name, settings in PIPELINES.items():
-            matcher = eb.EarMatcher(**settings)
+            matcher = eb.EarMatcher(eb.MatcherSettings(**settings))
             for subject, image in zip(ids, gallery):
                 matcher.enroll(subject, image)
             results = [matcher.identify(copy) for copy in copies]
@@ -85,6 +85,7 @@ def speed(bench: Benchmark, args) -> None:
     """Feature and identification times of ours (paper rule, relaxed rule, no frame) and HOG + 1-NN,
     then our feature time split into its stages."""
     import time
+    from dataclasses import replace
 
     import cv2
     import numpy as np
@@ -97,6 +98,7 @@ def speed(bench: Benchmark, args) -> None:
     gallery_ids = database.subject_ids[0::2]
     queries = database.images[1::2][: args.queries]
     ours, baseline = eb.EarMatcher(), eb.HogNearestNeighbour(pixels_per_cell=args.size // 8)
+    our = ours.settings  # eb.OUR_SETTINGS
 
     def best_time(function, items):
         """Mean over items of each item's best-of-repeats time (seconds): a shared machine's load
@@ -117,9 +119,9 @@ def speed(bench: Benchmark, args) -> None:
     for subject, image in zip(gallery_ids, gallery):
         baseline.enroll(subject, image)
     hog_extract = best_time(baseline.describe, gallery)
-    literal_extract = best_time(eb.EarMatcher(frame="image").extract, gallery)  # no canonical frame
+    literal_extract = best_time(eb.EarMatcher(replace(our, frame="image")).extract, gallery)  # no canonical frame
 
-    relaxed = eb.EarMatcher(max_count_violations=2)  # more candidates reach the topology step
+    relaxed = eb.EarMatcher(replace(our, max_count_violations=2))  # more candidates reach the topology step
     for subject, template in zip(gallery_ids, templates):
         relaxed.enroll_template(subject, template)
     query_templates = [ours.extract(image) for image in queries]
@@ -130,31 +132,31 @@ def speed(bench: Benchmark, args) -> None:
     hog_identify = best_time(lambda d: int(np.argmin(np.linalg.norm(baseline.descriptors_ - d, axis=1))), query_hogs)
 
     def clean(raw):
-        return eb.clean_contours(raw, ours.min_component_size, ours.closing)
+        return eb.clean_contours(raw, our.min_component_size, our.closing)
 
-    settings = dict(mode=ours.mode, min_gap_px=ours.min_gap_px, crossings=ours.crossings,
-                    polyline_smoothing=ours.polyline_smoothing, band_px=ours.band_px, spur_length_px=ours.spur_length_px)
+    settings = dict(mode=our.mode, min_gap_px=our.min_gap_px, crossings=our.crossings,
+                    polyline_smoothing=our.polyline_smoothing, band_px=our.band_px, spur_length_px=our.spur_length_px)
 
     def canonical(image):
         return eb.to_canonical(image, moment_frame_fast(eb.silhouette(image), image.shape))
 
     def blur(image):  # the matcher's blur before eqs. 1-5 (EarMatcher.smoothing)
-        return cv2.GaussianBlur(np.asarray(image, float), (0, 0), ours.smoothing) if ours.smoothing > 0 else image
+        return cv2.GaussianBlur(np.asarray(image, float), (0, 0), our.smoothing) if our.smoothing > 0 else image
 
     canonical_time = best_time(canonical, gallery)
     gallery = [canonical(image) for image in gallery]  # the stages below run on canonical images
     blur_time = best_time(blur, gallery)
     gallery = [blur(image) for image in gallery]
-    contours = [clean(eb.detect_contours(image, ours.k)) for image in gallery]
+    contours = [clean(eb.detect_contours(image, our.k)) for image in gallery]
     stages = {
         "canonical frame (silhouette, warp)": canonical_time,
-        f"blur (sigma {ours.smoothing:g} px)": blur_time,
-        "contours, eqs. 1-5": best_time(lambda image: eb.detect_contours(image, ours.k), gallery),
-        "clean-up (closing, small parts)": best_time(clean, [eb.detect_contours(im, ours.k) for im in gallery]),
-        f"V ({ours.crossings} crossings)": best_time(lambda c: eb.circle_features(c, ours.n_circles, ours.step, **settings), contours),
-        "V (pixel-run crossings)": best_time(lambda c: eb.circle_features(c, ours.n_circles, ours.step, mode=ours.mode,
-                                                                           min_gap_px=ours.min_gap_px), contours),
-        "F: thinning, N_c, tracing (incl. V)": best_time(lambda c: eb.topology_features(c, ours.n_circles, ours.step, **settings), contours),
+        f"blur (sigma {our.smoothing:g} px)": blur_time,
+        "contours, eqs. 1-5": best_time(lambda image: eb.detect_contours(image, our.k), gallery),
+        "clean-up (closing, small parts)": best_time(clean, [eb.detect_contours(im, our.k) for im in gallery]),
+        f"V ({our.crossings} crossings)": best_time(lambda c: eb.circle_features(c, our.n_circles, our.step, **settings), contours),
+        "V (pixel-run crossings)": best_time(lambda c: eb.circle_features(c, our.n_circles, our.step, mode=our.mode,
+                                                                           min_gap_px=our.min_gap_px), contours),
+        "F: thinning, N_c, tracing (incl. V)": best_time(lambda c: eb.topology_features(c, our.n_circles, our.step, **settings), contours),
     }
 
     table = bench.table("method", "features ms", "identify ms", "features / ours",

@@ -1,7 +1,7 @@
 """Chapter 4: seed spreads behind three of the chapter's claims (not the notebook's data).
 
 ``--eq8``: identification with the two readings of eq. 8, Rutovitz's crossing number (the default)
-and Yokoi's connectivity number (``EarMatcher(eq8="yokoi")``), on the first ``--subjects`` easy
+and Yokoi's connectivity number (``MatcherSettings(eq8="yokoi")``), on the first ``--subjects`` easy
 subjects of the chapter's database drawn from each seed (``spawn_rngs(seed, 5)[0]``; 2004 is the
 chapter's own): rank-1 of the ranking, the paper's rule, and the queries only one reading gets right.
 
@@ -34,10 +34,11 @@ def eq8_study(bench: Benchmark, seeds: list[int], n_subjects: int) -> None:
         database = eb.make_ear_database(n_subjects, 2, "easy", rng=spawn_rngs(seed, 5)[0])
         first, rule = {}, {}
         for eq8 in eb.EQ8_READINGS:
-            templates = [eb.EarMatcher(eq8=eq8).extract(image) for image in database.images]
-            relaxed = eb.closed_set(eb.EarMatcher(eq8=eq8, max_count_violations=2), templates, database.subject_ids)
+            templates = [eb.EarMatcher(eb.MatcherSettings(eq8=eq8)).extract(image) for image in database.images]
+            relaxed_matcher = eb.EarMatcher(eb.MatcherSettings(eq8=eq8, max_count_violations=2))
+            relaxed = eb.closed_set(relaxed_matcher, templates, database.subject_ids)
             first[eq8] = relaxed.ranks == 1
-            rule[eq8] = eb.closed_set(eb.EarMatcher(eq8=eq8), templates, database.subject_ids).correct
+            rule[eq8] = eb.closed_set(eb.EarMatcher(eb.MatcherSettings(eq8=eq8)), templates, database.subject_ids).correct
         versus = paired_comparison(first["crossing"], first["yokoi"])
         table.add(seed, first["crossing"].mean(), first["yokoi"].mean(), rule["crossing"], rule["yokoi"],
                   versus.only_first, versus.only_second)

@@ -105,7 +105,7 @@ def invariance_study(bench: Benchmark, sets: list[tuple[int, int]], reference_sc
     table = bench.table("variant", "subjects (seed)", *(f"{m} ±25°" for m in measures), *(f"{m} any angle" for m in measures),
                         title=f"change under a similarity copy / change under new noise, references at scale {reference_scale}")
     for name, settings in INVARIANCE_VARIANTS.items():
-        matcher = eb.EarMatcher(**settings)
+        matcher = eb.EarMatcher(eb.MatcherSettings(**settings))
         for (seed, n_subjects), rows in views.items():
             changes = []
             for row in rows:
@@ -130,14 +130,15 @@ def peer_study(bench: Benchmark, seeds: list[int]) -> None:
         easy = eb.make_ear_database(120, 2, "easy", rng=spawn_rngs(seed, 5)[0])
         ids, default = easy.subject_ids, eb.EarMatcher()
         canonical = np.array([default.canonical_image(image) for image in easy.images])
-        ours = eb.closed_set(eb.EarMatcher(max_count_violations=2), [default.extract(im) for im in easy.images],
+        relaxed_matcher = eb.EarMatcher(eb.MatcherSettings(max_count_violations=2))
+        ours = eb.closed_set(relaxed_matcher, [default.extract(im) for im in easy.images],
                              ids).ranks == 1
-        image_frame = eb.EarMatcher(frame="image", origin="contours", max_count_violations=2)
+        image_frame = eb.EarMatcher(eb.MatcherSettings(frame="image", origin="contours", max_count_violations=2))
         runs = {("ours (points of F)", "canonical frame"): ours,
                 ("ours (points of F)", "image as given"): eb.closed_set(
                     image_frame, [image_frame.extract(im) for im in easy.images], ids).ranks == 1}
         for frame_name, images in (("image as given", easy.images), ("canonical frame", canonical)):
-            blurred = np.array([cv2.GaussianBlur(im.astype(float), (0, 0), default.smoothing) for im in images])
+            blurred = np.array([cv2.GaussianBlur(im.astype(float), (0, 0), default.settings.smoothing) for im in images])
             runs["HOG", frame_name] = eb.peer_closed_set(images, ids)[0] == 1
             runs["HOG after our blur", frame_name] = eb.peer_closed_set(blurred, ids)[0] == 1
             runs["LBP histograms", frame_name] = eb.peer_closed_set(images, ids, eb.LbpNearestNeighbour())[0] == 1
@@ -252,9 +253,10 @@ def main() -> None:
     for name, change in VARIANTS.items():
         cells = []
         for seed, database in databases.items():
-            templates = [eb.EarMatcher(**change).extract(image) for image in database.images]
-            paper = eb.closed_set(eb.EarMatcher(**change), templates, database.subject_ids)
-            relaxed = eb.closed_set(eb.EarMatcher(**change, max_count_violations=2), templates, database.subject_ids)
+            templates = [eb.EarMatcher(eb.MatcherSettings(**change)).extract(image) for image in database.images]
+            paper = eb.closed_set(eb.EarMatcher(eb.MatcherSettings(**change)), templates, database.subject_ids)
+            relaxed_matcher = eb.EarMatcher(eb.MatcherSettings(**change, max_count_violations=2))
+            relaxed = eb.closed_set(relaxed_matcher, templates, database.subject_ids)
             cells += [round(float(paper.correct), 3), round(float(relaxed.rank1), 3)]
         table.add(name, *cells)
         print(f"{name} measured", flush=True)

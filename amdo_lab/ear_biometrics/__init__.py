@@ -20,7 +20,6 @@ from amdo_lab.ear_biometrics.evaluation import (
     Separation,
     closed_set,
     cumulative_match,
-    distance_sum_gaps,
     genuine_impostor_separation,
     hog_closed_set,
     nuisance_study,
@@ -40,11 +39,14 @@ from amdo_lab.ear_biometrics.frame import (
 )
 from amdo_lab.ear_biometrics.images import as_grey_image
 from amdo_lab.ear_biometrics.matcher import (
+    OUR_SETTINGS,
+    PAPER_SETTINGS,
     POINT_DISTANCE_CAP,
     RANKINGS,
     EarMatcher,
     EarTemplate,
     IdentificationResult,
+    MatcherSettings,
     characteristic_points,
     point_distance,
     topology_similarity,
@@ -83,11 +85,12 @@ __all__ = [
     "CANONICAL_SPREAD", "FRAME_SOURCES", "CanonicalFrame", "silhouette", "moment_frame", "to_canonical",
     "frame_normalisation", "similarity_copy",
     # classification (Sec. 5) and the peers
-    "POINT_DISTANCE_CAP", "RANKINGS", "EarTemplate", "IdentificationResult", "EarMatcher", "characteristic_points",
+    "POINT_DISTANCE_CAP", "RANKINGS", "EarTemplate", "IdentificationResult", "MatcherSettings", "PAPER_SETTINGS",
+    "OUR_SETTINGS", "EarMatcher", "characteristic_points",
     "point_distance", "topology_similarity", "HogNearestNeighbour", "LbpNearestNeighbour",
     # evaluation (Sec. 6)
     "ClosedSetResult", "OpenSetRates", "Separation", "closed_set", "peer_closed_set", "hog_closed_set",
-    "open_set_rates", "rank_of_truth", "cumulative_match", "distance_sum_gaps", "genuine_impostor_separation",
+    "open_set_rates", "rank_of_truth", "cumulative_match", "genuine_impostor_separation",
     "nuisance_study",
     # the synthetic ears
     "NUISANCE_FACTORS", "EarShape", "CapturePose", "EarDatabase", "draw_ear_shape", "draw_capture_pose",

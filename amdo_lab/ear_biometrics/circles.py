@@ -35,7 +35,7 @@ READING_RULES = {  # the range of each setting of V's reading (scikit-learn's _p
     "spur_length_px": partial(check_positive_int, minimum=0, maximum=MAX_SIDE),
 }
 """How :func:`circle_features`, :func:`~amdo_lab.ear_biometrics.topology.topology_features` and
-:class:`~amdo_lab.ear_biometrics.matcher.EarMatcher` check each setting of V: a function of (value, name)."""
+:class:`~amdo_lab.ear_biometrics.matcher.MatcherSettings` check each setting of V: a function of (value, name)."""
 
 
 @dataclass(frozen=True)

@@ -71,9 +71,7 @@ def detect_contours(image: object, k: float = 8.0, window: int = 3) -> np.ndarra
     >>> np.flatnonzero(contours[5]).tolist()
     [15, 16]
     """
-    grey = as_grey_image(image)
-    k = check_in_range(k, "k", 0, MAX_K, closed="both")
-    window = check_odd_int(window, "window", maximum=MAX_WINDOW)
+    grey, k, window = _check_detector_input(image, k, window)
     n2 = window * window
     kernel = np.ones((window, window), np.uint8)
     raw = np.asarray(image)
@@ -89,6 +87,14 @@ def detect_contours(image: object, k: float = 8.0, window: int = 3) -> np.ndarra
     spread = (cv2.dilate(values, kernel, borderType=cv2.BORDER_REFLECT).astype(float)
               - cv2.erode(values, kernel, borderType=cv2.BORDER_REFLECT))  # eq. 3
     return (spread >= mean - k * sigma) & (spread > 0)  # eqs. 4-5
+
+
+def _check_detector_input(image: object, k: object, window: object) -> tuple[np.ndarray, float, int]:
+    """The grey image, k and window of eqs. (1)-(5), checked once for both detectors."""
+    grey = as_grey_image(image)
+    k = check_in_range(k, "k", 0, MAX_K, closed="both")
+    window = check_odd_int(window, "window", maximum=MAX_WINDOW)
+    return grey, k, window
 
 
 def detect_contours_reference(image: object, k: float = 8.0, window: int = 3) -> np.ndarray:
@@ -116,9 +122,7 @@ def detect_contours_reference(image: object, k: float = 8.0, window: int = 3) ->
     M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
     LNCS 3179, pp. 51-61, Sec. 2, eqs. (1)-(5).
     """
-    grey = as_grey_image(image)
-    k = check_in_range(k, "k", 0, MAX_K, closed="both")
-    window = check_odd_int(window, "window", maximum=MAX_WINDOW)
+    grey, k, window = _check_detector_input(image, k, window)
     half = window // 2
     padded = np.pad(grey, half, mode="symmetric")  # borders by reflection, as cv2.BORDER_REFLECT
     contours = np.zeros(grey.shape, bool)

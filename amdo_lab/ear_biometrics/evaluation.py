@@ -5,14 +5,15 @@ from __future__ import annotations
 
 import copy
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from amdo_lab.common import MAX_SAMPLES, MAX_SIDE, as_finite_array, check_fitted, check_positive_int, make_rng
 from amdo_lab.ear_biometrics.enrolment import check_subject_id, check_subject_ids
 from amdo_lab.ear_biometrics.images import check_images, check_record
-from amdo_lab.ear_biometrics.matcher import EarMatcher, EarTemplate, check_distance_threshold, check_templates
+from amdo_lab.ear_biometrics.matcher import (EarMatcher, EarTemplate, MatcherSettings, check_distance_threshold,
+                                             check_templates)
 from amdo_lab.ear_biometrics.peers import HogNearestNeighbour, LbpNearestNeighbour
 from amdo_lab.ear_biometrics.synthetic import MAX_SUBJECTS, MIN_SIZE, check_disable, make_ear_database
 
@@ -87,31 +88,12 @@ def genuine_impostor_separation(distances: object, enrolled_ids: object, query_i
     return Separation(genuine, impostor, d_prime, float(above.mean()), float(np.median(genuine) / np.median(flat)))
 
 
-def distance_sum_gaps(queries: list[EarTemplate], references: list[EarTemplate]) -> np.ndarray:
+def _distance_sum_gaps(queries: list[EarTemplate], references: list[EarTemplate]) -> np.ndarray:
     """Step 4's distance for all pairs: mean over circles of |sum d (query) - sum d (reference)|.
 
-    Parameters
-    ----------
-    queries : list of EarTemplate
-        Non-empty, all with the same number of circles as ``references``.
-    references : list of EarTemplate
-        Non-empty.
-
-    Returns
-    -------
-    numpy.ndarray, shape (n_queries, n_references)
-        The mean absolute distance-sum differences, normalised units.
-
-    References
-    ----------
-    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
-    LNCS 3179, pp. 51-61, Sec. 4, eq. (7) and Sec. 5, step 4.
+    On checked templates with the same number of circles (those of one matcher), shape
+    (n_queries, n_references), normalised units.
     """
-    check_templates(queries, "queries")
-    check_templates(references, "references")
-    n_circles = {len(t.circles.distance_sums) for t in [*queries, *references]}
-    if len(n_circles) > 1:
-        raise ValueError(f"queries and references must all have the same number of circles, got {sorted(n_circles)}")
     q = np.array([t.circles.distance_sums for t in queries])
     r = np.array([t.circles.distance_sums for t in references])
     return np.abs(q[:, None, :] - r[None, :, :]).mean(axis=2)
@@ -182,17 +164,17 @@ def open_set_rates(matcher: EarMatcher, genuine: list, genuine_ids: list, impost
     if values.ndim != 1 or values.size == 0:
         raise ValueError(f"thresholds must be a non-empty 1-D sequence, got shape {values.shape}")
     thresholds = np.array([check_distance_threshold(t, "thresholds") for t in values.tolist()])
-    saved = matcher.distance_threshold
+    saved = matcher.settings
     far, frr, mis = [], [], []
     try:
         for threshold in thresholds:
-            matcher.distance_threshold = float(threshold)
+            matcher.settings = replace(saved, distance_threshold=float(threshold))
             g = [matcher.identify_template(t).subject_id for t in genuine]
             far.append(np.mean([matcher.identify_template(t).subject_id is not None for t in impostors]))
             frr.append(np.mean([s is None for s in g]))
             mis.append(np.mean([s is not None and s != truth for s, truth in zip(g, genuine_ids)]))
     finally:
-        matcher.distance_threshold = saved
+        matcher.settings = saved
     return OpenSetRates(thresholds, np.array(far), np.array(frr), np.array(mis))
 
 
@@ -334,7 +316,7 @@ def closed_set(matcher: EarMatcher, templates: list[EarTemplate], subject_ids: o
     truth = ids[1::2]
     ranks = np.array([rank_of_truth(r.scores, ids[0::2], s) for r, s in zip(results, truth)])
     decided = np.array([r.subject_id for r in results], dtype=object)
-    separation = genuine_impostor_separation(distance_sum_gaps(templates[1::2], templates[0::2]), ids[0::2], truth)
+    separation = genuine_impostor_separation(_distance_sum_gaps(templates[1::2], templates[0::2]), ids[0::2], truth)
     return ClosedSetResult(decided, ranks, truth, separation)
 
 
@@ -469,7 +451,7 @@ def nuisance_study(n_subjects: int, conditions: Mapping[str, tuple], *, rng: int
         database = make_ear_database(n_subjects, 2, "easy", rng=copy.deepcopy(generator), size=size, disable=disabled)
         templates = [EarMatcher().extract(image) for image in database.images]
         paper = closed_set(EarMatcher(), templates, database.subject_ids)
-        matcher, ids = EarMatcher(max_count_violations=RELAXED_VIOLATIONS), database.subject_ids
+        matcher, ids = EarMatcher(MatcherSettings(max_count_violations=RELAXED_VIOLATIONS)), database.subject_ids
         relaxed = closed_set(matcher, templates, ids)  # enrols capture 0 into matcher
         points_d = np.array([matcher.identify_template(t).scores for t in templates[1::2]])  # D of steps 8-9
         points_auc = genuine_impostor_separation(points_d, ids[0::2], ids[1::2]).auc

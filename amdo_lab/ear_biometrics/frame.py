@@ -165,8 +165,6 @@ def moment_frame(mask: np.ndarray, shape: tuple[int, int]) -> CanonicalFrame:
     axis = vectors[:, 1]
     along = offsets @ axis
     third = float(np.mean(along**3) / variances[1] ** 1.5)
-    if third < 0:  # the 180-degree ambiguity: point the axis towards the longer tail
-        axis, third = -axis, -third
     return _frame(centroid, axis, variances, third, shape)
 
 
@@ -218,15 +216,16 @@ def moment_frame_fast(mask: np.ndarray, shape: tuple[int, int]) -> CanonicalFram
     # E[((p - centroid) . axis)^3] expanded in the third-order central moments
     third = (c**3 * m["mu30"] + 3 * c**2 * r * m["mu21"] + 3 * c * r**2 * m["mu12"] + r**3 * m["mu03"]) / n
     third /= variances[1] ** 1.5
-    if third < 0:
-        axis, third = -axis, -third
     return _frame(centroid, axis, variances, float(third), shape)
 
 
 def _frame(centroid: np.ndarray, axis: np.ndarray, variances: np.ndarray, third: float,
            shape: tuple[int, int]) -> CanonicalFrame:
     """The similarity sending ``centroid`` to the image centre, ``axis`` to the downward vertical and
-    the total spread sqrt(sum of ``variances``) to :data:`CANONICAL_SPREAD` * side."""
+    the total spread sqrt(sum of ``variances``) to :data:`CANONICAL_SPREAD` * side; ``axis`` is first
+    turned towards the longer tail (``third``, the third moment along it, made positive)."""
+    if third < 0:  # the 180-degree ambiguity: point the axis towards the longer tail
+        axis, third = -axis, -third
     spread = float(np.sqrt(variances.sum()))
     scale = CANONICAL_SPREAD * min(shape) / spread
     # rotation taking the axis (row, col) = (cos, sin) to (1, 0), written in (x, y) = (col, row)

@@ -9,8 +9,8 @@ from functools import partial
 import cv2
 import numpy as np
 
-from amdo_lab.common import (MAX_ITERATIONS, MAX_SIDE, check_choice, check_fitted, check_in_range, check_positive,
-                             check_positive_int)
+from amdo_lab.common import (MAX_ITERATIONS, MAX_SIDE, check_choice, check_fitted, check_in_range, check_instance,
+                             check_positive, check_positive_int)
 from amdo_lab.ear_biometrics.circles import MAX_CIRCLES, READING_RULES, CircleFeatures
 from amdo_lab.ear_biometrics.contours import MAX_CLOSING_PX, MAX_K, clean_contours, detect_contours
 from amdo_lab.ear_biometrics.enrolment import Enrolment, check_subject_id
@@ -256,7 +256,7 @@ def check_distance_threshold(value: object, name: str) -> float:
     return np.inf if value == np.inf and not isinstance(value, bool) else check_positive(value, name, allow_zero=True)
 
 
-SETTING_RULES = {  # the range of each of EarMatcher's settings, as scikit-learn's _parameter_constraints
+SETTING_RULES = {  # the range of each of MatcherSettings' fields, as scikit-learn's _parameter_constraints
     "k": partial(check_in_range, low=0, high=MAX_K, closed="both"),
     "smoothing": partial(check_in_range, low=0, high=MAX_BLUR_PX, closed="both"),
     "min_component_size": partial(check_positive_int, maximum=MAX_COMPONENT_SIZE),
@@ -269,27 +269,18 @@ SETTING_RULES = {  # the range of each of EarMatcher's settings, as scikit-learn
     "ranking": partial(check_choice, choices=RANKINGS),
     "eq8": partial(check_choice, choices=EQ8_READINGS),
 }
-"""How :class:`EarMatcher` checks each setting: a function of (value, name) from ``amdo_lab.common``."""
+"""How :class:`MatcherSettings` checks each field: a function of (value, name) from ``amdo_lab.common``."""
 
 
-@dataclass
-class EarMatcher(Enrolment):
-    """Choraś's classifier (Sec. 5): features of enrolled images, identification of a query.
+@dataclass(frozen=True)
+class MatcherSettings:
+    """Settings of :class:`EarMatcher`: contour detection, the reading of V and F, the frame and the rule.
 
-    Steps: (2-3) a reference is a candidate when |l_r - l_r,ref| <= 1 on every
-    radius, except at most ``max_count_violations`` radii (0 = the paper's rule); (4) its mean
-    absolute difference of the distance sums must be below ``distance_threshold``; (5) no candidate
-    -> rejection (``subject_id=None``); (6-9) candidates are ranked (``ranking``). Pixel settings are
-    for 256 x 256 images (the database default); they were chosen on development seeds, not on the
-    notebook's data. The decision (``subject_id``) is the best-ranked template among those that pass
-    steps 2-4.
-
-    Invariance (beyond the paper's text): with a canonical frame (``frame``) the image is resampled
-    into the frame of its silhouette (:func:`~amdo_lab.ear_biometrics.frame.moment_frame`) *before*
-    step 1, so a rotated, rescaled or shifted copy is detected at the same place, orientation and
-    size; the ``smoothing`` blur then makes detection indifferent to the copy's extra resampling.
-    Both need the whole ear inside the image: an ear cut by the image border has a different
-    silhouette in every copy, hence a different frame.
+    The defaults are ours; :data:`PAPER_SETTINGS` and :data:`OUR_SETTINGS` are the two named settings
+    the chapter compares. ``MatcherSettings(max_count_violations=2)`` is ours with one field changed
+    (as ``dataclasses.replace(OUR_SETTINGS, max_count_violations=2)``). Each field is checked when the
+    settings are built (:data:`SETTING_RULES`). Pixel settings are for 256 x 256 images (the database
+    default); they were chosen on development seeds, not on the notebook's data.
 
     Parameters
     ----------
@@ -343,6 +334,68 @@ class EarMatcher(Enrolment):
         Reading of eq. (8) for F's endings and bifurcations (see
         :func:`~amdo_lab.ear_biometrics.topology.topology_features`).
 
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 2 (eqs. 1-5), Sec. 3 (eq. 6), Sec. 4 (eqs. 7-9) and Sec. 5 (steps 1-9).
+    """
+
+    k: float = 12.0
+    smoothing: float = 1.5
+    n_circles: int = 8
+    step: float = 0.25
+    min_component_size: int = 40
+    closing: int = 2
+    max_count_violations: int = 0
+    distance_threshold: float = np.inf
+    mode: str = "principal"
+    min_gap_px: float = 6.0
+    crossings: str = "polyline"
+    polyline_smoothing: int = 4
+    band_px: float = 6.0
+    spur_length_px: int = 8
+    frame: str = "silhouette"
+    origin: str = "frame"
+    ranking: str = "points"
+    eq8: str = "crossing"
+
+    def __post_init__(self) -> None:
+        for name, rule in SETTING_RULES.items():
+            rule(getattr(self, name), name)
+
+
+#: The paper's pipeline as the chapter runs it: the image as given (no canonical frame), eq. (6) on the
+#: contour pixels, no blur, k = 8 (within the 6-10 of the paper's figures), steps 6-9 read literally
+#: (exact triples, then coordinates) and the strict count rule of steps 2-3; V and F read as ours.
+PAPER_SETTINGS = MatcherSettings(frame="image", origin="contours", ranking="triples", smoothing=0.0, k=8.0)
+#: Ours (see the chapter's ablation): the silhouette's canonical frame, a 1.5-pixel blur, k = 12 and
+#: steps 6-9 as a distance between the points of F.
+OUR_SETTINGS = MatcherSettings()
+
+
+@dataclass
+class EarMatcher(Enrolment):
+    """Choraś's classifier (Sec. 5): features of enrolled images, identification of a query.
+
+    Steps: (2-3) a reference is a candidate when |l_r - l_r,ref| <= 1 on every
+    radius, except at most ``max_count_violations`` radii (0 = the paper's rule); (4) its mean
+    absolute difference of the distance sums must be below ``distance_threshold``; (5) no candidate
+    -> rejection (``subject_id=None``); (6-9) candidates are ranked (``ranking``). The decision
+    (``subject_id``) is the best-ranked template among those that pass steps 2-4. The names in
+    double backquotes are fields of :class:`MatcherSettings`.
+
+    Invariance (beyond the paper's text): with a canonical frame (``frame``) the image is resampled
+    into the frame of its silhouette (:func:`~amdo_lab.ear_biometrics.frame.moment_frame`) *before*
+    step 1, so a rotated, rescaled or shifted copy is detected at the same place, orientation and
+    size; the ``smoothing`` blur then makes detection indifferent to the copy's extra resampling.
+    Both need the whole ear inside the image: an ear cut by the image border has a different
+    silhouette in every copy, hence a different frame.
+
+    Parameters
+    ----------
+    settings : MatcherSettings, default OUR_SETTINGS
+        Detection, reading and decision settings (:data:`PAPER_SETTINGS` for the paper's pipeline).
+
     Attributes
     ----------
     subject_ids_ : list or None
@@ -370,33 +423,13 @@ class EarMatcher(Enrolment):
     0
     """
 
-    k: float = 12.0
-    smoothing: float = 1.5
-    n_circles: int = 8
-    step: float = 0.25
-    min_component_size: int = 40
-    closing: int = 2
-    max_count_violations: int = 0
-    distance_threshold: float = np.inf
-    mode: str = "principal"
-    min_gap_px: float = 6.0
-    crossings: str = "polyline"
-    polyline_smoothing: int = 4
-    band_px: float = 6.0
-    spur_length_px: int = 8
-    frame: str = "silhouette"
-    origin: str = "frame"
-    ranking: str = "points"
-    eq8: str = "crossing"
+    settings: MatcherSettings = OUR_SETTINGS
     # learned from the enrolled images (scikit-learn's trailing underscore); None until the first one
     subject_ids_: list | None = field(default=None, init=False, repr=False)
     templates_: list | None = field(default=None, init=False, repr=False)
 
     def __post_init__(self) -> None:
-        # Checked once here, under the matcher's own names; several settings (the step 2-4 rule and
-        # the ranking weight) are not used by any function that would check them later.
-        for name, rule in SETTING_RULES.items():
-            rule(getattr(self, name), name)
+        check_instance(self.settings, "settings", MatcherSettings, what="a MatcherSettings (e.g. OUR_SETTINGS)")
 
     def canonical_frame(self, image: object) -> CanonicalFrame | None:
         """The similarity that brings ``image`` into its canonical frame.
@@ -413,11 +446,11 @@ class EarMatcher(Enrolment):
             ``frame="image"``.
         """
         grey = as_grey_image(image)
-        return None if self.frame == "image" else self._frame_of(self._input(image, grey))
+        return None if self.settings.frame == "image" else self._frame_of(self._input(image, grey))
 
     def _frame_of(self, work: np.ndarray) -> CanonicalFrame:
         """:meth:`canonical_frame` of validated input (8-bit or float)."""
-        mask = silhouette(work) if self.frame == "silhouette" else self._contours(work)
+        mask = silhouette(work) if self.settings.frame == "silhouette" else self._contours(work)
         if np.count_nonzero(mask) < 3:
             raise ValueError("image has no contour (blank, constant or too smooth image): no ear silhouette")
         return moment_frame_fast(mask, work.shape)
@@ -428,10 +461,11 @@ class EarMatcher(Enrolment):
 
     def _contours(self, image: np.ndarray) -> np.ndarray:
         """Step 1: optional smoothing, contours (eqs. 1-5) and the clean-up."""
-        if self.smoothing > 0:  # image normalisation step before contour detection (Fig. 3)
-            image = cv2.GaussianBlur(np.asarray(image, float), (0, 0), self.smoothing)
-        contours = detect_contours(image, self.k)
-        contours = clean_contours(contours, min(self.min_component_size, contours.size), self.closing)
+        settings = self.settings
+        if settings.smoothing > 0:  # image normalisation step before contour detection (Fig. 3)
+            image = cv2.GaussianBlur(np.asarray(image, float), (0, 0), settings.smoothing)
+        contours = detect_contours(image, settings.k)
+        contours = clean_contours(contours, min(settings.min_component_size, contours.size), settings.closing)
         if not contours.any():
             raise ValueError("image has no contour (blank, constant or too smooth image)")
         return contours
@@ -470,11 +504,11 @@ class EarMatcher(Enrolment):
         """Validated input, in the canonical frame when asked, and the frame's eq. 6 (or None)."""
         grey = as_grey_image(image)  # validates
         work, normalisation = self._input(image, grey), None
-        if self.frame != "image":
+        if self.settings.frame != "image":
             frame = self._frame_of(work)
             work = to_canonical(work, frame)
-            if self.origin == "frame":
-                normalisation = frame_normalisation(frame, grey.shape, self.mode)
+            if self.settings.origin == "frame":
+                normalisation = frame_normalisation(frame, grey.shape, self.settings.mode)
         return work, normalisation
 
     def extract(self, image: object) -> EarTemplate:
@@ -491,10 +525,12 @@ class EarMatcher(Enrolment):
             V (eq. 7) and F (eq. 9).
         """
         work, normalisation = self._prepare(image)
-        topology = topology_features(self._contours(work), self.n_circles, self.step, mode=self.mode,
-                                     min_gap_px=self.min_gap_px, crossings=self.crossings,
-                                     polyline_smoothing=self.polyline_smoothing, band_px=self.band_px,
-                                     spur_length_px=self.spur_length_px, eq8=self.eq8, normalisation=normalisation)
+        settings = self.settings
+        topology = topology_features(self._contours(work), settings.n_circles, settings.step, mode=settings.mode,
+                                     min_gap_px=settings.min_gap_px, crossings=settings.crossings,
+                                     polyline_smoothing=settings.polyline_smoothing, band_px=settings.band_px,
+                                     spur_length_px=settings.spur_length_px, eq8=settings.eq8,
+                                     normalisation=normalisation)
         return EarTemplate(topology.circles, topology)
 
     def enroll(self, subject_id: object, image: object) -> EarTemplate:
@@ -548,8 +584,9 @@ class EarMatcher(Enrolment):
     def _check_template(self, template: object, name: str) -> None:
         """An :class:`EarTemplate` with this matcher's number of circles, else an error naming ``name``."""
         check_record(template, name, EarTemplate, "EarMatcher.extract")
-        if len(template.circles.counts) != self.n_circles:
-            raise ValueError(f"{name} has {len(template.circles.counts)} circles, matcher expects {self.n_circles}")
+        expected = self.settings.n_circles
+        if len(template.circles.counts) != expected:
+            raise ValueError(f"{name} has {len(template.circles.counts)} circles, matcher expects {expected}")
 
     @property
     def n_enrolled(self) -> int:
@@ -601,13 +638,14 @@ class EarMatcher(Enrolment):
         violations = np.sum(count_gap > COUNT_TOLERANCE, axis=1)
         sum_gap = np.abs(self._sums - query.circles.distance_sums).mean(axis=1)
         scores = sum_gap + violations.astype(float)  # ranking for CMC: count violations cost 1 each
-        gate = (violations <= self.max_count_violations) & (sum_gap < self.distance_threshold)
-        if self.ranking == "points":  # steps 6-9 as a distance between the points of F
+        settings = self.settings
+        gate = (violations <= settings.max_count_violations) & (sum_gap < settings.distance_threshold)
+        if settings.ranking == "points":  # steps 6-9 as a distance between the points of F
             scores = _point_distances(_points(query.topology), self._points, self._point_starts, POINT_DISTANCE_CAP)
         candidates = np.flatnonzero(gate)
         if len(candidates) == 0:
             return IdentificationResult(None, (), np.zeros(0), scores, "no reference passed steps 2-4")
-        if self.ranking == "points":
+        if settings.ranking == "points":
             candidates = candidates[np.argsort(scores[candidates], kind="stable")][:SHORTLIST]
             return IdentificationResult(self.subject_ids_[candidates[0]], tuple(self.subject_ids_[i] for i in candidates),
                                         scores[candidates], scores)

@@ -39,12 +39,17 @@ def crossing_number(skeleton: np.ndarray) -> np.ndarray:
     return _crossing_number(thin)
 
 
-def _crossing_number(skeleton: np.ndarray) -> np.ndarray:
-    """:func:`crossing_number` of a validated skeleton (the spur pruning loop's inner call)."""
+def _ring_neighbours(skeleton: np.ndarray) -> np.ndarray:
+    """The 8 neighbours p_1..p_8 of every pixel in cyclic order N, NE, E, ..., NW, shape (8, rows, cols), int8."""
     padded = np.pad(skeleton.astype(np.int8), 1)
     h, w = skeleton.shape
     ring = [(0, 1), (0, 2), (1, 2), (2, 2), (2, 1), (2, 0), (1, 0), (0, 0)]  # N, NE, E, SE, S, SW, W, NW
-    neighbours = np.stack([padded[r:r + h, c:c + w] for r, c in ring])
+    return np.stack([padded[r:r + h, c:c + w] for r, c in ring])
+
+
+def _crossing_number(skeleton: np.ndarray) -> np.ndarray:
+    """:func:`crossing_number` of a validated skeleton (the spur pruning loop's inner call)."""
+    neighbours = _ring_neighbours(skeleton)
     # eq. (8): N_c = 1/2 Σ_k |p_{k+1} - p_k| around the ring, p_9 = p_1
     transitions = np.abs(np.diff(np.concatenate([neighbours, neighbours[:1]]), axis=0)).sum(axis=0) // 2
     return np.where(skeleton, transitions, 0)
@@ -82,10 +87,7 @@ def connectivity_number(skeleton: np.ndarray) -> np.ndarray:
     pictures using local features", Computer Graphics and Image Processing 4(1), 1975.
     """
     thin = as_bool_image(skeleton, "skeleton")
-    padded = np.pad(thin.astype(np.int8), 1)
-    h, w = thin.shape
-    ring = [(0, 1), (0, 2), (1, 2), (2, 2), (2, 1), (2, 0), (1, 0), (0, 0)]  # N, NE, E, SE, S, SW, W, NW
-    q = np.stack([1 - padded[r:r + h, c:c + w] for r, c in ring])
+    q = 1 - _ring_neighbours(thin)  # q_k = 1 - p_k
     # N = Σ_{k = N, E, S, W} (q_k - q_k q_{k+1} q_{k+2}), indices around the ring
     groups = sum(q[k] - q[k] * q[k + 1] * q[(k + 2) % 8] for k in (0, 2, 4, 6))
     return np.where(thin, groups, 0)

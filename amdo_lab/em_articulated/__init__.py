@@ -20,7 +20,6 @@ from amdo_lab.em_articulated.data import (
     make_tracking_sequence,
     perturb_pose,
     random_pose,
-    visible_points,
     worst_joint_deg,
 )
 from amdo_lab.em_articulated.diagnostics import climb_objective, fit_known_correspondences
@@ -43,7 +42,7 @@ __all__ = [
     # data
     "DEFAULT_REPEATABILITY", "RegistrationProblem", "SkinTexture", "TrackingSequence", "joint_rmse_deg",
     "worst_joint_deg", "make_registration_problem", "make_skin_texture", "make_tracking_sequence",
-    "perturb_pose", "random_pose", "visible_points",
+    "perturb_pose", "random_pose",
     # E-step (eqs. 9, 17-18) and the targets of eq. (20)
     "PAPER_C", "e_step_reference", "e_step_statistics", "e_step_statistics_kdtree", "m_step_targets",
     "robust_log_likelihood", "robust_log_likelihood_reference",

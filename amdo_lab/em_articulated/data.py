@@ -10,9 +10,9 @@ from amdo_lab.common import MAX_ITERATIONS, MAX_SAMPLES
 from amdo_lab.common import (as_finite_array, check_bool, check_choice, check_in_range, check_positive,
                              check_positive_int, make_rng)
 
-from amdo_lab.em_articulated.hand import MAX_LENGTH_MM, SIDEWAYS_DOFS, HandModel, TextureBinding, check_hand, check_points
+from amdo_lab.em_articulated.hand import MAX_LENGTH_MM, SIDEWAYS_DOFS, HandModel, TextureBinding, check_hand
 
-__all__ = ["RegistrationProblem", "make_registration_problem", "perturb_pose", "visible_points",
+__all__ = ["RegistrationProblem", "make_registration_problem", "perturb_pose",
            "make_tracking_sequence", "TrackingSequence", "joint_rmse_deg", "worst_joint_deg", "SkinTexture", "make_skin_texture",
            "random_pose", "DEFAULT_REPEATABILITY"]
 
@@ -198,37 +198,15 @@ def random_pose(hand: HandModel, *, rng: np.random.Generator | int) -> np.ndarra
     return _first_valid(hand, draw, "random pose")
 
 
-def visible_points(hand: HandModel, points: np.ndarray, theta: np.ndarray, camera: np.ndarray) -> np.ndarray:
-    """Boolean mask of points whose surface normal faces ``camera`` (back-face culling).
+def _visible_points(hand: HandModel, points: np.ndarray, theta: np.ndarray, camera: np.ndarray) -> np.ndarray:
+    """Back-face culling on checked input: True where the surface normal at a point faces ``camera``.
 
-    Parameters
-    ----------
-    hand : HandModel
-        The hand whose fused surface (eq. 2) gives the normals.
-    points : array_like, shape (M, 3)
-        Points on or near the surface at pose ``theta``, mm, within ±1e6.
-    theta : array_like, shape (27,)
-        Pose of the hand.
-    camera : array_like, shape (3,)
-        Camera centre, mm, within ±1e6.
-
-    Returns
-    -------
-    numpy.ndarray of bool, shape (M,)
-        True where the outward normal points towards the camera.
-
-    References
-    ----------
-    Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
-    bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, eq. (2) (the surface whose normals
-    are used) and Sec. 5 (stereo data seen from one side).
+    ``points`` (M, 3) lie on or near the surface at pose ``theta``; the normals are those of the fused
+    surface of eq. (2) (:meth:`HandModel.surface_normals`), so the generators see the hand from one side,
+    as the stereo data of the paper's Sec. 5.
     """
-    check_hand(hand)
-    points = check_points(points, "points")
-    camera = as_finite_array(camera, "camera", ndim=1, shape=(3,), max_abs=MAX_LENGTH_MM)
-    normals = hand.surface_normals(points, theta)
+    normals = hand._surface_normals(points, theta)
     return np.sum(normals * (camera - points), axis=1) > 0
-
 
 
 #: Share of the skin's features a stereo detector finds again in a new view. Interest points
@@ -477,8 +455,8 @@ def make_registration_problem(hand: HandModel, *, rng: np.random.Generator | int
         n_skin = skin.n_features
     seen_init, seen_true = np.arange(len(at_init)), np.arange(len(at_true))
     if occlusion:
-        seen_init = seen_init[visible_points(hand, at_init, theta_init, _CAMERA)]
-        seen_true = seen_true[visible_points(hand, at_true, theta_true, _CAMERA)]
+        seen_init = seen_init[_visible_points(hand, at_init, theta_init, _CAMERA)]
+        seen_true = seen_true[_visible_points(hand, at_true, theta_true, _CAMERA)]
     model_points, model_feature = _observe(at_init, seen_init, n_model, texture_noise_mm, rng)
     inliers, data_feature = _observe(at_true, seen_true, n_data, noise_mm, rng)
     if n_skin == 0:
@@ -594,7 +572,7 @@ def make_tracking_sequence(hand: HandModel, *, rng: np.random.Generator | int, n
     frames, masks = [], []
     for pose in poses:
         features = skin.positions(hand, pose)
-        facing = np.flatnonzero(visible_points(hand, features, pose, camera))
+        facing = np.flatnonzero(_visible_points(hand, features, pose, camera))
         surface, _ = _observe(features, facing, int(round(repeatability * len(facing))), noise_mm, rng)
         # forearm: a cylinder of radius 30 mm along -y below the wrist, front half only
         angle = rng.uniform(0, np.pi, size=n_clutter)

@@ -178,7 +178,7 @@ def refine_digits(model_points: object, data_points: object, hand: HandModel, th
 
     def criterion(pose: np.ndarray) -> tuple[float, np.ndarray]:
         with one_blas_thread():
-            return _criterion(hand.transform_texture(binding, pose), data, settings.sigma_min)
+            return _criterion(hand._transform_texture(binding, pose), data, settings.sigma_min)
 
     def restart(start: np.ndarray) -> tuple[np.ndarray, float, np.ndarray]:
         pose = run_em(hand, binding, data, start, settings, sigmas)[0]

@@ -7,11 +7,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import MAX_ITERATIONS, MAX_LEVELS
-from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_positive_int
+from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_instance, check_positive_int
 from amdo_lab.common.threads import one_blas_thread
 
-from amdo_lab.em_articulated.estep import (CHUNK, MAX_SIGMA_MM, PAPER_C, dense_e_step, e_step_reference,
-                                           m_step_targets)
+from amdo_lab.em_articulated.estep import (CHUNK, MAX_SIGMA_MM, PAPER_C, _posterior_matrix, _weighted_targets,
+                                           dense_e_step)
 from amdo_lab.em_articulated.hand import MAX_LENGTH_MM, HandModel, TextureBinding, check_hand, check_points
 from amdo_lab.em_articulated.kdtree import DENSE_PAIR_FRACTION, KDTREE_RADIUS_SIGMAS, ClosePairs, statistics_from_pairs
 
@@ -149,9 +149,7 @@ def check_em_settings(settings: object) -> EMSettings:
     EMSettings
         ``settings``.
     """
-    if not isinstance(settings, EMSettings):
-        raise TypeError(f"settings must be an EMSettings (e.g. OUR_SETTINGS), got {type(settings).__name__}")
-    return settings
+    return check_instance(settings, "settings", EMSettings, what="an EMSettings (e.g. OUR_SETTINGS)")
 
 
 def check_registration_input(model_points: object, data_points: object, hand: object,
@@ -274,7 +272,7 @@ def m_step_pose(hand: HandModel, binding: TextureBinding, theta: np.ndarray, wei
     for step_index in range(n_steps):
         # T(X_i, Θ) and its derivative in each θ_k: ω_k × (T(X_i) - o_k) for a joint of axis ω_k
         # through o_k (blended over the two parts of eq. 3), a unit vector for a palm translation
-        moved, jac = start if step_index == 0 and start is not None else hand.texture_jacobian(binding, theta)
+        moved, jac = start if step_index == 0 and start is not None else hand._texture_jacobian(binding, theta)
         step = _gauss_newton_step(jac[active], targets[active] - moved[active], weights[active], M_STEP_DAMPING)
         theta = np.clip(theta + step, limits[:, 0], limits[:, 1])  # projected onto the joint limits
         if np.max(np.abs(step)) < 1e-6:
@@ -371,11 +369,11 @@ def register_em_reference(model_points: object, data_points: object, hand: HandM
         # Sec. 3.3: σ falls geometrically from the largest motion σ_max to the noise level σ_min
         for sigma in settings.sigmas:
             for _ in range(settings.max_iter):
-                moved = hand.transform_texture(binding, theta)  # T(X_i, Θ^q)
-                alpha = e_step_reference(moved, data, sigma)  # E-step, eq. (17)
-                lam, goal = m_step_targets(alpha, data)  # λ_i, G_i of eq. (20)
+                moved = hand._transform_texture(binding, theta)  # T(X_i, Θ^q)
+                alpha = _posterior_matrix(moved, data, sigma, PAPER_C)  # E-step, eq. (17)
+                lam, goal = _weighted_targets(alpha, data)  # λ_i, G_i of eq. (20)
                 if settings.targets == "debiased":  # ours: subtract the texture's own blur B_i
-                    _, blurred = m_step_targets(e_step_reference(moved, moved, sigma), moved)
+                    _, blurred = _weighted_targets(_posterior_matrix(moved, moved, sigma, PAPER_C), moved)
                     goal = moved + goal - blurred
                 # M-step: maximising Q of eq. (19) is, up to terms free of Θ, minimising
                 # E(Θ) = Σ_i λ_i ||T(X_i, Θ) - G_i||² (eq. 20), here by Gauss-Newton
@@ -442,7 +440,7 @@ def run_em(hand: HandModel, binding: TextureBinding, data: np.ndarray, theta: np
             for _ in range(n_iterations):
                 if settings.sigma_mode == "anneal":
                     sigma = level_sigma
-                moved, jac = hand.texture_jacobian(binding, theta)  # the M-step's first linearisation too
+                moved, jac = hand._texture_jacobian(binding, theta)  # the M-step's first linearisation too
                 weights, weighted, inlier_prob, energy = statistics(moved, data, sigma, data_pairs)
                 history.append((sigma, energy))
                 goal = weighted / np.maximum(weights, 1e-300)[:, None]  # G_i of eq. (20)
@@ -453,7 +451,7 @@ def run_em(hand: HandModel, binding: TextureBinding, data: np.ndarray, theta: np
                 change = float(np.max(np.abs(new_theta - theta)))
                 theta = new_theta
                 if settings.sigma_mode == "estimate":  # σ² from the weighted residuals at the new pose
-                    moved = hand.transform_texture(binding, theta)
+                    moved = hand._transform_texture(binding, theta)
                     new_energy = statistics(moved, data, sigma, data_pairs)[3]
                     sigma = max(np.sqrt(new_energy / max(3 * weights.sum(), 1e-12)), 1e-3)
                 if change <= tol:

@@ -108,13 +108,30 @@ class TrialSummary:
         return float(np.mean(finite < SUCCESS_DEG)) if finite.size else float("nan")
 
 
-def _floor_errors(hand: HandModel, case: RegistrationProblem) -> tuple[float, float]:
-    """Joint RMSE and worst joint (degrees) of the fit with the true matches; NaN without shared features."""
+def _check_trials(hand: object, n_trials: object, rng: object,
+                  problem: object) -> tuple[list[np.random.Generator], dict]:
+    """The arguments every trial function shares, checked: one random stream per trial, and the problem's keywords."""
+    check_hand(hand)
+    rng = make_rng(rng, "rng")
+    n_trials = check_positive_int(n_trials, "n_trials", maximum=MAX_ITERATIONS)
+    problem = check_settings(problem, "problem")
+    return spawn_rngs(rng, n_trials), problem
+
+
+def _floor_pose(hand: HandModel, case: RegistrationProblem) -> np.ndarray | None:
+    """The pose fitted with the true matches (the noise floor); None without shared features."""
     model_index, data_index = case.true_matches()
     if not len(model_index):
+        return None
+    return fit_known_correspondences(case.model_points[model_index], case.data_points[data_index], hand,
+                                     case.theta_init)
+
+
+def _floor_errors(hand: HandModel, case: RegistrationProblem) -> tuple[float, float]:
+    """Joint RMSE and worst joint (degrees) of the fit with the true matches; NaN without shared features."""
+    floor = _floor_pose(hand, case)
+    if floor is None:
         return np.nan, np.nan
-    floor = fit_known_correspondences(case.model_points[model_index], case.data_points[data_index], hand,
-                                      case.theta_init)
     return joint_rmse_deg(floor, case.theta_true), worst_joint_deg(floor, case.theta_true)
 
 
@@ -149,12 +166,9 @@ def noise_floor_trials(hand: HandModel, n_trials: int, *, rng: np.random.Generat
     Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
     bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, eq. (20) with known matches.
     """
-    check_hand(hand)
-    rng = make_rng(rng, "rng")
-    n_trials = check_positive_int(n_trials, "n_trials", maximum=MAX_ITERATIONS)
-    problem = check_settings(problem, "problem")
+    trial_rngs, problem = _check_trials(hand, n_trials, rng, problem)
     errors = [_floor_errors(hand, make_registration_problem(hand, rng=trial_rng, **problem))
-              for trial_rng in spawn_rngs(rng, n_trials)]
+              for trial_rng in trial_rngs]
     return np.array([e[0] for e in errors]), np.array([e[1] for e in errors])
 
 
@@ -197,14 +211,12 @@ def run_registration_trials(hand: HandModel, n_trials: int, *, rng: np.random.Ge
     Dewaele, Devernay, Horaud & Forbes, "The alignment between 3-D data and articulated shapes with
     bending surfaces", ECCV 2006, LNCS 3953, pp. 578-591, Sec. 3 (eqs. 17-22) and Sec. 5.
     """
-    check_hand(hand)
-    rng = make_rng(rng, "rng")
-    n_trials = check_positive_int(n_trials, "n_trials", maximum=MAX_ITERATIONS)
-    problem, settings = check_settings(problem, "problem"), check_em_settings(settings)
+    trial_rngs, problem = _check_trials(hand, n_trials, rng, problem)
+    settings = check_em_settings(settings)
     surface_max_iter = check_positive_int(surface_max_iter, "surface_max_iter", minimum=0, maximum=MAX_ITERATIONS)
     digit_search = check_bool(digit_search, "digit_search")
     rmse, worst, seconds, oracle, oracle_worst = [], [], [], [], []
-    for trial_rng in spawn_rngs(rng, n_trials):
+    for trial_rng in trial_rngs:
         case = make_registration_problem(hand, rng=trial_rng, **problem)
         start = time.perf_counter()
         em = register_em(case.model_points, case.data_points, hand, case.theta_init, settings=settings)
@@ -294,18 +306,14 @@ def objective_check(hand: HandModel, n_trials: int, *, rng: np.random.Generator 
     ----------
     Dewaele, Devernay, Horaud & Forbes, ECCV 2006, eqs. (9), (17)-(18) (the objective).
     """
-    check_hand(hand)
-    rng = make_rng(rng, "rng")
-    n_trials = check_positive_int(n_trials, "n_trials", maximum=MAX_ITERATIONS)
-    problem, settings = check_settings(problem, "problem"), check_em_settings(settings)
+    trial_rngs, problem = _check_trials(hand, n_trials, rng, problem)
+    settings = check_em_settings(settings)
     sigma = float(settings.sigma_min)
     rows = []
-    for trial_rng in spawn_rngs(rng, n_trials):
+    for trial_rng in trial_rngs:
         case = make_registration_problem(hand, rng=trial_rng, **problem)
         em = register_em(case.model_points, case.data_points, hand, case.theta_init, settings=settings)
-        model_index, data_index = case.true_matches()
-        floor = fit_known_correspondences(case.model_points[model_index], case.data_points[data_index], hand,
-                                          case.theta_init)
+        floor = _floor_pose(hand, case)
         climbed = climb_objective(case.model_points, case.data_points, hand, case.theta_init, floor, sigma)
         binding = hand.texture_binding(case.model_points, case.theta_init)
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import MAX_ITERATIONS, MAX_SAMPLES
-from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_instance, check_positive_int, make_rng
 from amdo_lab.common.geometry import rigid_transform, rotation_matrix, skew
 
 __all__ = ["HandModel", "PART_NAMES"]
@@ -225,6 +225,12 @@ class HandModel:
                 raise ValueError(f"{name} must lie within joint_limits(); DOF {bad.tolist()} are outside")
         return theta
 
+    def _check_query(self, points: object, theta: object) -> tuple[np.ndarray, np.ndarray]:
+        """The query points (M, 3) and the pose (27,) that every distance method takes, checked."""
+        points = check_points(points, "points")
+        theta = self.check_theta(theta)
+        return points, theta
+
     def _forward(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Part frames (16, 4, 4), and every DOF's world axis and a point on it (27, 3) each.
 
@@ -328,8 +334,12 @@ class HandModel:
         numpy.ndarray, shape (M, 16)
             Distances, mm.
         """
-        points = check_points(points, "points")
-        frames = self._forward(self.check_theta(theta))[0]
+        points, theta = self._check_query(points, theta)
+        return self._part_distances(points, theta)
+
+    def _part_distances(self, points: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        """:meth:`part_distances` on checked input."""
+        frames = self._forward(theta)[0]
         # local[m, p] = R_p^T (x_m - t_p) - c_p
         local = self._local_coordinates(points, frames)
         radial = np.linalg.norm(local / self._radii, axis=2)
@@ -350,8 +360,13 @@ class HandModel:
         numpy.ndarray, shape (M, 16)
             φ_p per point and part (1 on an ellipsoid, > 1 inside, clipped at d = -20ν).
         """
+        points, theta = self._check_query(points, theta)
+        return self._part_fields(points, theta)
+
+    def _part_fields(self, points: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        """:meth:`part_fields` on checked input."""
         # eq. (1): φ_p(X) = exp(-d(X, Q_p)/ν), d clipped deep inside so that exp cannot overflow
-        return np.exp(-np.clip(self.part_distances(points, theta), -20 * self.nu, None) / self.nu)
+        return np.exp(-np.clip(self._part_distances(points, theta), -20 * self.nu, None) / self.nu)
 
     def fused_field(self, points: np.ndarray, theta: object, *, neighbour_rule: bool = True) -> np.ndarray:
         """φ = Σ φ_p over the strongest part and its kinematic neighbours (Sec. 2).
@@ -371,8 +386,13 @@ class HandModel:
         numpy.ndarray, shape (M,)
             The fused field φ (1 on the surface).
         """
+        points, theta = self._check_query(points, theta)
         neighbour_rule = check_bool(neighbour_rule, "neighbour_rule")
-        fields = self.part_fields(points, theta)
+        return self._fused_field(points, theta, neighbour_rule)
+
+    def _fused_field(self, points: np.ndarray, theta: np.ndarray, neighbour_rule: bool = True) -> np.ndarray:
+        """:meth:`fused_field` on checked input."""
+        fields = self._part_fields(points, theta)
         if not neighbour_rule:
             return fields.sum(axis=1)
         strongest = np.argmax(fields, axis=1)
@@ -395,9 +415,14 @@ class HandModel:
         numpy.ndarray, shape (M,)
             Signed distances, mm.
         """
+        points, theta = self._check_query(points, theta)
         neighbour_rule = check_bool(neighbour_rule, "neighbour_rule")
+        return self._surface_distance(points, theta, neighbour_rule)
+
+    def _surface_distance(self, points: np.ndarray, theta: np.ndarray, neighbour_rule: bool = True) -> np.ndarray:
+        """:meth:`surface_distance` on checked input (the loops of :meth:`sample_surface` call it)."""
         # eq. (2): d(X, Θ) = -ν log φ(X), φ = Σ_p φ_p the fused field
-        return -self.nu * np.log(self.fused_field(points, theta, neighbour_rule=neighbour_rule))
+        return -self.nu * np.log(self._fused_field(points, theta, neighbour_rule))
 
     def surface_distance_jacobian(self, points: object, theta: object) -> tuple[np.ndarray, np.ndarray]:
         """Distance to the fused surface (eq. 2) and its analytic derivative in Θ, shapes (M,) and (M, 27).
@@ -422,8 +447,7 @@ class HandModel:
         jacobian : numpy.ndarray, shape (M, 27)
             ∂d/∂Θ: mm per mm for the palm translation, mm per radian for the rest.
         """
-        points = check_points(points, "points")
-        theta = self.check_theta(theta)
+        points, theta = self._check_query(points, theta)
         frames, axes, origins = self._forward(theta)
         rotations = frames[:, :3, :3]
         local = self._local_coordinates(points, frames)
@@ -488,10 +512,10 @@ class HandModel:
             local = centres + direction * radii[part_ids]
             points = np.einsum("nij,nj->ni", frames[part_ids, :3, :3], local) + frames[part_ids, :3, 3]
             for _ in range(newton_steps):
-                dist = self.surface_distance(points, theta)
+                dist = self._surface_distance(points, theta)
                 grad = self._distance_gradient(points, theta)
                 points = points - (dist / np.maximum(np.sum(grad**2, axis=1), 1e-6))[:, None] * grad
-            ok = np.abs(self.surface_distance(points, theta)) < 0.2
+            ok = np.abs(self._surface_distance(points, theta)) < 0.2
             kept.append(points[ok])
             total += int(ok.sum())
         return np.concatenate(kept)[:n]
@@ -502,8 +526,8 @@ class HandModel:
         for axis in range(3):
             shift = np.zeros(3)
             shift[axis] = step
-            grad[:, axis] = (self.surface_distance(points + shift, theta)
-                             - self.surface_distance(points - shift, theta)) / (2 * step)
+            grad[:, axis] = (self._surface_distance(points + shift, theta)
+                             - self._surface_distance(points - shift, theta)) / (2 * step)
         return grad
 
     def surface_normals(self, points: object, theta: object) -> np.ndarray:
@@ -521,8 +545,12 @@ class HandModel:
         numpy.ndarray, shape (M, 3)
             Unit vectors (zero where the gradient vanishes).
         """
-        points = check_points(points, "points")
-        grad = self._distance_gradient(points, self.check_theta(theta))
+        points, theta = self._check_query(points, theta)
+        return self._surface_normals(points, theta)
+
+    def _surface_normals(self, points: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        """:meth:`surface_normals` on checked input (the data generators call it every frame)."""
+        grad = self._distance_gradient(points, theta)
         return grad / np.maximum(np.linalg.norm(grad, axis=1, keepdims=True), 1e-12)
 
     def ellipsoid_mesh(self, theta: object, resolution: int = 16) -> tuple[np.ndarray, np.ndarray]:
@@ -581,10 +609,9 @@ class HandModel:
         TextureBinding
             Both parts, the weight of the first, and the local coordinates.
         """
-        points = check_points(points, "points")
-        theta = self.check_theta(theta)
+        points, theta = self._check_query(points, theta)
         a = check_in_range(a, "a", 0.0, MAX_BENDING_EXPONENT, closed="right")
-        fields = self.part_fields(points, theta)
+        fields = self._part_fields(points, theta)
         part_p = np.argmax(fields, axis=1)
         neighbour_fields = np.where(self.adjacency[part_p] & (np.arange(self.n_parts) != part_p[:, None]),
                                     fields, -1.0)
@@ -614,7 +641,12 @@ class HandModel:
             The moved texture, mm.
         """
         binding = check_binding(binding)
-        frames = self._forward(self.check_theta(theta))[0]
+        theta = self.check_theta(theta)
+        return self._transform_texture(binding, theta)
+
+    def _transform_texture(self, binding: "TextureBinding", theta: np.ndarray) -> np.ndarray:
+        """:meth:`transform_texture` on checked input (the EM loops call it)."""
+        frames = self._forward(theta)[0]
         world_p, world_r = binding.world_points(frames)
         w = binding.weight_p[:, None]
         # eq. (3): T(X, Θ) = (φ_p^a T_p X + φ_r^a T_r X) / (φ_p^a + φ_r^a), with w = φ_p^a / (φ_p^a + φ_r^a)
@@ -642,7 +674,12 @@ class HandModel:
             dT/dΘ: mm per mm for the palm translation, mm per radian for the rest.
         """
         binding = check_binding(binding)
-        frames, axes, origins = self._forward(self.check_theta(theta))
+        theta = self.check_theta(theta)
+        return self._texture_jacobian(binding, theta)
+
+    def _texture_jacobian(self, binding: "TextureBinding", theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`texture_jacobian` on checked input (the M-step's Gauss-Newton loop calls it)."""
+        frames, axes, origins = self._forward(theta)
         world_p, world_r = binding.world_points(frames)
         w = binding.weight_p[:, None]
         jac = np.empty((len(w), 3, self.n_dof))
@@ -748,13 +785,9 @@ def check_points(points: object, name: str) -> np.ndarray:
 
 def check_hand(hand: object) -> HandModel:
     """``hand`` itself, or a ``TypeError`` when it is not a :class:`HandModel`."""
-    if not isinstance(hand, HandModel):
-        raise TypeError(f"hand must be a HandModel, got {type(hand).__name__}")
-    return hand
+    return check_instance(hand, "hand", HandModel, what="a HandModel")
 
 
 def check_binding(binding: object) -> TextureBinding:
     """``binding`` itself, or a ``TypeError`` when it is not a :class:`TextureBinding`."""
-    if not isinstance(binding, TextureBinding):
-        raise TypeError(f"binding must be a TextureBinding (HandModel.texture_binding), got {type(binding).__name__}")
-    return binding
+    return check_instance(binding, "binding", TextureBinding, what="a TextureBinding (HandModel.texture_binding)")

@@ -94,7 +94,7 @@ def register_softassign(model_points: object, data_points: object, hand: HandMod
     inlier_prob = np.zeros(n_data)
     for sigma in sigmas:
         for _ in range(n_iter):
-            moved = hand.transform_texture(binding, theta)
+            moved = hand._transform_texture(binding, theta)
             sq = np.sum((moved[:, None, :] - data[None, :, :]) ** 2, axis=2)
             log_m = np.full((n_model + 1, n_data + 1), np.log(slack))
             log_m[:n_model, :n_data] = -sq / (2 * sigma**2)

@@ -90,16 +90,16 @@ def track(frames: list, hand: HandModel, theta_start: np.ndarray, *, settings: E
     theta = hand.check_theta(theta_start, "theta_start", within_limits=True)
     settings = check_em_settings(settings)
     surface_max_iter = check_positive_int(surface_max_iter, "surface_max_iter", minimum=0, maximum=MAX_ITERATIONS)
-    texture = frames[0][np.abs(hand.surface_distance(frames[0], theta)) < EPSILON_MM]
+    texture = frames[0][np.abs(hand._surface_distance(frames[0], theta)) < EPSILON_MM]
     poses, counts = [theta], [len(texture)]
     for data in frames[1:]:
         texture = texture[:: max(1, int(np.ceil(len(texture) / MAX_TEXTURE)))]
         theta = register_em(texture, data, hand, theta, settings=settings).theta
         if surface_max_iter:
-            close = np.abs(hand.surface_distance(data, theta)) < EPSILON_MM
+            close = np.abs(hand._surface_distance(data, theta)) < EPSILON_MM
             if np.any(close):
                 theta = fit_surface(data[close], hand, theta, max_iter=surface_max_iter).theta
-        texture = data[np.abs(hand.surface_distance(data, theta)) < EPSILON_MM]
+        texture = data[np.abs(hand._surface_distance(data, theta)) < EPSILON_MM]
         poses.append(theta)
         counts.append(len(texture))
     return TrackResult(np.array(poses), np.array(counts))

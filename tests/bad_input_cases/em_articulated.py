@@ -110,8 +110,6 @@ def cases() -> dict[str, Case]:
                              {"hand": "object", "theta": "array", "joint_error_deg": "non_negative", "rng": "seed",
                               "palm_rotation_deg": "non_negative", "palm_translation_mm": "non_negative"}),
         "random_pose": Case(e.random_pose, {"hand": hand, "rng": 0}, {"hand": "object", "rng": "seed"}),
-        "visible_points": Case(e.visible_points, {"hand": hand, "points": points, "theta": theta, "camera": camera},
-                               {"hand": "object", "points": "points", "theta": "array", "camera": "array"}),
         "make_skin_texture": Case(e.make_skin_texture, {"hand": hand, "n_features": 5, "rng": 0, "a": 2.0},
                                   {"hand": "object", "n_features": "count", "rng": "seed", "a": "positive"}),
         "make_registration_problem": Case(
