@@ -808,8 +808,6 @@ REJECTIONS = [
            ValueError, r"variance_fraction must be in \(0, 1\], got 0.0"),
     reject("fit_pdm one column", lambda: fit_pdm(_VECTORS[:, :1]), ValueError,
            r"long_vectors needs at least 3 rows \(examples\) and 2 columns, got shape \(10, 1\)"),
-    reject("PointDistributionModel as many modes as coordinates",
-           lambda: pm.PointDistributionModel(np.zeros(2), np.eye(2), np.ones(2), 1.0), ValueError, "with M < D"),
     reject("fit_modes observed longer than the model", lambda: fit_modes(_PDM, np.ones((2, 3))),
            ValueError, r"observed must have shape \(n, 4\)"),
     reject("reconstruct gamma longer than the modes", lambda: reconstruct(_PDM, np.zeros((2, _PDM.n_modes + 1))),

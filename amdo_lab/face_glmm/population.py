@@ -22,7 +22,6 @@ __all__ = [
     "FacePopulation",
     "STANDARD_SHAPE",
     "SMALL_SHAPE",
-    "elliptical_mask",
     "make_face_population",
     "preprocess_images",
     "downsample_by_two",
@@ -229,24 +228,10 @@ def _power_law_field(gen: np.random.Generator, n: int, shape: tuple[int, int], s
     return field / field.std(axis=(1, 2), keepdims=True)
 
 
-def elliptical_mask(shape: tuple[int, int]) -> np.ndarray:
-    """Boolean elliptical face mask, inscribed in the image frame.
-
-    Parameters
-    ----------
-    shape : tuple of int
-        Image size (rows, cols) in pixels, each at least 1.
-
-    Returns
-    -------
-    ndarray of bool, shape (rows, cols)
-        True inside the ellipse whose axes are the frame's height and width.
-
-    References
-    ----------
-    Givens et al. (2004), AMDO, LNCS 3179, Sec. 2 step 3 (the elliptical mask).
-    """
-    rows, cols = check_image_shape(shape, minimum=1)
+def _elliptical_mask(shape: tuple[int, int]) -> np.ndarray:
+    """Boolean ``(rows, cols)`` mask, True inside the ellipse whose axes are the frame's height and width
+    (Sec. 2 step 3), for the shape of a checked image stack."""
+    rows, cols = shape
     yy = (np.arange(rows) - (rows - 1) / 2) / (rows / 2)
     xx = (np.arange(cols) - (cols - 1) / 2) / (cols / 2)
     return (yy[:, None] ** 2 + xx[None, :] ** 2) <= 1.0
@@ -298,7 +283,7 @@ def preprocess_images(images: np.ndarray) -> np.ndarray:
     Givens et al. (2004), AMDO, LNCS 3179, Sec. 2 (image pre-processing, steps 3-5).
     """
     images = as_finite_array(images, "images", ndim=3)
-    mask = elliptical_mask(images.shape[1:])
+    mask = _elliptical_mask(images.shape[1:])
     if mask.sum() < 2:  # one pixel has no spread to standardise
         raise ValueError(f"images must have at least 2 pixels inside the elliptical mask, got shape {images.shape}")
     inside = images[:, mask]
