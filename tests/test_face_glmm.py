@@ -571,13 +571,13 @@ REJECTIONS = [
     reject("check_image_shape float", lambda: fg.population.check_image_shape((60.5, 52), minimum=8),
            TypeError, r"shape\[0\] must be an int"),
     reject("preprocess_images one pixel", lambda: preprocess_images(np.ones((2, 1, 1))),
-           ValueError, "images must have at least 2 pixels inside the elliptical mask"),
+           ValueError, "the pixels of images inside the elliptical mask must be at least 2"),
     reject("make_supplement one image", lambda: make_supplement(np.ones((8, 8)), "shift", rng=make_rng(0)),
            ValueError, "images must have 3 dimensions"),
     # --- PCA + LDA: enough images per subject, the named metrics and dimensions, fitted first
-    reject("pca_basis one row", lambda: fg.pca_basis(np.ones((1, 5))), ValueError, "samples must have at least 2 rows"),
+    reject("pca_basis one row", lambda: fg.pca_basis(np.ones((1, 5))), ValueError, r"the rows of samples \(for a covariance\) must be at least 2"),
     reject("e90_dimension all-zero spectrum", lambda: fg.e90_dimension(np.zeros(3)),
-           ValueError, "eigenvalues must have a positive sum"),
+           ValueError, "the sum of eigenvalues must be positive"),
     reject("weighted_sq_distances b of another width", lambda: fg.weighted_sq_distances(_A, _B[:, :3], np.ones(4)),
            ValueError, r"b \(like a\) must have shape \(n, 4\)"),
     reject("weighted_sq_distances weights of another length", lambda: fg.weighted_sq_distances(_A, _B, np.ones(3)),
@@ -611,16 +611,16 @@ REJECTIONS = [
     # --- the GLMM fit: a response of counts, a design of full rank, named random terms
     reject("fit_binomial_glmm count above n_trials",
            lambda fitted: fit_binomial_glmm(_response(fitted, 31), "Y ~ M", ["p"], 30),
-           ValueError, r"response 'Y' must hold integer counts in \[0, n_trials=30\]"),
+           ValueError, r"response 'Y' \(integer counts, n_trials=30\) must lie in \[0, 30\]"),
     reject("fit_binomial_glmm negative count", lambda fitted: fit_binomial_glmm(_response(fitted, -1), "Y ~ M", ["p"], 30),
-           ValueError, r"response 'Y' must hold integer counts in \[0, n_trials=30\]"),
+           ValueError, r"response 'Y' \(integer counts, n_trials=30\) must lie in \[0, 30\]"),
     reject("fit_binomial_glmm NaN count", lambda fitted: fit_binomial_glmm(_response(fitted, np.nan), "Y ~ M", ["p"], 30),
-           ValueError, "response 'Y' must be finite counts"),
+           ValueError, r"response 'Y' \(integer counts, n_trials=30\) must be finite"),
     reject("fit_binomial_glmm boolean response", lambda fitted: fit_binomial_glmm(
         fitted.table.assign(Y=fitted.table.Y > 10), "Y ~ M", ["p"], 30),
         TypeError, "response 'Y' must hold counts, got booleans"),
     reject("fit_binomial_glmm duplicated factor", lambda fitted: fit_binomial_glmm(
-        fitted.table.assign(M2=fitted.table.M), "Y ~ M + M2", ["p"], 30), ValueError, "fixed design is singular"),
+        fitted.table.assign(M2=fitted.table.M), "Y ~ M + M2", ["p"], 30), ValueError, r"the column rank of the fixed design \(singular\) must be at least"),
     reject("fit_binomial_glmm level with no rows", lambda fitted: fit_binomial_glmm(fitted.table.assign(
         M=pd.Categorical(fitted.table.M, categories=["l2", "soft_l2", "l1"])), "Y ~ M", ["p"], 30),
         ValueError, "factor 'M' has levels with no rows"),
@@ -637,7 +637,7 @@ REJECTIONS = [
     reject("laplace_deviance negative sd", lambda fitted: fg.laplace_deviance(
         fitted.table, "Y ~ M * D + U", ["t", "p", "t:p"], [1.0, -1.0, 1.0], 30), ValueError, r"sd must lie in \[0, 1000\]"),
     reject("response_counts above n_trials", lambda: fg.glmm.response_counts(pd.DataFrame({"Y": [0, 3, 30]}), "Y", 10),
-           ValueError, r"integer counts in \[0, n_trials=10\]"),
+           ValueError, r"\(integer counts, n_trials=10\) must lie in \[0, 10\]"),
     # --- predictions from a fit: an interval strictly inside (0, 1), at least one cell
     reject("predict ci 0", lambda fitted: fitted.fit.predict(fitted.cell, ci=0.0),
            ValueError, r"ci must be in \(0, 1\), got 0.0"),
@@ -650,16 +650,16 @@ REJECTIONS = [
         fitted.table, "Y ~ M", [0.0, 0.0], {"p": -1.0}, 30, rng=0), ValueError, r"variances\['p'\] must be non-negative"),
     reject("recovery_study no variances", lambda fitted: fg.recovery_study(
         fitted.table, "Y ~ M * D + U", fitted.fit.coefficients, {}, 1, rng=1),
-        ValueError, "variances must name at least one"),
+        ValueError, r"the terms of variances \(the refits need a random effect\) must be at least 1"),
     # --- the peers: named columns and terms, counts out of n_trials
     reject("fit_gee group not a column",
            lambda fitted: fg.fit_gee(fitted.table, "Y ~ M", group="q"),
            ValueError, r"table \(its group column\) must have columns \['q'\], missing \['q'\]"),
     reject("fit_gee count above n_trials", lambda fitted: fg.fit_gee(
         fitted.table.assign(Y=fitted.table.Y + 100), "Y ~ M"),
-        ValueError, r"response 'Y' must hold integer counts in \[0, n_trials=30\]"),
+        ValueError, r"response 'Y' \(integer counts, n_trials=30\) must lie in \[0, 30\]"),
     reject("fit_naive_logistic NaN count", lambda fitted: fg.fit_naive_logistic(_response(fitted, np.nan), "Y ~ M"),
-           ValueError, "response 'Y' must be finite counts"),
+           ValueError, r"response 'Y' \(integer counts, n_trials=30\) must be finite"),
     reject("fit_naive_logistic response not a column", lambda fitted: fg.fit_naive_logistic(fitted.table, "Z ~ M"),
            ValueError, r"table \(the response of fixed\) must have columns \['Z'\], missing \['Z'\]"),
     reject("fit_with_lme4 random term not a column", lambda fitted: fit_with_lme4(fitted.table, "Y ~ M", ["q"]),

@@ -8,7 +8,7 @@ from itertools import combinations
 import numpy as np
 import pandas as pd
 
-from amdo_lab.common import as_finite_array, check_dataframe, check_instance
+from amdo_lab.common import as_finite_array, check_dataframe, check_instance, check_positive_int
 
 __all__ = ["DesignMatrix", "parse_formula", "group_indices", "PAPER_FORMULA",
            "SIZE_FORMULA"]
@@ -46,14 +46,12 @@ def parse_formula(formula: str) -> tuple[str, list[tuple[str, ...]]]:
     if not isinstance(formula, str) or formula.count("~") != 1:
         raise ValueError(f"fixed must be a formula 'response ~ terms', got {formula!r}")
     lhs, rhs = (part.strip() for part in formula.split("~"))
-    if not lhs or not rhs:
-        raise ValueError(f"fixed must name a response and at least one term, got {formula!r}")
+    if not lhs:
+        raise ValueError(f"fixed must name a response, got {formula!r}")
     terms: list[tuple[str, ...]] = []
     for chunk in rhs.split("+"):
         chunk = chunk.strip()
-        if chunk in ("1", ""):
-            if chunk == "":
-                raise ValueError(f"fixed has an empty term: {formula!r}")
+        if chunk == "1":  # the intercept, always present
             continue
         if "*" in chunk:
             names = [c.strip() for c in chunk.split("*")]
@@ -61,8 +59,8 @@ def parse_formula(formula: str) -> tuple[str, list[tuple[str, ...]]]:
         else:
             expanded = [tuple(c.strip() for c in chunk.split(":"))]
         for term in expanded:
-            if any(not name for name in term):
-                raise ValueError(f"fixed has an empty variable name in {chunk!r}")
+            if any(not name for name in term):  # an empty term (no term at all) or an empty variable name
+                raise ValueError(f"fixed has an empty term or variable name: {formula!r}")
             if term not in terms:
                 terms.append(term)
     terms.sort(key=len)  # stable: keeps first-appearance order within an order
@@ -112,8 +110,7 @@ def _variable_coding(column: pd.Series, name: str, levels=None) -> tuple[np.ndar
                 raise ValueError(f"factor {name!r} has levels with no rows: {missing}")
         else:
             levels = tuple(sorted(column.unique(), key=str))
-    if len(levels) < 2:
-        raise ValueError(f"factor {name!r} needs at least 2 levels, got {list(levels)}")
+    check_positive_int(len(levels), f"the levels of factor {name!r} {list(levels)}", minimum=2)
     codes = pd.Categorical(column, categories=list(levels)).codes
     if np.any(codes < 0):
         raise ValueError(f"factor {name!r} has values outside its levels {list(levels)}")

@@ -213,11 +213,10 @@ def response_counts(table: pd.DataFrame, response: str, n_trials: int) -> np.nda
     check_dataframe(table, "table (the response of fixed)", columns=[response])
     if pd.api.types.is_bool_dtype(table[response]):
         raise TypeError(f"response {response!r} must hold counts, got booleans")
-    y = pd.to_numeric(table[response], errors="coerce").to_numpy(dtype=float)
-    if not np.all(np.isfinite(y)):
-        raise ValueError(f"response {response!r} must be finite counts, got NaN/non-numeric values")
-    if np.any(y < 0) or np.any(y > n_trials) or np.any(y != np.round(y)):
-        raise ValueError(f"response {response!r} must hold integer counts in [0, n_trials={n_trials}]")
+    y = pd.to_numeric(table[response], errors="coerce").to_numpy(dtype=float)  # non-numeric values become NaN
+    # finite whole numbers in [0, n_trials]: as_finite_array refuses NaN, fractions and counts outside the range
+    as_finite_array(y, f"response {response!r} (integer counts, n_trials={n_trials})", dtype=np.int64,
+                    bounds=(0, n_trials))
     return y
 
 
@@ -281,8 +280,7 @@ def _setup(table, fixed, random, n_trials):
     """Check the inputs, build the fast problem and the starting coefficients."""
     design, y, n_trials = _design_and_response(table, fixed, n_trials)
     x = design.matrix
-    if np.linalg.matrix_rank(x) < x.shape[1]:
-        raise ValueError(f"fixed design is singular (rank {np.linalg.matrix_rank(x)} < {x.shape[1]} columns)")
+    check_positive_int(int(np.linalg.matrix_rank(x)), "the column rank of the fixed design (singular)", minimum=x.shape[1])
     groups = [group_indices(table, term) for term in random]
     problem = CrossedProblem(y, np.full(y.shape, float(n_trials)), x, groups)
     problem.design = design

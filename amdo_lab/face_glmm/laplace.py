@@ -21,7 +21,7 @@ import scipy.linalg
 import scipy.sparse as sp
 from scipy.special import expit, xlogy
 
-from amdo_lab.common import as_finite_array
+from amdo_lab.common import as_finite_array, check_positive_int
 
 __all__ = ["CrossedProblem", "MAX_ABS_ETA", "MAX_SD", "MAX_TRIALS", "laplace_deviance_reference"]
 
@@ -33,17 +33,6 @@ MAX_ABS_ETA = 1e6
 #: Largest random-effect standard deviation accepted (logit units): sd = 1e3 already puts every
 #: probability at 0 or 1 to machine precision, and larger ones overflow the penalised IRLS.
 MAX_SD = 1e3
-
-
-def _check_counts(y: object, n_trials: object) -> tuple[np.ndarray, np.ndarray]:
-    """Counts y in [0, n_trials] and binomial sizes in (0, MAX_TRIALS], one per count or one for all."""
-    y = as_finite_array(y, "y", bounds=(0.0, MAX_TRIALS))
-    n_trials = as_finite_array(n_trials, "n_trials", bounds=(0.0, MAX_TRIALS), closed="right")
-    if n_trials.shape not in ((), y.shape):
-        raise ValueError(f"n_trials must be a number or have the shape of y {y.shape}, got {n_trials.shape}")
-    if np.any(y > n_trials):
-        raise ValueError("y must hold counts in [0, n_trials]")
-    return y, n_trials
 
 
 def _binomial_deviance(y: np.ndarray, n_trials: np.ndarray, eta: np.ndarray, saturated: float | None = None) -> float:
@@ -162,15 +151,19 @@ def laplace_deviance_reference(y: np.ndarray, n_trials: np.ndarray, x: np.ndarra
     Givens et al. (2004), AMDO, LNCS 3179, eq. (2); Bates, Maechler, Bolker & Walker (2015),
     J. Stat. Softw. 67, Sec. 3; Breslow & Clayton (1993), JASA 88, eqs. (5)-(7).
     """
-    y, n_trials = _check_counts(y, n_trials)
+    y = as_finite_array(y, "y", bounds=(0.0, MAX_TRIALS))
+    n_trials = as_finite_array(n_trials, "n_trials", bounds=(0.0, MAX_TRIALS), closed="right")
+    if n_trials.shape not in ((), y.shape):
+        raise ValueError(f"n_trials must be a number or have the shape of y {y.shape}, got {n_trials.shape}")
+    if np.any(y > n_trials):
+        raise ValueError("y must hold counts in [0, n_trials]")
     n_trials = np.broadcast_to(n_trials, y.shape)
     x = as_finite_array(x, "x", shape=(y.size, None), max_abs=MAX_ABS_ETA)
     z = as_finite_array(z, "z", shape=(y.size, None), bounds=(0.0, 1.0))
     # one entry per column of z: the message names both, since either may be the one at fault
     sd_of_columns = as_finite_array(sd_of_columns, "sd_of_columns (like the columns of z)", shape=z.shape[1:],
                                     bounds=(0.0, MAX_SD))
-    if np.linalg.matrix_rank(x) < x.shape[1]:
-        raise ValueError(f"x must have full column rank, got rank {np.linalg.matrix_rank(x)} < {x.shape[1]} columns")
+    check_positive_int(int(np.linalg.matrix_rank(x)), "the column rank of x", minimum=x.shape[1])  # full rank
     return _laplace_deviance_reference(y, n_trials, x, z, sd_of_columns)
 
 

@@ -8,7 +8,7 @@ import numpy as np
 import scipy.linalg
 
 from amdo_lab.common import (MAX_SAMPLES, as_finite_array, check_choice, check_fitted, check_in_range, check_instance,
-                             check_positive_int, check_same_shape)
+                             check_positive, check_positive_int, check_same_shape)
 
 __all__ = ["PcaLda", "PcaBasis", "pca_basis", "e90_dimension", "fisher_basis", "METRICS"]
 
@@ -62,8 +62,7 @@ def pca_basis(samples: np.ndarray) -> PcaBasis:
     Givens et al. (2004), AMDO, LNCS 3179, Sec. 3.
     """
     samples = as_finite_array(samples, "samples", ndim=2, max_abs=_MAX_MAGNITUDE)
-    if samples.shape[0] < 2:
-        raise ValueError(f"samples must have at least 2 rows for a covariance, got {samples.shape[0]}")
+    check_positive_int(len(samples), "the rows of samples (for a covariance)", minimum=2)
     return _pca_basis(samples)
 
 
@@ -95,8 +94,7 @@ def e90_dimension(eigenvalues: np.ndarray, energy: float = 0.90) -> int:
     Givens et al. (2004), AMDO, LNCS 3179, Sec. 4 (the E90 PCA dimension, after Kirby, their ref. [7]).
     """
     eigenvalues = as_finite_array(eigenvalues, "eigenvalues", ndim=1, bounds=(0.0, np.inf))
-    if eigenvalues.max() == 0:
-        raise ValueError("eigenvalues must have a positive sum, got all zeros")
+    check_positive(eigenvalues.sum(), "the sum of eigenvalues")
     check_in_range(energy, "energy", 0, 1, closed="right")
     return _e90_dimension(eigenvalues / eigenvalues.max(), energy)  # the share is scale-free: no overflow
 
@@ -200,8 +198,7 @@ class PcaLda:
             check_choice(pca_dimension, "pca_dimension", ("fixed", "e90"))
         else:  # a number of PCA axes: at most the number of images, itself bounded by MAX_SAMPLES
             check_positive_int(pca_dimension, "pca_dimension", maximum=MAX_SAMPLES)
-        base_images_per_class = check_positive_int(self.base_images_per_class, "base_images_per_class",
-                                                   maximum=MAX_SAMPLES)
+        images_per_class = check_positive_int(self.base_images_per_class, "base_images_per_class", maximum=MAX_SAMPLES)
         samples = _as_samples(images)
         labels = np.asarray(labels)
         check_same_shape(labels, samples[:, 0], "labels", "images (one label per image)")
@@ -219,7 +216,7 @@ class PcaLda:
         if pca_dimension == "e90":
             k = _e90_dimension(self.basis_.eigenvalues)
         elif pca_dimension == "fixed":
-            k = int(0.6 * (n_classes * base_images_per_class - 1))  # 114 for 64 x 3
+            k = int(0.6 * (n_classes * images_per_class - 1))  # 114 for 64 x 3
         else:
             k = int(pca_dimension)
         self.n_pca_ = int(min(k, cap))
@@ -254,8 +251,7 @@ class PcaLda:
     def _project(self, images: np.ndarray, name: str) -> np.ndarray:
         """:meth:`transform`, with errors naming the caller's argument ``name``."""
         samples = _as_samples(images, name)
-        if samples.shape[1] != self.projection_.shape[0]:
-            raise ValueError(f"{name} must have {self.projection_.shape[0]} pixels, got {samples.shape[1]}")
+        check_same_shape(samples[0], self.basis_.mean, f"the pixels of {name}", "those of the training images")
         return (samples - self.basis_.mean) @ self.projection_
 
     def distances(self, probes: np.ndarray, gallery: np.ndarray, metric: str = "l2") -> np.ndarray:

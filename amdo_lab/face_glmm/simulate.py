@@ -143,15 +143,13 @@ def recovery_study(table: pd.DataFrame, fixed: str, coefficients: pd.Series, var
     from amdo_lab.common import spawn_rngs
     from amdo_lab.face_glmm.glmm import fit_binomial_glmm
 
-    # Everything is checked before the first (slow) refit.
+    # Everything is checked before the first (slow) refit (n_trials by the first simulation).
     gen = make_rng(rng, "rng")
     check_dataframe(table, "table")
     check_instance(coefficients, "coefficients", pd.Series, what="a pandas Series (named like the fit's)")
     _check_variances(variances)
-    if not variances:
-        raise ValueError("variances must name at least one grouping term (the refits need a random effect)")
+    check_positive_int(len(variances), "the terms of variances (the refits need a random effect)")
     n_replicates = check_positive_int(n_replicates, "n_replicates", maximum=MAX_ITERATIONS)
-    check_positive_int(n_trials, "n_trials", maximum=MAX_SAMPLES)
     check_in_range(level, "level", 0, 1)
     estimates, ses, components = [], [], []
     for replicate_rng in spawn_rngs(gen, n_replicates):

@@ -87,9 +87,9 @@ def cases() -> dict[str, Case]:
         "make_face_population": Case(
             f.make_face_population,
             {"n_subjects": 3, "images_per_subject": 2, "rng": 0, "shape": (8, 8), "nuisance": 1.0,
-             "difficulty_spread": 0.25, "noise_sd": 0.05, "texture_slope": 2.0, "texture_amplitude": 0.5},
+             "texture_slope": 2.0, "texture_amplitude": 0.5},
             {"n_subjects": "count", "images_per_subject": "count", "rng": "seed", "shape": "array",
-             "nuisance": "non_negative", "difficulty_spread": "non_negative", "noise_sd": "non_negative",
+             "nuisance": "non_negative",
              "texture_slope": "positive", "texture_amplitude": "non_negative"},
             # texture_slope=None is the default: the cosine texture only
             accept=frozenset({("texture_slope", "None")})),
