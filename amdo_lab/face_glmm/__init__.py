@@ -14,7 +14,6 @@ from amdo_lab.face_glmm.design import (
     PAPER_FORMULA,
     SIZE_FORMULA,
     DesignMatrix,
-    build_design,
     group_indices,
     parse_formula,
 )
@@ -29,14 +28,13 @@ from amdo_lab.face_glmm.experiment import (
     run_factorial_experiment,
 )
 from amdo_lab.face_glmm.glmm import GlmmResult, fit_binomial_glmm, laplace_deviance
-from amdo_lab.face_glmm.laplace import binomial_deviance, laplace_deviance_reference
+from amdo_lab.face_glmm.laplace import laplace_deviance_reference
 from amdo_lab.face_glmm.pcalda import PcaLda, e90_dimension, pca_basis, weighted_sq_distances
 from amdo_lab.face_glmm.population import (
     SMALL_SHAPE,
     STANDARD_SHAPE,
     FacePopulation,
     downsample_by_two,
-    elliptical_mask,
     make_face_population,
     preprocess_images,
 )
@@ -44,9 +42,8 @@ from amdo_lab.face_glmm.simulate import (
     RecoverySummary,
     recovery_study,
     simulate_binomial_glmm,
-    summarise_recovery,
 )
-from amdo_lab.face_glmm.cache import RESULT_MODULES, experiment_cache_key, load_or_run_experiment
+from amdo_lab.face_glmm.cache import RESULT_MODULES, load_or_run_experiment
 from amdo_lab.face_glmm.report import (
     PAPER_NUMBERS,
     PAPER_TABLE2,
@@ -59,12 +56,12 @@ from amdo_lab.face_glmm.report import (
 
 __all__ = [
     "PAPER_FORMULA", "SIZE_FORMULA", "SMALL_SHAPE", "STANDARD_SHAPE", "SUPPLEMENTS",
-    "RESULT_MODULES", "ExperimentDraws", "experiment_draws", "DesignMatrix", "FacePopulation", "experiment_cache_key", "FactorialDesign", "GlmmResult", "PcaLda", "PeerFit", "RecoverySummary",
-    "binomial_deviance", "build_design", "downsample_by_two", "e90_dimension", "elliptical_mask",
+    "RESULT_MODULES", "ExperimentDraws", "experiment_draws", "DesignMatrix", "FacePopulation", "FactorialDesign", "GlmmResult", "PcaLda", "PeerFit", "RecoverySummary",
+    "downsample_by_two", "e90_dimension",
     "fit_binomial_glmm", "laplace_deviance", "laplace_deviance_reference", "fit_gee", "fit_naive_logistic", "fit_with_lme4",
     "make_face_population", "group_indices", "lme4_available", "load_or_run_experiment",
     "make_supplement", "paper_design", "parse_formula", "pca_basis", "preprocess_images",
-    "reduced_design", "run_factorial_experiment", "simulate_binomial_glmm", "summarise_recovery",
+    "reduced_design", "run_factorial_experiment", "simulate_binomial_glmm",
     "weighted_sq_distances", "PAPER_NUMBERS", "PAPER_TABLE2", "cell_predictions", "findings",
     "plot_figure1", "plot_figure2", "table2_comparison", "recovery_study",
 ]

@@ -21,7 +21,7 @@ import pandas as pd
 from amdo_lab.common import check_instance, make_rng
 from amdo_lab.face_glmm.experiment import FactorialDesign, run_factorial_experiment
 
-__all__ = ["load_or_run_experiment", "experiment_cache_key", "RESULT_MODULES"]
+__all__ = ["load_or_run_experiment", "RESULT_MODULES"]
 
 #: The modules whose code determines the experiment's table: the driver, the face generator
 #: with its preprocessing, and the PCA+LDA recogniser.
@@ -31,18 +31,11 @@ RESULT_MODULES = ("amdo_lab.face_glmm.experiment", "amdo_lab.face_glmm.populatio
 
 def _module_source(module: str | ModuleType) -> str:
     """The source text of a module given as an object or a dotted name."""
-    if isinstance(module, str):
-        try:
-            module = importlib.import_module(module)
-        except ImportError as error:
-            raise ValueError(f"modules must hold importable module names, got {module!r}: {error}") from None
-    if not isinstance(module, ModuleType):
-        raise TypeError(f"modules must hold modules or dotted module names, got {type(module).__name__}")
-    return inspect.getsource(module)
+    return inspect.getsource(importlib.import_module(module) if isinstance(module, str) else module)
 
 
-def experiment_cache_key(design: FactorialDesign, *, rng: int | np.random.Generator,
-                         modules: tuple[str | ModuleType, ...] = RESULT_MODULES) -> str:
+def _experiment_cache_key(design: FactorialDesign, *, rng: int | np.random.Generator,
+                          modules: tuple[str | ModuleType, ...] = RESULT_MODULES) -> str:
     """A 16-hex-digit key hashing the design, the seed and the source of ``modules``.
 
     Parameters
@@ -64,9 +57,6 @@ def experiment_cache_key(design: FactorialDesign, *, rng: int | np.random.Genera
     ----------
     Givens et al. (2004), AMDO, LNCS 3179, Sec. 4 and Table 1 (the experiment the key stands for).
     """
-    _check_design(design)
-    if isinstance(modules, (str, bytes)) or not isinstance(modules, (tuple, list)):
-        raise TypeError(f"modules must be a tuple of modules or dotted module names, got {type(modules).__name__}")
     digest = hashlib.sha256()
     digest.update(repr((design, sorted(design.population_kwargs.items()), _rng_key(rng))).encode())
     for module in modules:
@@ -79,7 +69,7 @@ def load_or_run_experiment(design: FactorialDesign, cache_dir: str | Path, *,
                            rng: int | np.random.Generator) -> tuple[pd.DataFrame, bool]:
     """Return the table of :func:`run_factorial_experiment` from the cache, or compute and store it.
 
-    The table is read from ``cache_dir`` when a file with the same :func:`experiment_cache_key`
+    The table is read from ``cache_dir`` when a file with the same ``_experiment_cache_key``
     exists, and otherwise computed and written there. A generator passed as ``rng`` is advanced
     (it spawns the experiment's streams) only when the table is computed.
 
@@ -103,9 +93,9 @@ def load_or_run_experiment(design: FactorialDesign, cache_dir: str | Path, *,
     ----------
     Givens et al. (2004), AMDO, LNCS 3179, Sec. 4 and Table 1 (the factorial experiment).
     """
-    _check_design(design)
+    check_instance(design, "design", FactorialDesign, what="a FactorialDesign")
     check_instance(cache_dir, "cache_dir", (str, os.PathLike), what="a path (str or pathlib.Path)")
-    key = experiment_cache_key(design, rng=rng, modules=RESULT_MODULES)
+    key = _experiment_cache_key(design, rng=rng, modules=RESULT_MODULES)  # refuses a bad rng, naming it
     path = Path(cache_dir) / f"face_glmm_experiment_{key}.pkl"
     if path.exists():
         return pd.read_pickle(path), True
@@ -113,10 +103,6 @@ def load_or_run_experiment(design: FactorialDesign, cache_dir: str | Path, *,
     path.parent.mkdir(parents=True, exist_ok=True)
     table.to_pickle(path)
     return table, False
-
-
-def _check_design(design: object) -> None:
-    check_instance(design, "design", FactorialDesign, what="a FactorialDesign")
 
 
 def _rng_key(rng: object) -> object:

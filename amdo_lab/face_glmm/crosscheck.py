@@ -12,9 +12,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from amdo_lab.common import MAX_SAMPLES, check_dataframe, check_choice, check_names, check_positive_int
-from amdo_lab.face_glmm.design import build_design, group_indices, parse_formula
-from amdo_lab.face_glmm.glmm import response_counts
+from amdo_lab.common import check_dataframe, check_choice, check_names
+from amdo_lab.face_glmm.design import group_indices, parse_formula
+from amdo_lab.face_glmm.glmm import _design_and_response
 
 __all__ = ["PeerFit", "lme4_available", "fit_with_lme4", "fit_gee", "fit_naive_logistic"]
 
@@ -29,7 +29,7 @@ class PeerFit:
         Which fit: ``"lme4 glmer(nAGQ=0)"``, ``"GEE (exchangeable)"``, ``"GEE (independence)"`` or
         ``"naive logistic"``.
     coefficients : pandas.DataFrame
-        Indexed by design column (the names of :func:`build_design`), with ``estimate`` (logit scale)
+        Indexed by design column (the names of the fit's design), with ``estimate`` (logit scale)
         and ``se`` (its standard error: lme4's model-based, GEE's robust sandwich, the GLM's
         model-based). Entries are NaN where the peer's iterations diverged (see ``finite``).
     variance_components : dict or None
@@ -150,7 +150,7 @@ def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), n_t
     Bates et al. (2015), J. Stat. Softw. 67(1) (``glmer``, the Laplace fit with nAGQ=0); the model is
     eq. (2) of Givens et al. (2004), AMDO, LNCS 3179.
     """
-    design, _ = _design_and_response(table, fixed, n_trials)
+    design, _, n_trials = _design_and_response(table, fixed, n_trials)
     random = check_names(random, "random", accept_single=True)
     for term in random:
         group_indices(table, term)  # its columns exist and have no missing values
@@ -182,15 +182,6 @@ def fit_with_lme4(table: pd.DataFrame, fixed: str, random=("t", "p", "t:p"), n_t
                                  "se": np.array(out["SE"], dtype=float)}, index=list(design.column_names))
     variances = {name: float(v) for name, v in zip(out["VCNAMES"], np.array(out["VC"], dtype=float))}
     return PeerFit("lme4 glmer(nAGQ=0)", coefficients, variances, float(out["TIME"][0]), float(out["CPU"][0]))
-
-
-def _design_and_response(table: object, fixed: str, n_trials: object) -> tuple:
-    """The fixed design and the response counts, after checking the table and ``n_trials``."""
-    check_dataframe(table, "table")
-    n_trials = check_positive_int(n_trials, "n_trials", maximum=MAX_SAMPLES)
-    response, terms = parse_formula(fixed)
-    y = response_counts(table, response, n_trials)  # proportions above 1 would not be refused by statsmodels
-    return build_design(table, terms), y
 
 
 def fit_gee(table: pd.DataFrame, fixed: str, group: str = "p", n_trials: int = 30,
@@ -226,9 +217,8 @@ def fit_gee(table: pd.DataFrame, fixed: str, group: str = "p", n_trials: int = 3
 
     check_choice(correlation, "correlation", ("exchangeable", "independence"))
     structure = sm.cov_struct.Exchangeable() if correlation == "exchangeable" else sm.cov_struct.Independence()
-    design, y = _design_and_response(table, fixed, n_trials)
-    if group not in table.columns:
-        raise ValueError(f"group {group!r} is not a column of table")
+    design, y, n_trials = _design_and_response(table, fixed, n_trials)
+    check_dataframe(table, "table (its group column)", columns=[group])
     order = np.argsort(table[group].to_numpy(), kind="stable")
     wall, cpu = time.perf_counter(), time.process_time()
     model = sm.GEE(y[order] / n_trials, design.matrix[order], groups=table[group].to_numpy()[order],
@@ -267,7 +257,7 @@ def fit_naive_logistic(table: pd.DataFrame, fixed: str, n_trials: int = 30) -> P
     """
     import statsmodels.api as sm
 
-    design, y = _design_and_response(table, fixed, n_trials)
+    design, y, n_trials = _design_and_response(table, fixed, n_trials)
     endog = np.column_stack([y, n_trials - y])
     wall, cpu = time.perf_counter(), time.process_time()
     fitted = sm.GLM(endog, design.matrix, family=sm.families.Binomial()).fit()

@@ -2,16 +2,15 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass
 from itertools import combinations
 
 import numpy as np
 import pandas as pd
 
-from amdo_lab.common import as_finite_array, check_dataframe, check_instance
+from amdo_lab.common import as_finite_array, check_dataframe, check_instance, check_positive_int
 
-__all__ = ["DesignMatrix", "parse_formula", "build_design", "group_indices", "PAPER_FORMULA",
+__all__ = ["DesignMatrix", "parse_formula", "group_indices", "PAPER_FORMULA",
            "SIZE_FORMULA"]
 
 #: Eq. (2): main effects U, M, D, F; interactions UM, UF, UD, MF, MD, DF and MDF.
@@ -47,14 +46,12 @@ def parse_formula(formula: str) -> tuple[str, list[tuple[str, ...]]]:
     if not isinstance(formula, str) or formula.count("~") != 1:
         raise ValueError(f"fixed must be a formula 'response ~ terms', got {formula!r}")
     lhs, rhs = (part.strip() for part in formula.split("~"))
-    if not lhs or not rhs:
-        raise ValueError(f"fixed must name a response and at least one term, got {formula!r}")
+    if not lhs:
+        raise ValueError(f"fixed must name a response, got {formula!r}")
     terms: list[tuple[str, ...]] = []
     for chunk in rhs.split("+"):
         chunk = chunk.strip()
-        if chunk in ("1", ""):
-            if chunk == "":
-                raise ValueError(f"fixed has an empty term: {formula!r}")
+        if chunk == "1":  # the intercept, always present
             continue
         if "*" in chunk:
             names = [c.strip() for c in chunk.split("*")]
@@ -62,8 +59,8 @@ def parse_formula(formula: str) -> tuple[str, list[tuple[str, ...]]]:
         else:
             expanded = [tuple(c.strip() for c in chunk.split(":"))]
         for term in expanded:
-            if any(not name for name in term):
-                raise ValueError(f"fixed has an empty variable name in {chunk!r}")
+            if any(not name for name in term):  # an empty term (no term at all) or an empty variable name
+                raise ValueError(f"fixed has an empty term or variable name: {formula!r}")
             if term not in terms:
                 terms.append(term)
     terms.sort(key=len)  # stable: keeps first-appearance order within an order
@@ -113,8 +110,7 @@ def _variable_coding(column: pd.Series, name: str, levels=None) -> tuple[np.ndar
                 raise ValueError(f"factor {name!r} has levels with no rows: {missing}")
         else:
             levels = tuple(sorted(column.unique(), key=str))
-    if len(levels) < 2:
-        raise ValueError(f"factor {name!r} needs at least 2 levels, got {list(levels)}")
+    check_positive_int(len(levels), f"the levels of factor {name!r} {list(levels)}", minimum=2)
     codes = pd.Categorical(column, categories=list(levels)).codes
     if np.any(codes < 0):
         raise ValueError(f"factor {name!r} has values outside its levels {list(levels)}")
@@ -122,7 +118,7 @@ def _variable_coding(column: pd.Series, name: str, levels=None) -> tuple[np.ndar
     return contrast[codes], [f"{name}[{lev}]" for lev in levels[:-1]], tuple(levels)
 
 
-def build_design(table: pd.DataFrame, terms: list[tuple[str, ...]], levels: dict | None = None) -> DesignMatrix:
+def _build_design(table: pd.DataFrame, terms: list[tuple[str, ...]], levels: dict | None = None) -> DesignMatrix:
     """Intercept plus one block of sum-to-zero coded columns per term (row-wise products of codings).
 
     A factor with L levels gets L-1 columns: level j < L-1 is the unit vector e_j, the last level is
@@ -135,7 +131,7 @@ def build_design(table: pd.DataFrame, terms: list[tuple[str, ...]], levels: dict
         One row per observation; text and categorical columns are factors (a categorical column's
         categories fix its level order and must all occur), numeric columns are covariates.
     terms : list of tuple of str
-        Terms as :func:`parse_formula` returns them.
+        Terms as :func:`parse_formula` returns them (the callers parse a checked formula).
     levels : dict, optional
         Factor name -> the levels to code it with (e.g. those of a fit, to code new data alike).
 
@@ -149,15 +145,6 @@ def build_design(table: pd.DataFrame, terms: list[tuple[str, ...]], levels: dict
     ----------
     Givens et al. (2004), AMDO, LNCS 3179, eq. (2) (the fixed effects of the model).
     """
-    if isinstance(terms, (str, tuple)) or not hasattr(terms, "__iter__"):
-        raise TypeError(f"terms must be a list of tuples of column names (see parse_formula), got {terms!r}")
-    terms = list(terms)
-    bad = [term for term in terms if not isinstance(term, tuple) or not term
-           or not all(isinstance(name, str) for name in term)]
-    if bad:
-        raise TypeError(f"terms must be a list of tuples of column names (see parse_formula), got the term {bad[0]!r}")
-    if levels is not None and not isinstance(levels, Mapping):
-        raise TypeError(f"levels must map factor names to their levels, got {type(levels).__name__}")
     variables = sorted({v for term in terms for v in term})
     check_dataframe(table, "table (the terms of fixed)", columns=variables)  # names both: either may be wrong
     levels = dict(levels or {})

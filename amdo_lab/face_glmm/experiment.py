@@ -12,14 +12,14 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from amdo_lab.common import (MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check_image_shape, check_names, check_positive,
-                             check_positive_int, make_rng)
+from amdo_lab.common import (MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check_image_shape, check_instance, check_names,
+                             check_positive, check_positive_int, make_rng)
 from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.face_glmm.pcalda import METRICS, PcaLda, pca_basis, weighted_sq_distances
 from amdo_lab.face_glmm.population import (
     STANDARD_SHAPE,
+    _elliptical_mask,
     downsample_by_two,
-    elliptical_mask,
     make_face_population,
     preprocess_images,
 )
@@ -83,8 +83,7 @@ class FactorialDesign:
         rows, cols = check_image_shape(self.shape, minimum=8)
         if rows % 2 or cols % 2:
             raise ValueError(f"shape must have even rows and cols (the small size halves them), got {self.shape}")
-        if not isinstance(self.population_kwargs, dict):
-            raise TypeError(f"population_kwargs must be a dict, got {type(self.population_kwargs).__name__}")
+        check_instance(self.population_kwargs, "population_kwargs", dict)
 
 
 def paper_design() -> FactorialDesign:
@@ -149,7 +148,7 @@ def make_supplement(images: np.ndarray, kind: str, *, rng: int | np.random.Gener
 
 def _make_supplement(images: np.ndarray, kind: str, rng: np.random.Generator) -> np.ndarray:
     """:func:`make_supplement` on validated images (the experiment's inner call)."""
-    mask = elliptical_mask(images.shape[1:])
+    mask = _elliptical_mask(images.shape[1:])
     if kind == "shift":
         out = np.zeros_like(images)
         out[:, :, :-1] = images[:, :, 1:]
@@ -223,8 +222,7 @@ def experiment_draws(design: FactorialDesign, *, rng: int | np.random.Generator)
     ----------
     Givens et al. (2004), AMDO, LNCS 3179, Sec. 4 and Table 1.
     """
-    if not isinstance(design, FactorialDesign):
-        raise TypeError(f"design must be a FactorialDesign, got {type(design).__name__}")
+    check_instance(design, "design", FactorialDesign)
     gen = make_rng(rng, "rng")
     pop_rng, split_rng, gallery_rng, noise_seed = gen.spawn(4)
     pop = make_face_population(design.n_subjects, 4, rng=pop_rng, shape=design.shape,
@@ -296,7 +294,7 @@ def _run(design: FactorialDesign, rng) -> pd.DataFrame:
                     probe_feat = model.transform(probes)
                     cand_feat = model.transform(candidates.reshape(n * 3, -1))
                     for m in METRICS:
-                        dist = weighted_sq_distances(probe_feat, cand_feat, model.metric_weights(m))
+                        dist = weighted_sq_distances(probe_feat, cand_feat, model._metric_weights(m))
                         y = _rank1_counts(dist.reshape(n, n, 3), gallery_choice)
                         blocks.append(pd.DataFrame({
                             "t": t, "p": np.arange(n), "U": u, "M": m, "D": d, "S": size,

@@ -22,7 +22,7 @@ from scipy.special import expit
 
 from amdo_lab.common import MAX_SAMPLES, as_finite_array, check_dataframe, check_in_range, check_names, check_positive_int
 from amdo_lab.common.threads import one_blas_thread
-from amdo_lab.face_glmm.design import DesignMatrix, build_design, group_indices, parse_formula
+from amdo_lab.face_glmm.design import DesignMatrix, _build_design, group_indices, parse_formula
 from amdo_lab.face_glmm.laplace import MAX_SD, CrossedProblem
 
 #: Starting value of every random-effect standard deviation (logit scale) in the fit's optimiser.
@@ -129,7 +129,7 @@ class GlmmResult:
                 raise ValueError(f"grid must give numeric variable {v!r}")
             full[v] = self.design.levels[v][0]
         _, terms = parse_formula(self.formula)
-        design = build_design(full, terms, self.design.levels)
+        design = _build_design(full, terms, self.design.levels)
         x = design.matrix.copy()
         for term, cols in design.term_columns.items():
             if any(v in absent for v in term.split(":")):
@@ -164,7 +164,7 @@ class GlmmResult:
         _check_rows(newdata, "newdata")
         _check_ci(ci)
         _, terms = parse_formula(self.formula)
-        design = build_design(newdata, terms, self.design.levels).matrix
+        design = _build_design(newdata, terms, self.design.levels).matrix
         return self._predict_rows(design, newdata.index, ci)
 
 
@@ -210,15 +210,13 @@ def response_counts(table: pd.DataFrame, response: str, n_trials: int) -> np.nda
     ----------
     Givens et al. (2004), AMDO, LNCS 3179, eq. (2) (Y, rank-1 matches out of n galleries).
     """
-    if response not in table.columns:
-        raise ValueError(f"response {response!r} is not a column of table")
+    check_dataframe(table, "table (the response of fixed)", columns=[response])
     if pd.api.types.is_bool_dtype(table[response]):
         raise TypeError(f"response {response!r} must hold counts, got booleans")
-    y = pd.to_numeric(table[response], errors="coerce").to_numpy(dtype=float)
-    if not np.all(np.isfinite(y)):
-        raise ValueError(f"response {response!r} must be finite counts, got NaN/non-numeric values")
-    if np.any(y < 0) or np.any(y > n_trials) or np.any(y != np.round(y)):
-        raise ValueError(f"response {response!r} must hold integer counts in [0, n_trials={n_trials}]")
+    y = pd.to_numeric(table[response], errors="coerce").to_numpy(dtype=float)  # non-numeric values become NaN
+    # finite whole numbers in [0, n_trials]: as_finite_array refuses NaN, fractions and counts outside the range
+    as_finite_array(y, f"response {response!r} (integer counts, n_trials={n_trials})", dtype=np.int64,
+                    bounds=(0, n_trials))
     return y
 
 
@@ -256,10 +254,8 @@ def laplace_deviance(table: pd.DataFrame, fixed: str, random: list[str] | tuple[
     the model is eq. (2) of Givens et al. (2004), AMDO, LNCS 3179.
     """
     random = check_names(random, "random", accept_single=True)  # grouping terms such as "t", "p", "t:p"
-    sd = as_finite_array(sd, "sd", bounds=(0.0, MAX_SD))
-    sd = sd.reshape(1, -1) if sd.ndim == 1 else sd
-    if sd.ndim != 2 or sd.shape[1] != len(random):
-        raise ValueError(f"sd must have {len(random)} columns (one per random term), got shape {sd.shape}")
+    # one column per random term, one row per evaluation (a single row may be given as a vector)
+    sd = as_finite_array(np.atleast_2d(sd), "sd", shape=(None, len(random)), bounds=(0.0, MAX_SD))
     with one_blas_thread():
         problem, start = _setup(table, fixed, random, n_trials)
         beta, u_rest, u_big = start
@@ -270,16 +266,21 @@ def laplace_deviance(table: pd.DataFrame, fixed: str, random: list[str] | tuple[
     return np.array(out)
 
 
-def _setup(table, fixed, random, n_trials):
-    """Check the inputs, build the fast problem and the starting coefficients."""
+def _design_and_response(table: object, fixed: str, n_trials: object) -> tuple[DesignMatrix, np.ndarray, int]:
+    """The fixed design, the response counts and ``n_trials``, after checking the table (a DataFrame
+    with rows), the formula and ``n_trials`` (shared by the fit and the peers' fits)."""
     _check_rows(table, "table")
     n_trials = check_positive_int(n_trials, "n_trials", maximum=MAX_SAMPLES)
     response, terms = parse_formula(fixed)
     y = response_counts(table, response, n_trials)
-    design = build_design(table, terms)
+    return _build_design(table, terms), y, n_trials
+
+
+def _setup(table, fixed, random, n_trials):
+    """Check the inputs, build the fast problem and the starting coefficients."""
+    design, y, n_trials = _design_and_response(table, fixed, n_trials)
     x = design.matrix
-    if np.linalg.matrix_rank(x) < x.shape[1]:
-        raise ValueError(f"fixed design is singular (rank {np.linalg.matrix_rank(x)} < {x.shape[1]} columns)")
+    check_positive_int(int(np.linalg.matrix_rank(x)), "the column rank of the fixed design (singular)", minimum=x.shape[1])
     groups = [group_indices(table, term) for term in random]
     problem = CrossedProblem(y, np.full(y.shape, float(n_trials)), x, groups)
     problem.design = design

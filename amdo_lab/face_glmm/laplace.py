@@ -21,64 +21,24 @@ import scipy.linalg
 import scipy.sparse as sp
 from scipy.special import expit, xlogy
 
-from amdo_lab.common import as_finite_array
+from amdo_lab.common import as_finite_array, check_positive_int
 
-__all__ = ["CrossedProblem", "MAX_ABS_ETA", "MAX_SD", "MAX_TRIALS", "binomial_deviance", "laplace_deviance_reference"]
+__all__ = ["CrossedProblem", "MAX_ABS_ETA", "MAX_SD", "MAX_TRIALS", "laplace_deviance_reference"]
 
 
-#: Largest binomial size accepted by :func:`binomial_deviance` (integers up to it are exact floats).
+#: Largest binomial size accepted (integers up to it are exact floats).
 MAX_TRIALS = 1e15
-#: Largest |linear predictor| accepted by :func:`binomial_deviance`, logit units.
+#: Largest |linear predictor| accepted, logit units.
 MAX_ABS_ETA = 1e6
 #: Largest random-effect standard deviation accepted (logit units): sd = 1e3 already puts every
 #: probability at 0 or 1 to machine precision, and larger ones overflow the penalised IRLS.
 MAX_SD = 1e3
 
 
-def binomial_deviance(y: np.ndarray, n_trials: np.ndarray, eta: np.ndarray) -> float:
-    """Binomial deviance 2 sum[y log(y/mu) + (n-y) log((n-y)/(n-mu))], mu = n expit(eta).
-
-    Written with log-expit of the linear predictor so that p -> 0 or 1 stays finite.
-
-    Parameters
-    ----------
-    y : array_like
-        Success counts, each in [0, n_trials].
-    n_trials : float or array_like
-        Positive binomial sizes n, one per count or one for all, each at most 1e15 (counts that a
-        float holds exactly; beyond, the deviance can overflow).
-    eta : array_like
-        Linear predictor (logit scale), the shape of ``y``, each within +-1e6 (expit is 0 or 1 to
-        machine precision beyond +-40 already; the bound keeps y * eta finite).
-
-    Returns
-    -------
-    float
-        The deviance, >= 0 (0 when every mu equals y).
-
-    References
-    ----------
-    McCullagh & Nelder (1989), Generalized Linear Models, 2nd ed., Sec. 4.4.3 (binomial deviance); the
-    dev(y, eta) term of the Laplace deviance of eq. (2) in Givens et al. (2004), AMDO, LNCS 3179.
-    """
-    y, n_trials = _check_counts(y, n_trials)
-    eta = as_finite_array(eta, "eta", shape=y.shape, max_abs=MAX_ABS_ETA)  # the shape of y
-    return _binomial_deviance(y, n_trials, eta)
-
-
-def _check_counts(y: object, n_trials: object) -> tuple[np.ndarray, np.ndarray]:
-    """Counts y in [0, n_trials] and binomial sizes in (0, MAX_TRIALS], one per count or one for all."""
-    y = as_finite_array(y, "y", bounds=(0.0, MAX_TRIALS))
-    n_trials = as_finite_array(n_trials, "n_trials", bounds=(0.0, MAX_TRIALS), closed="right")
-    if n_trials.shape not in ((), y.shape):
-        raise ValueError(f"n_trials must be a number or have the shape of y {y.shape}, got {n_trials.shape}")
-    if np.any(y > n_trials):
-        raise ValueError("y must hold counts in [0, n_trials]")
-    return y, n_trials
-
-
 def _binomial_deviance(y: np.ndarray, n_trials: np.ndarray, eta: np.ndarray, saturated: float | None = None) -> float:
-    """:func:`binomial_deviance` on validated arrays (the IRLS loop's inner call).
+    """Binomial deviance 2 sum[y log(y/mu) + (n-y) log((n-y)/(n-mu))], mu = n expit(eta), on checked
+    counts, sizes and linear predictor (the IRLS loop's inner call), written with log-expit of the
+    linear predictor so that p -> 0 or 1 stays finite (the dev(y, eta) term of eq. (2)'s Laplace deviance).
 
     ``saturated`` = sum[y log(y/n) + (n-y) log((n-y)/n)], which does not depend on eta, may be
     passed in once; the fitted log-likelihood uses y log p + (n-y) log(1-p) = y eta + n log(1-p).
@@ -191,15 +151,19 @@ def laplace_deviance_reference(y: np.ndarray, n_trials: np.ndarray, x: np.ndarra
     Givens et al. (2004), AMDO, LNCS 3179, eq. (2); Bates, Maechler, Bolker & Walker (2015),
     J. Stat. Softw. 67, Sec. 3; Breslow & Clayton (1993), JASA 88, eqs. (5)-(7).
     """
-    y, n_trials = _check_counts(y, n_trials)
+    y = as_finite_array(y, "y", bounds=(0.0, MAX_TRIALS))
+    n_trials = as_finite_array(n_trials, "n_trials", bounds=(0.0, MAX_TRIALS), closed="right")
+    if n_trials.shape not in ((), y.shape):
+        raise ValueError(f"n_trials must be a number or have the shape of y {y.shape}, got {n_trials.shape}")
+    if np.any(y > n_trials):
+        raise ValueError("y must hold counts in [0, n_trials]")
     n_trials = np.broadcast_to(n_trials, y.shape)
     x = as_finite_array(x, "x", shape=(y.size, None), max_abs=MAX_ABS_ETA)
     z = as_finite_array(z, "z", shape=(y.size, None), bounds=(0.0, 1.0))
-    sd_of_columns = as_finite_array(sd_of_columns, "sd_of_columns", ndim=1, bounds=(0.0, MAX_SD))
-    if sd_of_columns.size != z.shape[1]:  # which of the two is at fault is unknowable: name both
-        raise ValueError(f"sd_of_columns must have one entry per column of z ({z.shape[1]}), got {sd_of_columns.size}")
-    if np.linalg.matrix_rank(x) < x.shape[1]:
-        raise ValueError(f"x must have full column rank, got rank {np.linalg.matrix_rank(x)} < {x.shape[1]} columns")
+    # one entry per column of z: the message names both, since either may be the one at fault
+    sd_of_columns = as_finite_array(sd_of_columns, "sd_of_columns (like the columns of z)", shape=z.shape[1:],
+                                    bounds=(0.0, MAX_SD))
+    check_positive_int(int(np.linalg.matrix_rank(x)), "the column rank of x", minimum=x.shape[1])  # full rank
     return _laplace_deviance_reference(y, n_trials, x, z, sd_of_columns)
 
 

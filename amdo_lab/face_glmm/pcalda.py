@@ -7,7 +7,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from amdo_lab.common import MAX_SAMPLES, as_finite_array, check_choice, check_fitted, check_in_range, check_positive_int
+from amdo_lab.common import (MAX_SAMPLES, as_finite_array, check_choice, check_fitted, check_in_range, check_instance,
+                             check_positive, check_positive_int, check_same_shape)
 
 __all__ = ["PcaLda", "PcaBasis", "pca_basis", "e90_dimension", "fisher_basis", "METRICS"]
 
@@ -61,8 +62,7 @@ def pca_basis(samples: np.ndarray) -> PcaBasis:
     Givens et al. (2004), AMDO, LNCS 3179, Sec. 3.
     """
     samples = as_finite_array(samples, "samples", ndim=2, max_abs=_MAX_MAGNITUDE)
-    if samples.shape[0] < 2:
-        raise ValueError(f"samples must have at least 2 rows for a covariance, got {samples.shape[0]}")
+    check_positive_int(len(samples), "the rows of samples (for a covariance)", minimum=2)
     return _pca_basis(samples)
 
 
@@ -94,8 +94,7 @@ def e90_dimension(eigenvalues: np.ndarray, energy: float = 0.90) -> int:
     Givens et al. (2004), AMDO, LNCS 3179, Sec. 4 (the E90 PCA dimension, after Kirby, their ref. [7]).
     """
     eigenvalues = as_finite_array(eigenvalues, "eigenvalues", ndim=1, bounds=(0.0, np.inf))
-    if eigenvalues.max() == 0:
-        raise ValueError("eigenvalues must have a positive sum, got all zeros")
+    check_positive(eigenvalues.sum(), "the sum of eigenvalues")
     check_in_range(energy, "energy", 0, 1, closed="right")
     return _e90_dimension(eigenvalues / eigenvalues.max(), energy)  # the share is scale-free: no overflow
 
@@ -199,33 +198,25 @@ class PcaLda:
             check_choice(pca_dimension, "pca_dimension", ("fixed", "e90"))
         else:  # a number of PCA axes: at most the number of images, itself bounded by MAX_SAMPLES
             check_positive_int(pca_dimension, "pca_dimension", maximum=MAX_SAMPLES)
-        base_images_per_class = check_positive_int(self.base_images_per_class, "base_images_per_class",
-                                                   maximum=MAX_SAMPLES)
+        images_per_class = check_positive_int(self.base_images_per_class, "base_images_per_class", maximum=MAX_SAMPLES)
         samples = _as_samples(images)
         labels = np.asarray(labels)
-        if labels.shape != (samples.shape[0],):
-            raise ValueError(f"labels must have shape ({samples.shape[0]},), got {labels.shape}")
-        if labels.dtype.kind in "fc" and not np.isfinite(labels).all():
-            raise ValueError("labels must not contain NaN or inf (every image needs a finite subject id)")
-        if basis is not None and not isinstance(basis, PcaBasis):
-            raise TypeError(f"basis must be a PcaBasis (from pca_basis), got {type(basis).__name__}")
-        if basis is not None and basis.mean.shape != (samples.shape[1],):
-            raise ValueError(f"basis must be the PcaBasis of images with {samples.shape[1]} pixels, "
-                             f"got one of {basis.mean.size} pixels")
-        n_classes = np.unique(labels).size
-        if n_classes < 2:
-            raise ValueError("labels must contain at least 2 subjects for LDA")
-        if samples.shape[0] - n_classes < n_classes - 1:
-            raise ValueError(
-                f"too few images for LDA: {samples.shape[0]} images of {n_classes} subjects leave "
-                f"{samples.shape[0] - n_classes} within-class degrees of freedom, need >= {n_classes - 1}"
-            )
+        check_same_shape(labels, samples[:, 0], "labels", "images (one label per image)")
+        if labels.dtype.kind in "fc":  # subject ids as numbers: every image needs a finite one
+            as_finite_array(labels, "labels")
+        if basis is not None:  # a precomputed PCA of images with as many pixels
+            check_instance(basis, "basis", PcaBasis, what="a PcaBasis (from pca_basis)")
+            as_finite_array(basis.mean, "basis (the mean image of its images)", shape=samples.shape[1:])
+        n_classes = check_positive_int(np.unique(labels).size, "the subjects in labels (for LDA)", minimum=2)
+        n_images = samples.shape[0]
+        check_positive_int(n_images - n_classes, f"too few images for LDA: the within-class degrees of freedom of "
+                           f"images ({n_images} images of {n_classes} subjects)", minimum=n_classes - 1)
         self.basis_ = basis if basis is not None else _pca_basis(samples)
         cap = min(samples.shape[0] - n_classes, self.basis_.vectors.shape[1])
         if pca_dimension == "e90":
             k = _e90_dimension(self.basis_.eigenvalues)
         elif pca_dimension == "fixed":
-            k = int(0.6 * (n_classes * base_images_per_class - 1))  # 114 for 64 x 3
+            k = int(0.6 * (n_classes * images_per_class - 1))  # 114 for 64 x 3
         else:
             k = int(pca_dimension)
         self.n_pca_ = int(min(k, cap))
@@ -260,8 +251,7 @@ class PcaLda:
     def _project(self, images: np.ndarray, name: str) -> np.ndarray:
         """:meth:`transform`, with errors naming the caller's argument ``name``."""
         samples = _as_samples(images, name)
-        if samples.shape[1] != self.projection_.shape[0]:
-            raise ValueError(f"{name} must have {self.projection_.shape[0]} pixels, got {samples.shape[1]}")
+        check_same_shape(samples[0], self.basis_.mean, f"the pixels of {name}", "those of the training images")
         return (samples - self.basis_.mean) @ self.projection_
 
     def distances(self, probes: np.ndarray, gallery: np.ndarray, metric: str = "l2") -> np.ndarray:
@@ -284,23 +274,11 @@ class PcaLda:
         check_choice(metric, "metric", METRICS)
         check_fitted(self, ("basis_", "projection_", "eigenvalues_"))
         return _weighted_sq_distances(self._project(probes, "probes"), self._project(gallery, "gallery"),
-                                     self.metric_weights(metric))
+                                     self._metric_weights(metric))
 
-    def metric_weights(self, metric: str) -> np.ndarray:
-        """Per-axis weights of the eq. (1) distance.
-
-        Parameters
-        ----------
-        metric : {"l2", "soft_l2"}
-            L2 (all weights 1) or soft L2 (lambda_i ** 0.2, lambda_i the Fisher eigenvalues).
-
-        Returns
-        -------
-        ndarray, shape (r,)
-            Non-negative weights w_i of sum_i w_i (a_i - b_i)^2.
-        """
-        check_choice(metric, "metric", METRICS)
-        check_fitted(self, ("basis_", "projection_", "eigenvalues_"))
+    def _metric_weights(self, metric: str) -> np.ndarray:
+        """Per-axis weights ``(r,)`` of the eq. (1) distance of a fitted model for a checked ``metric``: L2
+        (all weights 1) or soft L2 (lambda_i ** 0.2, lambda_i the Fisher eigenvalues)."""
         if metric == "l2":
             return np.ones_like(self.eigenvalues_)
         return self.eigenvalues_ ** SOFT_L2_POWER
@@ -329,11 +307,9 @@ def weighted_sq_distances(a: np.ndarray, b: np.ndarray, weights: np.ndarray) -> 
     Givens et al. (2004), AMDO, LNCS 3179, eq. (1).
     """
     a = as_finite_array(a, "a", ndim=2, max_abs=_MAX_MAGNITUDE)
-    b = as_finite_array(b, "b", ndim=2, max_abs=_MAX_MAGNITUDE)
-    weights = as_finite_array(weights, "weights", ndim=1, bounds=(0.0, _MAX_MAGNITUDE))
-    if not a.shape[1] == b.shape[1] == weights.size:  # which one is at fault is unknowable: name the three
-        raise ValueError(f"a, b and weights must have as many axes (columns, entries), got {a.shape[1]}, "
-                         f"{b.shape[1]} and {weights.size}")
+    # as many axes as a: the messages name a too, since either may be the one at fault
+    b = as_finite_array(b, "b (like a)", shape=(None, a.shape[1]), max_abs=_MAX_MAGNITUDE)
+    weights = as_finite_array(weights, "weights (like a)", shape=a.shape[1:], bounds=(0.0, _MAX_MAGNITUDE))
     return _weighted_sq_distances(a, b, weights)
 
 

@@ -22,7 +22,6 @@ __all__ = [
     "FacePopulation",
     "STANDARD_SHAPE",
     "SMALL_SHAPE",
-    "elliptical_mask",
     "make_face_population",
     "preprocess_images",
     "downsample_by_two",
@@ -84,6 +83,12 @@ def _blob(x, y, cx, cy, sx, sy):
     return np.exp(-0.5 * (((x - cx) / sx) ** 2 + ((y - cy) / sy) ** 2))
 
 
+#: Standard deviation of log difficulty across subjects.
+DIFFICULTY_SPREAD = 0.25
+#: Pixel noise standard deviation (grey values; face contrast is about 1).
+NOISE_SD = 0.05
+
+
 def make_face_population(
     n_subjects: int,
     images_per_subject: int,
@@ -91,8 +96,6 @@ def make_face_population(
     rng: int | np.random.Generator,
     shape: tuple[int, int] = STANDARD_SHAPE,
     nuisance: float = 1.0,
-    difficulty_spread: float = 0.25,
-    noise_sd: float = 0.05,
     texture_slope: float | None = TEXTURE_SLOPE,
     texture_amplitude: float = TEXTURE_AMPLITUDE,
 ) -> FacePopulation:
@@ -111,10 +114,6 @@ def make_face_population(
     nuisance : float, default 1.0
         Global scale of the per-image variation, in [0, 100]; the calibration knob that sets the
         overall rank-1 rate (the chapter's experiment calibrates it to about 76 %).
-    difficulty_spread : float, default 0.25
-        Standard deviation of log difficulty across subjects, in [0, 10].
-    noise_sd : float, default 0.05
-        Pixel noise standard deviation, in [0, 1e6] (grey values; face contrast is about 1).
     texture_slope : float or None, default TEXTURE_SLOPE (2.8)
         A number s in (0, 20] adds a Gaussian random texture with power spectrum f^-s at every
         frequency: one per subject (mostly left-right symmetric) plus a weaker one per image. None
@@ -148,8 +147,6 @@ def make_face_population(
     images_per_subject = check_positive_int(images_per_subject, "images_per_subject", minimum=2, maximum=MAX_SAMPLES)
     # upper ends: beyond them the images overflow to inf or NaN (see the docstring's ranges)
     nuisance = check_in_range(nuisance, "nuisance", 0.0, 100.0, closed="both")
-    difficulty_spread = check_in_range(difficulty_spread, "difficulty_spread", 0.0, 10.0, closed="both")
-    noise_sd = check_in_range(noise_sd, "noise_sd", 0.0, 1e6, closed="both")
     check_image_shape(shape, minimum=8)
     gen = make_rng(rng, "rng")
     rows, cols = int(shape[0]), int(shape[1])
@@ -169,7 +166,7 @@ def make_face_population(
     )
     # Mostly symmetric: odd-in-x cosine terms (sin-like after the shift below) damped.
     symmetric = 0.8
-    difficulty = np.exp(difficulty_spread * gen.standard_normal(n_subjects))
+    difficulty = np.exp(DIFFICULTY_SPREAD * gen.standard_normal(n_subjects))
 
     # Nuisance per image, scaled by the subject's difficulty.
     scale = nuisance * difficulty[labels]
@@ -204,7 +201,7 @@ def make_face_population(
     texture = np.einsum("nkr,nkl,nlc->nrc", basis_y, coeff, basis_x)
     illumination = illum[:, 0, None, None] * x + illum[:, 1, None, None] * y
     images = face * (1.0 + 0.5 * texture + illumination) - 0.8 * eyes - 0.3 * nose - 0.6 * mouth
-    images = images + noise_sd * gen.standard_normal(images.shape)
+    images = images + NOISE_SD * gen.standard_normal(images.shape)
     if texture_slope is not None:  # drawn last, so every other draw is the same without it
         texture_slope = check_in_range(texture_slope, "texture_slope", 0.0, 20.0, closed="right")
         texture_amplitude = check_in_range(texture_amplitude, "texture_amplitude", 0.0, 1e6, closed="both")
@@ -229,24 +226,10 @@ def _power_law_field(gen: np.random.Generator, n: int, shape: tuple[int, int], s
     return field / field.std(axis=(1, 2), keepdims=True)
 
 
-def elliptical_mask(shape: tuple[int, int]) -> np.ndarray:
-    """Boolean elliptical face mask, inscribed in the image frame.
-
-    Parameters
-    ----------
-    shape : tuple of int
-        Image size (rows, cols) in pixels, each at least 1.
-
-    Returns
-    -------
-    ndarray of bool, shape (rows, cols)
-        True inside the ellipse whose axes are the frame's height and width.
-
-    References
-    ----------
-    Givens et al. (2004), AMDO, LNCS 3179, Sec. 2 step 3 (the elliptical mask).
-    """
-    rows, cols = check_image_shape(shape, minimum=1)
+def _elliptical_mask(shape: tuple[int, int]) -> np.ndarray:
+    """Boolean ``(rows, cols)`` mask, True inside the ellipse whose axes are the frame's height and width
+    (Sec. 2 step 3), for the shape of a checked image stack."""
+    rows, cols = shape
     yy = (np.arange(rows) - (rows - 1) / 2) / (rows / 2)
     xx = (np.arange(cols) - (cols - 1) / 2) / (cols / 2)
     return (yy[:, None] ** 2 + xx[None, :] ** 2) <= 1.0
@@ -298,9 +281,8 @@ def preprocess_images(images: np.ndarray) -> np.ndarray:
     Givens et al. (2004), AMDO, LNCS 3179, Sec. 2 (image pre-processing, steps 3-5).
     """
     images = as_finite_array(images, "images", ndim=3)
-    mask = elliptical_mask(images.shape[1:])
-    if mask.sum() < 2:  # one pixel has no spread to standardise
-        raise ValueError(f"images must have at least 2 pixels inside the elliptical mask, got shape {images.shape}")
+    mask = _elliptical_mask(images.shape[1:])
+    check_positive_int(int(mask.sum()), "the pixels of images inside the elliptical mask", minimum=2)  # spread of one: 0
     inside = images[:, mask]
     ranks = np.argsort(np.argsort(inside, axis=1), axis=1).astype(float)
     equalised = (ranks + 0.5) / inside.shape[1]

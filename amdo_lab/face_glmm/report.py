@@ -142,8 +142,8 @@ def findings(result: GlmmResult, size_result: GlmmResult | None = None) -> pd.Da
     _check_result(result, compared=True)
     if size_result is not None:
         check_instance(size_result, "size_result", GlmmResult, what="a GlmmResult")
+        # with no S term, "all p > 0.05" would hold vacuously
         if not any("S" in term.split(":") for term in size_result.tests.index):
-            # with no S term, "all p > 0.05" would hold vacuously
             raise ValueError("size_result must be a fit with image-size (S) terms, e.g. of SIZE_FORMULA")
     m = lambda **kw: _marg(result, **kw)  # noqa: E731
     u_levels = result.design.levels["U"]

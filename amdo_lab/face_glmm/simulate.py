@@ -11,9 +11,9 @@ from scipy.special import expit
 
 from amdo_lab.common import MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check_dataframe, check_in_range, check_instance, check_positive, check_positive_int, make_rng
 from amdo_lab.face_glmm.laplace import MAX_ABS_ETA
-from amdo_lab.face_glmm.design import build_design, group_indices, parse_formula
+from amdo_lab.face_glmm.design import _build_design, group_indices, parse_formula
 
-__all__ = ["simulate_binomial_glmm", "RecoverySummary", "summarise_recovery", "recovery_study"]
+__all__ = ["simulate_binomial_glmm", "RecoverySummary", "recovery_study"]
 
 
 def simulate_binomial_glmm(table: pd.DataFrame, fixed: str, coefficients: np.ndarray,
@@ -60,7 +60,7 @@ def simulate_binomial_glmm(table: pd.DataFrame, fixed: str, coefficients: np.nda
     _check_variances(variances)
     gen = make_rng(rng, "rng")
     _, terms = parse_formula(fixed)
-    x = build_design(table, terms).matrix
+    x = _build_design(table, terms).matrix
     coefficients = as_finite_array(coefficients, "coefficients", shape=(x.shape[1],), max_abs=MAX_ABS_ETA)
     eta = x @ coefficients
     for term, variance in variances.items():
@@ -88,41 +88,12 @@ class RecoverySummary:
     table: pd.DataFrame  # per coefficient: true, mean estimate, bias, relative bias, coverage
 
 
-#: Largest |estimate| or standard error :func:`summarise_recovery` accepts (logit units).
-MAX_ABS_ESTIMATE = 1e100
-
-
-def summarise_recovery(true: pd.Series, estimates: np.ndarray, ses: np.ndarray, level: float = 0.95) -> RecoverySummary:
-    """Per-coefficient bias, relative bias and the share of Wald intervals covering the truth.
-
-    Parameters
-    ----------
-    true : pandas.Series
-        The p finite true coefficients, indexed by name.
-    estimates : array_like, shape (n_replicates, p)
-        One row of estimates per replicate (logit scale), each at most 1e100 in magnitude (beyond,
-        their mean overflows).
-    ses : array_like, shape (n_replicates, p)
-        Their standard errors, non-negative and at most 1e100.
-    level : float, default 0.95
-        Interval level in (0, 1); the interval is estimate +- z se with z the normal quantile.
-
-    Returns
-    -------
-    RecoverySummary
-        The per-coefficient table.
-
-    References
-    ----------
-    Givens et al. (2004), AMDO, LNCS 3179, eq. (2) (the model whose estimates are checked).
-    """
+def _summarise_recovery(true: pd.Series, estimates: np.ndarray, ses: np.ndarray, level: float) -> RecoverySummary:
+    """Per-coefficient bias, relative bias and the share of Wald intervals ``estimate +- z se`` (z the
+    normal quantile of ``level``) covering the truth, from the ``(n_replicates, p)`` estimates and
+    standard errors of :func:`recovery_study`'s refits (checked there)."""
     from scipy import stats
 
-    check_instance(true, "true", pd.Series, what="a pandas Series of coefficients")
-    as_finite_array(true.to_numpy(), "true")
-    estimates = as_finite_array(estimates, "estimates", shape=(None, len(true)), max_abs=MAX_ABS_ESTIMATE)
-    ses = as_finite_array(ses, "ses", shape=estimates.shape, bounds=(0.0, MAX_ABS_ESTIMATE))
-    _check_level(level)
     z = stats.norm.ppf(0.5 + level / 2)
     covered = np.abs(estimates - true.to_numpy()) <= z * ses
     mean = estimates.mean(axis=0)
@@ -172,16 +143,14 @@ def recovery_study(table: pd.DataFrame, fixed: str, coefficients: pd.Series, var
     from amdo_lab.common import spawn_rngs
     from amdo_lab.face_glmm.glmm import fit_binomial_glmm
 
-    # Everything is checked before the first (slow) refit.
+    # Everything is checked before the first (slow) refit (n_trials by the first simulation).
     gen = make_rng(rng, "rng")
     check_dataframe(table, "table")
     check_instance(coefficients, "coefficients", pd.Series, what="a pandas Series (named like the fit's)")
     _check_variances(variances)
-    if not variances:
-        raise ValueError("variances must name at least one grouping term (the refits need a random effect)")
+    check_positive_int(len(variances), "the terms of variances (the refits need a random effect)")
     n_replicates = check_positive_int(n_replicates, "n_replicates", maximum=MAX_ITERATIONS)
-    check_positive_int(n_trials, "n_trials", maximum=MAX_SAMPLES)
-    _check_level(level)
+    check_in_range(level, "level", 0, 1)
     estimates, ses, components = [], [], []
     for replicate_rng in spawn_rngs(gen, n_replicates):
         sim = table.assign(Y=simulate_binomial_glmm(table, fixed, coefficients.to_numpy(), variances, n_trials,
@@ -190,7 +159,7 @@ def recovery_study(table: pd.DataFrame, fixed: str, coefficients: pd.Series, var
         estimates.append(fit.coefficients.to_numpy())
         ses.append(np.sqrt(np.diag(fit.covariance.to_numpy())))
         components.append(fit.variance_components)
-    return summarise_recovery(coefficients, np.array(estimates), np.array(ses), level), pd.DataFrame(components)
+    return _summarise_recovery(coefficients, np.array(estimates), np.array(ses), level), pd.DataFrame(components)
 
 
 def _check_variances(variances: object) -> None:
@@ -198,6 +167,3 @@ def _check_variances(variances: object) -> None:
     for term, variance in variances.items():
         check_positive(variance, f"variances[{term!r}]", allow_zero=True)
 
-
-def _check_level(level: object) -> None:
-    check_in_range(level, "level", 0, 1)

@@ -6,15 +6,12 @@ One module per step: ``poses`` (the data), ``representation`` (the polar vector 
 strings), ``recognition`` (one step of eqs. 11-14), ``recogniser`` (the estimator), ``baselines``.
 """
 
-from amdo_lab.pdm_mixtures.gmm import GaussianMixtureResult, fit_gaussian_mixture, gaussian_log_density
+from amdo_lab.pdm_mixtures.gmm import GaussianMixtureResult, fit_gaussian_mixture
 from amdo_lab.pdm_mixtures.pdm import (
     PointDistributionModel,
-    align_to_reference,
     fit_modes,
     fit_pdm,
     generalized_procrustes,
-    normalise_shape,
-    pdm_from_moments,
     ppca_log_density,
     reconstruct,
 )
@@ -27,7 +24,6 @@ from amdo_lab.pdm_mixtures.poses import (
     TABLE1_CLASSES,
     PoseDataset,
     make_pose_dataset,
-    pose_modes,
     skeleton_strokes,
 )
 from amdo_lab.pdm_mixtures.labels import hamming_distance, label_string_log_prob
@@ -35,7 +31,6 @@ from amdo_lab.pdm_mixtures.polar_mixture import PolarPDM, held_out_log_likelihoo
 from amdo_lab.pdm_mixtures.recognition import (
     RecognitionTrace,
     ScoreComponents,
-    class_posteriors,
     gated_component_scores,
     relabel_limbs,
     winning_components,
@@ -43,7 +38,6 @@ from amdo_lab.pdm_mixtures.recognition import (
 from amdo_lab.pdm_mixtures.recogniser import AlignmentTrace, ArticulatedShapeRecogniser
 from amdo_lab.pdm_mixtures.representation import (
     articulation_centre,
-    centred_limbs,
     limb_angles,
     limb_centres,
     polar_shape_vector,
@@ -61,15 +55,15 @@ from amdo_lab.pdm_mixtures.plotting import draw_shape
 from amdo_lab.pdm_mixtures.experiments import SEPARATION_MODELS, SeparationTrial, mode_separation_trial
 
 __all__ = [
-    "GaussianMixtureResult", "fit_gaussian_mixture", "gaussian_log_density",
-    "PointDistributionModel", "align_to_reference", "fit_modes", "fit_pdm", "generalized_procrustes",
-    "normalise_shape", "pdm_from_moments", "ppca_log_density", "reconstruct",
+    "GaussianMixtureResult", "fit_gaussian_mixture",
+    "PointDistributionModel", "fit_modes", "fit_pdm", "generalized_procrustes",
+    "ppca_log_density", "reconstruct",
     "LIMB_NAMES", "LIMB_PARENTS", "JITTER_SCALE", "POSE_MODES", "POSES", "TABLE1_CLASSES", "PoseDataset",
-    "make_pose_dataset", "pose_modes", "skeleton_strokes",
+    "make_pose_dataset", "skeleton_strokes",
     "hamming_distance", "label_string_log_prob", "PolarPDM", "held_out_log_likelihood",
-    "RecognitionTrace", "ScoreComponents", "class_posteriors", "gated_component_scores", "relabel_limbs",
+    "RecognitionTrace", "ScoreComponents", "gated_component_scores", "relabel_limbs",
     "winning_components", "AlignmentTrace", "ArticulatedShapeRecogniser",
-    "articulation_centre", "centred_limbs", "limb_angles", "limb_centres", "polar_shape_vector", "wrap_angle",
+    "articulation_centre", "limb_angles", "limb_centres", "polar_shape_vector", "wrap_angle",
     "NearestProcrustesMeanClassifier", "SingleCartesianPDMClassifier", "SklearnGMMClassifier", "classical_mds",
     "pairwise_distances", "pca_embedding", "draw_shape", "SEPARATION_MODELS", "SeparationTrial",
     "mode_separation_trial",

@@ -8,13 +8,13 @@ from amdo_lab.common import (as_finite_array, check_fitted, check_in_range, chec
                              procrustes_align)
 from amdo_lab.pdm_mixtures.pdm import (
     MAX_MAGNITUDE,
-    align_to_reference,
+    _align_to_reference,
+    _ppca_log_density,
     check_articulated_shapes,
     check_shapes_agree,
     check_training_set,
     fit_pdm,
     generalized_procrustes,
-    ppca_log_density,
 )
 
 __all__ = [
@@ -63,10 +63,7 @@ class SingleCartesianPDMClassifier:
             This classifier, fitted.
         """
         check_in_range(self.variance_fraction, "variance_fraction", 0, 1, closed="right")
-        shapes, labels = check_training_set(shapes, labels)
-        aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
-        vectors = aligned.reshape(len(shapes), -1)
-        self.classes_ = tuple(dict.fromkeys(labels.tolist()))
+        vectors, labels = _fit_reference(self, shapes, labels)
         self.models_ = [fit_pdm(vectors[labels == c], variance_fraction=self.variance_fraction) for c in self.classes_]
         return self
 
@@ -83,10 +80,8 @@ class SingleCartesianPDMClassifier:
         numpy.ndarray
             ``(n, C)`` log-densities in nats, columns in ``classes_`` order.
         """
-        check_fitted(self, "classes_")
-        shapes = check_articulated_shapes(shapes, landmarks_per_limb=len(self.reference_) // 13)
-        vectors = align_to_reference(shapes.reshape(len(shapes), -1, 2), self.reference_).reshape(len(shapes), -1)
-        return np.stack([ppca_log_density(model, vectors) for model in self.models_], axis=1)
+        vectors = _aligned_vectors(self, shapes)
+        return np.stack([_ppca_log_density(model, vectors) for model in self.models_], axis=1)
 
     def predict(self, shapes: np.ndarray) -> np.ndarray:
         """Class of highest log-likelihood for every shape.
@@ -183,6 +178,23 @@ class NearestProcrustesMeanClassifier:
         return np.asarray(self.classes_)[np.argmin(distances, axis=1)]
 
 
+def _fit_reference(estimator: object, shapes: object, labels: object) -> tuple[np.ndarray, np.ndarray]:
+    """Check a training set, align it by generalised Procrustes and store the estimator's ``reference_``
+    and ``classes_`` (in order of first appearance); returns the aligned long-vectors ``(T, 26m)`` and the labels."""
+    shapes, labels = check_training_set(shapes, labels)
+    aligned, estimator.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
+    estimator.classes_ = tuple(dict.fromkeys(labels.tolist()))
+    return aligned.reshape(len(shapes), -1), labels
+
+
+def _aligned_vectors(estimator: object, shapes: object) -> np.ndarray:
+    """Shapes for a fitted estimator (as many landmarks per limb as its training shapes), aligned onto
+    its ``reference_``, as long-vectors ``(n, 26m)``."""
+    check_fitted(estimator, "classes_")
+    shapes = check_articulated_shapes(shapes, landmarks_per_limb=len(estimator.reference_) // 13)
+    return _align_to_reference(shapes.reshape(len(shapes), -1, 2), estimator.reference_).reshape(len(shapes), -1)
+
+
 def _procrustes_rms(source: np.ndarray, targets: np.ndarray) -> np.ndarray:
     """RMS residual of the similarity Procrustes fit of ``source (L, 2)`` onto each of ``targets
     (n, L, 2)``, all at once, by the closed form of 2-D Procrustes in complex numbers (the best
@@ -239,10 +251,7 @@ class SklearnGMMClassifier:
 
         check_positive_int(self.n_components, "n_components")
         generator = make_rng(self.rng, "rng")
-        shapes, labels = check_training_set(shapes, labels)
-        aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
-        vectors = aligned.reshape(len(shapes), -1)
-        self.classes_ = tuple(dict.fromkeys(labels.tolist()))
+        vectors, labels = _fit_reference(self, shapes, labels)
         if isinstance(self.rng, np.random.Generator):  # scikit-learn takes an int seed, not a Generator
             seeds = [int(generator.integers(2**31 - 1)) for _ in self.classes_]
         else:
@@ -267,9 +276,7 @@ class SklearnGMMClassifier:
         numpy.ndarray
             ``(n,)`` class names from ``classes_``.
         """
-        check_fitted(self, "classes_")
-        shapes = check_articulated_shapes(shapes, landmarks_per_limb=len(self.reference_) // 13)
-        vectors = align_to_reference(shapes.reshape(len(shapes), -1, 2), self.reference_).reshape(len(shapes), -1)
+        vectors = _aligned_vectors(self, shapes)
         scores = np.stack([m.score_samples(vectors) for m in self.models_], axis=1)
         return np.asarray(self.classes_)[np.argmax(scores, axis=1)]
 

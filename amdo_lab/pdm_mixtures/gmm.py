@@ -9,7 +9,7 @@ import numpy as np
 from amdo_lab.common import MAX_ITERATIONS, as_finite_array, check_positive, check_positive_int
 from amdo_lab.pdm_mixtures.pdm import MAX_MAGNITUDE
 
-__all__ = ["GaussianMixtureResult", "fit_gaussian_mixture", "gaussian_log_density"]
+__all__ = ["GaussianMixtureResult", "fit_gaussian_mixture"]
 
 
 @dataclass(frozen=True)
@@ -42,35 +42,6 @@ class GaussianMixtureResult:
     log_likelihood: np.ndarray
 
 
-def gaussian_log_density(points: np.ndarray, means: np.ndarray, covariances: np.ndarray) -> np.ndarray:
-    """Log of eq. 6 for every point and component: ``(T, K)``.
-
-    Parameters
-    ----------
-    points : (T, d) array_like
-        Points as rows.
-    means : (K, d) array_like
-        Component means.
-    covariances : (K, d, d) array_like
-        Component covariances; each must be positive definite (a Cholesky factor is used).
-
-    Returns
-    -------
-    numpy.ndarray
-        ``ln p(X_t | Y_w, Sigma_w)`` for every point t and component w, ``(T, K)``, in nats.
-
-    References
-    ----------
-    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
-    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 4, eq. 6.
-    """
-    points = as_finite_array(points, "points", ndim=2, max_abs=MAX_MAGNITUDE)
-    means = as_finite_array(means, "means (like points)", shape=(None, points.shape[1]), max_abs=MAX_MAGNITUDE)
-    covariances = as_finite_array(covariances, "covariances", shape=(len(means), points.shape[1], points.shape[1]))
-    _check_positive_definite(covariances, "covariances")
-    return _gaussian_log_density(points, means, covariances)
-
-
 def _check_positive_definite(matrices: np.ndarray, name: str) -> None:
     """Refuse a stack of matrices of which one is not positive definite (its Cholesky factorisation fails)."""
     try:
@@ -80,7 +51,7 @@ def _check_positive_definite(matrices: np.ndarray, name: str) -> None:
 
 
 def gaussian_log_density_reference(points: np.ndarray, means: np.ndarray, covariances: np.ndarray) -> np.ndarray:
-    """Eq. 6 as printed, one component at a time: the reference path of :func:`gaussian_log_density`.
+    """Eq. 6 as printed, one component at a time: the reference path of ``_gaussian_log_density``.
 
     ``ln p(X_t | Y_w, Sigma_w) = -1/2 [ d ln(2 pi) + ln|Sigma_w| + (X_t - Y_w)^T Sigma_w^-1 (X_t - Y_w) ]``
     (the paper's ``(2 pi)^L`` is ``(2 pi)^(d/2)`` for long vectors of ``d = 2L`` coordinates).
@@ -116,8 +87,9 @@ def gaussian_log_density_reference(points: np.ndarray, means: np.ndarray, covari
 
 
 def _gaussian_log_density(points: np.ndarray, means: np.ndarray, covariances: np.ndarray) -> np.ndarray:
-    """:func:`gaussian_log_density` on validated arrays (the EM loop's inner call): eq. 6 for all
-    components at once through Cholesky factors, with no explicit inverse."""
+    """Log of eq. 6 for every point ``(T, d)`` and component (means ``(K, d)``, positive-definite
+    covariances ``(K, d, d)``): ``(T, K)``, all components at once through Cholesky factors, with no
+    explicit inverse. The EM loop's inner call, on checked arrays (not exported)."""
     n_dim = points.shape[1]
     chol = np.linalg.cholesky(covariances)  # (K, d, d)
     diff = points[None, :, :] - means[:, None, :]  # (K, T, d)

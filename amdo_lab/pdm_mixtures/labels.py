@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 
 from amdo_lab.common import as_finite_array, check_in_range, check_positive_int
-from amdo_lab.pdm_mixtures.pdm import check_shapes_agree
 
 __all__ = ["hamming_distance", "hamming_distance_reference", "label_string_log_prob", "dictionary_log_probs",
            "MAX_LIMBS"]
@@ -43,8 +42,8 @@ def hamming_distance(label_strings: np.ndarray, dictionary: np.ndarray) -> np.nd
     array([[0, 1]])
     """
     strings = as_finite_array(label_strings, "label_strings", ndim=2, dtype=int)
-    dictionary = as_finite_array(dictionary, "dictionary", ndim=2, dtype=int)
-    check_shapes_agree("label_strings", strings.shape[1:], "dictionary", dictionary.shape[1:])  # as many limbs
+    # as many limbs as label_strings: the message names both, since either may be the one at fault
+    dictionary = as_finite_array(dictionary, "dictionary (like label_strings)", shape=(None, strings.shape[1]), dtype=int)
     return _hamming_distance(strings, dictionary)
 
 

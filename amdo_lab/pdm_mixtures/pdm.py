@@ -6,19 +6,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import (MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, as_points, check_bool, check_in_range,
+from amdo_lab.common import (MAX_ITERATIONS, as_finite_array, as_points, check_bool, check_in_range,
                              check_instance, check_positive_int, procrustes_align)
 from amdo_lab.pdm_mixtures.representation import MAX_MAGNITUDE
 
 __all__ = [
     "PointDistributionModel",
     "fit_pdm",
-    "pdm_from_moments",
     "fit_modes",
     "reconstruct",
     "ppca_log_density",
     "generalized_procrustes",
-    "normalise_shape",
 ]
 
 
@@ -26,8 +24,8 @@ __all__ = [
 class PointDistributionModel:
     """A point distribution model: mean long-vector, leading eigenmodes and their variances.
 
-    Each field is checked when the record is built: finite, ``mean`` and ``variances`` at most 1e150
-    in magnitude, ``variances`` non-negative, ``modes`` entries within +-1.
+    A result record, built by :func:`fit_pdm` (and the mixtures' M-steps) from checked input; the
+    functions that take a model check that it is one.
 
     Parameters
     ----------
@@ -51,17 +49,6 @@ class PointDistributionModel:
     variances: np.ndarray
     residual_variance: float
 
-    def __post_init__(self) -> None:
-        # a record a user may build: each field checked once, then stored as a float array
-        mean = as_finite_array(self.mean, "mean", ndim=1, max_abs=MAX_MAGNITUDE)
-        modes = as_finite_array(self.modes, "modes", ndim=2, max_abs=1 + 1e-9)  # orthonormal columns
-        variances = as_finite_array(self.variances, "variances", ndim=1, bounds=(0, MAX_MAGNITUDE))
-        residual = check_in_range(self.residual_variance, "residual_variance", 0, MAX_MAGNITUDE, closed="right")
-        if modes.shape != (len(mean), len(variances)) or len(variances) >= len(mean):
-            raise ValueError(f"mean, modes, variances need shapes (D,), (D, M), (M,) with M < D, got {modes.shape}")
-        for name, value in (("mean", mean), ("modes", modes), ("variances", variances), ("residual_variance", residual)):
-            object.__setattr__(self, name, value)
-
     @property
     def n_modes(self) -> int:
         """Number of kept eigenmodes M."""
@@ -72,46 +59,12 @@ def _check_model(model: object) -> PointDistributionModel:
     return check_instance(model, "model", PointDistributionModel)
 
 
-def pdm_from_moments(
-    mean: np.ndarray, covariance: np.ndarray, *, variance_fraction: float = 0.95, max_modes: int | None = None,
-) -> PointDistributionModel:
-    """Build a PDM from a mean and covariance: keep the leading eigenmodes of ``covariance``
-    (``Sigma phi = alpha phi``) that explain ``variance_fraction`` of the variance.
-
-    Parameters
-    ----------
-    mean : (D,) array_like
-        Mean long-vector.
-    covariance : (D, D) array_like
-        Covariance matrix, D >= 2 (one mode is kept and at least one discarded).
-    variance_fraction : float
-        Fraction of the variance to keep, in (0, 1].
-    max_modes : int, optional
-        Upper bound on the number of modes, at most ``MAX_SAMPLES`` (at most D - 1 are kept in any case).
-
-    Returns
-    -------
-    PointDistributionModel
-        The mean, the kept modes (at least 1, at most D - 1), their eigenvalues and the mean of the
-        discarded eigenvalues (floored at 1e-12) as the residual variance.
-
-    References
-    ----------
-    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
-    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (eigenmodes of the covariance, Sigma phi = alpha phi).
-    """
-    covariance = as_finite_array(covariance, "covariance", ndim=2, max_abs=MAX_MAGNITUDE)
-    if covariance.shape[0] != covariance.shape[1] or covariance.shape[0] < 2:
-        raise ValueError(f"covariance must be a square (D, D) matrix with D >= 2, got shape {covariance.shape}")
-    mean = as_finite_array(mean, "mean (like covariance)", shape=covariance.shape[:1], max_abs=MAX_MAGNITUDE)
-    variance_fraction = check_in_range(variance_fraction, "variance_fraction", 0, 1, closed="right")
-    max_modes = None if max_modes is None else check_positive_int(max_modes, "max_modes", maximum=MAX_SAMPLES)
-    return _pdm_from_moments(mean, covariance, variance_fraction, max_modes)
-
-
 def _pdm_from_moments(mean: np.ndarray, covariance: np.ndarray, variance_fraction: float,
                       max_modes: int | None) -> PointDistributionModel:
-    """:func:`pdm_from_moments` on checked input."""
+    """A PDM from a mean ``(D,)`` and covariance ``(D, D)``: the leading eigenmodes of the covariance
+    (``Sigma phi = alpha phi``, Sec. 2) that explain ``variance_fraction`` of the variance, at least 1
+    and at most ``max_modes`` (and D - 1), with the mean of the discarded eigenvalues (floored at
+    1e-12) as the residual variance. The package's callers pass checked moments (not exported)."""
     eigenvalues, eigenvectors = np.linalg.eigh(covariance)  # Sigma phi_i = alpha_i phi_i (Sec. 2)
     order = np.argsort(eigenvalues)[::-1]
     eigenvalues = np.clip(eigenvalues[order], 0.0, None)  # round-off negatives of a PSD matrix
@@ -267,6 +220,11 @@ def ppca_log_density(model: PointDistributionModel, observed: np.ndarray) -> np.
     """
     model = _check_model(model)
     observed = as_finite_array(observed, "observed", shape=(None, len(model.mean)), max_abs=MAX_MAGNITUDE)
+    return _ppca_log_density(model, observed)
+
+
+def _ppca_log_density(model: PointDistributionModel, observed: np.ndarray) -> np.ndarray:
+    """:func:`ppca_log_density` on checked input (the recogniser's and the polar PDMs' inner call)."""
     d, m = observed.shape[1], model.n_modes
     gamma = _fit_modes(model, observed)  # clamped to +-3 sqrt(alpha_k)
     residual = np.sum((observed - _reconstruct(model, gamma)) ** 2, axis=1)  # |r|^2, eq. 16
@@ -276,57 +234,32 @@ def ppca_log_density(model: PointDistributionModel, observed: np.ndarray) -> np.
     )
 
 
-def normalise_shape(points: np.ndarray) -> np.ndarray:
-    """Centre a point set and scale it to unit centroid size.
-
-    Parameters
-    ----------
-    points : (L, 2) array_like
-        Landmarks; they must not all coincide.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``(L, 2)`` with centroid at the origin and ``sum |p_i|^2 = 1``.
-
-    References
-    ----------
-    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
-    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (landmarks aligned before the PDM, after Cootes et al.).
-    """
-    points = as_finite_array(points, "points", shape=(None, 2), max_abs=MAX_MAGNITUDE)
-    if np.all(points == points[0]):
-        raise ValueError("points must not all coincide (their centroid size is zero)")
-    return _normalise_shape(points)
-
-
 def _normalise_shape(points: np.ndarray) -> np.ndarray:
+    """Centre a point set ``(L, 2)`` and scale it to unit centroid size (its points must not all coincide)."""
     centred = points - points.mean(axis=0)
     return centred / np.sqrt(np.sum(centred**2))
 
 
 def check_point_set_sizes(point_sets: np.ndarray, name: str) -> None:
-    """Refuse point sets whose points all coincide (they have no size to normalise or align), or
-    whose coordinates are too large to square.
+    """Refuse point sets whose points all coincide (they have no size to normalise or align).
 
     Parameters
     ----------
     point_sets : (T, L, 2) numpy.ndarray
-        Finite point sets (already converted by ``as_finite_array``).
+        Finite point sets, already converted by ``as_finite_array`` with ``max_abs=MAX_MAGNITUDE``.
     name : str
         The argument's name, used in error messages.
 
     Raises
     ------
     ValueError
-        Naming ``name``, for a coordinate beyond ``MAX_MAGNITUDE`` or a set of coincident points.
+        Naming ``name``, for a set of coincident points.
 
     References
     ----------
     Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (aligned landmarks).
     """
-    as_finite_array(point_sets, name, max_abs=MAX_MAGNITUDE)
     # compared exactly: a centroid size computed from such a set is round-off, not always zero
     coincident = np.all(point_sets == point_sets[:, :1], axis=(1, 2))
     if np.any(coincident):
@@ -381,7 +314,7 @@ def check_articulated_shapes(shapes: object, name: str = "shapes", *,
     Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 3 (a shape as K limbs of landmarks).
     """
-    array = as_finite_array(shapes, name, shape=(None, 13, landmarks_per_limb, 2))
+    array = as_finite_array(shapes, name, shape=(None, 13, landmarks_per_limb, 2), max_abs=MAX_MAGNITUDE)
     check_positive_int(array.shape[2], f"the landmarks per limb of {name}", minimum=2)
     check_point_set_sizes(array.reshape(len(array), -1, 2), name)
     return array
@@ -477,7 +410,7 @@ def generalized_procrustes(point_sets: np.ndarray, *, n_iter: int = 5) -> tuple[
     Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (training shapes aligned before the PDM); Gower, Psychometrika 40 (1975).
     """
-    sets = as_finite_array(point_sets, "point_sets", shape=(None, None, 2))
+    sets = as_finite_array(point_sets, "point_sets", shape=(None, None, 2), max_abs=MAX_MAGNITUDE)
     check_positive_int(n_iter, "n_iter", maximum=MAX_ITERATIONS)
     check_point_set_sizes(sets, "point_sets")
     reference = _normalise_shape(sets[0])
@@ -490,35 +423,10 @@ def generalized_procrustes(point_sets: np.ndarray, *, n_iter: int = 5) -> tuple[
     return _align_to_reference(sets, reference), reference
 
 
-def align_to_reference(point_sets: np.ndarray, reference: np.ndarray) -> np.ndarray:
-    """Similarity-align (Procrustes: translation, rotation, scale) every point set onto a reference.
-
-    Parameters
-    ----------
-    point_sets : (T, L, 2) array_like
-        ``T`` sets of ``L`` landmarks; no set may have all its points coincide.
-    reference : (L, 2) array_like
-        The target landmarks.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``(T, L, 2)``: each set under its least-squares similarity onto ``reference``.
-
-    References
-    ----------
-    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
-    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 2 (aligned landmarks); Umeyama, IEEE PAMI 13 (1991).
-    """
-    sets = as_finite_array(point_sets, "point_sets", shape=(None, None, 2))
-    reference = as_finite_array(reference, "reference", shape=(sets.shape[1], 2), max_abs=MAX_MAGNITUDE)
-    check_point_set_sizes(sets, "point_sets")
-    return _align_to_reference(sets, reference)
-
-
 def _align_to_reference(point_sets: np.ndarray, reference: np.ndarray) -> np.ndarray:
-    """:func:`align_to_reference` on validated arrays: the closed form of 2-D similarity
-    Procrustes, all sets at once (fast path of :func:`align_to_reference_loop`).
+    """Similarity-align (translation, rotation, scale) every point set ``(T, L, 2)`` onto a reference
+    ``(L, 2)``: the closed form of 2-D Procrustes, all sets at once (fast path of
+    :func:`align_to_reference_loop`); callers pass sets checked by :func:`check_point_set_sizes`.
 
     Written as complex numbers ``z = x + iy`` with centred source ``z`` and target ``y``, the best
     ``s R`` is the complex factor ``a = sum conj(z_i) y_i / sum |z_i|^2`` (a least-squares fit of
@@ -534,7 +442,7 @@ def _align_to_reference(point_sets: np.ndarray, reference: np.ndarray) -> np.nda
 
 
 def align_to_reference_loop(point_sets: np.ndarray, reference: np.ndarray) -> np.ndarray:
-    """Reference path of :func:`align_to_reference`: one SVD Procrustes fit per set (Umeyama).
+    """Reference path of ``_align_to_reference``: one SVD Procrustes fit per set (Umeyama).
 
     Plain loop for reading and for the tests (not exported; nothing is validated here).
 

@@ -11,8 +11,8 @@ import numpy as np
 
 from amdo_lab.common import as_finite_array, check_positive, check_positive_int, make_rng
 from amdo_lab.pdm_mixtures.gmm import fit_gaussian_mixture
-from amdo_lab.pdm_mixtures.pdm import (MAX_MAGNITUDE, PointDistributionModel, fit_modes, fit_pdm, pdm_from_moments,
-                                       ppca_log_density, reconstruct)
+from amdo_lab.pdm_mixtures.pdm import (MAX_MAGNITUDE, PointDistributionModel, _fit_modes, _pdm_from_moments,
+                                       _ppca_log_density, _reconstruct, fit_pdm)
 from amdo_lab.pdm_mixtures.representation import wrap_angle
 
 __all__ = ["PolarPDM", "polar_blocks", "fit_polar_mixture", "held_out_log_likelihood", "circular_mean",
@@ -99,14 +99,14 @@ class PolarPDM:
     def _project(self, deviation: np.ndarray) -> np.ndarray:
         # eq. (12): Gamma* = argmax_{|Gamma_k| <= 3 sqrt(alpha_k)} p(S | Phi, Gamma), for a Gaussian the
         # clamped least-squares coefficients of every block; the model instance is Y + Phi Gamma*
-        return np.concatenate([reconstruct(pdm, fit_modes(pdm, deviation[:, block]))
+        return np.concatenate([_reconstruct(pdm, _fit_modes(pdm, deviation[:, block]))
                                for pdm, block in zip(self.pdms, self.blocks)], axis=1)
 
     def _log_density(self, deviation: np.ndarray) -> np.ndarray:
         total = np.zeros(deviation.shape[0])
         for pdm, block in zip(self.pdms, self.blocks):
             data = deviation[:, block]
-            total += ppca_log_density(pdm, data)
+            total += _ppca_log_density(pdm, data)
         return total
 
 
@@ -269,7 +269,7 @@ def fit_polar_mixture(data: np.ndarray, n_components: int, blocks: tuple[slice, 
     for mean, cov, weight in zip(mixture.means / scale, mixture.covariances / np.outer(scale, scale), mixture.weights):
         cap = max(1, int(round(weight * len(data))) - 1)
         models.append(PolarPDM(blocks, tuple(
-            pdm_from_moments(mean[block], cov[block, block], variance_fraction=variance_fraction, max_modes=cap)
+            _pdm_from_moments(mean[block], cov[block, block], variance_fraction, cap)
             for block in blocks)))
     return models, np.clip(mixture.weights, 1e-12, None), mixture.responsibilities
 

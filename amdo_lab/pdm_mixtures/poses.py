@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import (apply_similarity_2d, as_finite_array, check_choice, check_in_range, check_names,
+from amdo_lab.common import (apply_similarity_2d, as_finite_array, check_in_range, check_names,
                              check_positive_int, make_rng)
 
 __all__ = [
@@ -27,7 +27,6 @@ __all__ = [
     "POSES",
     "POSE_MODES",
     "JITTER_SCALE",
-    "pose_modes",
     "TABLE1_CLASSES",
     "PoseDataset",
     "make_pose_dataset",
@@ -107,26 +106,9 @@ MAX_NOISE = 1e6
 JITTER_SCALE = np.array([0.8, 0.8, 0.6, 1.4, 1.4, 1.4, 1.4, 1.0, 1.0, 0.8, 1.0, 1.0, 0.8])
 
 
-def pose_modes(name: str) -> dict[str, tuple[float, ...]]:
-    """The articulation modes of one pose.
-
-    Parameters
-    ----------
-    name : str
-        A pose name from ``POSES``.
-
-    Returns
-    -------
-    dict of str to tuple of float
-        Mode name to the 13 limb directions in degrees (``LIMB_NAMES`` order); a single mode,
-        named after the pose, for poses outside ``POSE_MODES``.
-
-    References
-    ----------
-    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
-    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 7 (the pose classes; our synthetic stand-in for the photographs).
-    """
-    check_choice(name, "name", POSES)
+def _pose_modes(name: str) -> dict[str, tuple[float, ...]]:
+    """Mode name to the 13 limb directions in degrees of a pose from ``POSES`` (checked by the caller):
+    its ``POSE_MODES``, or a single mode named after the pose for poses outside ``POSE_MODES``."""
     return POSE_MODES.get(name, {name: POSES[name]})
 
 
@@ -292,7 +274,7 @@ def make_pose_dataset(
     base = np.empty((n, 13))
     for c in names:
         rows = np.flatnonzero(labels == c)
-        options = pose_modes(c)
+        options = _pose_modes(c)
         picks = generator.integers(0, len(options), len(rows))
         modes[rows] = np.array(list(options), dtype=object)[picks]
         mode_directions = np.array(list(options.values()), dtype=float)  # (n_modes, 13)

@@ -29,20 +29,20 @@ from amdo_lab.pdm_mixtures.labels import dictionary_log_probs
 from amdo_lab.pdm_mixtures.pdm import (
     MAX_MAGNITUDE,
     PointDistributionModel,
+    _align_to_reference,
     _fit_modes,
+    _pdm_from_moments,
+    _ppca_log_density,
     _reconstruct,
-    align_to_reference,
     check_articulated_shapes,
     check_training_set,
     generalized_procrustes,
-    pdm_from_moments,
-    ppca_log_density,
 )
 from amdo_lab.pdm_mixtures.polar_mixture import (MAX_COMPONENTS, MIN_PER_CLASS, N_EM_ITER, PolarPDM, angles_about_mean,
                                                  circular_mean, fit_polar_mixture, polar_blocks)
 from amdo_lab.pdm_mixtures.recognition import (EQ11_READINGS, RecognitionTrace, ScoreComponents,
                                                run_recognition)
-from amdo_lab.pdm_mixtures.representation import centred_limbs, polar_shape_vector, wrap_angle
+from amdo_lab.pdm_mixtures.representation import _centred_limbs, polar_shape_vector, wrap_angle
 
 __all__ = ["ArticulatedShapeRecogniser", "AlignmentTrace", "MAX_LABELS", "MAX_RESTARTS"]
 
@@ -227,7 +227,7 @@ class ArticulatedShapeRecogniser:
         """One Gaussian mixture per limb by EM (eqs. 2-8), all 13 limbs in one batched loop (each
         limb's run is :func:`fit_gaussian_mixture` from a farthest-point start and its pooled
         covariance); each component becomes a limb-label PDM."""
-        limbs = np.swapaxes(centred_limbs(aligned), 0, 1)  # (K, n, 2m)
+        limbs = np.swapaxes(_centred_limbs(aligned), 0, 1)  # (K, n, 2m)
         d = limbs.shape[2]
         starts = np.stack([data[_farthest_point_init(data, self.n_limb_labels)] for data in limbs])
         spreads = np.stack([np.cov(data.T, bias=True) + 1e-6 * np.eye(d) for data in limbs])
@@ -238,8 +238,7 @@ class ArticulatedShapeRecogniser:
         self.limb_weights_ = weights
         self.limb_noise_ = np.empty(N_LIMBS)
         for k in range(N_LIMBS):
-            models = [pdm_from_moments(m, c, variance_fraction=self.variance_fraction)
-                      for m, c in zip(means[k], covariances[k])]
+            models = [_pdm_from_moments(m, c, self.variance_fraction, None) for m, c in zip(means[k], covariances[k])]
             self.limb_models_.append(models)
             # Isotropic residual variance of eq. 16, from each example's best-fitting label.
             errors = np.stack([_fit_error(mdl, limbs[k]) for mdl in models], axis=1)
@@ -250,12 +249,12 @@ class ArticulatedShapeRecogniser:
 
         The class-conditional density of a label is its PDM's Gaussian (``limb_likelihood=
         "gaussian"``) or the isotropic residual of the clamped fit (``"residual"``, eq. 16)."""
-        limbs = centred_limbs(aligned)
+        limbs = _centred_limbs(aligned)
         log_lik = np.empty((aligned.shape[0], N_LIMBS, self.n_limb_labels))
         for k in range(N_LIMBS):
             data = limbs[:, k]
             if self.limb_likelihood == "gaussian":
-                log_lik[:, k] = np.stack([ppca_log_density(model, data) for model in self.limb_models_[k]], axis=1)
+                log_lik[:, k] = np.stack([_ppca_log_density(model, data) for model in self.limb_models_[k]], axis=1)
             else:
                 errors = np.stack([_fit_error(mdl, data) for mdl in self.limb_models_[k]], axis=1)
                 log_lik[:, k] = -errors / (2 * self.limb_noise_[k])  # ln of eq. (16): isotropic fit residual
@@ -336,7 +335,7 @@ class ArticulatedShapeRecogniser:
         check_fitted(self, "classes_")
         shapes = self._check_shapes(shapes)
         flat = shapes.reshape(shapes.shape[0], -1, 2)
-        return align_to_reference(flat, self.reference_).reshape(shapes.shape)
+        return _align_to_reference(flat, self.reference_).reshape(shapes.shape)
 
     def recognise(self, shapes: np.ndarray) -> RecognitionTrace:
         """Run the hierarchical EM (eqs. 9-18) and return the full per-iteration trace.
@@ -380,9 +379,8 @@ class ArticulatedShapeRecogniser:
         numpy.ndarray
             ``(n, K, n_limb_labels)`` posteriors (rows sum to 1), or their logarithms.
         """
-        check_fitted(self, "classes_")
         log = check_bool(log, "log")
-        log_posteriors = self._limb_log_posteriors(self.align(shapes))
+        log_posteriors = self._limb_log_posteriors(self.align(shapes))  # align checks the fit and the shapes
         return log_posteriors if log else np.exp(log_posteriors)
 
     def score_components(self, shapes: np.ndarray) -> ScoreComponents:
@@ -398,8 +396,7 @@ class ArticulatedShapeRecogniser:
         ScoreComponents
             The limb gates, label-string and polar-PDM terms, weights and priors.
         """
-        check_fitted(self, "classes_")
-        aligned = self.align(shapes)
+        aligned = self.align(shapes)  # checks the fit and the shapes
         limb_log_post = self._limb_log_posteriors(aligned)
         shape_log_lik, _ = self._shape_terms(aligned)
         return ScoreComponents(self._gates(limb_log_post), dictionary_log_probs(
@@ -446,7 +443,7 @@ class ArticulatedShapeRecogniser:
             pose = procrustes_align(model_centres, data_centres)
             # The data mapped into the model frame (inverse of the pose), limbs included.
             shape_in_model = ((shape - pose.translation) @ pose.rotation) / pose.scale
-            limbs_in_model = centred_limbs(shape_in_model[None])[0]
+            limbs_in_model = _centred_limbs(shape_in_model[None])[0]
             model_shape = self._model_limbs(model_vector, labels, None if not drawn else limbs_in_model)
             drawn.append(pose.scale * model_shape @ pose.rotation.T + pose.translation)
             misfit.append(pose.rms_error)

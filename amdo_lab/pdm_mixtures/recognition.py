@@ -15,7 +15,7 @@ import numpy as np
 from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_names
 from amdo_lab.pdm_mixtures.labels import dictionary_log_probs
 
-__all__ = ["EQ11_READINGS", "ScoreComponents", "RecognitionTrace", "gated_component_scores", "class_posteriors",
+__all__ = ["EQ11_READINGS", "ScoreComponents", "RecognitionTrace", "gated_component_scores",
            "winning_components", "relabel_limbs", "run_recognition"]
 
 #: How eq. 11 combines the gates ``G = P(L | Lambda) prod_k P(lambda_k | z_k)`` with the polar density p:
@@ -90,43 +90,6 @@ def _gated_component_scores(shape_log_lik: np.ndarray, limb_gate: np.ndarray, st
     return log_weights[None] + shape_log_lik + limb_gate + string_log_prob
 
 
-def class_posteriors(component_scores: np.ndarray, class_log_prior: np.ndarray, *,
-                     reading: str = "G p") -> tuple[np.ndarray, np.ndarray]:
-    """Class posteriors ``P(w | X)`` from eq. 11's component scores, and each class's component shares.
-
-    Under ``"G p"`` a class sums its components, ``ln P(w) + ln sum_m exp(score_wm)``, and Bayes' rule
-    normalises over the classes; the shares are the components' responsibilities within the class.
-    Under ``"G ln p"`` the scores are no probabilities: a class's score is ``sum_m score_wm``, its
-    "posterior" is 1 for the highest-scoring class and 0 elsewhere, and the share is 1 for the
-    component of largest score.
-
-    Parameters
-    ----------
-    component_scores : (n, C, M) array_like
-        The output of :func:`gated_component_scores` under the same ``reading``.
-    class_log_prior : (C,) array_like
-        Log class priors ``ln P(w)``, at most 0.
-    reading : {"G p", "G ln p"}
-        The reading of eq. 11 (``EQ11_READINGS``).
-
-    Returns
-    -------
-    posterior : numpy.ndarray
-        ``(n, C)``, rows sum to 1.
-    shares : numpy.ndarray
-        ``(n, C, M)``, each class's components sum to 1.
-
-    References
-    ----------
-    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
-    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 5, eqs. 11 and 13.
-    """
-    scores = as_finite_array(component_scores, "component_scores", ndim=3, max_abs=MAX_LOG_TERM)
-    prior = as_finite_array(class_log_prior, "class_log_prior", shape=scores.shape[1:2], bounds=(-MAX_LOG_TERM, 0))
-    reading = check_choice(reading, "reading", EQ11_READINGS)
-    return _class_posteriors(scores, prior, reading)
-
-
 def _one_hot(scores: np.ndarray) -> np.ndarray:
     """1 at the largest entry of the last axis, 0 elsewhere."""
     return (np.arange(scores.shape[-1]) == np.argmax(scores, axis=-1)[..., None]).astype(float)
@@ -134,6 +97,15 @@ def _one_hot(scores: np.ndarray) -> np.ndarray:
 
 def _class_posteriors(scores: np.ndarray, class_log_prior: np.ndarray,
                       reading: str) -> tuple[np.ndarray, np.ndarray]:
+    """Class posteriors ``P(w | X)`` ``(n, C)`` from eq. 11's component scores ``(n, C, M)`` and the log
+    class priors ``(C,)``, and each class's component shares ``(n, C, M)`` (the loop's kernel, unchecked).
+
+    Under ``"G p"`` a class sums its components, ``ln P(w) + ln sum_m exp(score_wm)``, and Bayes' rule
+    normalises over the classes; the shares are the components' responsibilities within the class.
+    Under ``"G ln p"`` the scores are no probabilities: a class's score is ``sum_m score_wm``, its
+    "posterior" is 1 for the highest-scoring class and 0 elsewhere, and the share is 1 for the
+    component of largest score (eq. 13 decides by argmax).
+    """
     if reading == "G ln p":  # a score, not a probability: its decision only (eq. 13)
         return _one_hot(scores.sum(axis=2)), _one_hot(scores)
     class_joint = np.logaddexp.reduce(scores, axis=2)  # ln sum_m pi_wm G_wm p_wm, eq. (11)
@@ -148,7 +120,7 @@ def winning_components(posterior: np.ndarray, component_scores: np.ndarray) -> t
     Parameters
     ----------
     posterior : (n, C) array_like
-        Class posteriors, each in [0, 1] (from :func:`class_posteriors`).
+        Class posteriors, each in [0, 1] (rows sum to 1).
     component_scores : (n, C, M) array_like
         Eq. 11's component scores (from :func:`gated_component_scores`).
 

@@ -14,7 +14,7 @@ from amdo_lab.common import as_finite_array
 #: numbers (covariances, distances, centroid sizes) overflow float64 (max about 1.8e308).
 MAX_MAGNITUDE = 1e150
 
-__all__ = ["limb_centres", "articulation_centre", "limb_angles", "wrap_angle", "polar_shape_vector", "centred_limbs"]
+__all__ = ["limb_centres", "articulation_centre", "limb_angles", "wrap_angle", "polar_shape_vector"]
 
 
 def _check_shapes(shapes: object) -> np.ndarray:
@@ -150,24 +150,8 @@ def polar_shape_vector(shapes: np.ndarray) -> np.ndarray:
     return np.concatenate([_limb_angles(centres), centres.reshape(centres.shape[0], -1)], axis=1)
 
 
-def centred_limbs(shapes: np.ndarray) -> np.ndarray:
-    """Limb long-vectors ``X_k`` with the limb centre removed: what the limb PDMs model.
-
-    Parameters
-    ----------
-    shapes : (n, K, m, 2) array_like
-        ``n`` shapes of ``K`` limbs with ``m`` landmarks each.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``(n, K, 2m)``: each limb's ``(x_1 - c_x, y_1 - c_y, ..., x_m - c_x, y_m - c_y)``.
-
-    References
-    ----------
-    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
-    AMDO 2004, LNCS 3179, pp. 62-75, Sec. 3 (the limb long-vector X_k) and Sec. 2 (PDMs of long-vectors).
-    """
-    shapes = _check_shapes(shapes)
+def _centred_limbs(shapes: np.ndarray) -> np.ndarray:
+    """Limb long-vectors ``X_k`` with the limb centre removed, what the limb PDMs model: ``(n, K, 2m)``
+    from checked shapes ``(n, K, m, 2)``, each limb's ``(x_1 - c_x, y_1 - c_y, ..., x_m - c_x, y_m - c_y)``."""
     centred = shapes - _limb_centres(shapes)[..., None, :]
     return centred.reshape(shapes.shape[0], shapes.shape[1], -1)

@@ -21,12 +21,12 @@ EXEMPT = {
     "lme4_available": "takes no argument",
     "paper_design": "takes no argument",
     "reduced_design": "takes no argument",
-    "DesignMatrix": "a result record, built by build_design from checked input",
+    "DesignMatrix": "a result record, built by fit_binomial_glmm from checked input (GlmmResult.design)",
     "ExperimentDraws": "a result record, built by experiment_draws from checked input",
     "FacePopulation": "a result record, built by make_face_population from checked input",
     "GlmmResult": "a result record, built by fit_binomial_glmm (its predict methods are tabled)",
     "PeerFit": "a result record, built by fit_with_lme4, fit_gee and fit_naive_logistic",
-    "RecoverySummary": "a result record, built by summarise_recovery from checked input",
+    "RecoverySummary": "a result record, built by recovery_study from checked input",
 }
 
 
@@ -87,13 +87,12 @@ def cases() -> dict[str, Case]:
         "make_face_population": Case(
             f.make_face_population,
             {"n_subjects": 3, "images_per_subject": 2, "rng": 0, "shape": (8, 8), "nuisance": 1.0,
-             "difficulty_spread": 0.25, "noise_sd": 0.05, "texture_slope": 2.0, "texture_amplitude": 0.5},
+             "texture_slope": 2.0, "texture_amplitude": 0.5},
             {"n_subjects": "count", "images_per_subject": "count", "rng": "seed", "shape": "array",
-             "nuisance": "non_negative", "difficulty_spread": "non_negative", "noise_sd": "non_negative",
+             "nuisance": "non_negative",
              "texture_slope": "positive", "texture_amplitude": "non_negative"},
             # texture_slope=None is the default: the cosine texture only
             accept=frozenset({("texture_slope", "None")})),
-        "elliptical_mask": Case(f.elliptical_mask, {"shape": (8, 8)}, {"shape": "array"}),
         "downsample_by_two": Case(f.downsample_by_two, {"images": population.images}, {"images": "image"}),
         "preprocess_images": Case(f.preprocess_images, {"images": population.images}, {"images": "image"},
                                   accept=_ANY_WIDTH),
@@ -115,8 +114,6 @@ def cases() -> dict[str, Case]:
         "PcaLda.distances": Case(lambda probes, gallery, metric: model.distances(probes, gallery, metric),
                                  {"probes": images[:2], "gallery": images[2:5], "metric": "l2"},
                                  {"probes": "image", "gallery": "image", "metric": "name"}),
-        "PcaLda.metric_weights": Case(lambda metric: model.metric_weights(metric), {"metric": "soft_l2"},
-                                      {"metric": "name"}),
         # --- the factorial experiment --------------------------------------------------------
         "FactorialDesign": Case(
             f.FactorialDesign,
@@ -130,21 +127,11 @@ def cases() -> dict[str, Case]:
                                  {"design": "object", "rng": "seed"}),
         "run_factorial_experiment": Case(f.run_factorial_experiment, {"design": design, "rng": 0},
                                          {"design": "object", "rng": "seed"}),
-        "experiment_cache_key": Case(f.experiment_cache_key,
-                                     {"design": design, "rng": 0, "modules": ("amdo_lab.face_glmm.experiment",)},
-                                     {"design": "object", "rng": "seed", "modules": "object"}),
         "load_or_run_experiment": Case(f.load_or_run_experiment, {"design": design, "cache_dir": cache_dir, "rng": 0},
                                        {"design": "object", "cache_dir": "name", "rng": "seed"}),
         # --- formula, design, GLMM -----------------------------------------------------------
         "parse_formula": Case(f.parse_formula, {"formula": "Y ~ M * D"}, {"formula": "name"}),
-        "build_design": Case(f.build_design, {"table": table, "terms": [("M",), ("D",)], "levels": None},
-                             {"table": "object", "terms": "object", "levels": "object"},
-                             accept=frozenset({("levels", "None")})),  # None: levels from the table
         "group_indices": Case(f.group_indices, {"table": table, "term": "t:p"}, {"table": "object", "term": "name"}),
-        "binomial_deviance": Case(f.binomial_deviance,
-                                  {"y": np.array([3.0, 5.0, 10.0]), "n_trials": np.array([10.0, 10.0, 10.0]),
-                                   "eta": np.array([0.1, -0.2, 2.0])},
-                                  {"y": "array", "n_trials": "array", "eta": "array"}),
         "laplace_deviance_reference": Case(
             f.laplace_deviance_reference,
             {"y": np.array([3.0, 5.0, 9.0, 2.0]), "n_trials": np.full(4, 10.0),
@@ -173,10 +160,6 @@ def cases() -> dict[str, Case]:
                                         "variances": {"p": 0.5}, "n_trials": 10, "rng": 0},
                                        {"table": "object", "fixed": "name", "coefficients": "array",
                                         "variances": "object", "n_trials": "count", "rng": "seed"}),
-        "summarise_recovery": Case(f.summarise_recovery,
-                                   {"true": pd.Series([0.5, 0.0]), "estimates": np.ones((5, 2)),
-                                    "ses": np.ones((5, 2)), "level": 0.95},
-                                   {"true": "object", "estimates": "array", "ses": "array", "level": "probability"}),
         "recovery_study": Case(f.recovery_study,
                                {"table": table, "fixed": "Y ~ M", "coefficients": coefficients,
                                 "variances": {"p": 0.5}, "n_replicates": 1, "rng": 0, "n_trials": 10, "level": 0.95},
