@@ -24,8 +24,9 @@ __all__ = [
 class PointDistributionModel:
     """A point distribution model: mean long-vector, leading eigenmodes and their variances.
 
-    A result record, built by :func:`fit_pdm` (and the mixtures' M-steps) from checked input; the
-    functions that take a model check that it is one.
+    Each field is checked when the record is built (a user may build one and pass it to
+    :func:`fit_modes` or :func:`reconstruct`): finite, ``mean`` and ``variances`` at most 1e150 in
+    magnitude, ``variances`` non-negative, ``modes`` entries within +-1.
 
     Parameters
     ----------
@@ -48,6 +49,17 @@ class PointDistributionModel:
     modes: np.ndarray
     variances: np.ndarray
     residual_variance: float
+
+    def __post_init__(self) -> None:
+        # a record a user may build: each field checked once, then stored as a float array
+        mean = as_finite_array(self.mean, "mean", ndim=1, max_abs=MAX_MAGNITUDE)
+        modes = as_finite_array(self.modes, "modes", ndim=2, max_abs=1 + 1e-9)  # orthonormal columns
+        variances = as_finite_array(self.variances, "variances", ndim=1, bounds=(0, MAX_MAGNITUDE))
+        residual = check_in_range(self.residual_variance, "residual_variance", 0, MAX_MAGNITUDE, closed="right")
+        if modes.shape != (len(mean), len(variances)) or len(variances) >= len(mean):
+            raise ValueError(f"mean, modes, variances need shapes (D,), (D, M), (M,) with M < D, got {modes.shape}")
+        for name, value in (("mean", mean), ("modes", modes), ("variances", variances), ("residual_variance", residual)):
+            object.__setattr__(self, name, value)
 
     @property
     def n_modes(self) -> int:

@@ -15,7 +15,6 @@ EXEMPT = {
     "AlignmentTrace": "a result record, built by ArticulatedShapeRecogniser.iterative_alignment",
     "GaussianMixtureResult": "a result record, built by fit_gaussian_mixture from checked input",
     "PolarPDM": "a result record, built by the recogniser's fit (its methods are tabled below)",
-    "PointDistributionModel": "a result record, built by fit_pdm (and the mixtures' M-steps) from checked input",
     "PoseDataset": "a result record, built by make_pose_dataset from checked input",
     "RecognitionTrace": "a result record, built by ArticulatedShapeRecogniser.recognise",
     "ScoreComponents": "a result record, built by ArticulatedShapeRecogniser.score_components",
@@ -162,6 +161,11 @@ def cases() -> dict[str, Case]:
         "fit_pdm": Case(p.fit_pdm, {"long_vectors": long_vectors, "variance_fraction": 0.9},
                         {"long_vectors": "array", "variance_fraction": "probability"},
                         accept=frozenset({("long_vectors", "a wrong trailing axis")})),  # long-vectors of any length D
+        "PointDistributionModel": Case(
+            p.PointDistributionModel,
+            {"mean": model.mean, "modes": model.modes, "variances": model.variances,
+             "residual_variance": model.residual_variance},
+            {"mean": "array", "modes": "array", "variances": "array", "residual_variance": "positive"}),
         "fit_modes": Case(p.fit_modes, {"model": model, "observed": long_vectors[0], "clamp": True},
                           {"model": "object", "observed": "array", "clamp": "flag"},
                           accept=frozenset({("observed", "one more axis")})),  # (1, D): one row of the (n, D) form
