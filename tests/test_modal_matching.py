@@ -227,13 +227,41 @@ def test_procrustes_aligned_modes_match_the_paper_pairs_on_unused_seeds(seed):
 
 
 @pytest.mark.parametrize("seed", UNUSED_SEEDS[:2])
-def test_surfaces_match_about_half_right_and_the_plate_position_nearly_all(seed):
+def test_surfaces_with_exact_rigid_modes_and_12_modes_beat_the_3d_coordinates(seed):
     pair = paper_pair(make_pedobarography_sequence(rng=seed), "surfaces")
     assert pair.X1.shape[1] == 3 and 90 <= len(pair.X2) <= len(pair.X1) <= 140
-    result = match_objects(pair.X1, pair.X2, n_modes=24)
-    assert correct_share(result.pairs, pair.truth, pair.X2) >= 0.35
+    result = match_objects(pair.X1, pair.X2, n_modes=12, rigid="exact")
+    share = correct_share(result.pairs, pair.truth, pair.X2)
+    assert share >= 0.7 and share > correct_share(match_coordinates(pair.X1, pair.X2).pairs, pair.truth, pair.X2)
+    local = match_objects(pair.X1, pair.X2, n_modes=12, rigid="exact", search="local")
+    assert correct_share(local.pairs, pair.truth, pair.X2) >= 0.7
+    # ADCom on a surface: the excess nodes take a partner next to where they truly go
+    spacing = mean_spacing(pair.X2)
+    distance = np.linalg.norm(pair.X2[result.excess_pairs[:, 1]] - pair.truth[result.excess_pairs[:, 0]], axis=1)
+    assert len(result.all_pairs) == len(pair.X1) and np.mean(distance) <= 1.6 * spacing
     plate = match_coordinates(pair.X1[:, :2], pair.X2[:, :2])
     assert correct_share(plate.pairs, pair.truth[:, :2], pair.X2[:, :2]) >= 0.75
+
+
+def test_match_objects_builds_the_element_it_is_asked_for():
+    X1, X2 = _blob(30), _blob(27, 1)
+    h = mean_spacing(X1)
+    for element, rigid, model in (("gaussian", "exact", lambda X: gaussian_element(X, sigma=h, rigid="exact")),
+                                  ("axial", "element", lambda X: axial_element(X, [(i, (i + s) % len(X))
+                                                                                   for s in (1, 2, 3)
+                                                                                   for i in range(len(X))]))):
+        by_hand = affinity_matrix(modal_analysis(model(X1)), modal_analysis(model(X2)), n_modes=8)
+        result = match_objects(X1, X2, n_modes=8, element=element, rigid=rigid)
+        np.testing.assert_allclose(result.Z, by_hand, rtol=1e-9, atol=1e-9)
+
+
+def test_adcom_in_space_takes_the_partner_of_the_nearest_matched_nodes():
+    X1 = np.array([[0.0, 0, 0], [1, 0, 0], [5, 0, 0], [6, 0, 0], [5.2, 0.1, 0]])
+    X2 = X1[:4] + 0.05
+    Z = np.sum((X1[:, None] - X2[None]) ** 2, axis=-1)
+    pairs = np.array([[0, 0], [1, 1], [2, 2], [3, 3]])
+    assert adcom(Z, pairs, X1=X1, X2=X2).tolist() == [[4, 2]]  # its neighbours in space: nodes 2 and 3
+    assert adcom(Z, pairs).tolist() == [[4, 3]]  # along a contour 0-1-2-3-4: nodes 3 and 0
 
 
 def test_peers_return_one_to_one_pairs_and_adcom_pairs():
@@ -288,6 +316,14 @@ REJECTIONS = [
     reject("no contour at level", lambda: make_pedobarography_sequence(rng=0, n_frames=3).contour(0, 1e5, 10),
            ValueError, "level"),
     reject("pairs outside Z", lambda: adcom(np.ones((3, 2)), np.array([[0, 2]])), ValueError, "pairs"),
+    reject("X1 without X2", lambda: adcom(np.ones((3, 2)), np.array([[0, 1]]), X1=np.ones((3, 2))), ValueError,
+           "X2"),
+    reject("X2 of the wrong size", lambda: adcom(np.ones((3, 2)), np.array([[0, 1]]), X1=np.eye(3),
+                                                 X2=np.ones((4, 3))), ValueError, "X2"),
+    reject("unknown element", lambda: match_objects(_blob(8), _blob(7), n_modes=4, element="shell"), ValueError,
+           "element"),
+    reject("unknown rigid in match_objects", lambda: match_objects(_blob(8), _blob(7), n_modes=4, rigid="none"),
+           ValueError, "rigid"),
 ]
 
 

@@ -15,6 +15,8 @@ from amdo_lab.modal_matching.element import (
 )
 from amdo_lab.modal_matching.matching import (
     ALIGNMENTS,
+    CONTOUR_BAR_REACH,
+    ELEMENTS,
     SEARCHES,
     MatchResult,
     adcom,
@@ -49,6 +51,8 @@ __all__ = [
     "gaussian_element",
     "mean_spacing",
     "ALIGNMENTS",
+    "CONTOUR_BAR_REACH",
+    "ELEMENTS",
     "SEARCHES",
     "MatchResult",
     "adcom",
