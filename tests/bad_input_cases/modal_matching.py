@@ -26,6 +26,8 @@ EXEMPT = {
 
 #: A node set of another dimension is a valid object of its own (a 3-D outline).
 _ANY_D = frozenset({("nodes", "a wrong trailing axis")})
+#: ADCom looks for neighbours within each object: X1 and X2 need not share D.
+_EACH_OWN_D = frozenset({("X1", "a wrong trailing axis"), ("X2", "a wrong trailing axis")})
 
 
 def _outline(n: int, seed: int = 0) -> np.ndarray:
@@ -74,11 +76,14 @@ def cases() -> dict[str, Case]:
         "local_search": Case(mm.local_search, {"Z": Z}, {"Z": "array"}, accept=rectangular),
         "global_search": Case(mm.global_search, {"Z": Z, "pad": True}, {"Z": "array", "pad": "flag"},
                               accept=rectangular),
-        "adcom": Case(mm.adcom, {"Z": Z, "pairs": pairs}, {"Z": "array", "pairs": "array"}, accept=rectangular),
+        "adcom": Case(mm.adcom, {"Z": Z, "pairs": pairs, **objects}, {"Z": "array", "pairs": "array", **object_kinds},
+                      accept=rectangular | _EACH_OWN_D),
         "match_objects": Case(mm.match_objects, {**objects, "sigma": 3.0, "n_modes": 4, "align": "sign",
-                                                 "search": "global", "excess": True},
+                                                 "search": "global", "excess": True, "element": "gaussian",
+                                                 "rigid": "exact"},
                               {**object_kinds, "sigma": "positive", "n_modes": "count", "align": "name",
-                               "search": "name", "excess": "flag"}, accept=frozenset({("sigma", "None")})),
+                               "search": "name", "excess": "flag", "element": "name", "rigid": "name"},
+                              accept=frozenset({("sigma", "None")})),
         "match_coordinates": Case(mm.match_coordinates, objects, object_kinds),
         "match_cpd": Case(mm.match_cpd, {**objects, "kind": "rigid"}, {**object_kinds, "kind": "name"}),
         "make_pedobarography_sequence": Case(
