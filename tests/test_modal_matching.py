@@ -12,7 +12,6 @@ from amdo_lab.modal_matching import (
     affinity_matrix,
     axial_element,
     correct_share,
-    exact_rigid_motions,
     gaussian_element,
     global_search,
     local_search,
@@ -24,8 +23,10 @@ from amdo_lab.modal_matching import (
     modal_analysis,
     mode_features,
     paper_pair,
-    resample_closed_curve,
 )
+
+from amdo_lab.modal_matching.modes import _exact_rigid_motions
+from amdo_lab.modal_matching.pedobarography import _resample_closed_curve
 
 #: Seeds the notebook does not use (it uses 0 to 4).
 UNUSED_SEEDS = (21, 22, 23)
@@ -99,7 +100,7 @@ def test_the_first_modes_are_close_to_but_not_exactly_rigid():
     basis = modal_analysis(gaussian_element(X, sigma=mean_spacing(X)))
     cosines = basis.rigid_cosines()
     assert cosines.shape == (3,) and np.all(cosines < 0.99) and np.all(cosines > 0.3)
-    rigid = exact_rigid_motions(X)
+    rigid = _exact_rigid_motions(X)
     assert rigid.shape == (80, 3) and abs(rigid[:40, 2] @ rigid[40:, 2] + 0) >= 0  # shape only
     # an exact rigid motion has zero strain energy only if the element reproduces it; this one does not
     energy = np.einsum("ik,ij,jk->k", rigid, basis.model.stiffness, rigid)
@@ -140,7 +141,7 @@ def test_axial_bar_has_the_closed_form_frequency_and_rigid_motions_cost_nothing(
         Y = _blob(20, dim=dim)
         ring = [(i, (i + step) % 20) for step in (1, 2, 3) for i in range(20)]
         bars = axial_element(Y, ring)
-        rigid = exact_rigid_motions(Y)
+        rigid = _exact_rigid_motions(Y)
         energy = np.einsum("ik,ij,jk->k", rigid, bars.stiffness, rigid)
         assert np.abs(energy).max() < 1e-12 * np.abs(bars.stiffness).max() * np.abs(rigid).max() ** 2
         assert modal_analysis(bars).rigid_cosines() == pytest.approx(np.ones(dim * (dim + 1) // 2), abs=1e-8)
@@ -197,9 +198,9 @@ def test_sequence_is_seeded_and_contours_are_resampled_closed_curves():
     steps = np.linalg.norm(np.diff(np.vstack([X, X[:1]]), axis=0), axis=1)
     assert X.shape == (40, 2) and np.ptp(steps) < 0.5 * steps.mean()
     np.testing.assert_allclose(a.pressure(X, 4), 15.0, atol=4.0)  # the filtered image's isobar
-    moved = a.follow(X, 4, 15.0, 5, 15.0)
+    moved = a._follow(X, 4, 15.0, 5, 15.0)
     np.testing.assert_allclose(a.pressure(moved, 5), 15.0, atol=1e-6)
-    square = resample_closed_curve(np.array([[0, 0], [2, 0], [2, 2], [0, 2.0]]), 8)
+    square = _resample_closed_curve(np.array([[0, 0], [2, 0], [2, 2], [0, 2.0]]), 8)
     assert square.shape == (8, 2) and np.allclose(square[0], [0, 0])
 
 
