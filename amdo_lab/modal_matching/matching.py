@@ -360,7 +360,8 @@ def match_objects(X1: np.ndarray, X2: np.ndarray, *, sigma: float | None = None,
     element : {"gaussian", "axial"}
         One Gaussian (Sclaroff) element per object, or linear axial bars (lumped mass) tying each node
         to its neighbours: :data:`CONTOUR_BAR_REACH` on either side along a contour, the Delaunay
-        triangulation of (x, y) on a surface.
+        triangulation of (x, y) on a surface (a sheet of bars: its out-of-plane mechanisms cost no energy,
+        so its lowest modes are an arbitrary basis of them).
     rigid : {"element", "exact"}
         The element's own first D(D+1)/2 modes, or the exact rigid motions in their place
         (see :func:`~amdo_lab.modal_matching.gaussian_element`).
