@@ -31,7 +31,7 @@ KNOWN_EXCESS: dict[str, dict[str, object]] = {
     "face_glmm": {"validation_share": "19.9 % (206 of 1,034 lines)"},
     "incremental_svd": {"validation_share": "19.9 % (79 of 396 lines)"},
     "introduction": {"validation_share": "28.6 % (4 of 14 lines: one function checking five arguments)"},
-    "modal_matching": {"validation_share": "25.4 % (89 of 351 lines)"},
+    "modal_matching": {"validation_share": "22.4 % (79 of 353 lines)"},
     "pdm_mixtures": {"validation_share": "21.8 % (155 of 710 lines)"},
 }
 

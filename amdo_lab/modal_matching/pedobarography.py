@@ -17,7 +17,7 @@ from skimage import measure
 
 from amdo_lab.common import (MAX_SAMPLES, MAX_SIDE, as_finite_array, check_choice, check_in_range, check_instance,
                              check_positive, check_positive_int, make_rng)
-from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, check_same_dimension, mean_spacing
+from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, check_nodes, check_same_dimension, mean_spacing
 from amdo_lab.modal_matching.matching import _check_index_pairs
 
 __all__ = ["LOAD_NAMES", "ObjectPair", "PAPER_PAIRS", "PedobarographySequence", "SURFACE_BOX_MM", "correct_share",
@@ -366,7 +366,7 @@ def correct_share(pairs: np.ndarray, truth: np.ndarray, X2: np.ndarray) -> float
     truth : ndarray, shape (m1, D)
         Where each node of object 1 truly goes (mm), e.g. from the field's gradient flow.
     X2 : ndarray, shape (m2, D)
-        Object 2's nodes (mm).
+        Object 2's nodes (mm), D = 2 or 3, at least D + 2 distinct nodes.
 
     Returns
     -------
@@ -378,10 +378,8 @@ def correct_share(pairs: np.ndarray, truth: np.ndarray, X2: np.ndarray) -> float
     Bastos & Tavares, AMDO 2004, Sec. 5 (the paper counts "satisfactory" matches by eye).
     """
     truth = as_finite_array(truth, "truth", ndim=2, max_abs=MAX_COORDINATE_MM)
-    X2 = as_finite_array(X2, "X2", ndim=2, max_abs=MAX_COORDINATE_MM)
+    X2 = check_nodes(X2, "X2")   # an object's nodes, as everywhere: D = 2 or 3, D + 2 distinct nodes at least
     check_same_dimension(truth, X2, "truth and X2")
-    if len(X2) < 2:
-        raise ValueError(f"X2 must hold at least 2 nodes, got {len(X2)}")
     pairs = _check_index_pairs(pairs, (len(truth), len(X2)), f"truth's {len(truth)} or X2's {len(X2)} nodes")
     return _correct_share(pairs, truth, X2)
 
