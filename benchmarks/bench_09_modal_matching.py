@@ -16,7 +16,8 @@ Tables, one BLAS thread:
   surfaces Table 3's heel surfaces (frames 4-5, 50 kPa, every 3rd pixel, 3-D), exact rigid modes and 12 modes:
            local search, Procrustes and sign global search, ADCom's mean distance to the truth (in node spacings),
            the axial bars (Delaunay mesh: a sheet whose 20-odd zero-energy mechanisms make its low modes an
-           arbitrary basis, so this column changes with the BLAS kernel), 3-D coordinates and the plate position (x, y) alone; then the
+           arbitrary basis, so this column changes with the BLAS kernel), 3-D coordinates and the plate
+           position (x, y) alone; then the
            Procrustes global share by rigid modes (element / exact) and number of modes (6-24);
   failure  object 2 of the contour pair shifted 40 mm and turned by 0-90 degrees: correct share of
            sign-aligned modes, Procrustes-aligned modes, raw coordinates and rigid CPD;
@@ -121,7 +122,8 @@ def main() -> None:
         row = (len(local.pairs), share(local, p), share(best, p),
                share(mm.match_objects(p.X1, p.X2, align="sign", **chosen), p),
                round(float(np.mean(distance)) / mm.mean_spacing(p.X2), 2),
-               share(mm.match_objects(p.X1, p.X2, element="axial", **chosen), p), share(mm.match_coordinates(p.X1, p.X2), p),
+               share(mm.match_objects(p.X1, p.X2, element="axial", **chosen), p),
+               share(mm.match_coordinates(p.X1, p.X2), p),
                round(mm.correct_share(mm.match_coordinates(p.X1[:, :2], p.X2[:, :2]).pairs, p.truth[:, :2],
                                       p.X2[:, :2]), 3))
         surfaces.add(seed, f"{len(p.X1)}/{len(p.X2)}", *row)

@@ -25,7 +25,8 @@ from amdo_lab.modal_matching.element import (MAX_COORDINATE_MM, RIGID_MODES, Gau
                                              check_same_dimension)
 from amdo_lab.modal_matching.modes import ModalBasis, _modal_analysis
 
-__all__ = ["ALIGNMENTS", "CONTOUR_BAR_REACH", "ELEMENTS", "MatchResult", "SEARCHES", "adcom", "affinity_matrix", "global_search", "local_search",
+__all__ = ["ALIGNMENTS", "CONTOUR_BAR_REACH", "ELEMENTS", "MatchResult", "SEARCHES", "adcom", "affinity_matrix",
+           "global_search", "local_search",
            "match_objects", "mode_features"]
 
 #: How object 2's modes are put in object 1's frame before eq. (3): not at all, by a sign per mode,
