@@ -12,7 +12,6 @@ from amdo_lab.modal_matching import (
     affinity_matrix,
     axial_element,
     correct_share,
-    exact_rigid_motions,
     gaussian_element,
     global_search,
     local_search,
@@ -24,8 +23,10 @@ from amdo_lab.modal_matching import (
     modal_analysis,
     mode_features,
     paper_pair,
-    resample_closed_curve,
 )
+
+from amdo_lab.modal_matching.modes import _exact_rigid_motions
+from amdo_lab.modal_matching.pedobarography import _resample_closed_curve
 
 #: Seeds the notebook does not use (it uses 0 to 4).
 UNUSED_SEEDS = (21, 22, 23)
@@ -99,7 +100,7 @@ def test_the_first_modes_are_close_to_but_not_exactly_rigid():
     basis = modal_analysis(gaussian_element(X, sigma=mean_spacing(X)))
     cosines = basis.rigid_cosines()
     assert cosines.shape == (3,) and np.all(cosines < 0.99) and np.all(cosines > 0.3)
-    rigid = exact_rigid_motions(X)
+    rigid = _exact_rigid_motions(X)
     assert rigid.shape == (80, 3) and abs(rigid[:40, 2] @ rigid[40:, 2] + 0) >= 0  # shape only
     # an exact rigid motion has zero strain energy only if the element reproduces it; this one does not
     energy = np.einsum("ik,ij,jk->k", rigid, basis.model.stiffness, rigid)
@@ -140,7 +141,7 @@ def test_axial_bar_has_the_closed_form_frequency_and_rigid_motions_cost_nothing(
         Y = _blob(20, dim=dim)
         ring = [(i, (i + step) % 20) for step in (1, 2, 3) for i in range(20)]
         bars = axial_element(Y, ring)
-        rigid = exact_rigid_motions(Y)
+        rigid = _exact_rigid_motions(Y)
         energy = np.einsum("ik,ij,jk->k", rigid, bars.stiffness, rigid)
         assert np.abs(energy).max() < 1e-12 * np.abs(bars.stiffness).max() * np.abs(rigid).max() ** 2
         assert modal_analysis(bars).rigid_cosines() == pytest.approx(np.ones(dim * (dim + 1) // 2), abs=1e-8)
@@ -197,9 +198,9 @@ def test_sequence_is_seeded_and_contours_are_resampled_closed_curves():
     steps = np.linalg.norm(np.diff(np.vstack([X, X[:1]]), axis=0), axis=1)
     assert X.shape == (40, 2) and np.ptp(steps) < 0.5 * steps.mean()
     np.testing.assert_allclose(a.pressure(X, 4), 15.0, atol=4.0)  # the filtered image's isobar
-    moved = a.follow(X, 4, 15.0, 5, 15.0)
+    moved = a._follow(X, 4, 15.0, 5, 15.0)
     np.testing.assert_allclose(a.pressure(moved, 5), 15.0, atol=1e-6)
-    square = resample_closed_curve(np.array([[0, 0], [2, 0], [2, 2], [0, 2.0]]), 8)
+    square = _resample_closed_curve(np.array([[0, 0], [2, 0], [2, 2], [0, 2.0]]), 8)
     assert square.shape == (8, 2) and np.allclose(square[0], [0, 0])
 
 
@@ -227,13 +228,41 @@ def test_procrustes_aligned_modes_match_the_paper_pairs_on_unused_seeds(seed):
 
 
 @pytest.mark.parametrize("seed", UNUSED_SEEDS[:2])
-def test_surfaces_match_about_half_right_and_the_plate_position_nearly_all(seed):
+def test_surfaces_with_exact_rigid_modes_and_12_modes_beat_the_3d_coordinates(seed):
     pair = paper_pair(make_pedobarography_sequence(rng=seed), "surfaces")
     assert pair.X1.shape[1] == 3 and 90 <= len(pair.X2) <= len(pair.X1) <= 140
-    result = match_objects(pair.X1, pair.X2, n_modes=24)
-    assert correct_share(result.pairs, pair.truth, pair.X2) >= 0.35
+    result = match_objects(pair.X1, pair.X2, n_modes=12, rigid="exact")
+    share = correct_share(result.pairs, pair.truth, pair.X2)
+    assert share >= 0.7 and share > correct_share(match_coordinates(pair.X1, pair.X2).pairs, pair.truth, pair.X2)
+    local = match_objects(pair.X1, pair.X2, n_modes=12, rigid="exact", search="local")
+    assert correct_share(local.pairs, pair.truth, pair.X2) >= 0.7
+    # ADCom on a surface: the excess nodes take a partner next to where they truly go
+    spacing = mean_spacing(pair.X2)
+    distance = np.linalg.norm(pair.X2[result.excess_pairs[:, 1]] - pair.truth[result.excess_pairs[:, 0]], axis=1)
+    assert len(result.all_pairs) == len(pair.X1) and np.mean(distance) <= 1.6 * spacing
     plate = match_coordinates(pair.X1[:, :2], pair.X2[:, :2])
     assert correct_share(plate.pairs, pair.truth[:, :2], pair.X2[:, :2]) >= 0.75
+
+
+def test_match_objects_builds_the_element_it_is_asked_for():
+    X1, X2 = _blob(30), _blob(27, 1)
+    h = mean_spacing(X1)
+    for element, rigid, model in (("gaussian", "exact", lambda X: gaussian_element(X, sigma=h, rigid="exact")),
+                                  ("axial", "element", lambda X: axial_element(X, [(i, (i + s) % len(X))
+                                                                                   for s in (1, 2, 3)
+                                                                                   for i in range(len(X))]))):
+        by_hand = affinity_matrix(modal_analysis(model(X1)), modal_analysis(model(X2)), n_modes=8)
+        result = match_objects(X1, X2, n_modes=8, element=element, rigid=rigid)
+        np.testing.assert_allclose(result.Z, by_hand, rtol=1e-9, atol=1e-9)
+
+
+def test_adcom_in_space_takes_the_partner_of_the_nearest_matched_nodes():
+    X1 = np.array([[0.0, 0, 0], [1, 0, 0], [5, 0, 0], [6, 0, 0], [5.2, 0.1, 0]])
+    X2 = X1[:4] + 0.05
+    Z = np.sum((X1[:, None] - X2[None]) ** 2, axis=-1)
+    pairs = np.array([[0, 0], [1, 1], [2, 2], [3, 3]])
+    assert adcom(Z, pairs, X1=X1, X2=X2).tolist() == [[4, 2]]  # its neighbours in space: nodes 2 and 3
+    assert adcom(Z, pairs).tolist() == [[4, 3]]  # along a contour 0-1-2-3-4: nodes 3 and 0
 
 
 def test_peers_return_one_to_one_pairs_and_adcom_pairs():
@@ -288,6 +317,14 @@ REJECTIONS = [
     reject("no contour at level", lambda: make_pedobarography_sequence(rng=0, n_frames=3).contour(0, 1e5, 10),
            ValueError, "level"),
     reject("pairs outside Z", lambda: adcom(np.ones((3, 2)), np.array([[0, 2]])), ValueError, "pairs"),
+    reject("X1 without X2", lambda: adcom(np.ones((3, 2)), np.array([[0, 1]]), X1=np.ones((3, 2))), ValueError,
+           "X2"),
+    reject("X2 of the wrong size", lambda: adcom(np.ones((3, 2)), np.array([[0, 1]]), X1=np.eye(3),
+                                                 X2=np.ones((4, 3))), ValueError, "X2"),
+    reject("unknown element", lambda: match_objects(_blob(8), _blob(7), n_modes=4, element="shell"), ValueError,
+           "element"),
+    reject("unknown rigid in match_objects", lambda: match_objects(_blob(8), _blob(7), n_modes=4, rigid="none"),
+           ValueError, "rigid"),
 ]
 
 

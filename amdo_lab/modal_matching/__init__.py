@@ -15,6 +15,8 @@ from amdo_lab.modal_matching.element import (
 )
 from amdo_lab.modal_matching.matching import (
     ALIGNMENTS,
+    CONTOUR_BAR_REACH,
+    ELEMENTS,
     SEARCHES,
     MatchResult,
     adcom,
@@ -24,7 +26,7 @@ from amdo_lab.modal_matching.matching import (
     match_objects,
     mode_features,
 )
-from amdo_lab.modal_matching.modes import ModalBasis, exact_rigid_motions, modal_analysis
+from amdo_lab.modal_matching.modes import ModalBasis, modal_analysis
 from amdo_lab.modal_matching.peers import CPD_KINDS, match_coordinates, match_cpd
 from amdo_lab.modal_matching.pedobarography import (
     LOAD_NAMES,
@@ -36,7 +38,6 @@ from amdo_lab.modal_matching.pedobarography import (
     make_pedobarography_sequence,
     move_object,
     paper_pair,
-    resample_closed_curve,
 )
 
 __all__ = [
@@ -49,6 +50,8 @@ __all__ = [
     "gaussian_element",
     "mean_spacing",
     "ALIGNMENTS",
+    "CONTOUR_BAR_REACH",
+    "ELEMENTS",
     "SEARCHES",
     "MatchResult",
     "adcom",
@@ -58,7 +61,6 @@ __all__ = [
     "match_objects",
     "mode_features",
     "ModalBasis",
-    "exact_rigid_motions",
     "modal_analysis",
     "CPD_KINDS",
     "match_coordinates",
@@ -72,7 +74,6 @@ __all__ = [
     "make_pedobarography_sequence",
     "move_object",
     "paper_pair",
-    "resample_closed_curve",
 ]
 
 from amdo_lab.common.equations import with_equation_map as _with_equation_map  # noqa: E402

@@ -10,19 +10,23 @@ ADCom then gives every excess node the partner of a matched neighbour.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy import stats
 from scipy.optimize import linear_sum_assignment
+from scipy.spatial import Delaunay
 
 from amdo_lab.common import (as_finite_array, check_bool, check_choice, check_in_range, check_instance,
                              check_positive_int)
-from amdo_lab.modal_matching.element import (MAX_COORDINATE_MM, _check_node_pair, _interpolate_field,
-                                             check_same_dimension, gaussian_element, mean_spacing)
-from amdo_lab.modal_matching.modes import ModalBasis, modal_analysis
+from amdo_lab.modal_matching.axial import _axial_element
+from amdo_lab.modal_matching.element import (MAX_COORDINATE_MM, RIGID_MODES, GaussianElement, _check_condition,
+                                             _check_node_pair, _gaussian_element, _interpolate_field, _mean_spacing,
+                                             check_same_dimension)
+from amdo_lab.modal_matching.modes import ModalBasis, _modal_analysis
 
-__all__ = ["ALIGNMENTS", "MatchResult", "SEARCHES", "adcom", "affinity_matrix", "global_search", "local_search",
+__all__ = ["ALIGNMENTS", "CONTOUR_BAR_REACH", "ELEMENTS", "MatchResult", "SEARCHES", "adcom", "affinity_matrix",
+           "global_search", "local_search",
            "match_objects", "mode_features"]
 
 #: How object 2's modes are put in object 1's frame before eq. (3): not at all, by a sign per mode,
@@ -30,6 +34,10 @@ __all__ = ["ALIGNMENTS", "MatchResult", "SEARCHES", "adcom", "affinity_matrix", 
 ALIGNMENTS = ("none", "sign", "procrustes")
 #: The paper's two searches.
 SEARCHES = ("local", "global")
+#: The paper's two models of an object: one Gaussian (Sclaroff) element, or linear axial bars between neighbours.
+ELEMENTS = ("gaussian", "axial")
+#: Axial bars of a contour tie node i to nodes i +- 1 ... i +- CONTOUR_BAR_REACH along it.
+CONTOUR_BAR_REACH = 3
 #: Largest magnitude of an affinity entry: sums of a million of them stay finite.
 MAX_AFFINITY = 1e300
 
@@ -244,12 +252,15 @@ def _global_search(Z: np.ndarray, pad: bool = False) -> np.ndarray:
     return np.stack([rows, columns], axis=1).astype(int)
 
 
-def adcom(Z: np.ndarray, pairs: np.ndarray) -> np.ndarray:
+def adcom(Z: np.ndarray, pairs: np.ndarray, *, X1: np.ndarray | None = None,
+          X2: np.ndarray | None = None) -> np.ndarray:
     """ADCom: give each node the one-to-one search left unmatched the partner of a matched neighbour.
 
-    Nodes are taken in contour order (a closed contour). For an unmatched node, the nearest matched
-    node on each side is found; of their two partners, the one with the lower Z to the unmatched
-    node is taken. The unmatched nodes may belong to either object.
+    For an unmatched node, two matched nodes of its own object are its neighbours: without node
+    positions, the nearest matched node on each side along a closed contour (nodes in contour order);
+    with them (surfaces), the two matched nodes nearest in space, its mesh neighbours on a sampled grid.
+    Of the two neighbours' partners, the one with the lower Z to the unmatched node is taken. The
+    unmatched nodes may belong to either object.
 
     Parameters
     ----------
@@ -257,6 +268,8 @@ def adcom(Z: np.ndarray, pairs: np.ndarray) -> np.ndarray:
         The affinity matrix.
     pairs : ndarray of int, shape (k, 2)
         One-to-one pairs (i, j), e.g. from :func:`global_search`.
+    X1, X2 : ndarray, shapes (m1, D) and (m2, D), optional
+        The two objects' nodes (mm), both or neither: neighbours by distance instead of contour order.
 
     Returns
     -------
@@ -268,7 +281,12 @@ def adcom(Z: np.ndarray, pairs: np.ndarray) -> np.ndarray:
     Bastos & Tavares, AMDO 2004, Sec. 4 (one sentence: "a neighbourhood criterion"; our reading).
     """
     Z = as_finite_array(Z, "Z", ndim=2, max_abs=MAX_AFFINITY)
-    return _adcom(Z, _check_index_pairs(pairs, Z.shape, f"Z's shape {Z.shape}"))
+    pairs = _check_index_pairs(pairs, Z.shape, f"Z's shape {Z.shape}")
+    if (X1 is None) != (X2 is None):
+        raise ValueError("X1 and X2 must be given together (neighbours in space) or not at all (contour order)")
+    nodes = None if X1 is None else (as_finite_array(X1, "X1", shape=(Z.shape[0], None), max_abs=MAX_COORDINATE_MM),
+                                     as_finite_array(X2, "X2", shape=(Z.shape[1], None), max_abs=MAX_COORDINATE_MM))
+    return _adcom(Z, pairs, nodes)
 
 
 def _check_index_pairs(pairs: object, sizes: tuple[int, int], what: str) -> np.ndarray:
@@ -279,7 +297,14 @@ def _check_index_pairs(pairs: object, sizes: tuple[int, int], what: str) -> np.n
     return pairs
 
 
-def _adcom(Z: np.ndarray, pairs: np.ndarray) -> np.ndarray:
+def _two_neighbours(node: int, matched: np.ndarray, m: int, X: np.ndarray | None) -> np.ndarray:
+    """The two matched nodes next to ``node``: along the closed contour of m nodes, or nearest in space (X)."""
+    if X is None:
+        return np.array([matched[np.argmin((matched - node) % m)], matched[np.argmin((node - matched) % m)]])
+    return matched[np.argsort(np.sum((X[matched] - X[node]) ** 2, axis=1), kind="stable")[:2]]
+
+
+def _adcom(Z: np.ndarray, pairs: np.ndarray, nodes: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
     added = []
     for side, cost in ((0, Z), (1, Z.T)):
         partner = np.full(cost.shape[0], -1)
@@ -287,28 +312,43 @@ def _adcom(Z: np.ndarray, pairs: np.ndarray) -> np.ndarray:
         matched = np.flatnonzero(partner >= 0)
         if matched.size == 0:
             continue
-        m = cost.shape[0]
         for node in np.flatnonzero(partner < 0):
-            after = matched[np.argmin((matched - node) % m)]   # nearest matched node forward
-            before = matched[np.argmin((node - matched) % m)]  # and backward along the contour
-            candidates = [partner[after], partner[before]]
-            best = min(candidates, key=lambda j: (cost[node, j], j))
+            near = _two_neighbours(node, matched, cost.shape[0], None if nodes is None else nodes[side])
+            best = min(partner[near], key=lambda j: (cost[node, j], j))
             added.append((node, best) if side == 0 else (best, node))
     return np.array(added, dtype=int).reshape(-1, 2)
 
 
+def _excess(Z: np.ndarray, pairs: np.ndarray, X1: np.ndarray, X2: np.ndarray) -> np.ndarray:
+    """ADCom for two checked objects: contour order in 2-D, neighbours in space on 3-D surfaces."""
+    return _adcom(Z, pairs, None if X1.shape[1] == 2 else (X1, X2))
+
+
+def _object_bars(X: np.ndarray) -> np.ndarray:
+    """The axial bars of an object (Sec. 3.1-3.2, Fig. 5: each node tied to its neighbours): along a contour
+    (2-D, contour order) node i to nodes i +- 1 ... i +- CONTOUR_BAR_REACH; on a surface (3-D) the edges of
+    the Delaunay triangulation of the plate positions (x, y)."""
+    m = len(X)
+    if X.shape[1] == 2:
+        return np.array([(i, (i + step) % m) for step in range(1, CONTOUR_BAR_REACH + 1) for i in range(m)])
+    triangles = Delaunay(X[:, :2]).simplices
+    edges = np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1)
+    return np.unique(edges, axis=0)
+
+
 def match_objects(X1: np.ndarray, X2: np.ndarray, *, sigma: float | None = None, n_modes: int = 16,
-                  align: str = "procrustes", search: str = "global", excess: bool = True) -> MatchResult:
-    """Match the nodes of two objects in modal space: Gaussian elements, modes, eq. (3), a search, ADCom.
+                  align: str = "procrustes", search: str = "global", excess: bool = True, element: str = "gaussian",
+                  rigid: str = "element") -> MatchResult:
+    """Match the nodes of two objects in modal space: an element, its modes, eq. (3) or (4), a search, ADCom.
 
     Parameters
     ----------
     X1, X2 : ndarray, shapes (m1, D) and (m2, D)
-        The two objects' nodes (mm), D = 2 or 3, at least D + 2 distinct nodes each; for ADCom, in
-        contour order.
+        The two objects' nodes (mm), D = 2 (contours, in contour order) or 3 (surfaces, the pressure as
+        third coordinate), at least D + 2 distinct nodes each.
     sigma : float, optional
         Width of the Gaussians (mm) for both objects, in (0, 1e100]; default: object 1's mean node
-        spacing h.
+        spacing h. Gaussian element only (the bars interpolate with each object's own h).
     n_modes : int
         Modes compared, from 1 to D min(m1, m2).
     align : {"none", "sign", "procrustes"}
@@ -316,7 +356,16 @@ def match_objects(X1: np.ndarray, X2: np.ndarray, *, sigma: float | None = None,
     search : {"local", "global"}
         Mutual best matches, or the assignment of least total cost.
     excess : bool
-        Match the nodes left over by the search with ADCom (global search only).
+        Match the nodes left over by the search with ADCom (global search only); its neighbours are
+        taken along the contour in 2-D and in space on 3-D surfaces (see :func:`adcom`).
+    element : {"gaussian", "axial"}
+        One Gaussian (Sclaroff) element per object, or linear axial bars (lumped mass) tying each node
+        to its neighbours: :data:`CONTOUR_BAR_REACH` on either side along a contour, the Delaunay
+        triangulation of (x, y) on a surface (a sheet of bars: its out-of-plane mechanisms cost no energy,
+        so its lowest modes are an arbitrary basis of them).
+    rigid : {"element", "exact"}
+        The element's own first D(D+1)/2 modes, or the exact rigid motions in their place
+        (see :func:`~amdo_lab.modal_matching.gaussian_element`).
 
     Returns
     -------
@@ -325,7 +374,7 @@ def match_objects(X1: np.ndarray, X2: np.ndarray, *, sigma: float | None = None,
 
     References
     ----------
-    Bastos & Tavares, AMDO 2004, Sec. 4 and Fig. 8.
+    Bastos & Tavares, AMDO 2004, Sec. 3-4 and Fig. 8.
 
     Examples
     --------
@@ -342,15 +391,27 @@ def match_objects(X1: np.ndarray, X2: np.ndarray, *, sigma: float | None = None,
     align = check_choice(align, "align", ALIGNMENTS)
     search = check_choice(search, "search", SEARCHES)
     excess = check_bool(excess, "excess")
-    return _match_objects(X1, X2, mean_spacing(X1) if sigma is None else sigma, n_modes, align, search, excess)
+    element = check_choice(element, "element", ELEMENTS)
+    rigid = check_choice(rigid, "rigid", RIGID_MODES)
+    sigma = _mean_spacing(X1) if sigma is None else sigma
+    bars = element == "axial"
+    for X in (X1, X2):   # G of width sigma (Gaussian) or of each object's own h (bars) must be invertible
+        _check_condition(X, _mean_spacing(X) if bars else sigma, sigma_is_spacing=bars)
+    return _match_objects(X1, X2, sigma, n_modes, align, search, excess, element, rigid)
+
+
+def _object_model(X: np.ndarray, element: str, sigma: float, rigid: str) -> GaussianElement:
+    """The paper's model of one checked object: a Gaussian element of width sigma, or axial bars."""
+    if element == "axial":
+        return replace(_axial_element(X, _object_bars(X), 1.0, 1.0), rigid=rigid)
+    return _gaussian_element(X, sigma, 1.0, 0.3, 1.0, rigid)
 
 
 def _match_objects(X1: np.ndarray, X2: np.ndarray, sigma: float, n_modes: int, align: str, search: str,
-                   excess: bool) -> MatchResult:
+                   excess: bool, element: str = "gaussian", rigid: str = "element") -> MatchResult:
     start = time.perf_counter()
-    modes1 = modal_analysis(gaussian_element(X1, sigma=sigma))   # refuses a sigma that makes G singular
-    modes2 = modal_analysis(gaussian_element(X2, sigma=sigma))
+    modes1, modes2 = (_modal_analysis(_object_model(X, element, sigma, rigid)) for X in (X1, X2))
     Z = _affinity(*_mode_features(modes1, modes2, n_modes, align))
     pairs = _global_search(Z) if search == "global" else _local_search(Z)
-    extra = _adcom(Z, pairs) if excess and search == "global" else np.zeros((0, 2), dtype=int)
+    extra = _excess(Z, pairs, X1, X2) if excess and search == "global" else np.zeros((0, 2), dtype=int)
     return MatchResult(pairs, extra, Z, time.perf_counter() - start)

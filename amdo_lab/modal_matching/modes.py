@@ -13,9 +13,9 @@ import numpy as np
 from scipy import linalg
 
 from amdo_lab.common import check_instance, check_positive_int
-from amdo_lab.modal_matching.element import GaussianElement, check_nodes
+from amdo_lab.modal_matching.element import GaussianElement
 
-__all__ = ["ModalBasis", "exact_rigid_motions", "modal_analysis"]
+__all__ = ["ModalBasis", "modal_analysis"]
 
 
 @dataclass(frozen=True)
@@ -76,28 +76,10 @@ class ModalBasis:
         return np.linalg.norm(basis.T @ rigid, axis=0)
 
 
-def exact_rigid_motions(nodes: np.ndarray) -> np.ndarray:
-    """The exact rigid motions of a node set: unit translations, then small rotations about its centroid.
-
-    Parameters
-    ----------
-    nodes : ndarray, shape (m, D)
-        Node positions (mm), D = 2 or 3, at least D + 2 distinct nodes.
-
-    Returns
-    -------
-    ndarray, shape (D m, D (D + 1) / 2)
-        Nodal displacements, degrees of freedom ordered axis by axis.
-
-    References
-    ----------
-    Bastos & Tavares, AMDO 2004, Sec. 4 ("the first three (six) modes are rigid").
-    """
-    X = check_nodes(nodes, "nodes")
-    return _exact_rigid_motions(X)
-
-
 def _exact_rigid_motions(X: np.ndarray) -> np.ndarray:
+    """The exact rigid motions of nodes X (m, D): unit translations, then small rotations about the centroid,
+    as columns of nodal displacements (D m, D (D + 1) / 2), degrees of freedom axis by axis (Sec. 4: "the first
+    three (six) modes are rigid")."""
     m, D = X.shape
     centred = X - X.mean(axis=0)
     columns = [np.kron(np.eye(D)[a], np.ones(m)) for a in range(D)]

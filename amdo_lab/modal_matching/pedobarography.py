@@ -17,11 +17,11 @@ from skimage import measure
 
 from amdo_lab.common import (MAX_SAMPLES, MAX_SIDE, as_finite_array, check_choice, check_in_range, check_instance,
                              check_positive, check_positive_int, make_rng)
-from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, check_same_dimension, mean_spacing
+from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, check_nodes, check_same_dimension, mean_spacing
 from amdo_lab.modal_matching.matching import _check_index_pairs
 
 __all__ = ["LOAD_NAMES", "ObjectPair", "PAPER_PAIRS", "PedobarographySequence", "SURFACE_BOX_MM", "correct_share",
-           "make_pedobarography_sequence", "move_object", "paper_pair", "resample_closed_curve"]
+           "make_pedobarography_sequence", "move_object", "paper_pair"]
 
 _REFERENCE = ("Bastos & Tavares. Improvement of Modal Matching Image Objects in Dynamic Pedobarography Using "
               "Optimization Techniques. AMDO 2004, LNCS 3179, Sec. 2-3.")
@@ -61,15 +61,13 @@ MM_PER_PX = 2.0
 NOISE_KPA = 3.0
 FLOOR_KPA = 8.0
 FILTER_PX = 1.0
-#: Sub-steps of :meth:`PedobarographySequence.follow` between the start and the end isobar.
+#: Sub-steps of the field's gradient flow between the start and the end isobar.
 FOLLOW_STEPS = 16
 #: Largest pressure (kPa) accepted as a level: a thousand times a foot's peak.
 MAX_PRESSURE_KPA = 1e6
-#: Largest scale (mm per kPa) of a surface's third coordinate: the largest pressure stays a valid coordinate.
-MAX_Z_MM_PER_KPA = MAX_COORDINATE_MM / MAX_PRESSURE_KPA
 #: Latest time (frames) the field is evaluated at: far beyond any step, and (t - t_k)^2 stays finite.
 MAX_TIME_FRAMES = 1e6
-#: Longest Newton step (mm) of :meth:`PedobarographySequence.follow`, so flat regions do not throw a point away.
+#: Longest Newton step (mm) of the field's gradient flow, so flat regions do not throw a point away.
 _MAX_NEWTON_STEP_MM = 2.0
 #: Standard deviations of the seeded perturbations: centres (mm), log peaks, peak times (stance).
 _JITTER = (3.0, 0.10, 0.02)
@@ -162,31 +160,10 @@ class PedobarographySequence:
         longest = max(curves, key=len)
         return _resample_closed_curve(longest[:, ::-1] * self.mm_per_px, n_nodes)
 
-    def surface(self, frame: int, level: float, *, stride_px: int = 3, z_mm_per_kpa: float = 1.0) -> np.ndarray:
-        """The pressure surface of a frame as 3-D nodes: every ``stride_px``-th pixel inside the heel's
-        rectangle :data:`SURFACE_BOX_MM` where the pressure reaches ``level``, with the pressure (scaled)
-        as third coordinate.
-
-        Parameters
-        ----------
-        frame : int
-            Index of the frame.
-        level : float
-            Pressure (kPa), > 0.
-        stride_px : int
-            Sampling step (pixels), from 1 to 4,096.
-        z_mm_per_kpa : float
-            Scale of the third coordinate (mm per kPa), > 0.
-
-        Returns
-        -------
-        ndarray, shape (m, 3)
-            Nodes (x, y, z) in mm, row by row.
-        """
-        frame = check_positive_int(frame, "frame", minimum=0, maximum=self.frames.shape[0] - 1)
-        level = check_in_range(level, "level", 0.0, MAX_PRESSURE_KPA, closed="right")
-        stride = check_positive_int(stride_px, "stride_px", maximum=MAX_SIDE)
-        z_scale = check_in_range(z_mm_per_kpa, "z_mm_per_kpa", 0.0, MAX_Z_MM_PER_KPA, closed="right")
+    def _surface(self, frame: int, level: float, stride: int, z_scale: float = 1.0) -> np.ndarray:
+        """The pressure surface of a frame as 3-D nodes (x, y, z) in mm, row by row: every ``stride``-th pixel
+        inside the heel's rectangle :data:`SURFACE_BOX_MM` where the pressure reaches ``level`` kPa, with the
+        pressure times ``z_scale`` (mm per kPa) as third coordinate (Sec. 3.2, steps 2-6)."""
         x0, x1, y0, y1 = SURFACE_BOX_MM
         image = self.frames[frame]
         rows, cols = np.mgrid[0:image.shape[0]:stride, 0:image.shape[1]:stride]
@@ -194,33 +171,11 @@ class PedobarographySequence:
         inside = (x >= x0) & (x <= x1) & (y >= y0) & (y <= y1) & (p >= level)
         return np.c_[x[inside], y[inside], z_scale * p[inside]]
 
-    def follow(self, points: np.ndarray, t_from: float, level_from: float, t_to: float,
-               level_to: float) -> np.ndarray:
-        """Where the field's gradient flow carries points from one isobar (t, level) to another.
-
-        Each of :data:`FOLLOW_STEPS` sub-steps moves the time and the level a little and projects every point
-        back onto the current isobar along the gradient (Newton steps): between frames this is the
-        isobar's normal motion, between levels the steepest ascent.
-
-        Parameters
-        ----------
-        points : ndarray, shape (p, 2)
-            Points (mm) on or near the isobar ``level_from`` at time ``t_from``.
-        t_from, t_to : float
-            Times (frames), in [0, 1e6].
-        level_from, level_to : float
-            Pressures (kPa), in (0, 1e6].
-
-        Returns
-        -------
-        ndarray, shape (p, 2)
-            The points carried to the isobar ``level_to`` at time ``t_to``.
-        """
-        P = as_finite_array(points, "points", ndim=2, shape=(None, 2), max_abs=MAX_COORDINATE_MM)
-        t_from = check_in_range(t_from, "t_from", 0.0, MAX_TIME_FRAMES, closed="both")
-        t_to = check_in_range(t_to, "t_to", 0.0, MAX_TIME_FRAMES, closed="both")
-        level_from = check_in_range(level_from, "level_from", 0.0, MAX_PRESSURE_KPA, closed="right")
-        level_to = check_in_range(level_to, "level_to", 0.0, MAX_PRESSURE_KPA, closed="right")
+    def _follow(self, P: np.ndarray, t_from: float, level_from: float, t_to: float, level_to: float) -> np.ndarray:
+        """Where the field's gradient flow carries points P (p, 2) from the isobar ``level_from`` at time
+        ``t_from`` to the isobar ``level_to`` at ``t_to``: each of :data:`FOLLOW_STEPS` sub-steps moves the time
+        and the level a little and projects every point back onto the current isobar along the gradient
+        (Newton steps); between frames this is the isobar's normal motion, between levels the steepest ascent."""
         for fraction in np.linspace(0, 1, FOLLOW_STEPS + 1):
             t = t_from + fraction * (t_to - t_from)
             level = level_from + fraction * (level_to - level_from)
@@ -280,13 +235,13 @@ def paper_pair(sequence: PedobarographySequence, which: str) -> ObjectPair:
         raise ValueError(f"sequence must hold at least {max(t1, t2) + 1} frames")
     if which == "surfaces":  # the plate position is the truth: a node keeps its x and y
         x0, x1 = SURFACE_BOX_MM[:2]
-        S1 = sequence.surface(t1, level1, stride_px=n1)
+        S1 = sequence._surface(t1, level1, n1)
         scale = (x1 - x0) / S1[:, 2].max()  # z spans the same range as x (Sec. 3.2, step 6)
         S1[:, 2] *= scale
         truth = np.c_[S1[:, :2], scale * sequence.pressure(S1[:, :2], t2)]
-        return ObjectPair(S1, sequence.surface(t2, level2, stride_px=n2, z_mm_per_kpa=scale), truth)
+        return ObjectPair(S1, sequence._surface(t2, level2, n2, scale), truth)
     X1 = sequence.contour(t1, level1, n1)
-    return ObjectPair(X1, sequence.contour(t2, level2, n2), sequence.follow(X1, t1, level1, t2, level2))
+    return ObjectPair(X1, sequence.contour(t2, level2, n2), sequence._follow(X1, t1, level1, t2, level2))
 
 
 def move_object(pair: ObjectPair, *, angle_deg: float, shift_mm: float) -> ObjectPair:
@@ -323,33 +278,9 @@ def move_object(pair: ObjectPair, *, angle_deg: float, shift_mm: float) -> Objec
     return ObjectPair(pair.X1, move(pair.X2), move(pair.truth))
 
 
-def resample_closed_curve(curve: np.ndarray, n_nodes: int) -> np.ndarray:
-    """Resample a closed polyline to ``n_nodes`` nodes equally spaced along its length.
-
-    Parameters
-    ----------
-    curve : ndarray, shape (p, 2)
-        Vertices (mm), the last may repeat the first.
-    n_nodes : int
-        Nodes wanted, at least 4 and at most 1,000,000.
-
-    Returns
-    -------
-    ndarray, shape (n_nodes, 2)
-        Counter-clockwise nodes, the first at the lowest (smallest y) vertex.
-
-    References
-    ----------
-    Bastos & Tavares, AMDO 2004, Sec. 5 (contours of 64 and 58 nodes; the sampling is not described).
-    """
-    curve = as_finite_array(curve, "curve", ndim=2, shape=(None, 2), max_abs=MAX_COORDINATE_MM)
-    n_nodes = check_positive_int(n_nodes, "n_nodes", minimum=4, maximum=MAX_SAMPLES)
-    if len(curve) < 3:
-        raise ValueError(f"curve must hold at least 3 vertices, got {len(curve)}")
-    return _resample_closed_curve(curve, n_nodes)
-
-
 def _resample_closed_curve(curve: np.ndarray, n: int) -> np.ndarray:
+    """A closed polyline (p, 2), the last vertex may repeat the first, resampled to n nodes equally spaced along
+    its length, counter-clockwise, the first at the lowest (smallest y) vertex (Sec. 5: 64 and 58 nodes)."""
     if np.allclose(curve[0], curve[-1]):
         curve = curve[:-1]
     x, y = curve[:, 0], curve[:, 1]
@@ -433,9 +364,9 @@ def correct_share(pairs: np.ndarray, truth: np.ndarray, X2: np.ndarray) -> float
     pairs : ndarray of int, shape (k, 2)
         Pairs (i in object 1, j in object 2), k ≥ 1.
     truth : ndarray, shape (m1, D)
-        Where each node of object 1 truly goes (mm), e.g. from :meth:`PedobarographySequence.follow`.
+        Where each node of object 1 truly goes (mm), e.g. from the field's gradient flow.
     X2 : ndarray, shape (m2, D)
-        Object 2's nodes (mm).
+        Object 2's nodes (mm), D = 2 or 3, at least D + 2 distinct nodes.
 
     Returns
     -------
@@ -447,10 +378,8 @@ def correct_share(pairs: np.ndarray, truth: np.ndarray, X2: np.ndarray) -> float
     Bastos & Tavares, AMDO 2004, Sec. 5 (the paper counts "satisfactory" matches by eye).
     """
     truth = as_finite_array(truth, "truth", ndim=2, max_abs=MAX_COORDINATE_MM)
-    X2 = as_finite_array(X2, "X2", ndim=2, max_abs=MAX_COORDINATE_MM)
+    X2 = check_nodes(X2, "X2")   # an object's nodes, as everywhere: D = 2 or 3, D + 2 distinct nodes at least
     check_same_dimension(truth, X2, "truth and X2")
-    if len(X2) < 2:
-        raise ValueError(f"X2 must hold at least 2 nodes, got {len(X2)}")
     pairs = _check_index_pairs(pairs, (len(truth), len(X2)), f"truth's {len(truth)} or X2's {len(X2)} nodes")
     return _correct_share(pairs, truth, X2)
 

@@ -12,7 +12,7 @@ import numpy as np
 
 from amdo_lab.common import check_choice
 from amdo_lab.modal_matching.element import _check_node_pair
-from amdo_lab.modal_matching.matching import MatchResult, adcom, global_search
+from amdo_lab.modal_matching.matching import MatchResult, _excess, _global_search
 
 __all__ = ["CPD_KINDS", "match_coordinates", "match_cpd"]
 
@@ -51,8 +51,8 @@ def match_coordinates(X1: np.ndarray, X2: np.ndarray) -> MatchResult:
     X1, X2 = _check_node_pair(X1, X2)
     start = time.perf_counter()
     Z = _squared_distances(X1, X2)
-    pairs = global_search(Z)
-    return MatchResult(pairs, adcom(Z, pairs), Z, time.perf_counter() - start)
+    pairs = _global_search(Z)
+    return MatchResult(pairs, _excess(Z, pairs, X1, X2), Z, time.perf_counter() - start)
 
 
 def match_cpd(X1: np.ndarray, X2: np.ndarray, *, kind: str = "deformable") -> MatchResult:
@@ -87,5 +87,5 @@ def match_cpd(X1: np.ndarray, X2: np.ndarray, *, kind: str = "deformable") -> Ma
     registration = (RigidRegistration if kind == "rigid" else DeformableRegistration)(X=fixed, Y=moving)
     moved, _ = registration.register()
     Z = _squared_distances(fixed, moved)
-    pairs = global_search(Z)
-    return MatchResult(pairs, adcom(Z, pairs), Z, time.perf_counter() - start)
+    pairs = _global_search(Z)
+    return MatchResult(pairs, _excess(Z, pairs, X1, X2), Z, time.perf_counter() - start)

@@ -26,6 +26,8 @@ EXEMPT = {
 
 #: A node set of another dimension is a valid object of its own (a 3-D outline).
 _ANY_D = frozenset({("nodes", "a wrong trailing axis")})
+#: ADCom looks for neighbours within each object: X1 and X2 need not share D.
+_EACH_OWN_D = frozenset({("X1", "a wrong trailing axis"), ("X2", "a wrong trailing axis")})
 
 
 def _outline(n: int, seed: int = 0) -> np.ndarray:
@@ -64,7 +66,6 @@ def cases() -> dict[str, Case]:
         "mean_spacing": Case(mm.mean_spacing, {"nodes": X1}, {"nodes": "array"}, accept=_ANY_D),
         "modal_analysis": Case(mm.modal_analysis, {"model": model}, {"model": "object"}),
         "ModalBasis.node_vectors": Case(method(modes1, "node_vectors"), {"n_modes": 3}, {"n_modes": "count"}),
-        "exact_rigid_motions": Case(mm.exact_rigid_motions, {"nodes": X1}, {"nodes": "array"}, accept=_ANY_D),
         "mode_features": Case(mm.mode_features, {"modes1": modes1, "modes2": modes2, "n_modes": 4,
                                                  "align": "sign"},
                               {"modes1": "object", "modes2": "object", "n_modes": "count", "align": "name"}),
@@ -74,11 +75,14 @@ def cases() -> dict[str, Case]:
         "local_search": Case(mm.local_search, {"Z": Z}, {"Z": "array"}, accept=rectangular),
         "global_search": Case(mm.global_search, {"Z": Z, "pad": True}, {"Z": "array", "pad": "flag"},
                               accept=rectangular),
-        "adcom": Case(mm.adcom, {"Z": Z, "pairs": pairs}, {"Z": "array", "pairs": "array"}, accept=rectangular),
+        "adcom": Case(mm.adcom, {"Z": Z, "pairs": pairs, **objects}, {"Z": "array", "pairs": "array", **object_kinds},
+                      accept=rectangular | _EACH_OWN_D),
         "match_objects": Case(mm.match_objects, {**objects, "sigma": 3.0, "n_modes": 4, "align": "sign",
-                                                 "search": "global", "excess": True},
+                                                 "search": "global", "excess": True, "element": "gaussian",
+                                                 "rigid": "exact"},
                               {**object_kinds, "sigma": "positive", "n_modes": "count", "align": "name",
-                               "search": "name", "excess": "flag"}, accept=frozenset({("sigma", "None")})),
+                               "search": "name", "excess": "flag", "element": "name", "rigid": "name"},
+                              accept=frozenset({("sigma", "None")})),
         "match_coordinates": Case(mm.match_coordinates, objects, object_kinds),
         "match_cpd": Case(mm.match_cpd, {**objects, "kind": "rigid"}, {**object_kinds, "kind": "name"}),
         "make_pedobarography_sequence": Case(
@@ -89,21 +93,10 @@ def cases() -> dict[str, Case]:
         "PedobarographySequence.contour": Case(method(step, "contour"), {"frame": 4, "level": 15.0, "n_nodes": 20},
                                                {"frame": "count", "level": "positive", "n_nodes": "count"},
                                                accept=frozenset({("frame", "zero")})),
-        "PedobarographySequence.surface": Case(
-            method(step, "surface"), {"frame": 4, "level": 50.0, "stride_px": 6, "z_mm_per_kpa": 0.5},
-            {"frame": "count", "level": "positive", "stride_px": "count", "z_mm_per_kpa": "positive"},
-            accept=frozenset({("frame", "zero")})),
-        "PedobarographySequence.follow": Case(
-            method(step, "follow"), {"points": step.contour(4, 15.0, 20), "t_from": 4.0, "level_from": 15.0,
-                                     "t_to": 5.0, "level_to": 15.0},
-            {"points": "array", "t_from": "non_negative", "level_from": "positive", "t_to": "non_negative",
-             "level_to": "positive"}),
         "paper_pair": Case(mm.paper_pair, {"sequence": step, "which": "isobars"},
                            {"sequence": "object", "which": "name"}),
         "move_object": Case(mm.move_object, {"pair": pair, "angle_deg": 20.0, "shift_mm": 40.0},
                             {"pair": "object", "angle_deg": "real", "shift_mm": "real"}),
-        "resample_closed_curve": Case(mm.resample_closed_curve, {"curve": X1, "n_nodes": 12},
-                                      {"curve": "array", "n_nodes": "count"}),
         "correct_share": Case(mm.correct_share, {"pairs": pairs, "truth": X1, "X2": X2},
                               {"pairs": "array", "truth": "array", "X2": "array"}),
     }
