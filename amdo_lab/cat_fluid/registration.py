@@ -29,7 +29,7 @@ from amdo_lab.common import (
 )
 
 __all__ = ["FluidResult", "HISTORY_COLUMNS", "register_fluid", "warp_image", "external_force",
-           "material_update", "displacement_jacobian", "jacobian_determinant", "compose_displacements",
+           "material_update", "displacement_jacobian", "jacobian_determinant",
            "grey_level_difference", "inverse_consistency_error", "displacement_rmse", "sample_bilinear",
            "check_pixel_mask"]
 
@@ -249,36 +249,10 @@ def material_update(displacement: object, velocity: object, dt: float) -> np.nda
     return _update(displacement, velocity, check_positive(dt, "dt"))
 
 
-def compose_displacements(first: object, second: object) -> np.ndarray:
-    """Displacement of "warp by ``first``, then warp the result by ``second``".
-
-    warp(warp(I, first), second)(x) = I(x - w(x)) with w(x) = second(x) + first(x - second(x)).
-
-    Parameters
-    ----------
-    first : array_like, shape (2, H, W)
-        Displacement applied first, pixels.
-    second : array_like, shape (2, H, W)
-        Displacement applied second, pixels.
-
-    Returns
-    -------
-    numpy.ndarray of float, shape (2, H, W)
-        w, pixels (``first`` sampled bilinearly, clamped at the border).
-
-    References
-    ----------
-    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
-    AMDO 2004, LNCS 3179, pp. 76-85,
-    Sec. 5 (regridding composes the segments' displacements, after Christensen et al.);
-    G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
-    IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
-    """
-    first = as_finite_array(first, "first", shape=(2, None, None))
-    return _compose(first, _check_displacement(second, first.shape[1:], "second", match="first"))
-
-
 def _compose(first: np.ndarray, second: np.ndarray) -> np.ndarray:
+    """Displacement of "warp by ``first``, then warp the result by ``second``" (regridding composes the
+    segments' displacements, after Christensen et al.): warp(warp(I, first), second)(x) = I(x - w(x)) with
+    w(x) = second(x) + first(x - second(x)), ``first`` sampled bilinearly, clamped at the border."""
     moved = np.indices(first.shape[1:], dtype=float) - second
     return second + np.stack([sample_bilinear(component, moved) for component in first])
 

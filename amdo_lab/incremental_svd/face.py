@@ -285,9 +285,8 @@ def render_faces(latent: np.ndarray, *, size: tuple[int, int] = PAPER_SIZE) -> n
     >>> render_faces([[0.5, 0.0, 0.0, 0.0]], size=(40, 41)).shape
     (1, 40, 41)
     """
-    latent = as_finite_array(latent, "latent", shape=(None, 4))
-    if np.any(latent[:, [0, 3]] < 0) or np.any(latent[:, [0, 3]] > 1) or np.any(np.abs(latent[:, 1:3]) > 1):
-        raise ValueError("latent must hold mouth opening and blink in [0, 1], width and brow raise in [-1, 1]")
+    latent = as_finite_array(latent, "latent", shape=(None, 4), bounds=(-1, 1))  # width and brow raise
+    as_finite_array(latent[:, [0, 3]], "latent's mouth opening and blink", bounds=(0, 1))
     rows, cols = check_image_shape(size, "size", minimum=32)
     y, x = np.mgrid[0:rows, 0:cols].astype(float) / rows  # unit: face height; x right, y down
     cx = cols / rows / 2
