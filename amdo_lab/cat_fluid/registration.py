@@ -25,7 +25,6 @@ from amdo_lab.common import (
     check_overflow,
     check_positive,
     check_positive_int,
-    check_same_shape,
 )
 
 __all__ = ["FluidResult", "HISTORY_COLUMNS", "register_fluid", "warp_image", "external_force",
@@ -49,12 +48,9 @@ MAX_GREY_LEVEL = 1e30
 
 def _check_displacement(displacement: object, shape: tuple[int, ...], name: str = "displacement",
                         match: str = "image") -> np.ndarray:
-    """A finite (2, H, W) field whose (H, W) is ``shape``, the shape of the argument ``match``: a mismatch
+    """A finite (2, H, W) field whose (H, W) is ``shape``, the shape of the argument ``match``: the error
     names both arguments, since either may be the one at fault."""
-    field = as_finite_array(displacement, name, shape=(2, None, None))
-    if field.shape[1:] != tuple(shape):
-        raise ValueError(f"{name} and {match} must cover the same pixels, got {field.shape} and {tuple(shape)}")
-    return field
+    return as_finite_array(displacement, f"{name} (on the pixels of {match})", shape=(2, *shape))
 
 
 def _check_differentiable(array: np.ndarray, name: str) -> np.ndarray:
@@ -457,8 +453,8 @@ def check_registration_images(template: object, study: object) -> tuple[np.ndarr
     AMDO 2004, LNCS 3179, pp. 76-85, Sec. 5 (the registration task).
     """
     template = as_finite_array(template, "template", shape=(None, None), max_abs=MAX_GREY_LEVEL)
-    study = as_finite_array(study, "study", shape=(None, None), max_abs=MAX_GREY_LEVEL)
-    check_same_shape(template, study, "template", "study")
+    # a size mismatch names both images: either may be at fault
+    study = as_finite_array(study, "study (same shape as template)", shape=template.shape, max_abs=MAX_GREY_LEVEL)
     check_positive_int(min(template.shape), "the images' smaller side (pixels)", minimum=4)
     for image, name in ((template, "template"), (study, "study")):
         if np.ptp(image) == 0:

@@ -14,7 +14,7 @@ import pandas as pd
 from amdo_lab.cat_fluid.data import RegistrationPair
 from amdo_lab.cat_fluid.registration import (MAX_GREY_LEVEL, displacement_rmse, grey_level_difference,
                                              inverse_consistency_error, jacobian_determinant)
-from amdo_lab.common import as_finite_array, check_bool, check_dataframe, check_instance, check_positive
+from amdo_lab.common import as_finite_array, check_bool, check_dataframe, check_instance
 
 __all__ = ["PAPER_TABLE1", "paper_table1", "grey_level_table", "mean_sd_strings", "accuracy_row"]
 
@@ -71,8 +71,7 @@ def grey_level_table(pairs: Mapping[str, RegistrationPair], deformed: Mapping[st
     AMDO 2004, LNCS 3179, pp. 76-85,
     Table 1.
     """
-    scale = check_positive(scale, "scale")
-    check_bool(masked, "masked")
+    check_bool(masked, "masked")  # scale: checked by grey_level_difference, which takes it
     check_instance(pairs, "pairs", Mapping, what="a mapping (a dict) by pair name")
     check_instance(deformed, "deformed", Mapping, what="a mapping (a dict) by pair name")
     missing = sorted(set(deformed) - set(pairs))

@@ -26,7 +26,6 @@ import scipy.sparse as sp
 from amdo_lab.cat_fluid.stencil import MAX_FIELD, NEIGHBOUR_OFFSETS, check_moduli, fluid_stencil, stencil_blocks
 from amdo_lab.common import MAX_ITERATIONS
 from amdo_lab.common import as_finite_array, check_choice, check_image_shape, check_in_range, check_positive_int
-from amdo_lab.common import check_same_shape
 
 __all__ = ["SOLVERS", "stencil_symbol", "cat_symbol", "finite_difference_symbol",
            "solve_symbol", "sor_solve", "solve_velocity", "default_omega", "SOR_ORDERINGS", "symbol_eigenvalues",
@@ -183,8 +182,9 @@ def symbol_eigenvalues(symbol: object, rows: object, cols: object) -> np.ndarray
     """
     symbol = as_finite_array(symbol, "symbol", shape=(2, 2, None, None), max_abs=1e153)
     rows = as_finite_array(rows, "rows", ndim=1, dtype=int, bounds=(0, symbol.shape[2] - 1))  # frequency indices
-    cols = as_finite_array(cols, "cols", ndim=1, dtype=int, bounds=(0, symbol.shape[3] - 1))
-    check_same_shape(rows, cols, "rows", "cols")
+    # a length mismatch names both: either may be at fault
+    cols = as_finite_array(cols, "cols (one per entry of rows)", shape=rows.shape, dtype=int,
+                           bounds=(0, symbol.shape[3] - 1))
     matrices = np.moveaxis(symbol[:, :, rows, cols], -1, 0)  # (n, 2, 2): one matrix per frequency
     return np.linalg.eigvalsh(matrices)
 
@@ -292,6 +292,15 @@ def check_sor_grid(shape: tuple[int, int], name: str) -> None:
         raise ValueError(f"{name} must have even H and W for SOR's four-colour ordering, got {tuple(shape)}")
 
 
+def _check_sor_inputs(force: object, lam: object, mu: object, n_sweeps: object) -> tuple[np.ndarray, float, float, int]:
+    """The inputs both SOR solvers take: a finite (2, H, W) force within ±1e100, Lamé constants with μ > 0
+    (:func:`~amdo_lab.cat_fluid.stencil.check_moduli`) and 0 to 100,000 sweeps."""
+    force = as_finite_array(force, "force", shape=(2, None, None), max_abs=MAX_FIELD)
+    lam, mu = check_moduli(lam, mu, require_positive_mu=True)
+    n_sweeps = check_positive_int(n_sweeps, "n_sweeps", minimum=0, maximum=MAX_ITERATIONS)
+    return force, lam, mu, n_sweeps
+
+
 def sor_solve(force: np.ndarray, lam: float, mu: float, *, n_sweeps: int = 250, omega: float | None = None,
               initial: np.ndarray | None = None, ordering: str = "four-colour") -> np.ndarray:
     """Successive over-relaxation for the finite-difference eq. (17), periodic, four-colour ordering.
@@ -339,9 +348,7 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, n_sweeps: int = 250, 
     G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
     IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
-    force = as_finite_array(force, "force", ndim=3, shape=(2, None, None), max_abs=MAX_FIELD)
-    lam, mu = check_moduli(lam, mu, require_positive_mu=True)
-    n_sweeps = check_positive_int(n_sweeps, "n_sweeps", minimum=0, maximum=MAX_ITERATIONS)
+    force, lam, mu, n_sweeps = _check_sor_inputs(force, lam, mu, n_sweeps)
     check_choice(ordering, "ordering", SOR_ORDERINGS)
     h, w = force.shape[1:]
     # SOR converges for 0 < omega < 2 only
@@ -439,9 +446,7 @@ def sor_reference(force: object, lam: float, mu: float, *, n_sweeps: int, omega:
     AMDO 2004, LNCS 3179, pp. 76-85,
     Sec. 5, eq. (17) and its SOR solver (their reference [2]).
     """
-    force = as_finite_array(force, "force", shape=(2, None, None), max_abs=MAX_FIELD)
-    lam, mu = check_moduli(lam, mu, require_positive_mu=True)
-    n_sweeps = check_positive_int(n_sweeps, "n_sweeps", minimum=0, maximum=MAX_ITERATIONS)
+    force, lam, mu, n_sweeps = _check_sor_inputs(force, lam, mu, n_sweeps)
     omega = check_in_range(omega, "omega", 0, 2)  # SOR converges for 0 < omega < 2 only
     h, w = force.shape[1:]
     force = force - force.mean(axis=(1, 2), keepdims=True)
