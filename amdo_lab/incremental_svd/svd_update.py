@@ -223,12 +223,6 @@ def _centre_right_factor(s_t: np.ndarray, V_t: np.ndarray, *, U_t: np.ndarray | 
     return left, s_f, V_f, v_bar
 
 
-def _check_trim(max_rank: object, tol: object) -> tuple[int | None, float | None]:
-    """Step 4's options, each optional: a rank cap (1 to 4,096) and a threshold τ >= 0 (the data's units)."""
-    return (None if max_rank is None else check_positive_int(max_rank, "max_rank", maximum=MAX_SIDE),
-            None if tol is None else check_positive(tol, "tol", allow_zero=True))
-
-
 def _truncate(state: SvdState, *, max_rank: int | None = None, tol: float | None = None) -> SvdState:
     """Step 4 of the paper's loop ("trim U and V according to Σ"): keep the directions whose singular
     value exceeds ``tol`` (with ``tol=None`` only those below 1e-12 times the largest go), at most
@@ -519,10 +513,6 @@ class IncrementalSVD:
         self.tol = tol
         self.mean = mean
 
-    def _check_parameters(self) -> None:
-        _check_trim(self.max_rank, self.tol)
-        check_choice(self.mean, "mean", MEAN_MODES)
-
     def partial_fit(self, X: np.ndarray) -> IncrementalSVD:
         """Add the frames ``X`` (one per row) to the model.
 
@@ -536,7 +526,11 @@ class IncrementalSVD:
         IncrementalSVD
             ``self``.
         """
-        self._check_parameters()
+        if self.max_rank is not None:  # step 4's options: a rank cap and a threshold τ >= 0 (the data's units)
+            check_positive_int(self.max_rank, "max_rank", maximum=MAX_SIDE)
+        if self.tol is not None:
+            check_positive(self.tol, "tol", allow_zero=True)
+        check_choice(self.mean, "mean", MEAN_MODES)
         fitted = getattr(self, "U_", None) is not None  # then X must have the model's p pixels (columns)
         X = as_finite_array(X, "X", shape=(None, self.U_.shape[0] if fitted else None), max_abs=MAX_ABS)
         if not fitted:
@@ -564,8 +558,8 @@ class IncrementalSVD:
         return SvdState(self.U_, self.singular_values_, self.V_, self.mean_)
 
     def _check_frames(self, X: object) -> np.ndarray:
-        check_fitted(self, ["U_", "mean_"])
-        return as_finite_array(X, "X", shape=(None, self.U_.shape[0]), max_abs=MAX_ABS)
+        U = self.state.U  # the state checks that the model is fitted
+        return as_finite_array(X, "X", shape=(None, U.shape[0]), max_abs=MAX_ABS)
 
     def transform(self, X: np.ndarray) -> np.ndarray:
         """Coefficients of the frames ``X`` in the basis: ``(X - mean) U`` (the paper's ``C^T``).
@@ -608,6 +602,5 @@ class IncrementalSVD:
         int
             ``8 (p r + r + q r + p)`` for float64 arrays.
         """
-        check_fitted(self, ["U_", "mean_"])
-        arrays = [self.U_, self.singular_values_, self.mean_] + ([] if self.V_ is None else [self.V_])
-        return int(sum(a.nbytes for a in arrays))
+        arrays = self.state  # the state checks that the model is fitted; V is None under mean="ross"
+        return int(sum(a.nbytes for a in arrays if a is not None))
