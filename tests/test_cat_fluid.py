@@ -10,7 +10,8 @@ from rejections import check_rejection, reject
 
 from amdo_lab import cat_fluid as cf
 from amdo_lab.cat_fluid.data import _smooth_warp
-from amdo_lab.cat_fluid.registration import MAX_GREY_LEVEL, _compose, check_registration_images, sample_bilinear
+from amdo_lab.cat_fluid.registration import (MAX_GREY_LEVEL, _compose, check_registration_images,
+                                             sample_bilinear)
 from amdo_lab.cat_fluid.solvers import _apply_finite_difference, _stencil_matrix
 from amdo_lab.common import make_rng
 
@@ -574,9 +575,11 @@ REJECTIONS = [
     )],
     # --- register_fluid: images of the same shape with structure, the named methods, SOR's ω
     reject("register_fluid images differ", lambda small_images: cf.register_fluid(
-        small_images[0], small_images[1][:, :-2]), ValueError, r"study \(same shape as template\) must have shape"),
+        small_images[0], small_images[1][:, :-2]), ValueError,
+        r"study \(same shape as template\) must have shape"),
     reject("register_fluid flat study", lambda small_images: cf.register_fluid(
-        small_images[0], small_images[1].ravel()), ValueError, r"study \(same shape as template\) must have shape"),
+        small_images[0], small_images[1].ravel()), ValueError,
+        r"study \(same shape as template\) must have shape"),
     reject("register_fluid constant template", lambda small_images: cf.register_fluid(
         np.full_like(small_images[0], 0.3), small_images[1]), ValueError, "template is constant"),
     reject("register_fluid constant study", lambda small_images: cf.register_fluid(

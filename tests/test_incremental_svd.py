@@ -167,7 +167,8 @@ REJECTIONS = [
     reject("one frame", lambda: make_talking_face(1, rng=0), ValueError, "n_frames must be at least 2"),
     reject("noise above 1", lambda: make_talking_face(3, rng=0, noise=2.0), ValueError, r"noise must be in \[0, 1\]"),
     reject("latent out of range", lambda: isvd.render_faces([[2.0, 0, 0, 0]], size=(40, 40)), ValueError, "latent"),
-    reject("tiny face", lambda: make_talking_face(2, rng=0, size=(10, 40)), ValueError, r"size\[0\] must be at least 32"),
+    reject("tiny face", lambda: make_talking_face(2, rng=0, size=(10, 40)), ValueError,
+           r"size\[0\] must be at least 32"),
 ]
 
 

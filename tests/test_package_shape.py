@@ -25,7 +25,7 @@ MAX_VALIDATION_SHARE = 0.15
 #: The checks left are mostly one line per argument of many small public functions; going lower
 #: needs fewer public entry points or settings objects (measured 2026-11-26).
 KNOWN_EXCESS: dict[str, dict[str, object]] = {
-    "cat_fluid": {"validation_share": "17.1 % (84 of 492 lines; measured 2026-11-27)"},
+    "cat_fluid": {"validation_share": "17.2 % (85 of 493 lines; measured 2026-11-27)"},
     "common": {"validation_share": "17.6 % (62 of 352 lines; validation.py itself not counted)"},
     "cue_fusion_pf": {"validation_share": "19.4 % (232 of 1,198 lines)"},
     "face_glmm": {"validation_share": "19.9 % (206 of 1,034 lines)"},

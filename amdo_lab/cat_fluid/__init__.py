@@ -1,7 +1,8 @@
 """Chapter 3: viscous-fluid registration with computational algebraic topology (Bentabet & Ziou, AMDO 2004)."""
 
 from amdo_lab.cat_fluid.complex import CubicalComplex
-from amdo_lab.cat_fluid.data import BLOB_CENTRE_FRACTION, BLOB_SD, PAIR_NAMES, RegistrationPair, load_dipy_image, make_pair
+from amdo_lab.cat_fluid.data import (BLOB_CENTRE_FRACTION, BLOB_SD, PAIR_NAMES, RegistrationPair, load_dipy_image,
+                                    make_pair)
 from amdo_lab.cat_fluid.peer import DipyResult, register_dipy
 from amdo_lab.cat_fluid.registration import (
     HISTORY_COLUMNS,

@@ -17,8 +17,8 @@ from scipy.ndimage import binary_fill_holes, gaussian_filter
 from amdo_lab.cat_fluid.registration import warp_image
 from amdo_lab.common import check_choice, make_rng
 
-__all__ = ["PAIR_NAMES", "DIPY_IMAGES", "BLOB_CENTRE_FRACTION", "BLOB_SD", "BLOB_HEIGHT", "RegistrationPair", "load_dipy_image",
-           "make_pair"]
+__all__ = ["PAIR_NAMES", "DIPY_IMAGES", "BLOB_CENTRE_FRACTION", "BLOB_SD", "BLOB_HEIGHT", "RegistrationPair",
+           "load_dipy_image", "make_pair"]
 
 PAIR_NAMES = ("A", "B", "C")
 WARP_SMOOTHNESS_PX = 20.0  # _smooth_warp's filter width (s.d., pixels): warps smooth over tens of pixels

@@ -454,7 +454,8 @@ def check_registration_images(template: object, study: object) -> tuple[np.ndarr
     """
     template = as_finite_array(template, "template", shape=(None, None), max_abs=MAX_GREY_LEVEL)
     # a size mismatch names both images: either may be at fault
-    study = as_finite_array(study, "study (same shape as template)", shape=template.shape, max_abs=MAX_GREY_LEVEL)
+    study = as_finite_array(study, "study (same shape as template)", shape=template.shape,
+                            max_abs=MAX_GREY_LEVEL)
     check_positive_int(min(template.shape), "the images' smaller side (pixels)", minimum=4)
     for image, name in ((template, "template"), (study, "study")):
         if np.ptp(image) == 0:

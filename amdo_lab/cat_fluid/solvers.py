@@ -138,8 +138,8 @@ def finite_difference_symbol(shape: tuple[int, int], lam: float, mu: float) -> n
 
 
 def _apply_finite_difference(velocity: np.ndarray, lam: float, mu: float) -> np.ndarray:
-    """The finite-difference operator of eq. (17), μΔv + (λ+μ)∇(∇·v) by 3-point second differences and
-    central mixed differences, applied to a (2, H, W) field with periodic boundaries: the operator SOR
+    """The finite-difference operator of eq. (17), μΔv + (λ+μ)∇(∇·v) by 3-point second differences
+    and central mixed differences, applied to a (2, H, W) field with periodic boundaries: the operator SOR
     relaxes, which the tests compare with :func:`finite_difference_symbol`."""
     def shifted(field: np.ndarray, d0: int, d1: int) -> np.ndarray:
         return np.roll(field, (-d0, -d1), axis=(0, 1))  # value at x + (d0, d1)
@@ -292,7 +292,8 @@ def check_sor_grid(shape: tuple[int, int], name: str) -> None:
         raise ValueError(f"{name} must have even H and W for SOR's four-colour ordering, got {tuple(shape)}")
 
 
-def _check_sor_inputs(force: object, lam: object, mu: object, n_sweeps: object) -> tuple[np.ndarray, float, float, int]:
+def _check_sor_inputs(force: object, lam: object, mu: object,
+                      n_sweeps: object) -> tuple[np.ndarray, float, float, int]:
     """The inputs both SOR solvers take: a finite (2, H, W) force within ±1e100, Lamé constants with μ > 0
     (:func:`~amdo_lab.cat_fluid.stencil.check_moduli`) and 0 to 100,000 sweeps."""
     force = as_finite_array(force, "force", shape=(2, None, None), max_abs=MAX_FIELD)

@@ -102,9 +102,10 @@ def _check_basis(U: object, s: object) -> tuple[np.ndarray, np.ndarray]:
     return U, s
 
 
-def _check_factors(U: object, s: object, V: object, *, min_rows: int = 0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """A thin SVD ``(U, s, V)``: the basis of :func:`_check_basis` and the right factor, r orthonormal columns,
-    so at least max(r, ``min_rows``) rows, one per column seen."""
+def _check_factors(U: object, s: object, V: object, *,
+                   min_rows: int = 0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A thin SVD ``(U, s, V)``: the basis of :func:`_check_basis` and the right factor, r orthonormal
+    columns, so at least max(r, ``min_rows``) rows, one per column seen."""
     U, s = _check_basis(U, s)
     V = as_finite_array(V, "V", shape=(None, s.size), allow_empty=True, max_abs=MAX_ABS)
     check_positive_int(V.shape[0], "V's number of rows (one per column seen)", minimum=max(s.size, min_rows))
@@ -526,7 +527,8 @@ class IncrementalSVD:
         IncrementalSVD
             ``self``.
         """
-        if self.max_rank is not None:  # step 4's options: a rank cap and a threshold τ >= 0 (the data's units)
+        # step 4's options: a rank cap and a threshold τ >= 0 (the data's units)
+        if self.max_rank is not None:
             check_positive_int(self.max_rank, "max_rank", maximum=MAX_SIDE)
         if self.tol is not None:
             check_positive(self.tol, "tol", allow_zero=True)
