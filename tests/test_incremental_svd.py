@@ -163,7 +163,7 @@ REJECTIONS = [
     reject("extract_mean with no rows", lambda: extract_mean(np.ones((4, 0)), np.zeros(0), np.zeros((0, 0))),
            ValueError, "V's number of rows \\(one per column seen\\) must be at least 1"),
     reject("negative singular value", lambda: brand_update(np.eye(3)[:, :1], [-1.0], np.ones((1, 1)), np.ones((3, 1))),
-           ValueError, r"s \(one singular value per column of U\) must lie in \[0, "),
+           ValueError, r"s \(one per U column\) must lie in \[0, "),
     reject("one frame", lambda: make_talking_face(1, rng=0), ValueError, "n_frames must be at least 2"),
     reject("noise above 1", lambda: make_talking_face(3, rng=0, noise=2.0), ValueError, r"noise must be in \[0, 1\]"),
     reject("latent out of range", lambda: isvd.render_faces([[2.0, 0, 0, 0]], size=(40, 40)), ValueError, "latent"),

@@ -97,8 +97,7 @@ def _check_basis(U: object, s: object) -> tuple[np.ndarray, np.ndarray]:
     U = as_finite_array(U, "U", ndim=2, allow_empty=True, max_abs=MAX_ABS)
     check_positive_int(U.shape[0], "U's number of rows (pixels)")
     # a length mismatch names both: either may be at fault
-    s = as_finite_array(s, "s (one singular value per column of U)", shape=(U.shape[1],), allow_empty=True,
-                        bounds=(0, MAX_ABS))
+    s = as_finite_array(s, "s (one per U column)", shape=U.shape[1:], allow_empty=True, bounds=(0, MAX_ABS))
     return U, s
 
 
@@ -559,10 +558,6 @@ class IncrementalSVD:
         check_fitted(self, ["U_", "mean_"])
         return SvdState(self.U_, self.singular_values_, self.V_, self.mean_)
 
-    def _check_frames(self, X: object) -> np.ndarray:
-        U = self.state.U  # the state checks that the model is fitted
-        return as_finite_array(X, "X", shape=(None, U.shape[0]), max_abs=MAX_ABS)
-
     def transform(self, X: np.ndarray) -> np.ndarray:
         """Coefficients of the frames ``X`` in the basis: ``(X - mean) U`` (the paper's ``C^T``).
 
@@ -576,8 +571,9 @@ class IncrementalSVD:
         ndarray, shape (n, r)
             Coefficients.
         """
-        X = self._check_frames(X)
-        return (X - self.mean_) @ self.U_
+        U, _, _, mean = self.state  # the state checks that the model is fitted
+        X = as_finite_array(X, "X", shape=(None, U.shape[0]), max_abs=MAX_ABS)
+        return (X - mean) @ U
 
     def reconstruct(self, X: np.ndarray) -> np.ndarray:
         """Project the frames ``X`` on the model: ``mean + (X - mean) U U^T``.
@@ -592,9 +588,8 @@ class IncrementalSVD:
         ndarray, shape (n, p)
             Their reconstructions from ``r`` coefficients each.
         """
-        X = self._check_frames(X)
-        # eq. (2): a frame is m̄ + U c, with its coefficients c = U^T (x - m̄)
-        return self.mean_ + ((X - self.mean_) @ self.U_) @ self.U_.T
+        # eq. (2): a frame is m̄ + U c, with its coefficients c = U^T (x - m̄) (:meth:`transform`, which checks X)
+        return self.mean_ + self.transform(X) @ self.U_.T
 
     def memory_bytes(self) -> int:
         """Bytes held by the model's arrays ``U``, ``s``, ``V`` and the mean.
