@@ -17,7 +17,6 @@ from amdo_lab.incremental_svd import (
     psnr_db,
     ross_update,
     tau_schedule,
-    truncate,
     update_with_mean,
 )
 
@@ -102,7 +101,7 @@ def test_ross_update_gives_the_papers_basis_singular_values_and_mean():
     for start in range(0, 60, 7):                           # batches of 7 columns, the last one shorter
         U, s, V, mean = ross_update(U, s, mean, n_seen, M[:, start:start + 7])
         n_seen += M[:, start:start + 7].shape[1]
-    U, s, _, mean = truncate((U, s, None, mean))
+    U, s, _, mean = isvd.svd_update._truncate((U, s, None, mean))
     np.testing.assert_allclose(s, paper.singular_values_, rtol=1e-10)
     np.testing.assert_allclose(mean, paper.mean_, atol=1e-12)
     np.testing.assert_allclose(U @ U.T, paper.U_ @ paper.U_.T, atol=1e-9)
@@ -164,11 +163,12 @@ REJECTIONS = [
     reject("extract_mean with no rows", lambda: extract_mean(np.ones((4, 0)), np.zeros(0), np.zeros((0, 0))),
            ValueError, "V's number of rows \\(one per column seen\\) must be at least 1"),
     reject("negative singular value", lambda: brand_update(np.eye(3)[:, :1], [-1.0], np.ones((1, 1)), np.ones((3, 1))),
-           ValueError, r"s must lie in \[0, "),
+           ValueError, r"s \(one per U column\) must lie in \[0, "),
     reject("one frame", lambda: make_talking_face(1, rng=0), ValueError, "n_frames must be at least 2"),
     reject("noise above 1", lambda: make_talking_face(3, rng=0, noise=2.0), ValueError, r"noise must be in \[0, 1\]"),
     reject("latent out of range", lambda: isvd.render_faces([[2.0, 0, 0, 0]], size=(40, 40)), ValueError, "latent"),
-    reject("tiny face", lambda: isvd.face_masks((10, 40)), ValueError, r"size\[0\] must be at least 32"),
+    reject("tiny face", lambda: make_talking_face(2, rng=0, size=(10, 40)), ValueError,
+           r"size\[0\] must be at least 32"),
 ]
 
 
@@ -214,7 +214,7 @@ def test_align_frame_recovers_a_placement_against_the_first_frame():
     for name, mask in face.masks.items():
         mean = face.clean[0][mask]
         models[name] = isvd.SvdState(np.zeros((mean.size, 0)), np.zeros(0), None, mean)
-    found = isvd.align_frame(moved, face.masks, models, np.zeros(4))
+    found = isvd.tracking._align_frame(moved, face.masks, models, np.zeros(4))
     # 0.11 px here: the moved frame and the sampled regions are each resampled bilinearly
     assert isvd.corner_error_px(found[None], target[None], _HALF)[0] < 0.2
 

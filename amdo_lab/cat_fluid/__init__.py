@@ -1,12 +1,12 @@
 """Chapter 3: viscous-fluid registration with computational algebraic topology (Bentabet & Ziou, AMDO 2004)."""
 
 from amdo_lab.cat_fluid.complex import CubicalComplex
-from amdo_lab.cat_fluid.data import BLOB_CENTRE_FRACTION, BLOB_SD, PAIR_NAMES, RegistrationPair, foreground_mask, load_dipy_image, make_pair, smooth_warp
+from amdo_lab.cat_fluid.data import (BLOB_CENTRE_FRACTION, BLOB_SD, PAIR_NAMES, RegistrationPair, load_dipy_image,
+                                    make_pair)
 from amdo_lab.cat_fluid.peer import DipyResult, register_dipy
 from amdo_lab.cat_fluid.registration import (
     HISTORY_COLUMNS,
     FluidResult,
-    compose_displacements,
     displacement_jacobian,
     displacement_rmse,
     external_force,
@@ -21,14 +21,12 @@ from amdo_lab.cat_fluid.reporting import PAPER_TABLE1, accuracy_row, grey_level_
 from amdo_lab.cat_fluid.solvers import (
     SOLVERS,
     SOR_ORDERINGS,
-    apply_finite_difference,
     cat_symbol,
     finite_difference_symbol,
     solve_stencil_reference,
     solve_velocity,
     sor_reference,
     sor_solve,
-    stencil_matrix,
     stencil_symbol,
     symbol_eigenvalues,
 )
@@ -50,14 +48,14 @@ from amdo_lab.cat_fluid.stencil import (
 
 __all__ = [
     "BLOB_CENTRE_FRACTION", "BLOB_SD", "CubicalComplex", "DipyResult", "FluidResult", "HISTORY_COLUMNS", "NEIGHBOUR_OFFSETS", "PAIR_NAMES", "RegistrationPair",
-    "SOLVERS", "SOR_ORDERINGS", "apply_finite_difference", "apply_stencil", "cat_symbol", "compose_displacements",
+    "SOLVERS", "SOR_ORDERINGS", "apply_stencil", "cat_symbol",
     "displacement_jacobian", "displacement_rmse", "external_force", "finite_difference_symbol",
-    "fluid_stencil", "foreground_mask", "grey_level_difference", "inverse_consistency_error",
+    "fluid_stencil", "grey_level_difference", "inverse_consistency_error",
     "jacobian_determinant", "load_dipy_image", "make_pair", "material_update", "printed_stencil",
-    "register_dipy", "register_fluid", "rotate_stencil", "smooth_warp", "solve_velocity", "sor_solve", "stencil_at_origin",
+    "register_dipy", "register_fluid", "rotate_stencil", "solve_velocity", "sor_solve", "stencil_at_origin",
     "stencil_blocks", "stencil_symbol", "warp_image",
     "PAPER_TABLE1", "accuracy_row", "consistency_errors", "grey_level_table", "mean_sd_strings", "paper_table1",
-    "polynomial_test_fields", "solve_stencil_reference", "sor_reference", "stencil_grid", "stencil_matrix",
+    "polynomial_test_fields", "solve_stencil_reference", "sor_reference", "stencil_grid",
     "symbol_eigenvalues", "bilinear_gradient", "dual_cell_force", "viscous_stress",
 ]
 

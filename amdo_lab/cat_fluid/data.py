@@ -14,16 +14,16 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.ndimage import binary_fill_holes, gaussian_filter
 
-from amdo_lab.cat_fluid.registration import check_pixel_mask, warp_image
-from amdo_lab.common import (as_finite_array, check_choice, check_image_shape, check_in_range,
-                             check_positive, make_rng)
+from amdo_lab.cat_fluid.registration import warp_image
+from amdo_lab.common import check_choice, make_rng
 
-__all__ = ["PAIR_NAMES", "DIPY_IMAGES", "BLOB_CENTRE_FRACTION", "BLOB_SD", "BLOB_HEIGHT", "RegistrationPair", "load_dipy_image", "smooth_warp", "foreground_mask",
-           "make_pair"]
+__all__ = ["PAIR_NAMES", "DIPY_IMAGES", "BLOB_CENTRE_FRACTION", "BLOB_SD", "BLOB_HEIGHT", "RegistrationPair",
+           "load_dipy_image", "make_pair"]
 
 PAIR_NAMES = ("A", "B", "C")
-WARP_SMOOTHNESS_PX = 20.0  # smooth_warp's filter width (s.d., pixels): warps smooth over tens of pixels
+WARP_SMOOTHNESS_PX = 20.0  # _smooth_warp's filter width (s.d., pixels): warps smooth over tens of pixels
 DIPY_IMAGES = ("t1_coronal_slice", "reg_o", "reg_c")
+FOREGROUND_LEVEL = 0.05  # grey level above which a pixel is object (the images are in [0, 1])
 
 # Decided from the paper's description of its pairs before any registration was run:
 # (image, warp amplitude in pixels, extra structure in the study, noise sd, intensity drift)
@@ -63,71 +63,22 @@ def load_dipy_image(name: str) -> np.ndarray:
     return (image - image.min()) / (image.max() - image.min())
 
 
-def smooth_warp(shape: tuple[int, int], *, rng: int | np.random.Generator, amplitude_px: float = 4.0,
-                support: np.ndarray | None = None) -> np.ndarray:
-    """A random smooth displacement (2, H, W) in pixels whose largest length is ``amplitude_px``.
-
-    Gaussian-filtered white noise (standard deviation :data:`WARP_SMOOTHNESS_PX`, 20 pixels, periodic); with a
-    boolean ``support`` it fades out away from the object, so the border stays still.
-
-    Parameters
-    ----------
-    shape : tuple of two int
-        (H, W), positive.
-    rng : int or numpy.random.Generator
-        Seed (non-negative) or generator of the white noise; keyword-only, no default.
-    amplitude_px : float, optional
-        Largest displacement length in pixels, > 0 (default 4).
-    support : numpy.ndarray of bool, shape (H, W), optional
-        The object; at least one True pixel. The displacement is damped outside it.
-
-    Returns
-    -------
-    numpy.ndarray of float, shape (2, H, W)
-        Displacement in pixels, component 0 along array axis 0.
-
-    References
-    ----------
-    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
-    AMDO 2004, LNCS 3179, pp. 76-85,
-    Sec. 5 (the known warps stand in for its pairs of real slices).
-    """
-    shape = check_image_shape(shape, axes="H, W")
-    rng = make_rng(rng, "rng")
-    amplitude_px = check_positive(amplitude_px, "amplitude_px")
-    if support is not None:
-        support = check_pixel_mask(support, shape, "support")
+def _smooth_warp(shape: tuple[int, int], rng: np.random.Generator, amplitude_px: float,
+                 support: np.ndarray | None = None) -> np.ndarray:
+    """A random smooth (2, H, W) displacement in pixels whose largest length is ``amplitude_px``: white
+    noise from ``rng`` filtered by a periodic Gaussian of s.d. :data:`WARP_SMOOTHNESS_PX` (20 pixels); with
+    a boolean ``support`` it fades out away from the object, so the border stays still. Check-free: the
+    known warps of :func:`make_pair`."""
     field = np.stack([gaussian_filter(rng.normal(size=shape), WARP_SMOOTHNESS_PX, mode="wrap") for _ in range(2)])
     if support is not None:
         field *= gaussian_filter(support.astype(float), WARP_SMOOTHNESS_PX / 2)[None]
     return amplitude_px * field / np.max(np.hypot(field[0], field[1]))
 
 
-def foreground_mask(image: object, threshold: float = 0.05) -> np.ndarray:
-    """Boolean mask of the object (the head on a brain slice): grey level above ``threshold``.
-
-    Holes are filled, so dark structures inside (ventricles, sulci) count as foreground.
-
-    Parameters
-    ----------
-    image : array_like, shape (H, W)
-        Finite grey levels (in [0, 1] for the chapter's images).
-    threshold : float, optional
-        Finite grey level above which a pixel is object (default 0.05).
-
-    Returns
-    -------
-    numpy.ndarray of bool, shape (H, W)
-        True on the object and its filled holes.
-
-    References
-    ----------
-    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
-    AMDO 2004, LNCS 3179, pp. 76-85,
-    Table 1 (the region over which residuals are compared).
-    """
-    image = as_finite_array(image, "image", shape=(None, None))
-    return binary_fill_holes(image > check_in_range(threshold, "threshold", -np.inf, np.inf))
+def _foreground_mask(image: np.ndarray) -> np.ndarray:
+    """The object (the head on a brain slice): grey level above :data:`FOREGROUND_LEVEL`, holes filled, so
+    dark structures inside (ventricles, sulci) count as foreground. Check-free: :func:`make_pair`'s mask."""
+    return binary_fill_holes(image > FOREGROUND_LEVEL)
 
 
 @dataclass(frozen=True)
@@ -216,9 +167,9 @@ def make_pair(name: str, *, rng: int | np.random.Generator) -> RegistrationPair:
         generator = make_rng(int(rng) + PAIR_NAMES.index(name), "rng")
     image_name, amplitude, blob, noise, drift = _PAIR_SETTINGS[name]
     template = load_dipy_image(image_name)
-    true = smooth_warp(template.shape, rng=generator, amplitude_px=amplitude, support=foreground_mask(template))
+    true = _smooth_warp(template.shape, generator, amplitude, support=_foreground_mask(template))
     study = warp_image(template, true)
-    mask = foreground_mask(template) | foreground_mask(study)  # before the noise, which would speckle it
+    mask = _foreground_mask(template) | _foreground_mask(study)  # before the noise, which would speckle it
     if blob:
         study = study + _extra_structure(study.shape)
     if drift:

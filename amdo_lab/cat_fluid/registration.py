@@ -25,11 +25,10 @@ from amdo_lab.common import (
     check_overflow,
     check_positive,
     check_positive_int,
-    check_same_shape,
 )
 
 __all__ = ["FluidResult", "HISTORY_COLUMNS", "register_fluid", "warp_image", "external_force",
-           "material_update", "displacement_jacobian", "jacobian_determinant", "compose_displacements",
+           "material_update", "displacement_jacobian", "jacobian_determinant",
            "grey_level_difference", "inverse_consistency_error", "displacement_rmse", "sample_bilinear",
            "check_pixel_mask"]
 
@@ -49,12 +48,9 @@ MAX_GREY_LEVEL = 1e30
 
 def _check_displacement(displacement: object, shape: tuple[int, ...], name: str = "displacement",
                         match: str = "image") -> np.ndarray:
-    """A finite (2, H, W) field whose (H, W) is ``shape``, the shape of the argument ``match``: a mismatch
+    """A finite (2, H, W) field whose (H, W) is ``shape``, the shape of the argument ``match``: the error
     names both arguments, since either may be the one at fault."""
-    field = as_finite_array(displacement, name, shape=(2, None, None))
-    if field.shape[1:] != tuple(shape):
-        raise ValueError(f"{name} and {match} must cover the same pixels, got {field.shape} and {tuple(shape)}")
-    return field
+    return as_finite_array(displacement, f"{name} (on the pixels of {match})", shape=(2, *shape))
 
 
 def _check_differentiable(array: np.ndarray, name: str) -> np.ndarray:
@@ -249,36 +245,10 @@ def material_update(displacement: object, velocity: object, dt: float) -> np.nda
     return _update(displacement, velocity, check_positive(dt, "dt"))
 
 
-def compose_displacements(first: object, second: object) -> np.ndarray:
-    """Displacement of "warp by ``first``, then warp the result by ``second``".
-
-    warp(warp(I, first), second)(x) = I(x - w(x)) with w(x) = second(x) + first(x - second(x)).
-
-    Parameters
-    ----------
-    first : array_like, shape (2, H, W)
-        Displacement applied first, pixels.
-    second : array_like, shape (2, H, W)
-        Displacement applied second, pixels.
-
-    Returns
-    -------
-    numpy.ndarray of float, shape (2, H, W)
-        w, pixels (``first`` sampled bilinearly, clamped at the border).
-
-    References
-    ----------
-    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
-    AMDO 2004, LNCS 3179, pp. 76-85,
-    Sec. 5 (regridding composes the segments' displacements, after Christensen et al.);
-    G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
-    IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
-    """
-    first = as_finite_array(first, "first", shape=(2, None, None))
-    return _compose(first, _check_displacement(second, first.shape[1:], "second", match="first"))
-
-
 def _compose(first: np.ndarray, second: np.ndarray) -> np.ndarray:
+    """Displacement of "warp by ``first``, then warp the result by ``second``" (regridding composes the
+    segments' displacements, after Christensen et al.): warp(warp(I, first), second)(x) = I(x - w(x)) with
+    w(x) = second(x) + first(x - second(x)), ``first`` sampled bilinearly, clamped at the border."""
     moved = np.indices(first.shape[1:], dtype=float) - second
     return second + np.stack([sample_bilinear(component, moved) for component in first])
 
@@ -483,8 +453,9 @@ def check_registration_images(template: object, study: object) -> tuple[np.ndarr
     AMDO 2004, LNCS 3179, pp. 76-85, Sec. 5 (the registration task).
     """
     template = as_finite_array(template, "template", shape=(None, None), max_abs=MAX_GREY_LEVEL)
-    study = as_finite_array(study, "study", shape=(None, None), max_abs=MAX_GREY_LEVEL)
-    check_same_shape(template, study, "template", "study")
+    # a size mismatch names both images: either may be at fault
+    study = as_finite_array(study, "study (same shape as template)", shape=template.shape,
+                            max_abs=MAX_GREY_LEVEL)
     check_positive_int(min(template.shape), "the images' smaller side (pixels)", minimum=4)
     for image, name in ((template, "template"), (study, "study")):
         if np.ptp(image) == 0:

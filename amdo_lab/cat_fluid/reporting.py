@@ -14,7 +14,7 @@ import pandas as pd
 from amdo_lab.cat_fluid.data import RegistrationPair
 from amdo_lab.cat_fluid.registration import (MAX_GREY_LEVEL, displacement_rmse, grey_level_difference,
                                              inverse_consistency_error, jacobian_determinant)
-from amdo_lab.common import as_finite_array, check_bool, check_dataframe, check_instance, check_positive
+from amdo_lab.common import as_finite_array, check_bool, check_choice, check_dataframe, check_instance
 
 __all__ = ["PAPER_TABLE1", "paper_table1", "grey_level_table", "mean_sd_strings", "accuracy_row"]
 
@@ -71,15 +71,12 @@ def grey_level_table(pairs: Mapping[str, RegistrationPair], deformed: Mapping[st
     AMDO 2004, LNCS 3179, pp. 76-85,
     Table 1.
     """
-    scale = check_positive(scale, "scale")
-    check_bool(masked, "masked")
+    check_bool(masked, "masked")  # scale: checked by grey_level_difference, which takes it
     check_instance(pairs, "pairs", Mapping, what="a mapping (a dict) by pair name")
     check_instance(deformed, "deformed", Mapping, what="a mapping (a dict) by pair name")
-    missing = sorted(set(deformed) - set(pairs))
-    if missing:
-        raise ValueError(f"deformed has pairs {missing} that pairs does not")
     table = {}
     for name, images in deformed.items():
+        check_choice(name, "deformed's pair name (a key of pairs)", pairs)
         pair = pairs[name]
         for label, image in images.items():
             mean, sd = grey_level_difference(image, pair.study, pair.mask if masked else None, scale=scale)

@@ -26,11 +26,10 @@ import scipy.sparse as sp
 from amdo_lab.cat_fluid.stencil import MAX_FIELD, NEIGHBOUR_OFFSETS, check_moduli, fluid_stencil, stencil_blocks
 from amdo_lab.common import MAX_ITERATIONS
 from amdo_lab.common import as_finite_array, check_choice, check_image_shape, check_in_range, check_positive_int
-from amdo_lab.common import check_same_shape
 
-__all__ = ["SOLVERS", "stencil_symbol", "cat_symbol", "finite_difference_symbol", "apply_finite_difference",
+__all__ = ["SOLVERS", "stencil_symbol", "cat_symbol", "finite_difference_symbol",
            "solve_symbol", "sor_solve", "solve_velocity", "default_omega", "SOR_ORDERINGS", "symbol_eigenvalues",
-           "stencil_matrix", "solve_stencil_reference", "sor_reference", "check_sor_grid"]
+           "solve_stencil_reference", "sor_reference", "check_sor_grid"]
 
 SOLVERS = ("cat", "sor", "fft")
 SOR_ORDERINGS = ("four-colour", "red-black", "red-black-together")
@@ -138,34 +137,10 @@ def finite_difference_symbol(shape: tuple[int, int], lam: float, mu: float) -> n
                      [(lam + mu) * d01, laplace + (lam + mu) * d11]])
 
 
-def apply_finite_difference(velocity: object, lam: float, mu: float) -> np.ndarray:
-    """The finite-difference operator of eq. (17) applied to a (2, H, W) field, periodic boundaries.
-
-    Parameters
-    ----------
-    velocity : array_like, shape (2, H, W)
-        Finite velocity field, pixels per unit time, each component within ±1e100.
-    lam : float
-        Lamé constant λ, 0 ≤ λ ≤ 1e150 (the paper: 1).
-    mu : float
-        Lamé constant μ, 0 ≤ μ ≤ 1e150 (the paper: 5).
-
-    Returns
-    -------
-    numpy.ndarray of float, shape (2, H, W)
-        μΔv + (λ+μ)∇(∇·v) by 3-point second differences and central mixed differences.
-
-    References
-    ----------
-    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
-    AMDO 2004, LNCS 3179, pp. 76-85,
-    eq. (17);
-    G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
-    IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
-    """
-    velocity = as_finite_array(velocity, "velocity", shape=(2, None, None), max_abs=MAX_FIELD)
-    lam, mu = check_moduli(lam, mu)
-
+def _apply_finite_difference(velocity: np.ndarray, lam: float, mu: float) -> np.ndarray:
+    """The finite-difference operator of eq. (17), μΔv + (λ+μ)∇(∇·v) by 3-point second differences
+    and central mixed differences, applied to a (2, H, W) field with periodic boundaries: the operator SOR
+    relaxes, which the tests compare with :func:`finite_difference_symbol`."""
     def shifted(field: np.ndarray, d0: int, d1: int) -> np.ndarray:
         return np.roll(field, (-d0, -d1), axis=(0, 1))  # value at x + (d0, d1)
 
@@ -207,39 +182,19 @@ def symbol_eigenvalues(symbol: object, rows: object, cols: object) -> np.ndarray
     """
     symbol = as_finite_array(symbol, "symbol", shape=(2, 2, None, None), max_abs=1e153)
     rows = as_finite_array(rows, "rows", ndim=1, dtype=int, bounds=(0, symbol.shape[2] - 1))  # frequency indices
-    cols = as_finite_array(cols, "cols", ndim=1, dtype=int, bounds=(0, symbol.shape[3] - 1))
-    check_same_shape(rows, cols, "rows", "cols")
+    # a length mismatch names both: either may be at fault
+    cols = as_finite_array(cols, "cols (one per entry of rows)", shape=rows.shape, dtype=int,
+                           bounds=(0, symbol.shape[3] - 1))
     matrices = np.moveaxis(symbol[:, :, rows, cols], -1, 0)  # (n, 2, 2): one matrix per frequency
     return np.linalg.eigvalsh(matrices)
 
 
-def stencil_matrix(stencil: object, shape: tuple[int, int]) -> sp.csr_matrix:
-    """The stencil of eq. (15) as a sparse (2 H W, 2 H W) matrix on an (H, W) grid, periodic.
-
-    Row ``i * H * W + n`` is force component i at pixel n (row-major), column ``c * H * W + m``
-    velocity component c at pixel m: the reference, pixel by pixel, for :func:`apply_stencil`
-    and for the Fourier solve.
-
-    Parameters
-    ----------
-    stencil : array_like, shape (2, 18)
-        Finite stencil in the layout of eq. (15) (:data:`NEIGHBOUR_OFFSETS`).
-    shape : tuple of two int
-        (H, W) of the grid, positive.
-
-    Returns
-    -------
-    scipy.sparse.csr_matrix of float, shape (2 H W, 2 H W)
-        The linear map from velocity to force.
-
-    References
-    ----------
-    L. Bentabet, D. Ziou, "Neuroanatomy Registration: An Algebraic-Topology Based Approach",
-    AMDO 2004, LNCS 3179, pp. 76-85,
-    eq. (15).
-    """
-    blocks = stencil_blocks(stencil)
-    h, w = check_image_shape(shape, axes="H, W")
+def _stencil_matrix(blocks: np.ndarray, shape: tuple[int, int]) -> sp.csr_matrix:
+    """The stencil of eq. (15), as its nine 2x2 ``blocks`` (:func:`stencil_blocks`), as a sparse
+    (2 H W, 2 H W) matrix on an (H, W) grid, periodic: row ``i * H * W + n`` is force component i at pixel n
+    (row-major), column ``c * H * W + m`` velocity component c at pixel m. The reference, pixel by pixel, for
+    :func:`apply_stencil` and for the Fourier solve."""
+    h, w = shape
     pixel = np.arange(h * w).reshape(h, w)
     rows, cols, values = [], [], []
     for block, (d0, d1) in zip(blocks, NEIGHBOUR_OFFSETS):
@@ -278,9 +233,10 @@ def solve_stencil_reference(stencil: object, force: object) -> np.ndarray:
     AMDO 2004, LNCS 3179, pp. 76-85,
     eq. (15) solved for the velocity.
     """
+    blocks = stencil_blocks(stencil)
     force = as_finite_array(force, "force", shape=(2, None, None), max_abs=MAX_FIELD)
     h, w = force.shape[1:]
-    matrix = stencil_matrix(stencil, (h, w)).toarray()
+    matrix = _stencil_matrix(blocks, (h, w)).toarray()
     rhs = (force - force.mean(axis=(1, 2), keepdims=True)).ravel()
     # eq. (15) at every pixel, K v = F_ext, as one dense linear system (least squares: K is singular
     # on the uniform velocity, which the mean-free force does not excite)
@@ -336,6 +292,16 @@ def check_sor_grid(shape: tuple[int, int], name: str) -> None:
         raise ValueError(f"{name} must have even H and W for SOR's four-colour ordering, got {tuple(shape)}")
 
 
+def _check_sor_inputs(force: object, lam: object, mu: object,
+                      n_sweeps: object) -> tuple[np.ndarray, float, float, int]:
+    """The inputs both SOR solvers take: a finite (2, H, W) force within ±1e100, Lamé constants with μ > 0
+    (:func:`~amdo_lab.cat_fluid.stencil.check_moduli`) and 0 to 100,000 sweeps."""
+    force = as_finite_array(force, "force", shape=(2, None, None), max_abs=MAX_FIELD)
+    lam, mu = check_moduli(lam, mu, require_positive_mu=True)
+    n_sweeps = check_positive_int(n_sweeps, "n_sweeps", minimum=0, maximum=MAX_ITERATIONS)
+    return force, lam, mu, n_sweeps
+
+
 def sor_solve(force: np.ndarray, lam: float, mu: float, *, n_sweeps: int = 250, omega: float | None = None,
               initial: np.ndarray | None = None, ordering: str = "four-colour") -> np.ndarray:
     """Successive over-relaxation for the finite-difference eq. (17), periodic, four-colour ordering.
@@ -383,9 +349,7 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, n_sweeps: int = 250, 
     G. E. Christensen, S. Joshi, M. I. Miller, "Volumetric transformation of brain anatomy",
     IEEE Trans. Med. Imaging 16(6), 864-877, 1997 (the paper's reference [2]).
     """
-    force = as_finite_array(force, "force", ndim=3, shape=(2, None, None), max_abs=MAX_FIELD)
-    lam, mu = check_moduli(lam, mu, require_positive_mu=True)
-    n_sweeps = check_positive_int(n_sweeps, "n_sweeps", minimum=0, maximum=MAX_ITERATIONS)
+    force, lam, mu, n_sweeps = _check_sor_inputs(force, lam, mu, n_sweeps)
     check_choice(ordering, "ordering", SOR_ORDERINGS)
     h, w = force.shape[1:]
     # SOR converges for 0 < omega < 2 only
@@ -483,9 +447,7 @@ def sor_reference(force: object, lam: float, mu: float, *, n_sweeps: int, omega:
     AMDO 2004, LNCS 3179, pp. 76-85,
     Sec. 5, eq. (17) and its SOR solver (their reference [2]).
     """
-    force = as_finite_array(force, "force", shape=(2, None, None), max_abs=MAX_FIELD)
-    lam, mu = check_moduli(lam, mu, require_positive_mu=True)
-    n_sweeps = check_positive_int(n_sweeps, "n_sweeps", minimum=0, maximum=MAX_ITERATIONS)
+    force, lam, mu, n_sweeps = _check_sor_inputs(force, lam, mu, n_sweeps)
     omega = check_in_range(omega, "omega", 0, 2)  # SOR converges for 0 < omega < 2 only
     h, w = force.shape[1:]
     force = force - force.mean(axis=(1, 2), keepdims=True)

@@ -11,7 +11,6 @@ from amdo_lab.incremental_svd.face import (
     TalkingFace,
     corner_error_less_offset_px,
     corner_error_px,
-    face_masks,
     make_talking_face,
     psnr_db,
     render_faces,
@@ -26,13 +25,11 @@ from amdo_lab.incremental_svd.svd_update import (
     noise_edge,
     ross_update,
     tau_schedule,
-    truncate,
     update_with_mean,
 )
 from amdo_lab.incremental_svd.tracking import (
     TAU_MODES,
     TrainingResult,
-    align_frame,
     train_non_causal,
     train_on_the_fly,
 )
@@ -41,7 +38,6 @@ __all__ = [
     "LATENT_NAMES",
     "PAPER_SIZE",
     "TalkingFace",
-    "face_masks",
     "make_talking_face",
     "psnr_db",
     "render_faces",
@@ -52,7 +48,6 @@ __all__ = [
     "similarity_points",
     "TAU_MODES",
     "TrainingResult",
-    "align_frame",
     "train_non_causal",
     "train_on_the_fly",
     "MEAN_MODES",
@@ -63,7 +58,6 @@ __all__ = [
     "noise_edge",
     "ross_update",
     "tau_schedule",
-    "truncate",
     "update_with_mean",
 ]
 

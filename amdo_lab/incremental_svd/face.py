@@ -14,11 +14,11 @@ import numpy as np
 from scipy import ndimage
 
 from amdo_lab.common import (as_finite_array, check_choice, check_image_shape, check_in_range,
-                             check_positive_int, check_same_shape, make_rng, MAX_ITERATIONS)
+                             check_positive_int, make_rng, MAX_ITERATIONS)
 
 __all__ = ["LATENT_NAMES", "MOTIONS", "PAPER_SIZE", "SIMILARITY_BOUNDS", "TalkingFace", "corner_error_less_offset_px",
            "corner_error_px",
-           "face_masks", "make_talking_face", "psnr_db", "render_faces", "similarity_points"]
+           "make_talking_face", "psnr_db", "render_faces", "similarity_points"]
 
 #: The paper's face: 41,205 pixels (Sec. 3.1); 201 x 205 is one factorisation of that number.
 PAPER_SIZE = (201, 205)
@@ -285,9 +285,8 @@ def render_faces(latent: np.ndarray, *, size: tuple[int, int] = PAPER_SIZE) -> n
     >>> render_faces([[0.5, 0.0, 0.0, 0.0]], size=(40, 41)).shape
     (1, 40, 41)
     """
-    latent = as_finite_array(latent, "latent", shape=(None, 4))
-    if np.any(latent[:, [0, 3]] < 0) or np.any(latent[:, [0, 3]] > 1) or np.any(np.abs(latent[:, 1:3]) > 1):
-        raise ValueError("latent must hold mouth opening and blink in [0, 1], width and brow raise in [-1, 1]")
+    latent = as_finite_array(latent, "latent", shape=(None, 4), bounds=(-1, 1))  # width and brow raise
+    as_finite_array(latent[:, [0, 3]], "latent's mouth opening and blink", bounds=(0, 1))
     rows, cols = check_image_shape(size, "size", minimum=32)
     y, x = np.mgrid[0:rows, 0:cols].astype(float) / rows  # unit: face height; x right, y down
     cx = cols / rows / 2
@@ -311,24 +310,9 @@ def render_faces(latent: np.ndarray, *, size: tuple[int, int] = PAPER_SIZE) -> n
     return frames
 
 
-def face_masks(size: tuple[int, int] = PAPER_SIZE) -> dict[str, np.ndarray]:
-    """The four facial regions of Fig. 1: two eyes, the mouth and the forehead (disjoint boxes).
-
-    Parameters
-    ----------
-    size : pair of int
-        Frame size (rows, cols), each at least 32.
-
-    Returns
-    -------
-    dict of str to ndarray of bool, shape (rows, cols)
-        ``left_eye``, ``right_eye``, ``mouth``, ``forehead`` (left and right as seen in the image).
-
-    References
-    ----------
-    Melenchón, Meler & Iriondo, AMDO 2004, Sec. 3.1 and Fig. 1(a).
-    """
-    rows, cols = check_image_shape(size, "size", minimum=32)
+def _face_masks(rows: int, cols: int) -> dict[str, np.ndarray]:
+    """The four facial regions of Fig. 1 on a (rows, cols) frame: two eyes, the mouth and the forehead
+    (disjoint boxes; left and right as seen in the image)."""
     y, x = np.mgrid[0:rows, 0:cols].astype(float) / rows
     cx = cols / rows / 2
 
@@ -387,7 +371,7 @@ def make_talking_face(n_frames: int, *, rng: int | np.random.Generator, size: tu
         truth = _similarity_tracks(generator, n_frames)
         clean = _move(clean, truth, _texture(generator, *size))
     frames = clean + noise * generator.standard_normal(clean.shape)
-    return TalkingFace(frames, clean, latent, face_masks(size), noise, truth)
+    return TalkingFace(frames, clean, latent, _face_masks(*size), noise, truth)
 
 
 def psnr_db(estimate: np.ndarray, clean: np.ndarray) -> float:
@@ -413,7 +397,6 @@ def psnr_db(estimate: np.ndarray, clean: np.ndarray) -> float:
     40.0
     """
     estimate = as_finite_array(estimate, "estimate", max_abs=1e100)
-    clean = as_finite_array(clean, "clean", max_abs=1e100)
-    check_same_shape(estimate, clean, "estimate", "clean")
+    clean = as_finite_array(clean, "clean (same shape as estimate)", shape=estimate.shape, max_abs=1e100)
     mse = float(np.mean((estimate - clean) ** 2))
     return float("inf") if mse == 0 else float(-10 * np.log10(mse))

@@ -32,7 +32,7 @@ from amdo_lab.common import (
 )
 
 __all__ = ["MEAN_MODES", "IncrementalSVD", "SvdState", "brand_update", "extract_mean", "noise_edge", "ross_update", "tau_schedule",
-           "truncate", "update_with_mean"]
+           "update_with_mean"]
 
 #: A residual column whose QR diagonal is below this fraction of the data's scale is dropped (eq. 11).
 RESIDUAL_RTOL = 1e-10
@@ -96,25 +96,19 @@ def _check_basis(U: object, s: object) -> tuple[np.ndarray, np.ndarray]:
     """The left factor (p x r, p >= 1) and its r non-negative singular values."""
     U = as_finite_array(U, "U", ndim=2, allow_empty=True, max_abs=MAX_ABS)
     check_positive_int(U.shape[0], "U's number of rows (pixels)")
-    s = as_finite_array(s, "s", ndim=1, allow_empty=True, bounds=(0, MAX_ABS))
-    if s.size != U.shape[1]:  # either may be at fault: name both
-        raise ValueError(f"s must hold one singular value per column of U ({U.shape[1]}), got {s.size}")
+    # a length mismatch names both: either may be at fault
+    s = as_finite_array(s, "s (one per U column)", shape=U.shape[1:], allow_empty=True, bounds=(0, MAX_ABS))
     return U, s
 
 
-def _check_right_factor(V: object, r: int, min_rows: int) -> np.ndarray:
-    """The right factor: r orthonormal columns, so at least ``min_rows`` (>= r) rows, one per column seen."""
-    V = as_finite_array(V, "V", shape=(None, r), allow_empty=True, max_abs=MAX_ABS)
-    check_positive_int(V.shape[0], "V's number of rows (one per column seen)", minimum=min_rows)
-    return V
-
-
-def _check_state(state: object) -> SvdState:
-    if not isinstance(state, tuple) or len(state) != 4:
-        raise TypeError(f"state must be a tuple (U, s, V, mean), got {type(state).__name__}")
-    U, s = _check_basis(*state[:2])
-    V = None if state[2] is None else _check_right_factor(state[2], s.size, s.size)
-    return SvdState(U, s, V, as_finite_array(state[3], "mean", shape=(U.shape[0],), max_abs=MAX_ABS))
+def _check_factors(U: object, s: object, V: object, *,
+                   min_rows: int = 0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A thin SVD ``(U, s, V)``: the basis of :func:`_check_basis` and the right factor, r orthonormal
+    columns, so at least max(r, ``min_rows``) rows, one per column seen."""
+    U, s = _check_basis(U, s)
+    V = as_finite_array(V, "V", shape=(None, s.size), allow_empty=True, max_abs=MAX_ABS)
+    check_positive_int(V.shape[0], "V's number of rows (one per column seen)", minimum=max(s.size, min_rows))
+    return U, s, V
 
 
 def _residual_basis(U: np.ndarray, I_hat: np.ndarray, scale: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -171,8 +165,7 @@ def brand_update(U: np.ndarray, s: np.ndarray, V: np.ndarray, I: np.ndarray) -> 
     >>> bool(np.allclose(st, np.linalg.svd(M, compute_uv=False)))
     True
     """
-    U, s = _check_basis(U, s)
-    V = _check_right_factor(V, s.size, s.size)
+    U, s, V = _check_factors(U, s, V)
     return _brand_update(U, s, V, as_finite_array(I, "I", shape=(U.shape[0], None), max_abs=MAX_ABS))
 
 
@@ -230,42 +223,10 @@ def _centre_right_factor(s_t: np.ndarray, V_t: np.ndarray, *, U_t: np.ndarray | 
     return left, s_f, V_f, v_bar
 
 
-def truncate(state: SvdState, *, max_rank: int | None = None, tol: float | None = None) -> SvdState:
-    """Keep the directions whose singular value exceeds ``tol``, at most ``max_rank`` of them.
-
-    Step 4 of the paper's loop ("trim U and V according to Σ"). With ``tol=None`` only the
-    numerically null directions go (below 1e-12 times the largest singular value).
-
-    Parameters
-    ----------
-    state : SvdState
-        The model.
-    max_rank : int, optional
-        Largest number of directions kept, 1 to 4,096.
-    tol : float, optional
-        Singular values at or below ``tol`` are dropped (same units as the data).
-
-    Returns
-    -------
-    SvdState
-        The trimmed model (the mean is unchanged).
-
-    References
-    ----------
-    Melenchón, Meler & Iriondo, AMDO 2004, Sec. 3.2 (the threshold τ).
-    """
-    U, s, V, mean = _check_state(state)
-    max_rank, tol = _check_trim(max_rank, tol)
-    return _truncate(SvdState(U, s, V, mean), max_rank=max_rank, tol=tol)
-
-
-def _check_trim(max_rank: object, tol: object) -> tuple[int | None, float | None]:
-    """Step 4's options, each optional: a rank cap (1 to 4,096) and a threshold τ >= 0 (the data's units)."""
-    return (None if max_rank is None else check_positive_int(max_rank, "max_rank", maximum=MAX_SIDE),
-            None if tol is None else check_positive(tol, "tol", allow_zero=True))
-
-
-def _truncate(state: SvdState, *, max_rank: int | None, tol: float | None) -> SvdState:
+def _truncate(state: SvdState, *, max_rank: int | None = None, tol: float | None = None) -> SvdState:
+    """Step 4 of the paper's loop ("trim U and V according to Σ"): keep the directions whose singular
+    value exceeds ``tol`` (with ``tol=None`` only those below 1e-12 times the largest go), at most
+    ``max_rank`` of them; the mean is unchanged. Check-free: :class:`IncrementalSVD` checks both options."""
     U, s, V, mean = state
     floor = 1e-12 * float(s.max(initial=0.0)) if tol is None else float(tol)
     keep = int(np.count_nonzero(s > floor))
@@ -280,7 +241,7 @@ def update_with_mean(U: np.ndarray, s: np.ndarray, V: np.ndarray, mean: np.ndarr
 
     The new columns are centred on the old mean (eq. 8), appended by Brand's update (eqs. 10-11),
     then the mean of the rows of the new right factor is taken out (eqs. 12-13) and added to the
-    old mean (eqs. 14-15). No truncation: call :func:`truncate` afterwards.
+    old mean (eqs. 14-15). No truncation (:class:`IncrementalSVD` trims after each update).
 
     Parameters
     ----------
@@ -315,8 +276,7 @@ def update_with_mean(U: np.ndarray, s: np.ndarray, V: np.ndarray, mean: np.ndarr
     >>> bool(np.allclose(state.mean, M.mean(axis=1)))
     True
     """
-    U, s = _check_basis(U, s)
-    V = _check_right_factor(V, s.size, s.size)
+    U, s, V = _check_factors(U, s, V)
     mean = as_finite_array(mean, "mean", shape=(U.shape[0],), max_abs=MAX_ABS)
     I = as_finite_array(I, "I", shape=(U.shape[0], None), max_abs=MAX_ABS)
     fast = check_bool(fast, "fast")
@@ -378,8 +338,7 @@ def extract_mean(U: np.ndarray, s: np.ndarray, V: np.ndarray, *, fast: bool = Tr
     >>> bool(np.allclose(extract_mean(U, s, Vt.T).mean, S.mean(axis=1)))
     True
     """
-    U, s = _check_basis(U, s)
-    V = _check_right_factor(V, s.size, max(s.size, 1))
+    U, s, V = _check_factors(U, s, V, min_rows=1)
     fast = check_bool(fast, "fast")
     # Sec. 2.4: eqs. (12)-(13) applied to S itself; the old mean m̄_i is zero, so m̄_f = m̄_t
     left, s_f, V_f, v_bar = _centre_right_factor(s, V, U_t=U, fast=fast)
@@ -554,10 +513,6 @@ class IncrementalSVD:
         self.tol = tol
         self.mean = mean
 
-    def _check_parameters(self) -> None:
-        _check_trim(self.max_rank, self.tol)
-        check_choice(self.mean, "mean", MEAN_MODES)
-
     def partial_fit(self, X: np.ndarray) -> IncrementalSVD:
         """Add the frames ``X`` (one per row) to the model.
 
@@ -571,7 +526,12 @@ class IncrementalSVD:
         IncrementalSVD
             ``self``.
         """
-        self._check_parameters()
+        # step 4's options: a rank cap and a threshold τ >= 0 (the data's units)
+        if self.max_rank is not None:
+            check_positive_int(self.max_rank, "max_rank", maximum=MAX_SIDE)
+        if self.tol is not None:
+            check_positive(self.tol, "tol", allow_zero=True)
+        check_choice(self.mean, "mean", MEAN_MODES)
         fitted = getattr(self, "U_", None) is not None  # then X must have the model's p pixels (columns)
         X = as_finite_array(X, "X", shape=(None, self.U_.shape[0] if fitted else None), max_abs=MAX_ABS)
         if not fitted:
@@ -598,10 +558,6 @@ class IncrementalSVD:
         check_fitted(self, ["U_", "mean_"])
         return SvdState(self.U_, self.singular_values_, self.V_, self.mean_)
 
-    def _check_frames(self, X: object) -> np.ndarray:
-        check_fitted(self, ["U_", "mean_"])
-        return as_finite_array(X, "X", shape=(None, self.U_.shape[0]), max_abs=MAX_ABS)
-
     def transform(self, X: np.ndarray) -> np.ndarray:
         """Coefficients of the frames ``X`` in the basis: ``(X - mean) U`` (the paper's ``C^T``).
 
@@ -615,8 +571,9 @@ class IncrementalSVD:
         ndarray, shape (n, r)
             Coefficients.
         """
-        X = self._check_frames(X)
-        return (X - self.mean_) @ self.U_
+        U, _, _, mean = self.state  # the state checks that the model is fitted
+        X = as_finite_array(X, "X", shape=(None, U.shape[0]), max_abs=MAX_ABS)
+        return (X - mean) @ U
 
     def reconstruct(self, X: np.ndarray) -> np.ndarray:
         """Project the frames ``X`` on the model: ``mean + (X - mean) U U^T``.
@@ -631,9 +588,8 @@ class IncrementalSVD:
         ndarray, shape (n, p)
             Their reconstructions from ``r`` coefficients each.
         """
-        X = self._check_frames(X)
-        # eq. (2): a frame is m̄ + U c, with its coefficients c = U^T (x - m̄)
-        return self.mean_ + ((X - self.mean_) @ self.U_) @ self.U_.T
+        # eq. (2): a frame is m̄ + U c, with its coefficients c = U^T (x - m̄) (:meth:`transform`, which checks X)
+        return self.mean_ + self.transform(X) @ self.U_.T
 
     def memory_bytes(self) -> int:
         """Bytes held by the model's arrays ``U``, ``s``, ``V`` and the mean.
@@ -643,6 +599,5 @@ class IncrementalSVD:
         int
             ``8 (p r + r + q r + p)`` for float64 arrays.
         """
-        check_fitted(self, ["U_", "mean_"])
-        arrays = [self.U_, self.singular_values_, self.mean_] + ([] if self.V_ is None else [self.V_])
-        return int(sum(a.nbytes for a in arrays))
+        arrays = self.state  # the state checks that the model is fitted; V is None under mean="ross"
+        return int(sum(a.nbytes for a in arrays if a is not None))

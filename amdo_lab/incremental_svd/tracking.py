@@ -19,7 +19,7 @@ from amdo_lab.common import (MAX_SIDE, as_bool_mask, as_finite_array, check_choi
 from amdo_lab.incremental_svd.face import _place
 from amdo_lab.incremental_svd.svd_update import IncrementalSVD, SvdState, noise_edge, tau_schedule
 
-__all__ = ["TAU_MODES", "TrainingResult", "align_frame", "train_non_causal", "train_on_the_fly"]
+__all__ = ["TAU_MODES", "TrainingResult", "train_non_causal", "train_on_the_fly"]
 
 #: ``"noise-edge"``: drop directions below σ(√p + √q); ``"paper"``: τ from 0.5 to 0.5e-3 over 25 frames.
 TAU_MODES = ("noise-edge", "paper")
@@ -59,15 +59,14 @@ class TrainingResult:
     peak_bytes: int
 
 
-def _check_masks(masks: object, shape: tuple[int, ...], image_name: str) -> dict[str, np.ndarray]:
-    """Non-empty, disjoint boolean masks of the images' size, by region name."""
+def _check_masks(masks: object, shape: tuple[int, ...]) -> dict[str, np.ndarray]:
+    """Non-empty, disjoint boolean masks of the frames' size, by region name (a size mismatch names both
+    arguments, since either may be at fault)."""
     if not isinstance(masks, dict) or not masks:
         raise ValueError("masks must be a non-empty dict of region name to boolean mask")
     checked, taken = {}, np.zeros(shape, bool)
     for name, mask in masks.items():
-        if np.shape(mask) != shape:  # either argument may be at fault: name both
-            raise ValueError(f"masks and {image_name} must have the same image size, got {np.shape(mask)} and {shape}")
-        mask = as_bool_mask(mask, "masks", shape=shape)
+        mask = as_bool_mask(mask, f"masks[{name!r}] (on the pixels of frames)", shape=shape)
         if not mask.any() or np.any(taken & mask):
             raise ValueError(f"masks must be non-empty and must not overlap; {name!r} is empty or overlaps")
         taken |= mask
@@ -80,7 +79,7 @@ def _check_training(frames: object, masks: object, init: object, max_rank: objec
     """The inputs both trainers share: frames, masks, first placement, rank cap, threshold mode, noise."""
     frames = as_finite_array(frames, "frames", ndim=3, max_abs=1e6)
     check_positive_int(frames.shape[0], "frames' number of frames", minimum=2)
-    masks = _check_masks(masks, frames.shape[1:], "frames")
+    masks = _check_masks(masks, frames.shape[1:])
     init = as_finite_array(init, "init", shape=(4,), max_abs=1e3)
     check_choice(tau, "tau", TAU_MODES)
     return frames, masks, init, check_positive_int(max_rank, "max_rank", maximum=MAX_SIDE), check_positive(noise, "noise")
@@ -129,43 +128,13 @@ def _align(regions: _Regions, t: int, models: list[SvdState], start: np.ndarray)
     return params
 
 
-def align_frame(frame: np.ndarray, masks: dict[str, np.ndarray], models: dict[str, SvdState],
-                start: np.ndarray) -> np.ndarray:
-    """Place the masks on one frame by Gauss-Newton, against fixed region models.
-
-    Parameters
-    ----------
-    frame : ndarray, shape (rows, cols)
-        The image.
-    masks : dict of str to ndarray of bool, shape (rows, cols)
-        Disjoint regions of the reference frame.
-    models : dict of str to SvdState
-        One model ``(U, s, V, mean)`` per mask, with the mask's number of pixels.
-    start : ndarray, shape (4,)
-        Placement to start from, ``(tx, ty, angle, log_scale)``.
-
-    Returns
-    -------
-    ndarray, shape (4,)
-        The placement minimising ``sum_r ||(I - U_r U_r^T)(o_r(a) - m_r)||^2``.
-
-    References
-    ----------
-    Melenchón, Meler & Iriondo, AMDO 2004, Sec. 3.2, step 2 of Fig. 3 (the aligner of their [7]).
-    """
-    frames = as_finite_array(frame, "frame", ndim=2, max_abs=1e6)[None]
-    masks = _check_masks(masks, frames.shape[1:], "frame")
-    start = as_finite_array(start, "start", shape=(4,), max_abs=1e3)
-    if not isinstance(models, dict) or set(models) != set(masks):
-        raise ValueError("models must be a dict with one model per mask")
-    regions = _Regions(masks, frames)
-    states = []
-    for name, size in zip(regions.names, np.diff(np.r_[0, regions.splits, regions.points.shape[0]])):
-        U, s, V, mean = models[name]
-        U = as_finite_array(U, "models", shape=(size, None), allow_empty=True, max_abs=1e6)  # one row per pixel
-        mean = as_finite_array(mean, "models", shape=(size,), max_abs=1e6)
-        states.append(SvdState(U, np.asarray(s), V, mean))
-    return _align(regions, 0, states, start)
+def _align_frame(frame: np.ndarray, masks: dict[str, np.ndarray], models: dict[str, SvdState],
+                 start: np.ndarray) -> np.ndarray:
+    """Place the masks on one ``frame`` by Gauss-Newton (:func:`_align`) against fixed region ``models``,
+    one per mask, from the placement ``start``. Check-free: the trainers call :func:`_align` themselves;
+    the tests use this entry."""
+    regions = _Regions(masks, np.asarray(frame, dtype=float)[None])
+    return _align(regions, 0, [models[name] for name in regions.names], np.asarray(start, dtype=float))
 
 
 def _region_tol(tau: str, t: int, noise: float, pixels: int) -> float:

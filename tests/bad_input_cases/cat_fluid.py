@@ -86,14 +86,9 @@ def cases() -> dict[str, Case]:
                            {"shape": "object", "lam": "non_negative", "mu": "non_negative"}),
         "finite_difference_symbol": Case(cf.finite_difference_symbol, {"shape": (8, 8), "lam": 1.0, "mu": 5.0},
                                          {"shape": "object", "lam": "non_negative", "mu": "non_negative"}),
-        "apply_finite_difference": Case(cf.apply_finite_difference, {"velocity": field, "lam": 1.0, "mu": 5.0},
-                                        {"velocity": "array", "lam": "non_negative", "mu": "non_negative"},
-                                        accept=other_size("velocity")),
         "symbol_eigenvalues": Case(cf.symbol_eigenvalues, {"symbol": symbol, "rows": [0, 1, 2], "cols": [0, 1, 2]},
                                    {"symbol": "array", "rows": "array", "cols": "array"},
                                    accept=other_size("symbol")),  # (2, 2, 8, 6): the symbol of an 8 x 10 grid
-        "stencil_matrix": Case(cf.stencil_matrix, {"stencil": stencil, "shape": (4, 4)},
-                               {"stencil": "array", "shape": "object"}),
         "solve_stencil_reference": Case(cf.solve_stencil_reference, {"stencil": stencil, "force": force4},
                                         {"stencil": "array", "force": "array"}, accept=other_size("force")),
         "solve_velocity": Case(cf.solve_velocity, {"force": field, "method": "cat", "lam": 1.0, "mu": 5.0},
@@ -120,8 +115,6 @@ def cases() -> dict[str, Case]:
                                {"deformed_template": "image", "study": "image"}),
         "material_update": Case(cf.material_update, {"displacement": field, "velocity": field2, "dt": 0.5},
                                 {"displacement": "array", "velocity": "array", "dt": "positive"}),
-        "compose_displacements": Case(cf.compose_displacements, {"first": field, "second": field2},
-                                      {"first": "array", "second": "array"}),
         "grey_level_difference": Case(cf.grey_level_difference,
                                       {"image": disc, "reference": moved, "mask": mask, "scale": 255.0},
                                       {"image": "image", "reference": "image", "mask": "bool_array",
@@ -151,13 +144,7 @@ def cases() -> dict[str, Case]:
             accept=frozenset({("sor_omega", "None")})),  # None: the textbook factor
         # -- data
         "load_dipy_image": Case(cf.load_dipy_image, {"name": "reg_c"}, {"name": "name"}),
-        "smooth_warp": Case(cf.smooth_warp,
-                            {"shape": (8, 8), "rng": 0, "amplitude_px": 2.0, "support": mask},
-                            {"shape": "object", "rng": "seed", "amplitude_px": "positive", "support": "bool_array"},
-                            accept=frozenset({("support", "None")})),  # None: no support, documented
         "make_pair": Case(cf.make_pair, {"name": "C", "rng": 0}, {"name": "name", "rng": "seed"}),
-        "foreground_mask": Case(cf.foreground_mask, {"image": disc, "threshold": 0.05},
-                                {"image": "image", "threshold": "real"}, accept=other_size("image")),
         # -- the peer
         "register_dipy": Case(cf.register_dipy, {"template": disc, "study": moved, "metric": "ssd", "level_iters": (2,)},
                               {"template": "image", "study": "image", "metric": "name", "level_iters": "object"}),

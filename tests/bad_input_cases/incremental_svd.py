@@ -37,8 +37,6 @@ def cases() -> dict[str, Case]:
     any_count = frozenset({("I", "a wrong trailing axis")})  # three new columns instead of two are fine
 
     track_face = isvd.make_talking_face(3, rng=0, size=(40, 41), motion="similarity")
-    templates = {name: isvd.SvdState(np.zeros((int(mask.sum()), 0)), np.zeros(0), None, track_face.frames[0][mask])
-                 for name, mask in track_face.masks.items()}
     track_valid = {"frames": track_face.frames, "masks": track_face.masks, "init": np.zeros(4), "max_rank": 2}
     track_kinds = {"frames": "array", "masks": "object", "init": "array", "max_rank": "count"}
 
@@ -65,8 +63,6 @@ def cases() -> dict[str, Case]:
         "ross_update": Case(isvd.ross_update, {"U": U, "s": s, "mean": mean, "n_seen": 4, "I": new},
                             {"U": "array", "s": "array", "mean": "array", "n_seen": "count", "I": "array"},
                             accept=any_count | {("n_seen", "zero")}),
-        "truncate": Case(isvd.truncate, {"state": fitted.state, "max_rank": 1, "tol": 0.0},
-                         {"state": "object", "max_rank": "count", "tol": "non_negative"}, accept=_NONE_OK),
         "tau_schedule": Case(isvd.tau_schedule, {"t": 3}, {"t": "count"}, accept=frozenset({("t", "zero")})),
         "noise_edge": Case(isvd.noise_edge, {"sigma": 0.01, "p": 100, "q": 25},
                            {"sigma": "positive", "p": "count", "q": "count"}),
@@ -84,9 +80,6 @@ def cases() -> dict[str, Case]:
         "corner_error_less_offset_px": Case(isvd.corner_error_less_offset_px,
                                             {"params": np.zeros((2, 4)), "truth": np.ones((2, 4)), "size": (40, 41)},
                                             {"params": "array", "truth": "array", "size": "object"}),
-        "align_frame": Case(isvd.align_frame, {"frame": track_face.frames[1], "masks": track_face.masks,
-                                               "models": templates, "start": np.zeros(4)},
-                            {"frame": "array", "masks": "object", "models": "object", "start": "array"}),
         "train_on_the_fly": Case(isvd.train_on_the_fly, {**track_valid, "tau": "paper", "noise": 0.01,
                                                          "learn_at": track_face.truth},
                                  {**track_kinds, "tau": "name", "noise": "positive", "learn_at": "array"},
@@ -96,7 +89,6 @@ def cases() -> dict[str, Case]:
                                  accept=frozenset({("rounds", "zero")})),
         "render_faces": Case(isvd.render_faces, {"latent": [[0.5, 0.0, 0.0, 0.0]], "size": (40, 41)},
                              {"latent": "array", "size": "object"}),
-        "face_masks": Case(isvd.face_masks, {"size": (40, 41)}, {"size": "object"}),
         "psnr_db": Case(isvd.psnr_db, {"estimate": frames, "clean": frames + 0.01},
                         {"estimate": "array", "clean": "array"}),
     }
