@@ -9,13 +9,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import (MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check_choice,
-                             check_image_shape, check_in_range, check_names, check_positive_int, make_rng)
+                             check_image_shape, check_in_range, check_names, check_positive_int, check_sequence_of,
+                             make_rng)
 # shared with chapter 10 (systematic_resample is re-exported here); the kernel takes -inf log-weights (particles ruled out)
 from amdo_lab.common.particles import _normalised_weights, systematic_resample
 from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
 from amdo_lab.cue_fusion_pf.likelihoods import (COLOR_SPACES, MAX_PIXELS, PAPER_SIGMAS, SIGMA_RANGE, ColorLikelihood,
                                                 EdgeLikelihood, check_cues, check_frame, check_frames)
-from amdo_lab.cue_fusion_pf.data import as_ellipse
+from amdo_lab.cue_fusion_pf.data import SequenceWithTruth, as_ellipse
 from amdo_lab.cue_fusion_pf.shape import SHAPE_KINDS, ShapeSpace, as_states
 from amdo_lab.cue_fusion_pf.structure import CASCADE_SEED, StructureLikelihood, load_or_train_cascade
 
@@ -470,8 +471,8 @@ def calibration_distances(sequences: Sequence, cue: str, *, rng: int | np.random
 
     Parameters
     ----------
-    sequences : sequence of HeadSequence
-        Held-out sequences (objects with ``.frames``, ``.truth`` and ``.true_ellipses``).
+    sequences : sequence of HeadSequence or WalkerSequence
+        Held-out sequences, at least one (each with ``.frames``, ``.truth`` and ``.true_ellipses``).
     cue : str
         ``"color"`` or ``"structure"``.
     rng : int or numpy.random.Generator
@@ -494,10 +495,7 @@ def calibration_distances(sequences: Sequence, cue: str, *, rng: int | np.random
     ----------
     Li & Chaumette, AMDO 2004, eqs. (11)-(12) (the σ being calibrated) and Table 1.
     """
-    if isinstance(sequences, str) or not isinstance(sequences, Sequence) or len(sequences) == 0 or not all(
-            hasattr(sequence, name) for sequence in sequences for name in ("frames", "truth", "true_ellipses")):
-        raise TypeError("sequences must be a non-empty sequence of HeadSequence (objects with .frames, .truth and "
-                        f".true_ellipses), got {type(sequences).__name__}")
+    sequences = check_sequence_of(sequences, "sequences", SequenceWithTruth, what="a HeadSequence or WalkerSequence")
     check_choice(cue, "cue", ("color", "structure"))
     n_samples = check_positive_int(n_samples, "n_samples", minimum=2, maximum=MAX_SAMPLES)
     frame_step = check_positive_int(frame_step, "frame_step", maximum=MAX_ITERATIONS)
