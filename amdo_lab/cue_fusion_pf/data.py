@@ -412,7 +412,8 @@ def as_ellipse(ellipse: object, name: str, *, allow_stack: bool = False) -> np.n
     ellipse = as_finite_array(ellipse, name, max_abs=MAX_PIXELS)
     shapes, ndims = ("(5,) or (T, 5)", (1, 2)) if allow_stack else ("(5,)", (1,))
     if ellipse.ndim not in ndims or ellipse.shape[-1] != 5 or np.any(ellipse[..., 2:4] <= 0):
-        raise ValueError(f"{name} must be an ellipse (cx, cy, a, b, angle) with positive axes, of shape {shapes}, got {ellipse.shape}")
+        raise ValueError(f"{name} must be an ellipse (cx, cy, a, b, angle) with positive axes, of shape {shapes}, "
+                         f"got {ellipse.shape}")
     return ellipse
 
 

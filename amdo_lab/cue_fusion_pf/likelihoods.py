@@ -262,7 +262,8 @@ class ColorLikelihood:
         gx, gy = np.meshgrid(np.arange(-a, a + 1e-9, self.stride) / a, np.arange(-b, b + 1e-9, self.stride) / b)
         keep = gx**2 + gy**2 < 1.0
         if not keep.any():  # no sample point: every histogram would be 0/0
-            raise ValueError(f"stride must leave a sample point inside the template ellipse ({a:.3g} × {b:.3g} px), got {self.stride:g}")
+            raise ValueError(f"stride must leave a sample point inside the template ellipse ({a:.3g} × {b:.3g} px), "
+                             f"got {self.stride:g}")
         self._unit_points = np.stack([gx[keep], gy[keep]], axis=1)  # points of the unit disc
         self._kernel = 1.0 - np.sum(self._unit_points**2, axis=1)  # eq. (7), profile 1 - r²
 
@@ -634,7 +635,8 @@ def check_cues(cues: object) -> dict:
     """
     if not isinstance(cues, dict) or not cues or not all(isinstance(getattr(cue, "shape_space", None), ShapeSpace)
                                                           and hasattr(cue, "log_likelihood") for cue in cues.values()):
-        raise TypeError(f"cues must be a non-empty dict of cues (with .log_likelihood, .shape_space), got {type(cues).__name__}")
+        raise TypeError(f"cues must be a non-empty dict of likelihood objects (with .log_likelihood and .shape_space), "
+                        f"got {type(cues).__name__}")
     return cues
 
 
@@ -660,8 +662,7 @@ def fused_log_likelihood(cues: dict, frame: np.ndarray, states: np.ndarray) -> n
     Li & Chaumette, AMDO 2004, eq. (6).
     """
     cues = check_cues(cues)
-    frame = check_frame(frame)
-    # eq. (6) in the log domain: the product of the cues' likelihoods is a sum (each cue checks the states)
+    # eq. (6) in the log domain: the product of the cues' likelihoods is a sum (each cue checks the frame and the states)
     return sum(cue.log_likelihood(frame, states) for cue in cues.values())
 
 

@@ -15,7 +15,7 @@ from amdo_lab.common import (MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check
 from amdo_lab.common.particles import _normalised_weights, systematic_resample
 from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
 from amdo_lab.cue_fusion_pf.likelihoods import (COLOR_SPACES, MAX_PIXELS, PAPER_SIGMAS, SIGMA_RANGE, ColorLikelihood,
-                                                EdgeLikelihood, check_cues, check_frame, check_frames)
+                                                EdgeLikelihood, check_cues, check_frames)
 from amdo_lab.cue_fusion_pf.data import SequenceWithTruth, as_ellipse
 from amdo_lab.cue_fusion_pf.shape import SHAPE_KINDS, ShapeSpace, as_states
 from amdo_lab.cue_fusion_pf.structure import CASCADE_SEED, StructureLikelihood, load_or_train_cascade
@@ -301,8 +301,9 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
         cues, as the sequential schemes of the paper's refs. [6]-[7]); shape, the shape
         space of eq. (3): ``"translation_scale"`` (head) or ``"similarity"`` (walker; beta,
         stationary_std and init_spread then default to four entries, the scale's value repeated for
-        s_s); defaults in :data:`TRACK_DEFAULTS`, ranges in :class:`ColorLikelihood`,
-        :class:`EdgeLikelihood` and :func:`_check_state_spread` (stationary_std, init_spread).
+        s_s); defaults in :data:`TRACK_DEFAULTS`, ranges in :class:`ColorLikelihood` and
+        :class:`EdgeLikelihood`; stationary_std and init_spread lie in [0, :data:`MAX_PIXELS`] px for
+        the centre and in [0, :data:`MAX_SCALE`] for the scale.
 
     Returns
     -------
@@ -373,8 +374,7 @@ def weigh_particles(frame: np.ndarray, particles: np.ndarray, cues: dict) -> np.
     ----------
     Li & Chaumette, AMDO 2004, eqs. (6), (15)-(16) and Fig. 1, step 3.
     """
-    frame = check_frame(frame)
-    cues = check_cues(cues)
+    cues = check_cues(cues)  # (each cue checks the frame)
     particles = np.atleast_2d(as_states(particles, next(iter(cues.values())).shape_space.state_dim, "particles"))
     valid = _plausible(particles)
     if not valid.any():
