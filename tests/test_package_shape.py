@@ -31,8 +31,6 @@ MIN_BODY_LINES_FOR_SHARE = 100
 #: needs fewer public entry points or settings objects (measured 2026-11-26).
 KNOWN_EXCESS: dict[str, dict[str, object]] = {
     "cat_fluid": {"validation_share": "17.2 % (85 of 493 lines; measured 2026-11-27)"},
-    "common": {"validation_share": "17.6 % (62 of 352 lines; validation.py itself not counted)"},
-    "cue_fusion_pf": {"validation_share": "19.4 % (232 of 1,198 lines)"},
     "incremental_svd": {"validation_share": "15.1 % (55 of 365 lines; measured 2026-11-27)"},
     "modal_matching": {"validation_share": "22.4 % (79 of 353 lines)"},
     "pdm_mixtures": {"validation_share": "18.9 % (128 of 677 lines: one line per argument of the public API "

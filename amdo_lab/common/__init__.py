@@ -50,6 +50,7 @@ from amdo_lab.common.validation import (
     check_positive_int,
     check_same_shape,
     check_seed,
+    check_sequence_of,
 )
 
 __all__ = [
@@ -86,6 +87,7 @@ __all__ = [
     "check_positive_int",
     "check_same_shape",
     "check_seed",
+    "check_sequence_of",
     "effective_sample_size",
     "make_rng",
     "normalised_weights",

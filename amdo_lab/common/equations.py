@@ -36,10 +36,8 @@ class EquationPath:
     reason: str | None = None
 
     def __post_init__(self) -> None:
-        if self.reason is None and not (self.code and self.test):
-            raise ValueError("an EquationPath needs code and test, or a reason")
-        if self.reason is not None and (self.code or self.test):
-            raise ValueError("an EquationPath with a reason has no code or test")
+        if not bool(self.code) == bool(self.test) == (self.reason is None):  # both, or neither and a reason
+            raise ValueError("an EquationPath needs code and test, or a reason instead of both")
 
 
 def equation_map(equations: Mapping[int, EquationPath], test_file: str) -> str:

@@ -209,8 +209,7 @@ class Exercise:
         if len(self.wrong_answers) < 2:
             raise ValueError(f"exercise {self.number}: record at least two plausible wrong answers")
         if self.experiment and not any(wrong.unchanged_experiment for wrong in self.wrong_answers):
-            raise ValueError(f"exercise {self.number}: an experiment exercise must reject the unchanged "
-                             "experiment's value (a WrongAnswer with unchanged_experiment=True)")
+            raise ValueError(f"exercise {self.number}: an experiment needs a WrongAnswer(unchanged_experiment=True)")
 
     def target(self, context: Mapping[str, object]) -> object:
         """The right answer for these notebook objects (raises if one is missing or the call fails)."""
@@ -240,6 +239,10 @@ class CheckOutcome:
     def ok(self) -> bool:
         """True when the verdict is the one this answer must get."""
         return self.verdict == self.wanted if self.wanted != NOT_YET else self.verdict.startswith(NOT_YET + ":")
+
+    def describe(self) -> str:
+        """One line for a report: the exercise, the answer fed, the verdict got and the one wanted."""
+        return f"exercise {self.number}, {self.fed}: got {self.verdict!r}, wanted {self.wanted!r}"
 
 
 @dataclass(frozen=True)
@@ -352,11 +355,9 @@ class ExerciseSet:
         Prints one summary line when every check gives the verdict it should.
         """
         rows = self.self_test(namespace)
-        failed = [row for row in rows if not row.ok]
+        failed = [row.describe() for row in rows if not row.ok]
         if failed:
-            raise AssertionError("exercise checks with the wrong verdict:\n" + "\n".join(
-                f"  exercise {row.number}, {row.fed}: got {row.verdict!r}, wanted {row.wanted!r}"
-                for row in failed))
+            raise AssertionError("exercise checks with the wrong verdict:\n  " + "\n  ".join(failed))
         n_wrong = sum(len(exercise.wrong_answers) for exercise in self.exercises)
         print(f"{len(self.exercises)} exercises: the placeholder, {n_wrong} recorded wrong answers and "
               f"{len(self.exercises)} solutions each get the verdict they should")

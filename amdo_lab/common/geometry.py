@@ -69,9 +69,7 @@ def rotation_matrix(axis: np.ndarray, angle: float | np.ndarray) -> np.ndarray:
         ``(3, 3)`` for a scalar angle, ``(*angle.shape, 3, 3)`` otherwise.
     """
     axis = as_finite_array(axis, "axis", shape=(3,))
-    largest = np.max(np.abs(axis))
-    if largest == 0:
-        raise ValueError("axis must be a non-zero 3-vector")
+    largest = check_positive(float(np.max(np.abs(axis))), "axis (a non-zero 3-vector): its largest entry in magnitude")
     axis = axis / largest  # scale first: the norm of an axis above about 1e154 would overflow
     k = skew(axis / np.linalg.norm(axis))
     angle = as_finite_array(angle, "angle", allow_empty=True)[..., None, None]
@@ -167,8 +165,7 @@ def rigid_transform(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray
     d = rotation.shape[-1]
     translation = as_finite_array(translation, "translation")
     if translation.ndim < 1 or translation.shape[-1] != d or not _broadcasts_to(translation.shape, rotation.shape[:-1]):
-        raise ValueError(f"translation must have shape (..., {d}) matching rotation {rotation.shape}, "
-                         f"got {translation.shape}")
+        raise ValueError(f"translation must have shape (..., {d}) for rotation {rotation.shape}, got {translation.shape}")
     out = np.zeros(rotation.shape[:-2] + (d + 1, d + 1))
     out[..., :d, :d] = rotation
     out[..., :d, d] = translation
@@ -358,8 +355,7 @@ def planar_chain(angles: np.ndarray, lengths: np.ndarray, base: np.ndarray = (0.
     lengths = as_finite_array(lengths, "lengths", ndim=1, max_abs=MAX_CHAIN_LENGTH)
     base = as_finite_array(base, "base", shape=(2,), max_abs=MAX_CHAIN_LENGTH)
     if angles.ndim == 0 or angles.shape[-1] != len(lengths):
-        raise ValueError(f"angles must end in one angle per link: angles has shape {angles.shape}, "
-                         f"lengths has {len(lengths)} links")
+        raise ValueError(f"angles must end in one angle per link of lengths ({len(lengths)}), got shape {angles.shape}")
     absolute = np.cumsum(angles, axis=-1)
     steps = lengths[..., None] * np.stack([np.cos(absolute), np.sin(absolute)], axis=-1)
     joints = np.concatenate([np.zeros(steps.shape[:-2] + (1, 2)), np.cumsum(steps, axis=-2)], axis=-2)

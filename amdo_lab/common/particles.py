@@ -25,7 +25,9 @@ def normalised_weights(log_weights: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     log_weights : numpy.ndarray
-        (N,) log-weights, finite, N >= 1.
+        (N,) log-weights, finite (within ±1e300), N >= 1. A caller whose log-weights are computed
+        from checked data, and may be -inf for a particle ruled out, calls the kernel
+        ``_normalised_weights`` instead (chapter 6's filter does).
 
     Returns
     -------
@@ -47,6 +49,13 @@ def normalised_weights(log_weights: np.ndarray) -> np.ndarray:
 
 
 def _normalised_weights(log_weights: np.ndarray) -> np.ndarray:
+    """The kernel of :func:`normalised_weights`, for log-weights computed from checked data: no checks.
+
+    Besides finite log-weights it takes -inf entries (a particle ruled out gets weight exactly 0),
+    provided at least one entry is finite: the maximum subtracted is then finite.
+    """
+    # eq. (15) of Li & Chaumette (eq. 7 of Pantrigo et al.): w_i ∝ exp(l_i), normalised by their sum; the maximum is
+    # subtracted first, as exp(-1e4) alone would underflow to 0/0
     shifted = np.exp(log_weights - log_weights.max())
     return shifted / shifted.sum()
 

@@ -58,9 +58,7 @@ def savefig(fig: Figure, name: str) -> None:
     """
     check_instance(fig, "fig", Figure, what="a matplotlib Figure")
     if not isinstance(name, str) or not _NAME_PATTERN.match(name):
-        raise ValueError(
-            f"name must be a file stem of letters, digits, '_', '-' or '.', got {name!r}"
-        )
+        raise ValueError(f"name must be a file stem of letters, digits, '_', '-' or '.', got {name!r}")
     directory = os.environ.get(FIG_DIR_VARIABLE)
     if not directory:
         return

@@ -21,7 +21,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
-from amdo_lab.common.validation import as_finite_array, check_in_range, check_instance
+from amdo_lab.common.validation import as_finite_array, check_in_range, check_sequence_of
 
 __all__ = [
     "DISABLE_3D_VARIABLE",
@@ -157,10 +157,7 @@ def render_scene(
     figsize : (width, height)
         Matplotlib figure size in inches.
     """
-    if not items:
-        raise ValueError("items must contain at least one Mesh or PointCloud")
-    for position, item in enumerate(items):
-        check_instance(item, f"items[{position}]", (Mesh, PointCloud), what="a Mesh or PointCloud")
+    items = check_sequence_of(items, "items", (Mesh, PointCloud), what="a Mesh or PointCloud")
     probe = probe_3d_rendering()
     if probe.ok:
         image = _render_pyvista(items, view, window_size)

@@ -36,6 +36,7 @@ __all__ = [
     "check_overflow",
     "check_same_shape",
     "check_seed",
+    "check_sequence_of",
     "check_positive",
     "check_positive_int",
 ]
@@ -390,6 +391,39 @@ def check_instance(value: object, name: str, expected: type | tuple[type, ...], 
         wanted = what or " or ".join(t.__name__ for t in types)
         raise TypeError(f"{name} must be {wanted}, got {type(value).__name__}")
     return value
+
+
+def check_sequence_of(values: object, name: str, expected: type | tuple[type, ...], *, what: str) -> tuple:
+    """Return ``values`` as a tuple after checking it is a non-empty sequence of instances of ``expected``.
+
+    Parameters
+    ----------
+    values : sequence
+        The user's input: a list or tuple (a string is refused).
+    name : str
+        The argument's name, used in error messages (an element is named ``name[i]``).
+    expected : type or tuple of types
+        Accepted type(s) of every element.
+    what : str
+        How the message names one element ("a Mesh or PointCloud").
+
+    Returns
+    -------
+    tuple
+        The elements, in their order.
+
+    Examples
+    --------
+    >>> check_sequence_of([1.0, 2.0], "scales", float, what="a float")
+    (1.0, 2.0)
+    """
+    if isinstance(values, (str, bytes)) or not isinstance(values, Sequence):
+        raise TypeError(f"{name} must be a sequence of {what}, got {type(values).__name__}")
+    if len(values) == 0:
+        raise ValueError(f"{name} must hold at least one element ({what}), got an empty sequence")
+    for position, value in enumerate(values):
+        check_instance(value, f"{name}[{position}]", expected, what=what)
+    return tuple(values)
 
 
 def as_outcomes(value: object, name: str) -> np.ndarray:

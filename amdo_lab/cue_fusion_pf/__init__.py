@@ -8,7 +8,7 @@ TrackerMIL as peers.
 """
 
 from amdo_lab.cue_fusion_pf.data import HEAD_AXES, SEQUENCE_KINDS, HeadSequence, ellipse_iou, head_views, make_head_sequence
-from amdo_lab.cue_fusion_pf.dynamics import ARDynamics, ar2_coefficients, ar2_stationary_variance
+from amdo_lab.cue_fusion_pf.dynamics import ARDynamics, ar2_coefficients
 from amdo_lab.cue_fusion_pf.likelihoods import (
     PAPER_SIGMAS,
     CalibrationResult,
@@ -22,16 +22,13 @@ from amdo_lab.cue_fusion_pf.likelihoods import (
     simulate_measurement_lines,
 )
 from amdo_lab.cue_fusion_pf.peers import track_camshift, track_mil, track_pfilter
-from amdo_lab.cue_fusion_pf.shape import ShapeSpace, bspline_basis, ellipse_points
+from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 from amdo_lab.cue_fusion_pf.structure import (
     CASCADE_SEED,
     BoostedCascade,
     StructureLikelihood,
-    haar_features,
-    integral_image,
     load_or_train_cascade,
     make_training_set,
-    train_cascade,
 )
 from amdo_lab.cue_fusion_pf.tracker import (
     CALIBRATED_SIGMAS,
@@ -45,17 +42,17 @@ from amdo_lab.cue_fusion_pf.tracker import (
     track,
     weigh_particles,
 )
-from amdo_lab.cue_fusion_pf.walker import WALKER_SEGMENTS, WalkerSequence, box_iou, fit_similarity, make_walker_sequence
+from amdo_lab.cue_fusion_pf.walker import WALKER_SEGMENTS, WalkerSequence, box_iou, make_walker_sequence
 
 __all__ = [
     "ARDynamics", "BoostedCascade", "CALIBRATED_SIGMAS", "WALKER_SIGMAS", "CASCADE_SEED", "CUES", "CalibrationResult", "ColorLikelihood", "EdgeLikelihood",
     "HEAD_AXES", "HeadSequence", "PAPER_SIGMAS", "SEQUENCE_KINDS", "STATIONARY_STD", "ShapeSpace", "StructureLikelihood",
-    "TrackResult", "ar2_coefficients", "ar2_stationary_variance", "bhattacharyya", "bspline_basis",
-    "calibrate_sigma", "calibration_distances", "default_dynamics", "edge_line_likelihood", "ellipse_iou", "ellipse_points",
-    "fused_log_likelihood", "haar_features", "head_views", "integral_image", "kernel_histogram", "load_or_train_cascade",
+    "TrackResult", "ar2_coefficients", "bhattacharyya",
+    "calibrate_sigma", "calibration_distances", "default_dynamics", "edge_line_likelihood", "ellipse_iou",
+    "fused_log_likelihood", "head_views", "kernel_histogram", "load_or_train_cascade",
     "make_head_sequence", "make_training_set", "simulate_measurement_lines", "systematic_resample", "track",
-    "track_camshift", "track_mil", "track_pfilter", "train_cascade", "weigh_particles",
-    "WALKER_SEGMENTS", "WalkerSequence", "box_iou", "fit_similarity", "make_walker_sequence",
+    "track_camshift", "track_mil", "track_pfilter", "weigh_particles",
+    "WALKER_SEGMENTS", "WalkerSequence", "box_iou", "make_walker_sequence",
 ]
 
 from amdo_lab.common.equations import with_equation_map as _with_equation_map  # noqa: E402

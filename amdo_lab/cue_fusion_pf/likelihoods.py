@@ -16,8 +16,8 @@ from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 
 __all__ = [
     "COLOR_SPACES", "CalibrationResult", "EDGE_SMOOTHING_PX", "check_cues", "check_frames", "ColorLikelihood", "EdgeLikelihood", "MAX_CLUTTER_DENSITY", "MAX_DISTANCE", "MAX_PIXELS", "PAPER_SIGMAS", "SIGMA_RANGE", "bhattacharyya",
-    "calibrate_sigma", "check_frame", "check_shape_space", "edge_line_likelihood", "fused_log_likelihood",
-    "kernel_histogram", "simulate_measurement_lines", "to_color_space",
+    "calibrate_sigma", "check_frame", "edge_line_likelihood", "fused_log_likelihood",
+    "kernel_histogram", "simulate_measurement_lines",
 ]
 
 #: Table 1's standard deviations of the colour and structure likelihoods.
@@ -37,27 +37,6 @@ EDGE_SMOOTHING_PX = 1.0
 
 
 # --- colour: eqs. (7)-(11) ----------------------------------------------------------------------
-
-def check_shape_space(shape_space: object) -> ShapeSpace:
-    """Return ``shape_space`` after checking it is a :class:`ShapeSpace` (a TypeError names it).
-
-    Parameters
-    ----------
-    shape_space : ShapeSpace
-        The user's shape space.
-
-    Returns
-    -------
-    ShapeSpace
-        ``shape_space``.
-
-    References
-    ----------
-    Li & Chaumette, AMDO 2004, eqs. (2)-(3) (the shape space every cue reads its contours from).
-    """
-    check_instance(shape_space, "shape_space", ShapeSpace, what="a ShapeSpace")
-    return shape_space
-
 
 def check_frame(frame: np.ndarray, name: str = "frame") -> np.ndarray:
     """Return ``frame`` as an array after checking it is a non-empty (H, W, 3) uint8 RGB image.
@@ -79,12 +58,10 @@ def check_frame(frame: np.ndarray, name: str = "frame") -> np.ndarray:
     Li & Chaumette, AMDO 2004, Sec. 2 (every cue reads an RGB frame).
     """
     frame = np.asarray(frame)
-    if frame.ndim != 3 or frame.shape[2] != 3:
-        raise ValueError(f"{name} must be an (H, W, 3) RGB image, got shape {frame.shape}")
     if frame.dtype != np.uint8:
         raise TypeError(f"{name} must be uint8 RGB, got dtype {frame.dtype}")
-    if frame.size == 0:
-        raise ValueError(f"{name} must not be empty, got shape {frame.shape}")
+    if frame.ndim != 3 or frame.shape[2] != 3 or frame.size == 0:
+        raise ValueError(f"{name} must be a non-empty (H, W, 3) RGB image, got shape {frame.shape}")
     return frame
 
 
@@ -94,7 +71,7 @@ def check_frames(frames: object) -> np.ndarray:
     Parameters
     ----------
     frames : array_like
-        (T, H, W, 3) uint8 RGB, or float RGB with whole grey levels in [0, 255] (rounded).
+        (T, H, W, 3) uint8 RGB, or float RGB in [0, 255] (rounded to whole grey levels).
 
     Returns
     -------
@@ -106,24 +83,23 @@ def check_frames(frames: object) -> np.ndarray:
     Li & Chaumette, AMDO 2004, Sec. 4 (the tracked sequences).
     """
     array = np.asarray(frames)
-    if array.ndim != 4 or array.shape[-1] != 3:
-        raise ValueError(f"frames must be a (T, H, W, 3) RGB array, got shape {array.shape}")
-    if array.shape[0] == 0:
-        raise ValueError("frames must hold at least one frame")
-    if array.dtype == np.uint8:
-        return array
-    if not np.issubdtype(array.dtype, np.floating):
+    if array.dtype != np.uint8 and not np.issubdtype(array.dtype, np.floating):
         raise TypeError(f"frames must be uint8 or float RGB, got dtype {array.dtype}")
-    if not np.all(np.isfinite(array)) or array.min() < 0 or array.max() > 255:
-        raise ValueError("frames must be finite and within [0, 255]")
-    return np.rint(array).astype(np.uint8)
+    if array.dtype != np.uint8:  # float RGB: finite, in [0, 255], rounded to whole grey levels
+        array = as_finite_array(array, "frames", bounds=(0.0, 255.0))
+        array = np.rint(array).astype(np.uint8)
+    if array.ndim != 4 or array.shape[-1] != 3 or array.shape[0] == 0:
+        raise ValueError(f"frames must be a (T, H, W, 3) RGB array of at least one frame, got shape {array.shape}")
+    return array
+
+
+#: The numbers of bins per channel a histogram can have: the divisors of 256 (a bin is 256 / bins grey levels).
+BIN_COUNTS = (2, 4, 8, 16, 32, 64, 128, 256)
 
 
 def _check_bins(bins: object) -> int:
     bins = check_positive_int(bins, "bins", minimum=2, maximum=MAX_SIDE)
-    if 256 % bins:
-        raise ValueError(f"bins must divide 256, got {bins}")
-    return bins
+    return check_choice(bins, "bins", BIN_COUNTS)  # a divisor of 256
 
 
 def bin_index_image(frame: np.ndarray, bins: int) -> np.ndarray:
@@ -139,8 +115,8 @@ def bin_index_image(frame: np.ndarray, bins: int) -> np.ndarray:
 COLOR_SPACES = ("rgb", "hsv")
 
 
-def to_color_space(frame: np.ndarray, color_space: str) -> np.ndarray:
-    """The frame in the colour space whose channels the histogram bins: RGB as given, or HSV.
+def _to_color_space(frame: np.ndarray, color_space: str) -> np.ndarray:
+    """The frame in the colour space whose channels the histogram bins: RGB as given, or HSV (check-free).
 
     Parameters
     ----------
@@ -159,7 +135,6 @@ def to_color_space(frame: np.ndarray, color_space: str) -> np.ndarray:
     ----------
     Li & Chaumette, AMDO 2004, eq. (8) (bins in RGB); Pérez et al., ECCV 2002 (HSV bins), an ablation.
     """
-    color_space = check_choice(color_space, "color_space", COLOR_SPACES)
     if color_space == "rgb":
         return frame
     import cv2
@@ -252,7 +227,7 @@ class ColorLikelihood:
         Spacing of the sample grid in pixels at scale 1 (see Notes), > 0 and small enough to leave
         a grid point inside the template's ellipse (at most about its smaller semi-axis).
     color_space : str
-        ``"rgb"`` (the paper) or ``"hsv"`` (the frames converted by :func:`to_color_space` before
+        ``"rgb"`` (the paper) or ``"hsv"`` (the frames converted by :func:`_to_color_space` before
         binning; an ablation).
 
     Notes
@@ -269,15 +244,14 @@ class ColorLikelihood:
 
     def __init__(self, shape_space: ShapeSpace, reference_frame: np.ndarray, reference_state: np.ndarray, *,
                  bins: int = 32, sigma: float = 5.0, stride: float = 2.0, color_space: str = "rgb"):
-        self.shape_space = check_shape_space(shape_space)
+        self.shape_space = check_instance(shape_space, "shape_space", ShapeSpace, what="a ShapeSpace")
         self.bins = _check_bins(bins)
         self.sigma = check_in_range(sigma, "sigma", *SIGMA_RANGE, closed="both")
         self.stride = check_positive(stride, "stride")
         self.color_space = check_choice(color_space, "color_space", COLOR_SPACES)
         reference_frame = check_frame(reference_frame, "reference_frame")
-        reference_state = as_finite_array(reference_state, "reference_state", shape=(shape_space.state_dim,),
-                                          max_abs=MAX_PIXELS)
-        self.target = kernel_histogram(to_color_space(reference_frame, self.color_space),
+        reference_state = as_finite_array(reference_state, "reference_state", shape=(shape_space.state_dim,), max_abs=MAX_PIXELS)
+        self.target = kernel_histogram(_to_color_space(reference_frame, self.color_space),
                                        shape_space.ellipses(reference_state)[0], self.bins)
         support = np.flatnonzero(self.target)
         self._sqrt_target = np.sqrt(self.target[support])
@@ -288,8 +262,8 @@ class ColorLikelihood:
         gx, gy = np.meshgrid(np.arange(-a, a + 1e-9, self.stride) / a, np.arange(-b, b + 1e-9, self.stride) / b)
         keep = gx**2 + gy**2 < 1.0
         if not keep.any():  # no sample point: every histogram would be 0/0
-            raise ValueError(f"stride must leave a sample point inside the template ellipse (semi-axes {a:.3g} and "
-                             f"{b:.3g} px), got {self.stride:g}")
+            raise ValueError(f"stride must leave a sample point inside the template ellipse ({a:.3g} × {b:.3g} px), "
+                             f"got {self.stride:g}")
         self._unit_points = np.stack([gx[keep], gy[keep]], axis=1)  # points of the unit disc
         self._kernel = 1.0 - np.sum(self._unit_points**2, axis=1)  # eq. (7), profile 1 - r²
 
@@ -321,7 +295,7 @@ class ColorLikelihood:
         ys = np.rint(ellipses[:, 1:2] + u * sin + v * cos).astype(np.int32)
         on_frame = (xs >= 0) & (xs < width) & (ys >= 0) & (ys < height)
         support = self._sqrt_target.size
-        compact = self._lookup[bin_index_image(to_color_space(frame, self.color_space), self.bins)]
+        compact = self._lookup[bin_index_image(_to_color_space(frame, self.color_space), self.bins)]
         # off-frame points go to the "other bins" slot: they lower ρ as missing colour would
         slot = np.where(on_frame, compact[np.clip(ys, 0, height - 1), np.clip(xs, 0, width - 1)], support)
         flat = slot + (support + 1) * np.arange(n)[:, None]
@@ -363,7 +337,12 @@ class ColorLikelihood:
             (N,) log-likelihoods.
         """
         # ln of eq. (11): p_c = exp(-(1 - ρ)/2σ_c²) / (√(2π) σ_c)
-        return -self.distance(frame, states) / (2.0 * self.sigma**2) - np.log(np.sqrt(2.0 * np.pi) * self.sigma)
+        return _gaussian_log_likelihood(self.distance(frame, states), self.sigma)
+
+
+def _gaussian_log_likelihood(distance: np.ndarray, sigma: float) -> np.ndarray:
+    """``ln[exp(-d / 2σ²) / (√(2π) σ)]``: the log-likelihood of eqs. (11) and (12) at the distances ``d``."""
+    return -distance / (2.0 * sigma**2) - np.log(np.sqrt(2.0 * np.pi) * sigma)
 
 
 # --- edges: eqs. (13)-(14) ----------------------------------------------------------------------
@@ -489,7 +468,7 @@ class EdgeLikelihood:
 
     def __init__(self, shape_space: ShapeSpace, *, n_lines: int = 40, half_length: int = 12, p0: float = 0.2,
                  sigma_e: float = float(np.sqrt(2.0)), threshold: float = 6.0, exponent: float = 1.0):
-        self.shape_space = check_shape_space(shape_space)
+        self.shape_space = check_instance(shape_space, "shape_space", ShapeSpace, what="a ShapeSpace")
         self.n_lines = check_positive_int(n_lines, "n_lines", minimum=3, maximum=MAX_SAMPLES)
         self.half_length = check_positive_int(half_length, "half_length", minimum=2, maximum=MAX_SIDE)
         self.p0 = check_in_range(p0, "p0", 0.0, 1.0)
@@ -683,8 +662,7 @@ def fused_log_likelihood(cues: dict, frame: np.ndarray, states: np.ndarray) -> n
     Li & Chaumette, AMDO 2004, eq. (6).
     """
     cues = check_cues(cues)
-    frame = check_frame(frame)
-    # eq. (6) in the log domain: the product of the cues' likelihoods is a sum (each cue checks the states)
+    # eq. (6) in the log domain: the product of the cues' likelihoods is a sum (each cue checks the frame and the states)
     return sum(cue.log_likelihood(frame, states) for cue in cues.values())
 
 
@@ -741,11 +719,9 @@ def calibrate_sigma(distances_true: np.ndarray, distances_prior: np.ndarray, gri
     ----------
     Li & Chaumette, AMDO 2004, eqs. (11)-(12) and Table 1.
     """
-    distances_true = as_finite_array(distances_true, "distances_true", ndim=1, max_abs=MAX_DISTANCE)
     distances_prior = as_finite_array(distances_prior, "distances_prior", ndim=2, max_abs=MAX_DISTANCE)
-    if len(distances_prior) != distances_true.size:
-        raise ValueError(f"distances_true and distances_prior must have one row per frame, got {distances_true.size} and "
-                         f"{len(distances_prior)}")
+    # one distance at the truth per frame, i.e. per row of distances_prior
+    distances_true = as_finite_array(distances_true, "distances_true", shape=(len(distances_prior),), max_abs=MAX_DISTANCE)
     grid = np.geomspace(0.005, 10.0, 60) if grid is None else as_finite_array(grid, "grid", ndim=1, bounds=SIGMA_RANGE)
     scores = []
     for sigma in grid:

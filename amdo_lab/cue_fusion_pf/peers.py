@@ -8,19 +8,11 @@ import time
 import cv2
 import numpy as np
 
-from amdo_lab.common import MAX_SAMPLES, MAX_SIDE
-from amdo_lab.common import check_names, check_positive_int, make_rng
+from amdo_lab.common import MAX_SIDE
+from amdo_lab.common import check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf.data import as_ellipse
 from amdo_lab.cue_fusion_pf.likelihoods import check_frames
-from amdo_lab.cue_fusion_pf.tracker import (
-    CUES,
-    TRACK_DEFAULTS,
-    TrackResult,
-    build_cues,
-    default_dynamics,
-    resolve_sigmas,
-    shape_space_of,
-)
+from amdo_lab.cue_fusion_pf.tracker import TRACK_DEFAULTS, TrackResult, _check_run, build_cues, default_dynamics, shape_space_of
 
 __all__ = ["track_camshift", "track_mil", "track_pfilter"]
 
@@ -165,10 +157,7 @@ def track_pfilter(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.
     """
     from pfilter import ParticleFilter, systematic_resample as pfilter_systematic
 
-    frames = check_frames(frames)
-    cues = check_names(cues, "cues", allowed=CUES)
-    n_particles = check_positive_int(n_particles, "n_particles", minimum=2, maximum=MAX_SAMPLES)
-    sigma_table = resolve_sigmas(sigmas)
+    frames, cues, n_particles, sigma_table = _check_run(frames, cues, n_particles, sigmas)
     global_seed = int(make_rng(rng, "rng").integers(2**32 - 1))
     space, start = shape_space_of(init, frames.shape[1:3])
     cue_objects = build_cues(cues, space, frames[0], start, sigma_table, TRACK_DEFAULTS)

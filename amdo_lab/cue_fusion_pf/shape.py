@@ -12,9 +12,9 @@ from __future__ import annotations
 import numpy as np
 
 from amdo_lab.common import MAX_SAMPLES, MAX_SIDE
-from amdo_lab.common import as_finite_array, check_bool, check_choice, check_positive_int
+from amdo_lab.common import as_finite_array, check_choice, check_positive_int
 
-__all__ = ["MAX_STATE_ENTRY", "SHAPE_KINDS", "ShapeSpace", "as_states", "bspline_basis", "ellipse_points"]
+__all__ = ["MAX_STATE_ENTRY", "SHAPE_KINDS", "ShapeSpace", "as_states"]
 
 SHAPE_KINDS = ("translation_scale", "similarity")
 STATE_DIMS = {"translation_scale": 3, "similarity": 4}
@@ -50,15 +50,17 @@ def as_states(states: object, state_dim: int, name: str = "states") -> np.ndarra
     return states
 
 
-def bspline_basis(s: np.ndarray, n_control: int, derivative: bool = False) -> np.ndarray:
+def _bspline_basis(s: np.ndarray, n_control: int, derivative: bool = False) -> np.ndarray:
     """Periodic uniform quadratic B-spline basis ``B(s)`` of eq. (1), one row per parameter value.
+
+    Check-free: the shape space calls it with its own parameters (``n_control`` checked when the space is made).
 
     Parameters
     ----------
     s : numpy.ndarray
-        (n,) curve parameters in ``[0, J)`` (span ``j`` is ``j <= s < j + 1``; ``L = J`` spans).
+        (n,) float curve parameters (span ``j`` is ``j <= s < j + 1``; ``L = J`` spans; taken modulo J).
     n_control : int
-        J, the number of control points (at least 3). At most :data:`amdo_lab.common.MAX_SIDE` (4,096).
+        J, the number of control points (at least 3).
     derivative : bool
         Return ``dB/ds`` instead of ``B``.
 
@@ -71,9 +73,7 @@ def bspline_basis(s: np.ndarray, n_control: int, derivative: bool = False) -> np
     ----------
     Blake & Isard, Active Contours (1998), ch. 3; Li & Chaumette, AMDO 2004, eq. (1).
     """
-    n_control = check_positive_int(n_control, "n_control", minimum=3, maximum=MAX_SIDE)
-    derivative = check_bool(derivative, "derivative")
-    s = np.mod(as_finite_array(s, "s", ndim=1), n_control)
+    s = np.mod(s, n_control)
     span = np.floor(s).astype(int)
     u = s - span
     if derivative:
@@ -87,15 +87,17 @@ def bspline_basis(s: np.ndarray, n_control: int, derivative: bool = False) -> np
     return basis
 
 
-def ellipse_points(ellipse: np.ndarray, n_points: int) -> np.ndarray:
+def _ellipse_points(ellipse: np.ndarray, n_points: int) -> np.ndarray:
     """``n_points`` points of the ellipse ``(cx, cy, a, b, angle)`` at equal steps of its angle parameter.
+
+    Check-free: :meth:`ShapeSpace.from_ellipse` calls it with its checked ellipse.
 
     Parameters
     ----------
     ellipse : numpy.ndarray
-        (5,) centre (px), semi-axes a (along x at angle 0) and b (px), angle (rad); entries within ±1e6.
+        (5,) centre (px), semi-axes a (along x at angle 0) and b (px), angle (rad).
     n_points : int
-        Number of points. At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
+        Number of points.
 
     Returns
     -------
@@ -106,8 +108,7 @@ def ellipse_points(ellipse: np.ndarray, n_points: int) -> np.ndarray:
     ----------
     Li & Chaumette, AMDO 2004, Sec. 2.1 (the ellipse fitted to each contour).
     """
-    cx, cy, a, b, angle = as_finite_array(ellipse, "ellipse", shape=(5,), max_abs=1e6)
-    n_points = check_positive_int(n_points, "n_points", maximum=MAX_SAMPLES)
+    cx, cy, a, b, angle = ellipse
     theta = np.linspace(0.0, 2.0 * np.pi, n_points, endpoint=False)
     local = np.stack([a * np.cos(theta), b * np.sin(theta)], axis=1)
     rotation = np.array([[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]])
@@ -150,14 +151,14 @@ class ShapeSpace:
 
     def __init__(self, template: np.ndarray, kind: str = "translation_scale", *, _ellipse: np.ndarray | None = None):
         template = as_finite_array(template, "template", shape=(None, 2), max_abs=1e6)  # its covariance stays finite
-        check_positive_int(template.shape[0], "template length", minimum=3)
+        check_positive_int(template.shape[0], "template length", minimum=3, maximum=MAX_SIDE)
         self.kind = check_choice(kind, "kind", SHAPE_KINDS)
         self.centre = template.mean(axis=0)
         self.template = template - self.centre  # Q̄, centred
         self.n_control = template.shape[0]
         self.state_dim = STATE_DIMS[self.kind]
         if _ellipse is None:
-            curve = bspline_basis(np.linspace(0, self.n_control, 8 * self.n_control, endpoint=False), self.n_control) @ self.template
+            curve = _bspline_basis(np.linspace(0, self.n_control, 8 * self.n_control, endpoint=False), self.n_control) @ self.template
             centre = curve.mean(axis=0)
             values, vectors = np.linalg.eigh(np.cov(curve.T, bias=True))
             # points at equal steps of the angle parameter have variance a^2/2 along the major axis
@@ -186,14 +187,13 @@ class ShapeSpace:
         """
         ellipse = as_finite_array(ellipse, "ellipse", shape=(5,), max_abs=1e6)
         n_control = check_positive_int(n_control, "n_control", minimum=3, maximum=MAX_SIDE)
-        kind = check_choice(kind, "kind", SHAPE_KINDS)
         if ellipse[2] <= 0 or ellipse[3] <= 0:
             raise ValueError(f"ellipse axes must be positive, got a={ellipse[2]}, b={ellipse[3]}")
         centred = ellipse.copy()
         centred[:2] = 0.0
         n_fit = 8 * n_control
-        points = ellipse_points(centred, n_fit)
-        basis = bspline_basis(np.arange(n_fit) * n_control / n_fit, n_control)
+        points = _ellipse_points(centred, n_fit)
+        basis = _bspline_basis(np.arange(n_fit) * n_control / n_fit, n_control)
         control, *_ = np.linalg.lstsq(basis, points, rcond=None)
         return cls(control, kind, _ellipse=centred)
 
@@ -271,7 +271,7 @@ class ShapeSpace:
             (N, n_points, 2) curve points in pixels.
         """
         n_points = check_positive_int(n_points, "n_points", maximum=MAX_SAMPLES)
-        basis = bspline_basis(np.linspace(0, self.n_control, n_points, endpoint=False), self.n_control)
+        basis = _bspline_basis(np.linspace(0, self.n_control, n_points, endpoint=False), self.n_control)
         # eq. (1): r(s) = (B(s)ᵀ Q^x, B(s)ᵀ Q^y), the quadratic B-spline through the control points
         return np.einsum("pj,njd->npd", basis, self.control_points(states))
 
@@ -290,8 +290,8 @@ class ShapeSpace:
         """
         n_lines = check_positive_int(n_lines, "n_lines", maximum=MAX_SAMPLES)
         s = np.linspace(0, self.n_control, n_lines, endpoint=False)
-        points = bspline_basis(s, self.n_control) @ self.template
-        tangents = bspline_basis(s, self.n_control, derivative=True) @ self.template
+        points = _bspline_basis(s, self.n_control) @ self.template
+        tangents = _bspline_basis(s, self.n_control, derivative=True) @ self.template
         normals = np.stack([tangents[:, 1], -tangents[:, 0]], axis=1)
         normals /= np.linalg.norm(normals, axis=1, keepdims=True)
         # outward: pointing away from the centre (the template is centred on the origin)
@@ -321,25 +321,6 @@ class ShapeSpace:
         centre = states[:, :2] + scale[:, None] * (rotation @ e[:2])
         angle = e[4] + np.arctan2(rotation[:, 1, 0], rotation[:, 0, 0])
         return np.stack([centre[:, 0], centre[:, 1], scale * e[2], scale * e[3], angle], axis=1)
-
-    def state_of_ellipse(self, ellipse: np.ndarray) -> np.ndarray:
-        """The state ``(cx, cy, s)`` whose ellipse has the centre of ``ellipse`` and its major axis.
-
-        Parameters
-        ----------
-        ellipse : numpy.ndarray
-            (5,) ellipse ``(cx, cy, a, b, angle)``.
-
-        Returns
-        -------
-        numpy.ndarray
-            (3,) state; in the similarity space (4,), unturned.
-        """
-        ellipse = as_finite_array(ellipse, "ellipse", shape=(5,), max_abs=1e6)
-        relative_size = max(ellipse[2], ellipse[3]) / max(self.template_ellipse[2:4])
-        if self.kind == "similarity":
-            return np.array([ellipse[0], ellipse[1], relative_size - 1.0, 0.0])
-        return np.array([ellipse[0], ellipse[1], relative_size - 1.0])
 
     def check_states(self, states: np.ndarray) -> np.ndarray:
         """Return ``states`` as a float array after checking its shape and range (the cues call it too).

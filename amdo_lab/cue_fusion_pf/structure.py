@@ -17,15 +17,14 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from amdo_lab.common import MAX_ITERATIONS, MAX_SAMPLES
+from amdo_lab.common import MAX_SAMPLES
 from amdo_lab.common import as_finite_array, check_bool, check_in_range, check_instance, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf import data as head_data
-from amdo_lab.cue_fusion_pf.likelihoods import SIGMA_RANGE, check_frame, check_shape_space
+from amdo_lab.cue_fusion_pf.likelihoods import SIGMA_RANGE, _gaussian_log_likelihood, check_frame
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 
-__all__ = ["BoostedCascade", "HaarFeatures", "StructureLikelihood", "TrainingSet", "haar_features",
-           "CASCADE_SEED", "integral_image", "load_or_train_cascade", "make_training_set", "normalised_patches",
-           "sample_haar_features", "train_cascade"]
+__all__ = ["BoostedCascade", "HaarFeatures", "StructureLikelihood", "TrainingSet", "CASCADE_SEED",
+           "load_or_train_cascade", "make_training_set", "normalised_patches"]
 
 #: Detector window (width, height) in pixels: the head's bounding box keeps its 20:26 aspect.
 WINDOW = (16, 20)
@@ -33,24 +32,21 @@ VIEWS = {"frontal": 0.0, "half-left": -0.7, "half-right": 0.7}
 CACHE = Path(__file__).resolve().parents[2] / "build" / "cue_fusion_pf"
 #: Seed of the package's cascade (the one the tracker and the chapter use).
 CASCADE_SEED = 2004
-#: Largest pixel value :func:`integral_image` accepts: far beyond grey levels (0-255) and normalised
-#: patches, and the sums of a stack, kept in float32, stay finite.
+#: Largest value of a patch :meth:`BoostedCascade.stages_passed_patches` accepts: far beyond grey levels
+#: (0-255) and normalised patches, and the sums of a stack, kept in float32, stay finite.
 MAX_PIXEL_VALUE = 1e6
-#: Largest side of a Haar window in pixels (Viola & Jones use 24; ours is :data:`WINDOW`).
-MAX_WINDOW = 32
-#: Largest box coordinate or size in pixels (boxes of states within the shape space's bound stay inside).
-MAX_BOX_PIXELS = 1e9
 
 
-def integral_image(images: np.ndarray) -> np.ndarray:
+def _integral_image(images: np.ndarray) -> np.ndarray:
     """Summed-area tables of (..., H, W) images, zero-padded to (..., H+1, W+1).
 
     ``ii[r, c]`` is the sum of ``image[:r, :c]``, so any rectangle's sum costs four look-ups.
+    Check-free: the cascade calls it with checked patches and the training with its own.
 
     Parameters
     ----------
     images : numpy.ndarray
-        (..., H, W) images, values within ±:data:`MAX_PIXEL_VALUE`.
+        (..., H, W) float images.
 
     Returns
     -------
@@ -61,9 +57,7 @@ def integral_image(images: np.ndarray) -> np.ndarray:
     ----------
     Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
     """
-    images = as_finite_array(images, "images", allow_empty=True, max_abs=MAX_PIXEL_VALUE)
-    if images.ndim < 2:
-        raise ValueError(f"images must have shape (..., H, W), got shape {images.shape}")
+    images = np.asarray(images, dtype=float)  # summed in float64, whatever the patches' type
     padded = np.zeros(images.shape[:-2] + (images.shape[-2] + 1, images.shape[-1] + 1), np.float32 if images.ndim > 2 else np.float64)
     padded[..., 1:, 1:] = images.cumsum(axis=-2).cumsum(axis=-1)
     return padded
@@ -102,60 +96,19 @@ _SIGNS = {"type-2-x": (-1, 1), "type-2-y": (-1, 1), "type-3-x": (-1, 1, -1), "ty
           "type-4": (-1, 1, -1, 1)}
 
 
-def haar_features(window: tuple[int, int] = WINDOW) -> HaarFeatures:
-    """All Haar-like features of a ``(width, height)`` window, in scikit-image's enumeration (no draw).
-
-    Parameters
-    ----------
-    window : tuple of int
-        (width, height) of the detector window in pixels, each in [2, :data:`MAX_WINDOW`]: the
-        number of features grows as the fourth power of the side (510,112 at 32 × 32).
-
-    Returns
-    -------
-    HaarFeatures
-        The features' rectangles and signs (:func:`sample_haar_features` draws a subset).
-
-    References
-    ----------
-    Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
-    """
-    # at least 2 pixels wide and high; bounded before the cast to int
-    as_finite_array(window, "window", shape=(2,), bounds=(2.0, MAX_WINDOW))
-    width, height = as_finite_array(window, "window", shape=(2,), dtype=int)
-    return _all_haar_features(int(width), int(height))
-
-
-def sample_haar_features(features: HaarFeatures, n_features: int, *,
-                         rng: int | np.random.Generator) -> HaarFeatures:
-    """``n_features`` of ``features`` drawn at random without replacement, kept in their order.
-
-    Parameters
-    ----------
-    features : HaarFeatures
-        The features to draw from (e.g. ``haar_features(window)``).
-    n_features : int
-        How many to draw, at most ``len(features)``.
-    rng : int or numpy.random.Generator
-        Source of the subset.
-
-    Returns
-    -------
-    HaarFeatures
-        The subset.
-
-    References
-    ----------
-    Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
-    """
-    check_instance(features, "features", HaarFeatures, what="HaarFeatures (see haar_features)")
-    # at most all the features given
-    n_features = check_positive_int(n_features, "n_features", maximum=min(len(features), MAX_SAMPLES))
-    return features.subset(np.sort(make_rng(rng, "rng").choice(len(features), n_features, replace=False)))
+def _sample_haar_features(features: HaarFeatures, n_features: int, generator: np.random.Generator) -> HaarFeatures:
+    """``n_features`` (at most ``len(features)``) of ``features`` drawn without replacement, kept in their order."""
+    return features.subset(np.sort(generator.choice(len(features), n_features, replace=False)))
 
 
 @functools.lru_cache(maxsize=4)
 def _all_haar_features(width: int, height: int) -> HaarFeatures:
+    """All Haar-like features of a ``width`` × ``height`` window, in scikit-image's enumeration (no draw).
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
+    """
     from skimage.feature import haar_like_feature_coord
 
     rows0, cols0, rows1, cols1, weights, types = [], [], [], [], [], []
@@ -234,8 +187,7 @@ def make_training_set(*, rng: int | np.random.Generator, n_scenes: int = 40, per
     generator = make_rng(rng, "rng")
     n_scenes = check_positive_int(n_scenes, "n_scenes", maximum=MAX_SAMPLES)
     per_scene = check_positive_int(per_scene, "per_scene", maximum=MAX_SAMPLES)
-    negatives_per_scene = check_positive_int(negatives_per_scene, "negatives_per_scene", minimum=3,
-                                             maximum=MAX_SAMPLES)
+    negatives_per_scene = check_positive_int(negatives_per_scene, "negatives_per_scene", minimum=3, maximum=MAX_SAMPLES)
     height, width = 192, 256
     positives = {view: [] for view in VIEWS}
     negatives, near_misses = [], []
@@ -382,7 +334,7 @@ class BoostedCascade:
         """
         patches = as_finite_array(patches, "patches", shape=(None, self.window[1], self.window[0]), allow_empty=True,
                                   max_abs=MAX_PIXEL_VALUE)
-        integrals = integral_image(patches)
+        integrals = _integral_image(patches)
         passed = np.zeros(len(patches))
         alive = np.arange(len(patches))
         for stage in self.first_level:
@@ -404,38 +356,17 @@ class BoostedCascade:
             best[alive] = np.maximum(best[alive], count * longest / max(len(cascade), 1))
         return passed + best
 
-    def stages_passed(self, image: np.ndarray, boxes: np.ndarray) -> np.ndarray:
-        """n_s of eq. (12) for each box of an RGB or grey image.
-
-        Parameters
-        ----------
-        image : numpy.ndarray
-            (H, W, 3) or (H, W) image, values within ±:data:`MAX_PIXEL_VALUE`.
-        boxes : numpy.ndarray
-            (N, 4) boxes ``(x, y, width, height)`` in pixels, sizes > 0, entries within
-            ±:data:`MAX_BOX_PIXELS`.
-
-        Returns
-        -------
-        numpy.ndarray
-            (N,) stages passed.
-        """
-        as_finite_array(image, "image", max_abs=MAX_PIXEL_VALUE)  # checked, not converted: the patches are read from the image as given
-        image = np.asarray(image)
-        if not (image.ndim == 2 or (image.ndim == 3 and image.shape[2] == 3)):
-            raise ValueError(f"image must be an (H, W, 3) RGB or (H, W) grey image, got shape {image.shape}")
-        boxes = as_finite_array(boxes, "boxes", shape=(None, 4), allow_empty=True, max_abs=MAX_BOX_PIXELS)
-        if np.any(boxes[:, 2:] <= 0):
-            raise ValueError("boxes must have positive width and height")
+    def _stages_passed(self, image: np.ndarray, boxes: np.ndarray) -> np.ndarray:
+        """n_s of eq. (12) for each box ``(x, y, width, height)`` (N, 4) of an (H, W, 3) or (H, W) image (check-free)."""
         return self.stages_passed_patches(normalised_patches(image, boxes, self.window))
 
 
 def _train_cascade_level(features, positives, negative_pool, *, n_stages, n_negatives,
                          max_stumps, min_detection, max_false_positive, rng):
     """Stages trained one after the other; each stage's negatives are pool windows the cascade still accepts."""
-    pos_integrals = integral_image(positives)
+    pos_integrals = _integral_image(positives)
     pos_values = features.values(pos_integrals)
-    pool_integrals = integral_image(negative_pool)
+    pool_integrals = _integral_image(negative_pool)
     stages = []
     accepted = np.arange(len(negative_pool))
     alive_pos = np.arange(len(positives))
@@ -452,10 +383,12 @@ def _train_cascade_level(features, positives, negative_pool, *, n_stages, n_nega
     return stages
 
 
-def train_cascade(training: TrainingSet, *, rng: int | np.random.Generator, first_stages: int = 4,
-                  second_stages: int = 21, n_features: int = 1500, n_negatives: int = 600, max_stumps: int = 12,
-                  min_detection: float = 0.997, max_false_positive: float = 0.6) -> BoostedCascade:
+def _train_cascade(training: TrainingSet, *, rng: int | np.random.Generator, first_stages: int = 4,
+                   second_stages: int = 21, n_features: int = 1500, n_negatives: int = 600, max_stumps: int = 12,
+                   min_detection: float = 0.997, max_false_positive: float = 0.6) -> BoostedCascade:
     """Train the two-level cascade of Sec. 2.3 on ``training`` (see :func:`make_training_set`).
+
+    Check-free: :func:`load_or_train_cascade` calls it with the defaults, the tests with small settings.
 
     Level 1: ``first_stages`` stages on all views' positives. Level 2: ``second_stages`` stages per
     view, trained on the pool windows that pass level 1, on boxes shifted by 15-35 % of the head's
@@ -472,11 +405,10 @@ def train_cascade(training: TrainingSet, *, rng: int | np.random.Generator, firs
         Stages of level 1 and of each level-2 cascade (at most).
     n_features : int
         Haar features drawn from all those of the window.
-        At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
     n_negatives : int
-        Negatives per stage. At most :data:`amdo_lab.common.MAX_SAMPLES` (1,000,000).
+        Negatives per stage.
     max_stumps : int
-        Most decision stumps per stage. At most :data:`amdo_lab.common.MAX_ITERATIONS` (100,000).
+        Most decision stumps per stage.
     min_detection : float
         Share of the positives each stage keeps, in (0, 1].
     max_false_positive : float
@@ -491,24 +423,16 @@ def train_cascade(training: TrainingSet, *, rng: int | np.random.Generator, firs
     ----------
     Li & Chaumette, AMDO 2004, Sec. 2.3; Viola & Jones (2001).
     """
-    check_instance(training, "training", TrainingSet, what="a TrainingSet (see make_training_set)")
     generator = make_rng(rng, "rng")
-    first_stages = check_positive_int(first_stages, "first_stages", maximum=MAX_ITERATIONS)
-    second_stages = check_positive_int(second_stages, "second_stages", maximum=MAX_ITERATIONS)
-    n_negatives = check_positive_int(n_negatives, "n_negatives", maximum=MAX_SAMPLES)
-    max_stumps = check_positive_int(max_stumps, "max_stumps", maximum=MAX_ITERATIONS)
-    min_detection = check_in_range(min_detection, "min_detection", 0.0, 1.0, closed="right")
-    max_false_positive = check_in_range(max_false_positive, "max_false_positive", 0.0, 1.0, closed="both")
     began = time.perf_counter()
-    n_features = check_positive_int(n_features, "n_features", maximum=MAX_SAMPLES)
-    features = sample_haar_features(haar_features(WINDOW), n_features, rng=generator)
+    features = _sample_haar_features(_all_haar_features(*WINDOW), n_features, generator)
     everyone = np.concatenate(list(training.positives.values()))
     options = dict(n_negatives=n_negatives, max_stumps=max_stumps, min_detection=min_detection,
                    max_false_positive=max_false_positive, rng=generator)
     first = _train_cascade_level(features, everyone, training.negatives, n_stages=first_stages, **options)
     # the negatives that reach level 2
     pool = training.negatives
-    integrals = integral_image(pool)
+    integrals = _integral_image(pool)
     keep = np.ones(len(pool), bool)
     for stage in first:
         keep &= stage.scores(integrals) >= stage.threshold
@@ -551,7 +475,7 @@ def load_or_train_cascade(*, rng: int, cache: bool = True) -> BoostedCascade:
     if cache and path.exists():
         with open(path, "rb") as handle:
             return pickle.load(handle)
-    cascade = train_cascade(make_training_set(rng=seed), rng=seed + 1)
+    cascade = _train_cascade(make_training_set(rng=seed), rng=seed + 1)
     if cache:
         path.parent.mkdir(parents=True, exist_ok=True)
         with open(path, "wb") as handle:
@@ -579,8 +503,8 @@ class StructureLikelihood:
     """
 
     def __init__(self, shape_space: ShapeSpace, cascade: BoostedCascade, *, sigma: float = float(np.sqrt(15.0))):
-        self.shape_space = check_shape_space(shape_space)
-        check_instance(cascade, "cascade", BoostedCascade, what="a BoostedCascade (see train_cascade)")
+        self.shape_space = check_instance(shape_space, "shape_space", ShapeSpace, what="a ShapeSpace")
+        check_instance(cascade, "cascade", BoostedCascade, what="a BoostedCascade (see load_or_train_cascade)")
         self.cascade = cascade
         self.sigma = check_in_range(sigma, "sigma", *SIGMA_RANGE, closed="both")
 
@@ -619,7 +543,7 @@ class StructureLikelihood:
             (N,) distances in [0, 1].
         """
         frame = check_frame(frame)
-        return 1.0 - self.cascade.stages_passed(frame, self.boxes(states)) / self.cascade.n_stages
+        return 1.0 - self.cascade._stages_passed(frame, self.boxes(states)) / self.cascade.n_stages
 
     def log_likelihood(self, frame: np.ndarray, states: np.ndarray) -> np.ndarray:
         """Eq. (12) in the log domain.
@@ -637,4 +561,4 @@ class StructureLikelihood:
             (N,) log-likelihoods.
         """
         # ln of eq. (12): p_s = exp(-(1 - n_s/N_s)/2σ_s²) / (√(2π) σ_s), distance = 1 - n_s/N_s
-        return -self.distance(frame, states) / (2.0 * self.sigma**2) - np.log(np.sqrt(2.0 * np.pi) * self.sigma)
+        return _gaussian_log_likelihood(self.distance(frame, states), self.sigma)

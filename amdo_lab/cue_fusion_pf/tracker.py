@@ -8,18 +8,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import (MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check_bool, check_choice,
-                             check_image_shape, check_in_range, check_names, check_positive_int, make_rng)
-from amdo_lab.common.particles import systematic_resample  # shared with chapter 10, re-exported here
+from amdo_lab.common import (MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check_choice,
+                             check_image_shape, check_in_range, check_names, check_positive_int, check_sequence_of,
+                             make_rng)
+# shared with chapter 10 (systematic_resample is re-exported here); the kernel takes -inf log-weights (particles ruled out)
+from amdo_lab.common.particles import _normalised_weights, systematic_resample
 from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
 from amdo_lab.cue_fusion_pf.likelihoods import (COLOR_SPACES, MAX_PIXELS, PAPER_SIGMAS, SIGMA_RANGE, ColorLikelihood,
-                                                EdgeLikelihood, check_cues, check_frame, check_frames)
-from amdo_lab.cue_fusion_pf.data import as_ellipse
+                                                EdgeLikelihood, check_cues, check_frames)
+from amdo_lab.cue_fusion_pf.data import SequenceWithTruth, as_ellipse
 from amdo_lab.cue_fusion_pf.shape import SHAPE_KINDS, ShapeSpace, as_states
 from amdo_lab.cue_fusion_pf.structure import CASCADE_SEED, StructureLikelihood, load_or_train_cascade
 
 __all__ = ["CALIBRATED_SIGMAS", "CUES", "FUSIONS", "TRACK_DEFAULTS", "TrackResult", "WALKER_SIGMAS",
-           "build_cues", "calibration_distances", "check_state_spread", "default_dynamics", "resolve_sigmas",
+           "build_cues", "calibration_distances", "default_dynamics", "resolve_sigmas",
            "shape_space_of", "systematic_resample", "track", "weigh_particles"]
 
 CUES = ("color", "edge", "structure", "oracle")
@@ -111,8 +113,7 @@ def default_dynamics(mean: np.ndarray, *, beta=(2.0, 2.0, 10.0), stationary_std=
     ----------
     Li & Chaumette, AMDO 2004, eqs. (4)-(5) and Table 1.
     """
-    printed_order = check_bool(printed_order, "printed_order")
-    mean = as_finite_array(mean, "mean", ndim=1)
+    mean = as_finite_array(mean, "mean", ndim=1)  # (ARDynamics checks the rest, printed_order first)
     return ARDynamics(beta, np.zeros(mean.size), FRAME_PERIOD, stationary_std, mean, printed_order=printed_order,
                       allow_unstable=printed_order)
 
@@ -141,14 +142,12 @@ def shape_space_of(init: object, frame_shape: tuple[int, int], kind: str = "tran
     """
     init = as_finite_array(init, "init", max_abs=MAX_PIXELS)
     height, width = check_image_shape(frame_shape, "frame_shape", axes="H, W")
-    kind = check_choice(kind, "kind", SHAPE_KINDS)
-    if init.shape == (5,):
+    if init.shape == (5,):  # (the shape space checks kind)
         init = as_ellipse(init, "init")
         space = ShapeSpace.from_ellipse(init, kind=kind)
         start = np.zeros(space.state_dim)
         start[:2] = init[:2]
     elif init.ndim == 2 and init.shape[1] == 2:
-        init = as_finite_array(init, "init", shape=(None, 2))
         space = ShapeSpace(init, kind)
         start = np.zeros(space.state_dim)
         start[:2] = space.centre
@@ -159,7 +158,7 @@ def shape_space_of(init: object, frame_shape: tuple[int, int], kind: str = "tran
     return space, start
 
 
-def check_state_spread(spread: object, name: str, *, state_dim: int = 3) -> np.ndarray:
+def _check_state_spread(spread: object, name: str, *, state_dim: int) -> np.ndarray:
     """Return a spread of the state ``(t_x, t_y, s)`` (or ``(t_x, t_y, s_c, s_s)``) after checking its range.
 
     A particle whose scale leaves (MIN_SCALE - 1, MAX_SCALE - 1) or whose centre leaves
@@ -173,7 +172,7 @@ def check_state_spread(spread: object, name: str, *, state_dim: int = 3) -> np.n
     name : str
         The argument's name, used in error messages.
     state_dim : int
-        3 (translation + scale) or 4 (similarity).
+        3 (translation + scale) or 4 (similarity), as :func:`track` derives it from ``shape``.
 
     Returns
     -------
@@ -184,7 +183,6 @@ def check_state_spread(spread: object, name: str, *, state_dim: int = 3) -> np.n
     ----------
     Li & Chaumette, AMDO 2004, eq. (5) and Fig. 1, step 1.
     """
-    state_dim = check_choice(state_dim, "state_dim", (3, 4))
     spread = as_finite_array(spread, name, shape=(state_dim,))
     if np.any(spread < 0) or np.any(spread > [MAX_PIXELS, MAX_PIXELS] + [MAX_SCALE] * (state_dim - 2)):
         raise ValueError(f"{name} must lie in [0, {MAX_PIXELS:g}] px for the centre and in [0, {MAX_SCALE:g}] for "
@@ -303,8 +301,9 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
         cues, as the sequential schemes of the paper's refs. [6]-[7]); shape, the shape
         space of eq. (3): ``"translation_scale"`` (head) or ``"similarity"`` (walker; beta,
         stationary_std and init_spread then default to four entries, the scale's value repeated for
-        s_s); defaults in :data:`TRACK_DEFAULTS`, ranges in :class:`ColorLikelihood`,
-        :class:`EdgeLikelihood` and :func:`check_state_spread` (stationary_std, init_spread).
+        s_s); defaults in :data:`TRACK_DEFAULTS`, ranges in :class:`ColorLikelihood` and
+        :class:`EdgeLikelihood`; stationary_std and init_spread lie in [0, :data:`MAX_PIXELS`] px for
+        the centre and in [0, :data:`MAX_SCALE`] for the scale.
 
     Returns
     -------
@@ -314,17 +313,14 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
     ----------
     Li & Chaumette, AMDO 2004, Fig. 1 and eq. (6).
     """
-    frames = check_frames(frames)
-    cues = check_names(cues, "cues", allowed=CUES)
-    n_particles = check_positive_int(n_particles, "n_particles", minimum=2, maximum=MAX_SAMPLES)
+    frames, cues, n_particles, sigma_table = _check_run(frames, cues, n_particles, sigmas)
     unknown = set(params) - set(TRACK_DEFAULTS)
     if unknown:
         raise TypeError(f"track() got unknown parameter(s) {sorted(unknown)}; known: {sorted(TRACK_DEFAULTS)}")
     options = _options(params)
     state_dim = 4 if options["shape"] == "similarity" else 3
-    sigma_table = resolve_sigmas(sigmas)
-    init_spread = check_state_spread(options["init_spread"], "init_spread", state_dim=state_dim)
-    stationary_std = check_state_spread(options["stationary_std"], "stationary_std", state_dim=state_dim)
+    init_spread = _check_state_spread(options["init_spread"], "init_spread", state_dim=state_dim)
+    stationary_std = _check_state_spread(options["stationary_std"], "stationary_std", state_dim=state_dim)
     layered = check_choice(options["fusion"], "fusion", FUSIONS) == "layered"
     check_choice(options["color_space"], "color_space", COLOR_SPACES)
     if "oracle" in cues and not callable(options["oracle"]):
@@ -339,6 +335,14 @@ def track(frames: np.ndarray, init: np.ndarray, *, rng: int | np.random.Generato
     oracle: Callable | None = options["oracle"] if "oracle" in cues else None
     return _run_filter(frames, space, start, cues=cue_objects, oracle=oracle, dynamics=dynamics,
                        n_particles=n_particles, init_spread=init_spread, generator=generator, layered=layered)
+
+
+def _check_run(frames: object, cues: object, n_particles: object, sigmas: object) -> tuple:
+    """The arguments :func:`track` and the peers share, checked: frames, cue names, N_w and the σ table."""
+    frames = check_frames(frames)
+    cues = check_names(cues, "cues", allowed=CUES)
+    n_particles = check_positive_int(n_particles, "n_particles", minimum=2, maximum=MAX_SAMPLES)
+    return frames, cues, n_particles, resolve_sigmas(sigmas)
 
 
 def weigh_particles(frame: np.ndarray, particles: np.ndarray, cues: dict) -> np.ndarray:
@@ -370,13 +374,13 @@ def weigh_particles(frame: np.ndarray, particles: np.ndarray, cues: dict) -> np.
     ----------
     Li & Chaumette, AMDO 2004, eqs. (6), (15)-(16) and Fig. 1, step 3.
     """
-    frame = check_frame(frame)
-    cues = check_cues(cues)
+    cues = check_cues(cues)  # (each cue checks the frame)
     particles = np.atleast_2d(as_states(particles, next(iter(cues.values())).shape_space.state_dim, "particles"))
     valid = _plausible(particles)
     if not valid.any():
         raise ValueError("particles must hold at least one plausible contour (scale and centre in range)")
-    return _normalise(_fused_log_weights(frame, particles, valid, cues.values()))
+    # eq. (15): w_i ∝ p(Y_k | X_k^i), normalised by their sum p(Y_k | Y_1:k-1) (the ruled-out particles' -inf give 0)
+    return _normalised_weights(_fused_log_weights(frame, particles, valid, cues.values()))
 
 
 def _plausible(particles: np.ndarray) -> np.ndarray:
@@ -396,14 +400,6 @@ def _fused_log_weights(frame: np.ndarray, particles: np.ndarray, valid: np.ndarr
     for cue in cues:  # eq. (6): independent cues, so the log-likelihoods add
         log_weights[valid] += cue.log_likelihood(frame, particles[valid])
     return log_weights
-
-
-def _normalise(log_weights: np.ndarray) -> np.ndarray:
-    """Weights from log-weights (-inf allowed, one finite at least), summing to 1."""
-    # eq. (15): w_i ∝ p(Y_k | X_k^i), the particles being drawn from the prediction of eq. (16); the
-    # normaliser p(Y_k | Y_1:k-1) is the sum. The maximum is subtracted first: exp(-1e4) would underflow to 0/0.
-    weights = np.exp(log_weights - log_weights.max())
-    return weights / weights.sum()
 
 
 def _run_filter(frames: np.ndarray, space: ShapeSpace, start: np.ndarray, *, cues: dict, oracle: Callable | None,
@@ -445,14 +441,14 @@ def _run_filter(frames: np.ndarray, space: ShapeSpace, start: np.ndarray, *, cue
         layers = list(cues.values())
         if layered:  # all cues but the last: weigh by that cue alone, then resample (a layer)
             for cue in layers[:-1]:
-                layer_weights = _normalise(_fused_log_weights(frames[k], current, valid, [cue]))
+                layer_weights = _normalised_weights(_fused_log_weights(frames[k], current, valid, [cue]))
                 chosen = systematic_resample(layer_weights, generator.random())
                 current, previous, valid = current[chosen], previous[chosen], valid[chosen]
             layers = layers[-1:]
         log_weights = _fused_log_weights(frames[k], current, valid, layers)
         if oracle is not None:
             log_weights[valid] += oracle(k, current[valid])
-        weights = _normalise(log_weights)
+        weights = _normalised_weights(log_weights)
         # 4. output: the weighted mean
         states[k] = weights[valid] @ current[valid]
         ess[k] = 1.0 / np.sum(weights**2)
@@ -475,8 +471,8 @@ def calibration_distances(sequences: Sequence, cue: str, *, rng: int | np.random
 
     Parameters
     ----------
-    sequences : sequence of HeadSequence
-        Held-out sequences (objects with ``.frames``, ``.truth`` and ``.true_ellipses``).
+    sequences : sequence of HeadSequence or WalkerSequence
+        Held-out sequences, at least one (each with ``.frames``, ``.truth`` and ``.true_ellipses``).
     cue : str
         ``"color"`` or ``"structure"``.
     rng : int or numpy.random.Generator
@@ -499,10 +495,7 @@ def calibration_distances(sequences: Sequence, cue: str, *, rng: int | np.random
     ----------
     Li & Chaumette, AMDO 2004, eqs. (11)-(12) (the σ being calibrated) and Table 1.
     """
-    if isinstance(sequences, str) or not isinstance(sequences, Sequence) or len(sequences) == 0 or not all(
-            hasattr(sequence, name) for sequence in sequences for name in ("frames", "truth", "true_ellipses")):
-        raise TypeError("sequences must be a non-empty sequence of HeadSequence (objects with .frames, .truth and "
-                        f".true_ellipses), got {type(sequences).__name__}")
+    sequences = check_sequence_of(sequences, "sequences", SequenceWithTruth, what="a HeadSequence or WalkerSequence")
     check_choice(cue, "cue", ("color", "structure"))
     n_samples = check_positive_int(n_samples, "n_samples", minimum=2, maximum=MAX_SAMPLES)
     frame_step = check_positive_int(frame_step, "frame_step", maximum=MAX_ITERATIONS)

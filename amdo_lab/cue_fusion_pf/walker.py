@@ -23,7 +23,7 @@ from amdo_lab.common import as_finite_array, check_in_range, make_rng
 from amdo_lab.cue_fusion_pf.data import SequenceWithTruth
 from amdo_lab.cue_fusion_pf.shape import ShapeSpace
 
-__all__ = ["WALKER_SEGMENTS", "WalkerSequence", "box_iou", "fit_similarity", "make_walker_sequence"]
+__all__ = ["WALKER_SEGMENTS", "WalkerSequence", "box_iou", "make_walker_sequence"]
 
 WIDTH, HEIGHT, N_FRAMES = 640, 240, 130
 #: Frame ranges (stop excluded): the clutter burst covers frames 88-102, around the paper's frame 95.
@@ -97,12 +97,14 @@ class WalkerSequence(SequenceWithTruth):
         return ShapeSpace(self.template, "similarity")
 
 
-def fit_similarity(template: np.ndarray, points: np.ndarray) -> np.ndarray:
+def _fit_similarity(template: np.ndarray, points: np.ndarray) -> np.ndarray:
     """The similarity state ``(t_x, t_y, s_c, s_s)`` whose eq. (2) best fits ``points`` (least squares).
 
     With the template centred, ``t`` is the mean of ``points`` and, writing points as complex
     numbers, ``(1 + s_c) + i s_s = Σ conj(q̄_j) p_j / Σ |q̄_j|²`` (p centred): the linear
     least-squares solution of ``W X + Q̄ = P`` for the four columns of W (eq. 3, right).
+
+    Check-free: :func:`make_walker_sequence` calls it with its own outlines (a template of distinct points).
 
     Parameters
     ----------
@@ -120,14 +122,8 @@ def fit_similarity(template: np.ndarray, points: np.ndarray) -> np.ndarray:
     ----------
     Li & Chaumette, AMDO 2004, eqs. (2)-(3); Blake & Isard, Active Contours (1998), ch. 4.
     """
-    template = as_finite_array(template, "template", shape=(None, 2), max_abs=1e6)
-    points = as_finite_array(points, "points", max_abs=1e6)
-    if points.shape[-2:] != template.shape or points.ndim not in (2, 3):
-        raise ValueError(f"points must have shape {template.shape} or (T, {template.shape[0]}, 2), got {points.shape}")
     centred = template - template.mean(axis=0)
     q = centred[:, 0] + 1j * centred[:, 1]
-    if np.sum(np.abs(q) ** 2) == 0:
-        raise ValueError("template must not collapse to a single point")
     centre = points.mean(axis=-2)
     p = (points[..., 0] - centre[..., None, 0]) + 1j * (points[..., 1] - centre[..., None, 1])
     a = (p @ np.conj(q)) / np.sum(np.abs(q) ** 2)
@@ -333,7 +329,7 @@ def make_walker_sequence(*, rng: int | np.random.Generator, noise_std: float = 4
         image += noise_bank[generator.integers(len(noise_bank)), dy : dy + HEIGHT, dx : dx + WIDTH]
         frames[k] = np.clip(image + 0.5, 0, 255).astype(np.uint8)
     template = true_control_points[0]
-    truth = fit_similarity(template, true_control_points)
+    truth = _fit_similarity(template, true_control_points)
     space = ShapeSpace(template, "similarity")
     return WalkerSequence(frames, truth, space.ellipses(truth), true_control_points, dict(WALKER_SEGMENTS), template)
 
@@ -358,12 +354,12 @@ def box_iou(first: np.ndarray, second: np.ndarray) -> np.ndarray:
     box IoU >= 0.5); Li & Chaumette, AMDO 2004, Fig. 6.
     """
     first = as_finite_array(first, "first", max_abs=1e6)
-    second = as_finite_array(second, "second", max_abs=1e6)
-    single = first.ndim == 2
-    if first.ndim not in (2, 3) or first.shape[-1] != 2 or first.shape[-2] == 0:
+    if first.ndim not in (2, 3) or first.shape[-1] != 2:
         raise ValueError(f"first must have shape (J, 2) or (T, J, 2), got {first.shape}")
-    if second.ndim != first.ndim or second.shape[-1] != 2 or second.shape[-2] == 0 or second.shape[:-2] != first.shape[:-2]:
+    second = as_finite_array(second, "second", max_abs=1e6)
+    if second.ndim != first.ndim or second.shape[-1] != 2 or second.shape[:-2] != first.shape[:-2]:
         raise ValueError(f"second must have the shape of first up to J, got {second.shape} and {first.shape}")
+    single = first.ndim == 2
     low = np.maximum(first.min(axis=-2), second.min(axis=-2))
     high = np.minimum(first.max(axis=-2), second.max(axis=-2))
     intersection = np.prod(np.clip(high - low, 0.0, None), axis=-1)
