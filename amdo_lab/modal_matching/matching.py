@@ -284,9 +284,11 @@ def adcom(Z: np.ndarray, pairs: np.ndarray, *, X1: np.ndarray | None = None,
     pairs = _check_index_pairs(pairs, Z.shape, f"Z's shape {Z.shape}")
     if (X1 is None) != (X2 is None):
         raise ValueError("X1 and X2 must be given together (neighbours in space) or not at all (contour order)")
-    nodes = None if X1 is None else (as_finite_array(X1, "X1", shape=(Z.shape[0], None), max_abs=MAX_COORDINATE_MM),
-                                     as_finite_array(X2, "X2", shape=(Z.shape[1], None), max_abs=MAX_COORDINATE_MM))
-    return _adcom(Z, pairs, nodes)
+    if X1 is None:
+        return _adcom(Z, pairs, None)
+    X1 = as_finite_array(X1, "X1 (one row per row of Z)", shape=(Z.shape[0], None), max_abs=MAX_COORDINATE_MM)
+    X2 = as_finite_array(X2, "X2 (one row per column of Z)", shape=(Z.shape[1], None), max_abs=MAX_COORDINATE_MM)
+    return _adcom(Z, pairs, (X1, X2))
 
 
 def _check_index_pairs(pairs: object, sizes: tuple[int, int], what: str) -> np.ndarray:
