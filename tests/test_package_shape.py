@@ -35,8 +35,9 @@ KNOWN_EXCESS: dict[str, dict[str, object]] = {
     "cue_fusion_pf": {"validation_share": "19.4 % (232 of 1,198 lines)"},
     "incremental_svd": {"validation_share": "19.9 % (79 of 396 lines)"},
     "modal_matching": {"validation_share": "25.4 % (89 of 351 lines)"},
-    "pdm_mixtures": {"validation_share": "18.9 % (128 of 677 lines: one line per argument of the public API "
-                                         "and of PointDistributionModel, a record users build; measured 2026-11-27)"},
+    "pdm_mixtures": {"validation_share": "19.0 % (128 of 673 lines: one line per argument of the public API, "
+                                         "of PointDistributionModel, a record users build, and of "
+                                         "RecogniserSettings; measured 2026-11-27)"},
 }
 
 
