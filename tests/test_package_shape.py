@@ -35,7 +35,7 @@ KNOWN_EXCESS: dict[str, dict[str, object]] = {
     "cue_fusion_pf": {"validation_share": "19.4 % (232 of 1,198 lines)"},
     "incremental_svd": {"validation_share": "19.9 % (79 of 396 lines)"},
     "modal_matching": {"validation_share": "25.4 % (89 of 351 lines)"},
-    "pdm_mixtures": {"validation_share": "19.0 % (128 of 673 lines: one line per argument of the public API, "
+    "pdm_mixtures": {"validation_share": "18.8 % (126 of 671 lines: one line per argument of the public API, "
                                          "of PointDistributionModel, a record users build, and of "
                                          "RecogniserSettings; measured 2026-11-27)"},
 }

@@ -35,7 +35,7 @@ from amdo_lab.pdm_mixtures import (
     wrap_angle,
 )
 from amdo_lab.pdm_mixtures.gmm import _gaussian_log_density
-from amdo_lab.pdm_mixtures.pdm import _align_to_reference, _normalise_shape, check_labels
+from amdo_lab.pdm_mixtures.pdm import _align_to_reference, _normalise_shape, _check_labels
 from amdo_lab.pdm_mixtures.polar_mixture import angles_about_mean
 from amdo_lab.pdm_mixtures.recognition import MAX_RECOGNITION_ITER, _class_posteriors
 from amdo_lab.pdm_mixtures.poses import MEAN_LENGTHS
@@ -478,7 +478,7 @@ def test_single_cartesian_pdm_scores_with_the_one_ppca_density(small_problem):
 
 def test_reference_paths_equal_fast_paths():
     from amdo_lab.pdm_mixtures.gmm import gaussian_log_density_reference
-    from amdo_lab.pdm_mixtures.pdm import align_to_reference_loop
+    from amdo_lab.pdm_mixtures.pdm import _align_to_reference_loop
     from amdo_lab.pdm_mixtures.labels import hamming_distance_reference
 
     rng = make_rng(8)
@@ -491,7 +491,7 @@ def test_reference_paths_equal_fast_paths():
     assert np.array_equal(pm.hamming_distance(strings, dictionary), hamming_distance_reference(strings, dictionary))
     sets = make_pose_dataset(TABLE1_CLASSES, 3, rng=5).shapes.reshape(18, -1, 2)
     reference = _normalise_shape(sets[0])
-    assert np.allclose(_align_to_reference(sets, reference), align_to_reference_loop(sets, reference), atol=1e-12)
+    assert np.allclose(_align_to_reference(sets, reference), _align_to_reference_loop(sets, reference), atol=1e-12)
 
 
 def test_limb_label_posteriors_are_distributions(small_problem):
@@ -628,10 +628,10 @@ def test_a_refit_forgets_the_previous_fit(small_problem):
 
 
 def test_check_labels_takes_names_or_integer_ids():
-    from amdo_lab.pdm_mixtures.pdm import check_labels
+    from amdo_lab.pdm_mixtures.pdm import _check_labels
 
-    assert check_labels(np.array(["a", "b"]), 2).tolist() == ["a", "b"]
-    assert check_labels(np.array([0.0, 3.0]), 2).tolist() == [0.0, 3.0]  # whole floats: ids, kept as given
+    assert _check_labels(np.array(["a", "b"]), 2).tolist() == ["a", "b"]
+    assert _check_labels(np.array([0.0, 3.0]), 2).tolist() == [0.0, 3.0]  # whole floats: ids, kept as given
 
 
 def test_recognise_relabels_the_limbs_by_eq14(small_problem):
@@ -861,11 +861,11 @@ REJECTIONS = [
            ValueError, r"error_probability must be in \(0, 1\)"),
     reject("label_string_log_prob distance beyond n_limbs", lambda: label_string_log_prob(np.array([20]), 13, 0.2),
            ValueError, r"hamming must lie in \[0, 13\], got 20"),
-    reject("check_labels fractional id", lambda: check_labels(np.array([0.0, 0.5]), 2),
+    reject("_check_labels fractional id", lambda: _check_labels(np.array([0.0, 0.5]), 2),
            ValueError, "labels must hold whole numbers"),
-    reject("check_labels huge id", lambda: check_labels(np.array([0.0, 1e308]), 2),
+    reject("_check_labels huge id", lambda: _check_labels(np.array([0.0, 1e308]), 2),
            ValueError, "labels must be at most 9.0072e"),
-    reject("check_labels NaN", lambda: check_labels(np.array([0.0, np.nan]), 2), ValueError, "labels must be finite"),
+    reject("_check_labels NaN", lambda: _check_labels(np.array([0.0, np.nan]), 2), ValueError, "labels must be finite"),
     # ------------------------------------------------------------ embeddings
     reject("pairwise_distances one vector", lambda: pairwise_distances(np.ones(3)), ValueError, "vectors must have 2 dimensions"),
     reject("classical_mds negative distances", lambda: classical_mds(-np.ones((3, 3))),
@@ -919,7 +919,7 @@ REJECTIONS = [
     # ------------------------------------------------------------ baselines
     *[case for cls in _BASELINES for case in (
         reject(f"{cls.__name__} one label short", lambda fitted, cls=cls: _make(cls).fit(
-            fitted.train.shapes, fitted.train.labels[:-1]), ValueError, r"labels and shapes must agree in shape, got \(71,\) and \(72,\)"),
+            fitted.train.shapes, fitted.train.labels[:-1]), ValueError, r"labels and shapes \(first axis\) must have the same shape, got \(71,\) and \(72,\)"),
         reject(f"{cls.__name__} not fitted", lambda fitted, cls=cls: _make(cls).predict(fitted.test.shapes),
                NotFittedError, "is not fitted yet"),
         reject(f"{cls.__name__} 4 landmarks per limb after 6", lambda fitted, cls=cls: fitted.baselines[cls].predict(
