@@ -62,8 +62,10 @@ def speed_and_rates(bench, args) -> None:
     test_shapes, test_labels = test.shapes[: args.n_test], test.labels[: args.n_test]
     models = {
         "hierarchical PDM mixture (ours)": lambda: pm.ArticulatedShapeRecogniser(rng=0),
-        "ours, joint polar PDM": lambda: pm.ArticulatedShapeRecogniser(rng=0, polar_model="joint"),
-        "ours, 1 polar PDM per class": lambda: pm.ArticulatedShapeRecogniser(rng=0, n_shape_components=1),
+        "ours, joint polar PDM":
+            lambda: pm.ArticulatedShapeRecogniser(pm.RecogniserSettings(polar_model="joint"), rng=0),
+        "ours, 1 polar PDM per class":
+            lambda: pm.ArticulatedShapeRecogniser(pm.RecogniserSettings(n_shape_components=1), rng=0),
         "single Cartesian PDM": pm.SingleCartesianPDMClassifier,
         "nearest Procrustes mean": pm.NearestProcrustesMeanClassifier,
         "sklearn GaussianMixture": lambda: pm.SklearnGMMClassifier(rng=0),

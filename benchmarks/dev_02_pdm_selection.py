@@ -131,8 +131,8 @@ def seed_spread_study(bench: Benchmark, seeds: list[int]) -> None:
         train = pm.make_pose_dataset(pm.TABLE1_CLASSES, 20, rng=train_rng)
         test = pm.make_pose_dataset(pm.TABLE1_CLASSES, 200, rng=test_rng)
         models = {"ours": pm.ArticulatedShapeRecogniser(rng=0),
-                  "1 polar PDM": pm.ArticulatedShapeRecogniser(rng=0, n_shape_components=1),
-                  "joint polar PDM": pm.ArticulatedShapeRecogniser(rng=0, polar_model="joint"),
+                  "1 polar PDM": pm.ArticulatedShapeRecogniser(pm.RecogniserSettings(n_shape_components=1), rng=0),
+                  "joint polar PDM": pm.ArticulatedShapeRecogniser(pm.RecogniserSettings(polar_model="joint"), rng=0),
                   "Cartesian PDM": pm.SingleCartesianPDMClassifier(),
                   "nearest mean": pm.NearestProcrustesMeanClassifier(),
                   "diagonal GMM": pm.SklearnGMMClassifier(rng=0)}
@@ -148,7 +148,8 @@ def seed_spread_study(bench: Benchmark, seeds: list[int]) -> None:
         shooting_ours = rate_interval(right["ours"][test.labels == "shooting"])
         put("Table 1: shooting, paper's interval low - our high (> 0: disjoint)",
             rate_interval(np.arange(200) < 179).low - shooting_ours.high)
-        printed = pm.ArticulatedShapeRecogniser(rng=0, eq11_reading="G ln p").fit(train.shapes, train.labels)
+        printed = pm.ArticulatedShapeRecogniser(pm.RecogniserSettings(eq11_reading="G ln p"), rng=0).fit(
+            train.shapes, train.labels)
         put("eq. 11: ours - as printed, eq11_reading='G ln p' (> 0.1)",
             interval.rate - np.mean(printed.predict(test.shapes) == test.labels))
         confidence = ours.predict_proba(test.shapes).max(axis=1)
@@ -198,7 +199,8 @@ def seed_spread_study(bench: Benchmark, seeds: list[int]) -> None:
         test = pm.make_pose_dataset(pm.TABLE1_CLASSES, 20, rng=test_rng, mode_separation=2.0)
         rates = {}
         for components in (2, 1):
-            model = pm.ArticulatedShapeRecogniser(rng=0, n_shape_components=components).fit(train.shapes, train.labels)
+            settings = pm.RecogniserSettings(n_shape_components=components)
+            model = pm.ArticulatedShapeRecogniser(settings, rng=0).fit(train.shapes, train.labels)
             parts = model.score_components(test.shapes)
             rates[components] = {terms: np.mean(np.asarray(model.classes_)[np.argmax(parts.class_scores(*terms), 1)]
                                                 == test.labels)
@@ -247,7 +249,8 @@ def main() -> None:
         fit_rng, check_rng = spawn_rngs(seed, 2)
         fit_set = pm.make_pose_dataset(pm.TABLE1_CLASSES, args.train_per_class, rng=fit_rng)
         check_set = pm.make_pose_dataset(pm.TABLE1_CLASSES, args.per_class, rng=check_rng)
-        models = {name: pm.ArticulatedShapeRecogniser(rng=0, **options) for name, options in variants.items()}
+        models = {name: pm.ArticulatedShapeRecogniser(pm.RecogniserSettings(**options), rng=0)
+                  for name, options in variants.items()}
         models |= {name: getattr(pm, class_name)(**options) for name, (class_name, options) in BASELINES.items()}
         for name, model in models.items():
             predicted = model.fit(fit_set.shapes, fit_set.labels).predict(check_set.shapes)

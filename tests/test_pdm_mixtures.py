@@ -16,6 +16,7 @@ from amdo_lab.pdm_mixtures import (
     POSES,
     TABLE1_CLASSES,
     ArticulatedShapeRecogniser,
+    RecogniserSettings,
     NearestProcrustesMeanClassifier,
     classical_mds,
     fit_gaussian_mixture,
@@ -34,10 +35,12 @@ from amdo_lab.pdm_mixtures import (
     wrap_angle,
 )
 from amdo_lab.pdm_mixtures.gmm import _gaussian_log_density
-from amdo_lab.pdm_mixtures.pdm import _align_to_reference, _normalise_shape, check_labels
+from amdo_lab.pdm_mixtures.pdm import _align_to_reference, _normalise_shape, _check_labels
 from amdo_lab.pdm_mixtures.polar_mixture import angles_about_mean
 from amdo_lab.pdm_mixtures.recognition import MAX_RECOGNITION_ITER, _class_posteriors
 from amdo_lab.pdm_mixtures.poses import MEAN_LENGTHS
+
+ONE_COMPONENT = RecogniserSettings(n_shape_components=1)  # ours with one polar PDM per class
 
 
 @pytest.fixture(scope="module")
@@ -262,18 +265,18 @@ def test_printed_eq11_scores_multiply_log_likelihood_by_gates(small_problem):
 def test_dictionary_has_one_string_per_class_component(small_problem):
     train, _, recogniser = small_problem
     assert recogniser.dictionary_.shape == (6, 2, 13)
-    assert recogniser.dictionary_.min() >= 0 and recogniser.dictionary_.max() < recogniser.n_limb_labels
+    assert recogniser.dictionary_.min() >= 0 and recogniser.dictionary_.max() < recogniser.settings.n_limb_labels
     # With one component the string is the per-limb majority MAP label of the class.
-    single = ArticulatedShapeRecogniser(rng=0, n_shape_components=1).fit(train.shapes, train.labels)
+    single = ArticulatedShapeRecogniser(ONE_COMPONENT, rng=0).fit(train.shapes, train.labels)
     j = single.classes_.index("boxing")
     labels = single.training_label_strings_[train.labels == "boxing"]
-    majority = [np.bincount(labels[:, k], minlength=single.n_limb_labels).argmax() for k in range(13)]
+    majority = [np.bincount(labels[:, k], minlength=single.settings.n_limb_labels).argmax() for k in range(13)]
     np.testing.assert_array_equal(single.dictionary_[j, 0], majority)
 
 
 def test_block_polar_pdm_models_angles_and_centres_separately(small_problem):
     train, _, recogniser = small_problem
-    single = ArticulatedShapeRecogniser(rng=0, n_shape_components=1).fit(train.shapes, train.labels)
+    single = ArticulatedShapeRecogniser(ONE_COMPONENT, rng=0).fit(train.shapes, train.labels)
     j = single.classes_.index("stretching")
     model = single.shape_models_[j][0]
     assert [b.stop - b.start for b in model.blocks] == [13, 26]
@@ -283,7 +286,8 @@ def test_block_polar_pdm_models_angles_and_centres_separately(small_problem):
     top = np.sort(np.linalg.eigvalsh(angle_cov))[::-1][: model.pdms[0].n_modes]
     np.testing.assert_allclose(model.pdms[0].variances, top, rtol=1e-10)
     # The log-density is the sum of the two blocks' densities; a joint model has one block.
-    joint = ArticulatedShapeRecogniser(rng=0, n_shape_components=1, polar_model="joint").fit(train.shapes, train.labels)
+    joint_settings = RecogniserSettings(n_shape_components=1, polar_model="joint")
+    joint = ArticulatedShapeRecogniser(joint_settings, rng=0).fit(train.shapes, train.labels)
     assert len(joint.shape_models_[j][0].pdms) == 1
     fitted = model.project(deviation)
     assert fitted.shape == deviation.shape
@@ -292,7 +296,8 @@ def test_block_polar_pdm_models_angles_and_centres_separately(small_problem):
 
 def test_limb_likelihood_options_give_label_posteriors(small_problem):
     train, test, recogniser = small_problem
-    residual = ArticulatedShapeRecogniser(rng=0, limb_likelihood="residual").fit(train.shapes, train.labels)
+    residual = ArticulatedShapeRecogniser(RecogniserSettings(limb_likelihood="residual"), rng=0).fit(
+        train.shapes, train.labels)
     for model in (recogniser, residual):
         posteriors = model.limb_label_posteriors(test.shapes[:5])
         np.testing.assert_allclose(posteriors.sum(axis=2), 1.0)
@@ -302,7 +307,7 @@ def test_shape_level_mixture_separates_articulation_modes(small_problem):
     train, _, recogniser = small_problem
     vectors = polar_shape_vector(recogniser.align(train.shapes))
     for j, name in enumerate(recogniser.classes_):
-        assert len(recogniser.shape_models_[j]) == recogniser.n_shape_components == 2
+        assert len(recogniser.shape_models_[j]) == recogniser.settings.n_shape_components == 2
         np.testing.assert_allclose(recogniser.shape_weights_[j].sum(), 1.0)
     # Boxing's and stretching's modes move the arm centres a lot: EM must put them in different components.
     for name in ("boxing", "stretching"):
@@ -318,7 +323,7 @@ def test_shape_level_mixture_separates_articulation_modes(small_problem):
 
 def test_single_component_is_one_polar_pdm_per_class(small_problem):
     train, test, _ = small_problem
-    single = ArticulatedShapeRecogniser(rng=0, n_shape_components=1).fit(train.shapes, train.labels)
+    single = ArticulatedShapeRecogniser(ONE_COMPONENT, rng=0).fit(train.shapes, train.labels)
     vectors = polar_shape_vector(single.align(train.shapes))
     j = single.classes_.index("kicking")
     deviation = angles_about_mean(vectors[train.labels == "kicking"], single.angle_means_[j])
@@ -348,13 +353,15 @@ def test_polar_mixture_components_are_weighted_moments_in_original_units():
 # ---------------------------------------------------------------- open choices: ridge, restarts, held-out likelihood
 def test_shape_ridge_and_n_restarts_default_to_the_previous_recogniser(small_problem):
     train, test, recogniser = small_problem
-    explicit = ArticulatedShapeRecogniser(rng=0, shape_ridge=1e-3, n_restarts=1).fit(train.shapes, train.labels)
+    explicit_settings = RecogniserSettings(shape_ridge=1e-3, n_restarts=1)
+    explicit = ArticulatedShapeRecogniser(explicit_settings, rng=0).fit(train.shapes, train.labels)
     np.testing.assert_array_equal(explicit.predict_proba(test.shapes[:20]), recogniser.predict_proba(test.shapes[:20]))
 
 
 def test_larger_shape_ridge_raises_the_component_residual_variance(small_problem):
     train, _, recogniser = small_problem
-    wide = ArticulatedShapeRecogniser(rng=0, shape_ridge=1e-1).fit(train.shapes, train.labels)
+    wide = ArticulatedShapeRecogniser(RecogniserSettings(shape_ridge=1e-1), rng=0).fit(
+        train.shapes, train.labels)
     for narrow_components, wide_components in zip(recogniser.shape_models_, wide.shape_models_):
         narrow_floor = min(c.pdms[1].residual_variance for c in narrow_components)
         wide_floor = min(c.pdms[1].residual_variance for c in wide_components)
@@ -471,7 +478,7 @@ def test_single_cartesian_pdm_scores_with_the_one_ppca_density(small_problem):
 
 def test_reference_paths_equal_fast_paths():
     from amdo_lab.pdm_mixtures.gmm import gaussian_log_density_reference
-    from amdo_lab.pdm_mixtures.pdm import align_to_reference_loop
+    from amdo_lab.pdm_mixtures.pdm import _align_to_reference_loop
     from amdo_lab.pdm_mixtures.labels import hamming_distance_reference
 
     rng = make_rng(8)
@@ -484,13 +491,13 @@ def test_reference_paths_equal_fast_paths():
     assert np.array_equal(pm.hamming_distance(strings, dictionary), hamming_distance_reference(strings, dictionary))
     sets = make_pose_dataset(TABLE1_CLASSES, 3, rng=5).shapes.reshape(18, -1, 2)
     reference = _normalise_shape(sets[0])
-    assert np.allclose(_align_to_reference(sets, reference), align_to_reference_loop(sets, reference), atol=1e-12)
+    assert np.allclose(_align_to_reference(sets, reference), _align_to_reference_loop(sets, reference), atol=1e-12)
 
 
 def test_limb_label_posteriors_are_distributions(small_problem):
     _, test, recogniser = small_problem
     posteriors = recogniser.limb_label_posteriors(test.shapes[:4])
-    assert posteriors.shape == (4, 13, recogniser.n_limb_labels)
+    assert posteriors.shape == (4, 13, recogniser.settings.n_limb_labels)
     assert np.allclose(posteriors.sum(axis=2), 1.0)
     gates = recogniser.score_components(test.shapes[:4]).limb_gate
     log_posteriors = recogniser.limb_label_posteriors(test.shapes[:4], log=True)
@@ -594,7 +601,7 @@ def test_estimators_store_settings_as_given_learn_underscored_attributes_and_fit
     import inspect
 
     cases = [
-        (ArticulatedShapeRecogniser, dict(rng=make_rng(0), n_limb_labels=np.int64(4), eq11_reading="G p")),
+        (ArticulatedShapeRecogniser, dict(settings=RecogniserSettings(n_limb_labels=np.int64(4)), rng=make_rng(0))),
         (pm.SingleCartesianPDMClassifier, dict(variance_fraction=0.9)),
         (NearestProcrustesMeanClassifier, {}),
         (pm.SklearnGMMClassifier, dict(n_components=2, rng=0)),
@@ -606,24 +613,25 @@ def test_estimators_store_settings_as_given_learn_underscored_attributes_and_fit
         assert model.fit(fitted.train.shapes, fitted.train.labels) is model
         parameters = inspect.signature(cls).parameters
         assert all(name in parameters or name.endswith("_") for name in vars(model)), cls.__name__
-    unchecked = ArticulatedShapeRecogniser(rng=0, n_limb_labels=0)  # settings are checked by fit
-    with pytest.raises(ValueError, match="n_limb_labels"):
-        unchecked.fit(fitted.train.shapes, fitted.train.labels)
+    with pytest.raises(ValueError, match="n_limb_labels"):  # the settings are checked when built
+        RecogniserSettings(n_limb_labels=0)
+    with pytest.raises(TypeError, match="settings"):  # and fit checks that it was given settings
+        ArticulatedShapeRecogniser({"n_limb_labels": 4}, rng=0).fit(fitted.train.shapes, fitted.train.labels)
 
 
 def test_a_refit_forgets_the_previous_fit(small_problem):
     train, test, _ = small_problem
-    model = ArticulatedShapeRecogniser(rng=0, n_shape_components=1).fit(train.shapes, train.labels)
+    model = ArticulatedShapeRecogniser(ONE_COMPONENT, rng=0).fit(train.shapes, train.labels)
     fewer = train.shapes[:, :, :4]  # 4 landmarks per limb instead of 6: accepted by a fresh fit
     model.fit(fewer, train.labels)
     assert model.landmarks_per_limb_ == 4 and model.predict(test.shapes[:3, :, :4]).shape == (3,)
 
 
 def test_check_labels_takes_names_or_integer_ids():
-    from amdo_lab.pdm_mixtures.pdm import check_labels
+    from amdo_lab.pdm_mixtures.pdm import _check_labels
 
-    assert check_labels(np.array(["a", "b"]), 2).tolist() == ["a", "b"]
-    assert check_labels(np.array([0.0, 3.0]), 2).tolist() == [0.0, 3.0]  # whole floats: ids, kept as given
+    assert _check_labels(np.array(["a", "b"]), 2).tolist() == ["a", "b"]
+    assert _check_labels(np.array([0.0, 3.0]), 2).tolist() == [0.0, 3.0]  # whole floats: ids, kept as given
 
 
 def test_recognise_relabels_the_limbs_by_eq14(small_problem):
@@ -636,9 +644,9 @@ def test_recognise_relabels_the_limbs_by_eq14(small_problem):
     joint = parts.log_weights[None] + parts.shape + parts.limb_gate + parts.label_string  # (n, C, M)
     best = trace.posteriors[0].argmax(axis=1)  # eq. (13)
     component = np.argmax(joint[np.arange(len(shapes)), best], axis=1)
-    p = recogniser.label_error_probability
+    p = recogniser.settings.label_error_probability
     # ln P(λ | z_k) + ln P(L(λ, k) | Λ_ω): a label off the winner's dictionary string costs k_p = ln((1-p)/p)
-    off_string = recogniser.dictionary_[best, component][:, :, None] != np.arange(recogniser.n_limb_labels)
+    off_string = recogniser.dictionary_[best, component][:, :, None] != np.arange(recogniser.settings.n_limb_labels)
     expected = np.argmax(log_post - np.log((1 - p) / p) * off_string, axis=2)
     moved = trace.n_iter > 1
     assert moved, "the test set should need a relabelling"
@@ -650,7 +658,7 @@ def test_model_limbs_are_each_label_pdm_fitted_to_the_observed_limb_eq15(small_p
     """Eq. (15): a limb that is an instance of its label's PDM (within the clamp) is drawn exactly."""
     _, _, recogniser = small_problem
     rng = make_rng(30)
-    labels = rng.integers(0, recogniser.n_limb_labels, 13)
+    labels = rng.integers(0, recogniser.settings.n_limb_labels, 13)
     observed = []
     for k, label in enumerate(labels):
         model = recogniser.limb_models_[k][label]
@@ -670,7 +678,8 @@ def test_limb_posteriors_are_eq10_bayes_rule_over_the_eq16_residual(small_proble
     from amdo_lab.pdm_mixtures.representation import _centred_limbs
 
     train, test, _ = small_problem
-    residual = ArticulatedShapeRecogniser(rng=0, limb_likelihood="residual").fit(train.shapes, train.labels)
+    residual = ArticulatedShapeRecogniser(RecogniserSettings(limb_likelihood="residual"), rng=0).fit(
+        train.shapes, train.labels)
     aligned = residual.align(test.shapes[:6])
     limbs = _centred_limbs(aligned)  # (n, K, 2m)
     for k in (0, 6, 12):
@@ -759,7 +768,8 @@ def test_polar_pdm_project_is_the_clamped_modal_fit_of_each_block_eq12(small_pro
 
 def test_the_printed_eq11_reading_is_a_recogniser_option(small_problem):
     train, test, recogniser = small_problem
-    printed = ArticulatedShapeRecogniser(rng=0, eq11_reading="G ln p").fit(train.shapes, train.labels)
+    printed = ArticulatedShapeRecogniser(RecogniserSettings(eq11_reading="G ln p"), rng=0).fit(
+        train.shapes, train.labels)
     first = printed.recognise(test.shapes).posteriors[0]
     parts = recogniser.score_components(test.shapes)
     np.testing.assert_array_equal(first.argmax(axis=1), parts.printed_eq11_scores().argmax(axis=1))
@@ -851,11 +861,11 @@ REJECTIONS = [
            ValueError, r"error_probability must be in \(0, 1\)"),
     reject("label_string_log_prob distance beyond n_limbs", lambda: label_string_log_prob(np.array([20]), 13, 0.2),
            ValueError, r"hamming must lie in \[0, 13\], got 20"),
-    reject("check_labels fractional id", lambda: check_labels(np.array([0.0, 0.5]), 2),
+    reject("_check_labels fractional id", lambda: _check_labels(np.array([0.0, 0.5]), 2),
            ValueError, "labels must hold whole numbers"),
-    reject("check_labels huge id", lambda: check_labels(np.array([0.0, 1e308]), 2),
+    reject("_check_labels huge id", lambda: _check_labels(np.array([0.0, 1e308]), 2),
            ValueError, "labels must be at most 9.0072e"),
-    reject("check_labels NaN", lambda: check_labels(np.array([0.0, np.nan]), 2), ValueError, "labels must be finite"),
+    reject("_check_labels NaN", lambda: _check_labels(np.array([0.0, np.nan]), 2), ValueError, "labels must be finite"),
     # ------------------------------------------------------------ embeddings
     reject("pairwise_distances one vector", lambda: pairwise_distances(np.ones(3)), ValueError, "vectors must have 2 dimensions"),
     reject("classical_mds negative distances", lambda: classical_mds(-np.ones((3, 3))),
@@ -865,19 +875,16 @@ REJECTIONS = [
     reject("pca_embedding more dimensions than min(n, d)", lambda: pm.pca_embedding(_VECTORS, 5),
            ValueError, "n_dims must be at most 4, got 5"),
     # ------------------------------------------------------------ the recogniser: settings, training set, fitted state
-    reject("recogniser limb_likelihood hamming", lambda small_problem: ArticulatedShapeRecogniser(
-        rng=0, limb_likelihood="hamming").fit(small_problem[0].shapes, small_problem[0].labels),
-        ValueError, "limb_likelihood"),
-    reject("recogniser polar_model cartesian", lambda small_problem: ArticulatedShapeRecogniser(
-        rng=0, polar_model="cartesian").fit(small_problem[0].shapes, small_problem[0].labels),
-        ValueError, "polar_model"),
-    reject("recogniser eq11_reading unknown", lambda small_problem: ArticulatedShapeRecogniser(
-        rng=0, eq11_reading="ln G + ln p").fit(small_problem[0].shapes, small_problem[0].labels),
-        ValueError, "eq11_reading"),
+    reject("recogniser limb_likelihood hamming", lambda: RecogniserSettings(limb_likelihood="hamming"),
+           ValueError, "limb_likelihood"),
+    reject("recogniser polar_model cartesian", lambda: RecogniserSettings(polar_model="cartesian"),
+           ValueError, "polar_model"),
+    reject("recogniser eq11_reading unknown", lambda: RecogniserSettings(eq11_reading="ln G + ln p"),
+           ValueError, "eq11_reading"),
     reject("recogniser two examples for two components", lambda small_problem: ArticulatedShapeRecogniser(
         rng=0).fit(*_two_kicking(small_problem)), ValueError, "3 shapes per shape component"),
     reject("recogniser two examples for one component", lambda small_problem: ArticulatedShapeRecogniser(
-        rng=0, n_shape_components=1).fit(*_two_kicking(small_problem)), ValueError, "'kicking': 2"),
+        ONE_COMPONENT, rng=0).fit(*_two_kicking(small_problem)), ValueError, "'kicking': 2"),
     reject("recogniser one label short", lambda small_problem: ArticulatedShapeRecogniser(rng=0).fit(
         small_problem[0].shapes, small_problem[0].labels[:-1]), ValueError, "labels"),
     reject("recogniser not fitted predict", lambda small_problem: ArticulatedShapeRecogniser(rng=0).predict(
@@ -912,7 +919,7 @@ REJECTIONS = [
     # ------------------------------------------------------------ baselines
     *[case for cls in _BASELINES for case in (
         reject(f"{cls.__name__} one label short", lambda fitted, cls=cls: _make(cls).fit(
-            fitted.train.shapes, fitted.train.labels[:-1]), ValueError, r"labels and shapes must agree in shape, got \(71,\) and \(72,\)"),
+            fitted.train.shapes, fitted.train.labels[:-1]), ValueError, r"labels and shapes \(first axis\) must have the same shape, got \(71,\) and \(72,\)"),
         reject(f"{cls.__name__} not fitted", lambda fitted, cls=cls: _make(cls).predict(fitted.test.shapes),
                NotFittedError, "is not fitted yet"),
         reject(f"{cls.__name__} 4 landmarks per limb after 6", lambda fitted, cls=cls: fitted.baselines[cls].predict(

@@ -35,7 +35,8 @@ from amdo_lab.pdm_mixtures.recognition import (
     relabel_limbs,
     winning_components,
 )
-from amdo_lab.pdm_mixtures.recogniser import AlignmentTrace, ArticulatedShapeRecogniser
+from amdo_lab.pdm_mixtures.recogniser import (OUR_SETTINGS, PAPER_SETTINGS, AlignmentTrace, ArticulatedShapeRecogniser,
+                                              RecogniserSettings)
 from amdo_lab.pdm_mixtures.representation import (
     articulation_centre,
     limb_angles,
@@ -62,7 +63,8 @@ __all__ = [
     "make_pose_dataset", "skeleton_strokes",
     "hamming_distance", "label_string_log_prob", "PolarPDM", "held_out_log_likelihood",
     "RecognitionTrace", "ScoreComponents", "gated_component_scores", "relabel_limbs",
-    "winning_components", "AlignmentTrace", "ArticulatedShapeRecogniser",
+    "winning_components", "AlignmentTrace", "RecogniserSettings", "PAPER_SETTINGS", "OUR_SETTINGS",
+    "ArticulatedShapeRecogniser",
     "articulation_centre", "limb_angles", "limb_centres", "polar_shape_vector", "wrap_angle",
     "NearestProcrustesMeanClassifier", "SingleCartesianPDMClassifier", "SklearnGMMClassifier", "classical_mds",
     "pairwise_distances", "pca_embedding", "draw_shape", "SEPARATION_MODELS", "SeparationTrial",

@@ -4,14 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from amdo_lab.common import (as_finite_array, check_fitted, check_in_range, check_positive_int, make_rng,
-                             procrustes_align)
+from amdo_lab.common import (as_finite_array, check_fitted, check_in_range, check_positive_int, check_same_shape,
+                             make_rng, procrustes_align)
 from amdo_lab.pdm_mixtures.pdm import (
     MAX_MAGNITUDE,
     _align_to_reference,
     _ppca_log_density,
     check_articulated_shapes,
-    check_shapes_agree,
     check_training_set,
     fit_pdm,
     generalized_procrustes,
@@ -330,7 +329,7 @@ def classical_mds(distances: np.ndarray, n_dims: int = 3) -> np.ndarray:
     """
     distances = as_finite_array(distances, "distances", ndim=2, bounds=(0, MAX_MAGNITUDE))
     n = distances.shape[0]
-    check_shapes_agree("distances (rows)", (n,), "distances (columns)", distances.shape[1:])  # square
+    check_same_shape(distances, distances.T, "distances", "its transpose")  # square
     n_dims = check_positive_int(n_dims, "n_dims", maximum=n)  # at most the number of points
     centring = np.eye(n) - 1.0 / n
     gram = -0.5 * centring @ (distances**2) @ centring

@@ -16,7 +16,7 @@ from amdo_lab.common import check_choice, check_in_range, check_positive_int, ma
 from amdo_lab.common.threads import one_blas_thread
 from amdo_lab.pdm_mixtures.baselines import SingleCartesianPDMClassifier
 from amdo_lab.pdm_mixtures.poses import MAX_MODE_SEPARATION, MAX_PER_CLASS, TABLE1_CLASSES, make_pose_dataset
-from amdo_lab.pdm_mixtures.recogniser import ArticulatedShapeRecogniser
+from amdo_lab.pdm_mixtures.recogniser import ArticulatedShapeRecogniser, RecogniserSettings
 
 __all__ = ["SEPARATION_MODELS", "SeparationTrial", "mode_separation_trial"]
 
@@ -98,7 +98,8 @@ def mode_separation_trial(separation: float, *, rng: int | np.random.Generator, 
     train_rng, test_rng = spawn_rngs(make_rng(rng, "rng"), 2)
     train = make_pose_dataset(classes, n_train, rng=train_rng, mode_separation=separation)
     test = make_pose_dataset(classes, n_test, rng=test_rng, mode_separation=separation)
-    models = (ArticulatedShapeRecogniser(rng=0, n_shape_components=2), ArticulatedShapeRecogniser(rng=0, n_shape_components=1),
+    models = (ArticulatedShapeRecogniser(RecogniserSettings(n_shape_components=2), rng=0),
+              ArticulatedShapeRecogniser(RecogniserSettings(n_shape_components=1), rng=0),
               SingleCartesianPDMClassifier())
     with one_blas_thread():  # small matrices: BLAS threads only contend on a shared machine
         correct = {name: model.fit(train.shapes, train.labels).predict(test.shapes) == test.labels

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from amdo_lab.common import (MAX_ITERATIONS, as_finite_array, as_points, check_bool, check_in_range,
-                             check_instance, check_positive_int, procrustes_align)
+                             check_instance, check_positive_int, check_same_shape, procrustes_align)
 from amdo_lab.pdm_mixtures.representation import MAX_MAGNITUDE
 
 __all__ = [
@@ -252,7 +252,7 @@ def _normalise_shape(points: np.ndarray) -> np.ndarray:
     return centred / np.sqrt(np.sum(centred**2))
 
 
-def check_point_set_sizes(point_sets: np.ndarray, name: str) -> None:
+def _check_point_set_sizes(point_sets: np.ndarray, name: str) -> None:
     """Refuse point sets whose points all coincide (they have no size to normalise or align).
 
     Parameters
@@ -277,30 +277,6 @@ def check_point_set_sizes(point_sets: np.ndarray, name: str) -> None:
     if np.any(coincident):
         raise ValueError(f"{name} must not contain a point set whose points all coincide "
                          f"(zero centroid size at index {int(np.argmax(coincident))})")
-
-
-def check_shapes_agree(first: str, first_axes: tuple[int, ...], second: str, second_axes: tuple[int, ...]) -> None:
-    """Refuse two arrays whose shared axes differ, naming both (either may be the one at fault).
-
-    Parameters
-    ----------
-    first, second : str
-        The arguments' names, used in the error message.
-    first_axes, second_axes : tuple of int
-        The axes of each that must be equal (e.g. ``points.shape[1:]`` and ``means.shape[1:]``).
-
-    Raises
-    ------
-    ValueError
-        Naming both arguments, when the axes differ.
-
-    References
-    ----------
-    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
-    AMDO 2004, LNCS 3179, pp. 62-75 (arrays of the same long-vectors, classes or components).
-    """
-    if tuple(first_axes) != tuple(second_axes):
-        raise ValueError(f"{first} and {second} must agree in shape, got {tuple(first_axes)} and {tuple(second_axes)}")
 
 
 def check_articulated_shapes(shapes: object, name: str = "shapes", *,
@@ -328,7 +304,7 @@ def check_articulated_shapes(shapes: object, name: str = "shapes", *,
     """
     array = as_finite_array(shapes, name, shape=(None, 13, landmarks_per_limb, 2), max_abs=MAX_MAGNITUDE)
     check_positive_int(array.shape[2], f"the landmarks per limb of {name}", minimum=2)
-    check_point_set_sizes(array.reshape(len(array), -1, 2), name)
+    _check_point_set_sizes(array.reshape(len(array), -1, 2), name)
     return array
 
 
@@ -336,7 +312,7 @@ def check_articulated_shapes(shapes: object, name: str = "shapes", *,
 MAX_FLOAT_LABEL = 2.0**53
 
 
-def check_labels(labels: object, n_shapes: int) -> np.ndarray:
+def _check_labels(labels: object, n_shapes: int) -> np.ndarray:
     """One class label per shape: class names (str) or integer class ids.
 
     Ids stored as floats are accepted when they are whole numbers within ±2**53 (exact in float64).
@@ -366,14 +342,14 @@ def check_labels(labels: object, n_shapes: int) -> np.ndarray:
     AMDO 2004, LNCS 3179, pp. 62-75 (the shape classes recognised).
     """
     labels = np.asarray(labels)
-    check_shapes_agree("labels", labels.shape, "shapes", (n_shapes,))  # one label per shape
+    check_same_shape(labels, np.arange(n_shapes), "labels", "shapes (first axis)")  # one label per shape
     if labels.dtype.kind == "f":  # ids as floats: whole numbers, exact in float64
         as_finite_array(labels, "labels", dtype=np.int64, max_abs=MAX_FLOAT_LABEL)
     return labels
 
 
 def check_training_set(shapes: object, labels: object) -> tuple[np.ndarray, np.ndarray]:
-    """Training shapes ``(T, 13, m, 2)`` (:func:`check_articulated_shapes`) and one label each (:func:`check_labels`).
+    """Training shapes ``(T, 13, m, 2)`` (:func:`check_articulated_shapes`) and one label each (:func:`_check_labels`).
 
     Parameters
     ----------
@@ -393,7 +369,7 @@ def check_training_set(shapes: object, labels: object) -> tuple[np.ndarray, np.n
     AMDO 2004, LNCS 3179, pp. 62-75, Sec. 3 (labelled training shapes).
     """
     shapes = check_articulated_shapes(shapes)
-    labels = check_labels(labels, len(shapes))
+    labels = _check_labels(labels, len(shapes))
     return shapes, labels
 
 
@@ -424,7 +400,7 @@ def generalized_procrustes(point_sets: np.ndarray, *, n_iter: int = 5) -> tuple[
     """
     sets = as_finite_array(point_sets, "point_sets", shape=(None, None, 2), max_abs=MAX_MAGNITUDE)
     check_positive_int(n_iter, "n_iter", maximum=MAX_ITERATIONS)
-    check_point_set_sizes(sets, "point_sets")
+    _check_point_set_sizes(sets, "point_sets")
     reference = _normalise_shape(sets[0])
     aligned = sets
     for _ in range(n_iter):
@@ -438,7 +414,7 @@ def generalized_procrustes(point_sets: np.ndarray, *, n_iter: int = 5) -> tuple[
 def _align_to_reference(point_sets: np.ndarray, reference: np.ndarray) -> np.ndarray:
     """Similarity-align (translation, rotation, scale) every point set ``(T, L, 2)`` onto a reference
     ``(L, 2)``: the closed form of 2-D Procrustes, all sets at once (fast path of
-    :func:`align_to_reference_loop`); callers pass sets checked by :func:`check_point_set_sizes`.
+    :func:`_align_to_reference_loop`); callers pass sets checked by :func:`_check_point_set_sizes`.
 
     Written as complex numbers ``z = x + iy`` with centred source ``z`` and target ``y``, the best
     ``s R`` is the complex factor ``a = sum conj(z_i) y_i / sum |z_i|^2`` (a least-squares fit of
@@ -453,7 +429,7 @@ def _align_to_reference(point_sets: np.ndarray, reference: np.ndarray) -> np.nda
     return np.stack([aligned.real, aligned.imag], axis=-1)
 
 
-def align_to_reference_loop(point_sets: np.ndarray, reference: np.ndarray) -> np.ndarray:
+def _align_to_reference_loop(point_sets: np.ndarray, reference: np.ndarray) -> np.ndarray:
     """Reference path of ``_align_to_reference``: one SVD Procrustes fit per set (Umeyama).
 
     Plain loop for reading and for the tests (not exported; nothing is validated here).

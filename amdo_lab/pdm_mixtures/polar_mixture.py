@@ -298,7 +298,7 @@ def held_out_log_likelihood(
     n_components : int
         Mixture components M, at most ``MAX_COMPONENTS``.
     shape_ridge : float
-        Positive EM ridge, as ``ArticulatedShapeRecogniser(shape_ridge=...)``.
+        Positive EM ridge, as ``RecogniserSettings(shape_ridge=...)``.
     n_folds : int
         Number of folds, from 2 to T; every training split needs ``3 * n_components`` rows.
     rng : int or numpy.random.Generator

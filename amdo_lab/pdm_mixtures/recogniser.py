@@ -17,6 +17,7 @@ from amdo_lab.common import (
     check_bool,
     check_choice,
     check_fitted,
+    check_instance,
     check_in_range,
     check_positive,
     check_positive_int,
@@ -44,7 +45,8 @@ from amdo_lab.pdm_mixtures.recognition import (EQ11_READINGS, RecognitionTrace, 
                                                run_recognition)
 from amdo_lab.pdm_mixtures.representation import _centred_limbs, polar_shape_vector, wrap_angle
 
-__all__ = ["ArticulatedShapeRecogniser", "AlignmentTrace", "MAX_LABELS", "MAX_RESTARTS"]
+__all__ = ["RecogniserSettings", "PAPER_SETTINGS", "OUR_SETTINGS", "ArticulatedShapeRecogniser", "AlignmentTrace",
+           "MAX_LABELS", "MAX_RESTARTS"]
 
 N_LIMBS = 13
 #: Largest number of limb labels: each is an EM component fitted to the training limbs, so far more than
@@ -76,46 +78,96 @@ class AlignmentTrace:
     centre_rms: np.ndarray
 
 
-class ArticulatedShapeRecogniser:
-    """Two-layer recogniser: limb PDM mixtures + label dictionary + per-class mixtures of polar PDMs.
+@dataclass(frozen=True)
+class RecogniserSettings:
+    """Settings of :class:`ArticulatedShapeRecogniser`: the two layers' model sizes and the readings of the paper.
 
-    Follows scikit-learn's estimator contract: the settings are stored as given and checked by
-    :meth:`fit`, which returns the recogniser; learned attributes end with an underscore; using it
-    unfitted raises ``sklearn.exceptions.NotFittedError``.
+    The defaults are ours; :data:`PAPER_SETTINGS` and :data:`OUR_SETTINGS` are the two named settings
+    the chapter compares. ``RecogniserSettings(n_shape_components=1)`` is ours with one field changed
+    (as ``dataclasses.replace(OUR_SETTINGS, n_shape_components=1)``). Each field is checked when the
+    settings are built.
 
     Parameters
     ----------
-    rng : int or numpy.random.Generator
-        Seed or generator of the k-means++ starts of the shape-level EM (keyword-only, no default;
-        an int seed gives the same starts at every ``fit``).
-    n_limb_labels : int
-        Mixture components (limb labels) learnt by EM for each of the 13 limbs (positive).
-    n_shape_components : int
-        Polar-PDM mixture components learnt by EM for each class (1 gives one polar PDM per class).
-        Each component has its own permissible label string in the class's dictionary.
-    shape_ridge : float
+    n_limb_labels : int, default 4
+        Mixture components (limb labels) learnt by EM for each of the 13 limbs, from 1 to :data:`MAX_LABELS`.
+    n_shape_components : int, default 2
+        Polar-PDM mixture components learnt by EM for each class (1 gives one polar PDM per class), from 1
+        to :data:`~amdo_lab.pdm_mixtures.polar_mixture.MAX_COMPONENTS`. Each component has its own
+        permissible label string in the class's dictionary.
+    shape_ridge : float, default 1e-3
         Ridge added to every shape-level EM covariance (eq. 8), as a multiple of the mean variance
-        of the block-scaled S (positive; the paper leaves it open, default 1e-3). It also sets the
-        smallest eigenvalues a component PDM can have, hence its residual variance.
-    n_restarts : int
-        Seeded k-means++ starts of each class's shape-level EM; the run with the highest final
-        training log-likelihood (eq. 3) is kept (default 1, a single start).
-    label_error_probability : float
+        of the block-scaled S (positive; the paper leaves it open). It also sets the smallest
+        eigenvalues a component PDM can have, hence its residual variance.
+    n_restarts : int, default 1
+        Seeded k-means++ starts of each class's shape-level EM, from 1 to :data:`MAX_RESTARTS`; the run
+        with the highest final training log-likelihood (eq. 3) is kept.
+    label_error_probability : float, default 0.2
         p of eq. 18, in (0, 0.5).
-    variance_fraction : float
+    variance_fraction : float, default 0.95
         Fraction of the variance kept by each PDM's eigenmodes, in (0, 1].
-    polar_model : {"block", "joint"}
+    polar_model : {"block", "joint"}, default "block"
         ``"block"``: separate PDMs for the angle rows and the centre rows of S (Sec. 4: the first K
         rows of Gamma are the angles, constrained by the eigenvalues of the angle covariance);
-        ``"joint"``: one PDM over all of S, whose eigenmodes radians then dominate (an ablation).
-    limb_likelihood : {"gaussian", "residual"}
+        ``"joint"``: one PDM over all of S, whose eigenmodes radians then dominate.
+    limb_likelihood : {"gaussian", "residual"}, default "gaussian"
         How a limb's label posterior (eq. 10) is computed: ``"gaussian"``, the label component's
         Gaussian (eq. 6) restricted to its PDM (in-model Mahalanobis term on gamma plus residual);
         ``"residual"``, the isotropic fit residual alone (eq. 16), the paper's "in practice" choice.
-    eq11_reading : {"G p", "G ln p"}
-        How eq. 11 combines the gates ``G`` with the polar density ``p``: ``"G p"`` (default), a
-        product of probabilities, so the class posterior is proportional to ``G p``; ``"G ln p"``, as
-        printed, a score whose argmax decides (its posteriors are 1 for the winner, 0 elsewhere).
+    eq11_reading : {"G p", "G ln p"}, default "G p"
+        How eq. 11 combines the gates ``G`` with the polar density ``p``: ``"G p"``, a product of
+        probabilities, so the class posterior is proportional to ``G p``; ``"G ln p"``, as printed, a
+        score whose argmax decides (its posteriors are 1 for the winner, 0 elsewhere).
+
+    References
+    ----------
+    Al-Shaher & Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
+    AMDO 2004, LNCS 3179, pp. 62-75, Secs. 4-6.
+    """
+
+    n_limb_labels: int = 4
+    n_shape_components: int = 2
+    shape_ridge: float = 1e-3
+    n_restarts: int = 1
+    label_error_probability: float = 0.2
+    variance_fraction: float = 0.95
+    polar_model: str = "block"
+    limb_likelihood: str = "gaussian"
+    eq11_reading: str = "G p"
+
+    def __post_init__(self) -> None:
+        check_positive_int(self.n_limb_labels, "n_limb_labels", maximum=MAX_LABELS)
+        check_positive_int(self.n_shape_components, "n_shape_components", maximum=MAX_COMPONENTS)
+        check_positive(self.shape_ridge, "shape_ridge")
+        check_positive_int(self.n_restarts, "n_restarts", maximum=MAX_RESTARTS)
+        check_in_range(self.label_error_probability, "label_error_probability", 0, 0.5)
+        check_in_range(self.variance_fraction, "variance_fraction", 0, 1, closed="right")
+        check_choice(self.polar_model, "polar_model", ("block", "joint"))
+        check_choice(self.limb_likelihood, "limb_likelihood", ("gaussian", "residual"))
+        check_choice(self.eq11_reading, "eq11_reading", EQ11_READINGS)
+
+
+#: The recogniser as the paper prints it: one PDM over all of S (Sec. 4), the limb label posterior
+#: from the isotropic fit residual (eq. 16, its "in practice" choice), eq. 11's gates multiplying ln p.
+PAPER_SETTINGS = RecogniserSettings(polar_model="joint", limb_likelihood="residual", eq11_reading="G ln p")
+#: Ours (the chapter's box of readings): one PDM per block of S, each label's own Gaussian, gates times p.
+OUR_SETTINGS = RecogniserSettings()
+
+
+class ArticulatedShapeRecogniser:
+    """Two-layer recogniser: limb PDM mixtures + label dictionary + per-class mixtures of polar PDMs.
+
+    Follows scikit-learn's estimator contract: the settings are stored as given and :meth:`fit`
+    returns the recogniser; learned attributes end with an underscore; using it unfitted raises
+    ``sklearn.exceptions.NotFittedError``.
+
+    Parameters
+    ----------
+    settings : RecogniserSettings, default OUR_SETTINGS
+        Model sizes and readings of the paper (:data:`PAPER_SETTINGS` for the paper's).
+    rng : int or numpy.random.Generator
+        Seed or generator of the k-means++ starts of the shape-level EM (keyword-only, no default;
+        an int seed gives the same starts at every ``fit``).
 
     References
     ----------
@@ -134,44 +186,10 @@ class ArticulatedShapeRecogniser:
     0.97
     """
 
-    def __init__(
-        self,
-        *,
-        rng: int | np.random.Generator,
-        n_limb_labels: int = 4,
-        n_shape_components: int = 2,
-        shape_ridge: float = 1e-3,
-        n_restarts: int = 1,
-        label_error_probability: float = 0.2,
-        variance_fraction: float = 0.95,
-        polar_model: str = "block",
-        limb_likelihood: str = "gaussian",
-        eq11_reading: str = "G p",
-    ) -> None:
-        # Stored as given (scikit-learn's contract); fit validates them.
-        self.n_limb_labels = n_limb_labels
-        self.n_shape_components = n_shape_components
+    def __init__(self, settings: RecogniserSettings = OUR_SETTINGS, *, rng: int | np.random.Generator) -> None:
+        # Stored as given (scikit-learn's contract); fit checks them.
+        self.settings = settings
         self.rng = rng
-        self.shape_ridge = shape_ridge
-        self.n_restarts = n_restarts
-        self.label_error_probability = label_error_probability
-        self.variance_fraction = variance_fraction
-        self.polar_model = polar_model
-        self.limb_likelihood = limb_likelihood
-        self.eq11_reading = eq11_reading
-
-    def _check_params(self) -> None:
-        """Validate the settings given to ``__init__`` (called by :meth:`fit`), one line each."""
-        make_rng(self.rng, "rng")
-        check_positive_int(self.n_limb_labels, "n_limb_labels", maximum=MAX_LABELS)
-        check_positive_int(self.n_shape_components, "n_shape_components", maximum=MAX_COMPONENTS)
-        check_positive(self.shape_ridge, "shape_ridge")
-        check_positive_int(self.n_restarts, "n_restarts", maximum=MAX_RESTARTS)
-        check_in_range(self.label_error_probability, "label_error_probability", 0, 0.5)
-        check_in_range(self.variance_fraction, "variance_fraction", 0, 1, closed="right")
-        check_choice(self.polar_model, "polar_model", ("block", "joint"))
-        check_choice(self.limb_likelihood, "limb_likelihood", ("gaussian", "residual"))
-        check_choice(self.eq11_reading, "eq11_reading", EQ11_READINGS)
 
     def _check_shapes(self, shapes: object, name: str = "shapes") -> np.ndarray:
         """Articulated shapes; once fitted, with as many landmarks per limb as in training."""
@@ -186,7 +204,7 @@ class ArticulatedShapeRecogniser:
         shapes : (T, 13, m, 2) array_like
             Training shapes, ``m >= 2`` landmarks per limb; no shape may have all its landmarks coincide.
         labels : (T,) array_like
-            Class name of every training shape; every class needs ``3 * n_shape_components`` shapes.
+            Class name of every training shape; every class needs ``3 * settings.n_shape_components`` shapes.
 
         Returns
         -------
@@ -197,13 +215,14 @@ class ArticulatedShapeRecogniser:
             return self._fit(shapes, labels)
 
     def _fit(self, shapes: np.ndarray, labels: np.ndarray) -> "ArticulatedShapeRecogniser":
-        self._check_params()
+        check_instance(self.settings, "settings", RecogniserSettings)
+        make_rng(self.rng, "rng")
         for learned in [name for name in vars(self) if name.endswith("_")]:
             delattr(self, learned)  # a refit starts afresh (the landmark count may change)
         shapes, labels = check_training_set(shapes, labels)  # no landmark count to match: learned ones deleted
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
         counts = {c: int(np.sum(labels == c)) for c in self.classes_}
-        if min(counts.values()) < MIN_PER_CLASS * self.n_shape_components:  # a covariance per component
+        if min(counts.values()) < MIN_PER_CLASS * self.settings.n_shape_components:  # a covariance per component
             raise ValueError(f"labels: every class needs {MIN_PER_CLASS} shapes per shape component, got {counts}")
         self.landmarks_per_limb_ = shapes.shape[2]
         flat = shapes.reshape(shapes.shape[0], -1, 2)
@@ -215,7 +234,7 @@ class ArticulatedShapeRecogniser:
         # Dictionary (Sec. 5): one permissible label string per class and mixture component, the most
         # frequent MAP label of each limb over the class's training shapes, each shape counted with
         # its EM responsibility for the component.
-        one_hot = self.training_label_strings_[..., None] == np.arange(self.n_limb_labels)  # (n, K, labels)
+        one_hot = self.training_label_strings_[..., None] == np.arange(self.settings.n_limb_labels)  # (n, K, labels)
         self.dictionary_ = np.stack([
             np.argmax(np.einsum("tm,tkl->mkl", resp, one_hot[labels == c]), axis=2)
             for c, resp in zip(self.classes_, responsibilities)
@@ -229,16 +248,17 @@ class ArticulatedShapeRecogniser:
         covariance); each component becomes a limb-label PDM."""
         limbs = np.swapaxes(_centred_limbs(aligned), 0, 1)  # (K, n, 2m)
         d = limbs.shape[2]
-        starts = np.stack([data[_farthest_point_init(data, self.n_limb_labels)] for data in limbs])
+        starts = np.stack([data[_farthest_point_init(data, self.settings.n_limb_labels)] for data in limbs])
         spreads = np.stack([np.cov(data.T, bias=True) + 1e-6 * np.eye(d) for data in limbs])
         ridges = 1e-3 * np.trace(spreads, axis1=1, axis2=2) / d
         weights, means, covariances, _ = fit_gaussian_mixtures_batch(
-            limbs, starts, np.repeat(spreads[:, None], self.n_limb_labels, axis=1), N_EM_ITER, ridges)
+            limbs, starts, np.repeat(spreads[:, None], self.settings.n_limb_labels, axis=1), N_EM_ITER, ridges)
         self.limb_models_: list[list[PointDistributionModel]] = []
         self.limb_weights_ = weights
         self.limb_noise_ = np.empty(N_LIMBS)
         for k in range(N_LIMBS):
-            models = [_pdm_from_moments(m, c, self.variance_fraction, None) for m, c in zip(means[k], covariances[k])]
+            models = [_pdm_from_moments(m, c, self.settings.variance_fraction, None)
+                      for m, c in zip(means[k], covariances[k])]
             self.limb_models_.append(models)
             # Isotropic residual variance of eq. 16, from each example's best-fitting label.
             errors = np.stack([_fit_error(mdl, limbs[k]) for mdl in models], axis=1)
@@ -250,10 +270,10 @@ class ArticulatedShapeRecogniser:
         The class-conditional density of a label is its PDM's Gaussian (``limb_likelihood=
         "gaussian"``) or the isotropic residual of the clamped fit (``"residual"``, eq. 16)."""
         limbs = _centred_limbs(aligned)
-        log_lik = np.empty((aligned.shape[0], N_LIMBS, self.n_limb_labels))
+        log_lik = np.empty((aligned.shape[0], N_LIMBS, self.settings.n_limb_labels))
         for k in range(N_LIMBS):
             data = limbs[:, k]
-            if self.limb_likelihood == "gaussian":
+            if self.settings.limb_likelihood == "gaussian":
                 log_lik[:, k] = np.stack([_ppca_log_density(model, data) for model in self.limb_models_[k]], axis=1)
             else:
                 errors = np.stack([_fit_error(mdl, data) for mdl in self.limb_models_[k]], axis=1)
@@ -267,7 +287,8 @@ class ArticulatedShapeRecogniser:
         class's circular mean angles; EM starts from a seeded k-means++ partition. Returns each
         class's training responsibilities ``(T_c, M)``."""
         vectors = polar_shape_vector(aligned)
-        blocks = polar_blocks(self.polar_model)
+        settings = self.settings
+        blocks = polar_blocks(settings.polar_model)
         rng = make_rng(self.rng, "rng")
         self.angle_means_ = []
         self.shape_models_: list[list[PolarPDM]] = []
@@ -278,9 +299,9 @@ class ArticulatedShapeRecogniser:
             angle_mean = circular_mean(class_vectors[:, :N_LIMBS])
             self.angle_means_.append(angle_mean)
             deviation = angles_about_mean(class_vectors, angle_mean)
-            models, weights, resp = fit_polar_mixture(deviation, self.n_shape_components, blocks, rng,
-                                                       N_EM_ITER, self.variance_fraction,
-                                                       ridge=self.shape_ridge, n_restarts=self.n_restarts)
+            models, weights, resp = fit_polar_mixture(deviation, settings.n_shape_components, blocks, rng,
+                                                       N_EM_ITER, settings.variance_fraction,
+                                                       ridge=settings.shape_ridge, n_restarts=settings.n_restarts)
             self.shape_models_.append(models)
             self.shape_weights_.append(weights)
             responsibilities.append(resp)
@@ -360,7 +381,8 @@ class ArticulatedShapeRecogniser:
         shape_log_lik, fits = self._shape_terms(aligned)  # (n, C, M), (C, M, n, 3K), eq. 12
         log_weights = np.log(np.stack(self.shape_weights_))  # (C, M)
         return run_recognition(limb_log_post, shape_log_lik, fits, self._gates(limb_log_post), log_weights,
-                               self.class_log_prior_, self.dictionary_, self.label_error_probability, self.eq11_reading)
+                               self.class_log_prior_, self.dictionary_, self.settings.label_error_probability,
+                               self.settings.eq11_reading)
 
     def limb_label_posteriors(self, shapes: np.ndarray, *, log: bool = False) -> np.ndarray:
         """Label posteriors ``P(lambda | z_k)`` of every limb of every shape (eqs. 9-10).
@@ -400,7 +422,7 @@ class ArticulatedShapeRecogniser:
         limb_log_post = self._limb_log_posteriors(aligned)
         shape_log_lik, _ = self._shape_terms(aligned)
         return ScoreComponents(self._gates(limb_log_post), dictionary_log_probs(
-            np.argmax(limb_log_post, axis=2), self.dictionary_, self.label_error_probability),
+            np.argmax(limb_log_post, axis=2), self.dictionary_, self.settings.label_error_probability),
                                shape_log_lik, np.log(np.stack(self.shape_weights_)), self.class_log_prior_)
 
     def iterative_alignment(self, shape: np.ndarray, class_name: str, n_iter: int = 4) -> AlignmentTrace:
@@ -504,7 +526,7 @@ class ArticulatedShapeRecogniser:
         """
         check_fitted(self, "classes_")
         polar_vector = as_finite_array(polar_vector, "polar_vector", shape=(3 * N_LIMBS,))
-        labels = (0, self.n_limb_labels - 1)
+        labels = (0, self.settings.n_limb_labels - 1)
         label_string = as_finite_array(label_string, "label_string", shape=(N_LIMBS,), dtype=int, bounds=labels)
         if observed_limbs is not None:  # None: each label's mean stroke
             observed_limbs = as_finite_array(observed_limbs, "observed_limbs",

@@ -48,7 +48,8 @@ def cases() -> dict[str, Case]:
     model = p.fit_pdm(long_vectors, variance_fraction=0.9)
     point_sets = rng.normal(size=(3, 5, 2))
     gmm_points = np.concatenate([rng.normal(size=(6, 2)), rng.normal(size=(6, 2)) + 4.0])
-    recogniser = p.ArticulatedShapeRecogniser(rng=0, n_shape_components=1)
+    one_component = p.RecogniserSettings(n_shape_components=1)
+    recogniser = p.ArticulatedShapeRecogniser(one_component, rng=0)
     recogniser.fit(shapes, labels)
     polar_pdm = recogniser.shape_models_[0][0]
     cartesian = p.SingleCartesianPDMClassifier().fit(shapes, int_labels)
@@ -79,25 +80,25 @@ def cases() -> dict[str, Case]:
         "SklearnGMMClassifier.predict": sk_gmm.predict,
     }
 
-    def recogniser_fit(shapes, labels, **params):
-        return p.ArticulatedShapeRecogniser(**params).fit(shapes, labels)
+    settings_valid = {"n_limb_labels": 4, "n_shape_components": 1, "shape_ridge": 1e-3, "n_restarts": 1,
+                      "label_error_probability": 0.2, "variance_fraction": 0.95, "polar_model": "block",
+                      "limb_likelihood": "gaussian", "eq11_reading": "G p"}
+    settings_kinds = {"n_limb_labels": "count", "n_shape_components": "count", "shape_ridge": "positive",
+                      "n_restarts": "count", "label_error_probability": "probability",
+                      "variance_fraction": "probability", "polar_model": "name", "limb_likelihood": "name",
+                      "eq11_reading": "name"}
 
-    recogniser_params = {"rng": 0, "n_limb_labels": 4, "n_shape_components": 1, "shape_ridge": 1e-3,
-                         "n_restarts": 1, "label_error_probability": 0.2, "variance_fraction": 0.95,
-                         "polar_model": "block", "limb_likelihood": "gaussian",
-                         "eq11_reading": "G p"}
-    recogniser_kinds = {"rng": "seed", "n_limb_labels": "count", "n_shape_components": "count",
-                        "shape_ridge": "positive", "n_restarts": "count", "label_error_probability": "probability",
-                        "variance_fraction": "probability", "polar_model": "name", "limb_likelihood": "name", "eq11_reading": "name"}
+    def recogniser_fit(shapes, labels, settings, rng):
+        return p.ArticulatedShapeRecogniser(settings, rng=rng).fit(shapes, labels)
 
     table = {
         # ------------------------------------------------------------ estimators: constructor + fit
+        "RecogniserSettings": Case(p.RecogniserSettings, settings_valid, settings_kinds),
         "ArticulatedShapeRecogniser": Case(
-            recogniser_fit, {"shapes": shapes, "labels": labels, **recogniser_params},
-            {"shapes": "points", "labels": "object", **recogniser_kinds}),
+            recogniser_fit, {"shapes": shapes, "labels": labels, "settings": one_component, "rng": 0},
+            {"shapes": "points", "labels": "object", "settings": "object", "rng": "seed"}),
         "ArticulatedShapeRecogniser.fit": Case(
-            lambda shapes, labels: p.ArticulatedShapeRecogniser(rng=0,
-                                                                n_shape_components=1).fit(shapes, labels),
+            lambda shapes, labels: p.ArticulatedShapeRecogniser(one_component, rng=0).fit(shapes, labels),
             {"shapes": shapes, "labels": int_labels}, {"shapes": "points", "labels": "array"}),
         "ArticulatedShapeRecogniser.limb_label_posteriors": Case(
             recogniser.limb_label_posteriors, {"shapes": first, "log": False}, {"shapes": "points", "log": "flag"}),
