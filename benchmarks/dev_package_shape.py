@@ -5,8 +5,12 @@ their share, modules over 800 lines, public functions with more than 12 paramete
 subpackage declares ``__all__``. A line counts as validation when it belongs to
 
 - an ``if`` statement whose body only raises (``if np.any(x < 0): raise ValueError(...)``), or
-- a statement whose value is a call of a checking helper of ``amdo_lab.common`` (``check_*``,
-  ``as_finite_array``, ``as_bool_mask``, ``as_image_pair``) or of a local ``_check*``/``_validate*``.
+- a simple statement (assignment, expression, ``return``) that calls, anywhere in it, a checking
+  helper of ``amdo_lab.common`` (every ``check_*`` and ``as_*`` function that ``common/validation.py``
+  defines) or a local ``_check*``/``_validate*``: a check written inside a maths line
+  (``return _warp(image, _check_displacement(d))``) counts, so the share cannot be lowered by hiding
+  checks in other expressions. ``make_rng`` (which turns a seed into the generator the maths draws
+  from) is not counted.
 
 ``common/validation.py`` (the helpers themselves) is left out. Run: ``python benchmarks/dev_package_shape.py [--json]``. The goal (CONTRIBUTING.md): at most 15 %
 validation in every subpackage, no module over 800 lines, no public function over 12 parameters.
@@ -20,7 +24,12 @@ import json
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1] / "amdo_lab"
-CHECKERS = ("check_", "as_finite_array", "as_bool_mask", "as_image_pair", "_check", "_validate")
+VALIDATION = ROOT / "common" / "validation.py"
+#: common's checking helpers (read from validation.py, so a new helper counts) and local checkers.
+CHECKERS = tuple(sorted(
+    node.name for node in ast.parse(VALIDATION.read_text(encoding="utf-8")).body
+    if isinstance(node, ast.FunctionDef) and node.name.startswith(("check_", "as_"))
+)) + ("check_", "_check", "_validate")
 MAX_MODULE_LINES = 800
 MAX_PARAMETERS = 12
 
@@ -40,9 +49,10 @@ def _is_check(statement: ast.stmt) -> bool:
         return bool(statement.body) and all(isinstance(s, ast.Raise) for s in statement.body) and not statement.orelse
     if isinstance(statement, ast.Raise):
         return True
-    value = getattr(statement, "value", None)
-    name = _called_name(value) if value is not None else None
-    return name is not None and name.startswith(CHECKERS)
+    if not isinstance(statement, (ast.Assign, ast.AnnAssign, ast.AugAssign, ast.Expr, ast.Return)):
+        return False
+    names = (_called_name(node) for node in ast.walk(statement))
+    return any(name is not None and name.startswith(CHECKERS) for name in names)
 
 
 def _body_lines(function: ast.FunctionDef) -> tuple[set[int], set[int]]:
