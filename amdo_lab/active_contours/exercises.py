@@ -36,6 +36,17 @@ def greedy_probe_error(probe: list, *, gamma: float = 1.2, window: int = 3) -> f
     return float(100 * np.mean(errors))
 
 
+def _greedy_experiment(number: int, change: str, unchanged: str, **setting: float) -> Exercise:
+    """Exercise ``number``: the greedy snake's mean |area error| (%) on the probe starts with ``setting`` changed."""
+    return Exercise(
+        number, lambda probe: greedy_probe_error(probe, **setting),
+        f"run the greedy snake on the same probe starts with {change} and average |found/true - 1| in percent",
+        (WrongAnswer(lambda ns: greedy_probe_error(ns["probe"]), f"the unchanged experiment ({unchanged})",
+                     unchanged_experiment=True),
+         WrongAnswer(lambda ns: greedy_probe_error(ns["probe"], **setting) / 100, "a fraction, not a percentage")),
+        context=("probe",), atol=0.15, rtol=0.0, experiment=True)
+
+
 EXERCISES = ExerciseSet(chapter=8, exercises=[
     Exercise(
         1, lambda toy_start: len(toy_start) * 25,
@@ -43,20 +54,8 @@ EXERCISES = ExerciseSet(chapter=8, exercises=[
         (WrongAnswer(lambda ns: len(ns["toy_start"]) * 9, "the 3 x 3 window's count"),
          WrongAnswer(lambda ns: len(ns["toy_start"]) * 25 ** 3, "dynamic programming's n m^3")),
         context=("toy_start",), rtol=0.0, atol=0.5),
-    Exercise(
-        2, lambda probe: greedy_probe_error(probe, gamma=2.4),
-        "run the greedy snake on the same probe starts with gamma=2.4 and average |found/true - 1| in percent",
-        (WrongAnswer(lambda ns: greedy_probe_error(ns["probe"]), "the unchanged experiment (gamma 1.2)",
-                     unchanged_experiment=True),
-         WrongAnswer(lambda ns: greedy_probe_error(ns["probe"], gamma=2.4) / 100, "a fraction, not a percentage")),
-        context=("probe",), atol=0.15, rtol=0.0, experiment=True),
-    Exercise(
-        3, lambda probe: greedy_probe_error(probe, window=5),
-        "run the greedy snake with window=5 on the same starts and average |found/true - 1| in percent",
-        (WrongAnswer(lambda ns: greedy_probe_error(ns["probe"]), "the unchanged experiment (window 3)",
-                     unchanged_experiment=True),
-         WrongAnswer(lambda ns: greedy_probe_error(ns["probe"], window=5) / 100, "a fraction, not a percentage")),
-        context=("probe",), atol=0.15, rtol=0.0, experiment=True),
+    _greedy_experiment(2, "gamma=2.4", "gamma 1.2", gamma=2.4),
+    _greedy_experiment(3, "window=5", "window 3", window=5),
     Exercise(
         4, lambda probe_table: str(probe_table.abs().mean().idxmin()),
         "compare the mean absolute errors of the three columns of the probe table",

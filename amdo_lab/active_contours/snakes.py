@@ -154,6 +154,25 @@ def _spacing(d_min_px: object, d_max_px: object) -> tuple[float, float]:
     return d_min, d_max
 
 
+def _search_input(potential: object, init: object, alpha: object, beta: object, gamma: object, window: object,
+                  d_min_px: object, d_max_px: object, max_iter: object) -> tuple:
+    """The checked arguments of a discrete search (greedy or dynamic programming), in the kernels' order."""
+    potential, init = _snake_input(potential, init, "potential")
+    weights = _weights(alpha, beta, gamma)
+    window = check_odd_int(window, "window", maximum=MAX_WINDOW)
+    d_min, d_max = _spacing(d_min_px, d_max_px)
+    max_iter = check_positive_int(max_iter, "max_iter", maximum=MAX_ITERATIONS)
+    return potential, init, weights, window, d_min, d_max, max_iter
+
+
+def _repeats(points: np.ndarray, history: list) -> bool:
+    """True if ``points`` is one of the last two states kept in ``history`` (an oscillation); else keep it."""
+    if any(np.array_equal(points, old) for old in history):
+        return True
+    history[:] = [points.copy()] + history[:1]
+    return False
+
+
 def respace(points: np.ndarray, d_min_px: float = 2.0, d_max_px: float = 6.0) -> np.ndarray:
     """Sec. 3.1's variable ``n``: split gaps over ``d_max_px``, drop a point after a gap under ``d_min_px``.
 
@@ -291,9 +310,8 @@ def _greedy(potential: np.ndarray, init: np.ndarray, weights: SnakeWeights, wind
                     moved += best != 0
         evaluations += points.shape[0] * offsets.shape[0]
         points = np.rint(_respace(points, d_min, d_max))
-        if moved == 0 or any(np.array_equal(points, old) for old in history):
+        if moved == 0 or _repeats(points, history):
             break                                             # converged, or cycling between two states
-        history = [points.copy()] + history[:1]
     return SnakeResult(points, iteration, evaluations, time.perf_counter() - start)
 
 
@@ -357,13 +375,9 @@ def greedy_snake(
     >>> bool(np.abs(np.hypot(*(snake.points - 31).T) - 16).max() < 3)
     True
     """
-    potential, init = _snake_input(potential, init, "potential")
-    weights = _weights(alpha, beta, gamma)
-    window = check_odd_int(window, "window", maximum=MAX_WINDOW)
-    d_min, d_max = _spacing(d_min_px, d_max_px)
-    max_iter = check_positive_int(max_iter, "max_iter", maximum=MAX_ITERATIONS)
+    search = _search_input(potential, init, alpha, beta, gamma, window, d_min_px, d_max_px, max_iter)
     normalise = str(check_choice(normalise, "normalise", NORMALISATIONS))
-    return _greedy(potential, init, weights, window, d_min, d_max, max_iter, vectorised=True, normalise=normalise)
+    return _greedy(*search, vectorised=True, normalise=normalise)
 
 
 def greedy_snake_loop(
@@ -394,12 +408,8 @@ def greedy_snake_loop(
     ----------
     Caro et al., AMDO 2004, eqs. (4)-(7); Williams & Shah, CVGIP: IU 55, 1992.
     """
-    potential, init = _snake_input(potential, init, "potential")
-    weights = _weights(alpha, beta, gamma)
-    window = check_odd_int(window, "window", maximum=MAX_WINDOW)
-    d_min, d_max = _spacing(d_min_px, d_max_px)
-    max_iter = check_positive_int(max_iter, "max_iter", maximum=MAX_ITERATIONS)
-    return _greedy(potential, init, weights, window, d_min, d_max, max_iter, vectorised=False)
+    search = _search_input(potential, init, alpha, beta, gamma, window, d_min_px, d_max_px, max_iter)
+    return _greedy(*search, vectorised=False)
 
 
 def _dp_iteration(points: np.ndarray, edge: np.ndarray, weights: SnakeWeights, offsets: np.ndarray,
@@ -468,9 +478,8 @@ def _dp(potential: np.ndarray, init: np.ndarray, weights: SnakeWeights, window: 
         evaluations += count
         still = still + 1 if np.array_equal(moved, points) else 0
         points = np.rint(_respace(moved, d_min, d_max))
-        if still >= 2 or any(np.array_equal(points, old) for old in history):
+        if still >= 2 or _repeats(points, history):
             break                                             # two still iterations, or an oscillation
-        history = [points.copy()] + history[:1]
     return SnakeResult(points, iteration, evaluations, time.perf_counter() - start)
 
 
@@ -518,12 +527,7 @@ def dp_snake(
     Caro et al., AMDO 2004, eqs. (4)-(7), Sec. 3.1; A.A. Amini, T.E. Weymouth, R.C. Jain, Using dynamic
     programming for solving variational problems in vision, IEEE PAMI 12, 1990.
     """
-    potential, init = _snake_input(potential, init, "potential")
-    weights = _weights(alpha, beta, gamma)
-    window = check_odd_int(window, "window", maximum=MAX_WINDOW)
-    d_min, d_max = _spacing(d_min_px, d_max_px)
-    max_iter = check_positive_int(max_iter, "max_iter", maximum=MAX_ITERATIONS)
-    return _dp(potential, init, weights, window, d_min, d_max, max_iter)
+    return _dp(*_search_input(potential, init, alpha, beta, gamma, window, d_min_px, d_max_px, max_iter))
 
 
 def _internal_matrix(n: int, alpha: float, beta: float) -> np.ndarray:
