@@ -22,6 +22,7 @@ from amdo_lab.path_relinking_pf import (
     make_upper_body_sequence,
     measure,
     track_apf,
+    track_ess,
     track_pfilter,
     track_prpf,
     track_sir,
@@ -202,6 +203,29 @@ def test_prpf_stage_adapts_its_evaluations_and_keeps_the_refset_best(sequence):
     assert np.all(attribute.evaluations >= 50 + 3 * 36)  # three pairs, 8 + 7 + ... + 1 trials each
 
 
+def test_ess_counts_every_cost_call_and_is_deterministic_for_a_seed(monkeypatch):
+    short = make_upper_body_sequence(rng=7, n_frames=3)
+    weighed = []
+    real_cost = ObservationModel._cost
+
+    def counting_cost(self, poses):
+        weighed.append(len(poses))
+        return real_cost(self, poses)
+
+    monkeypatch.setattr(ObservationModel, "_cost", counting_cost)
+    global_state = np.random.get_state()
+    first = track_ess(short, rng=0, evaluations_per_frame=150)
+    assert first.evaluations.sum() == sum(weighed)  # every call of the cost is counted
+    assert np.all(first.evaluations >= 150) and np.all(first.evaluations < 165)  # the cap, checked per batch
+    assert np.all(first.rounds >= 1)  # ESS iterations after the 100 random starting points
+    assert np.array_equal(np.random.get_state()[1], global_state[1])  # NumPy's global generator restored
+    again, other = (track_ess(short, rng=seed, evaluations_per_frame=150) for seed in (0, 1))
+    assert np.array_equal(first.poses, again.poses) and not np.array_equal(first.poses, other.poses)
+    box = np.r_[8.0, 8.0, np.full(8, np.radians(25.0))]
+    assert np.all(np.abs(first.poses[0] - short.truth[0]) <= box)  # frame 1 searched around the start
+    assert joint_errors_px(short.model, first.poses, short.truth).mean() < 6.0
+
+
 @pytest.mark.parametrize("seed", TEST_SEEDS)
 def test_prpf_beats_sir_at_fewer_evaluations(seed):
     seq = make_upper_body_sequence(rng=seed, n_frames=20)
@@ -237,6 +261,8 @@ REJECTIONS = [
     reject("unknown velocity", lambda: FilterSettings(velocity="constant"), ValueError, "velocity"),
     reject("zero path step", lambda: line_path(np.zeros(2), np.ones(2), np.array([1.0, 0.0])), ValueError, "steps"),
     reject("one frame", lambda: make_upper_body_sequence(rng=0, n_frames=1), ValueError, "n_frames"),
+    reject("ESS budget below its 10 P starting points",
+           lambda sequence: track_ess(sequence, rng=0, evaluations_per_frame=99), ValueError, "evaluations_per_frame"),
 ]
 
 

@@ -21,6 +21,7 @@ from amdo_lab.path_relinking_pf.filters import (
     track_sir,
 )
 from amdo_lab.path_relinking_pf.observation import PAPER_ALPHA, Measurement, ObservationModel, measure
+from amdo_lab.path_relinking_pf.scatter_search import ESS_BOX_DEG, ESS_BOX_PX, track_ess
 from amdo_lab.path_relinking_pf.sequences import (
     MAX_FRAMES,
     MAX_RATE_DEG,
@@ -31,6 +32,8 @@ from amdo_lab.path_relinking_pf.sequences import (
 
 __all__ = [
     "ELLIPSE_VERTICES",
+    "ESS_BOX_DEG",
+    "ESS_BOX_PX",
     "MAX_FRAMES",
     "MAX_POSE",
     "MAX_RATE_DEG",
@@ -55,6 +58,7 @@ __all__ = [
     "make_upper_body_sequence",
     "measure",
     "track_apf",
+    "track_ess",
     "track_pfilter",
     "track_prpf",
     "track_sir",

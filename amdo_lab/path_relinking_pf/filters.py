@@ -8,6 +8,8 @@ evaluations of the weighting function, which each :class:`TrackResult` counts fr
 from __future__ import annotations
 
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
@@ -111,7 +113,8 @@ class TrackResult:
     seconds : float
         Wall-clock time of the run.
     rounds : numpy.ndarray
-        ``(T,)`` relinking rounds run in each frame (0 for the other filters).
+        ``(T,)`` relinking rounds run in each frame (PRPF), scatter-search iterations (ESS), 0 for the
+        other filters.
 
     References
     ----------
@@ -200,6 +203,17 @@ class _Run:
     def result(self, poses, evaluations, rounds=None) -> TrackResult:
         rounds = np.zeros(len(poses), int) if rounds is None else np.asarray(rounds)
         return TrackResult(np.asarray(poses), np.asarray(evaluations), time.perf_counter() - self.began, rounds)
+
+
+@contextmanager
+def _global_numpy_seeded(generator: np.random.Generator) -> Iterator[None]:
+    """Seed NumPy's global generator by one draw of ``generator`` (for a peer that uses it); restore it after."""
+    saved = np.random.get_state()
+    np.random.seed(int(generator.integers(2**32 - 1)))
+    try:
+        yield
+    finally:
+        np.random.set_state(saved)
 
 
 def _estimated_velocity(estimates: list, n_pose: int) -> np.ndarray:
@@ -625,8 +639,8 @@ def track_pfilter(sequence: BodySequence, *, rng: int | np.random.Generator, n_p
                   settings: FilterSettings = OUR_SETTINGS) -> TrackResult:
     """SIR run by the ``pfilter`` package with our weighting function, system model and diffusion.
 
-    pfilter draws from NumPy's global generator, which is seeded from ``rng``; it applies the
-    dynamics and diffusion before it weighs, also in the first frame.
+    pfilter draws from NumPy's global generator, which is seeded from ``rng`` for the run and restored
+    after it; pfilter applies the dynamics and diffusion before it weighs, also in the first frame.
 
     Parameters
     ----------
@@ -658,8 +672,6 @@ def track_pfilter(sequence: BodySequence, *, rng: int | np.random.Generator, n_p
     from pfilter import systematic_resample as pfilter_systematic
 
     run = _Run(sequence, rng, n_particles, settings)
-    np.random.seed(int(run.generator.integers(2**32 - 1)))
-    start = run.start()
     state = {"observation": None}
 
     def prior(n):
@@ -686,11 +698,13 @@ def track_pfilter(sequence: BodySequence, *, rng: int | np.random.Generator, n_p
         return np.exp(-settings.alpha * (costs[:, 0] - costs[:, 0].min()))
 
     poses, evaluations = [], []
-    pf = ParticleFilter(prior_fn=prior, observe_fn=observe, n_particles=run.n, dynamics_fn=dynamics,
-                        noise_fn=noise, weight_fn=weigh, resample_fn=pfilter_systematic)
-    for observation in run.observations():
-        state["observation"] = observation
-        pf.update(np.zeros(1))
-        poses.append(pf.mean_state[:run.p].copy())
-        evaluations.append(observation.n_evaluations)
+    with _global_numpy_seeded(run.generator):
+        start = run.start()
+        pf = ParticleFilter(prior_fn=prior, observe_fn=observe, n_particles=run.n, dynamics_fn=dynamics,
+                            noise_fn=noise, weight_fn=weigh, resample_fn=pfilter_systematic)
+        for observation in run.observations():
+            state["observation"] = observation
+            pf.update(np.zeros(1))
+            poses.append(pf.mean_state[:run.p].copy())
+            evaluations.append(observation.n_evaluations)
     return run.result(poses, evaluations)

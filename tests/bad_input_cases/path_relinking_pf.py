@@ -103,6 +103,8 @@ def cases() -> dict[str, Case]:
                          "sigma": "positive"}),
         "track_sir": Case(pr.track_sir, tracking, tracking_kinds),
         "track_pfilter": Case(pr.track_pfilter, tracking, tracking_kinds),
+        "track_ess": Case(pr.track_ess, {"sequence": seq, "rng": 0, "evaluations_per_frame": 100},
+                          {"sequence": "object", "rng": "seed", "evaluations_per_frame": "count"}),
         "track_apf": Case(pr.track_apf, {**tracking, "layers": 2, "survival": 0.5},
                           {**tracking_kinds, "layers": "count", "survival": "probability"}),
         "track_prpf": Case(pr.track_prpf, {**tracking, "refset_size": 2, "relink": "attribute", "local_search": True,
