@@ -78,6 +78,7 @@ def check_frame(frame: np.ndarray, name: str = "frame") -> np.ndarray:
     ----------
     Li & Chaumette, AMDO 2004, Sec. 2 (every cue reads an RGB frame).
     """
+    check_instance(name, "name", str)  # a label (CONTRIBUTING.md's label rule)
     frame = np.asarray(frame)
     if frame.ndim != 3 or frame.shape[2] != 3:
         raise ValueError(f"{name} must be an (H, W, 3) RGB image, got shape {frame.shape}")

@@ -205,6 +205,7 @@ class PcaLda:
         labels = np.asarray(labels)
         if labels.shape != (samples.shape[0],):
             raise ValueError(f"labels must have shape ({samples.shape[0]},), got {labels.shape}")
+        check_choice(labels.dtype.kind, "labels (dtype kind: U for names, i/u/f for ids)", ("U", "i", "u", "f"))
         if labels.dtype.kind in "fc" and not np.isfinite(labels).all():
             raise ValueError("labels must not contain NaN or inf (every image needs a finite subject id)")
         if basis is not None and not isinstance(basis, PcaBasis):

@@ -237,9 +237,9 @@ class SklearnGMMClassifier:
         """
         from sklearn.mixture import GaussianMixture
 
-        check_positive_int(self.n_components, "n_components")
         generator = make_rng(self.rng, "rng")
         shapes, labels = check_training_set(shapes, labels)
+        check_positive_int(self.n_components, "n_components", maximum=int(min(np.unique(labels, return_counts=True)[1])))
         aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
         vectors = aligned.reshape(len(shapes), -1)
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))

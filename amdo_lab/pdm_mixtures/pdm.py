@@ -6,8 +6,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import (MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, as_points, check_bool, check_in_range,
-                             check_instance, check_positive_int, procrustes_align)
+from amdo_lab.common import (MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, as_points, check_bool, check_choice,
+                             check_in_range, check_instance, check_positive_int, procrustes_align)
 from amdo_lab.pdm_mixtures.representation import MAX_MAGNITUDE
 
 __all__ = [
@@ -422,6 +422,7 @@ def check_labels(labels: object, n_shapes: int) -> np.ndarray:
     """
     labels = np.asarray(labels)
     check_shapes_agree("labels", labels.shape, "shapes", (n_shapes,))  # one label per shape
+    check_choice(labels.dtype.kind, "labels (dtype kind: U for names, i/u/f for ids)", ("U", "i", "u", "f"))
     if labels.dtype.kind == "f":  # ids as floats: whole numbers, exact in float64
         as_finite_array(labels, "labels", dtype=np.int64, max_abs=MAX_FLOAT_LABEL)
     return labels
