@@ -80,7 +80,8 @@ DOCUMENTED = {
         "thresholds: 'inf: no threshold'",
     ("amdo_lab.ear_biometrics.EarMatcher", "distance_threshold", "inf"):
         "distance_threshold: 'or inf for no threshold' (the default)",
-    ("amdo_lab.cue_fusion_pf.track", "mean", "None"): "mean: 'None: the initial state' (track's options)",
+    ("amdo_lab.cue_fusion_pf.track", "mean", "None"): "mean: 'default the initial state' (track's options)",
+    ("amdo_lab.common.check_in_range", "high", "inf"): "high: an open range (the package calls it with np.inf)",
     ("amdo_lab.common.check_instance", "value", "NaN"): "value: any instance of expected (here float)",
     ("amdo_lab.common.check_instance", "value", "inf"): "value: any instance of expected (here float)",
 }
@@ -356,7 +357,7 @@ def run_fuzz(calls: list, recipes: dict, jobs: int, limit: float, progress: bool
     results: dict[int, dict] = {}
     running: dict[int, tuple[int, int, float, bytes]] = {}  # read end -> (index, pid, deadline, data)
     queue = list(range(len(calls)))
-    began, reported = time.monotonic(), 0
+    began, reported, shown = time.monotonic(), 0, set()
     while queue or running:
         while queue and len(running) < jobs:
             index = queue.pop(0)
@@ -386,6 +387,10 @@ def run_fuzz(calls: list, recipes: dict, jobs: int, limit: float, progress: bool
                 os.close(read_end)
                 del running[read_end]
                 results[index] = {"outcome": "hang", "detail": f"no answer within {limit:g} s"}
+        for index in sorted(set(results) - shown):  # problems as they come, so a long run is readable early
+            shown.add(index)
+            if progress and results[index]["outcome"] not in ("clear", "accepted sensibly"):
+                print(f"  {results[index]['outcome']}: {' / '.join(calls[index])}", file=sys.stderr)
         if progress and len(results) >= reported + 1000:
             reported = len(results)
             print(f"  {len(results)}/{len(calls)} calls, {time.monotonic() - began:.0f} s", file=sys.stderr)

@@ -1,6 +1,11 @@
 """Input validation at the public boundary: clear errors that name the argument.
 
 Nothing is silently dropped, clipped or coerced: a NaN in gives a ``ValueError`` out.
+
+The label rule: a helper's label arguments (``name``, ``what``, ``names``, ``first_name``, ...) only
+word its messages, so any string is valid and anything else (None, a number) is refused with a
+``TypeError`` naming the label's parameter; the arguments that state a helper's rule (``shape``,
+``dtype``, ``bounds``, ``max_abs``, ``minimum``, ...) are refused by name when they cannot state one.
 """
 
 from __future__ import annotations

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from amdo_lab.common import MAX_SAMPLES, check_dataframe, check_choice, check_names, check_positive_int
+from amdo_lab.common import MAX_SAMPLES, check_dataframe, check_choice, check_instance, check_names, check_positive_int
 from amdo_lab.face_glmm.design import build_design, group_indices, parse_formula
 from amdo_lab.face_glmm.glmm import response_counts
 
@@ -227,6 +227,7 @@ def fit_gee(table: pd.DataFrame, fixed: str, group: str = "p", n_trials: int = 3
     check_choice(correlation, "correlation", ("exchangeable", "independence"))
     structure = sm.cov_struct.Exchangeable() if correlation == "exchangeable" else sm.cov_struct.Independence()
     design, y = _design_and_response(table, fixed, n_trials)
+    check_instance(group, "group", str, what="a column name (str)")
     if group not in table.columns:
         raise ValueError(f"group {group!r} is not a column of table")
     order = np.argsort(table[group].to_numpy(), kind="stable")
