@@ -400,14 +400,18 @@ def run_fuzz(calls: list, recipes: dict, jobs: int, limit: float, progress: bool
 # --- the report ---------------------------------------------------------------------------------
 
 def untabled(cases: dict) -> list[dict[str, str]]:
-    """Every parameter of a tabled callable that its table does not spoil."""
+    """Every parameter of a tabled callable that no case of it (variants included) spoils."""
     import inspect
 
-    rows = []
+    rows, spoiled = [], {}
+    for dotted, case in cases.items():
+        spoiled.setdefault(dotted.split(" (")[0].split("(")[0], set()).update(case.kinds)
     for dotted, case in cases.items():
         target = case.function
+        if dotted.split(" (")[0].split("(")[0] != dotted:
+            continue  # a variant: its parameters count under the callable's own case
         for name, parameter in _parameters(target.__init__ if inspect.isclass(target) else target).items():
-            if name not in case.kinds:
+            if name not in spoiled[dotted]:
                 default = None if parameter.default is parameter.empty else parameter.default
                 rows.append({"callable": dotted, "parameter": name, "default": repr(default)})
     return rows
