@@ -12,7 +12,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from amdo_lab.common import MAX_SAMPLES, check_dataframe, check_choice, check_instance, check_names, check_positive_int
+from amdo_lab.common import (MAX_SAMPLES, check_dataframe, check_choice, check_instance, check_names,
+                             check_positive_int)
 from amdo_lab.face_glmm.design import build_design, group_indices, parse_formula
 from amdo_lab.face_glmm.glmm import response_counts
 

@@ -184,7 +184,7 @@ class PcaLda:
         images : array_like, shape (n, rows, cols) or (n, pixels)
             Finite training images, each value at most 1e100 in magnitude.
         labels : array_like, shape (n,)
-            Subject of each image (finite: no NaN or inf), at least 2 subjects, with n - C >= C - 1.
+            Subject of each image (numbers or strings; no NaN, inf or None), at least 2 subjects, with n - C >= C - 1.
         basis : PcaBasis, optional
             A precomputed :func:`pca_basis` of the same images (shared between PCA dimensions).
 

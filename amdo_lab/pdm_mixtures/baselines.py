@@ -203,7 +203,7 @@ class SklearnGMMClassifier:
     Parameters
     ----------
     n_components : int
-        Mixture components per class (positive).
+        Mixture components per class: positive, at most the number of shapes of the smallest class.
     rng : int or numpy.random.Generator
         Seed of each mixture's k-means start (keyword-only, no default): an int is passed to
         scikit-learn as its ``random_state``; a Generator gives each class's mixture an int seed
@@ -239,7 +239,8 @@ class SklearnGMMClassifier:
 
         generator = make_rng(self.rng, "rng")
         shapes, labels = check_training_set(shapes, labels)
-        check_positive_int(self.n_components, "n_components", maximum=int(min(np.unique(labels, return_counts=True)[1])))
+        check_positive_int(self.n_components, "n_components",  # at most the smallest class (scikit-learn's rule)
+                           maximum=int(min(np.unique(labels, return_counts=True)[1])))
         aligned, self.reference_ = generalized_procrustes(shapes.reshape(len(shapes), -1, 2))
         vectors = aligned.reshape(len(shapes), -1)
         self.classes_ = tuple(dict.fromkeys(labels.tolist()))
