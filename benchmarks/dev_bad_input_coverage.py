@@ -39,7 +39,8 @@
    Names with no valid call (result records the package builds, methods with no arguments) are
    counted and listed; they are the ``EXEMPT`` lines of the tables.
 
-Run (the full fuzz: about 12,000 calls, ~10 minutes on two idle cores)::
+Run (the full fuzz: about 8,600 calls; 2.5 minutes with ``--jobs 2`` on two cores at load 2, 6 to 12
+minutes at load 6 to 10)::
 
     nice -n 10 python benchmarks/dev_bad_input_coverage.py --fuzz --jobs 2
     python benchmarks/dev_bad_input_coverage.py --fuzz --sample 10   # every 10th call, ~1 minute
