@@ -1,6 +1,11 @@
 """Input validation at the public boundary: clear errors that name the argument.
 
 Nothing is silently dropped, clipped or coerced: a NaN in gives a ``ValueError`` out.
+
+The label rule: a helper's label arguments (``name``, ``what``, ``names``, ``first_name``, ...) only
+word its messages, so any string is valid and anything else (None, a number) is refused with a
+``TypeError`` naming the label's parameter; the arguments that state a helper's rule (``shape``,
+``dtype``, ``bounds``, ``max_abs``, ``minimum``, ...) are refused by name when they cannot state one.
 """
 
 from __future__ import annotations
@@ -101,6 +106,7 @@ def as_finite_array(
     numpy.ndarray
         A new array of ``dtype`` (the input is never modified).
     """
+    _check_rule_arguments(name=name, shape=shape, dtype=dtype, max_abs=max_abs, bounds=bounds)
     check_bool(allow_empty, "allow_empty")
     if ndim is not None:
         check_positive_int(ndim, "ndim", minimum=0, maximum=32)
@@ -187,6 +193,7 @@ def check_positive(value: object, name: str, *, allow_zero: bool = False) -> flo
     float
         ``value``.
     """
+    _check_rule_arguments(name=name)
     check_bool(allow_zero, "allow_zero")
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
@@ -219,6 +226,7 @@ def check_positive_int(value: object, name: str, *, minimum: int = 1, maximum: i
     int
         ``value``.
     """
+    _check_rule_arguments(name=name, minimum=minimum)
     for bound, label in ((minimum, "minimum"), (maximum, "maximum")):
         if bound is not None and (isinstance(bound, bool) or not isinstance(bound, numbers.Integral)):
             raise TypeError(f"{label} must be an int, got {type(bound).__name__}")
@@ -253,6 +261,7 @@ def as_points(value: object, name: str, *, dim: int, allow_empty: bool = True,
     numpy.ndarray
         A new float array of the input's shape.
     """
+    _check_rule_arguments(max_abs=max_abs)
     points = as_finite_array(value, name, allow_empty=allow_empty, max_abs=max_abs)
     if points.ndim not in (1, 2) or points.shape[-1] != dim:
         raise ValueError(f"{name} must have shape (n, {dim}) or ({dim},), got {points.shape}")
@@ -329,6 +338,7 @@ def as_weights(value: object, name: str, *, n: int) -> np.ndarray:
     numpy.ndarray
         A new float array of shape ``(n,)``.
     """
+    _check_rule_arguments(n=n)
     weights = as_finite_array(value, name, shape=(n,), bounds=(0, np.inf))
     with np.errstate(over="ignore"):
         total = weights.sum()
@@ -347,6 +357,7 @@ def check_same_shape(first: np.ndarray, second: np.ndarray, first_name: str, sec
     first_name, second_name : str
         The arguments' names, used in the error message.
     """
+    _check_rule_arguments(first_name=first_name, second_name=second_name)
     if np.shape(first) != np.shape(second):
         raise ValueError(f"{first_name} and {second_name} must have the same shape, "
                          f"got {np.shape(first)} and {np.shape(second)}")
@@ -363,6 +374,7 @@ def check_overflow(result: object, names: str) -> None:
         The inputs that drove it out of range, as the message should name them ("points and
         transform").
     """
+    _check_rule_arguments(names=names)
     if not np.all(np.isfinite(result)):
         raise ValueError(f"{names} are too large: the result overflows a float")
 
@@ -386,6 +398,7 @@ def check_instance(value: object, name: str, expected: type | tuple[type, ...], 
     object
         ``value``.
     """
+    _check_rule_arguments(name=name, what=what, expected=expected)
     if not isinstance(value, expected):
         types = expected if isinstance(expected, tuple) else (expected,)
         wanted = what or " or ".join(t.__name__ for t in types)
@@ -441,6 +454,7 @@ def as_outcomes(value: object, name: str) -> np.ndarray:
     numpy.ndarray
         ``value`` as a boolean array (not copied).
     """
+    _check_rule_arguments(name=name)
     array = np.asarray(value)
     if array.dtype != bool:
         raise TypeError(f"{name} must be a boolean array (True = right), got dtype {array.dtype}")
@@ -464,6 +478,7 @@ def check_seed(value: object, name: str) -> int:
     int
         ``value``.
     """
+    _check_rule_arguments(name=name)
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
         raise TypeError(f"{name} must be a non-negative int or a numpy.random.Generator, got {type(value).__name__}")
     if value < 0:
@@ -513,6 +528,7 @@ def check_dataframe(value: object, name: str, *, columns: Iterable[str] = ()) ->
     pandas.DataFrame
         ``value`` (not copied).
     """
+    _check_rule_arguments(name=name, columns=columns)
     import pandas as pd  # pandas is a dependency of the package; imported here to keep common light
 
     if not isinstance(value, pd.DataFrame):
@@ -541,6 +557,7 @@ def check_choice(value: object, name: str, choices: Iterable[object]) -> object:
     object
         ``value``.
     """
+    _check_rule_arguments(name=name, choices=choices)
     options = list(choices)
     if value not in options:
         listed = ", ".join(repr(option) for option in options)
@@ -571,6 +588,7 @@ def check_image_shape(
     tuple of int
         ``(rows, cols)``.
     """
+    _check_rule_arguments(name=name, axes=axes, minimum=minimum)
     if isinstance(shape, (str, bytes)) or not hasattr(shape, "__len__") or len(shape) != 2:
         raise ValueError(f"{name} must be a pair ({axes}), got {shape!r}")
     return (check_positive_int(shape[0], f"{name}[0]", minimum=minimum),
@@ -599,6 +617,7 @@ def check_names(
     tuple of str
         The names, in the order given.
     """
+    _check_rule_arguments(name=name, allowed=allowed)
     check_bool(accept_single, "accept_single")
     if isinstance(values, str) and accept_single:
         values = (values,)
@@ -635,6 +654,7 @@ def check_bool(value: object, name: str) -> bool:
     bool
         ``value``.
     """
+    _check_rule_arguments(name=name)
     if not isinstance(value, (bool, np.bool_)):
         raise TypeError(f"{name} must be True or False, got {type(value).__name__}")
     return bool(value)
@@ -667,6 +687,7 @@ def check_in_range(
     float
         ``value``.
     """
+    _check_rule_arguments(name=name, low=low, high=high)
     check_choice(closed, "closed", ("neither", "left", "right", "both"))
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
@@ -702,6 +723,7 @@ def as_bool_mask(value: object, name: str, *, shape: Sequence[int] | None = None
     numpy.ndarray
         A boolean copy (the caller's array is never modified).
     """
+    _check_rule_arguments(name=name, shape=shape)
     array = np.asarray(value)
     if array.dtype != bool:
         raise TypeError(f"{name} must be a boolean array, got dtype {array.dtype}")
@@ -731,6 +753,7 @@ def as_image_pair(
     tuple of numpy.ndarray
         Float copies of ``first`` and ``second``.
     """
+    _check_rule_arguments(pair_names=names)
     check_positive_int(ndim, "ndim", maximum=3)
     a = as_finite_array(first, names[0], ndim=ndim)
     b = as_finite_array(second, names[1], ndim=ndim)
@@ -754,6 +777,7 @@ def check_axes(ax: object, name: str = "ax") -> object:
     matplotlib.axes.Axes
         ``ax``.
     """
+    _check_rule_arguments(name=name)
     from matplotlib.axes import Axes  # here, not at the top: validation must not need matplotlib
 
     return check_instance(ax, name, Axes, what="a matplotlib Axes")
@@ -772,6 +796,7 @@ def check_fitted(estimator: object, attributes: str | Sequence[str]) -> None:
     attributes : str or sequence of str
         Learned attributes that exist (and are not None) once it is fitted.
     """
+    _check_rule_arguments(attributes=attributes)
     from sklearn.exceptions import NotFittedError
 
     wanted = [attributes] if isinstance(attributes, str) else list(attributes)
@@ -781,3 +806,46 @@ def check_fitted(estimator: object, attributes: str | Sequence[str]) -> None:
             f"this {type(estimator).__name__} is not fitted yet: call fit(...) before using it "
             f"(missing {', '.join(missing)})"
         )
+
+
+#: Parameters of the helpers above that only label a message (CONTRIBUTING.md's label rule).
+_LABELS = ("name", "what", "first_name", "second_name", "names", "axes")
+
+
+def _check_rule_arguments(**arguments: object) -> None:
+    """Check the arguments that state a helper's rule or label its messages, by their names.
+
+    The label rule: a label (``name``, ``what``, ``names``, ...) only words a message, so any string
+    is valid and anything else is refused with a ``TypeError`` naming the label's parameter (a
+    number or None there is a mistake in the calling code that would otherwise surface only when
+    the message is formatted, or never). The rule arguments (``shape``, ``dtype``, ``bounds``,
+    ``max_abs``, ``minimum``, ``low``/``high``, ``n``, ``choices``, ``columns``, ``allowed``,
+    ``attributes``, ``expected``) are refused by name when they cannot state a rule.
+    """
+    for key, value in arguments.items():
+        if key in _LABELS and not isinstance(value, str):
+            raise TypeError(f"{key} must be a str (it words the error message), got {type(value).__name__}")
+        if key == "pair_names" and not (isinstance(value, tuple) and len(value) == 2
+                                        and all(isinstance(v, str) for v in value)):
+            raise TypeError(f"names must be a pair of str (they word the error messages), got {value!r}")
+        if key == "shape" and value is not None and (isinstance(value, (str, bytes)) or not isinstance(
+                value, Sequence) or not all(v is None or isinstance(v, numbers.Integral) for v in value)):
+            raise TypeError(f"shape must be a sequence of ints (None: any length), got {value!r}")
+        if key == "dtype" and not (isinstance(value, type) and np.issubdtype(value, np.number)):
+            raise TypeError(f"dtype must be a numeric type (float, int, np.float32, ...), got {value!r}")
+        if key == "max_abs" and value is not None:
+            check_positive(value, "max_abs")
+        if key == "bounds" and value is not None and not (
+                isinstance(value, tuple) and len(value) == 2 and value[0] <= value[1]):
+            raise TypeError(f"bounds must be a pair (low, high) with low <= high, got {value!r}")
+        if key in ("low", "high") and (isinstance(value, bool) or not isinstance(value, numbers.Real)
+                                       or np.isnan(value)):
+            raise TypeError(f"{key} must be a real number, got {value!r}")
+        if key in ("minimum", "n") and (isinstance(value, bool) or not isinstance(value, numbers.Integral)):
+            raise TypeError(f"{key} must be an int, got {type(value).__name__}")
+        if key in ("choices", "columns", "allowed", "attributes") and not isinstance(value, Iterable) and not (
+                key == "allowed" and value is None):
+            raise TypeError(f"{key} must be an iterable, got {type(value).__name__}")
+        if key == "expected" and not (isinstance(value, type) or (
+                isinstance(value, tuple) and value and all(isinstance(v, type) for v in value))):
+            raise TypeError(f"expected must be a type or a tuple of types, got {value!r}")

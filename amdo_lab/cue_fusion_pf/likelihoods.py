@@ -57,6 +57,7 @@ def check_frame(frame: np.ndarray, name: str = "frame") -> np.ndarray:
     ----------
     Li & Chaumette, AMDO 2004, Sec. 2 (every cue reads an RGB frame).
     """
+    check_instance(name, "name", str)  # a label (CONTRIBUTING.md's label rule)
     frame = np.asarray(frame)
     if frame.dtype != np.uint8:
         raise TypeError(f"{name} must be uint8 RGB, got dtype {frame.dtype}")

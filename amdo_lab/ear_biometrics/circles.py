@@ -150,6 +150,7 @@ def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *,
     [4, 4]
     """
     array = as_contour_image(contours)
+    skeleton = None if skeleton is None else as_bool_mask(skeleton, "skeleton", shape=array.shape)
     reading = dict(n_circles=n_circles, mode=mode, min_gap_px=min_gap_px, crossings=crossings,
                    polyline_smoothing=polyline_smoothing, band_px=band_px, spur_length_px=spur_length_px)
     for name, value in reading.items():
@@ -164,7 +165,7 @@ def circle_features(contours: object, n_circles: int = 8, step: float = 0.25, *,
     if crossings == "pixels":
         rows, theta = _pixel_crossings(array, norm, radii, min_gap_px)
     else:
-        thin = thin_contours(array) if skeleton is None else as_bool_mask(skeleton, "skeleton", shape=array.shape)
+        thin = thin_contours(array) if skeleton is None else skeleton
         rows, theta = _polyline_crossings(prune_spurs(thin, spur_length_px), norm, radii, polyline_smoothing, band_px)
     counts, sums, points = _circle_polygons(rows, theta, radii)
     return CircleFeatures(radii, counts, sums, points, norm)

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from amdo_lab.common import check_dataframe, check_choice, check_names
+from amdo_lab.common import check_dataframe, check_choice, check_instance, check_names
 from amdo_lab.face_glmm.design import group_indices, parse_formula
 from amdo_lab.face_glmm.glmm import _design_and_response
 
@@ -218,6 +218,7 @@ def fit_gee(table: pd.DataFrame, fixed: str, group: str = "p", n_trials: int = 3
     check_choice(correlation, "correlation", ("exchangeable", "independence"))
     structure = sm.cov_struct.Exchangeable() if correlation == "exchangeable" else sm.cov_struct.Independence()
     design, y, n_trials = _design_and_response(table, fixed, n_trials)
+    check_instance(group, "group", str, what="a column name (str)")
     check_dataframe(table, "table (its group column)", columns=[group])
     order = np.argsort(table[group].to_numpy(), kind="stable")
     wall, cpu = time.perf_counter(), time.process_time()

@@ -183,7 +183,7 @@ class PcaLda:
         images : array_like, shape (n, rows, cols) or (n, pixels)
             Finite training images, each value at most 1e100 in magnitude.
         labels : array_like, shape (n,)
-            Subject of each image (finite: no NaN or inf), at least 2 subjects, with n - C >= C - 1.
+            Subject of each image (numbers or strings; no NaN, inf or None), at least 2 subjects, with n - C >= C - 1.
         basis : PcaBasis, optional
             A precomputed :func:`pca_basis` of the same images (shared between PCA dimensions).
 
@@ -202,6 +202,7 @@ class PcaLda:
         samples = _as_samples(images)
         labels = np.asarray(labels)
         check_same_shape(labels, samples[:, 0], "labels", "images (one label per image)")
+        check_choice(labels.dtype.kind, "labels (dtype kind: U for names, i/u/f for ids)", ("U", "i", "u", "f"))
         if labels.dtype.kind in "fc":  # subject ids as numbers: every image needs a finite one
             as_finite_array(labels, "labels")
         if basis is not None:  # a precomputed PCA of images with as many pixels

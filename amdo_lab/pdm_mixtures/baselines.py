@@ -214,7 +214,7 @@ class SklearnGMMClassifier:
     Parameters
     ----------
     n_components : int
-        Mixture components per class (positive).
+        Mixture components per class: positive, at most the number of shapes of the smallest class.
     rng : int or numpy.random.Generator
         Seed of each mixture's k-means start (keyword-only, no default): an int is passed to
         scikit-learn as its ``random_state``; a Generator gives each class's mixture an int seed
@@ -248,9 +248,10 @@ class SklearnGMMClassifier:
         """
         from sklearn.mixture import GaussianMixture
 
-        check_positive_int(self.n_components, "n_components")
         generator = make_rng(self.rng, "rng")
         vectors, labels = _fit_reference(self, shapes, labels)
+        check_positive_int(self.n_components, "n_components",  # at most the smallest class (scikit-learn's rule)
+                           maximum=int(min(np.unique(labels, return_counts=True)[1])))
         if isinstance(self.rng, np.random.Generator):  # scikit-learn takes an int seed, not a Generator
             seeds = [int(generator.integers(2**31 - 1)) for _ in self.classes_]
         else:

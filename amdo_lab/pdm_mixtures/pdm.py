@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.common import (MAX_ITERATIONS, as_finite_array, as_points, check_bool, check_in_range,
+from amdo_lab.common import (MAX_ITERATIONS, as_finite_array, as_points, check_bool, check_choice, check_in_range,
                              check_instance, check_positive_int, check_same_shape, procrustes_align)
 from amdo_lab.pdm_mixtures.representation import MAX_MAGNITUDE
 
@@ -343,6 +343,7 @@ def _check_labels(labels: object, n_shapes: int) -> np.ndarray:
     """
     labels = np.asarray(labels)
     check_same_shape(labels, np.arange(n_shapes), "labels", "shapes (first axis)")  # one label per shape
+    check_choice(labels.dtype.kind, "labels (dtype kind: U for names, i/u/f for ids)", ("U", "i", "u", "f"))
     if labels.dtype.kind == "f":  # ids as floats: whole numbers, exact in float64
         as_finite_array(labels, "labels", dtype=np.int64, max_abs=MAX_FLOAT_LABEL)
     return labels

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
+from matplotlib.colors import is_color_like
 
 from amdo_lab.common import as_finite_array, check_axes, check_in_range, check_instance, check_positive
 
@@ -40,6 +41,9 @@ def draw_shape(ax: Axes, shape: np.ndarray, *, color: str = "black", linewidth: 
     linewidth = check_positive(linewidth, "linewidth")
     alpha = check_in_range(alpha, "alpha", 0, 1, closed="both")
     check_instance(color, "color", str, what="a matplotlib colour name or hex string")
+    if not is_color_like(color):
+        raise ValueError(f"color must be a matplotlib colour name or hex string, got {color!r}")
+    check_instance(label, "label", (str, type(None)), what="a str or None")
     # one collection of 13 polylines: drawing a training set is then one artist per shape
     ax.add_collection(LineCollection(list(shape), colors=color, linewidths=linewidth, alpha=alpha, label=label))
     ax.autoscale_view()

@@ -116,7 +116,7 @@ def cases() -> dict[str, Case]:
 
     return {
         # features
-        "as_grey_image": Case(eb.as_grey_image, {"image": image}, {"image": "image"},
+        "as_grey_image": Case(eb.as_grey_image, {"image": image, "name": "image"}, {"image": "image", "name": "name"},
                   accept=ok(image=other_size)),
         "detect_contours": Case(eb.detect_contours, {"image": image, "k": 8.0, "window": 3},
                                 {"image": "image", "k": "non_negative", "window": "count"},
@@ -163,6 +163,15 @@ def cases() -> dict[str, Case]:
         "prune_spurs": Case(eb.prune_spurs, {"skeleton": c.skeleton, "length_px": 4},
                             {"skeleton": "bool_array", "length_px": "count"},
                   accept=ok(skeleton=other_size, length_px=zero_ok)),
+        # a given skeleton and frame (the call above thins and frames the contours itself)
+        "circle_features (given skeleton)": Case(
+            eb.circle_features, {"contours": c.contours, "n_circles": 4, "step": 0.25, "skeleton": c.contours,
+                                 "normalisation": None},
+            {"skeleton": "bool_array", "normalisation": "object"},
+            accept=frozenset({("normalisation", "None"), ("skeleton", "None")})),  # None: computed
+        "topology_features (given frame)": Case(
+            eb.topology_features, {"contours": c.contours, "n_circles": 4, "step": 0.25, "normalisation": None},
+            {"normalisation": "object"}, accept=frozenset({("normalisation", "None")})),
         "topology_features": Case(eb.topology_features,
                                   {"contours": c.contours, "n_circles": 4, "step": 0.25, "mode": "principal",
                                    "min_gap_px": 0.0, "crossings": "pixels", "polyline_smoothing": 2, "band_px": 0.0,
@@ -185,10 +194,10 @@ def cases() -> dict[str, Case]:
                                     {"frame": "object", "shape": "array", "mode": "object"}),
         "similarity_copy": Case(eb.similarity_copy,
                                 {"image": image, "rng": 0, "max_rotation_deg": 25.0, "scale_range": (0.85, 1.15),
-                                 "max_shift_px": 8.0},
+                                 "max_shift_px": 8.0, "rotation_deg": None},
                                 {"image": "image", "rng": "seed", "max_rotation_deg": "non_negative",
-                                 "scale_range": "array", "max_shift_px": "non_negative"},
-                  accept=ok(image=other_size)),
+                                 "scale_range": "array", "max_shift_px": "non_negative", "rotation_deg": "real"},
+                  accept=ok(image=other_size) | {("rotation_deg", "None")}),  # None: a drawn rotation
         # matcher
         "topology_similarity": Case(eb.topology_similarity,
                                     {"query": c.features, "reference": c.other},

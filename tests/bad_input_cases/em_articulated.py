@@ -58,8 +58,8 @@ def cases() -> dict[str, Case]:
     return {
         # ---------------------------------------------------------------- the hand and its methods
         "HandModel": Case(e.HandModel, {"nu": 4.0}, {"nu": "positive"}),
-        "HandModel.check_theta": Case(hand.check_theta, {"theta": theta, "within_limits": True},
-                                      {"theta": "array", "within_limits": "flag"}),
+        "HandModel.check_theta": Case(hand.check_theta, {"theta": theta, "within_limits": True, "name": "theta"},
+                                      {"theta": "array", "within_limits": "flag", "name": "name"}),
         "HandModel.part_transforms": Case(hand.part_transforms, pose, {"theta": "array"}),
         "HandModel.digit_clearance": Case(hand.digit_clearance, {"theta": theta, "n_samples": 3},
                                           {"theta": "array", "n_samples": "count"}),

@@ -108,8 +108,10 @@ def cases() -> dict[str, Case]:
                                                                               base_images_per_class).fit(images, labels),
                        {"pca_dimension": 2, "base_images_per_class": 2},
                        {"pca_dimension": "count", "base_images_per_class": "count"}),
-        "PcaLda.fit": Case(lambda images, labels: f.PcaLda(2).fit(images, labels),
-                           {"images": images, "labels": labels}, {"images": "image", "labels": "array"}),
+        "PcaLda.fit": Case(lambda images, labels, basis: f.PcaLda(2).fit(images, labels, basis),
+                           {"images": images, "labels": labels, "basis": None},
+                           {"images": "image", "labels": "array", "basis": "object"},
+                           accept=frozenset({("basis", "None")})),  # None: computed from the images
         "PcaLda.transform": Case(lambda images: model.transform(images), {"images": images}, {"images": "image"}),
         "PcaLda.distances": Case(lambda probes, gallery, metric: model.distances(probes, gallery, metric),
                                  {"probes": images[:2], "gallery": images[2:5], "metric": "l2"},

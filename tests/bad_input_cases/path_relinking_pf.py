@@ -25,6 +25,10 @@ EXEMPT = {
     "Limb.outline": "takes no argument",
 }
 
+#: Every setting of a particle filter (FilterSettings' defaults).
+_SETTINGS = {"alpha": 0.01, "diffusion_px": 2.0, "diffusion_deg": 5.0, "velocity_px": 1.0, "velocity_deg": 3.0,
+             "init_px": 2.0, "init_deg": 5.0, "step_px": 2.0, "step_deg": 4.0}
+
 #: A pose may be one (P,) or a stack (N, P).
 _ONE_OR_MANY = frozenset({("poses", "one more axis")})
 
@@ -39,17 +43,14 @@ def cases() -> dict[str, Case]:
     pose = seq.truth[0]
     poses = seq.truth[:2]
     moves = np.r_[1.0, 1.0, np.full(8, 0.03)]
-    tracking = {"sequence": seq, "rng": 0, "n_particles": 6}
-    tracking_kinds = {"sequence": "object", "rng": "seed", "n_particles": "count"}
+    tracking = {"sequence": seq, "rng": 0, "n_particles": 6, "settings": pr.FilterSettings()}
+    tracking_kinds = {"sequence": "object", "rng": "seed", "n_particles": "count", "settings": "object"}
 
     def method(owner, name):
         return lambda **kwargs: getattr(owner, name)(**kwargs)
 
     def body(limbs):
         return pr.BodyModel(limbs)
-
-    def settings(alpha, diffusion_px, velocity, step_deg):
-        return pr.FilterSettings(alpha=alpha, diffusion_px=diffusion_px, velocity=velocity, step_deg=step_deg)
 
     def observation_of(measurement, model, alpha):
         return pr.ObservationModel(measurement, model, alpha=alpha)
@@ -64,9 +65,11 @@ def cases() -> dict[str, Case]:
                                       {"poses": "array"}, accept=_ONE_OR_MANY),
         "BodyModel.render_labels": Case(method(model, "render_labels"), {"pose": pose, "shape": (120, 120)},
                                         {"pose": "array", "shape": "object"}),
-        "FilterSettings": Case(settings, {"alpha": 0.01, "diffusion_px": 2.0, "velocity": "estimate", "step_deg": 4.0},
-                               {"alpha": "positive", "diffusion_px": "non_negative", "velocity": "name",
-                                "step_deg": "positive"}),
+        "FilterSettings": Case(pr.FilterSettings, {**_SETTINGS, "velocity": "estimate"},
+                               {"alpha": "positive", "velocity": "name",
+                                **{name: "non_negative" for name in _SETTINGS if name.endswith(("_px", "_deg"))
+                                   and not name.startswith("step_")},
+                                "step_px": "positive", "step_deg": "positive"}),
         "ObservationModel": Case(observation_of, {"measurement": observation.measurement, "model": model,
                                                   "alpha": 0.01},
                                  {"measurement": "object", "model": "object", "alpha": "positive"}),

@@ -131,8 +131,8 @@ def cases() -> dict[str, Case]:
             lambda shapes, labels, n_components, rng: p.SklearnGMMClassifier(n_components, rng=rng).fit(shapes, labels),
             {"shapes": shapes, "labels": int_labels, "n_components": 1, "rng": 0},
             {"shapes": "points", "labels": "array", "n_components": "count", "rng": "seed"}),
-        "ScoreComponents.class_scores": Case(lambda term: components.class_scores(term), {"term": "shape"},
-                                             {"term": "name"}, names={"term": "terms"}),
+        "ScoreComponents.class_scores": Case(lambda terms: components.class_scores(terms), {"terms": "shape"},
+                                             {"terms": "name"}),
         "SeparationTrial.rate": Case(trial.rate, {"model": "mixture of PDMs"}, {"model": "name"}),
         # ------------------------------------------------------------ generator and representation
         "make_pose_dataset": Case(
@@ -156,8 +156,11 @@ def cases() -> dict[str, Case]:
         "limb_angles": Case(p.limb_angles, {"centres": centres}, {"centres": "points"}),
         "polar_shape_vector": Case(p.polar_shape_vector, {"shapes": shapes}, {"shapes": "points"}),
         "draw_shape": Case(
-            p.draw_shape, {"ax": axes, "shape": shapes[0], "color": "black", "linewidth": 1.5, "alpha": 1.0},
-            {"ax": "object", "shape": "points", "linewidth": "positive", "alpha": "probability"}),
+            p.draw_shape, {"ax": axes, "shape": shapes[0], "color": "black", "linewidth": 1.5, "alpha": 1.0,
+                           "label": "a shape"},
+            {"ax": "object", "shape": "points", "linewidth": "positive", "alpha": "probability", "color": "object",
+             "label": "name"},
+            accept=frozenset({("label", "None")})),  # None: no legend entry
         # ------------------------------------------------------------ point distribution models
         "fit_pdm": Case(p.fit_pdm, {"long_vectors": long_vectors, "variance_fraction": 0.9},
                         {"long_vectors": "array", "variance_fraction": "probability"},
