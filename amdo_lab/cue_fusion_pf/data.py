@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_choice, check_in_range, check_same_shape, check_positive_int, make_rng
+from amdo_lab.common import as_finite_array, check_bool, check_choice, check_in_range, check_same_shape, check_positive_int, make_rng
 from amdo_lab.cue_fusion_pf.likelihoods import MAX_PIXELS, check_frames
 from amdo_lab.cue_fusion_pf.shape import as_states
 
@@ -410,6 +410,7 @@ def as_ellipse(ellipse: object, name: str, *, allow_stack: bool = False) -> np.n
     Li & Chaumette, AMDO 2004, Sec. 2.1 (the ellipse of a contour).
     """
     ellipse = as_finite_array(ellipse, name, max_abs=MAX_PIXELS)
+    allow_stack = check_bool(allow_stack, "allow_stack")
     shapes, ndims = ("(5,) or (T, 5)", (1, 2)) if allow_stack else ("(5,)", (1,))
     if ellipse.ndim not in ndims or ellipse.shape[-1] != 5 or np.any(ellipse[..., 2:4] <= 0):
         raise ValueError(f"{name} must be an ellipse (cx, cy, a, b, angle) with positive axes, of shape {shapes}, "
