@@ -196,6 +196,7 @@ def main() -> None:
                 start = time.perf_counter()
                 potential = ac.potential_field(ham_slice.image)
                 prep_seconds.append(time.perf_counter() - start)
+                ridge = ac.potential_field(ham_slice.image, edges="ridge")
                 for j, muscle in enumerate(ac.MUSCLES):
                     if muscle not in ham_slice.contours:
                         continue
@@ -203,9 +204,11 @@ def main() -> None:
                     init = ac.initial_contour(ham_slice, muscle, rng=seed)
                     true = ham_slice.areas_mm2[muscle]
                     methods = list(ac.METHODS) if index % dp_every == 0 else ["greedy", "variational"]
-                    for method in methods + ["active_contour"]:
+                    for method in methods + ["greedy (ridge)", "active_contour"]:
                         start = time.perf_counter()
-                        if method == "active_contour":
+                        if method == "greedy (ridge)":
+                            points = ac.segment_contour(ridge, init, "greedy")
+                        elif method == "active_contour":
                             field = -ndimage.gaussian_filter(potential, 2.0) / potential.max()
                             points = active_contour(field, init, alpha=0.01, beta=1.0, gamma=0.01, w_line=1.0,
                                                     w_edge=0.0)
