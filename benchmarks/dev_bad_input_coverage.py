@@ -79,7 +79,7 @@ BOUNDS = ("minimum", "maximum", "low", "high")
 DOCUMENTED = {
     ("amdo_lab.ear_biometrics.open_set_rates", "thresholds", "inf in one element"):
         "thresholds: 'inf: no threshold'",
-    ("amdo_lab.ear_biometrics.EarMatcher", "distance_threshold", "inf"):
+    ("amdo_lab.ear_biometrics.MatcherSettings", "distance_threshold", "inf"):
         "distance_threshold: 'or inf for no threshold' (the default)",
     ("amdo_lab.cue_fusion_pf.track", "mean", "None"): "mean: 'default the initial state' (track's options)",
     ("amdo_lab.common.check_in_range", "high", "inf"): "high: an open range (the package calls it with np.inf)",

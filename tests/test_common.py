@@ -352,7 +352,7 @@ REJECTIONS = [
            r"template and study must have the same shape, got \(2, 2\) and \(2, 3\)"),
     reject("check_axes string", lambda: check_axes("not axes"), TypeError, "ax must be a matplotlib Axes, got str"),
     reject("check_fitted unset attribute", lambda: check_fitted(_Model(), "coef_"), NotFittedError,
-           r"_Model is not fitted yet.*missing coef_"),
+           r"_Model is not fitted yet.*missing: coef_"),
     reject("check_names a string", lambda: check_names("fist", "classes"),  # its letters are not names
            TypeError, "classes must be a sequence of names"),
     reject("check_names empty", lambda: check_names([], "classes"), ValueError, "classes must hold at least one name"),

@@ -596,7 +596,7 @@ REJECTIONS = [
         fitted.images.reshape(len(fitted.images), -1)[:, :10])),
         ValueError, r"basis \(the mean image of its images\) must have shape \(480,\)"),
     reject("PcaLda not fitted transform", lambda: PcaLda().transform(np.ones((2, 10))),
-           ValueError, "this PcaLda is not fitted yet"),
+           ValueError, "estimator PcaLda is not fitted yet"),
     # --- the factorial design: its parts must fit together
     reject("FactorialDesign more training subjects than subjects",
            lambda: FactorialDesign(n_subjects=8, n_train_subjects=9),

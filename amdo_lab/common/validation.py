@@ -430,6 +430,7 @@ def check_sequence_of(values: object, name: str, expected: type | tuple[type, ..
     >>> check_sequence_of([1.0, 2.0], "scales", float, what="a float")
     (1.0, 2.0)
     """
+    _check_rule_arguments(name=name, what=what, expected=expected)
     if isinstance(values, (str, bytes)) or not isinstance(values, Sequence):
         raise TypeError(f"{name} must be a sequence of {what}, got {type(values).__name__}")
     if len(values) == 0:
@@ -803,8 +804,8 @@ def check_fitted(estimator: object, attributes: str | Sequence[str]) -> None:
     missing = [a for a in wanted if getattr(estimator, a, None) is None]
     if missing:
         raise NotFittedError(
-            f"this {type(estimator).__name__} is not fitted yet: call fit(...) before using it "
-            f"(missing {', '.join(missing)})"
+            f"estimator {type(estimator).__name__} is not fitted yet: call fit(...) before using it "
+            f"(attributes missing: {', '.join(missing)})"
         )
 
 
