@@ -37,6 +37,7 @@ KNOWN_EXCESS: dict[str, dict[str, object]] = {
     "cue_fusion_pf": {"validation_share": "16.0 % (179 of 1,119 lines)"},
     "ear_biometrics": {"validation_share": "16.1 % (162 of 1,005 lines)"},
     "em_articulated": {"validation_share": "18.0 % (152 of 845 lines)"},
+    "face_glmm": {"validation_share": "15.03 % (145 of 965 lines)"},
     "incremental_svd": {"validation_share": "16.2 % (59 of 365 lines)"},
     "modal_matching": {"validation_share": "23.9 % (85 of 355 lines)"},
     "path_relinking_pf": {"validation_share": "16.5 % (84 of 508 lines)"},
@@ -60,9 +61,10 @@ def test_every_subpackage_declares_all(subpackage):
 
 @pytest.mark.parametrize("subpackage", sorted(REPORT))
 def test_checks_stay_beside_the_maths(subpackage):
-    share = REPORT[subpackage]["validation_share"]
-    if REPORT[subpackage]["body_lines"] < MIN_BODY_LINES_FOR_SHARE:
+    row = REPORT[subpackage]
+    if row["body_lines"] < MIN_BODY_LINES_FOR_SHARE:
         pytest.skip(f"{subpackage}: under {MIN_BODY_LINES_FOR_SHARE} body lines, a share says nothing")
+    share = row["validation_lines"] / row["body_lines"]  # exact: the report's share is rounded for printing
     if "validation_share" in KNOWN_EXCESS.get(subpackage, {}):
         assert share > MAX_VALIDATION_SHARE, f"{subpackage} is at {share:.1%}: remove its KNOWN_EXCESS entry"
     else:
