@@ -12,7 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from amdo_lab.cat_fluid.solvers import SOLVERS, cat_symbol, check_sor_grid, finite_difference_symbol, solve_symbol, sor_solve
+from amdo_lab.cat_fluid.solvers import (SOLVERS, _sor_solve, cat_symbol, check_sor_grid, default_omega,
+                                       finite_difference_symbol, solve_symbol)
 from amdo_lab.cat_fluid.stencil import check_moduli
 from amdo_lab.common import MAX_ITERATIONS
 from amdo_lab.common import (
@@ -555,6 +556,7 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
         check_in_range(sor_omega, "sor_omega", 0, 2)  # SOR converges for 0 < omega < 2 only
     if method == "sor":
         check_sor_grid(template.shape, "template")
+        omega = default_omega(template.shape) if sor_omega is None else sor_omega
     start = time.perf_counter()
     symbol = None
     if method != "sor":
@@ -568,8 +570,8 @@ def register_fluid(template: object, study: object, method: str = "cat", lam: fl
         force = _force(warped, study)
         force -= force.mean(axis=(1, 2), keepdims=True)
         if symbol is None:
-            velocity = sor_solve(force, lam, mu, n_sweeps=sor_n_sweeps, omega=sor_omega,
-                                 initial=velocity if sor_warm_start else None)
+            velocity = _sor_solve(force, lam, mu, sor_n_sweeps, omega,
+                                  velocity if sor_warm_start else np.zeros_like(force))
         else:
             velocity = solve_symbol(symbol, force)
         unit = _update(segment, velocity, 1.0) - segment

@@ -357,6 +357,14 @@ def sor_solve(force: np.ndarray, lam: float, mu: float, *, n_sweeps: int = 250, 
     check_sor_grid((h, w), "force")
     start = (np.zeros_like(force) if initial is None
              else as_finite_array(initial, "initial", shape=force.shape, max_abs=MAX_FIELD))
+    return _sor_solve(force, lam, mu, n_sweeps, omega, start, ordering)
+
+
+def _sor_solve(force: np.ndarray, lam: float, mu: float, n_sweeps: int, omega: float, start: np.ndarray,
+               ordering: str = "four-colour") -> np.ndarray:
+    """:func:`sor_solve` on checked input (``start`` the initial velocity, ``omega`` given): the kernel
+    :func:`~amdo_lab.cat_fluid.registration.register_fluid` calls at every iteration."""
+    h, w = force.shape[1:]
     force = force - force.mean(axis=(1, 2), keepdims=True)
     # pad[comp][r][s]: colour-(r, s) pixels (2a + r, 2b + s) of component comp, with a periodic frame
     pad = [[[np.pad(start[comp, r::2, s::2], 1, mode="wrap") for s in (0, 1)] for r in (0, 1)] for comp in (0, 1)]
