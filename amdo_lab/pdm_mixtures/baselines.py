@@ -249,9 +249,10 @@ class SklearnGMMClassifier:
         from sklearn.mixture import GaussianMixture
 
         generator = make_rng(self.rng, "rng")
-        vectors, labels = _fit_reference(self, shapes, labels)
+        shapes, labels = check_training_set(shapes, labels)  # checked before anything is fitted or stored
         check_positive_int(self.n_components, "n_components",  # at most the smallest class (scikit-learn's rule)
                            maximum=int(min(np.unique(labels, return_counts=True)[1])))
+        vectors, labels = _fit_reference(self, shapes, labels)
         if isinstance(self.rng, np.random.Generator):  # scikit-learn takes an int seed, not a Generator
             seeds = [int(generator.integers(2**31 - 1)) for _ in self.classes_]
         else:
