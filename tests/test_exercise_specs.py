@@ -58,9 +58,15 @@ def test_each_exercise_has_one_answer_cell_one_check_cell_and_a_solution(chapter
         assert len(answers) == 1 and re.search(rf"^answer_{k} = None", answers[0].source, re.M), \
             f"exercise {k}: one answer cell with the placeholder answer_{k} = None"
         assert len(checks) == 1, f"exercise {k}: one check cell"
-        calls = ast.parse(checks[0].source).body
-        assert len(calls) == 1 and checks[0].source.lstrip().startswith(f"EXERCISES.check({k}, answer_{k}"), \
-            f"exercise {k}: the check cell is the one call EXERCISES.check({k}, answer_{k}, ...)"
+        source = checks[0].source
+        hidden = re.search(r"### BEGIN HIDDEN TESTS\n(.*?)### END HIDDEN TESTS\n?", source, re.S)
+        visible = source.replace(hidden.group(0), "") if hidden else source
+        calls = ast.parse(visible).body
+        assert len(calls) == 1 and visible.lstrip().startswith(f"EXERCISES.check({k}, answer_{k}"), \
+            f"exercise {k}: the check cell's visible part is the one call EXERCISES.check({k}, answer_{k}, ...)"
+        if exercise.expected is None:  # the target lives in the hidden test only
+            assert hidden and re.fullmatch(rf"\s*EXERCISES\.expect\({k}, .*\)\s*", hidden.group(1), re.S), \
+                f"exercise {k}: the hidden test is the one call EXERCISES.expect({k}, ...)"
         solutions = [cell for cell in notebook.cells if "solution" in _tags(cell) and cell.cell_type == "code"]
         assert any(re.search(rf"^solution_{k}\b.*=", cell.source, re.M) for cell in solutions), \
             f"exercise {k}: a solution cell stores solution_{k}"

@@ -97,3 +97,72 @@ def test_an_exercise_needs_two_wrong_answers_and_an_experiment_its_unchanged_val
         Exercise(1, lambda: 1.0, "h", wrong_answers((2.0, "x"), (3.0, "y")), experiment=True)
     with pytest.raises(ValueError, match="numbered"):
         ExerciseSet(0, [Exercise(2, lambda: 1.0, "h", wrong_answers((2.0, "x"), (3.0, "y")))])
+
+
+# --- targets in the source's hidden tests: expect / recorded / implement it -------------------------
+
+from amdo_lab.common.exercises import RECORDED  # noqa: E402
+
+
+def _new_set():
+    return ExerciseSet(9, [
+        Exercise(1, None, "look again", (WrongAnswer(0.028, "naive", hint="the fit absorbs some noise"),
+                                         WrongAnswer(0.02, "sigma", hint="a point's noise is 2-D")), rtol=0.005),
+        Exercise(2, None, "square, then sum", (WrongAnswer(lambda x: x + 1, "off by one", hint="no +1"),
+                                               WrongAnswer(lambda x: 2 * x, "doubled", hint="not twice")),
+                 kind="function", reference=lambda x: x * x, make_case=lambda seed: {"x": float(seed)},
+                 example_seed=3),
+    ])
+
+
+@pytest.mark.parametrize(("number", "answer", "printed"), [
+    (1, None, "not attempted yet"),
+    (1, 0.028, "not yet: the fit absorbs some noise"),
+    (1, 0.02, "not yet: a point's noise is 2-D"),
+    (1, 0.0258, RECORDED),
+    (1, 0.03, RECORDED),
+    (1, "big", "not yet: give a number as the prompt asks"),
+    (2, None, "not attempted yet"),
+    (2, 9.0, "not yet: assign your function itself (answer = my_function), not its result"),
+    (2, lambda x: x + 1, "not yet: no +1"),
+    (2, lambda x: x ** 3, "not yet: on the example case your outputs differ from the method's; square, then sum"),
+    (2, lambda x: x * x, "recorded: right on the example case; graded on unseen cases after submission"),
+])
+def test_release_verdicts_without_a_target(capsys, number, answer, printed):
+    _new_set().check(number, answer)
+    assert capsys.readouterr().out.strip() == printed
+
+
+def test_registered_targets_give_correct_and_hints():
+    exercises = _new_set()
+    exercises.expect(1, 0.0258)
+    exercises.expect(2, seeds=(5, 7))
+    assert exercises.verdict(1, 0.0258) == "correct"
+    assert exercises.verdict(1, 0.03) == "not yet: look again"
+    assert exercises.verdict(1, 0.028) == "not yet: the fit absorbs some noise"
+    assert exercises.verdict(2, lambda x: x * x) == "correct"
+    cheat = lambda x: 9.0 if x == 3.0 else 0.0  # noqa: E731 - right on the example only
+    assert exercises.verdict(2, cheat).startswith("not yet: on an unseen case")
+    namespace = {"solution_1": 0.02581, "solution_2": lambda x: x ** 2}
+    exercises.assert_checks(namespace)
+
+
+def test_self_test_needs_a_target_and_the_recorded_unchanged_value():
+    exercises = ExerciseSet(3, [Exercise(1, None, "h", (
+        WrongAnswer(2.5, "unchanged", unchanged_experiment=True, hint="change it first", variable="experiment_1"),
+        WrongAnswer(9.0, "slip", hint="units")), experiment=True)])
+    with pytest.raises(AssertionError, match="not registered"):
+        exercises.assert_checks({"solution_1": 3.0, "experiment_1": 2.5})
+    exercises.expect(1, 3.0)
+    exercises.assert_checks({"solution_1": 3.0, "experiment_1": 2.5})
+    with pytest.raises(AssertionError, match="experiment_1"):
+        exercises.assert_checks({"solution_1": 3.0, "experiment_1": 2.7})
+
+
+def test_new_exercises_need_a_hint_for_every_wrong_answer_and_function_parts():
+    with pytest.raises(ValueError, match="hint of its own"):
+        Exercise(1, None, "h", wrong_answers((2.0, "x"), (3.0, "y", "z")))
+    with pytest.raises(ValueError, match="reference"):
+        Exercise(1, None, "h", wrong_answers((2.0, "x", "a"), (3.0, "y", "b")), kind="function")
+    with pytest.raises(ValueError, match="seeds"):
+        _new_set().expect(2, 4.0)
