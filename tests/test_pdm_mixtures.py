@@ -938,3 +938,50 @@ REJECTIONS = [
 @pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
 def test_rejections(request, call, error, message):
     check_rejection(request, call, error, message)
+
+
+# --- the chapter's exercises (amdo_lab.pdm_mixtures.exercises) ----------------------------------------
+
+from amdo_lab.common.exercises import ExerciseSet  # noqa: E402
+from amdo_lab.pdm_mixtures.exercises import EXERCISES  # noqa: E402
+
+#: The targets the chapter's hidden tests register (the notebook is the source of truth; these are copies).
+CHAPTER_TARGETS = {1: 2.2, 2: 5.1, 3: 5, 4: 0.85, 5: 0.94}
+
+
+def _graded() -> ExerciseSet:
+    """A fresh copy of the chapter's exercises with the hidden tests' targets registered."""
+    graded = ExerciseSet(2, EXERCISES.exercises)
+    for number, target in CHAPTER_TARGETS.items():
+        graded.expect(number, target)
+    graded.expect(6, seeds=(5, 17, 29))
+    return graded
+
+
+@pytest.mark.parametrize(("number", "answer", "verdict"), [
+    (1, 2.2, "correct"), (1, 2.197, "correct"), (1, 1.39, "not yet"), (1, -2.2, "not yet"), (1, 2.3, "not yet"),
+    (1, 0.95, "not yet"), (1, 1.37, "not yet"),
+    (2, 5.1, "correct"), (2, 148.8, "not yet"), (2, -5.1, "not yet"), (2, 13.1, "not yet"), (2, 5.2, "not yet"),
+    (3, 5, "correct"), (3, 19, "not yet"), (3, 156, "not yet"), (3, 6, "not yet"), (3, 4, "not yet"),
+    (4, 0.85, "correct"), (4, 0.82, "not yet"), (4, 0.98, "not yet"), (4, 0.13, "not yet"),
+    (5, 0.94, "correct"), (5, 1.0, "not yet"), (5, 0.33, "not yet"), (5, 0.06, "not yet"), (5, "angles", "not yet"),
+    (4, None, "not attempted yet"), (6, None, "not attempted yet"),
+])
+def test_exercise_verdicts(number, answer, verdict):
+    assert _graded().verdict(number, answer).split(":")[0] == verdict
+
+
+def test_implement_it_rejects_each_recorded_wrong_em_step_and_accepts_the_diagonal_em():
+    """Exercise 6: eqs. 7-8 as printed (old mean, no division), no mixing weights, full covariances."""
+    graded = _graded()
+    exercise = graded[6]
+    for wrong in exercise.wrong_answers:
+        assert graded.verdict(6, wrong.value) == "not yet: " + wrong.hint
+    assert graded.verdict(6, exercise.reference) == "correct"
+    assert graded.verdict(6, lambda **case: None).startswith("not yet")
+    for seed in (exercise.example_seed, 5, 17, 29):
+        case = exercise.make_case(seed)
+        want = exercise.reference(**case)
+        assert np.isclose(want[0].sum(), 1.0) and np.all(want[2] > 0)
+        for wrong in exercise.wrong_answers:
+            assert not exercise.outputs_match(wrong.value(**case), want), (seed, wrong.why)

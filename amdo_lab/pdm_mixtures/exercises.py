@@ -1,106 +1,156 @@
-"""The exercises of chapter 2 (mixtures of point distribution models), specified as data.
+"""The exercises of chapter 2 (mixtures of point distribution models): hints and wrong answers.
 
-Each entry computes its expected answer from the notebook objects its check cell passes
-(``EXERCISES.check(2, answer_2, toy_scores=toy_scores)``), so the value is not in plain view under
-the answer cell, and records the plausible wrong answers the check must reject (see
-:mod:`amdo_lab.common.exercises`).
+The targets are not here: each check cell of the chapter's source registers its own (a literal in a
+hidden test, ``EXERCISES.expect``), so the package the reader installs does not hold them (see
+:mod:`amdo_lab.common.exercises`). Exercise 6 ("implement it") is checked against one iteration of
+:func:`amdo_lab.pdm_mixtures.fit_gaussian_mixture` started from diagonal covariances, on cases
+drawn by :func:`_em_step_case`.
 
 References
 ----------
 A. A. Al-Shaher, E. R. Hancock, "A Probabilistic Framework for Articulated Shape Recognition",
-AMDO 2004, LNCS 3179, pp. 62-75: eq. 18 (Exercise 1), Secs. 2 and 4 (Exercises 2-5).
+AMDO 2004, LNCS 3179, pp. 62-75: eqs. 1-8 (Exercises 3 and 6), eq. 18 (Exercise 1), Secs. 2-4.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
-
 import numpy as np
 
 from amdo_lab.common.exercises import Exercise, ExerciseSet, WrongAnswer
-from amdo_lab.pdm_mixtures.experiments import SEPARATION_MODELS
-from amdo_lab.pdm_mixtures.pdm import fit_pdm
-from amdo_lab.pdm_mixtures.labels import label_string_log_prob
+from amdo_lab.pdm_mixtures.gmm import fit_gaussian_mixture
 
 __all__ = ["EXERCISES"]
 
-_SINGLE_POLAR = SEPARATION_MODELS[1]
-_MIXTURE = SEPARATION_MODELS[0]
+
+def _diagonal_em_step(X: np.ndarray, weights: np.ndarray, means: np.ndarray,
+                      variances: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One EM iteration (eqs. 4-8) of a mixture whose covariances are diagonal, ``variances`` (K, d).
+
+    From diagonal covariances the E-step is the diagonal one, and the diagonal of the M-step's
+    covariance (eq. 8) is the diagonal M-step, so one step of the package's EM gives it exactly.
+    """
+    fit = fit_gaussian_mixture(X, len(weights), means_init=means,
+                               covariances_init=np.stack([np.diag(v) for v in variances]),
+                               weights_init=weights, n_iter=1, reg_covar=0.0)
+    return fit.weights, fit.means, np.stack([np.diag(c) for c in fit.covariances])
 
 
-def _mismatch_cost() -> float:
-    # Eq. 18 with p = 0.2 and K = 13: ln P(L | Lambda) at H = 0 minus at H = 1.
-    return float(-np.diff(label_string_log_prob(np.array([0, 1]), 13, 0.2))[0])
+def _em_step_case(seed: int) -> dict:
+    """One input of Exercise 6: 30-60 points from 2-3 clusters in 2-4 dimensions, and a start."""
+    rng = np.random.default_rng(seed)
+    k, d = int(rng.integers(2, 4)), int(rng.integers(2, 5))
+    centres = rng.normal(0.0, 3.0, (k, d))
+    X = centres[rng.integers(0, k, int(rng.integers(30, 61)))]
+    X = X + rng.normal(0.0, 1.0, X.shape)
+    weights = rng.dirichlet(np.full(k, 4.0))
+    means = X[rng.choice(len(X), k, replace=False)] + rng.normal(0.0, 0.5, (k, d))
+    variances = X.var(axis=0) * rng.uniform(0.3, 1.5, (k, d))
+    return dict(X=X, weights=weights, means=means, variances=variances)
 
 
-def _straight_arm_gap(toy_scores: Callable, mode_deg: float) -> float:
-    # ln p single minus ln p mixture of the toy's straight arm, toy drawn with seed 7.
-    (single, mixture), _ = toy_scores(mode_deg, seed=7)
-    return float(single[0] - mixture[0])
+def _posteriors(X, weights, means, variances, *, use_weights=True):
+    log_p = -0.5 * np.sum(np.log(2 * np.pi * variances)[None] + (X[:, None] - means[None]) ** 2 / variances[None],
+                          axis=2)
+    if use_weights:
+        log_p = log_p + np.log(weights)
+    return np.exp(log_p - np.logaddexp.reduce(log_p, axis=1, keepdims=True))
 
 
-def _kicking_modes(train_aligned: np.ndarray, train: object) -> int:
-    kicking = train_aligned[np.asarray(train.labels) == "kicking"]
-    return int(fit_pdm(kicking.reshape(len(kicking), -1)).n_modes)
+def _old_mean(X, weights, means, variances):
+    post = _posteriors(X, weights, means, variances)
+    counts = post.sum(axis=0)
+    new_means = post.T @ X / counts[:, None]
+    new_variances = np.stack([post[:, j] @ (X - means[j]) ** 2 for j in range(len(means))]) / counts[:, None]
+    return counts / len(X), new_means, new_variances
 
 
-def _mean_rate(separation_trials_at: Callable, level: float, model: str) -> float:
-    return float(np.mean([trial.rate(model) for trial in separation_trials_at(level)]))
+def _unnormalised(X, weights, means, variances):
+    post = _posteriors(X, weights, means, variances)
+    new_means = post.T @ X
+    new_variances = np.stack([post[:, j] @ (X - new_means[j]) ** 2 for j in range(len(means))])
+    return post.sum(axis=0) / len(X), new_means, new_variances
 
 
-def _angle_shares(baselines: Mapping) -> np.ndarray:
-    # Share of each joint polar-PDM eigenmode's squared norm on the 13 angle rows of S.
-    joint = baselines["ours with a joint polar PDM"]
-    return np.concatenate([np.sum(component.pdms[0].modes[:13] ** 2, axis=0)
-                           for components in joint.shape_models_ for component in components])
+def _without_mixing_weights(X, weights, means, variances):
+    post = _posteriors(X, weights, means, variances, use_weights=False)
+    counts = post.sum(axis=0)
+    new_means = post.T @ X / counts[:, None]
+    new_variances = np.stack([post[:, j] @ (X - new_means[j]) ** 2 for j in range(len(means))]) / counts[:, None]
+    return counts / len(X), new_means, new_variances
 
 
-def _dominant_block(baselines: Mapping) -> str:
-    shares = _angle_shares(baselines)
-    return "angles" if np.all(shares > 0.5) else "centres" if np.all(shares < 0.5) else "both"
+def _full_covariances(X, weights, means, variances):
+    fit = fit_gaussian_mixture(X, len(weights), means_init=means,
+                               covariances_init=np.stack([np.diag(v) for v in variances]),
+                               weights_init=weights, n_iter=1, reg_covar=0.0)
+    return fit.weights, fit.means, fit.covariances
 
 
 EXERCISES = ExerciseSet(chapter=2, exercises=[
     Exercise(
-        1, _mismatch_cost,
+        1, None,
         "write ln P(L|Lambda) = ln K_p - k_p H and see what one more mismatch (H -> H + 1) subtracts",
-        (WrongAnswer(-1.39, "a sign slip: ln(p / (1 - p))"),
-         WrongAnswer(1.61, "-ln p, the cost of a mismatch without the match term"),
-         WrongAnswer(0.60, "log10 instead of the natural logarithm"),
-         WrongAnswer(2.90, "-K ln(1 - p), the constant ln K_p instead of k_p")),
-        atol=0.006, rtol=0.0),
+        (WrongAnswer(-2.20, "a sign slip: ln(p / (1 - p))",
+                     hint="the question asks by how much ln P drops: a positive number of nats"),
+         WrongAnswer(2.30, "-ln p, the cost of a mismatch without the match term",
+                     hint="a mismatch also loses the factor (1 - p) of a match: the cost is k_p = ln((1 - p)/p)"),
+         WrongAnswer(0.95, "log10 instead of the natural logarithm", hint="nats: use the natural logarithm"),
+         WrongAnswer(1.37, "-K ln(1 - p), the constant ln K_p instead of k_p",
+                     hint="K_p does not depend on H; the drop per mismatch is k_p"),
+         WrongAnswer(1.39, "the chapter's p = 0.2", hint="the exercise sets p = 0.1, not the chapter's 0.2")),
+        atol=0.005, rtol=0.0),
     Exercise(
-        2, lambda toy_scores: _straight_arm_gap(toy_scores, 15.0),
+        2, None,
         "set mode_deg = 15.0 in the answer cell, run it, and subtract the mixture's ln p from the single PDM's",
-        (WrongAnswer(lambda ns: round(_straight_arm_gap(ns["toy_scores"], 50.0), 1),
-                     "the unchanged toy (modes at +-50 degrees)", unchanged_experiment=True),
-         WrongAnswer(lambda ns: round(-_straight_arm_gap(ns["toy_scores"], 15.0), 1),
-                     "a sign slip: mixture minus single"),
-         WrongAnswer(lambda ns: round(float(ns["toy_scores"](15.0, seed=7)[0][0][0]), 1),
-                     "the single PDM's ln p alone")),
-        context=("toy_scores",), atol=0.06, rtol=0.0, experiment=True),
+        (WrongAnswer(148.8, "the unchanged toy (modes at +-50 degrees)", unchanged_experiment=True,
+                     variable="straight_gap",
+                     hint="that is the unchanged toy with its modes at ±50°: set mode_deg = 15.0 and run again"),
+         WrongAnswer(-5.1, "a sign slip: mixture minus single",
+                     hint="the single PDM's ln p minus the mixture's, not the other way round"),
+         WrongAnswer(13.1, "the single PDM's ln p alone", hint="give the difference of the two ln p, not one of them")),
+        atol=0.05, rtol=0.0, experiment=True, why_points=1),
     Exercise(
-        3, _kicking_modes,
+        3, None,
         "fit_pdm(vectors).n_modes with vectors of shape (20, 156); 95 % of the variance is the default",
-        (WrongAnswer(19, "every mode 20 shapes allow"),
-         WrongAnswer(156, "the length of the long vector"),
-         WrongAnswer(lambda ns: _kicking_modes(ns["train_aligned"], ns["train"]) + 1, "one mode too many")),
-        context=("train_aligned", "train"), atol=0.0, rtol=0.0),
+        (WrongAnswer(19, "every mode 20 shapes allow",
+                     hint="20 shapes allow 19 modes, but the PDM keeps only those holding 95 % of the variance"),
+         WrongAnswer(156, "the length of the long vector",
+                     hint="156 is the length of a long vector; count the modes fit_pdm keeps"),
+         WrongAnswer(6, "one mode too many", hint="count again: n_modes of the fitted PDM"),
+         WrongAnswer(4, "one mode too few", hint="count again: n_modes of the fitted PDM")),
+        atol=0.0, rtol=0.0, why_points=1),
     Exercise(
-        4, lambda separation_trials_at: _mean_rate(separation_trials_at, 3.0, _SINGLE_POLAR),
+        4, None,
         "set separation = 3.0 in the answer cell and average the single polar PDM's rate over the five seeds",
-        (WrongAnswer(lambda ns: round(_mean_rate(ns["separation_trials_at"], 2.0, _SINGLE_POLAR), 2),
-                     "the unchanged experiment (s = 2)", unchanged_experiment=True),
-         WrongAnswer(lambda ns: round(_mean_rate(ns["separation_trials_at"], 3.0, _MIXTURE), 2),
-                     "the mixture's rate instead of the single polar PDM's"),
-         WrongAnswer(lambda ns: round(_mean_rate(ns["separation_trials_at"], 3.0, _MIXTURE)
-                                      - _mean_rate(ns["separation_trials_at"], 3.0, _SINGLE_POLAR), 2),
-                     "the mixture's lead instead of the rate")),
-        context=("separation_trials_at",), atol=0.006, rtol=0.0, experiment=True),
+        (WrongAnswer(0.82, "the unchanged experiment (s = 2)", unchanged_experiment=True, variable="single_polar_mean",
+                     hint="that is s = 2, the unchanged cell: set separation = 3.0 and run again"),
+         WrongAnswer(0.98, "the mixture's rate instead of the single polar PDM's",
+                     hint="that is the mixture of PDMs; the exercise asks for the single polar PDM"),
+         WrongAnswer(0.13, "the mixture's lead instead of the rate",
+                     hint="give the single polar PDM's rate itself, not the mixture's lead over it")),
+        atol=0.005, rtol=0.0, experiment=True, why_points=1),
     Exercise(
-        5, _dominant_block,
-        "sum the squared entries of each mode column over the first 13 rows (the angles) and compare with 1/2",
-        (WrongAnswer("centres", "the block with more coordinates (26 of 39)"),
-         WrongAnswer("both", "modes that mix the two blocks evenly")),
-        context=("baselines",), choices=("angles", "centres", "both")),
+        5, None,
+        "sum the squared entries of each mode column over the first 13 rows (the angles); take the smallest",
+        (WrongAnswer(1.0, "the largest share instead of the smallest",
+                     hint="that is the largest share; the exercise asks for the smallest"),
+         WrongAnswer(0.33, "13 of 39 coordinates, the share of an even mode",
+                     hint="13/39 is what a mode spread evenly over all coordinates would give: measure the modes"),
+         WrongAnswer(0.06, "the centres' share", hint="that is the share on the 26 centre rows; take the 13 angle rows")),
+        atol=0.005, rtol=0.0, why_points=1),
+    Exercise(
+        6, None,
+        "E-step: P(t in w | X_t) proportional to pi_w times the diagonal Gaussian (eqs. 4, 6); M-step: the new "
+        "weights (eq. 5), then means and variances as posterior-weighted averages divided by sum_t P(t in w | X_t), "
+        "the variances about the new means (eqs. 7-8 as the chapter reads them)",
+        (WrongAnswer(_old_mean, "eq. 8 as printed, about the old mean",
+                     hint="eq. 8 as printed uses the old mean; the likelihood is maximised about the new one"),
+         WrongAnswer(_unnormalised, "eqs. 7-8 as printed, without the division",
+                     hint="eqs. 7-8 as printed omit the division by sum_t P(t in w | X_t): your means are sums"),
+         WrongAnswer(_without_mixing_weights, "the E-step without the mixing weights",
+                     hint="Bayes' rule (eq. 4) multiplies each component's density by its weight pi_w"),
+         WrongAnswer(_full_covariances, "full covariance matrices instead of the variances",
+                     hint="return the variances, the diagonal of eq. 8, as a (K, d) array")),
+        kind="function", reference=_diagonal_em_step, make_case=_em_step_case, example_seed=0,
+        rtol=1e-6, atol=1e-10),
 ])
