@@ -18,6 +18,8 @@ Sections (all by default, about 3 minutes on one core; ``--only NAME`` runs one)
   cpd        rigid CPD against the articulated EM on the headline condition
   textured   textured (repeatability 0.8) vs textureless skin
   toy        the toy arm: the still-data drift, over ten draws (a copy of the notebook's toy code)
+  toydraws   the toy's ten-draw claims (clutter at sigma = 20 mm, Exercises 3 and 4's solutions) on the
+             draws 11-20, 21-30 and 31-40 (a copy of the notebook's annealed toy EM)
 
     .venv/bin/python benchmarks/dev_01_seed_spread.py [--only NAME]
 """
@@ -29,7 +31,7 @@ from dataclasses import replace
 from _harness import Benchmark  # first: pins BLAS threads before numpy is imported
 
 SECTIONS = ("kdtree", "bending", "sigma", "tracking", "softassign", "ambiguity", "objective", "cpd",
-            "textured", "toy")
+            "textured", "toy", "toydraws")
 
 
 def report(table, claim: str, chapter_value: float, other_values: list, threshold: float, above: bool) -> None:
@@ -301,6 +303,66 @@ def _toy(table, hand, np) -> None:
         steps[seed] = min(np.diff(drift))
     report(table, "toy, still data: smallest rise of drift with sigma (deg)", steps[1],
            [steps[s] for s in range(2, 11)], 0.0, above=True)
+
+
+def _toydraws(table, hand, np) -> None:
+    """The notebook's annealed toy EM, copied, on sets of ten draws: the claims its ten-draw cells assert."""
+    from amdo_lab.common import make_rng
+    from amdo_lab.em_articulated import PAPER_C
+
+    links, true = np.array([40.0, 30.0, 20.0]), np.radians([30.0, 40.0, 30.0])
+    start, sigmas = true + np.radians([-20.0, 20.0, -20.0]), np.geomspace(20.0, 2.0, 5)
+
+    def points(theta, link, local):
+        angles = np.cumsum(theta)
+        hinges = np.vstack([np.zeros(2), np.cumsum(links[:, None] * np.column_stack([np.cos(angles),
+                                                                                        np.sin(angles)]), axis=0)])
+        cos, sin = np.cos(angles[link]), np.sin(angles[link])
+        return hinges[link] + np.column_stack([cos * local[:, 0] - sin * local[:, 1],
+                                               sin * local[:, 0] + cos * local[:, 1]]), hinges[:3]
+
+    def draw(seed, clutter=True):
+        rng = make_rng(seed)
+        link = np.repeat(np.arange(3), 12)
+        local = np.column_stack([rng.uniform(0, 1, 36) * links[link], rng.uniform(-4, 4, 36)])
+        skin = points(true, link, local)[0] + rng.normal(0, 1.0, (36, 2))
+        return link, local, np.vstack([skin, rng.uniform([-30, -10], [100, 100], (36 if clutter else 0, 2))])
+
+    def targets(moved, data, sigma, c):
+        kernel = np.exp(-np.sum((moved[:, None] - data[None]) ** 2, axis=2) / (2 * sigma**2))
+        alpha = kernel / (kernel.sum(axis=0) + c)
+        lam = alpha.sum(axis=1)
+        return lam, alpha @ data / np.maximum(lam, 1e-300)[:, None]
+
+    def worst(seed, levels, iterations=10, c=PAPER_C, clutter=True):
+        link, local, data = draw(seed, clutter)
+        theta = start.copy()
+        for sigma in levels:
+            for _ in range(iterations):
+                lam, goal = targets(points(theta, link, local)[0], data, sigma, c)
+                w = np.sqrt(lam)[:, None]
+                for _ in range(2):
+                    x, hinges = points(theta, link, local)
+                    lever = x[:, None, :] - hinges[None]
+                    jac = np.stack([-lever[..., 1], lever[..., 0]], axis=1) * (np.arange(3)[None, None]
+                                                                                <= link[:, None, None])
+                    theta = theta + np.linalg.lstsq((w[:, :, None] * jac).reshape(-1, 3), (w * (goal - x)).ravel(),
+                                                    rcond=None)[0]
+        return np.degrees(np.abs(theta - true)).max()
+
+    def claims(seeds):
+        curl = {flag: np.array([worst(s, [20.0], clutter=flag) for s in seeds]) for flag in (True, False)}
+        without_c = np.median([worst(s, sigmas, c=1e-9) for s in seeds])
+        with_c = np.median([worst(s, sigmas) for s in seeds])
+        single = np.array([worst(s, [2.0], iterations=50) for s in seeds])
+        return (curl[False].min() / np.median(curl[True]), without_c / with_c, int(np.sum(single > 10.0)))
+
+    chapter, *others = [claims(range(first, first + 10)) for first in (1, 11, 21, 31)]
+    names = ("toy, sigma = 20 mm: least curl without clutter / median curl with it (10 draws)",
+             "toy, median worst joint without / with the outlier class (10 draws; Solution 3 asserts > 2)",
+             "toy, single sigma = 2 mm: draws of 10 above 10 deg (Solution 4 asserts > 3)")
+    for k, (name, threshold) in enumerate(zip(names, (1.0, 2.0, 3.0))):
+        report(table, name, chapter[k], [other[k] for other in others], threshold, above=True)
 
 
 if __name__ == "__main__":
