@@ -47,7 +47,18 @@ def cell_flux(velocity: np.ndarray, lam: float, mu: float) -> np.ndarray:
 
 
 def flux_case(seed: int) -> dict:
-    """One case of Exercise 7: a random 3 x 3 velocity patch and Lamé constants (rounded to 2 decimals)."""
+    """One case of Exercise 7: a random 3 x 3 velocity patch and Lamé constants (rounded to 2 decimals).
+
+    Parameters
+    ----------
+    seed : int
+        The case's seed.
+
+    Returns
+    -------
+    dict
+        Keyword arguments of :func:`cell_flux`: ``velocity`` (2, 3, 3), ``lam``, ``mu``.
+    """
     rng = np.random.default_rng(seed)
     return {"velocity": rng.normal(size=(2, 3, 3)).round(2), "lam": round(float(rng.uniform(0.5, 3.0)), 2),
             "mu": round(float(rng.uniform(1.0, 6.0)), 2)}
