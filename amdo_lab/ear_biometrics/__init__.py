@@ -41,6 +41,7 @@ from amdo_lab.ear_biometrics.images import as_grey_image
 from amdo_lab.ear_biometrics.matcher import (
     OUR_SETTINGS,
     PAPER_SETTINGS,
+    PAPER_WITH_OUR_READINGS,
     POINT_DISTANCE_CAP,
     RANKINGS,
     EarMatcher,
@@ -85,7 +86,7 @@ __all__ = [
     "CANONICAL_SPREAD", "FRAME_SOURCES", "CanonicalFrame", "silhouette", "moment_frame", "to_canonical",
     "frame_normalisation", "similarity_copy",
     # classification (Sec. 5) and the peers
-    "POINT_DISTANCE_CAP", "RANKINGS", "EarTemplate", "IdentificationResult", "MatcherSettings", "PAPER_SETTINGS",
+    "POINT_DISTANCE_CAP", "RANKINGS", "EarTemplate", "IdentificationResult", "MatcherSettings", "PAPER_SETTINGS", "PAPER_WITH_OUR_READINGS",
     "OUR_SETTINGS", "EarMatcher", "characteristic_points",
     "point_distance", "topology_similarity", "HogNearestNeighbour", "LbpNearestNeighbour",
     # evaluation (Sec. 6)
