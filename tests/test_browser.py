@@ -403,3 +403,21 @@ def _wait_for_search(driver, timeout_s: float = PAGE_TIMEOUT_S) -> list[str]:
             return state["links"]
         time.sleep(0.2)
     raise AssertionError("the search page did not finish within the time limit")
+
+
+# TeX source left as text: a display delimiter, or a TeX control word (\tfrac, \Big, \begin, \sum, ...).
+# The rendered prose keeps neither once MathJax has typeset a formula; either one left means the
+# markdown never handed the formula to MathJax (a display broken by a line that starts with "+" or
+# "-", which Markdown reads as a list item, or $$ inside a paragraph).
+TEX_SOURCE = re.compile(r"\$\$|\\[A-Za-z]{2,}")
+
+
+def test_chapter_prose_shows_no_tex_source(reports):
+    """No chapter page shows "$$" or a TeX control word in its prose, outside MathJax's output."""
+    problems = []
+    for page in _chapter_pages():
+        prose = reports[page]["prose"]
+        for raw in list(TEX_SOURCE.finditer(prose))[:3]:
+            context = prose[max(0, raw.start() - 60): raw.end() + 60].replace("\n", " ")
+            problems.append(f"{page}: TeX source {raw.group(0)!r} in ...{context}...")
+    _assert_none(problems)

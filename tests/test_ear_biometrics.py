@@ -199,6 +199,30 @@ def test_dead_band_ignores_a_graze_and_keeps_a_crossing():
     assert plain.tolist() == [4, 6] and banded.tolist() == [4, 4]
 
 
+
+def test_contour_crossings_counts_changes_of_side_and_matches_the_graph_path():
+    """The readable path for one contour: a graze inside the band is not counted, a crossing once; on
+    random wiggly paths it equals the vectorised graph reading of circle_features (band and none)."""
+    from amdo_lab.ear_biometrics.circles import _graph_crossings
+    graze = [(0.5, 0.0), (1.5, 0.0), (0.98, 0.05), (1.5, 0.2)]
+    assert eb.contour_crossings(graze, [1.0]).tolist() == [3]
+    assert eb.contour_crossings(graze, [1.0], band=0.05).tolist() == [1]
+    assert eb.contour_crossings(graze, [0.2, 2.0]).tolist() == [0, 0]
+    rng = np.random.default_rng(5)
+    radii = np.array([0.7, 0.9, 1.1, 1.3])
+    for _ in range(20):
+        t = np.linspace(0, 1, 150)
+        r = 1 + 0.35 * np.sin(2 * np.pi * rng.uniform(1, 3) * t + rng.uniform(0, 6)) + 0.04 * rng.normal(size=t.size)
+        xy = np.c_[r * np.cos(4 * t), r * np.sin(4 * t)]
+        path = np.c_[np.arange(len(xy) - 1), np.arange(1, len(xy))]
+        for band in (0.0, 0.05):
+            rows, _ = _graph_crossings(xy, path, radii, band)
+            assert eb.contour_crossings(xy, radii, band).tolist() == np.bincount(rows, minlength=4).tolist()
+    with pytest.raises(ValueError, match="points"):
+        eb.contour_crossings([(0.0, 1.0)], [1.0])
+    with pytest.raises(ValueError, match="radii"):
+        eb.contour_crossings(graze, [0.0])
+
 def test_prune_spurs_removes_short_branches_and_keeps_line_length():
     line = np.zeros((20, 40), bool)
     line[10, 2:38] = True

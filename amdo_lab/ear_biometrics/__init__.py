@@ -12,7 +12,7 @@ One module per step: ``images`` (the inputs), ``contours`` (eqs. 1-5), ``normali
 """
 
 from amdo_lab.ear_biometrics.circles import (CROSSING_READINGS, CircleFeatures, circle_features,
-                                             circle_features_reference)
+                                             circle_features_reference, contour_crossings)
 from amdo_lab.ear_biometrics.contours import canny_contours, clean_contours, detect_contours, detect_contours_reference
 from amdo_lab.ear_biometrics.evaluation import (
     ClosedSetResult,
@@ -41,6 +41,7 @@ from amdo_lab.ear_biometrics.images import as_grey_image
 from amdo_lab.ear_biometrics.matcher import (
     OUR_SETTINGS,
     PAPER_SETTINGS,
+    PAPER_WITH_OUR_READINGS,
     POINT_DISTANCE_CAP,
     RANKINGS,
     EarMatcher,
@@ -76,7 +77,7 @@ __all__ = [
     # eq. 6
     "NORMALISATION_MODES", "Normalisation", "normalise_coordinates",
     # V (eq. 7)
-    "CROSSING_READINGS", "CircleFeatures", "circle_features", "circle_features_reference",
+    "CROSSING_READINGS", "CircleFeatures", "circle_features", "circle_features_reference", "contour_crossings",
     # the thinned contours and eq. 8
     "thin_contours", "EQ8_READINGS", "crossing_number", "connectivity_number", "prune_spurs", "skeleton_graph", "smooth_polylines",
     # F (eq. 9)
@@ -85,7 +86,7 @@ __all__ = [
     "CANONICAL_SPREAD", "FRAME_SOURCES", "CanonicalFrame", "silhouette", "moment_frame", "to_canonical",
     "frame_normalisation", "similarity_copy",
     # classification (Sec. 5) and the peers
-    "POINT_DISTANCE_CAP", "RANKINGS", "EarTemplate", "IdentificationResult", "MatcherSettings", "PAPER_SETTINGS",
+    "POINT_DISTANCE_CAP", "RANKINGS", "EarTemplate", "IdentificationResult", "MatcherSettings", "PAPER_SETTINGS", "PAPER_WITH_OUR_READINGS",
     "OUR_SETTINGS", "EarMatcher", "characteristic_points",
     "point_distance", "topology_similarity", "HogNearestNeighbour", "LbpNearestNeighbour",
     # evaluation (Sec. 6)

@@ -10,10 +10,11 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from amdo_lab.common import (MAX_ITERATIONS, MAX_SIDE, as_bool_mask, check_choice, check_in_range, check_positive,
-                             check_positive_int)
+from amdo_lab.common import (MAX_ITERATIONS, MAX_SIDE, as_bool_mask, as_finite_array, check_choice, check_in_range,
+                             check_positive, check_positive_int)
 from amdo_lab.ear_biometrics.images import as_contour_image, check_record
-from amdo_lab.ear_biometrics.normalisation import NORMALISATION_MODES, Normalisation, normalise_coordinates
+from amdo_lab.ear_biometrics.normalisation import (MAX_COORDINATE, NORMALISATION_MODES, Normalisation,
+                                                   normalise_coordinates)
 from amdo_lab.ear_biometrics.skeleton import prune_spurs, skeleton_graph, smooth_polylines, thin_contours
 
 CROSSING_READINGS = ("pixels", "polyline")
@@ -241,6 +242,55 @@ def circle_features_reference(contours: object, n_circles: int = 8, step: float 
     return CircleFeatures(radii, np.array(counts), np.array(sums), tuple(points), norm)
 
 
+def contour_crossings(points: object, radii: object, band: float = 0.0) -> np.ndarray:
+    """How often one contour, read as a polyline, crosses each circle around the origin (eq. 7's l_r).
+
+    The readable path of the ``crossings="polyline"`` reading of :func:`circle_features` for one
+    open contour: walk along the points and note on which side of the circle each lies, -1 inside
+    (r < R - band), +1 outside (r >= R + band), 0 in the dead band between. Skipping the band, every
+    change of side is one crossing, so a stretch that enters the band and turns back (a graze) is not
+    counted, and one that passes through it is, once.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 2)
+        The contour's points in order, normalised (x, y) (eq. 6), at least two, within +-1e6.
+    radii : array_like, shape (m,)
+        Circle radii R, normalised units, > 0 and at most 1e6.
+    band : float
+        Half-width of the dead band, normalised units, >= 0 (0: every sign change of r - R counts).
+
+    Returns
+    -------
+    numpy.ndarray of int, shape (m,)
+        The number of crossings with each circle.
+
+    References
+    ----------
+    M. Choraś, "Ear Biometrics Based on Geometrical Method of Feature Extraction", AMDO 2004,
+    LNCS 3179, pp. 51-61, Sec. 4, eq. (7).
+
+    Examples
+    --------
+    >>> from amdo_lab.ear_biometrics import contour_crossings
+    >>> line = [(0.5, 0.0), (1.5, 0.0), (0.98, 0.05), (1.5, 0.2)]  # out, back in to r = 0.98, out again
+    >>> contour_crossings(line, [1.0]).tolist(), contour_crossings(line, [1.0], band=0.05).tolist()
+    ([3], [1])
+    """
+    xy = as_finite_array(points, "points", shape=(None, 2), max_abs=MAX_COORDINATE)
+    if len(xy) < 2:
+        raise ValueError(f"points must hold at least two points of the contour, got {len(xy)}")
+    radii = as_finite_array(radii, "radii", ndim=1, bounds=(0.0, MAX_COORDINATE), closed="right")
+    band = check_in_range(band, "band", 0.0, MAX_COORDINATE, closed="both")
+    radius = np.linalg.norm(xy, axis=1)  # r(s) along the contour
+    counts = np.zeros(len(radii), int)
+    for m, circle in enumerate(radii):
+        side = np.where(radius < circle - band, -1, np.where(radius >= circle + band, 1, 0))
+        settled = side[side != 0]  # the sides visited in order, the dead band skipped
+        counts[m] = np.count_nonzero(settled[1:] != settled[:-1])  # eq. (7): one crossing per change of side
+    return counts
+
+
 def _roll_rows(values: np.ndarray, shifts: np.ndarray) -> np.ndarray:
     """Row r rolled left by shifts[r] (row r starts at its element shifts[r])."""
     n = values.shape[1]
@@ -317,9 +367,17 @@ def _polyline_crossings(skeleton: np.ndarray, norm: Normalisation, radii: np.nda
     """
     nodes, edges = skeleton_graph(skeleton)
     xy = norm.to_normalised(smooth_polylines(nodes, edges, smoothing))
+    h = band_px / np.sqrt(np.prod(norm.spread))  # pixels -> normalised units (geometric-mean spread)
+    return _graph_crossings(xy, edges, radii, h)
+
+
+def _graph_crossings(xy: np.ndarray, edges: np.ndarray, radii: np.ndarray, h: float
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """Circle index and angle of every crossing of a polyline graph (normalised nodes ``xy``, ``edges``)
+    with each circle, dead band ``h`` in normalised units; :func:`contour_crossings` is the same count
+    for one path, written out."""
     radius = np.linalg.norm(xy, axis=1)
     n_nodes, n_circles = len(xy), len(radii)
-    h = band_px / np.sqrt(np.prod(norm.spread))  # pixels -> normalised units (geometric-mean spread)
     side = np.where(radius[:, None] < radii - h, -1, np.where(radius[:, None] >= radii + h, 1, 0))
     a, b = edges[:, 0], edges[:, 1]
     # direct jumps over the whole band (always the case for h = 0)
