@@ -1,0 +1,13 @@
+"""The course kit: the student release, the grader and its gradebook, built on nbgrader.
+
+- :mod:`amdo_lab.course.cells`: the exercise cells of a source notebook (tags, the targets its
+  hidden tests register);
+- :mod:`amdo_lab.course.release`: ``python -m amdo_lab release`` writes ``build/release/`` in
+  nbgrader's own layout (hidden tests stripped, locked cells with checksums, manual "why" cells);
+- :mod:`amdo_lab.course.scan`: the static scan of a submission for code that rebinds the checking
+  machinery;
+- :mod:`amdo_lab.course.grading`: ``python -m amdo_lab grade DIR``, autograded by nbgrader, with the
+  verdicts computed outside the student's kernel, a gradebook, ``grades.csv`` and feedback HTML.
+
+The chapters themselves never import this package.
+"""
