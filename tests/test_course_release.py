@@ -11,7 +11,8 @@ The release of every chapter on the new exercise format is written once (nbgrade
   the installed package's files and in ``release/``: a number at the precision the hidden test
   writes it (more digits count too), a word or phrase as words. None may be found, except a
   number that is also a given of the exercise's own prompt, and a word in a place that lists the
-  options (the exercise's prompt and answer cell, an ``Exercise``'s ``choices``). Numbers with fewer
+  options or asks the question (an exercise's prompt, answer and "why" cells, an ``Exercise``'s
+  ``choices``). Numbers with fewer
   than three significant digits are not searched (they occur by chance everywhere); "implement it"
   exercises register seeds, not targets, and are not searched either.
 
@@ -146,7 +147,7 @@ def test_no_target_leaks_into_the_package_or_the_release(chapter, release):
             if isinstance(value, str):
                 pattern = _word_pattern(value.strip())
                 allowed = {id(cell) for cell in released.cells
-                           if (ANSWER_TAG in tags(cell) and exercise_of(cell) is not None)
+                           if ((ANSWER_TAG in tags(cell) or WHY_TAG in tags(cell)) and exercise_of(cell) is not None)
                            or (cell.cell_type == "markdown" and re.search(r"^### Exercise \d+", cell.source, re.M))}
                 places = [f"release cell {i}" for i, cell in enumerate(released.cells)
                           if id(cell) not in allowed and pattern.search(_cell_text(cell))]

@@ -207,7 +207,7 @@ def test_records_are_judged_against_the_sources_target_outside_the_kernel():
 def test_encoded_answers_come_back_as_they_were(value):
     import json
 
-    from amdo_lab.common.exercises import decode_value, encode_value
+    from amdo_lab.course.records import decode_value, encode_value
 
     back = decode_value(json.loads(json.dumps(encode_value(value))))
     if isinstance(value, float) and value != value:

@@ -1,16 +1,17 @@
 """The grader: a folder of submissions graded by nbgrader, the verdicts computed outside the kernel.
 
 The folder holds, for chapter 0 (the one chapter on the new exercise format in this branch; its
-"implement it" exercise is a function, its others a number and a word), made from the release:
-a blank notebook, the solutions put in the answer cells (full marks), recorded wrong answers, an
-answer cell that rebinds ``EXERCISES`` to an object whose ``check`` prints "correct", one that
-rebinds ``builtins.abs``, ``math.isclose`` and ``numpy.isclose``/``numpy.allclose`` (with wrong
-answers), a notebook whose check cell 3 was edited to hold the answer, the right answers in a
-per-student subfolder, a text file named ``.ipynb`` and an endless loop. Their rows must read 0,
-full, 0, 0 + flag, 0 + flag, flag, graded under the student's name, an error line and "did not
-finish". A manual "why" mark set through nbgrader's gradebook API must appear in the export.
+exercises take a number, a word and, for "implement it", a function), made from the release: a
+blank notebook, recorded wrong answers, an answer cell that rebinds ``EXERCISES`` to an object
+whose ``check`` prints "correct", one that rebinds ``builtins.abs``, ``math.isclose`` and
+``numpy.isclose``/``numpy.allclose`` (with wrong answers), one whose check cell 3 was edited to
+hold the answer, the instructor's solutions put in the answer cells in a per-student subfolder
+(``alice/``), a text file named ``.ipynb`` and an endless loop. Their rows must read 0, 0,
+0 + flag, 0 + flag, flag (and 0 for that exercise), full marks under the student's name, an error
+line and "did not finish". A manual "why" mark set through nbgrader's gradebook API must appear in
+the export.
 
-Eight notebooks run over two workers (about two minutes on an idle two-core machine).
+Seven notebooks run over two workers (the loop sleeps through its budget).
 """
 
 from __future__ import annotations
@@ -25,8 +26,7 @@ import pytest
 
 from amdo_lab.chapters import find_chapter
 from amdo_lab.course.cells import ANSWER_TAG, CHECK_TAG, SOLUTION_TAG, WHY_TAG, exercise_of, tags
-from amdo_lab.course.grading import COURSE_DIR, export_grades, grade_folder, summary_table
-from amdo_lab.course.release import write_release
+from amdo_lab.course.grading import COURSE_DIR, _ensure_assignment, export_grades, grade_folder, summary_table
 
 CHAPTER = 0
 #: Seconds of execution per notebook (the endless loop costs this much); a loaded machine may need
@@ -57,12 +57,11 @@ def _cells(notebook, tag):
 
 @pytest.fixture(scope="module")
 def graded(tmp_path_factory):
-    course = tmp_path_factory.mktemp("course")
-    release_path = write_release([find_chapter(CHAPTER)], root=course)[0]
-    release = nbformat.read(release_path, as_version=4)
-    source = nbformat.read(find_chapter(CHAPTER).path, as_version=4)
-    solutions = _solution_code(source)
+    chapter = find_chapter(CHAPTER)
     folder = tmp_path_factory.mktemp("submissions")
+    _ensure_assignment(folder / COURSE_DIR, chapter)  # the grader finds it done and reuses it
+    release = nbformat.read(folder / COURSE_DIR / "release" / "ch00" / chapter.notebook, as_version=4)
+    solutions = _solution_code(nbformat.read(chapter.path, as_version=4))
 
     def make(name, answers=None, checks=None, whys=None):
         notebook = nbformat.reads(nbformat.writes(release), as_version=4)
@@ -80,7 +79,7 @@ def graded(tmp_path_factory):
 
     right = {k: f"{code}\nanswer_{k} = solution_{k}" for k, code in solutions.items()}
     make("blank.ipynb")
-    make("right.ipynb", right, whys={2: "Away: 4 of 24 directions instead of 4 of 120."})
+    make("alice/00_introduction.ipynb", right, whys={2: "Away: 4 of 24 directions instead of 4 of 120."})
     make("wrong.ipynb", {1: "answer_1 = 0.0283", 2: "answer_2 = 0.0268", 3: 'answer_3 = "60 points"',
                          4: "answer_4 = lambda source, target: 1.0"})
     make("fake_exercises.ipynb", {1: "class _Always:\n    def check(self, *args, **kwargs):\n        print('correct')\n"
@@ -90,9 +89,8 @@ def graded(tmp_path_factory):
                                        "numpy.allclose = lambda *a, **k: True\nanswer_1 = 0.5"})
     make("edited_check.ipynb", {k: text for k, text in right.items() if k != 3},
          checks={3: 'answer_3 = "12 points"\nprint("correct")'})
-    make("alice/00_introduction.ipynb", right)
     loop = nbformat.v4.new_notebook(metadata={"amdo_lab": {"chapter": CHAPTER}})
-    loop.cells = [nbformat.v4.new_code_cell("while True:\n    pass")]
+    loop.cells = [nbformat.v4.new_code_cell("import time\nwhile True:\n    time.sleep(1)")]
     nbformat.write(loop, folder / "loop.ipynb")
     (folder / "notes.ipynb").write_text("my answers are 0.03 and 12 points\n", encoding="utf-8")
     results, csv_path = grade_folder(folder, timeout_s=TIMEOUT_S, workers=WORKERS, progress=False)
@@ -108,12 +106,12 @@ def test_every_submission_gets_the_row_it_should(graded):
     folder, results, csv_path = graded
     rows = _rows(csv_path)
     table = summary_table(results)
-    assert set(rows) == {"blank", "right", "wrong", "fake_exercises", "patched_builtins", "edited_check", "alice",
+    assert set(rows) == {"blank", "wrong", "fake_exercises", "patched_builtins", "edited_check", "alice",
                          "loop", "notes"}, table
     full = {"ex1": "1", "ex2": "2", "ex3": "1", "ex4": "1"}
-    assert {key: rows["right"][key] for key in full} == full, table
-    assert {key: rows["alice"][key] for key in full} == full, table
-    assert rows["right"]["maximum"] == "7" and rows["right"]["chapter"] == "0"
+    assert {key: rows["alice"][key] for key in full} == full, table  # graded under the folder's name
+    assert rows["alice"]["maximum"] == "7" and rows["alice"]["chapter"] == "0"
+    assert rows["alice"]["ex2_why"] == "" and "1 why answer(s) to mark" in table, table
     for name in ("blank", "wrong", "fake_exercises", "patched_builtins"):
         assert rows[name]["total"] == "0", (name, table)
     assert rows["blank"]["flags"] == "" and rows["wrong"]["flags"] == "", table
@@ -134,8 +132,7 @@ def test_verdicts_and_feedback_pages(graded):
     assert set(by_student["blank"].verdicts.values()) == {"not attempted yet"}
     assert by_student["wrong"].verdicts[1].startswith("not yet: that is the residual of the true transform")
     assert by_student["wrong"].verdicts[4].startswith("not yet")
-    assert (folder / "feedback" / "right" / "ch00_00_introduction.html").exists()
-    page = (folder / "feedback" / "right" / "ch00_00_introduction.html").read_text(encoding="utf-8")
+    page = (folder / "feedback" / "alice" / "ch00_00_introduction.html").read_text(encoding="utf-8")
     assert "Exercise 4" in page
 
 
@@ -144,11 +141,11 @@ def test_a_manual_why_mark_reaches_the_gradebook_export(graded):
 
     folder, _, _ = graded
     with Gradebook(f"sqlite:///{folder / COURSE_DIR / 'gradebook.db'}") as gradebook:
-        grade = gradebook.find_grade("why-2", "00_introduction", "ch00", "right")
+        grade = gradebook.find_grade("why-2", "00_introduction", "ch00", "alice")
         grade.manual_score = 1.0
         gradebook.db.commit()
     _, csv_path = export_grades(folder)
-    row = _rows(csv_path)["right"]
+    row = _rows(csv_path)["alice"]
     assert row["ex2_why"] == "1" and row["total"] == "6", row
     assert _rows(csv_path)["blank"]["ex2_why"] in ("0", "")
 

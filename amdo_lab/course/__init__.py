@@ -4,6 +4,8 @@
   hidden tests register);
 - :mod:`amdo_lab.course.release`: ``python -m amdo_lab release`` writes ``build/release/`` in
   nbgrader's own layout (hidden tests stripped, locked cells with checksums, manual "why" cells);
+- :mod:`amdo_lab.course.records`: answers as JSON, carried out of the kernel by the check cells'
+  grading records;
 - :mod:`amdo_lab.course.scan`: the static scan of a submission for code that rebinds the checking
   machinery;
 - :mod:`amdo_lab.course.grading`: ``python -m amdo_lab grade DIR``, autograded by nbgrader, with the
@@ -11,3 +13,5 @@
 
 The chapters themselves never import this package.
 """
+
+__all__ = ["cells", "grading", "records", "release", "scan"]

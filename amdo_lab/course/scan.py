@@ -116,6 +116,7 @@ def scan_source(source: str, modules: set[str] | frozenset[str] = frozenset()) -
                 if any(full == bad or full.startswith(bad + ".") or (module or "").startswith(bad)
                        for bad in FORBIDDEN_IMPORTS):
                     flag(f"imports {full}")
+                    continue
                 bound = alias.asname or (alias.name if module else alias.name.split(".")[0])
                 if bound in PROTECTED_NAMES and not (bound == alias.name.split(".")[0] and module is None
                                                       and bound in {"numpy", "math", "json", "sys", "os",
