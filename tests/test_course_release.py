@@ -1,7 +1,7 @@
 """The student release (nbgrader's layout) and the leak test of the course kit.
 
-The release of every chapter on the new exercise format is written once (nbgrader's
-``generate_assignment``, no execution). Then:
+The release of every chapter on the new exercise format is written once for the session
+(``conftest.course_release``: nbgrader's ``generate_assignment``, no execution). Then:
 
 - its notebooks carry no Solutions section, no self-test, no hidden test, no ``EXERCISES.expect``;
   every cell has nbgrader metadata: answer cells unlocked solution cells, check cells locked
@@ -34,7 +34,6 @@ import amdo_lab
 from amdo_lab.chapters import available_chapters
 from amdo_lab.course.cells import (ANSWER_TAG, CHECK_TAG, HIDDEN_BEGIN, SELFTEST_TAG, SOLUTION_TAG, WHY_TAG,
                                    exercise_of, hidden_targets, tags)
-from amdo_lab.course.release import write_release
 
 #: Chapters whose exercises still compute a target in the package (the lead shrinks this set).
 NOT_YET_MIGRATED = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10}
@@ -52,11 +51,9 @@ def _migrated(chapter) -> bool:
 
 
 @pytest.fixture(scope="module")
-def release(tmp_path_factory):
-    root = tmp_path_factory.mktemp("course")
-    chapters = [chapter for chapter in CHAPTERS if _migrated(chapter)]
-    paths = write_release(chapters, root=root)
-    return {chapter.number: nbformat.read(path, as_version=4) for chapter, path in zip(chapters, paths)}
+def release(course_release):
+    _, paths = course_release
+    return {number: nbformat.read(path, as_version=4) for number, path in paths.items()}
 
 
 def _number_pattern(text: str) -> re.Pattern:

@@ -2,10 +2,10 @@
 
 - ``make lab`` runs ``python -m amdo_lab lab``, which passes ``--allow-root`` when the user id is 0
   (Jupyter refuses root otherwise): the test starts it, fetches ``/api`` over HTTP and stops it.
-- ``python -m amdo_lab site --student`` builds the book from the release: the test builds it from a
-  fresh release of chapter 0, opens the chapter page in headless Chromium and finds no text of
-  any solution, no folded solution and no hidden test, and the download button serves the release
-  notebook (no solution cell, no hidden test).
+- ``python -m amdo_lab site --student`` builds the book from the release: the test builds it from
+  the release of the migrated chapters (``conftest.course_release``), opens chapter 0's page in
+  headless Chromium and finds no text of any solution, no folded solution and no hidden test, and
+  the download button serves the release notebook (no solution cell, no hidden test).
 """
 
 from __future__ import annotations
@@ -27,7 +27,6 @@ import pytest
 from amdo_lab.book import build_site
 from amdo_lab.chapters import find_chapter
 from amdo_lab.course.cells import SOLUTION_TAG, tags
-from amdo_lab.course.release import write_release
 
 ROOT = Path(__file__).resolve().parents[1]
 LAB_START_S = 240
@@ -81,7 +80,7 @@ def test_the_lab_serves_over_http_as_this_user_and_stops(tmp_path):
 
 
 @pytest.fixture(scope="module")
-def student_site(tmp_path_factory):
+def student_site(request):
     from test_browser import _missing_browser
 
     reason = _missing_browser()
@@ -89,9 +88,8 @@ def student_site(tmp_path_factory):
         if os.environ.get("CI", "").lower() == "true":
             pytest.fail(f"CI must run the browser test, but {reason}")
         pytest.skip(reason)
-    build = tmp_path_factory.mktemp("student-build")
-    write_release([find_chapter(0)], root=build)
-    index = build_site(build, student=True)
+    root, _ = request.getfixturevalue("course_release")
+    index = build_site(root, student=True)
     return index.parent
 
 
