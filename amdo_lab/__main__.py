@@ -58,7 +58,7 @@ def _lab(student: bool, extra: list[str]) -> int:
     """Run JupyterLab on the instructor's notebooks or the release, as root too (``--allow-root``)."""
     import os
 
-    from amdo_lab.book import BUILD_DIR, ROOT
+    from amdo_lab.course.book import BUILD_DIR, ROOT
 
     folder = ROOT / "notebooks"
     if student:
@@ -84,14 +84,14 @@ def main(argv: list[str] | None = None) -> int:
     if extra:
         parser.error(f"unrecognized arguments: {' '.join(extra)}")
     if args.command == "check-env":
-        from amdo_lab.environment import check_environment
+        from amdo_lab.course.environment import check_environment
 
         report = check_environment()
         print("\n".join(report.lines))
         print("environment ready" if report.ok else "environment NOT ready: see the FAIL lines")
         return 0 if report.ok else 1
     if args.command == "site":
-        from amdo_lab.book import BUILD_DIR, BookError, build_site
+        from amdo_lab.course.book import BUILD_DIR, BookError, build_site
 
         try:
             if args.student and not (BUILD_DIR / "release").exists():
@@ -123,7 +123,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"release: {len(written)} chapter(s) in {folder}/ (nbgrader's layout; gradebook in "
               f"{(args.out or BUILD_DIR) / 'gradebook.db'})")
         return 0
-    from amdo_lab.book import BookError, SiteError, build_book, execute_chapter, render_figures
+    from amdo_lab.course.book import BookError, SiteError, build_book, execute_chapter, render_figures
 
     try:
         if args.command == "build":

@@ -24,7 +24,7 @@ from pathlib import Path
 import nbformat
 import pytest
 
-from amdo_lab.book import build_site
+from amdo_lab.course.book import build_site
 from amdo_lab.chapters import find_chapter
 from amdo_lab.course.cells import SOLUTION_TAG, tags
 
@@ -98,7 +98,7 @@ def test_the_student_book_shows_no_solution_and_serves_the_release(student_site,
     from selenium.webdriver.chrome.service import Service
     from selenium.webdriver.common.by import By
 
-    from amdo_lab.environment import find_browser
+    from amdo_lab.course.environment import find_browser
     from test_browser import CHROMIUM_FLAGS
 
     chapter = find_chapter(0)

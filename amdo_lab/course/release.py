@@ -67,7 +67,9 @@ def course_config(root: Path | str, **extra):
     config.ClearSolutions.code_stub = {"python": ""}
     config.ClearSolutions.text_stub = ""
     config.ClearOutput.enabled = False  # answer and check outputs are cleared here; figures stay
-    config.Exchange.root = str(Path(root).resolve() / "exchange")
+    exchange = Path(root).resolve() / "exchange"  # unused (no hand-in server), but nbgrader checks it exists
+    exchange.mkdir(parents=True, exist_ok=True)
+    config.Exchange.root = str(exchange)
     for key, value in extra.items():
         section, name = key.split(".", 1)
         setattr(config[section], name, value)

@@ -32,7 +32,7 @@ __all__ = [
     "execute_chapter", "fold_solutions", "render_figures",
 ]
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 BUILD_DIR = ROOT / "build"
 SITE_CONFIG_DIR = ROOT / "book"
 CELL_TIMEOUT_S = 900
