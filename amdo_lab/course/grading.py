@@ -43,6 +43,7 @@ import re
 import shutil
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor, as_completed
@@ -68,6 +69,8 @@ _RESULTS = "amdo_results.json"
 #: before the autograde process is killed; the notebook's own budget is enforced by nbgrader.
 _OVERHEAD_S = 900
 _SKIP = {COURSE_DIR, FEEDBACK_DIR}
+#: One writer of the gradebook at a time in this process (the grading threads share it).
+_GRADEBOOK_LOCK = threading.Lock()
 
 
 @dataclass
@@ -260,7 +263,7 @@ def _records(notebook) -> tuple[dict[int, dict], dict[int, str], str]:
         for output in cell.get("outputs", []):
             if output.get("output_type") == "error":
                 name = output.get("ename", "Error")
-                if name == "CellTimeoutError" or "timeout" in str(output.get("evalue", "")).lower():
+                if name == "CellTimeoutError":  # nbgrader's stand-in for a cell stopped at the budget
                     timed_out = timed_out or gid or "a cell"
                 if gid.startswith("answer-"):
                     value = re.sub(r"\x1b\[[0-9;]*m", "", str(output.get("evalue", ""))).strip().splitlines()
@@ -422,9 +425,18 @@ def grade_one(root: Path, student: str, path: Path, *, timeout_s: float, feedbac
         result.points[k] = exercise.points if verdict == CORRECT else 0
         for reason in flags.get(k, []):
             result.flags.append(f"exercise {k}: {reason}")
-    result.why = _set_scores(root, chapter, student, result.points, result.verdicts, flags)
+    for attempt in range(4):  # an autograde in another process may hold the gradebook a moment
+        try:
+            with _GRADEBOOK_LOCK:
+                result.why = _set_scores(root, chapter, student, result.points, result.verdicts, flags)
+            break
+        except Exception as error:  # noqa: BLE001 - sqlite "database is locked"
+            if attempt == 3:
+                result.flags.append(f"the gradebook could not be updated ({type(error).__name__})")
+            time.sleep(2 + 2 * attempt)
     if feedback:
-        result.flags += _feedback(root, chapter, student)
+        with _GRADEBOOK_LOCK:
+            result.flags += _feedback(root, chapter, student)
     return result
 
 
