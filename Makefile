@@ -9,7 +9,7 @@ EGL_PACKAGES     := libegl1 libegl-mesa0
 BROWSER_PACKAGES := chromium chromium-driver
 R_PACKAGES       := r-base-core r-cran-lme4
 
-.PHONY: book site test test-second-kernel lab figures editions grade check-env setup system-packages egl clean
+.PHONY: book site site-student test test-second-kernel lab lab-student figures release grade check-env setup system-packages egl clean
 
 # Execute every chapter, then build the HTML book into build/book/.
 book: $(STAMP)
@@ -18,6 +18,11 @@ book: $(STAMP)
 # The HTML book alone, from the executed notebooks as they are (nothing is executed).
 site: $(STAMP)
 	$(PY) -m amdo_lab site
+
+# The student book, from the release (no solutions; the download button serves the release notebook).
+site-student: $(STAMP)
+	$(PY) -m amdo_lab release
+	$(PY) -m amdo_lab site --student
 
 # Unit tests, nbval over every notebook, and the book in a headless browser
 # (tests/test_browser.py builds the site from the committed notebooks).
@@ -31,17 +36,26 @@ test-second-kernel: $(STAMP)
 	echo "notebooks under OPENBLAS_CORETYPE=$$kernel (this machine: $$($(PY) tests/blas_kernels.py --current))"; \
 	OPENBLAS_CORETYPE=$$kernel $(PY) -m pytest notebooks $(NBVAL)
 
+# JupyterLab on the instructor's notebooks. As root (a container's or course VM's default user)
+# Jupyter refuses to start without --allow-root: `python -m amdo_lab lab` passes it when the user
+# id is 0. LAB_ARGS adds JupyterLab options, e.g. LAB_ARGS="--no-browser --port=8899".
 lab: $(STAMP)
-	$(VENV)/bin/jupyter lab notebooks/
+	$(PY) -m amdo_lab lab $(LAB_ARGS)
+
+# JupyterLab on the student release (build/release/, written first when missing).
+lab-student: $(STAMP)
+	$(PY) -m amdo_lab lab --student $(LAB_ARGS)
 
 figures: $(STAMP)
 	$(PY) -m amdo_lab figures
 
-# Student edition (solutions removed) in build/student/, instructor edition in build/instructor/.
-editions: $(STAMP)
-	$(PY) -m amdo_lab editions
+# The student release in build/release/ (nbgrader's layout: solutions and hidden tests removed,
+# locked cells, gradebook in build/gradebook.db).
+release: $(STAMP)
+	$(PY) -m amdo_lab release
 
-# Grade a folder of submitted notebooks: make grade SUBMISSIONS=path/to/folder (grades.csv inside it).
+# Grade a folder of submitted notebooks (flat, or one folder per student) with nbgrader:
+# make grade SUBMISSIONS=path/to/folder (grades.csv, feedback/ and the gradebook inside it).
 grade: $(STAMP)
 	@test -n "$(SUBMISSIONS)" || { echo "usage: make grade SUBMISSIONS=path/to/folder"; exit 2; }
 	$(PY) -m amdo_lab grade "$(SUBMISSIONS)"

@@ -121,8 +121,8 @@ CHAPTERS: tuple[Chapter, ...] = (
         "L. Bentabet, D. Ziou. Neuroanatomy Registration: An Algebraic-Topology Based Approach. "
         "AMDO 2004, LNCS 3179, pp. 76-85.",
         exercises="amdo_lab.cat_fluid.exercises",
-        prerequisites=needs(("the shared notation", 0), "vector calculus (gradient, divergence, Laplacian)",
-                            "finite differences", "warping an image"),
+        prerequisites=needs(("the shared notation", 0), "vector calculus (divergence theorem)",
+                            "the discrete Fourier transform"),
         teaches=("viscous-fluid registration", "cochains and the coboundary"),
         difficulty=3,
         study_minutes=120,

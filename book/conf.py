@@ -1,6 +1,6 @@
 """Sphinx configuration of the AMDO Lab book (``python -m amdo_lab site`` runs sphinx-build with it).
 
-The source folder is staged by ``amdo_lab.book.build_site``: the generated landing page
+The source folder is staged by ``amdo_lab.course.book.build_site``: the generated landing page
 ``index.md`` and the executed chapter notebooks. Notebooks are rendered as they are (never
 executed here). Everything a page loads ships with the site: MathJax 3 comes from the
 ``sphinx-mathjax-offline`` package, the theme's fonts and icons from ``pydata-sphinx-theme``.

@@ -10,7 +10,7 @@ import nbformat
 import pytest
 
 from amdo_lab import chapters as chapter_registry
-from amdo_lab.book import BookError, SiteError, build_book, build_site, chapter_run_seconds
+from amdo_lab.course.book import BookError, SiteError, build_book, build_site, chapter_run_seconds
 from amdo_lab.chapters import CHAPTERS, NOTEBOOK_DIR, Chapter, available_chapters, find_chapter
 
 # The words of ../shared/tools/check_notebooks.py's PROCESS check: the landing page speaks about
@@ -90,7 +90,7 @@ def tiny_chapters(tmp_path, monkeypatch):
     ], tags=[(), ("hide-input",)])
     _write_notebook(notebooks / bad.notebook, ["x = 1", "raise ValueError('deliberate failure')"])
     monkeypatch.setattr(chapter_registry, "CHAPTERS", (good, bad))
-    import amdo_lab.book as book
+    import amdo_lab.course.book as book
 
     monkeypatch.setattr(book, "CHAPTERS", (good, bad))
     return good, bad, tmp_path / "build"
@@ -137,7 +137,7 @@ def test_a_broken_equation_reference_fails_the_strict_site_build(tiny_chapters):
 
 # --- solutions folded whole in the book ---------------------------------------------------------
 
-from amdo_lab.book import SOLUTION_CLASS, fold_solutions  # noqa: E402
+from amdo_lab.course.book import SOLUTION_CLASS, fold_solutions  # noqa: E402
 
 
 def test_solution_cells_are_folded_whole_headings_aside():

@@ -28,9 +28,9 @@ from urllib.parse import quote, urlsplit
 
 import pytest
 
-from amdo_lab.book import build_site
+from amdo_lab.course.book import build_site
 from amdo_lab.chapters import available_chapters
-from amdo_lab.environment import BROWSER_INSTALL_COMMAND, find_browser
+from amdo_lab.course.environment import BROWSER_INSTALL_COMMAND, find_browser
 
 INSTALL_HINT = (
     f"install Chromium and its driver ({BROWSER_INSTALL_COMMAND}) and Selenium "

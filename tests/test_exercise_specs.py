@@ -3,7 +3,8 @@
 The checks' verdicts themselves are tested inside each notebook: its last cell (tagged
 ``exercise-selftest``) feeds every check the placeholder, each recorded wrong answer and the
 solution, and raises on a wrong verdict, so nbval fails. This module checks, without executing
-anything, that every chapter has that cell and the cells the grader and the editions rely on.
+anything, that every chapter has that cell and the cells the release and the grader rely on (answer,
+check and "why" cells, hidden tests, rubrics).
 """
 
 from __future__ import annotations
@@ -68,8 +69,8 @@ def test_each_exercise_has_one_answer_cell_one_check_cell_and_a_solution(chapter
             assert hidden and re.fullmatch(rf"\s*EXERCISES\.expect\({k}, .*\)\s*", hidden.group(1), re.S), \
                 f"exercise {k}: the hidden test is the one call EXERCISES.expect({k}, ...)"
         solutions = [cell for cell in notebook.cells if "solution" in _tags(cell) and cell.cell_type == "code"]
-        assert any(re.search(rf"^solution_{k}\b.*=", cell.source, re.M) for cell in solutions), \
-            f"exercise {k}: a solution cell stores solution_{k}"
+        assert any(re.search(rf"^(solution_{k}\b.*=|def solution_{k}\()", cell.source, re.M) for cell in solutions), \
+            f"exercise {k}: a solution cell stores solution_{k} (an 'implement it' solution defines it)"
 
 
 def test_solutions_never_overwrite_the_readers_answers(chapter_and_notebook):
@@ -84,3 +85,37 @@ def test_the_last_cell_self_tests_every_check(chapter_and_notebook):
     last = notebook.cells[-1]
     assert {"exercise-selftest", "remove-cell"} <= _tags(last)
     assert "EXERCISES.assert_checks(globals())" in last.source
+
+
+def test_why_cells_are_markdown_after_their_check_with_a_rubric_in_the_solutions(chapter_and_notebook):
+    chapter, notebook = chapter_and_notebook
+    exercises = importlib.import_module(chapter.exercises).EXERCISES
+    cells = notebook.cells
+    for exercise in exercises.exercises:
+        k = exercise.number
+        whys = [i for i, cell in enumerate(cells) if "exercise-why" in _tags(cell) and _exercise(cell) == k]
+        assert len(whys) == (1 if exercise.why_points else 0), \
+            f"exercise {k}: one 'why' cell exactly when why_points is set (why_points={exercise.why_points})"
+        if not whys:
+            continue
+        why = cells[whys[0]]
+        assert why.cell_type == "markdown" and why.source.startswith("**Why?** ") and "*Your answer:*" in why.source, \
+            f"exercise {k}: the why cell is markdown, '**Why?** question' then '*Your answer:*'"
+        before = cells[whys[0] - 1]
+        assert "exercise-check" in _tags(before) and _exercise(before) == k, \
+            f"exercise {k}: the why cell comes right after the check cell"
+        rubrics = [cell for cell in cells if "solution" in _tags(cell) and cell.cell_type == "markdown"
+                   and f"*Rubric (why, {k}):*" in cell.source]
+        assert len(rubrics) == 1, f"exercise {k}: one '*Rubric (why, {k}):*' in the Solutions section"
+
+
+def test_new_exercises_check_with_the_answer_alone(chapter_and_notebook):
+    chapter, notebook = chapter_and_notebook
+    exercises = importlib.import_module(chapter.exercises).EXERCISES
+    for exercise in exercises.exercises:
+        if exercise.expected is not None:
+            continue  # older exercises pass notebook objects as context
+        k = exercise.number
+        check = next(cell for cell in notebook.cells if "exercise-check" in _tags(cell) and _exercise(cell) == k)
+        assert check.source.rstrip().endswith(f"EXERCISES.check({k}, answer_{k})"), \
+            f"exercise {k}: the check's visible line is EXERCISES.check({k}, answer_{k}), no context"

@@ -166,3 +166,53 @@ def test_new_exercises_need_a_hint_for_every_wrong_answer_and_function_parts():
         Exercise(1, None, "h", wrong_answers((2.0, "x", "a"), (3.0, "y", "b")), kind="function")
     with pytest.raises(ValueError, match="seeds"):
         _new_set().expect(2, 4.0)
+
+
+# --- grading mode: the answer recorded in the kernel, judged outside it ------------------------------
+
+def test_grading_mode_emits_a_record_and_keeps_the_printed_verdict(capsys, monkeypatch):
+    import json
+
+    from amdo_lab.common.exercises import GRADING_ENV, RECORD_MIME
+
+    exercises = _new_set()
+    exercises.check(1, 0.03)
+    assert capsys.readouterr().out.strip() == RECORDED
+    monkeypatch.setenv(GRADING_ENV, "1")
+    exercises.check(1, np.float64(0.03))
+    verdict, record = capsys.readouterr().out.strip().splitlines()
+    assert verdict == RECORDED and record.startswith(RECORD_MIME)
+    assert json.loads(record.split(" ", 1)[1]) == {"chapter": 9, "exercise": 1, "kind": "value", "attempted": True,
+                                                   "answer": 0.03}
+
+
+def test_records_are_judged_against_the_sources_target_outside_the_kernel():
+    exercises = _new_set()  # no target registered here: the grader passes the one parsed from the source
+    assert exercises.judge_record(exercises.record(1, 0.0258), ("value", 0.0258)) == "correct"
+    assert exercises.judge_record(exercises.record(1, 0.028), ("value", 0.0258)) == "not yet: the fit absorbs some noise"
+    assert exercises.judge_record(exercises.record(1, None), ("value", 0.0258)) == "not attempted yet"
+    assert exercises.judge_record(exercises.record(1, "0.0258"), ("value", 0.0258)).startswith("not yet")
+    exercises.expect(2, seeds=(5, 7))  # as the restored hidden test does in the grading kernel
+    square = exercises.record(2, lambda x: x * x)
+    assert set(square["outputs"]) == {"5", "7"}
+    assert exercises.judge_record(square, ("seeds", (5, 7))) == "correct"
+    assert exercises.judge_record(square, ("seeds", (5, 8))).startswith("not yet: your function was not run")
+    assert exercises.judge_record(exercises.record(2, lambda x: 2 * x), ("seeds", (5, 7))) == "not yet: not twice"
+    raising = exercises.record(2, lambda x: 1 / 0)
+    assert exercises.judge_record(raising, ("seeds", (5, 7))).startswith("not yet: your function raised")
+
+
+@pytest.mark.parametrize("value", [1, 2.5, float("nan"), "word", True, None, (1.0, 2.0), [1, [2, 3]], {"a", "b"},
+                                   np.arange(3.0), {"k": np.float32(1.5)}])
+def test_encoded_answers_come_back_as_they_were(value):
+    import json
+
+    from amdo_lab.course.records import decode_value, encode_value
+
+    back = decode_value(json.loads(json.dumps(encode_value(value))))
+    if isinstance(value, float) and value != value:
+        assert back != back
+    elif isinstance(value, np.ndarray):
+        assert np.array_equal(back, value)
+    else:
+        assert back == value and type(back) is type(value) or isinstance(value, dict)

@@ -1,191 +1,158 @@
-"""The grader: a folder of submissions for two chapters, graded with the chapters' own checks.
+"""The grader: a folder of submissions graded by nbgrader, the verdicts computed outside the kernel.
 
-For each chapter of :data:`GRADED_CHAPTERS` the test hands in five notebooks made from the
-chapter's student edition: a blank one, one with a recorded wrong answer in every answer cell, one
-with the right answers, one with only exercise 1 right and every check cell edited to print
-"correct" (a tampered notebook), and one whose first answer cell raises. The answers are written
-generically from the chapter's ``EXERCISES``, in the answer cells themselves: a wrong answer is the
-first recorded :class:`WrongAnswer`, resolved in the kernel from the notebook's objects; the right
-one is the value the check itself expects (``Exercise.target``), which every solution ``solution_k``
-must match. Bad input sits in the same folder: a file that is not a notebook, a notebook whose
-metadata names a chapter its file name contradicts, and one that cannot be matched to any chapter.
+The folder holds, for chapter 0 (the one chapter on the new exercise format in this branch; its
+exercises take a number, a word and, for "implement it", a function), made from the release: a
+blank notebook, recorded wrong answers, an answer cell that rebinds ``EXERCISES`` to an object
+whose ``check`` prints "correct", one that rebinds ``builtins.abs``, ``math.isclose`` and
+``numpy.isclose``/``numpy.allclose`` (with wrong answers), one whose check cell 3 was edited to
+hold the answer, the instructor's solutions put in the answer cells in a per-student subfolder
+(``alice/``), a text file named ``.ipynb`` and an endless loop. Their rows must read 0, 0,
+0 + flag, 0 + flag, flag (and 0 for that exercise), full marks under the student's name, an error
+line and "did not finish". A manual "why" mark set through nbgrader's gradebook API must appear in
+the export.
 
-Five executions of each chapter run over two workers; chapter 0 takes about half a minute.
+Seven notebooks run over two workers (the loop sleeps through its budget).
 """
 
 from __future__ import annotations
 
 import csv
-import importlib
+import os
+import subprocess
+import sys
 
 import nbformat
 import pytest
 
 from amdo_lab.chapters import find_chapter
-from amdo_lab.editions import ANSWER_TAG, CHECK_TAG, student_edition
-from amdo_lab.grading import grade_folder, grade_notebook, identify_chapter, summary_table
+from amdo_lab.course.cells import ANSWER_TAG, CHECK_TAG, SOLUTION_TAG, WHY_TAG, exercise_of, tags
+from amdo_lab.course.grading import COURSE_DIR, _ensure_assignment, export_grades, grade_folder, summary_table
 
-#: The two chapters whose submissions are graded (chapter 0 and one method chapter).
-GRADED_CHAPTERS = (0, 4)
+CHAPTER = 0
+#: Seconds of execution per notebook (the endless loop costs this much); a loaded machine may need
+#: more: AMDO_TEST_GRADE_TIMEOUT=300.
+TIMEOUT_S = int(os.environ.get("AMDO_TEST_GRADE_TIMEOUT", "60"))
 WORKERS = 2
 
 
-def _exercise_set(number: int):
-    chapter = find_chapter(number)
-    try:
-        return importlib.import_module(chapter.exercises).EXERCISES
-    except ModuleNotFoundError:
-        pytest.skip(f"chapter {number} has no exercise module ({chapter.exercises}) in this checkout")
+def _solution_code(source) -> dict[int, str]:
+    """The Solutions section's code for each exercise, in order (the markdown ``### Exercise k`` opens it)."""
+    code: dict[int, list[str]] = {}
+    current = None
+    for cell in source.cells:
+        if SOLUTION_TAG not in tags(cell):
+            continue
+        if cell.cell_type == "markdown":
+            for line in cell.source.splitlines():
+                if line.startswith("### Exercise "):
+                    current = int(line.split()[2])
+        elif current is not None:
+            code.setdefault(current, []).append(cell.source)
+    return {k: "\n".join(parts) for k, parts in code.items()}
 
 
-def _answer_cells(notebook):
-    return [cell for cell in notebook.cells
-            if ANSWER_TAG in cell.metadata.get("tags", []) and cell.metadata.get("amdo_lab", {}).get("exercise")]
-
-
-def _number(cell) -> int:
-    return cell.metadata["amdo_lab"]["exercise"]
-
-
-def _right(k: int) -> str:
-    return (f"_target = EXERCISES[{k}].target(globals())\n"
-            f"answer_{k} = sorted(_target)[0] if isinstance(_target, (set, frozenset)) else _target\n"
-            f"assert not callable(answer_{k}), 'exercise {k}: a predicate check needs a constructed answer'")
-
-
-def _wrong(k: int) -> str:
-    return f"answer_{k} = EXERCISES[{k}].wrong_answers[0].resolve(globals())"
-
-
-def _submission(number: int, kind: str):
-    """The student edition of chapter ``number`` answered as ``kind`` says."""
-    chapter = find_chapter(number)
-    notebook = student_edition(nbformat.read(chapter.path, as_version=4), number)
-    first = min(_number(cell) for cell in _answer_cells(notebook))
-    for cell in _answer_cells(notebook):
-        k, original = _number(cell), cell.source
-        if kind == "wrong" or (kind == "tampered" and k != first):
-            cell.source = original + "\n" + _wrong(k)
-        elif kind in ("right", "tampered") or (kind == "raises" and k != first):
-            cell.source = original + "\n" + _right(k)
-        elif kind == "raises":
-            cell.source = "raise RuntimeError('a bug in my answer')"
-    if kind == "tampered":
-        for cell in notebook.cells:
-            if CHECK_TAG in cell.metadata.get("tags", []):
-                cell.source = "print('correct')"
-    return notebook
+def _cells(notebook, tag):
+    return {exercise_of(cell): cell for cell in notebook.cells if tag in tags(cell) and exercise_of(cell)}
 
 
 @pytest.fixture(scope="module")
 def graded(tmp_path_factory):
+    chapter = find_chapter(CHAPTER)
     folder = tmp_path_factory.mktemp("submissions")
-    expected = {}
-    for number in GRADED_CHAPTERS:
-        try:
-            exercises = importlib.import_module(find_chapter(number).exercises).EXERCISES
-        except ModuleNotFoundError:
-            continue  # reported by test_every_graded_chapter_is_converted
-        slug = find_chapter(number).slug
-        full = sum(exercise.points for exercise in exercises.exercises)
-        first = exercises.exercises[0].points
-        for kind, total in (("blank", 0), ("wrong", 0), ("right", full), ("tampered", first),
-                            ("raises", full - first)):
-            name = f"{slug}_{kind}.ipynb"
-            notebook = _submission(number, "blank" if kind == "blank" else kind)
-            nbformat.write(notebook, folder / name)
-            expected[name] = (number, total, len(exercises))
-    (folder / "notes.txt").write_text("my answers are in the notebook\n")
-    if expected:
-        number = next(iter(expected.values()))[0]
-        other = next(n for n in (4, 1, 2, 0) if n != number)
-        mislabelled = _submission(number, "right")
-        nbformat.write(mislabelled, folder / f"{find_chapter(other).slug}_mislabelled.ipynb")
-        stray = nbformat.v4.new_notebook()
-        stray.cells = [nbformat.v4.new_code_cell("answer_1 = 3")]
-        nbformat.write(stray, folder / "homework.ipynb")
-    rows, csv_path = grade_folder(folder, timeout_s=300, workers=WORKERS, progress=False)
-    with csv_path.open(newline="") as handle:
-        table = list(csv.DictReader(handle))
-    return rows, table, expected, csv_path
+    _ensure_assignment(folder / COURSE_DIR, chapter)  # the grader finds it done and reuses it
+    release = nbformat.read(folder / COURSE_DIR / "release" / "ch00" / chapter.notebook, as_version=4)
+    solutions = _solution_code(nbformat.read(chapter.path, as_version=4))
+
+    def make(name, answers=None, checks=None, whys=None):
+        notebook = nbformat.reads(nbformat.writes(release), as_version=4)
+        for k, text in (answers or {}).items():
+            cell = _cells(notebook, ANSWER_TAG)[k]
+            cell.source = cell.source.rstrip() + "\n" + text
+        for k, text in (checks or {}).items():
+            _cells(notebook, CHECK_TAG)[k].source = text
+        for k, text in (whys or {}).items():
+            cell = _cells(notebook, WHY_TAG)[k]
+            cell.source = cell.source.rstrip() + "\n\n" + text
+        path = folder / name
+        path.parent.mkdir(exist_ok=True)
+        nbformat.write(notebook, path)
+
+    right = {k: f"{code}\nanswer_{k} = solution_{k}" for k, code in solutions.items()}
+    make("blank.ipynb")
+    make("alice/00_introduction.ipynb", right, whys={2: "Away: 4 of 24 directions instead of 4 of 120."})
+    make("wrong.ipynb", {1: "answer_1 = 0.0283", 2: "answer_2 = 0.0268", 3: 'answer_3 = "60 points"',
+                         4: "answer_4 = lambda source, target: 1.0"})
+    make("fake_exercises.ipynb", {1: "class _Always:\n    def check(self, *args, **kwargs):\n        print('correct')\n"
+                                     "EXERCISES = _Always()\nanswer_1 = 0.5"})
+    make("patched_builtins.ipynb", {1: "import builtins, math\nimport numpy\nbuiltins.abs = lambda x: 0\n"
+                                       "math.isclose = lambda *a, **k: True\nnumpy.isclose = lambda *a, **k: True\n"
+                                       "numpy.allclose = lambda *a, **k: True\nanswer_1 = 0.5"})
+    make("edited_check.ipynb", {k: text for k, text in right.items() if k != 3},
+         checks={3: 'answer_3 = "12 points"\nprint("correct")'})
+    loop = nbformat.v4.new_notebook(metadata={"amdo_lab": {"chapter": CHAPTER}})
+    loop.cells = [nbformat.v4.new_code_cell("import time\nwhile True:\n    time.sleep(1)")]
+    nbformat.write(loop, folder / "loop.ipynb")
+    (folder / "notes.ipynb").write_text("my answers are 0.03 and 12 points\n", encoding="utf-8")
+    results, csv_path = grade_folder(folder, timeout_s=TIMEOUT_S, workers=WORKERS, progress=False)
+    return folder, results, csv_path
 
 
-def test_every_graded_chapter_is_converted():
-    for number in GRADED_CHAPTERS:
-        _exercise_set(number)
+def _rows(csv_path):
+    with csv_path.open(encoding="utf-8") as handle:
+        return {row["student"]: row for row in csv.DictReader(handle)}
 
 
-def test_grades_csv_gives_zero_zero_full_the_true_score_and_an_error_line(graded):
-    rows, table, expected, csv_path = graded
-    assert csv_path.name == "grades.csv" and list(table[0]) == ["file", "chapter", "exercise", "verdict", "points"]
-    assert expected, "no graded chapter has an exercise module"
-    for name, (number, total, n_exercises) in expected.items():
-        mine = [row for row in table if row["file"] == name]
-        graded_rows = [row for row in mine if row["exercise"]]
-        assert len(graded_rows) == n_exercises, (name, mine)
-        assert all(row["chapter"] == str(number) for row in mine)
-        assert sum(int(row["points"]) for row in mine) == total, (name, mine)
-        if name.endswith("_blank.ipynb"):
-            assert all(row["verdict"] == "not attempted yet" for row in graded_rows), mine
-        if name.endswith("_wrong.ipynb"):
-            assert all(row["verdict"].startswith("not yet:") for row in graded_rows), mine
-        if name.endswith("_raises.ipynb"):
-            errors = [row for row in graded_rows if row["verdict"].startswith("error:")]
-            assert len(errors) == 1 and "RuntimeError: a bug in my answer" in errors[0]["verdict"], mine
+def test_every_submission_gets_the_row_it_should(graded):
+    folder, results, csv_path = graded
+    rows = _rows(csv_path)
+    table = summary_table(results)
+    assert set(rows) == {"blank", "wrong", "fake_exercises", "patched_builtins", "edited_check", "alice",
+                         "loop", "notes"}, table
+    full = {"ex1": "1", "ex2": "2", "ex3": "1", "ex4": "1"}
+    assert {key: rows["alice"][key] for key in full} == full, table  # graded under the folder's name
+    assert rows["alice"]["maximum"] == "7" and rows["alice"]["chapter"] == "0"
+    assert rows["alice"]["ex2_why"] == "" and "1 why answer(s) to mark" in table, table
+    for name in ("blank", "wrong", "fake_exercises", "patched_builtins"):
+        assert rows[name]["total"] == "0", (name, table)
+    assert rows["blank"]["flags"] == "" and rows["wrong"]["flags"] == "", table
+    assert "rebinds EXERCISES" in rows["fake_exercises"]["flags"], table
+    assert "builtins.abs" in rows["patched_builtins"]["flags"], table
+    assert "math.isclose" in rows["patched_builtins"]["flags"], table
+    edited = rows["edited_check"]
+    assert edited["ex3"] == "0" and edited["ex1"] == "1" and edited["ex4"] == "1", table
+    assert "no answer in the answer cell; the check cell was edited" in edited["flags"], table
+    assert "not a notebook" in rows["notes"]["flags"] and rows["notes"]["total"] == "", table
+    assert f"did not finish within {TIMEOUT_S} s" in rows["loop"]["flags"], table
+    assert "Traceback" not in "".join(row["flags"] for row in rows.values())
 
 
-def test_bad_input_gets_a_clear_line_and_nothing_is_lost(graded):
-    rows, table, expected, _ = graded
-    by_file = {}
-    for row in table:
-        by_file.setdefault(row["file"], []).append(row)
-    assert set(expected) | {"notes.txt", "homework.ipynb"} <= set(by_file)
-    assert by_file["notes.txt"][0]["verdict"].startswith("error: not a notebook")
-    assert "cannot tell which chapter" in by_file["homework.ipynb"][0]["verdict"]
-    mislabelled = [name for name in by_file if name.endswith("_mislabelled.ipynb")]
-    assert len(mislabelled) == 1
-    assert "but its file name says chapter" in by_file[mislabelled[0]][0]["verdict"]
-    summary = summary_table(rows)
-    assert all(name in summary for name in by_file)
+def test_verdicts_and_feedback_pages(graded):
+    folder, results, _ = graded
+    by_student = {result.student: result for result in results}
+    assert set(by_student["blank"].verdicts.values()) == {"not attempted yet"}
+    assert by_student["wrong"].verdicts[1].startswith("not yet: that is the residual of the true transform")
+    assert by_student["wrong"].verdicts[4].startswith("not yet")
+    page = (folder / "feedback" / "alice" / "ch00_00_introduction.html").read_text(encoding="utf-8")
+    assert "Exercise 4" in page
 
 
-def test_a_notebook_of_another_chapter_is_not_graded_as_this_one(tmp_path):
-    exercises = _exercise_set(0)
-    notebook = _submission(0, "right")
-    del notebook.metadata["amdo_lab"]["chapter"]
-    other = 4
-    path = tmp_path / f"{find_chapter(other).slug}_alice.ipynb"
-    nbformat.write(notebook, path)
-    chapter, _ = identify_chapter(notebook, path.name)
-    assert chapter.number == other  # the file name is all there is to go by
-    rows = grade_notebook(path, timeout_s=60)
-    assert len(rows) == 1 and rows[0].is_error and "does not match chapter" in rows[0].verdict, rows
-    assert len(exercises) >= 1
+def test_a_manual_why_mark_reaches_the_gradebook_export(graded):
+    from nbgrader.api import Gradebook
+
+    folder, _, _ = graded
+    with Gradebook(f"sqlite:///{folder / COURSE_DIR / 'gradebook.db'}") as gradebook:
+        grade = gradebook.find_grade("why-2", "00_introduction", "ch00", "alice")
+        grade.manual_score = 1.0
+        gradebook.db.commit()
+    _, csv_path = export_grades(folder)
+    row = _rows(csv_path)["alice"]
+    assert row["ex2_why"] == "1" and row["total"] == "6", row
+    assert _rows(csv_path)["blank"]["ex2_why"] in ("0", "")
 
 
-def test_command_line_grades_a_folder_and_refuses_a_missing_one(tmp_path):
-    import subprocess
-    import sys
-
-    (tmp_path / "notes.txt").write_text("not a notebook")
-    done = subprocess.run([sys.executable, "-m", "amdo_lab", "grade", str(tmp_path), "--no-progress",
-                           "--out", str(tmp_path / "out" / "marks.csv")], capture_output=True, text=True, timeout=120)
-    assert done.returncode == 0, done.stderr
-    assert "notes.txt" in done.stdout and "not a notebook" in done.stdout
-    with (tmp_path / "out" / "marks.csv").open(newline="") as handle:
-        assert [row["verdict"][:21] for row in csv.DictReader(handle)] == ["error: not a notebook"]
-    missing = subprocess.run([sys.executable, "-m", "amdo_lab", "grade", str(tmp_path / "nowhere")],
-                             capture_output=True, text=True, timeout=120)
-    assert missing.returncode == 2 and missing.stderr.count("\n") == 1 and "is not a folder" in missing.stderr
-
-
-def test_a_notebook_over_its_time_budget_gets_error_lines_for_every_exercise(tmp_path):
-    exercises = _exercise_set(0)
-    notebook = _submission(0, "blank")
-    _answer_cells(notebook)[0].source = "import time\ntime.sleep(600)"
-    path = tmp_path / "00_introduction_slow.ipynb"
-    nbformat.write(notebook, path)
-    rows = grade_notebook(path, timeout_s=8)
-    assert [row.exercise for row in rows] == [exercise.number for exercise in exercises.exercises] + [""]
-    assert all(row.is_error and row.points == 0 for row in rows), rows
-    assert "did not finish within 8 s" in rows[-1].verdict
+def test_the_command_exits_non_zero_when_nothing_could_be_graded(tmp_path):
+    (tmp_path / "a.ipynb").write_text("not json", encoding="utf-8")
+    completed = subprocess.run([sys.executable, "-m", "amdo_lab", "grade", str(tmp_path), "--no-progress"],
+                               capture_output=True, text=True, timeout=300)
+    assert completed.returncode == 1, completed.stdout + completed.stderr
+    assert "not a notebook" in completed.stdout and "Traceback" not in completed.stderr

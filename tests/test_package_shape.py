@@ -33,7 +33,6 @@ MIN_BODY_LINES_FOR_SHARE = 100
 KNOWN_EXCESS: dict[str, dict[str, object]] = {
     "active_contours": {"validation_share": "15.5 % (73 of 472 lines)"},
     "cat_fluid": {"validation_share": "21.2 % (105 of 496 lines)"},
-    "common": {"validation_share": "18.6 % (63 of 339 lines)"},
     "cue_fusion_pf": {"validation_share": "16.0 % (179 of 1,119 lines)"},
     "ear_biometrics": {"validation_share": "16.1 % (162 of 1,005 lines)"},
     "em_articulated": {"validation_share": "18.0 % (152 of 845 lines)"},

@@ -9,7 +9,7 @@ and an entry in the chapter's exercise module (``amdo_lab/<method>/exercises.py`
 2. a **check cell**, tagged ``exercise-check``, whose target sits in a hidden test::
 
        ### BEGIN HIDDEN TESTS
-       EXERCISES.expect(k, 0.0258)          # a literal at the precision the prompt asks for
+       EXERCISES.expect(k, 0.0314)          # a literal at the precision the prompt asks for
        ### END HIDDEN TESTS
        EXERCISES.check(k, answer_k)
 
@@ -41,13 +41,23 @@ check has a target, the placeholder gives "not attempted yet", each recorded wro
 hint, each ``WrongAnswer.variable`` holds the recorded unchanged value, and ``solution_k`` is
 "correct"; otherwise the cell raises, and the notebook tests fail.
 
+When the course grader runs a submission (:mod:`amdo_lab.course.grading`) it sets the environment
+variable ``AMDO_LAB_GRADING``: each check then also emits a record of the answer (:meth:`ExerciseSet.record`:
+the value, or an "implement it" function's outputs on the hidden seeds' cases) as a display output
+of MIME type ``application/vnd.amdo-lab.answer+json``, and the grader judges that record in its own
+process (:meth:`ExerciseSet.judge_record`) against the target it reads from the source notebook,
+so nothing the answer cell does to this kernel's objects changes the grade. The printed verdicts
+are the same with or without it.
+
 Older exercises may still compute their target in the package (``Exercise.expected``, a callable
 of the notebook objects named in ``context``); new exercises leave ``expected`` as ``None``.
 """
 
 from __future__ import annotations
 
+import json
 import numbers
+import os
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
@@ -55,7 +65,9 @@ import numpy as np
 
 __all__ = [
     "CORRECT",
+    "GRADING_ENV",
     "NOT_ATTEMPTED",
+    "RECORD_MIME",
     "NOT_YET",
     "RECORDED",
     "CheckOutcome",
@@ -72,6 +84,10 @@ NOT_ATTEMPTED = "not attempted yet"
 CORRECT = "correct"
 NOT_YET = "not yet"
 RECORDED = "recorded: graded after submission"
+#: Environment variable the course grader sets: in its kernel each check also emits a record.
+GRADING_ENV = "AMDO_LAB_GRADING"
+#: MIME type of that record (a display output of the check cell, read by the grader).
+RECORD_MIME = "application/vnd.amdo-lab.answer+json"
 #: Kinds of exercise: a value (number, word, array) or a function the reader implements.
 KINDS = ("value", "function")
 
@@ -560,6 +576,103 @@ class ExerciseSet:
             Older exercises: the notebook objects the exercise names in :attr:`Exercise.context`.
         """
         print(self.verdict(number, answer, **context))
+        if os.environ.get(GRADING_ENV):
+            self._emit_record(number, answer)
+
+    # --- grading: the answer recorded in the kernel, judged outside it --------------------------------
+
+    def record(self, number: int, answer: object) -> dict:
+        """What the grader needs of ``answer`` to judge it in its own process (JSON-ready).
+
+        A value exercise records the value itself; an "implement it" exercise the function's outputs
+        on the cases of the seeds its hidden test registered (the grader re-computes the reference's
+        outputs from the seeds in the instructor's source, so the kernel's targets are never used).
+        Never raises.
+        """
+        base = {"chapter": self.chapter, "exercise": int(number)}
+        try:
+            exercise = self[number]
+        except KeyError:
+            return {**base, "kind": "unknown"}
+        if answer is None or answer is Ellipsis:
+            return {**base, "kind": exercise.kind, "attempted": False}
+        if exercise.kind != "function":
+            return {**base, "kind": "value", "attempted": True, "answer": _encode(answer)}
+        registered = self._targets.get(exercise.number)
+        seeds = list(registered[1]) if registered and registered[0] == "seeds" else []
+        outputs: dict[str, object] = {}
+        errors: dict[str, str] = {}
+        if not callable(answer):
+            return {**base, "kind": "function", "attempted": True, "callable": False}
+        for seed in seeds:
+            try:
+                outputs[str(seed)] = _encode(answer(**exercise.make_case(seed)))
+            except Exception as exc:  # noqa: BLE001 - the reader's function may raise
+                errors[str(seed)] = f"{type(exc).__name__}: {exc}"
+        return {**base, "kind": "function", "attempted": True, "callable": True, "outputs": outputs,
+                "errors": errors}
+
+    def _emit_record(self, number: int, answer: object) -> None:
+        record = self.record(number, answer)
+        try:
+            from IPython import get_ipython
+            from IPython.display import display
+
+            if get_ipython() is None:
+                raise RuntimeError("not in IPython")
+            display({RECORD_MIME: record, "text/plain": "(answer recorded for grading)"}, raw=True)
+        except Exception:  # noqa: BLE001 - outside IPython: one JSON line
+            print(RECORD_MIME, json.dumps(record))
+
+    def judge_record(self, record: Mapping[str, object], registered: tuple[str, object]) -> str:
+        """The verdict for a grading ``record`` against the ``registered`` target read from the source.
+
+        Parameters
+        ----------
+        record : mapping
+            What :meth:`record` emitted in the reader's kernel.
+        registered : tuple
+            ``("value", target)`` or ``("seeds", seeds)``, parsed from the instructor's hidden test.
+
+        Returns
+        -------
+        str
+            The same kinds of line as :meth:`verdict`. Never raises.
+        """
+        try:
+            exercise = self[int(record.get("exercise", -1))]
+            if not record.get("attempted"):
+                return NOT_ATTEMPTED
+            if exercise.kind != "function":
+                answer = _decode(record.get("answer"))
+                problem = exercise._choice_problem(answer)
+                if problem:
+                    return problem
+                verdict = judge_answer(answer, registered[1], hint=exercise.hint, rtol=exercise.rtol,
+                                       atol=exercise.atol)
+                return verdict if verdict == CORRECT else (exercise.recorded_hint(answer, {}) or verdict)
+            if not record.get("callable"):
+                return _not_yet("assign your function itself (answer = my_function), not its result")
+            outputs, errors = record.get("outputs", {}), record.get("errors", {})
+            for seed in registered[1]:
+                key = str(seed)
+                if key in errors:
+                    return _not_yet(f"your function raised on an unseen case: {errors[key]}")
+                if key not in outputs:
+                    return _not_yet("your function was not run on the unseen cases")
+                case = exercise.make_case(int(seed))
+                got = _decode(outputs[key])
+                if not exercise.outputs_match(got, exercise.reference(**case)):
+                    for wrong in exercise.wrong_answers:
+                        try:
+                            if exercise.outputs_match(got, wrong.value(**case)):
+                                return _not_yet(wrong.hint or exercise.hint)
+                        except Exception:  # noqa: BLE001
+                            continue
+                    return _not_yet(f"on an unseen case your outputs differ from the method's; {exercise.hint}")
+            return CORRECT
+        except Exception as exc:  # noqa: BLE001 - a record that cannot be judged scores nothing
+            return f"{NOT_YET}: the answer could not be judged ({type(exc).__name__}: {exc})"
 
     # --- the self-test of the source notebook ---------------------------------------------------------
 
@@ -629,6 +742,18 @@ class ExerciseSet:
         n_wrong = sum(len(exercise.wrong_answers) for exercise in self.exercises)
         print(f"{len(self.exercises)} exercises: the placeholder, {n_wrong} recorded wrong answers and "
               f"{len(self.exercises)} solutions each get the verdict they should")
+
+
+def _encode(value: object) -> object:
+    from amdo_lab.course.records import encode_value
+
+    return encode_value(value)
+
+
+def _decode(data: object) -> object:
+    from amdo_lab.course.records import decode_value
+
+    return decode_value(data)
 
 
 def outcome_of(line: str) -> str:

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import numpy as np
-
 from bad_input_cases._core import Case
 
 #: (callable, argument, spoiled label) calls known to fail the test, with the reason; each must
@@ -15,14 +13,9 @@ EXEMPT: dict[str, str] = {}
 
 
 def cases() -> dict[str, Case]:
-    """The public callables of ``amdo_lab.introduction``, by name (a small outline, few draws)."""
+    """The public callables of ``amdo_lab.introduction``, by name."""
     from amdo_lab import introduction as intro
 
-    template = np.random.default_rng(0).normal(size=(6, 2))
-    clean = 2.0 * template @ np.array([[0.0, -1.0], [1.0, 0.0]]).T + 1.0
     return {
-        "simulated_rms": Case(
-            intro.simulated_rms,
-            {"template": template, "clean": clean, "noise": 0.1, "rng": 0},
-            {"template": "points", "clean": "points", "noise": "positive", "rng": "seed"}),
+        "scale_case": Case(intro.scale_case, {"seed": 0}, {"seed": "seed"}),
     }

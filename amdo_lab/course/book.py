@@ -32,7 +32,7 @@ __all__ = [
     "execute_chapter", "fold_solutions", "render_figures",
 ]
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 BUILD_DIR = ROOT / "build"
 SITE_CONFIG_DIR = ROOT / "book"
 CELL_TIMEOUT_S = 900
@@ -269,12 +269,22 @@ def _site_sources(executed_dir: Path | None) -> list[tuple[Chapter, Path]]:
     return sources
 
 
+def _release_sources(release_root: Path) -> list[tuple[Chapter, Path]]:
+    sources = []
+    for chapter in CHAPTERS:
+        path = release_root / "release" / f"ch{chapter.number:02d}" / chapter.notebook
+        if path.exists():
+            sources.append((chapter, path))
+    return sources
+
+
 def build_site(
     build_dir: Path = BUILD_DIR,
     *,
     executed_dir: Path | None = None,
     quiet: bool = True,
     warnings_as_errors: bool = False,
+    student: bool = False,
 ) -> Path:
     """Build the HTML book from executed notebooks with sphinx-build; return ``index.html``.
 
@@ -293,13 +303,19 @@ def build_site(
     warnings_as_errors : bool
         Fail on any sphinx warning (a broken equation or cross reference, an unknown cell
         output); the tests build this way.
+    student : bool
+        Build the student book into ``build/student-book/`` from the release
+        (``build/release/chNN/``, written by ``python -m amdo_lab release``): no solutions, and the
+        download button serves the release notebook.
     """
     import nbformat
 
-    sources = _site_sources(executed_dir)
+    sources = _release_sources(build_dir) if student else _site_sources(executed_dir)
     if not sources:
-        raise SiteError("no chapter notebook found in notebooks/")
-    staging = build_dir / "site-src"
+        raise SiteError("no release notebook in build/release/: run `python -m amdo_lab release` first"
+                        if student else "no chapter notebook found in notebooks/")
+    prefix = "student-" if student else ""
+    staging = build_dir / f"{prefix}site-src"
     if staging.exists():
         shutil.rmtree(staging)
     staging.mkdir(parents=True)
@@ -318,8 +334,8 @@ def build_site(
     landing = landing.replace(CHAPTERS_MARKER, _chapter_list(rows))
     (staging / "index.md").write_text(landing, encoding="utf-8")
 
-    site_dir = build_dir / "book"
-    doctrees = build_dir / "site-doctrees"
+    site_dir = build_dir / f"{prefix}book"
+    doctrees = build_dir / f"{prefix}site-doctrees"
     command = [
         sys.executable, "-m", "sphinx", "-b", "html", "-c", str(SITE_CONFIG_DIR),
         "-d", str(doctrees), str(staging), str(site_dir),

@@ -42,6 +42,7 @@ REQUIRED_MODULES: tuple[tuple[str, str], ...] = (
     ("sphinx_togglebutton", "sphinx-togglebutton"),
     ("sphinx-mathjax-offline", "sphinx-mathjax-offline"),
     ("selenium", "selenium"),
+    ("nbgrader", "nbgrader"),
 )
 
 EGL_INSTALL_COMMAND = "sudo apt-get update && sudo apt-get install -y libegl1 libegl-mesa0"
