@@ -172,46 +172,58 @@ def _phases(bench) -> None:
 
 def _scaling(bench, args) -> None:
     """Ours against lme4 over splits of a fixed number of rows; the growth exponents; peak RSS."""
+    import resource
+
     import numpy as np
 
     from amdo_lab import face_glmm as fg
 
     use_lme4 = not args.no_lme4 and fg.lme4_available()
-    sizes = [76_800, 16_384] + ([307_200] if args.large else [])
+    sizes = args.rows or ([76_800, 16_384] + ([307_200] if args.large else []))
     report = bench.table("rows", "t x p", "groups", "ours s", "lme4 s (whole call)", "lme4 s (glmer)",
-                         "ratio", "max|dbeta|", "max|dsd|",
-                         title="wall seconds of one fit each, one BLAS thread; lme4's whole call includes "
-                               "R's start; ratio = lme4 whole call / ours")
-    growth = bench.table("rows", "exponent ours", "exponent lme4",
+                         "ratio wall", "ratio CPU", "max|dbeta|", "max|dsd|",
+                         title="seconds of one fit each, wall / CPU (user + system), one BLAS thread; lme4's "
+                               "whole call includes writing the CSV, R's start and loading lme4; ratios = lme4 "
+                               "whole call / ours")
+    growth = bench.table("rows", "exponent ours (wall)", "exponent ours (CPU)", "exponent lme4 (wall)",
+                         "exponent lme4 (CPU)",
                          title="slope of log(seconds) against log(training sets + probes) at fixed rows")
     for rows in sizes:
-        seconds = {"ours": [], "lme4": []}
+        seconds = {"ours": [], "ours cpu": [], "lme4": [], "lme4 cpu": []}
         groups = []
-        for n_t, n_p in SPLITS[rows]:
+        splits = [s for s in SPLITS[rows] if not args.splits or f"{s[0]}x{s[1]}" in args.splits]
+        for n_t, n_p in splits:
             table = _split_table(n_t, n_p)
-            start = time.perf_counter()
+            start, start_cpu = time.perf_counter(), time.process_time()
             fit = fg.fit_binomial_glmm(table, SCALING_FORMULA, RANDOM, 30)
-            ours_s = time.perf_counter() - start
+            ours_s, ours_cpu = time.perf_counter() - start, time.process_time() - start_cpu
             seconds["ours"].append(ours_s)
+            seconds["ours cpu"].append(ours_cpu)
             groups.append(n_t + n_p)
-            line = [rows, f"{n_t} x {n_p}", n_t + n_p, round(ours_s, 2)]
+            line = [rows, f"{n_t} x {n_p}", n_t + n_p, f"{ours_s:.2f} / {ours_cpu:.2f}"]
             if use_lme4:
+                children = resource.getrusage(resource.RUSAGE_CHILDREN)
                 start = time.perf_counter()
                 peer = fg.fit_with_lme4(table, SCALING_FORMULA, RANDOM, 30)
                 whole = time.perf_counter() - start
+                after = resource.getrusage(resource.RUSAGE_CHILDREN)
+                whole_cpu = (after.ru_utime + after.ru_stime) - (children.ru_utime + children.ru_stime)
                 seconds["lme4"].append(whole)
+                seconds["lme4 cpu"].append(whole_cpu)
                 dbeta = np.max(np.abs(fit.coefficients.to_numpy() - peer.estimate.to_numpy()))
                 dsd = max(abs(np.sqrt(fit.variance_components[k]) - np.sqrt(peer.variance_components[k]))
                           for k in RANDOM)
-                line += [round(whole, 2), round(peer.seconds, 2), round(whole / ours_s, 1), f"{dbeta:.1e}",
-                         f"{dsd:.1e}"]
+                line += [f"{whole:.2f} / {whole_cpu:.2f}", f"{peer.seconds:.2f} / {peer.cpu_seconds:.2f}",
+                         round(whole / ours_s, 1), round(whole_cpu / ours_cpu, 1), f"{dbeta:.1e}", f"{dsd:.1e}"]
             else:
-                line += ["(not run)", "", "", "", ""]
+                line += ["(not run)", "", "", "", "", ""]
             report.add(*line)
-            print(" ".join(map(str, line)), flush=True)
-        slope = {k: float(np.polyfit(np.log(groups), np.log(v), 1)[0]) if len(v) == len(groups) else float("nan")
+            print(" | ".join(map(str, line)), flush=True)
+        slope = {k: float(np.polyfit(np.log(groups), np.log(v), 1)[0]) if len(v) == len(groups) > 1 else float("nan")
                  for k, v in seconds.items()}
-        growth.add(rows, round(slope["ours"], 2), round(slope["lme4"], 2))
+        growth.add(rows, *(round(slope[k], 2) for k in ("ours", "ours cpu", "lme4", "lme4 cpu")))
+    if args.no_rss:
+        return
     memory = bench.table("fit", "peak RSS MB", "RSS before the fit MB",
                          title="peak resident memory at the chapter's size (8 x 256 x 32 = 65,536 rows), fresh process "
                                "(lme4: the R process)")
@@ -227,6 +239,9 @@ def main() -> None:
     bench.parser.add_argument("--scaling", action="store_true", help="the split sweep at fixed rows (issue 48)")
     bench.parser.add_argument("--large", action="store_true", help="with --scaling: also 307,200 rows")
     bench.parser.add_argument("--phases", action="store_true", help="profile our fit on 8 x 600")
+    bench.parser.add_argument("--rows", type=int, nargs="+", choices=sorted(SPLITS), help="with --scaling: these row counts")
+    bench.parser.add_argument("--splits", nargs="+", help="with --scaling: only these splits, e.g. 8x600 40x120")
+    bench.parser.add_argument("--no-rss", action="store_true", help="with --scaling: skip the peak-RSS table")
     args = bench.parse()
     if args.phases or args.scaling:
         if args.phases:

@@ -691,3 +691,21 @@ REJECTIONS = [
 @pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
 def test_rejections(request, call, error, message):
     check_rejection(request, call, error, message)
+
+
+def test_implement_it_exercise_tells_each_recorded_wrong_function_apart():
+    """Exercise 6: the reference is (F3) of the dense path; each recorded wrong (F3) gets its own hint."""
+    from amdo_lab.face_glmm.exercises import EXERCISES as checks, make_toy_case, toy_laplace_deviance
+
+    exercise = checks[6]
+    checks.expect(6, seeds=(101, 202, 303))   # the seeds of the notebook's hidden test
+    for seed in (0, 101, 202, 303):
+        case = make_toy_case(seed)
+        assert case["z"].shape == (case["y"].size, case["y"].size // 2)
+        values = [wrong.value(**case) for wrong in exercise.wrong_answers]
+        assert min(abs(v - toy_laplace_deviance(**case)) for v in values) > 0.1
+    assert checks.verdict(6, None) == "not attempted yet"
+    assert checks.verdict(6, toy_laplace_deviance) == "correct"
+    assert checks.verdict(6, lambda **case: None).startswith("not yet")
+    for wrong in exercise.wrong_answers:
+        assert checks.verdict(6, wrong.value) == "not yet: " + wrong.hint
