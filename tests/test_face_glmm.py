@@ -293,25 +293,33 @@ def test_agrees_with_lme4(simulated):
         assert ours.variance_components[term] == pytest.approx(theirs.variance_components[term], abs=1e-3)
 
 
-@pytest.mark.parametrize("random", [("t", "p", "t:p"), ("p",), ("t", "p", "t:p", "t:U"), ("t", "p", "t:p", "t:S")],
-                         ids=["nested-in-t:p", "one-term", "function-of-cells", "row-level"])
+NESTED = [("t", "p", "t:p"), ("t:p", "p"), ("t", "p", "t:p", "t:p:U")]
+
+
+@pytest.mark.parametrize("random", [*NESTED, ("p",), ("t", "p", "t:p", "t:U"), ("t", "p", "t:p", "t:S")],
+                         ids=["nested-in-t:p", "nested-no-small-term", "nested-two-small-terms", "one-term",
+                              "function-of-cells", "row-level"])
 def test_fast_laplace_deviance_equals_dense_reference(random):
-    """The Schur-complement fast path equals the plain dense penalised IRLS + Laplace deviance."""
+    """The fast path (block elimination: big term, then the second when nested, then a dense rest)
+    equals the plain dense penalised IRLS + Laplace deviance, and so does beta's precision."""
     from amdo_lab.face_glmm.glmm import _setup
     table = pd.concat([_crossed_table(3, 10).assign(S=s) for s in ("a", "b")], ignore_index=True)
     table["Y"] = simulate_binomial_glmm(table, "Y ~ M * D + U", TRUE_BETA, {"t": 0.1, "p": 1.0, "t:p": 0.3}, 30, rng=5)
     problem, start = _setup(table, "Y ~ M * D + U", random, 30)
-    assert (problem.rest_of_big is not None) == (random == ("t", "p", "t:p"))
+    assert problem.nested == (random in NESTED)
     assert problem.sum_over_cells == (random != ("t", "p", "t:p", "t:S"))
     theta = np.array([0.3, 0.9, 0.5, 0.2][: len(random)])
-    beta, _, _, value, _, _ = problem.solve(theta, *start)
+    beta, _, _, value, chol_beta, _ = problem.solve(theta, *start)
     groups = [problem_groups for problem_groups in (pd.factorize(
         pd.MultiIndex.from_frame(table[term.split(":")].astype(str)), sort=True)[0] for term in random)]
     z = np.hstack([np.eye(g.max() + 1)[g] for g in groups])
     lam = np.concatenate([np.full(g.max() + 1, sd) for g, sd in zip(groups, theta)])
-    ref_beta, _, ref_value, _ = fg.laplace_deviance_reference(problem.y, problem.n_trials, problem.x, z, lam)
+    ref_beta, _, ref_value, hessian = fg.laplace_deviance_reference(problem.y, problem.n_trials, problem.x, z, lam)
     assert value == pytest.approx(ref_value, rel=1e-10)
     np.testing.assert_allclose(beta, ref_beta, atol=1e-8)
+    q = z.shape[1]   # beta's precision: the Schur complement of the u block of the penalised Hessian
+    precision = hessian[q:, q:] - hessian[q:, :q] @ np.linalg.solve(hessian[:q, :q], hessian[:q, q:])
+    np.testing.assert_allclose(chol_beta.T @ chol_beta, precision, rtol=1e-7)
 
 
 def test_laplace_deviance_is_the_fitted_objective(simulated):
@@ -683,3 +691,21 @@ REJECTIONS = [
 @pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
 def test_rejections(request, call, error, message):
     check_rejection(request, call, error, message)
+
+
+def test_implement_it_exercise_tells_each_recorded_wrong_function_apart():
+    """Exercise 6: the reference is (F3) of the dense path; each recorded wrong (F3) gets its own hint."""
+    from amdo_lab.face_glmm.exercises import EXERCISES as checks, make_toy_case, toy_laplace_deviance
+
+    exercise = checks[6]
+    checks.expect(6, seeds=(101, 202, 303))   # the seeds of the notebook's hidden test
+    for seed in (0, 101, 202, 303):
+        case = make_toy_case(seed)
+        assert case["z"].shape == (case["y"].size, case["y"].size // 2)
+        values = [wrong.value(**case) for wrong in exercise.wrong_answers]
+        assert min(abs(v - toy_laplace_deviance(**case)) for v in values) > 0.1
+    assert checks.verdict(6, None) == "not attempted yet"
+    assert checks.verdict(6, toy_laplace_deviance) == "correct"
+    assert checks.verdict(6, lambda **case: None).startswith("not yet")
+    for wrong in exercise.wrong_answers:
+        assert checks.verdict(6, wrong.value) == "not yet: " + wrong.hint

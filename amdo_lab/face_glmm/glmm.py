@@ -370,10 +370,9 @@ def _fit(table, fixed, random, n_trials) -> GlmmResult:
     opt = scipy.optimize.minimize(objective, rough.x, method="L-BFGS-B", jac="3-point", bounds=bounds,
                                   options={"ftol": 1e-12, "gtol": 1e-7, "maxiter": 200})
     theta = np.asarray(opt.x)
-    beta, ur, ub, value, schur, _ = problem.solve(theta, state["beta"], state["u_rest"], state["u_big"])
-    nr = problem.q_rest
-    inverse = scipy.linalg.cho_solve(scipy.linalg.cho_factor(schur), np.eye(schur.shape[0]))
-    cov = inverse[nr:, nr:]
+    beta, ur, ub, value, chol_beta, _ = problem.solve(theta, state["beta"], state["u_rest"], state["u_big"])
+    # beta's covariance: the inverse of its precision U'U (the Schur complement of every u block)
+    cov = scipy.linalg.cho_solve((chol_beta, False), np.eye(chol_beta.shape[0]))
     names = list(design.column_names)
     coefficients = pd.Series(beta, index=names)
     covariance = pd.DataFrame(cov, index=names, columns=names)

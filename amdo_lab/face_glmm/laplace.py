@@ -189,6 +189,11 @@ class _PairSums:
     def sparse_from_sums(self, sums: np.ndarray) -> sp.csr_matrix:
         return sp.csr_matrix((sums, self.cols, self.indptr), shape=self.shape)
 
+    def dense_from_sums(self, sums: np.ndarray) -> np.ndarray:
+        table = np.zeros(self.shape)
+        table[self.rows, self.cols] = sums
+        return table
+
 
 class _SparseCoupling:
     """The u_rest-u_big block A_rb of the penalised Hessian as a scipy sparse matrix (general case)."""
@@ -210,43 +215,27 @@ class _SparseCoupling:
         return (self.matrix @ sp.diags(d_big) @ self.matrix.T).toarray()
 
 
-class _NestedCoupling:
-    """A_rb = diag(lam_r) R' diag(c) when every rest term is nested in the big one.
-
-    R maps each big level to its level of every rest term (``parents``), so products with A_rb are
-    gathers and bincounts over the q_big levels, never over the n rows.
-    """
-
-    def __init__(self, problem, lam_r, c_big):
-        self.problem, self.lam_r, self.c = problem, lam_r, c_big
-
-    def matvec(self, x_big):
-        return self.lam_r * self.problem.rest_sums(self.c * x_big)
-
-    def rmatvec(self, v_rest):
-        scaled = self.lam_r * v_rest
-        return self.c * sum(scaled[parent] for parent in self.problem.parents)
-
-    def times(self, dense_big):
-        return self.lam_r[:, None] * (self.problem.rest_of_big @ (self.c[:, None] * dense_big))
-
-    def gram(self, d_big):
-        return self.lam_r[:, None] * self.problem.rest_pair_table(self.c**2 * d_big) * self.lam_r[None, :]
-
-
 class CrossedProblem:
     """The fast path of :func:`_laplace_deviance_reference` for crossed random intercepts.
 
     Every row lies in exactly one level of each grouping term, so every block of Z'WZ and Z'WX
-    is a table of weight sums over level pairs (:class:`_PairSums`), never an n-row product:
-    - the largest term ("big", e.g. t:p) has a *diagonal* block Z_b'WZ_b; it is eliminated by a
-      Schur complement, and its coupling to the other terms is a sparse matrix;
-    - the remaining terms and the fixed effects form a small dense system (q_rest + p unknowns);
-    - X has few distinct rows (factor codings), so X'WX and Z'WX are sums over those rows.
+    is a table of weight sums over level pairs (:class:`_PairSums`), never an n-row product. The
+    penalised Hessian is factorised by block elimination in a fill-reducing order fixed once, from
+    the structure, at construction (the "symbolic analysis", reused at every evaluation):
+
+    1. the largest term ("big", e.g. t:p) has a *diagonal* block: it is eliminated first (a Schur
+       complement costing one pass over its levels);
+    2. when every other term is nested in the big one (t and p in t:p: each t:p level has one t and
+       one p), every other term's own block of that Schur complement is diagonal too, so the largest
+       of them (p on a design with many probes) is eliminated next, again at the cost of one pass
+       over the big levels; only the remaining small terms (t) and the fixed effects are factorised
+       densely (Cholesky of a (q_small + p) matrix). Cost per IRLS step: O(n + q_big p + q_small^3);
+    3. otherwise (terms not nested in the big one: t:U, row-level terms) the other terms and the
+       fixed effects form one dense system (q_rest + p unknowns).
+
     The sums run over the smallest units that carry them: the big levels when every other term is
-    nested in the big one (t, p in t:p: ``_NestedCoupling``); the (big level, distinct X row) cells
-    when every other term is a function of the cell (t:U:M:D); the rows otherwise.
-    Cost per IRLS step: a few passes over the n rows plus O(q_big p^2 + (q_rest + p)^3).
+    nested in the big one; the (big level, distinct X row) cells when every other term is a function
+    of the cell (t:U:M:D); the rows otherwise.
     """
 
     def __init__(self, y, n_trials, x, groups):
@@ -258,6 +247,7 @@ class CrossedProblem:
         self.q_big = self.sizes[self.big]
         self.g_big = groups[self.big]
         offsets = np.cumsum([0] + [self.sizes[k] for k in self.rest])
+        self.rest_offsets = offsets
         self.rest_cols = [offsets[i] + groups[k] for i, k in enumerate(self.rest)]  # columns of u_rest
         self.q_rest = int(offsets[-1])
         self.rest_term_of_col = np.concatenate([np.full(self.sizes[k], k) for k in self.rest]) \
@@ -285,12 +275,25 @@ class CrossedProblem:
                 break
             self.cell_cols.append(per_cell)
         self.sum_over_cells = self.cell_cols is not None
-        # units: the things the general pair tables sum over (cells when possible, else rows)
+        # Nested: each rest term is a function of the big level (parent[k] = its rest column).
+        self.parents = []
+        for cols in self.rest_cols:
+            parent = np.zeros(self.q_big, dtype=np.int64)
+            parent[self.g_big] = cols
+            if not np.array_equal(parent[self.g_big], cols):
+                self.parents = []
+                break
+            self.parents.append(parent)
+        self.nested = bool(self.parents)
+        self.n_rest = n_rest
+        if self.nested:
+            self._plan_nested()
+            return
+        # General case: pair tables over stacked copies of the units (cells when possible, else
+        # rows; one copy per rest term, or per pair of terms); the unit weights are tiled alike.
         unit_cols = self.cell_cols if self.sum_over_cells else self.rest_cols
         unit_big = self.big_x.rows if self.sum_over_cells else self.g_big
         unit_x = self.big_x.cols if self.sum_over_cells else self.x_row
-        # Pair tables over stacked copies of the units (one copy per rest term, or per pair of
-        # terms); the unit weights are tiled the same number of times.
         empty = np.zeros(0, dtype=int)
         all_rest = np.concatenate(unit_cols) if n_rest else empty
         self.rest_rest = _PairSums(np.concatenate([a for a in unit_cols for _ in unit_cols]) if n_rest else empty,
@@ -300,65 +303,67 @@ class CrossedProblem:
         self.rest_big = _PairSums(all_rest, q_rest, np.tile(unit_big, n_rest), self.q_big)
         self.rest_x = _PairSums(all_rest, q_rest, np.tile(unit_x, n_rest), r)
         self.all_rest = all_rest
-        self.n_rest = n_rest
-        # When every other term is nested in the big one (t and p in t:p: each t:p cell has one t and
-        # one p), Z_rest = Z_big R for a 0/1 matrix R, and every block follows from sums over the
-        # (big level, distinct X row) cells: Z_rest'WZ_rest = R' diag(Z_b'WZ_b) R, and so on.
-        self.rest_of_big, self.parents = None, []
-        if n_rest:
-            for cols in self.rest_cols:
-                parent = np.zeros(self.q_big, dtype=np.int64)
-                parent[self.g_big] = cols
-                if not np.array_equal(parent[self.g_big], cols):
-                    self.parents = []
-                    break
-                self.parents.append(parent)
-        if self.parents:
-            stacked = np.concatenate(self.parents)
-            self.rest_of_big = sp.csr_matrix(     # R', (q_rest, q_big)
-                (np.ones(stacked.size), (stacked, np.tile(np.arange(self.q_big), n_rest))),
-                shape=(self.q_rest, self.q_big))
-            self.nested_pairs = _PairSums(np.concatenate([a for a in self.parents for _ in self.parents]), q_rest,
-                                          np.concatenate([b for _ in self.parents for b in self.parents]), q_rest)
 
-    def rest_sums(self, values_big):
-        """R' values: per rest column, the sum over the big levels nested in it."""
-        return np.bincount(np.concatenate(self.parents), self._tile(values_big, self.n_rest), minlength=self.q_rest)
-
-    def rest_pair_table(self, weights_big):
-        """R' diag(weights) R as a dense (q_rest, q_rest) matrix."""
-        table = np.zeros((self.q_rest, self.q_rest))
-        pairs = self.nested_pairs
-        table[pairs.rows, pairs.cols] = pairs.sums(self._tile(weights_big, self.n_rest**2))
-        return table
+    def _plan_nested(self):
+        """The elimination order of the nested case, fixed once: big, then the largest rest term
+        ("second"), then the other rest terms ("small") with beta, densely."""
+        sizes = [self.sizes[k] for k in self.rest]
+        self.second = int(np.argmax(sizes))                       # position in self.rest
+        self.small = [i for i in range(self.n_rest) if i != self.second]
+        self.q_second = sizes[self.second]
+        q_big = self.q_big
+        local = [self.parents[i] - self.rest_offsets[i] for i in range(self.n_rest)]  # level within its term
+        # R' of the second term: (q_second, q_big), one 1 per column
+        self.second_parent = local[self.second]
+        self.second_of_big = sp.csr_matrix((np.ones(q_big), (local[self.second], np.arange(q_big))),
+                                           shape=(self.q_second, q_big))
+        # Z_b'WX = (sums over the (big level, X row) cells) @ X_unique: a fixed sparsity pattern
+        self.big_x_matrix = self.big_x.sparse_from_sums(np.zeros(self.big_x.rows.size))
+        small_offsets = np.cumsum([0] + [sizes[i] for i in self.small])
+        self.q_small = int(small_offsets[-1])
+        self.small_cols = (np.concatenate([self.rest_offsets[i] + np.arange(sizes[i]) for i in self.small])
+                           if self.small else np.zeros(0, dtype=np.int64))   # their columns in u_rest
+        self.second_cols = self.rest_offsets[self.second] + np.arange(self.q_second)
+        if self.small:
+            small_parent = [small_offsets[j] + local[i] for j, i in enumerate(self.small)]
+            n_small = len(self.small)
+            stacked = np.concatenate(small_parent)
+            self.small_of_big = sp.csr_matrix((np.ones(stacked.size), (stacked, np.tile(np.arange(q_big), n_small))),
+                                              shape=(self.q_small, q_big))           # R' of the small terms
+            self.small_pairs = _PairSums(np.concatenate([a for a in small_parent for _ in small_parent]), self.q_small,
+                                         np.concatenate([b for _ in small_parent for b in small_parent]), self.q_small)
+            self.small_second = _PairSums(stacked, self.q_small, np.tile(local[self.second], n_small), self.q_second)
 
     def _tile(self, w, times):
         return np.tile(w, times) if times > 1 else w
 
     def _linear_predictor(self, beta, u_rest, u_big, theta):
-        eta = (self.x_unique @ beta)[self.x_row] + theta[self.big] * u_big[self.g_big]
+        """eta = X beta + Z Λ u (eq. 2), gathered from the distinct X rows and the levels."""
         b_rest = theta[self.rest_term_of_col] * u_rest
+        if self.nested:  # every term is a function of the big level: one gather per row
+            b_big = theta[self.big] * u_big + sum(b_rest[parent] for parent in self.parents)
+            return (self.x_unique @ beta)[self.x_row] + b_big[self.g_big]
+        eta = (self.x_unique @ beta)[self.x_row] + theta[self.big] * u_big[self.g_big]
         for cols in self.rest_cols:
             eta += b_rest[cols]
         return eta
 
-    def _blocks(self, w, wz, theta):
-        """The penalised normal equations in blocks: v = (u_rest, beta) dense, u_big diagonal.
-
-        Returns ``(a_vv, a_rb, a_xb, a_bb, rhs_v, rhs_b)``: the dense (u_rest, beta) block, the sparse
-        u_rest-u_big and dense beta-u_big couplings, the diagonal of the u_big block, right-hand sides.
-        """
-        lam_r, lam_b = theta[self.rest_term_of_col], theta[self.big]
+    def _big_sums(self, w, wz):
+        """Z_b'W 1, Z_b'Wz, Z_b'WX, X'WX and X'Wz (the last three via the distinct rows of X)."""
         x_u, n_x = self.x_unique, self.x_unique.shape[0]
-        nested = self.rest_of_big is not None
-        if nested or self.sum_over_cells:  # one pass over the rows: sums per (big level, X row) cell
+        if self.nested or self.sum_over_cells:  # one pass over the rows: sums per (big level, X row) cell
             cell_w, cell_wz = self.big_x.sums(w), self.big_x.sums(wz)
             x_w = np.bincount(self.big_x.cols, cell_w, minlength=n_x)
             x_wz = np.bincount(self.big_x.cols, cell_wz, minlength=n_x)
             big_w = np.bincount(self.big_x.rows, cell_w, minlength=self.q_big)
             big_wz = np.bincount(self.big_x.rows, cell_wz, minlength=self.q_big)
-            big_x = self.big_x.sparse_from_sums(cell_w) @ x_u          # Z_b'WX, (q_big, p)
+            if self.nested:   # the pattern is fixed: refill the matrix built at construction
+                self.big_x_matrix.data[:] = cell_w
+                big_x = self.big_x_matrix @ x_u                          # Z_b'WX, (q_big, p)
+            else:
+                big_x = self.big_x.sparse_from_sums(cell_w) @ x_u
         else:
+            cell_w = cell_wz = None
             x_w = np.bincount(self.x_row, w, minlength=n_x)
             x_wz = np.bincount(self.x_row, wz, minlength=n_x)
             big_w = np.bincount(self.g_big, w, minlength=self.q_big)
@@ -366,26 +371,83 @@ class CrossedProblem:
             big_x = self.big_x.sparse(w) @ x_u
         a_xx = x_u.T @ (x_w[:, None] * x_u)                              # X'WX
         rhs_x = x_u.T @ x_wz                                             # X'Wz
+        return big_w, big_wz, big_x, a_xx, rhs_x, cell_w, cell_wz
+
+    def _step_nested(self, w, wz, theta):
+        """Newton direction, log det(Λ Z'WZ Λ + I) and the Cholesky factor of beta's precision (nested case).
+
+        Blocks of the penalised Hessian H (b = big, r = rest, x = beta; R' sums big levels into their
+        rest levels; g = 1 / a_bb): H_bb = diag(a_bb), a_bb = λ_b² w_b + 1; H_rb = Λ_r R' diag(λ_b w_b);
+        H_xb = λ_b B', B = Z_b'WX. Eliminating b leaves S_rr = Λ_r R' diag(w_b g) R Λ_r + I,
+        S_rx = Λ_r R' diag(g) B, S_xx = X'WX - λ_b² B' diag(g) B (as 1 - λ_b² w_b g = g).
+        """
+        big_w, big_wz, big_x, a_xx, rhs_x, _, _ = self._big_sums(w, wz)
+        lam_b = theta[self.big]
+        a_bb = lam_b**2 * big_w + 1.0                  # Λ_b Z_b'WZ_b Λ_b + I, diagonal
+        g = 1.0 / a_bb
+        w_g, wz_g, b_g = big_w * g, big_wz * g, g[:, None] * big_x
+        # Schur complement of the big block: S_xx and the reduced right-hand sides
+        s_xx = a_xx - lam_b**2 * (big_x.T @ b_g)
+        r_x = rhs_x - lam_b**2 * (big_x.T @ wz_g)
+        # the second term's block of S_rr is diagonal (each big level has one parent): eliminate it next
+        lam_2 = theta[self.rest[self.second]]
+        d_2 = lam_2**2 * np.bincount(self.second_parent, w_g, minlength=self.q_second) + 1.0
+        inv_d = 1.0 / d_2
+        s_2x = lam_2 * (self.second_of_big @ b_g)                      # (q_second, p)
+        r_2 = lam_2 * np.bincount(self.second_parent, wz_g, minlength=self.q_second)
+        qs = self.q_small
+        if qs:
+            n_small = len(self.small)
+            lam_s = theta[self.rest_term_of_col[self.small_cols]]
+            s_ss = lam_s[:, None] * self.small_pairs.dense_from_sums(
+                self.small_pairs.sums(self._tile(w_g, n_small**2))) * lam_s[None, :] + np.eye(qs)
+            s_sx = lam_s[:, None] * (self.small_of_big @ b_g)
+            r_s = lam_s * (self.small_of_big @ wz_g)
+            s_s2 = (lam_s * lam_2)[:, None] * self.small_second.dense_from_sums(
+                self.small_second.sums(self._tile(w_g, n_small)))       # (q_small, q_second), dense
+            # Schur complement of the second block: T = S_vv - S_v2 diag(1/d_2) S_2v, v = (small, beta)
+            s_v2 = np.vstack([s_s2, s_2x.T])
+            t_mat = np.block([[s_ss, s_sx], [s_sx.T, s_xx]]) - (s_v2 * inv_d) @ s_v2.T
+            rhs_v = np.r_[r_s, r_x] - s_v2 @ (inv_d * r_2)
+        else:
+            s_s2 = None
+            t_mat = s_xx - s_2x.T @ (inv_d[:, None] * s_2x)
+            rhs_v = r_x - s_2x.T @ (inv_d * r_2)
+        chol = scipy.linalg.cholesky(t_mat)            # upper: T = U'U
+        v = scipy.linalg.cho_solve((chol, False), rhs_v)
+        u_small, beta = v[:qs], v[qs:]
+        u_2 = (r_2 - s_2x @ beta - (s_s2.T @ u_small if qs else 0.0)) * inv_d
+        u_rest = np.empty(self.q_rest)
+        u_rest[self.second_cols], u_rest[self.small_cols] = u_2, u_small
+        lam_r = theta[self.rest_term_of_col] * u_rest          # b_rest = Λ_r u_r
+        b_r_of_big = sum(lam_r[parent] for parent in self.parents)
+        u_big = lam_b * (big_wz - big_w * b_r_of_big - big_x @ beta) * g
+        # log det(Λ Z'WZ Λ + I) = log det H_bb + log det S_22 + log det T_ss
+        logdet = float(np.sum(np.log(a_bb)) + np.sum(np.log(d_2)) + 2.0 * np.sum(np.log(np.diag(chol)[:qs])))
+        return (beta, u_rest, u_big), logdet, chol[qs:, qs:]
+
+    def _blocks(self, w, wz, theta):
+        """The penalised normal equations in blocks (general case): v = (u_rest, beta) dense, u_big diagonal.
+
+        Returns ``(a_vv, a_rb, a_xb, a_bb, rhs_v, rhs_b)``: the dense (u_rest, beta) block, the sparse
+        u_rest-u_big and dense beta-u_big couplings, the diagonal of the u_big block, right-hand sides.
+        """
+        lam_r, lam_b = theta[self.rest_term_of_col], theta[self.big]
+        big_w, big_wz, big_x, a_xx, rhs_x, cell_w, cell_wz = self._big_sums(w, wz)
         a_xb = lam_b * big_x.T                                           # X'WZ_b Lambda_b
         a_bb = lam_b**2 * big_w + 1.0                                    # Lambda_b Z_b'WZ_b Lambda_b + I (diagonal)
         rhs_b = lam_b * big_wz
         if not self.q_rest:
             return a_xx, None, a_xb, a_bb, rhs_x, rhs_b
-        if nested:
-            a_rb = _NestedCoupling(self, lam_r, lam_b * big_w)          # Z_r'WZ_b = R' diag(Z_b'WZ_b)
-            rest_rest = self.rest_pair_table(big_w)                      # Z_r'WZ_r = R' diag(Z_b'WZ_b) R
-            rest_x = self.rest_of_big @ big_x                            # Z_r'WX = R' Z_b'WX
-            rest_wz = self.rest_sums(big_wz)
-        else:
-            units_w, units_wz = (cell_w, cell_wz) if self.sum_over_cells else (w, wz)
-            w_k = self._tile(units_w, self.n_rest)
-            rest_rest = np.zeros(self.rest_rest.shape)
-            rest_rest[self.rest_rest.rows, self.rest_rest.cols] = self.rest_rest.sums(
-                self._tile(units_w, self.n_rest**2))
-            rest_big = self.rest_big.sparse(w_k)
-            rest_x = self.rest_x.sparse(w_k) @ x_u
-            rest_wz = np.bincount(self.all_rest, self._tile(units_wz, self.n_rest), minlength=self.q_rest)
-            a_rb = _SparseCoupling(sp.diags(lam_r * lam_b) @ rest_big)
+        units_w, units_wz = (cell_w, cell_wz) if self.sum_over_cells else (w, wz)
+        w_k = self._tile(units_w, self.n_rest)
+        rest_rest = np.zeros(self.rest_rest.shape)
+        rest_rest[self.rest_rest.rows, self.rest_rest.cols] = self.rest_rest.sums(
+            self._tile(units_w, self.n_rest**2))
+        rest_big = self.rest_big.sparse(w_k)
+        rest_x = self.rest_x.sparse(w_k) @ self.x_unique
+        rest_wz = np.bincount(self.all_rest, self._tile(units_wz, self.n_rest), minlength=self.q_rest)
+        a_rb = _SparseCoupling(sp.diags(lam_r * lam_b) @ rest_big)
         a_rr = lam_r[:, None] * rest_rest * lam_r[None, :] + np.eye(self.q_rest)
         a_rx = lam_r[:, None] * rest_x
         a_vv = np.block([[a_rr, a_rx], [a_rx.T, a_xx]])
@@ -404,9 +466,25 @@ class CrossedProblem:
             schur[nr:, :nr] -= cross.T
         return schur
 
-    def solve(self, theta, beta, u_rest, u_big, tol=1e-12, max_iter=100):
-        """Penalised IRLS at fixed theta, warm-started; returns (beta, u_rest, u_big, objective, schur, iters)."""
+    def _step_general(self, w, wz, theta):
+        """Newton direction, log det(Λ Z'WZ Λ + I) and the Cholesky factor of beta's precision (general case)."""
         nr = self.q_rest
+        a_vv, a_rb, a_xb, a_bb, rhs_v, rhs_b = self._blocks(w, wz, theta)
+        chol = scipy.linalg.cholesky(self._schur(a_vv, a_rb, a_xb, a_bb))
+        a_vb_rhs = np.r_[a_rb.matvec(rhs_b / a_bb), a_xb @ (rhs_b / a_bb)] if nr else a_xb @ (rhs_b / a_bb)
+        v = scipy.linalg.cho_solve((chol, False), rhs_v - a_vb_rhs)
+        new_big = (rhs_b - (a_rb.rmatvec(v[:nr]) if nr else 0.0) - a_xb.T @ v[nr:]) / a_bb
+        # log det(Lambda Z'WZ Lambda + I) = log det(A_bb) + log det(the u_rest block of the Schur complement)
+        logdet = float(np.sum(np.log(a_bb)) + 2.0 * np.sum(np.log(np.diag(chol)[:nr])))
+        return (v[nr:], v[:nr], new_big), logdet, chol[nr:, nr:]
+
+    def solve(self, theta, beta, u_rest, u_big, tol=1e-12, max_iter=100):
+        """Penalised IRLS at fixed theta, warm-started from (beta, u_rest, u_big).
+
+        Returns ``(beta, u_rest, u_big, objective, chol_beta, iterations)``: the joint mode, the Laplace
+        deviance and the upper Cholesky factor of beta's precision (the inverse of its covariance).
+        """
+        step_of = self._step_nested if self.nested else self._step_general
         coef = (beta, u_rest, u_big)
         eta = self._linear_predictor(*coef, theta)
         current = _binomial_deviance(self.y, self.n_trials, eta, self.saturated) + u_rest @ u_rest + u_big @ u_big
@@ -414,31 +492,21 @@ class CrossedProblem:
             prob = np.clip(expit(eta), 1e-12, 1 - 1e-12)
             w = self.n_trials * prob * (1 - prob)
             wz = w * eta + (self.y - self.n_trials * prob)          # W times the working response
-            a_vv, a_rb, a_xb, a_bb, rhs_v, rhs_b = self._blocks(w, wz, theta)
-            schur = self._schur(a_vv, a_rb, a_xb, a_bb)
-            a_vb_rhs = np.r_[a_rb.matvec(rhs_b / a_bb), a_xb @ (rhs_b / a_bb)] if nr else a_xb @ (rhs_b / a_bb)
-            v = scipy.linalg.cho_solve(scipy.linalg.cho_factor(schur), rhs_v - a_vb_rhs)
-            new_big = (rhs_b - (a_rb.rmatvec(v[:nr]) if nr else 0.0) - a_xb.T @ v[nr:]) / a_bb
-            proposal = (v[nr:], v[:nr], new_big)
+            proposal, _, _ = step_of(w, wz, theta)
             eta_new = self._linear_predictor(*proposal, theta)
-            step = 1.0
+            step, eta_t, trial = 1.0, eta_new, proposal
             for _ in range(30):  # step halving: eta is linear in the coefficients
-                eta_t = eta + step * (eta_new - eta)
-                trial = tuple(old + step * (new - old) for old, new in zip(coef, proposal))
                 value = (_binomial_deviance(self.y, self.n_trials, eta_t, self.saturated)
                          + trial[1] @ trial[1] + trial[2] @ trial[2])
                 if value <= current + 1e-10 * abs(current):
                     break
                 step /= 2
+                eta_t = eta + step * (eta_new - eta)
+                trial = tuple(old + step * (new - old) for old, new in zip(coef, proposal))
             change, coef, eta, current = current - value, trial, eta_t, value
             if abs(change) < tol * (abs(current) + 1.0):
                 break
         prob = np.clip(expit(eta), 1e-12, 1 - 1e-12)
         w = self.n_trials * prob * (1 - prob)
-        a_vv, a_rb, a_xb, a_bb, _, _ = self._blocks(w, w * eta, theta)
-        schur = self._schur(a_vv, a_rb, a_xb, a_bb)
-        # log det(Lambda Z'WZ Lambda + I) = log det(A_bb) + log det(the u_rest block of the Schur complement)
-        logdet = float(np.sum(np.log(a_bb)))
-        if nr:
-            logdet += 2.0 * float(np.sum(np.log(np.diag(scipy.linalg.cholesky(schur[:nr, :nr])))))
-        return coef[0], coef[1], coef[2], current + logdet, schur, iteration + 1
+        _, logdet, chol_beta = step_of(w, w * eta, theta)
+        return coef[0], coef[1], coef[2], current + logdet, chol_beta, iteration + 1
