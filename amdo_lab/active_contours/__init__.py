@@ -37,11 +37,13 @@ from amdo_lab.active_contours.potential import (
     smooth_7x7,
 )
 from amdo_lab.active_contours.snakes import (
+    IMAGE_NORMS,
     NORMALISATIONS,
     TABLE_1,
     SnakeResult,
     SnakeWeights,
     candidate_offsets,
+    dp_pass,
     dp_snake,
     greedy_energies,
     greedy_snake,
@@ -55,7 +57,7 @@ __all__ = [
     "HamSlice", "HamStudy", "MuscleShape", "initial_contour", "make_ham_slice", "make_ham_study",
     "EDGE_MODES", "GAUSSIAN_7", "edge_strength", "equalise_histogram", "gradient_vector_flow", "potential_field",
     "smooth_7x7",
-    "NORMALISATIONS", "TABLE_1", "SnakeResult", "SnakeWeights", "candidate_offsets", "dp_snake", "greedy_energies", "greedy_snake",
+    "IMAGE_NORMS", "NORMALISATIONS", "TABLE_1", "SnakeResult", "SnakeWeights", "candidate_offsets", "dp_pass", "dp_snake", "greedy_energies", "greedy_snake",
     "greedy_snake_loop", "respace", "variational_snake",
     "METHODS", "polygon_area_mm2", "segment_contour", "segment_study", "volume_mm3",
 ]

@@ -17,7 +17,8 @@ __all__ = ["METHODS", "polygon_area_mm2", "segment_contour", "segment_study", "v
 
 #: The three paradigms compared by the paper, and scikit-image's semi-implicit snake as a peer.
 METHODS = ("greedy", "dynamic", "variational")
-#: Margin (px) of the crop round a starting snake in which the snake runs.
+#: Margin (px) of the crop round a starting snake in which the variational snake runs (its GVF costs per pixel;
+#: the discrete searches cost per point and run on the whole image).
 CROP_MARGIN_PX = 24
 
 
@@ -96,21 +97,30 @@ def _crop(init: np.ndarray, shape: tuple[int, int]) -> tuple[slice, slice]:
 
 def _segment(potential: np.ndarray, init: np.ndarray, method: str, weights: SnakeWeights | None = None,
              window: int = 3):
-    """Run ``method`` in a crop round ``init``; Table 1's weights unless ``weights`` is given."""
-    rows, cols = _crop(init, potential.shape)
-    local, offset = potential[rows, cols], np.array([rows.start, cols.start])
+    """Run ``method`` (the variational snake in a crop round ``init``); Table 1's weights unless ``weights`` is given.
+
+    The greedy and dynamic-programming results equal ``greedy_snake(potential, init)`` and
+    ``dp_snake(potential, init)`` with Table 1's weights.
+    """
     weights = TABLE_1[method] if weights is None else weights
     if method == "greedy":
-        result = _greedy(local, init - offset, weights, window, 2.0, 6.0, 300, vectorised=True)
-    elif method == "dynamic":
-        result = _dp(local, init - offset, weights, window, 2.0, 6.0, 100)
-    else:
-        result = _variational(local.max() - local, init - offset, weights, 0.5, 2.0, 6.0, 200, 0.2, 80)
+        result = _greedy(potential, init, weights, window, 2.0, 6.0, 300, vectorised=True)
+        return result.points, result
+    if method == "dynamic":
+        result = _dp(potential, init, weights, window, 2.0, 6.0, 100)
+        return result.points, result
+    rows, cols = _crop(init, potential.shape)
+    local, offset = potential[rows, cols], np.array([rows.start, cols.start])
+    result = _variational(local.max() - local, init - offset, weights, 0.5, 2.0, 6.0, 200, 0.2, 80)
     return result.points + offset, result
 
 
 def segment_contour(potential: np.ndarray, init: np.ndarray, method: str) -> np.ndarray:
-    """One muscle's final snake: ``method`` with Table 1's weights, run in a crop round ``init``.
+    """One muscle's final snake: ``method`` with Table 1's weights (the variational snake in a crop round ``init``).
+
+    ``segment_contour(potential, init, "greedy")`` is ``greedy_snake(potential, init).points`` and
+    ``"dynamic"`` is ``dp_snake(potential, init, gamma=2.4).points``; the variational snake runs with
+    its GVF computed on a crop 24 px round the start (``variational_snake`` on that crop).
 
     Parameters
     ----------

@@ -5,10 +5,15 @@ The discrete energy of Caro et al. (2004, Sec. 3.1) sums over the snake's points
     E = sum_i  alpha E_cont(i) + beta E_curv(i) + gamma E_image(i),
 
 with E_cont = | dbar - |v_i - v_{i-1}| | (eq. 5, our reading of the printed ``v_t - v_{t-1}``; dbar
-the mean spacing), E_curv = |v_{i-1} - 2 v_i + v_{i+1}|^2 (eq. 6) and E_image = -e / e_max
-(eq. 7), where the edge strength ``e = max(P) - P`` comes from the potential ``P`` of Sec. 3.2 and
-``e_max``, which the paper leaves undefined, is the largest ``e`` in the point's neighbourhood
-(Williams & Shah's normalisation). The paper says every term is normalised without saying how:
+the mean spacing), E_curv = |v_{i-1} - 2 v_i + v_{i+1}|^2 (eq. 6) and E_image (eq. 7), where the edge strength ``e = max(P) - P`` comes from the potential
+``P`` of Sec. 3.2 (eq. 7 prints ``|grad I|``; the paper swaps in the potential without saying so).
+``e_max``, which the paper leaves undefined, we read as Williams & Shah do: over the point's
+neighbourhood, ``E_image = (e_min - e) / max(e_max - e_min, floor)``, from -1 at the neighbourhood's
+strongest edge to 0 at its weakest, with ``floor`` a fifteenth of the potential's range (1 px for the
+default cap). Printed literally, ``-e / e_max`` (``image_norm="max"``, an ablation) differs by at most
+``1 / e_max`` between neighbouring pixels: a 15th of a unit per pixel, less than the curvature a
+single point pays to step one pixel out of a circle, so a snake started inside a boundary cannot climb
+to it. The paper says every term is normalised without saying how:
 E_cont and E_curv are measured in units of ``dbar`` and ``dbar^2`` (dividing them by their
 neighbourhood maximum, as Williams & Shah do, lets a tiny curvature outvote the image term).
 
@@ -37,8 +42,8 @@ from amdo_lab.active_contours.potential import _gvf, _image
 from amdo_lab.common import MAX_ITERATIONS, as_finite_array, check_bool, check_choice, check_in_range, \
     check_odd_int, check_positive, check_positive_int
 
-__all__ = ["MAX_POINTS", "NORMALISATIONS", "SnakeResult", "SnakeWeights", "TABLE_1", "candidate_offsets",
-           "dp_snake", "greedy_energies", "greedy_snake", "greedy_snake_loop", "respace", "variational_snake"]
+__all__ = ["IMAGE_NORMS", "MAX_POINTS", "NORMALISATIONS", "SnakeResult", "SnakeWeights", "TABLE_1", "candidate_offsets",
+           "dp_pass", "dp_snake", "greedy_energies", "greedy_snake", "greedy_snake_loop", "respace", "variational_snake"]
 
 #: Most points a snake may hold.
 MAX_POINTS = 100_000
@@ -47,6 +52,11 @@ MAX_WINDOW = 15
 #: How the greedy snake scales E_cont and E_curv: by dbar and dbar^2 (ours), or by their largest value among
 #: each point's candidates (Williams & Shah's normalisation of every term, eq. 7's e_max read for all three).
 NORMALISATIONS = ("spacing", "neighbourhood")
+#: How E_image is scaled among a point's candidates: over their range (Williams & Shah, ours) or over their
+#: largest edge strength (eq. 7 printed literally, an ablation).
+IMAGE_NORMS = ("range", "max")
+#: The floor of the range, as a share of the potential's overall range (1 px for the default cap of 15 px).
+IMAGE_FLOOR_SHARE = 1.0 / 15.0
 
 
 @dataclass(frozen=True)
@@ -222,9 +232,24 @@ def _edge_of(potential: np.ndarray) -> np.ndarray:
     return potential.max() - potential                       # e: high on edges
 
 
+def _image_term(e: np.ndarray, floor: float, image_norm: str = "range") -> np.ndarray:
+    """Eq. (7) for each row of candidates' edge strengths ``e``: over their range (floored) or their maximum."""
+    high = e.max(axis=-1, keepdims=True)
+    if image_norm == "max":
+        return -e / _positive(high)                                          # -e / e_max, printed literally
+    low = e.min(axis=-1, keepdims=True)
+    return (low - e) / np.maximum(high - low, floor)                         # Williams & Shah: -1 .. 0
+
+
+def _floor(edge: np.ndarray) -> float:
+    span = float(edge.max() - edge.min())
+    return IMAGE_FLOOR_SHARE * span if span > 0 else 1.0
+
+
 def _greedy_energies(points: np.ndarray, movers: np.ndarray, edge: np.ndarray, weights: SnakeWeights,
-                     d_bar: float, offsets: np.ndarray, normalise: str = "spacing") -> np.ndarray:
-    """Eq. (4) for each candidate of each mover: E_image over its neighbourhood's maximum, the others over dbar."""
+                     d_bar: float, offsets: np.ndarray, normalise: str = "spacing",
+                     image_norm: str = "range", floor: float | None = None) -> np.ndarray:
+    """Eq. (4) for each candidate of each mover: E_image over its neighbourhood's range, the others over dbar."""
     n = points.shape[0]
     candidates = points[movers, None, :] + offsets[None]                     # (k, m, 2)
     previous, following = points[(movers - 1) % n, None, :], points[(movers + 1) % n, None, :]
@@ -232,8 +257,7 @@ def _greedy_energies(points: np.ndarray, movers: np.ndarray, edge: np.ndarray, w
     e_curv = np.sum((previous - 2 * candidates + following) ** 2, axis=2)    # eq. (6)
     rows = np.clip(candidates[..., 0], 0, edge.shape[0] - 1).astype(int)
     cols = np.clip(candidates[..., 1], 0, edge.shape[1] - 1).astype(int)
-    e = edge[rows, cols]
-    e_image = -e / _positive(e.max(axis=1, keepdims=True))                   # eq. (7), e_max: the neighbourhood's
+    e_image = _image_term(edge[rows, cols], _floor(edge) if floor is None else floor, image_norm)   # eq. (7)
     if normalise == "neighbourhood":                                         # Williams & Shah: every term over
         e_cont = e_cont / _positive(e_cont.max(axis=1, keepdims=True))       # its neighbourhood maximum
         e_curv, d_bar = e_curv / _positive(e_curv.max(axis=1, keepdims=True)), 1.0
@@ -248,7 +272,7 @@ def _positive(values: np.ndarray) -> np.ndarray:
 
 
 def greedy_energies(potential: np.ndarray, points: np.ndarray, *, alpha: float = 0.4, beta: float = 0.4,
-                    gamma: float = 1.2, window: int = 3) -> np.ndarray:
+                    gamma: float = 1.2, window: int = 3, image_norm: str = "range") -> np.ndarray:
     """Eq. (4)'s energy of every candidate of every point (E_image per neighbourhood, the others per dbar).
 
     Parameters
@@ -261,6 +285,9 @@ def greedy_energies(potential: np.ndarray, points: np.ndarray, *, alpha: float =
         Weights of eq. (4), non-negative, not all zero, each at most 1e6.
     window : int
         Odd side of the neighbourhood, 3 to 15.
+    image_norm : {"range", "max"}
+        E_image over the candidates' range of edge strength (Williams & Shah, ours) or over their
+        largest (eq. 7 printed literally, an ablation).
 
     Returns
     -------
@@ -275,8 +302,10 @@ def greedy_energies(potential: np.ndarray, points: np.ndarray, *, alpha: float =
     potential, points = _snake_input(potential, points, "potential", "points")
     weights = _weights(alpha, beta, gamma)
     offsets = _offsets(check_odd_int(window, "window", maximum=MAX_WINDOW))
+    image_norm = str(check_choice(image_norm, "image_norm", IMAGE_NORMS))
     d_bar = float(np.mean(np.linalg.norm(np.roll(points, -1, axis=0) - points, axis=1)))
-    return _greedy_energies(points, np.arange(points.shape[0]), _edge_of(potential), weights, d_bar, offsets)
+    return _greedy_energies(points, np.arange(points.shape[0]), _edge_of(potential), weights, d_bar, offsets,
+                            image_norm=image_norm)
 
 
 def _colours(n: int) -> list[np.ndarray]:
@@ -288,9 +317,11 @@ def _colours(n: int) -> list[np.ndarray]:
 
 
 def _greedy(potential: np.ndarray, init: np.ndarray, weights: SnakeWeights, window: int, d_min: float,
-            d_max: float, max_iter: int, vectorised: bool, normalise: str = "spacing") -> SnakeResult:
+            d_max: float, max_iter: int, vectorised: bool, normalise: str = "spacing",
+            image_norm: str = "range") -> SnakeResult:
     start = time.perf_counter()
     edge, offsets = _edge_of(potential), _offsets(window)
+    floor = _floor(edge)
     points = np.rint(init)
     history, evaluations, iteration = [], 0, 0
     for iteration in range(1, max_iter + 1):
@@ -298,13 +329,15 @@ def _greedy(potential: np.ndarray, init: np.ndarray, weights: SnakeWeights, wind
         moved = 0
         for colour in _colours(points.shape[0]):
             if vectorised:
-                energy = _greedy_energies(points, colour, edge, weights, d_bar, offsets, normalise)
+                energy = _greedy_energies(points, colour, edge, weights, d_bar, offsets, normalise,
+                                          image_norm, floor)
                 best = np.argmin(energy, axis=1)
                 points[colour] += offsets[best]
                 moved += int(np.count_nonzero(best))
             else:
                 for i in colour:   # the plain loop of Williams & Shah, one point at a time
-                    energy = _greedy_energies(points, np.array([i]), edge, weights, d_bar, offsets)[0]
+                    energy = _greedy_energies(points, np.array([i]), edge, weights, d_bar, offsets,
+                                              normalise, image_norm, floor)[0]
                     best = int(np.argmin(energy))
                     points[i] += offsets[best]
                     moved += best != 0
@@ -327,6 +360,7 @@ def greedy_snake(
     d_max_px: float = 6.0,
     max_iter: int = 300,
     normalise: str = "spacing",
+    image_norm: str = "range",
 ) -> SnakeResult:
     """Williams & Shah's greedy snake on Sec. 3.2's potential, points moved in two colours at once.
 
@@ -354,6 +388,10 @@ def greedy_snake(
         ``E_cont`` and ``E_curv`` over ``dbar`` and ``dbar^2`` (ours), or each over its largest value
         among the point's candidates, as Williams & Shah normalise every term (an ablation: a tiny
         curvature then counts as much as a strong edge).
+    image_norm : {"range", "max"}
+        ``E_image`` over the candidates' range of edge strength (Williams & Shah, ours) or over their
+        largest, ``-e / e_max`` (eq. 7 printed literally, an ablation: too weak a pull to bring a
+        snake started inside an edge out to it).
 
     Returns
     -------
@@ -377,7 +415,8 @@ def greedy_snake(
     """
     search = _search_input(potential, init, alpha, beta, gamma, window, d_min_px, d_max_px, max_iter)
     normalise = str(check_choice(normalise, "normalise", NORMALISATIONS))
-    return _greedy(*search, vectorised=True, normalise=normalise)
+    image_norm = str(check_choice(image_norm, "image_norm", IMAGE_NORMS))
+    return _greedy(*search, vectorised=True, normalise=normalise, image_norm=image_norm)
 
 
 def greedy_snake_loop(
@@ -413,7 +452,7 @@ def greedy_snake_loop(
 
 
 def _dp_iteration(points: np.ndarray, edge: np.ndarray, weights: SnakeWeights, offsets: np.ndarray,
-                  fixed: int) -> tuple[np.ndarray, int]:
+                  fixed: int, floor: float | None = None, image_norm: str = "range") -> tuple[np.ndarray, int]:
     """One Amini step: the best candidates of every point but ``fixed``, by dynamic programming.
 
     State ``(j_{i-1}, j_i)``: candidates of two neighbours; the transition adds eq. (6)'s curvature
@@ -430,8 +469,7 @@ def _dp_iteration(points: np.ndarray, edge: np.ndarray, weights: SnakeWeights, o
     cands[0] = q[0]                                                           # the fixed point
     rows = np.clip(cands[..., 0], 0, edge.shape[0] - 1).astype(int)
     cols = np.clip(cands[..., 1], 0, edge.shape[1] - 1).astype(int)
-    e = edge[rows, cols]
-    e_image = -e / _positive(e.max(axis=1, keepdims=True))                    # eq. (7)
+    e_image = _image_term(edge[rows, cols], _floor(edge) if floor is None else floor, image_norm)   # eq. (7)
     outside = ((cands < 0) | (cands > np.asarray(edge.shape) - 1)).any(axis=2)
     e_image = np.where(outside, np.inf, e_image)
 
@@ -467,14 +505,60 @@ def _dp_iteration(points: np.ndarray, edge: np.ndarray, weights: SnakeWeights, o
     return np.roll(moved, fixed, axis=0), evaluations
 
 
+def dp_pass(potential: np.ndarray, points: np.ndarray, *, fixed: int = 0, alpha: float = 0.4, beta: float = 0.4,
+            gamma: float = 2.4, window: int = 3, image_norm: str = "range") -> np.ndarray:
+    """One pass of Amini's dynamic programming: the jointly best candidates of every point but ``fixed``.
+
+    The table's state is the pair ``(j_{i-1}, j_i)`` of two neighbours' candidates; each step adds
+    eq. (6)'s curvature of a triple, eq. (5)'s continuity of a pair and eq. (7)'s image term of the
+    new point (as :func:`greedy_energies`: E_image over each point's candidates' range, E_cont and
+    E_curv over ``dbar`` and ``dbar^2``, ``dbar`` the mean spacing before the pass). Point ``fixed``
+    keeps its place and its own curvature is left out, so the closed snake becomes a chain from
+    ``fixed + 1`` round to ``fixed - 1``, closed by the last point's continuity and curvature to it.
+    No point is added or dropped (:func:`dp_snake` respaces between passes).
+
+    Parameters
+    ----------
+    potential : (rows, cols) ndarray
+        Sec. 3.2's potential (low on edges), at least 7 x 7.
+    points : (n, 2) ndarray
+        The snake, (row, col) inside the image, n from 5 to 100,000; rounded to whole pixels.
+    fixed : int
+        Index of the point that stays, 0 to n - 1.
+    alpha, beta, gamma : float
+        Weights of eq. (4) (Table 1's dynamic programming: 0.4, 0.4, 2.4).
+    window : int
+        Odd side of each point's neighbourhood, 3 to 15.
+    image_norm : {"range", "max"}
+        As in :func:`greedy_snake`.
+
+    Returns
+    -------
+    (n, 2) ndarray
+        The moved points, in the same order.
+
+    References
+    ----------
+    Caro et al., AMDO 2004, eqs. (4)-(7), Sec. 3.1; Amini, Weymouth & Jain, IEEE PAMI 12, 1990.
+    """
+    potential, points = _snake_input(potential, points, "potential", "points")
+    weights = _weights(alpha, beta, gamma)
+    window = check_odd_int(window, "window", maximum=MAX_WINDOW)
+    fixed = check_positive_int(fixed, "fixed", minimum=0, maximum=points.shape[0] - 1)
+    image_norm = str(check_choice(image_norm, "image_norm", IMAGE_NORMS))
+    return _dp_iteration(np.rint(points), _edge_of(potential), weights, _offsets(window), fixed,
+                         image_norm=image_norm)[0]
+
+
 def _dp(potential: np.ndarray, init: np.ndarray, weights: SnakeWeights, window: int, d_min: float, d_max: float,
         max_iter: int) -> SnakeResult:
     start = time.perf_counter()
     edge, offsets = _edge_of(potential), _offsets(window)
+    floor = _floor(edge)
     points = np.rint(init)
     history, evaluations, still, iteration = [], 0, 0, 0
     for iteration in range(1, max_iter + 1):
-        moved, count = _dp_iteration(points, edge, weights, offsets, fixed=(iteration - 1) % points.shape[0])
+        moved, count = _dp_iteration(points, edge, weights, offsets, (iteration - 1) % points.shape[0], floor)
         evaluations += count
         still = still + 1 if np.array_equal(moved, points) else 0
         points = np.rint(_respace(moved, d_min, d_max))
