@@ -129,3 +129,37 @@ def test_kernel_histogram_is_float_on_and_off_the_frame():
     off = cf.kernel_histogram(frame, [100.0, 100.0, 5.0, 5.0, 0.0], 8)
     assert on.dtype == off.dtype == np.float64
     assert on.sum() == pytest.approx(1.0) and not off.any()
+
+
+# --- input records edited with dataclasses.replace are checked where a public function receives them
+
+def _valid(subpackage: str, name: str) -> dict:
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from test_bad_input import table
+
+    return table(subpackage).cases()[name].valid
+
+
+def test_edited_records_are_refused_by_their_field():
+    sequence = _valid("path_relinking_pf", "check_sequence")["sequence"]
+    with pytest.raises(ValueError, match=r"sequence\.background must be finite|sequence\.background .*NaN"):
+        pr.check_sequence(dataclasses.replace(sequence, background=np.full(sequence.background.shape, np.nan)))
+    with pytest.raises(TypeError, match=r"sequence\.model must be a BodyModel"):
+        pr.check_sequence(dataclasses.replace(sequence, model=None))
+    observation = _valid("path_relinking_pf", "ObservationModel")
+    measurement, model = observation["measurement"], observation["model"]
+    with pytest.raises(TypeError, match=r"measurement\.B must be a 2-D bool silhouette"):
+        pr.ObservationModel(dataclasses.replace(measurement, B=np.full(measurement.B.shape, np.nan)), model)
+    with pytest.raises(ValueError, match=r"measurement\.E"):
+        pr.ObservationModel(dataclasses.replace(measurement, E=measurement.E + 2.0), model)
+    from amdo_lab import modal_matching as mm
+
+    step = _valid("modal_matching", "paper_pair")["sequence"]
+    with pytest.raises(ValueError, match=r"sequence\.mm_per_px"):
+        mm.paper_pair(dataclasses.replace(step, mm_per_px=np.nan), "isobars")
+    enrol = _valid("ear_biometrics", "EarMatcher.enroll_template")
+    with pytest.raises(TypeError, match=r"template\.circles"):
+        eb.EarMatcher().enroll_template(5, dataclasses.replace(enrol["template"], circles=None))
