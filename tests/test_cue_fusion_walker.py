@@ -201,7 +201,7 @@ REJECTIONS = [
            ValueError, "t must be at most 129"),
     # --- the similarity shape space (eqs. 2-3): a template with extent, outlines of its length, the named kinds
     reject("box_iou stacks that differ", lambda: cf.box_iou(np.zeros((3, 2)), np.zeros((2, 3, 2))),
-           ValueError, "second must have the shape of first up to J"),
+           ValueError, r"first and second disagree: first has shape \(3, 2\), second \(2, 3, 2\)"),
     reject("ShapeSpace kind affine", lambda: cf.ShapeSpace(np.eye(3)[:, :2], "affine"),
            ValueError, "kind must be one of 'translation_scale', 'similarity'"),
     reject("ShapeSpace.from_ellipse kind affine",

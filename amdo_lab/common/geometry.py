@@ -354,8 +354,11 @@ def planar_chain(angles: np.ndarray, lengths: np.ndarray, base: np.ndarray = (0.
     angles = as_finite_array(angles, "angles", max_abs=MAX_CHAIN_LENGTH)
     lengths = as_finite_array(lengths, "lengths", ndim=1, max_abs=MAX_CHAIN_LENGTH)
     base = as_finite_array(base, "base", shape=(2,), max_abs=MAX_CHAIN_LENGTH)
-    if angles.ndim == 0 or angles.shape[-1] != len(lengths):
-        raise ValueError(f"angles must end in one angle per link of lengths ({len(lengths)}), got shape {angles.shape}")
+    if angles.ndim == 0:
+        raise ValueError(f"angles must end in one angle per link of lengths ({len(lengths)}), got a scalar")
+    if angles.shape[-1] != len(lengths):  # a mismatch: either may be at fault, so both are named with their sizes
+        raise ValueError(f"angles and lengths disagree: angles ends in {angles.shape[-1]} angles (shape "
+                         f"{angles.shape}), lengths has {len(lengths)} links; give one angle per link")
     absolute = np.cumsum(angles, axis=-1)
     steps = lengths[..., None] * np.stack([np.cos(absolute), np.sin(absolute)], axis=-1)
     joints = np.concatenate([np.zeros(steps.shape[:-2] + (1, 2)), np.cumsum(steps, axis=-2)], axis=-2)

@@ -261,7 +261,7 @@ def as_points(value: object, name: str, *, dim: int, allow_empty: bool = True,
     numpy.ndarray
         A new float array of the input's shape.
     """
-    _check_rule_arguments(max_abs=max_abs)
+    _check_rule_arguments(max_abs=max_abs, dim=dim)
     points = as_finite_array(value, name, allow_empty=allow_empty, max_abs=max_abs)
     if points.ndim not in (1, 2) or points.shape[-1] != dim:
         raise ValueError(f"{name} must have shape (n, {dim}) or ({dim},), got {points.shape}")
@@ -821,7 +821,8 @@ def _check_rule_arguments(**arguments: object) -> None:
     number or None there is a mistake in the calling code that would otherwise surface only when
     the message is formatted, or never). The rule arguments (``shape``, ``dtype``, ``bounds``,
     ``max_abs``, ``minimum``, ``low``/``high``, ``n``, ``choices``, ``columns``, ``allowed``,
-    ``attributes``, ``expected``) are refused by name when they cannot state a rule.
+    ``attributes``, ``expected``, ``dim``) are refused by name when they cannot state a rule (a string
+    as ``choices``, a ``dim`` that is not a positive int).
     """
     for key, value in arguments.items():
         if key in _LABELS and not isinstance(value, str):
@@ -847,6 +848,10 @@ def _check_rule_arguments(**arguments: object) -> None:
         if key in ("choices", "columns", "allowed", "attributes") and not isinstance(value, Iterable) and not (
                 key == "allowed" and value is None):
             raise TypeError(f"{key} must be an iterable, got {type(value).__name__}")
+        if key == "choices" and isinstance(value, (str, bytes)):  # a string would be split into characters
+            raise TypeError(f"choices must be a collection of options, not a string, got {value!r}")
+        if key == "dim" and (isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1):
+            raise TypeError(f"dim must be a positive int, got {value!r}")
         if key == "expected" and not (isinstance(value, type) or (
                 isinstance(value, tuple) and value and all(isinstance(v, type) for v in value))):
             raise TypeError(f"expected must be a type or a tuple of types, got {value!r}")

@@ -40,6 +40,7 @@ from amdo_lab.cue_fusion_pf.tracker import (
     default_dynamics,
     systematic_resample,
     track,
+    weigh_and_resample,
     weigh_particles,
 )
 from amdo_lab.cue_fusion_pf.walker import WALKER_SEGMENTS, WalkerSequence, box_iou, make_walker_sequence
@@ -51,7 +52,7 @@ __all__ = [
     "calibrate_sigma", "calibration_distances", "default_dynamics", "edge_line_likelihood", "ellipse_iou",
     "fused_log_likelihood", "head_views", "kernel_histogram", "load_or_train_cascade",
     "make_head_sequence", "make_training_set", "simulate_measurement_lines", "systematic_resample", "track",
-    "track_camshift", "track_mil", "track_pfilter", "weigh_particles",
+    "track_camshift", "track_mil", "track_pfilter", "weigh_and_resample", "weigh_particles",
     "WALKER_SEGMENTS", "WalkerSequence", "box_iou", "make_walker_sequence",
 ]
 

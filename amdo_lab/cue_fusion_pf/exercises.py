@@ -1,9 +1,11 @@
-"""The exercises of chapter 6, specified as data: expected values, hints and the wrong answers each check rejects.
+"""The exercises of chapter 6, specified as data: hints and the wrong answers each check rejects.
 
-The notebook's check cells call ``EXERCISES.check(k, answer_k, ...)``; the expected values are
-computed here from the notebook's objects, so they are not in plain view under the answer cells.
-Experiments (exercises 3, 4 and 5) re-run the filter with the setting the prompt asks for; the
-unchanged notebook's value is recorded among the wrong answers.
+The targets are not here: each check cell of the instructor's notebook registers its exercise's
+target in a hidden test (``EXERCISES.expect``), so the package the reader installs holds only the
+hints, the tolerances and the plausible wrong answers. Exercises 3, 4 and 5 are experiments (the
+unchanged experiment's value is recorded among the wrong answers, with the notebook variable that
+holds it); exercise 6 is "implement it": one weighting-and-resampling step of the filter, checked
+against :func:`~amdo_lab.cue_fusion_pf.weigh_and_resample` on cases the notebook does not show.
 """
 
 from __future__ import annotations
@@ -11,134 +13,164 @@ from __future__ import annotations
 import numpy as np
 
 from amdo_lab.common.exercises import Exercise, ExerciseSet, WrongAnswer
-from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
-from amdo_lab.cue_fusion_pf.likelihoods import edge_line_likelihood
-from amdo_lab.cue_fusion_pf.data import ellipse_iou
-from amdo_lab.cue_fusion_pf.tracker import WALKER_SIGMAS, track
-from amdo_lab.cue_fusion_pf.walker import box_iou
+from amdo_lab.cue_fusion_pf.tracker import weigh_and_resample
 
-__all__ = ["EXERCISES"]
+__all__ = ["EXERCISES", "resampling_case"]
 
-#: Exercise 1: the scale's damping (Table 1), the frame period.
-SCALE_BETA, FRAME_PERIOD = 10.0, 1.0 / 25.0
-#: Exercise 2: eq. (13)'s parameters in the prompt.
-P0, CLUTTER_DENSITY, SIGMA_E = 0.2, 0.05, float(np.sqrt(2.0))
-#: Exercise 3: the agile frames, the filter seed and the two line half-lengths (px) compared.
-AGILE_START, LINES_SEED, SHORT_LINES, LONG_LINES = 136, 5, 12, 30
-#: Exercise 4: frames from the hand on, the filter seed and the particle count asked for.
-HAND_START, PARTICLES_SEED, FEW_PARTICLES = 81, 6, 30
-
-#: Exercise 5: the walker's filter (as the chapter runs it) and the stationary std of t_x, t_y asked for (px).
-WALKER_SEED, WIDE_STD = 10_000, 400.0
-
-_runs: dict = {}
+#: Exercise 6: the case the notebook shows.
+EXAMPLE_SEED = 6
 
 
-def _printed_radius(beta: float) -> float:
-    return ARDynamics([beta], [0.0], FRAME_PERIOD, [1.0], [0.0], printed_order=True,
-                      allow_unstable=True).spectral_radius()
+def resampling_case(seed: int) -> dict:
+    """Exercise 6's inputs for ``seed``: two cues' log-likelihoods of N particles and one uniform number.
+
+    The log-likelihoods carry an offset of several hundred (they are defined up to a constant), as
+    a product of many edge lines gives; N is between 40 and 120.
+
+    Parameters
+    ----------
+    seed : int
+        Seed of the case.
+
+    Returns
+    -------
+    dict
+        ``{"cue_log_likelihoods": (2, N) array, "u": float}``, the keyword arguments of the step.
+    """
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(40, 121))
+    offsets = rng.choice([-1.0, 1.0]) * rng.uniform(800.0, 1500.0, size=(2, 1))  # one sign: they never cancel
+    spreads = rng.uniform(0.3, 1.5, size=(2, 1))
+    return {"cue_log_likelihoods": offsets + spreads * rng.standard_normal((2, n)), "u": float(rng.random())}
 
 
-def _printed_roots(beta: float) -> np.ndarray:
-    a1 = -np.exp(-2 * beta * FRAME_PERIOD)
-    a0 = 2 * np.exp(-beta * FRAME_PERIOD)
-    return np.sort(np.abs(np.roots([1.0, -a1, -a0])))
+def _pointers(n: int, u: float) -> np.ndarray:
+    return (u + np.arange(n)) / n
 
 
-def _edge_pair() -> tuple[float, float]:
-    return (edge_line_likelihood([1.0], P0, CLUTTER_DENSITY, SIGMA_E),
-            edge_line_likelihood([], P0, CLUTTER_DENSITY, SIGMA_E))
+def _draw(weights: np.ndarray, pointers: np.ndarray) -> np.ndarray:
+    return np.minimum(np.searchsorted(np.cumsum(weights), pointers, side="right"), len(weights) - 1)
 
 
-def _edge_only_tracked(fusion, half_length: int) -> np.ndarray:
-    key = ("lines", id(fusion), half_length)
-    if key not in _runs:
-        run = track(fusion.frames[AGILE_START:], fusion.true_ellipses[AGILE_START], rng=LINES_SEED, cues=("edge",),
-                    half_length=half_length)
-        _runs[key] = ellipse_iou(run.ellipses, fusion.true_ellipses[AGILE_START:]) >= 0.5
-    return _runs[key]
+def _exp_without_shift(cue_log_likelihoods, u):
+    """Wrong: exp of the fused log-likelihoods as they are (over- or underflows to 0/0 = NaN)."""
+    fused = np.sum(cue_log_likelihoods, axis=0)
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        weights = np.exp(fused)
+        weights = weights / weights.sum()
+    return _draw(weights, _pointers(fused.size, u))
 
 
-def _frames_that_differ(fusion) -> int:
-    return int(np.sum(_edge_only_tracked(fusion, LONG_LINES) != _edge_only_tracked(fusion, SHORT_LINES)))
+def _weights_not_summing_to_one(cue_log_likelihoods, u):
+    """Wrong: exp(l - max) used as weights without dividing by their sum."""
+    fused = np.sum(cue_log_likelihoods, axis=0)
+    return _draw(np.exp(fused - fused.max()), _pointers(fused.size, u))
 
 
-def _hand_share(fusion, n_particles: int) -> float:
-    key = ("particles", id(fusion), n_particles)
-    if key not in _runs:
-        run = track(fusion.frames[HAND_START:], fusion.true_ellipses[HAND_START], rng=PARTICLES_SEED,
-                    cues=("color", "edge", "structure"), n_particles=n_particles)
-        _runs[key] = float(np.mean(ellipse_iou(run.ellipses, fusion.true_ellipses[HAND_START:]) >= 0.5))
-    return _runs[key]
+def _likelihoods_added(cue_log_likelihoods, u):
+    """Wrong: the cues' normalised likelihoods added (a mixture), not multiplied as eq. (6) does."""
+    logs = np.asarray(cue_log_likelihoods, dtype=float)
+    per_cue = np.exp(logs - logs.max(axis=1, keepdims=True))
+    mixture = (per_cue / per_cue.sum(axis=1, keepdims=True)).sum(axis=0)
+    return _draw(mixture / mixture.sum(), _pointers(logs.shape[1], u))
 
 
-def _walker_share(walker, translation_std: float) -> float:
-    key = ("walker", id(walker), translation_std)
-    if key not in _runs:
-        run = track(walker.frames, walker.template, rng=WALKER_SEED, cues=("color", "edge"), bins=16, n_lines=70,
-                    shape="similarity", sigmas=WALKER_SIGMAS,
-                    stationary_std=(translation_std, translation_std, 0.1, 0.1))
-        outline = walker.shape_space().control_points(run.states)
-        _runs[key] = float(np.mean(box_iou(outline, walker.true_control_points) >= 0.5))
-    return _runs[key]
+def _log_likelihoods_as_weights(cue_log_likelihoods, u):
+    """Wrong: the fused log-likelihoods normalised as if they were weights (no exponential)."""
+    fused = np.sum(cue_log_likelihoods, axis=0)
+    return _draw(fused / fused.sum(), _pointers(fused.size, u))
 
 
-def _better_remedy(walker, walker_share) -> str:
-    return "tempering" if walker_share["colour × edges^0.1"] > _walker_share(walker, WIDE_STD) else "dynamics"
+def _pointer_not_divided(cue_log_likelihoods, u):
+    """Wrong: the pointers u + i/N (u not divided by N), which run past the last cumulative weight."""
+    fused = np.sum(cue_log_likelihoods, axis=0)
+    weights = np.exp(fused - fused.max())
+    return _draw(weights / weights.sum(), u + np.arange(fused.size) / fused.size)
 
 
 EXERCISES = ExerciseSet(chapter=6, exercises=[
     Exercise(
-        1, lambda: _printed_radius(SCALE_BETA),
-        "build a1 = -exp(-2βτ) and a0 = 2exp(-βτ) with β = 10, then the roots of z² - a1 z - a0 (np.roots) "
-        "and the larger modulus",
-        (WrongAnswer(lambda ns: _printed_radius(2.0), "the translation's β = 2 (the chapter's 1.85)"),
-         WrongAnswer(lambda ns: float(_printed_roots(SCALE_BETA)[0]), "the smaller of the two moduli"),
-         WrongAnswer(float(np.exp(-SCALE_BETA * FRAME_PERIOD)), "the corrected order's double root exp(-βτ)")),
-        rtol=1e-3),
+        1, None,
+        "build a1 = -exp(-2βτ) and a0 = 2exp(-βτ) with β = 10, τ = 1/25 s; the printed order's characteristic "
+        "polynomial is z² - a1 z - a0: take the larger modulus of its two roots",
+        (WrongAnswer(1.850, "the translation's β = 2 (printed in the chapter)",
+                     hint="1.85 is the translation's (β = 2); redo the roots with the scale's β = 10"),
+         WrongAnswer(0.955, "the smaller of the two moduli",
+                     hint="that is the smaller root; the model's stability is decided by the larger modulus"),
+         WrongAnswer(0.670, "the corrected order's double root exp(-βτ)",
+                     hint="that is the corrected order's root exp(-βτ); the question asks for eq. (4) as printed, "
+                          "a1 on x_{k-1} and a0 on x_{k-2}")),
+        rtol=0.0, atol=6e-4),
     Exercise(
-        2, _edge_pair,
-        "eq. (13): P0 + (1 - P0)/λ · Σ G(z_j) with G the Gaussian density of σ_e; an empty sum is 0",
-        (WrongAnswer((float(np.exp(-0.25) / (np.sqrt(2 * np.pi) * SIGMA_E)), 0.0), "G(1) alone, and 0 for no feature"),
-         WrongAnswer((P0 + (1 - P0) * CLUTTER_DENSITY * float(np.exp(-0.25) / (np.sqrt(2 * np.pi) * SIGMA_E)), P0),
-                     "multiplied by λ instead of divided"),
-         WrongAnswer((P0 + (1 - P0) / CLUTTER_DENSITY * float(np.exp(-0.5) / (np.sqrt(2 * np.pi) * SIGMA_E)), P0),
-                     "exp(-z²/σ²) without the 2")),
-        rtol=2e-3),
+        2, None,
+        "eq. (13): P0 + (1 - P0)/λ · Σ_j G(z_j), with G the Gaussian density of σ_e; a line with no feature has "
+        "an empty sum",
+        (WrongAnswer((0.220, 0.0), "G(1) alone, and 0 for no feature",
+                     hint="that is G(1) alone: eq. (13) adds P0 and scales G by (1 - P0)/λ, and an empty line keeps P0"),
+         WrongAnswer((0.209, 0.2), "multiplied by λ instead of divided",
+                     hint="(1 - P0) is divided by λ, not multiplied: a feature is rarer than clutter when λ is small"),
+         WrongAnswer((2.938, 0.2), "exp(-z²/σ²) without the 2",
+                     hint="G is the Gaussian density: exp(-z²/(2σ_e²)), with the 2"),
+         WrongAnswer((2.136, 0.2), "σ_e taken as 2 instead of √2",
+                     hint="σ_e = √2 px is the standard deviation; σ_e² = 2")),
+        rtol=0.0, atol=6e-4),
     Exercise(
-        3, _frames_that_differ,
-        "set half_length = 30 in the answer cell, run it, and count the frames where tracked_long and tracked_short differ",
-        (WrongAnswer(lambda ns: ns["lines_differ"], "the unchanged experiment (both runs at ±12 px)",
-                     unchanged_experiment=True),
-         WrongAnswer(lambda ns: int(np.sum(~_edge_only_tracked(ns["fusion"], LONG_LINES))),
-                     "the frames the ±30 px run loses"),
-         WrongAnswer(lambda ns: len(ns["fusion"].frames) - AGILE_START, "every agile frame")),
-        context=("fusion",), rtol=0.0, atol=0.0, experiment=True),
+        3, None,
+        "set half_length = 30 in the answer cell, run it, and count the frames where tracked_long and "
+        "tracked_short differ",
+        (WrongAnswer(0, "the unchanged experiment (both runs at ±12 px)", unchanged_experiment=True,
+                     variable="lines_differ",
+                     hint="both runs still use ±12 px lines: set half_length = 30 and run the answer cell again"),
+         WrongAnswer(13, "the frames the ±30 px run loses",
+                     hint="that counts the frames the long lines lose; the question asks where the two runs disagree"),
+         WrongAnswer(28, "every agile frame",
+                     hint="not every frame differs: compare tracked_long with tracked_short frame by frame"),
+         WrongAnswer(1, "the two shares differ by 0 frames, guessed as one",
+                     hint="equal shares do not mean the same frames: count where the two masks differ")),
+        rtol=0.0, atol=0.0, experiment=True, why_points=1),
     Exercise(
-        4, lambda fusion: _hand_share(fusion, FEW_PARTICLES),
-        "set n_particles = 30 in the answer cell, run it, and give the share of frames with IoU >= 0.5 "
-        "(two decimals)",
-        (WrongAnswer(lambda ns: ns["share_tried"], "the unchanged experiment (300 particles)",
-                     unchanged_experiment=True),
-         WrongAnswer(lambda ns: 1.0 - _hand_share(ns["fusion"], FEW_PARTICLES), "the share of frames lost"),
-         WrongAnswer(lambda ns: float(np.mean(ellipse_iou(ns["tracked_all"].ellipses[HAND_START:],
-                                                          ns["fusion"].true_ellipses[HAND_START:]) >= 0.5)),
-                     "the three-cue run of the whole sequence on these frames")),
-        context=("fusion",), rtol=0.0, atol=0.006, experiment=True),
-
+        4, None,
+        "set n_particles = 30 in the answer cell, run it, and give the share of frames 81-163 with IoU >= 0.5 "
+        "(three decimals)",
+        (WrongAnswer(0.976, "the unchanged experiment (300 particles)", unchanged_experiment=True,
+                     variable="share_tried",
+                     hint="that is the 300-particle run: set n_particles = 30 and run the answer cell again"),
+         WrongAnswer(0.084, "the share of frames lost",
+                     hint="that is the share of frames lost; the question asks for the share tracked"),
+         WrongAnswer(0.99, "the three-cue share of the whole sequence, read off the chapter",
+                     hint="that is the chapter's 300-particle run of the whole sequence; run the answer cell with "
+                          "30 particles")),
+        rtol=0.0, atol=6e-4, experiment=True, why_points=1),
     Exercise(
-        5, lambda walker: _walker_share(walker, WIDE_STD),
-        "set walker_std = 400 in the answer cell, run it, and give the share of frames with box IoU >= 0.5 "
-        "(two decimals)",
-        (WrongAnswer(lambda ns: ns["weak_pull_share"], "the unchanged experiment (100 px)", unchanged_experiment=True),
-         WrongAnswer(lambda ns: ns["walker_share"]["colour"], "colour alone"),
-         WrongAnswer(lambda ns: ns["walker_share"]["colour × edges^0.1"], "the tempered edges")),
-        context=("walker",), rtol=0.0, atol=0.006, experiment=True),
+        5, None,
+        "set walker_std = 400 in the answer cell, run it, and give the share of the walker's frames with box "
+        "IoU >= 0.5 (two decimals)",
+        (WrongAnswer(0.26, "the unchanged experiment (100 px)", unchanged_experiment=True,
+                     variable="weak_pull_share",
+                     hint="that is the chapter's σ = 100 px: set walker_std = 400 and run the answer cell again"),
+         WrongAnswer(0.84, "colour alone, read off the chapter",
+                     hint="that is colour alone; the exercise runs colour × edges with wider dynamics"),
+         WrongAnswer(0.98, "the tempered edges, read off the chapter",
+                     hint="that is the tempered run; the exercise keeps the edges untempered and widens the dynamics")),
+        rtol=0.0, atol=5e-3, experiment=True, why_points=2),
     Exercise(
-        6, _better_remedy,
-        "compare the share of frames Exercise 5 gives with the tempered run's in the chapter",
-        (WrongAnswer(lambda ns: "dynamics" if _better_remedy(ns["walker"], ns["walker_share"]) == "tempering"
-                     else "tempering", "the other remedy"),
-         WrongAnswer("neither", "neither")),
-        context=("walker", "walker_share"), choices=("dynamics", "tempering", "neither")),
+        6, None,
+        "fuse the cues by adding their log-likelihoods (eq. 6), turn the fused values into weights that sum to 1 "
+        "without overflow, then walk the N pointers (u + i)/N through the cumulative weights",
+        (WrongAnswer(_exp_without_shift, "exp of the fused log-likelihoods without subtracting their maximum",
+                     hint="exp of log-likelihoods of several hundred over- or underflows (0/0 gives NaN weights): "
+                          "subtract the largest fused log-likelihood before exponentiating"),
+         WrongAnswer(_weights_not_summing_to_one, "weights not divided by their sum",
+                     hint="normalise the weights: the cumulative weights must end at 1 for the pointers to "
+                          "reach every particle"),
+         WrongAnswer(_likelihoods_added, "the cues' likelihoods added instead of multiplied",
+                     hint="eq. (6) multiplies the cues' likelihoods, so their log-likelihoods add; adding the "
+                          "likelihoods makes a mixture"),
+         WrongAnswer(_log_likelihoods_as_weights, "log-likelihoods normalised as weights",
+                     hint="weights are likelihoods, not log-likelihoods: exponentiate the fused values first"),
+         WrongAnswer(_pointer_not_divided, "pointers u + i/N",
+                     hint="the pointers are (u + i)/N: u is divided by N too, so they stay in [0, 1) and are "
+                          "spaced 1/N apart")),
+        kind="function", reference=weigh_and_resample, make_case=resampling_case, example_seed=EXAMPLE_SEED,
+        rtol=0.0, atol=0.0, points=2),
 ])

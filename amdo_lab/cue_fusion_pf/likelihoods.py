@@ -180,8 +180,8 @@ def kernel_histogram(frame: np.ndarray, ellipse: np.ndarray, bins: int = 32) -> 
     inside = r_squared < 1.0
     weights = 1.0 - r_squared[inside]  # eq. (7), constant c cancels in eq. (8)
     # eq. (8): kernel-weighted count of the pixels of each colour bin, normalised by the total weight
-    histogram = np.bincount(bin_index_image(frame, bins)[inside], weights=weights, minlength=bins**3)
-    total = histogram.sum()
+    histogram = np.bincount(bin_index_image(frame, bins)[inside], weights=weights, minlength=bins**3).astype(float)
+    total = histogram.sum()  # (bincount of no pixel gives int zeros: the astype keeps the dtype float)
     return histogram / total if total > 0 else histogram
 
 

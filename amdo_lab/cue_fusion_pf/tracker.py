@@ -12,7 +12,7 @@ from amdo_lab.common import (MAX_ITERATIONS, MAX_SAMPLES, as_finite_array, check
                              check_image_shape, check_in_range, check_names, check_positive_int, check_sequence_of,
                              make_rng)
 # shared with chapter 10 (systematic_resample is re-exported here); the kernel takes -inf log-weights (particles ruled out)
-from amdo_lab.common.particles import _normalised_weights, systematic_resample
+from amdo_lab.common.particles import MAX_LOG_WEIGHT, _normalised_weights, systematic_resample
 from amdo_lab.cue_fusion_pf.dynamics import ARDynamics
 from amdo_lab.cue_fusion_pf.likelihoods import (COLOR_SPACES, MAX_PIXELS, PAPER_SIGMAS, SIGMA_RANGE, ColorLikelihood,
                                                 EdgeLikelihood, check_cues, check_frames)
@@ -22,7 +22,7 @@ from amdo_lab.cue_fusion_pf.structure import CASCADE_SEED, StructureLikelihood, 
 
 __all__ = ["CALIBRATED_SIGMAS", "CUES", "FUSIONS", "TRACK_DEFAULTS", "TrackResult", "WALKER_SIGMAS",
            "build_cues", "calibration_distances", "default_dynamics", "resolve_sigmas",
-           "shape_space_of", "systematic_resample", "track", "weigh_particles"]
+           "shape_space_of", "systematic_resample", "track", "weigh_and_resample", "weigh_particles"]
 
 CUES = ("color", "edge", "structure", "oracle")
 #: σ_c and σ_s chosen by :func:`calibrate_sigma` on held-out "fusion" seeds (seeds 100-104, rng=0, every 4th frame; the tests re-run it).
@@ -381,6 +381,42 @@ def weigh_particles(frame: np.ndarray, particles: np.ndarray, cues: dict) -> np.
         raise ValueError("particles must hold at least one plausible contour (scale and centre in range)")
     # eq. (15): w_i ∝ p(Y_k | X_k^i), normalised by their sum p(Y_k | Y_1:k-1) (the ruled-out particles' -inf give 0)
     return _normalised_weights(_fused_log_weights(frame, particles, valid, cues.values()))
+
+
+def weigh_and_resample(cue_log_likelihoods: np.ndarray, u: float) -> np.ndarray:
+    """Steps 3 and 5 of Fig. 1 for one frame: fuse the cues (eq. 6), normalise the weights, resample.
+
+    The cues' log-likelihoods of each particle add (eq. 6); the weights are their exponentials
+    normalised to sum 1 (eq. 15), computed with the largest fused log-likelihood subtracted first,
+    so log-likelihoods of any size give weights; :func:`systematic_resample` then draws the
+    particles with the one uniform number ``u``. :func:`track` does the same on every frame.
+
+    Parameters
+    ----------
+    cue_log_likelihoods : numpy.ndarray
+        (n_cues, N) log-likelihood of each particle under each cue, finite (within ±1e300); they
+        are defined up to an additive constant per cue.
+    u : float
+        One uniform number in [0, 1).
+
+    Returns
+    -------
+    numpy.ndarray
+        (N,) indices of the particles the resampled set copies, in increasing order.
+
+    References
+    ----------
+    Li & Chaumette, AMDO 2004, eqs. (6) and (15), Fig. 1, steps 3 and 5.
+
+    Examples
+    --------
+    >>> weigh_and_resample(np.array([[0.0, np.log(3.0)], [1000.0, 1000.0]]), 0.5)
+    array([1, 1])
+    """
+    logs = as_finite_array(cue_log_likelihoods, "cue_log_likelihoods", ndim=2, max_abs=MAX_LOG_WEIGHT)
+    u = check_in_range(u, "u", 0.0, 1.0, closed="left")
+    fused = logs.sum(axis=0)                                   # eq. (6): the cues' log-likelihoods add
+    return systematic_resample(_normalised_weights(fused), u)  # eq. (15), then Fig. 1, step 5
 
 
 def _plausible(particles: np.ndarray) -> np.ndarray:

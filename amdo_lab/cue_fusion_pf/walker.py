@@ -357,8 +357,11 @@ def box_iou(first: np.ndarray, second: np.ndarray) -> np.ndarray:
     if first.ndim not in (2, 3) or first.shape[-1] != 2:
         raise ValueError(f"first must have shape (J, 2) or (T, J, 2), got {first.shape}")
     second = as_finite_array(second, "second", max_abs=1e6)
-    if second.ndim != first.ndim or second.shape[-1] != 2 or second.shape[:-2] != first.shape[:-2]:
-        raise ValueError(f"second must have the shape of first up to J, got {second.shape} and {first.shape}")
+    if second.ndim not in (2, 3) or second.shape[-1] != 2:
+        raise ValueError(f"second must have shape (J, 2) or (T, J, 2), got {second.shape}")
+    if second.shape[:-2] != first.shape[:-2]:  # a mismatch: either may be at fault, so both are named
+        raise ValueError(f"first and second disagree: first has shape {first.shape}, second {second.shape}; both "
+                         "must be (J, 2), or (T, J, 2) with the same T")
     single = first.ndim == 2
     low = np.maximum(first.min(axis=-2), second.min(axis=-2))
     high = np.minimum(first.max(axis=-2), second.max(axis=-2))

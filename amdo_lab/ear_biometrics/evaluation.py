@@ -29,13 +29,14 @@ class Separation:
     impostor : numpy.ndarray, shape (n_queries, n_enrolled)
         Distances to the other subjects' templates, NaN where the template is the query's subject.
     d_prime : float
-        (mean impostor - mean genuine) / sqrt((var genuine + var impostor) / 2); inf when both
-        spreads are 0.
+        (mean impostor - mean genuine) / sqrt((var genuine + var impostor) / 2). When both spreads
+        are 0: 0 for equal means (identical distributions), else inf with the sign of the gap.
     auc : float
         Mean over queries of the share of that query's impostor distances above its genuine distance
         (ties count one half), in [0, 1]; 1 means every query is closest to its own subject.
     ratio : float
-        Median genuine over median impostor distance (within- over between-subject spread).
+        Median genuine over median impostor distance (within- over between-subject spread); 1 when
+        both medians are 0, inf (signed as the genuine median) when only the impostor median is.
 
     References
     ----------
@@ -84,8 +85,12 @@ def genuine_impostor_separation(distances: object, enrolled_ids: object, query_i
     above = np.where(own, 0.0, wins).sum(axis=1) / (~own).sum(axis=1)
     flat = impostor[~own]
     pooled = np.sqrt(0.5 * (genuine.var() + flat.var()))
-    d_prime = float((flat.mean() - genuine.mean()) / pooled) if pooled > 0 else np.inf
-    return Separation(genuine, impostor, d_prime, float(above.mean()), float(np.median(genuine) / np.median(flat)))
+    gap = flat.mean() - genuine.mean()  # both spreads 0: d' is 0 for equal means, else ±inf (never 0/0)
+    d_prime = float(gap / pooled) if pooled > 0 else (0.0 if gap == 0 else float(np.copysign(np.inf, gap)))
+    middle_genuine, middle_impostor = np.median(genuine), np.median(flat)  # ratio 1 for two zero medians
+    ratio = (float(middle_genuine / middle_impostor) if middle_impostor != 0
+             else 1.0 if middle_genuine == 0 else float(np.copysign(np.inf, middle_genuine)))
+    return Separation(genuine, impostor, d_prime, float(above.mean()), ratio)
 
 
 def _distance_sum_gaps(queries: list[EarTemplate], references: list[EarTemplate]) -> np.ndarray:

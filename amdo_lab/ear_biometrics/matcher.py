@@ -9,8 +9,8 @@ from functools import partial
 import cv2
 import numpy as np
 
-from amdo_lab.common import (MAX_ITERATIONS, MAX_SIDE, check_choice, check_fitted, check_in_range, check_instance,
-                             check_positive, check_positive_int)
+from amdo_lab.common import (MAX_ITERATIONS, MAX_SIDE, as_finite_array, check_choice, check_fitted, check_in_range,
+                             check_instance, check_positive, check_positive_int)
 from amdo_lab.ear_biometrics.circles import MAX_CIRCLES, READING_RULES, CircleFeatures
 from amdo_lab.ear_biometrics.contours import MAX_CLOSING_PX, MAX_K, clean_contours, detect_contours
 from amdo_lab.ear_biometrics.enrolment import Enrolment, check_subject_id
@@ -590,7 +590,7 @@ class EarMatcher(Enrolment):
 
     def _check_template(self, template: object, name: str) -> None:
         """An :class:`EarTemplate` with this matcher's number of circles, else an error naming ``name``."""
-        check_record(template, name, EarTemplate, "EarMatcher.extract")
+        check_template(template, name)
         expected = self.settings.n_circles
         if len(template.circles.counts) != expected:
             raise ValueError(f"{name} has {len(template.circles.counts)} circles, matcher expects {expected}")
@@ -667,6 +667,34 @@ class EarMatcher(Enrolment):
                                     final, scores)
 
 
+def check_template(template: object, name: str) -> EarTemplate:
+    """Return ``template`` after checking it is an :class:`EarTemplate` whose fields keep their rules.
+
+    ``circles`` a :class:`CircleFeatures` with finite ``radii``, and ``counts`` and ``distance_sums``
+    non-negative, one per radius; ``topology`` a :class:`TopologyFeatures`. A template edited with
+    ``dataclasses.replace`` is checked here, where the matcher receives it.
+
+    Parameters
+    ----------
+    template : EarTemplate
+        From :meth:`EarMatcher.extract`.
+    name : str
+        The argument's name in error messages.
+
+    Returns
+    -------
+    EarTemplate
+        ``template``.
+    """
+    check_record(template, name, EarTemplate, "EarMatcher.extract")
+    circles = check_record(template.circles, f"{name}.circles", CircleFeatures, "circle_features")
+    n = len(as_finite_array(circles.radii, f"{name}.circles.radii", ndim=1))
+    as_finite_array(circles.counts, f"{name}.circles.counts", shape=(n,), bounds=(0.0, np.inf))
+    as_finite_array(circles.distance_sums, f"{name}.circles.distance_sums", shape=(n,), bounds=(0.0, np.inf))
+    check_record(template.topology, f"{name}.topology", TopologyFeatures, "topology_features")
+    return template
+
+
 def check_templates(templates: object, name: str) -> None:
     """Refuse anything but a non-empty list of :class:`EarTemplate` (features, not images).
 
@@ -687,4 +715,4 @@ def check_templates(templates: object, name: str) -> None:
     if isinstance(templates, (str, np.ndarray)) or not hasattr(templates, "__len__") or not len(templates):
         raise ValueError(f"{name} must be a non-empty list of EarTemplate")
     for index, template in enumerate(templates):
-        check_record(template, f"{name}[{index}]", EarTemplate, "EarMatcher.extract")
+        check_template(template, f"{name}[{index}]")

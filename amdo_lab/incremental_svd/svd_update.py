@@ -67,6 +67,10 @@ class SvdState(tuple):
     def __new__(cls, U: np.ndarray, s: np.ndarray, V: np.ndarray | None, mean: np.ndarray) -> SvdState:
         return super().__new__(cls, (U, s, V, mean))
 
+    def __getnewargs__(self) -> tuple:
+        """The four fields, so that pickle and copy rebuild the state through :meth:`__new__`."""
+        return tuple(self)
+
     @property
     def U(self) -> np.ndarray:
         """Left singular vectors, p x r."""

@@ -209,6 +209,40 @@ class ObjectPair:
     truth: np.ndarray
 
 
+def check_pedobarography_sequence(sequence: object, name: str = "sequence") -> PedobarographySequence:
+    """Return ``sequence`` after checking its fields' documented rules, or raise naming the field.
+
+    ``frames`` finite (n_frames, rows, cols) pressures >= 0; ``mm_per_px`` > 0; the loads finite,
+    ``centres`` (k, 2), ``covariances`` (k, 2, 2), ``peaks``, ``peak_times`` and ``spreads`` (k,),
+    the peaks >= 0 and the spreads > 0; ``floor`` finite and >= 0. A sequence edited with
+    ``dataclasses.replace`` is checked here, where :func:`paper_pair` receives it.
+
+    Parameters
+    ----------
+    sequence : PedobarographySequence
+        From :func:`make_pedobarography_sequence`.
+    name : str
+        The caller's argument, for the messages.
+
+    Returns
+    -------
+    PedobarographySequence
+        ``sequence``.
+    """
+    check_instance(sequence, name, PedobarographySequence)
+    as_finite_array(sequence.frames, f"{name}.frames", ndim=3, bounds=(0.0, np.inf))
+    check_positive(sequence.mm_per_px, f"{name}.mm_per_px")
+    k = len(as_finite_array(sequence.centres, f"{name}.centres", shape=(None, 2)))
+    as_finite_array(sequence.covariances, f"{name}.covariances", shape=(k, 2, 2))
+    as_finite_array(sequence.peaks, f"{name}.peaks", shape=(k,), bounds=(0.0, np.inf))
+    as_finite_array(sequence.peak_times, f"{name}.peak_times", shape=(k,))
+    spreads = as_finite_array(sequence.spreads, f"{name}.spreads", shape=(k,))
+    if np.any(spreads <= 0):
+        raise ValueError(f"{name}.spreads must be positive")
+    check_positive(sequence.floor, f"{name}.floor", allow_zero=True)
+    return sequence
+
+
 def paper_pair(sequence: PedobarographySequence, which: str) -> ObjectPair:
     """The contour pair of Table 1, the isobar pair of Table 2 or the surface pair of Table 3, with its truth.
 
@@ -228,7 +262,7 @@ def paper_pair(sequence: PedobarographySequence, which: str) -> ObjectPair:
     ----------
     Bastos & Tavares, AMDO 2004, Sec. 5, Tables 1 and 2.
     """
-    check_instance(sequence, "sequence", PedobarographySequence)
+    check_pedobarography_sequence(sequence)
     which = check_choice(which, "which", tuple(PAPER_PAIRS))
     (t1, level1, n1), (t2, level2, n2) = PAPER_PAIRS[which]
     if sequence.frames.shape[0] <= max(t1, t2):

@@ -15,9 +15,9 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from amdo_lab.common import as_finite_array, check_image_shape
+from amdo_lab.common import as_finite_array, check_choice, check_image_shape, check_instance, check_positive_int
 
-__all__ = ["ELLIPSE_VERTICES", "MAX_POSE", "BodyModel", "Limb", "edge_map", "joint_errors_px"]
+__all__ = ["ELLIPSE_VERTICES", "MAX_POSE", "BodyModel", "Limb", "check_limb", "edge_map", "joint_errors_px"]
 
 #: Vertices of the polygon that stands for an ellipse (head, hands).
 ELLIPSE_VERTICES = 16
@@ -75,6 +75,40 @@ class Limb:
         return np.stack([half_along * (1 + np.cos(t)), half_across * np.sin(t)], axis=1)
 
 
+def check_limb(limb: object, name: str = "limb") -> Limb:
+    """Return ``limb`` after checking each field of a :class:`Limb` against its documented rule, or raise.
+
+    ``name`` is a non-empty str, ``shape`` ``"T"`` with 3 sizes or ``"E"`` with 2, ``father`` an int
+    (at least -1), ``size`` and ``position`` finite numbers within ``MAX_POSE`` (``position`` a pair),
+    ``grey`` an int in 0-255. :class:`BodyModel` checks every limb through it (the order of the
+    fathers is the model's rule).
+
+    Parameters
+    ----------
+    limb : Limb
+        The limb, e.g. one edited with ``dataclasses.replace``.
+    name : str
+        The caller's argument, for the messages (``"limbs[2]"``).
+
+    Returns
+    -------
+    Limb
+        ``limb``.
+    """
+    check_instance(limb, name, Limb)
+    if not isinstance(limb.name, str) or not limb.name:
+        raise TypeError(f"{name}.name must be a non-empty str, got {limb.name!r}")
+    check_choice(limb.shape, f"{name}.shape", ("T", "E"))
+    check_positive_int(limb.father, f"{name}.father", minimum=-1)
+    size = as_finite_array(limb.size, f"{name}.size", ndim=1, max_abs=MAX_POSE)
+    if size.size != (3 if limb.shape == "T" else 2):
+        raise ValueError(f"{name}.size must hold 3 sizes for shape 'T' or 2 for 'E', got {size.size} for "
+                         f"{limb.shape!r}")
+    as_finite_array(limb.position, f"{name}.position", shape=(2,), max_abs=MAX_POSE)
+    check_positive_int(limb.grey, f"{name}.grey", minimum=0, maximum=255)
+    return limb
+
+
 class BodyModel:
     """A hierarchical set of articulated limbs (Sec. 5.1): kinematics, polygons and rendering.
 
@@ -107,12 +141,10 @@ class BodyModel:
         if not limbs or not all(isinstance(limb, Limb) for limb in limbs):
             raise TypeError("limbs must be a non-empty sequence of Limb")
         for k, limb in enumerate(limbs):
+            check_limb(limb, f"limbs[{k}]")
             if (k == 0) != (limb.father == -1) or limb.father >= k:
                 raise ValueError(f"limbs: limb {k} ({limb.name}) has father {limb.father}; the first limb is the "
                                  "only root and every father comes before its children (no cycle)")
-            if limb.shape not in ("T", "E") or len(limb.size) != (3 if limb.shape == "T" else 2):
-                raise ValueError(f"limbs: limb {k} ({limb.name}) needs shape 'T' with 3 sizes or 'E' with 2")
-            as_finite_array(np.r_[limb.size, limb.position], "limbs (sizes and positions)", max_abs=MAX_POSE)
         self.limbs = limbs
         self.n_pose = 2 + len(limbs)
         levels = np.zeros(len(limbs), int)
@@ -360,5 +392,7 @@ def joint_errors_px(model: BodyModel, poses: np.ndarray, truth: np.ndarray) -> n
     if not isinstance(model, BodyModel):
         raise TypeError(f"model must be a BodyModel, got {type(model).__name__}")
     poses = model.check_poses(poses, "poses")
+    if poses.ndim != 2:  # documented (T, n_pose): a single pose would make truth's message misleading
+        raise ValueError(f"poses must have shape (T, {model.n_pose}), got {poses.shape}")
     truth = as_finite_array(truth, "truth", shape=poses.shape, max_abs=MAX_POSE)
     return np.linalg.norm(model._forward(poses)[0] - model._forward(truth)[0], axis=-1)

@@ -17,7 +17,7 @@ import numpy as np
 from amdo_lab.common import (MAX_LEVELS, MAX_SAMPLES, as_finite_array, check_bool, check_choice, check_in_range,
                              check_positive_int, make_rng)
 from amdo_lab.common.particles import normalised_weights, systematic_resample
-from amdo_lab.path_relinking_pf.body import MAX_POSE
+from amdo_lab.path_relinking_pf.body import MAX_POSE, BodyModel
 from amdo_lab.path_relinking_pf.observation import MAX_ALPHA, ObservationModel, measure
 from amdo_lab.path_relinking_pf.sequences import BodySequence
 
@@ -152,7 +152,12 @@ def check_sequence(sequence: object) -> BodySequence:
         raise ValueError("sequence.frames must be a (T, rows, cols) uint8 array with T >= 1")
     if not isinstance(background, np.ndarray) or background.shape != frames.shape[1:]:
         raise ValueError("sequence.background must have the shape of one frame")
-    sequence.model.check_poses(sequence.truth[:1], "sequence.truth")
+    as_finite_array(background, "sequence.background", bounds=(0.0, 255.0))  # grey levels, as the frames
+    if not isinstance(sequence.model, BodyModel):
+        raise TypeError(f"sequence.model must be a BodyModel, got {type(sequence.model).__name__}")
+    truth = sequence.model.check_poses(sequence.truth, "sequence.truth")
+    if truth.ndim != 2:
+        raise ValueError(f"sequence.truth must have shape (T, {sequence.model.n_pose}), got {truth.shape}")
     return sequence
 
 

@@ -14,7 +14,7 @@ import numpy as np
 from amdo_lab.common import as_finite_array
 from amdo_lab.path_relinking_pf.body import BodyModel, _edge_map, _fixed_point
 
-__all__ = ["PAPER_ALPHA", "Measurement", "ObservationModel", "check_frame_pair", "measure"]
+__all__ = ["PAPER_ALPHA", "Measurement", "ObservationModel", "check_frame_pair", "check_measurement", "measure"]
 
 #: Our eq. (7) constant alpha, per pixel of cost (the paper calls it experimental and gives no value).
 PAPER_ALPHA = 0.01
@@ -40,6 +40,35 @@ class Measurement:
 
     B: np.ndarray
     E: np.ndarray
+
+
+def check_measurement(measurement: object, name: str = "measurement") -> Measurement:
+    """Return ``measurement`` after checking its fields' documented rules, or raise naming the field.
+
+    ``B`` a 2-D bool silhouette; ``E`` a finite float map of B's shape with values in [0, 1]. A
+    measurement edited with ``dataclasses.replace`` is checked here, where the observation model
+    receives it.
+
+    Parameters
+    ----------
+    measurement : Measurement
+        The measurement of one frame.
+    name : str
+        The caller's argument, for the messages.
+
+    Returns
+    -------
+    Measurement
+        ``measurement``.
+    """
+    if not isinstance(measurement, Measurement):
+        raise TypeError(f"{name} must be a Measurement, got {type(measurement).__name__}")
+    B = measurement.B
+    if not isinstance(B, np.ndarray) or B.dtype != np.bool_ or B.ndim != 2 or min(B.shape) < 1:
+        raise TypeError(f"{name}.B must be a 2-D bool silhouette, got {type(B).__name__} "
+                        f"{getattr(B, 'dtype', '')} {getattr(B, 'shape', '')}".rstrip())
+    as_finite_array(measurement.E, f"{name}.E", shape=B.shape, bounds=(0.0, 1.0))
+    return measurement
 
 
 def check_frame_pair(frame: object, background: object) -> tuple[np.ndarray, np.ndarray]:
@@ -147,8 +176,7 @@ class ObservationModel:
     """
 
     def __init__(self, measurement: Measurement, model: BodyModel, *, alpha: float = PAPER_ALPHA) -> None:
-        if not isinstance(measurement, Measurement):
-            raise TypeError(f"measurement must be a Measurement, got {type(measurement).__name__}")
+        check_measurement(measurement)
         if not isinstance(model, BodyModel):
             raise TypeError(f"model must be a BodyModel, got {type(model).__name__}")
         self.alpha = float(as_finite_array(alpha, "alpha", shape=(), bounds=(0.0, MAX_ALPHA), closed="right"))

@@ -106,4 +106,34 @@ def spoil(kind: str, valid: object) -> list[tuple[str, object]]:
         return [("None", None), ("a number", 3)]
     if kind == "object":
         return common + [("a number", 3)]
+    if kind == "record":  # a record the caller may have edited: the object's spoils, then each field spoiled
+        return common + [("a number", 3)] + spoil_fields(valid)
     raise ValueError(f"unknown kind {kind!r}")
+
+
+#: The prefix of a spoiled field's label ("field background: NaN inside"), counted by the test.
+FIELD = "field "
+
+
+def spoil_fields(record: object) -> list[tuple[str, object]]:
+    """``record`` with one field at a time set to None, a string, and (numeric fields) NaN or NaN inside.
+
+    Built with ``dataclasses.replace``, as a user edits a record; a spoiled value the record's own
+    constructor refuses is left out (it cannot reach the function).
+    """
+    spoiled = []
+    for item in dataclasses.fields(record):
+        value = getattr(record, item.name)
+        bad = [("None", None), ("a string", "abc")]
+        if isinstance(value, np.ndarray) and np.issubdtype(value.dtype, np.number) and value.size:
+            with_nan = value.astype(float)
+            with_nan.flat[0] = np.nan
+            bad.append(("NaN inside", with_nan))
+        elif isinstance(value, (int, float, np.number)) and not isinstance(value, bool):
+            bad += [("NaN", math.nan), ("negative", -abs(float(value)) - 1.0)]
+        for label, spoilt in bad:
+            try:
+                spoiled.append((f"{FIELD}{item.name}: {label}", dataclasses.replace(record, **{item.name: spoilt})))
+            except (TypeError, ValueError):
+                continue  # refused by the record itself
+    return spoiled

@@ -179,6 +179,11 @@ def cases() -> dict[str, Case]:
         "systematic_resample": Case(cf.systematic_resample, {"weights": np.array([0.2, 0.5, 0.3]), "u": 0.4},
                                     {"weights": "array", "u": "probability"}),
         "track": Case(cf.track, tracking, tracking_kinds),
+        "weigh_and_resample": Case(cf.weigh_and_resample, {"cue_log_likelihoods": np.array([[0.0, -1.0, -0.5],
+                                                                                          [-2.0, 0.0, -1.0]]),
+                                                           "u": 0.4},
+                                   {"cue_log_likelihoods": "array", "u": "probability"},
+                                   accept=frozenset({("cue_log_likelihoods", "a wrong trailing axis")})),  # 4 particles
         "weigh_particles": Case(cf.weigh_particles, {"frame": frame, "particles": states, "cues": {"color": color}},
                                 {"frame": "image", "particles": "array", "cues": "object"}),
         "likelihoods.check_cues": Case(likelihoods_module.check_cues, {"cues": {"color": color}}, {"cues": "object"}),

@@ -236,14 +236,14 @@ def cases() -> dict[str, Case]:
                   accept=ok(subject_id={"a string"})),  # ids may be names
         "EarMatcher.enroll_template": Case(fresh_matcher("enroll_template"),
                                            {"subject_id": 5, "template": c.templates[0]},
-                                           {"subject_id": "real", "template": "object"},
+                                           {"subject_id": "real", "template": "record"},
                   accept=ok(subject_id={"a string"})),
         "EarMatcher.fit": Case(fresh_matcher("fit"), {"images": c.images[0::2], "subject_ids": c.ids[0::2]},
                                {"images": "array", "subject_ids": "array"}),
         "EarMatcher.identify": Case(matcher_method("identify"), {"image": c.images[1]}, {"image": "image"},
                   accept=ok(image=other_size)),  # the matcher's features are size-free
         "EarMatcher.identify_template": Case(matcher_method("identify_template"),
-                                             {"query": c.templates[1]}, {"query": "object"}),
+                                             {"query": c.templates[1]}, {"query": "record"}),
         # scikit-learn's contract: parameters are stored as given and checked where they are used
         "HogNearestNeighbour": Case(lambda pixels_per_cell: eb.HogNearestNeighbour(pixels_per_cell).describe(image),
                                     {"pixels_per_cell": 16}, {"pixels_per_cell": "count"}),

@@ -94,7 +94,7 @@ def cases() -> dict[str, Case]:
                                                {"frame": "count", "level": "positive", "n_nodes": "count"},
                                                accept=frozenset({("frame", "zero")})),
         "paper_pair": Case(mm.paper_pair, {"sequence": step, "which": "isobars"},
-                           {"sequence": "object", "which": "name"}),
+                           {"sequence": "record", "which": "name"}),
         "move_object": Case(mm.move_object, {"pair": pair, "angle_deg": 20.0, "shift_mm": 40.0},
                             {"pair": "object", "angle_deg": "real", "shift_mm": "real"}),
         "correct_share": Case(mm.correct_share, {"pairs": pairs, "truth": X1, "X2": X2},

@@ -72,7 +72,7 @@ def cases() -> dict[str, Case]:
                                 "step_px": "positive", "step_deg": "positive"}),
         "ObservationModel": Case(observation_of, {"measurement": observation.measurement, "model": model,
                                                   "alpha": 0.01},
-                                 {"measurement": "object", "model": "object", "alpha": "positive"}),
+                                 {"measurement": "record", "model": "object", "alpha": "positive"}),
         "ObservationModel.cost": Case(method(observation, "cost"), {"poses": poses}, {"poses": "array"},
                                       accept=_ONE_OR_MANY),
         "ObservationModel.cost_reference": Case(method(observation, "cost_reference"), {"poses": poses},
@@ -82,7 +82,7 @@ def cases() -> dict[str, Case]:
                                              accept=frozenset({("costs", "a wrong trailing axis")})),  # any N
         "attribute_path": Case(pr.attribute_path, {"observation": observation, "start": pose, "guide": poses[1]},
                                {"observation": "object", "start": "array", "guide": "array"}),
-        "check_sequence": Case(pr.check_sequence, {"sequence": seq}, {"sequence": "object"}),
+        "check_sequence": Case(pr.check_sequence, {"sequence": seq}, {"sequence": "record"}),
         "edge_map": Case(pr.edge_map, {"labels": np.eye(4, dtype=int)}, {"labels": "array"},
                          accept=frozenset({("labels", "a wrong trailing axis")})),  # any image
         "joint_errors_px": Case(pr.joint_errors_px, {"model": model, "poses": poses, "truth": poses + 1.0},
