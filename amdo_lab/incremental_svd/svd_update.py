@@ -119,7 +119,7 @@ def _residual_basis(U: np.ndarray, I_hat: np.ndarray, scale: float) -> tuple[np.
     H -= U @ correction
     L += correction
     Q, R, order = scipy.linalg.qr(H, mode="economic", pivoting=True)
-    keep = np.abs(np.diag(R)) > RESIDUAL_RTOL * max(scale, 1e-300)
+    keep = np.abs(np.diag(R)) > RESIDUAL_RTOL * max(scale, np.finfo(float).tiny)
     R_full = np.empty_like(R)
     R_full[:, order] = R                      # undo the column pivoting: H = Q R_full
     return L, Q[:, keep], R_full[keep]
