@@ -132,6 +132,30 @@ def test_tau_schedule_is_geometric_and_the_noise_edge_bounds_pure_noise():
     assert 0.95 * noise_edge(0.02, 2000, 300) < largest < 1.05 * noise_edge(0.02, 2000, 300)
 
 
+def test_estimate_noise_recovers_sigma_on_flat_noise_and_on_the_face():
+    rng = np.random.default_rng(4)
+    flat = 0.3 + rng.normal(scale=0.02, size=(150, 160))
+    assert isvd.estimate_noise(flat) == pytest.approx(0.02, rel=0.05)
+    ramp = flat + np.add.outer(np.linspace(0, 1, 150), np.linspace(0, 2, 160))  # a linear ramp is cancelled
+    assert isvd.estimate_noise(ramp) == pytest.approx(isvd.estimate_noise(flat), rel=1e-9)
+    for noise in (0.01, 0.03):  # the textured moving face at half size: within 15 % of the true sigma
+        face = make_talking_face(2, rng=9, size=(101, 103), motion="similarity", noise=noise)
+        assert isvd.estimate_noise(face.frames[0]) == pytest.approx(noise, rel=0.15)
+
+
+def test_exercise_5_reference_is_the_batch_svd_of_all_columns():
+    from amdo_lab.incremental_svd.exercises import mean_update_case, mean_update_reference
+
+    for seed in (1, 2, 3):
+        case = mean_update_case(seed)
+        old = (case["U"] * case["s"]) @ case["V"].T + case["mean"][:, None]
+        every = np.hstack([old, case["I"]])
+        s_f, mean_f = mean_update_reference(**case)
+        np.testing.assert_allclose(mean_f, every.mean(axis=1), atol=1e-12)
+        batch = np.linalg.svd(every - every.mean(axis=1, keepdims=True), compute_uv=False)
+        np.testing.assert_allclose(s_f, batch[batch > 1e-12 * batch[0]], rtol=1e-10)
+
+
 def test_talking_face_is_seeded_with_disjoint_masks_and_psnr_of_its_noise():
     a, b = make_talking_face(20, rng=5, size=(60, 62)), make_talking_face(20, rng=5, size=(60, 62))
     np.testing.assert_array_equal(a.frames, b.frames)

@@ -17,7 +17,7 @@ from scipy import ndimage
 from amdo_lab.common import (MAX_SIDE, as_bool_mask, as_finite_array, check_choice, check_positive, check_positive_int,
                              one_blas_thread)
 from amdo_lab.incremental_svd.face import _place
-from amdo_lab.incremental_svd.svd_update import IncrementalSVD, SvdState, noise_edge, tau_schedule
+from amdo_lab.incremental_svd.svd_update import IncrementalSVD, SvdState, estimate_noise, noise_edge, tau_schedule
 
 __all__ = ["TAU_MODES", "TrainingResult", "train_non_causal", "train_on_the_fly"]
 
@@ -46,6 +46,9 @@ class TrainingResult:
     peak_bytes : int
         Largest number of bytes held by the arrays the method keeps between frames: the region
         models, and for the non-causal method also every frame's regions.
+    noise : float
+        The pixel noise σ of the noise edge: the one given, or the one estimated from the first frame
+        (:func:`~amdo_lab.incremental_svd.estimate_noise`).
 
     References
     ----------
@@ -57,6 +60,7 @@ class TrainingResult:
     ranks: np.ndarray
     seconds: float
     peak_bytes: int
+    noise: float
 
 
 def _check_masks(masks: object, shape: tuple[int, ...]) -> dict[str, np.ndarray]:
@@ -76,13 +80,16 @@ def _check_masks(masks: object, shape: tuple[int, ...]) -> dict[str, np.ndarray]
 
 def _check_training(frames: object, masks: object, init: object, max_rank: object, tau: object,
                     noise: object) -> tuple[np.ndarray, dict, np.ndarray, int, float]:
-    """The inputs both trainers share: frames, masks, first placement, rank cap, threshold mode, noise."""
+    """The inputs both trainers share: frames, masks, first placement, rank cap, threshold mode, noise (None:
+    estimated from the first frame, which a causal learner has seen)."""
     frames = as_finite_array(frames, "frames", ndim=3, max_abs=1e6)
     check_positive_int(frames.shape[0], "frames' number of frames", minimum=2)
     masks = _check_masks(masks, frames.shape[1:])
     init = as_finite_array(init, "init", shape=(4,), max_abs=1e3)
     check_choice(tau, "tau", TAU_MODES)
-    return frames, masks, init, check_positive_int(max_rank, "max_rank", maximum=MAX_SIDE), check_positive(noise, "noise")
+    max_rank = check_positive_int(max_rank, "max_rank", maximum=MAX_SIDE)
+    noise = estimate_noise(frames[0]) if noise is None else check_positive(noise, "noise")
+    return frames, masks, init, max_rank, noise
 
 
 class _Regions:
@@ -142,7 +149,7 @@ def _region_tol(tau: str, t: int, noise: float, pixels: int) -> float:
 
 
 def train_on_the_fly(frames: np.ndarray, masks: dict[str, np.ndarray], init: np.ndarray, *, max_rank: int = 35,
-                     tau: str = "noise-edge", noise: float = 0.01,
+                     tau: str = "noise-edge", noise: float | None = None,
                      learn_at: np.ndarray | None = None) -> TrainingResult:
     """Track and learn a face in one causal pass: align each frame to the models, then update them.
 
@@ -159,8 +166,10 @@ def train_on_the_fly(frames: np.ndarray, masks: dict[str, np.ndarray], init: np.
     tau : {"noise-edge", "paper"}
         Threshold on the singular values: the noise edge σ(√p + √q) of each region, or the paper's
         schedule from 0.5 to 0.5e-3 over the first 25 frames (:func:`tau_schedule`).
-    noise : float
-        Pixel noise σ of the frames, used by ``tau="noise-edge"``.
+    noise : float or None
+        Pixel noise σ of the frames, used by ``tau="noise-edge"``. None (default): estimated from the first
+        frame by :func:`~amdo_lab.incremental_svd.estimate_noise`; a value given is an oracle when it is the
+        generator's true σ.
     learn_at : ndarray, shape (T, 4), optional
         Placements at which the learnt regions are cut (default: the aligner's own). Passing the true
         placements gives an oracle: models learnt from correctly placed regions, while the aligner still
@@ -198,7 +207,7 @@ def train_on_the_fly(frames: np.ndarray, masks: dict[str, np.ndarray], init: np.
             peak = max(peak, sum(learner.memory_bytes() for learner in learners))
     seconds = time.perf_counter() - start_time
     return TrainingResult(params, {name: m.state for name, m in zip(regions.names, learners)}, ranks, seconds,
-                          int(peak))
+                          int(peak), float(noise))
 
 
 def _batch_model(patches: np.ndarray, max_rank: int, tol: float) -> SvdState:
@@ -215,7 +224,7 @@ def _batch_model(patches: np.ndarray, max_rank: int, tol: float) -> SvdState:
 
 
 def train_non_causal(frames: np.ndarray, masks: dict[str, np.ndarray], init: np.ndarray, *, max_rank: int = 35,
-                     tau: str = "noise-edge", noise: float = 0.01, rounds: int = 3) -> TrainingResult:
+                     tau: str = "noise-edge", noise: float | None = None, rounds: int = 3) -> TrainingResult:
     """The batch peer: track with the first frame's regions, then fit a batch SVD and re-align, in rounds.
 
     Parameters
@@ -230,8 +239,9 @@ def train_non_causal(frames: np.ndarray, masks: dict[str, np.ndarray], init: np.
         Largest number of directions per region model.
     tau : {"noise-edge", "paper"}
         ``"noise-edge"`` drops directions below σ(√p + √T); ``"paper"`` uses τ's final value, 0.5e-3.
-    noise : float
-        Pixel noise σ of the frames, used by ``tau="noise-edge"``.
+    noise : float or None
+        Pixel noise σ of the frames, used by ``tau="noise-edge"``; None (default): estimated from the
+        first frame, as :func:`train_on_the_fly` does.
     rounds : int
         Batch SVD and re-alignment rounds after the first tracking pass (0: the first frame as template),
         at most :data:`MAX_ROUNDS`.
@@ -269,4 +279,4 @@ def train_non_causal(frames: np.ndarray, masks: dict[str, np.ndarray], init: np.
             params = np.stack([_align(regions, t, models, params[t]) for t in range(n_frames)])
     ranks = np.tile([m.s.size for m in models], (n_frames, 1))
     seconds = time.perf_counter() - start_time
-    return TrainingResult(params, dict(zip(regions.names, models)), ranks, seconds, int(peak))
+    return TrainingResult(params, dict(zip(regions.names, models)), ranks, seconds, int(peak), float(noise))

@@ -83,10 +83,12 @@ def cases() -> dict[str, Case]:
         "train_on_the_fly": Case(isvd.train_on_the_fly, {**track_valid, "tau": "paper", "noise": 0.01,
                                                          "learn_at": track_face.truth},
                                  {**track_kinds, "tau": "name", "noise": "positive", "learn_at": "array"},
-                                 accept=frozenset({("learn_at", "None")})),  # None: learn at the aligner's own
+                                 accept=frozenset({("learn_at", "None"),  # None: learn at the aligner's own
+                                                   ("noise", "None")})),  # None: estimated from the first frame
         "train_non_causal": Case(isvd.train_non_causal, {**track_valid, "tau": "paper", "noise": 0.01, "rounds": 1},
                                  {**track_kinds, "tau": "name", "noise": "positive", "rounds": "count"},
-                                 accept=frozenset({("rounds", "zero")})),
+                                 accept=frozenset({("rounds", "zero"), ("noise", "None")})),
+        "estimate_noise": Case(isvd.estimate_noise, {"image": track_face.frames[0]}, {"image": "array"}),
         "render_faces": Case(isvd.render_faces, {"latent": [[0.5, 0.0, 0.0, 0.0]], "size": (40, 41)},
                              {"latent": "array", "size": "object"}),
         "psnr_db": Case(isvd.psnr_db, {"estimate": frames, "clean": frames + 0.01},
