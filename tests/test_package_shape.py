@@ -36,7 +36,6 @@ KNOWN_EXCESS: dict[str, dict[str, object]] = {
     "cue_fusion_pf": {"validation_share": "16.0 % (179 of 1,119 lines)"},
     "ear_biometrics": {"validation_share": "16.1 % (162 of 1,005 lines)"},
     "em_articulated": {"validation_share": "18.0 % (152 of 845 lines)"},
-    "face_glmm": {"validation_share": "15.03 % (145 of 965 lines)"},
     "incremental_svd": {"validation_share": "16.2 % (59 of 365 lines)"},
     "modal_matching": {"validation_share": "23.9 % (85 of 355 lines)"},
     "path_relinking_pf": {"validation_share": "16.5 % (84 of 508 lines)"},

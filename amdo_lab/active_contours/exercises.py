@@ -104,7 +104,7 @@ EXERCISES = ExerciseSet(chapter=8, exercises=[
                         hint="the question is about the greedy snake with gamma = 2.4, not dynamic programming "
                              "with its own gamma: run the experiment"),
         ),
-        rtol=0.0, atol=0.05, experiment=True, points=1),
+        rtol=0.0, atol=0.05, experiment=True, points=1, why_points=1),
     Exercise(
         3, None,
         hint="run greedy_snake(potential, init, window=5) on every probe start and average "
