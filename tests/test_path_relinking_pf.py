@@ -269,3 +269,30 @@ REJECTIONS = [
 @pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
 def test_rejections(request, call, error, message):
     check_rejection(request, call, error, message)
+
+
+def test_relink_pair_is_the_path_stage_of_prpf_between_two_members():
+    from amdo_lab.path_relinking_pf import ObservationModel, relink_pair, relink_stage
+    from amdo_lab.path_relinking_pf.exercises import PATH_STEPS, relink_case
+
+    for seed in (1, 3):
+        case = relink_case(seed)
+        point, cost, evaluations = relink_pair(**case)
+        path = line_path(case["start"], case["end"], case["steps"])
+        costs = case["observation"].cost(path)
+        assert evaluations == len(path)
+        if costs.min() < case["start_cost"]:
+            assert np.array_equal(point, path[np.argmin(costs)]) and cost == costs.min()
+        else:
+            assert np.array_equal(point, case["start"]) and cost == case["start_cost"]
+    # one round of the PR stage without local search keeps the b best of the members and the path's point
+    observation = case["observation"]
+    assert isinstance(observation, ObservationModel)
+    members = np.vstack([case["start"], case["end"]])
+    refset, ref_costs, rounds = relink_stage(observation, members, observation.cost(members), local_search=False,
+                                             max_rounds=1)
+    pool = np.vstack([members, point])
+    pool_costs = np.r_[observation.cost(members), cost]
+    _, first = np.unique(pool, axis=0, return_index=True)  # a point equal to x' counts once
+    assert rounds == 1 and np.allclose(np.sort(ref_costs), np.sort(pool_costs[first])[:2])
+    assert PATH_STEPS.shape == (10,)
