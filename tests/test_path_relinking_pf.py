@@ -273,10 +273,15 @@ def test_rejections(request, call, error, message):
 
 def test_relink_pair_is_the_path_stage_of_prpf_between_two_members():
     from amdo_lab.path_relinking_pf import ObservationModel, relink_pair, relink_stage
-    from amdo_lab.path_relinking_pf.exercises import PATH_STEPS, relink_case
 
-    for seed in (1, 3):
-        case = relink_case(seed)
+    steps = np.r_[2.0, 2.0, np.full(8, np.radians(4.0))]
+    sequence = make_upper_body_sequence(rng=3, n_frames=2, size=(120, 120))
+    frame = ObservationModel(measure(sequence.frames[1], sequence.background), sequence.model)
+    for offset in (np.radians(8.0), np.radians(16.0)):
+        start = sequence.truth[1] + np.r_[0.5, 0.0, np.full(8, offset / 4)]
+        end = sequence.truth[1] + np.r_[-1.0, 1.0, np.full(8, -offset)]
+        case = {"observation": frame, "start": start, "end": end, "steps": steps,
+                "start_cost": float(frame.cost(start)[0])}
         point, cost, evaluations = relink_pair(**case)
         path = line_path(case["start"], case["end"], case["steps"])
         costs = case["observation"].cost(path)
@@ -295,4 +300,3 @@ def test_relink_pair_is_the_path_stage_of_prpf_between_two_members():
     pool_costs = np.r_[observation.cost(members), cost]
     _, first = np.unique(pool, axis=0, return_index=True)  # a point equal to x' counts once
     assert rounds == 1 and np.allclose(np.sort(ref_costs), np.sort(pool_costs[first])[:2])
-    assert PATH_STEPS.shape == (10,)
