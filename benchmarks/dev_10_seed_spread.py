@@ -68,9 +68,10 @@ def main() -> None:
                     cheaper = round(100 * float(np.mean([
                         np.less(*pr.ObservationModel(pr.measure(f, seq.background), seq.model).cost(np.vstack([p, q])))
                         for f, p, q in zip(seq.frames, seq.truth, result.poses)])))
-                table.add(seed, name, round(float(error.mean()), 2), round(100 * float((error.max(1) > 10).mean())),
-                          round(mse[0], 1), round(mse[1], 1), round(float(result.evaluations.mean())), cheaper)
-                print(f"seed {seed} {name} done", flush=True)
+                row = (seed, name, round(float(error.mean()), 2), round(100 * float((error.max(1) > 10).mean())),
+                       round(mse[0], 1), round(mse[1], 1), round(float(result.evaluations.mean())), cheaper)
+                table.add(*row)
+                print("row", *row, sep="\t", flush=True)  # as it comes: a long run can be read before it ends
     bench.finish()
 
 

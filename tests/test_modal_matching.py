@@ -331,3 +331,25 @@ REJECTIONS = [
 @pytest.mark.parametrize("call, error, message", REJECTIONS)
 def test_rejections(request, call, error, message):
     check_rejection(request, call, error, message)
+
+
+def test_procrustes_alignment_is_the_rotation_mode_features_applies():
+    from amdo_lab.modal_matching import mode_features, procrustes_alignment
+    from amdo_lab.modal_matching.exercises import alignment_case
+
+    case = alignment_case(9)
+    R = procrustes_alignment(**case)
+    assert np.allclose(R @ R.T, np.eye(case["n_modes"]), atol=1e-10)
+    plain = mode_features(case["modes1"], case["modes2"], n_modes=case["n_modes"], align="none")[1]
+    aligned = mode_features(case["modes1"], case["modes2"], n_modes=case["n_modes"], align="procrustes")[1]
+    m2, n = plain.shape[0], case["n_modes"]
+    assert np.allclose(aligned.transpose(1, 0, 2).reshape(-1, n), plain.transpose(1, 0, 2).reshape(-1, n) @ R)
+
+
+def test_frame_pair_of_consecutive_frames_is_table_1s_pair():
+    from amdo_lab.modal_matching import frame_pair, make_pedobarography_sequence, paper_pair
+
+    sequence = make_pedobarography_sequence(rng=2004)
+    ours, table = frame_pair(sequence, 4, 5), paper_pair(sequence, "contours")
+    assert np.array_equal(ours.X1, table.X1) and np.array_equal(ours.X2, table.X2)
+    assert np.allclose(ours.truth, table.truth)

@@ -269,3 +269,34 @@ REJECTIONS = [
 @pytest.mark.parametrize(("call", "error", "message"), REJECTIONS)
 def test_rejections(request, call, error, message):
     check_rejection(request, call, error, message)
+
+
+def test_relink_pair_is_the_path_stage_of_prpf_between_two_members():
+    from amdo_lab.path_relinking_pf import ObservationModel, relink_pair, relink_stage
+
+    steps = np.r_[2.0, 2.0, np.full(8, np.radians(4.0))]
+    sequence = make_upper_body_sequence(rng=3, n_frames=2, size=(120, 120))
+    frame = ObservationModel(measure(sequence.frames[1], sequence.background), sequence.model)
+    for offset in (np.radians(8.0), np.radians(16.0)):
+        start = sequence.truth[1] + np.r_[0.5, 0.0, np.full(8, offset / 4)]
+        end = sequence.truth[1] + np.r_[-1.0, 1.0, np.full(8, -offset)]
+        case = {"observation": frame, "start": start, "end": end, "steps": steps,
+                "start_cost": float(frame.cost(start)[0])}
+        point, cost, evaluations = relink_pair(**case)
+        path = line_path(case["start"], case["end"], case["steps"])
+        costs = case["observation"].cost(path)
+        assert evaluations == len(path)
+        if costs.min() < case["start_cost"]:
+            assert np.array_equal(point, path[np.argmin(costs)]) and cost == costs.min()
+        else:
+            assert np.array_equal(point, case["start"]) and cost == case["start_cost"]
+    # one round of the PR stage without local search keeps the b best of the members and the path's point
+    observation = case["observation"]
+    assert isinstance(observation, ObservationModel)
+    members = np.vstack([case["start"], case["end"]])
+    refset, ref_costs, rounds = relink_stage(observation, members, observation.cost(members), local_search=False,
+                                             max_rounds=1)
+    pool = np.vstack([members, point])
+    pool_costs = np.r_[observation.cost(members), cost]
+    _, first = np.unique(pool, axis=0, return_index=True)  # a point equal to x' counts once
+    assert rounds == 1 and np.allclose(np.sort(ref_costs), np.sort(pool_costs[first])[:2])

@@ -25,6 +25,7 @@ from amdo_lab.modal_matching.matching import (
     local_search,
     match_objects,
     mode_features,
+    procrustes_alignment,
 )
 from amdo_lab.modal_matching.modes import ModalBasis, modal_analysis
 from amdo_lab.modal_matching.peers import CPD_KINDS, match_coordinates, match_cpd
@@ -35,6 +36,7 @@ from amdo_lab.modal_matching.pedobarography import (
     ObjectPair,
     PedobarographySequence,
     correct_share,
+    frame_pair,
     make_pedobarography_sequence,
     move_object,
     paper_pair,
@@ -60,6 +62,7 @@ __all__ = [
     "local_search",
     "match_objects",
     "mode_features",
+    "procrustes_alignment",
     "ModalBasis",
     "modal_analysis",
     "CPD_KINDS",
@@ -71,6 +74,7 @@ __all__ = [
     "ObjectPair",
     "PedobarographySequence",
     "correct_share",
+    "frame_pair",
     "make_pedobarography_sequence",
     "move_object",
     "paper_pair",

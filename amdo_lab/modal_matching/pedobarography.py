@@ -21,6 +21,7 @@ from amdo_lab.modal_matching.element import MAX_COORDINATE_MM, check_nodes, chec
 from amdo_lab.modal_matching.matching import _check_index_pairs
 
 __all__ = ["LOAD_NAMES", "ObjectPair", "PAPER_PAIRS", "PedobarographySequence", "SURFACE_BOX_MM", "correct_share",
+           "frame_pair",
            "make_pedobarography_sequence", "move_object", "paper_pair"]
 
 _REFERENCE = ("Bastos & Tavares. Improvement of Modal Matching Image Objects in Dynamic Pedobarography Using "
@@ -276,6 +277,39 @@ def paper_pair(sequence: PedobarographySequence, which: str) -> ObjectPair:
         return ObjectPair(S1, sequence._surface(t2, level2, n2, scale), truth)
     X1 = sequence.contour(t1, level1, n1)
     return ObjectPair(X1, sequence.contour(t2, level2, n2), sequence._follow(X1, t1, level1, t2, level2))
+
+
+def frame_pair(sequence: PedobarographySequence, frame1: int, frame2: int, *, level: float = 15.0,
+               nodes: tuple[int, int] = (64, 58)) -> ObjectPair:
+    """The isobar at ``level`` in two frames, any gap apart, with its truth: a harder Table 1 pair.
+
+    Parameters
+    ----------
+    sequence : PedobarographySequence
+        From :func:`make_pedobarography_sequence`.
+    frame1, frame2 : int
+        The frames of object 1 and object 2 (indices into ``sequence.frames``).
+    level : float
+        The isobar's pressure (kPa); 15 kPa is the foot's outline of Table 1.
+    nodes : tuple of int
+        Nodes of object 1 and object 2, each 4 to 1,000,000 (Table 1's 64 and 58 by default).
+
+    Returns
+    -------
+    ObjectPair
+        Object 1, object 2 and the truth: object 1's nodes carried by the field's gradient flow from
+        ``frame1`` to ``frame2``.
+
+    References
+    ----------
+    Bastos & Tavares, AMDO 2004, Sec. 5 (consecutive frames only).
+    """
+    check_instance(sequence, "sequence", PedobarographySequence)
+    if not isinstance(nodes, tuple) or len(nodes) != 2:
+        raise TypeError(f"nodes must be a tuple of two counts, got {nodes!r}")
+    X1 = sequence.contour(frame1, level, nodes[0])
+    X2 = sequence.contour(frame2, level, nodes[1])
+    return ObjectPair(X1, X2, sequence._follow(X1, float(frame1), float(level), float(frame2), float(level)))
 
 
 def move_object(pair: ObjectPair, *, angle_deg: float, shift_mm: float) -> ObjectPair:

@@ -21,6 +21,7 @@ from amdo_lab.path_relinking_pf.filters import (
     track_sir,
 )
 from amdo_lab.path_relinking_pf.observation import PAPER_ALPHA, Measurement, ObservationModel, measure
+from amdo_lab.path_relinking_pf.relinking import relink_pair, relink_stage
 from amdo_lab.path_relinking_pf.scatter_search import ESS_BOX_DEG, ESS_BOX_PX, track_ess
 from amdo_lab.path_relinking_pf.sequences import (
     MAX_FRAMES,
@@ -53,6 +54,8 @@ __all__ = [
     "edge_map",
     "joint_errors_px",
     "line_path",
+    "relink_pair",
+    "relink_stage",
     "local_search",
     "make_jump_sequence",
     "make_upper_body_sequence",

@@ -1,4 +1,8 @@
-"""The exercises of chapter 10, checked from the notebook's check cells (see ``amdo_lab.common.exercises``)."""
+"""The exercises of chapter 10, checked from the notebook's check cells (see ``amdo_lab.common.exercises``).
+
+The targets live in the chapter's hidden tests; this module records only the hints, the plausible
+wrong answers and, for the "implement it" exercise, the cases its function is checked on.
+"""
 
 from __future__ import annotations
 
@@ -7,87 +11,133 @@ import functools
 import numpy as np
 
 from amdo_lab.common.exercises import Exercise, ExerciseSet, WrongAnswer
-from amdo_lab.path_relinking_pf.body import joint_errors_px
-from amdo_lab.path_relinking_pf.filters import FilterSettings, track_prpf
+from amdo_lab.path_relinking_pf.relinking import relink_pair
+from amdo_lab.path_relinking_pf.observation import ObservationModel, measure
 from amdo_lab.path_relinking_pf.sequences import make_upper_body_sequence
 
-__all__ = ["EXERCISES", "SHORT_FRAMES", "short_prpf_run"]
+__all__ = ["EXERCISES", "PATH_STEPS", "relink_case"]
 
-#: Frames of the short sequence the experiments run on (seed 0, like the chapter's).
-SHORT_FRAMES = 10
+#: The path steps of our settings: 2 px for x1, y1 and 4 degrees for each of the eight angles.
+PATH_STEPS = np.r_[2.0, 2.0, np.full(8, np.radians(4.0))]
 
 
-@functools.lru_cache(maxsize=8)
-def short_prpf_run(refset_size: int, velocity: str) -> tuple[float, float]:
-    """Mean evaluations a frame and mean joint error (px) of PRPF (N = 200) on the short sequence.
+@functools.lru_cache(maxsize=16)
+def _frame(seed: int):
+    sequence = make_upper_body_sequence(rng=seed, n_frames=2, size=(120, 120))
+    return sequence, ObservationModel(measure(sequence.frames[1], sequence.background), sequence.model)
+
+
+def relink_case(seed: int) -> dict:
+    """Two RefSet members of frame 2 of a small upper-body sequence, the better one first.
 
     Parameters
     ----------
-    refset_size : int
-        b.
-    velocity : str
-        Eq. (8)'s velocity, ``"zero"`` or ``"random-walk"``.
+    seed : int
+        Seed of the sequence and of the two poses' offsets from the truth.
 
     Returns
     -------
-    tuple of float
-        (evaluations a frame, joint error px), both averaged over the frames.
+    dict
+        The keyword arguments of :func:`relink_pair`: ``observation``, ``start`` (x'), ``end`` (x''),
+        ``steps`` and ``start_cost``.
     """
-    sequence = make_upper_body_sequence(rng=0, n_frames=SHORT_FRAMES)
-    result = track_prpf(sequence, rng=0, n_particles=200, refset_size=refset_size,
-                        settings=FilterSettings(velocity=velocity))
-    error = joint_errors_px(sequence.model, result.poses, sequence.truth)
-    return float(result.evaluations.mean()), float(error.mean())
+    sequence, observation = _frame(seed)
+    draw = np.random.default_rng(seed)
+    scale = np.r_[2.0, 2.0, np.full(8, np.radians(8.0))]
+    start = sequence.truth[1] + draw.uniform(0.2, 1.0) * scale * draw.standard_normal(10)
+    end = sequence.truth[1] + draw.uniform(0.5, 2.0) * scale * draw.standard_normal(10)
+    if observation.cost(end)[0] < observation.cost(start)[0]:
+        start, end = end, start
+    return {"observation": observation, "start": start, "end": end, "steps": PATH_STEPS.copy(),
+            "start_cost": float(observation.cost(start)[0])}
 
 
-def _path_points(toy_a: np.ndarray, toy_b: np.ndarray, toy_step: float) -> int:
-    return int(np.ceil(np.max(np.abs(toy_b - toy_a)) / toy_step)) - 1
+def _interior(start, end, steps, parts_of):
+    parts = int(np.ceil(parts_of(np.abs(end - start), steps)))
+    return start + np.arange(1, parts)[:, None] / max(parts, 1) * (end - start)
 
 
-def _carrier(ablation: dict) -> str:
-    return "local search" if ablation["local search only"] < ablation["paths only"] else "paths"
+def _ends_included(observation, start, end, steps, start_cost):
+    path = np.vstack([start, _interior(start, end, steps, lambda d, s: np.max(d / s)), end])
+    costs = observation.cost(path)
+    return path[np.argmin(costs)], float(costs.min()), len(path)
+
+
+def _one_step(observation, start, end, steps, start_cost):
+    path = _interior(start, end, steps, lambda d, s: np.max(d) / np.min(s))
+    if not len(path):
+        return start, start_cost, 0
+    costs = observation.cost(path)
+    if costs.min() < start_cost:
+        return path[np.argmin(costs)], float(costs.min()), len(path)
+    return start, start_cost, len(path)
+
+
+def _no_fallback(observation, start, end, steps, start_cost):
+    path = _interior(start, end, steps, lambda d, s: np.max(d / s))
+    if not len(path):
+        return start, start_cost, 0
+    costs = observation.cost(path)
+    return path[np.argmin(costs)], float(costs.min()), len(path)
 
 
 EXERCISES = ExerciseSet(chapter=10, exercises=[
     Exercise(
-        1, _path_points,
-        "the segment is cut into equal parts so that no angle moves more than the step; the two ends are "
-        "RefSet members already and are not evaluated again",
-        (WrongAnswer(lambda ns: _path_points(ns["toy_a"], ns["toy_b"], ns["toy_step"]) + 1,
-                     "the number of parts (one end counted)"),
-         WrongAnswer(lambda ns: _path_points(ns["toy_a"], ns["toy_b"], ns["toy_step"]) + 2,
-                     "every point of the path, both ends included")),
-        context=("toy_a", "toy_b", "toy_step"), rtol=0.0, atol=0.1),
+        1, None,
+        "cut the segment into ceil(max_k |x''_k - x'_k| / step_k) equal parts, evaluate the points strictly "
+        "between the ends, and keep the cheapest only if it costs less than x'",
+        (WrongAnswer(_ends_included, "both ends evaluated again",
+                     hint="x' and x'' are RefSet members whose costs are known: evaluate only the points strictly "
+                          "between them"),
+         WrongAnswer(_one_step, "one step (the angles' 4 degrees) for every coordinate",
+                     hint="divide each coordinate's change by its own step (px for x1, y1, radians for the angles) "
+                          "before taking the largest"),
+         WrongAnswer(_no_fallback, "the path's best point even when it is worse than x'",
+                     hint="when no point of the path costs less than x', the new solution is x' itself")),
+        kind="function", reference=relink_pair, make_case=relink_case, example_seed=3, rtol=1e-9, atol=1e-9,
+        points=2),
     Exercise(
-        2, lambda: "smaller",
-        "a larger alpha stretches the differences of log-weights between particles: what does that do to the "
-        "largest weight?",
-        (WrongAnswer("larger", "the opposite direction"), WrongAnswer("unchanged", "alpha cancels when normalising")),
-        choices=("smaller", "larger", "unchanged")),
+        2, None,
+        "halve `spread_2` (1 px and 2.5 degrees), evaluate the new cloud and compute the effective sample size "
+        "of its weights at alpha = 0.01",
+        (WrongAnswer(6.8, "the unchanged experiment (2 px, 5 degrees)", unchanged_experiment=True,
+                     hint="that is the chapter's cloud: halve spread_2 and run the cell again",
+                     variable="experiment_2"),
+         WrongAnswer(1.5, "the cloud twice as wide",
+                     hint="the prompt asks for half the diffusion, not twice it"),
+         WrongAnswer(133.6, "alpha = 0.001 from the table above",
+                     hint="keep alpha at 0.01 and change the cloud instead")),
+        rtol=0.0, atol=0.15, experiment=True, why_points=1),
     Exercise(
-        3, lambda: short_prpf_run(5, "zero")[0],
+        3, None,
         "run the answer cell's PRPF with refset_size=5 and average result.evaluations",
-        (WrongAnswer(lambda ns: float(ns["run_3"].evaluations.mean()), "the unchanged experiment (b = 3)",
-                     unchanged_experiment=True),
-         WrongAnswer(200.0, "N: the particle filter stage alone")),
-        rtol=0.02, experiment=True),
+        (WrongAnswer(490.0, "the unchanged experiment (b = 3)", unchanged_experiment=True,
+                     hint="that is b = 3: set refset_size=5 and run the cell again", variable="experiment_3"),
+         WrongAnswer(200.0, "N: the particle filter stage alone",
+                     hint="the PR stage's paths and local searches are evaluations too"),
+         WrongAnswer(820.0, "b = 5 scaled linearly from b = 3 (491 x 5 / 3)",
+                     hint="run it: the number of pairs, not b, sets the PR stage's work")),
+        rtol=0.0, atol=5.0, experiment=True, why_points=1),
     Exercise(
-        4, lambda: short_prpf_run(3, "random-walk")[1],
+        4, None,
         "pass settings=pr.FilterSettings(velocity='random-walk') and average the joint errors over frames and joints",
-        (WrongAnswer(lambda ns: float(pr_error(ns["run_4"], ns["short"])), "the unchanged experiment (velocity 0)",
-                     unchanged_experiment=True),
-         WrongAnswer(lambda ns: float(pr_error(ns["run_4"], ns["short"])) / 2, "half the unchanged error")),
-        atol=0.05, experiment=True),
+        (WrongAnswer(0.73, "the unchanged experiment (velocity held at 0)", unchanged_experiment=True,
+                     hint="that is our default: pass the random-walk settings and run the cell again",
+                     variable="experiment_4"),
+         WrongAnswer(0.37, "half the unchanged error",
+                     hint="run the experiment rather than guess the direction"),
+         WrongAnswer(6.54, "the paths-only error of the ablation",
+                     hint="keep the full PRPF; change only the system model")),
+        rtol=0.0, atol=0.005, experiment=True, why_points=1),
     Exercise(
-        5, _carrier,
-        "compare the two ablation rows with the full PRPF: which removal costs the accuracy?",
-        (WrongAnswer(lambda ns: "paths" if _carrier(ns["ablation"]) == "local search" else "local search",
-                     "the other part"),
-         WrongAnswer("neither", "neither part")),
-        context=("ablation",), choices=("paths", "local search", "neither")),
+        5, None,
+        "pass relink='attribute' to track_prpf on `short` and average the joint errors over frames and joints",
+        (WrongAnswer(0.73, "the unchanged experiment (straight segments)", unchanged_experiment=True,
+                     hint="that is the straight-segment path: pass relink='attribute' and run again",
+                     variable="experiment_5"),
+         WrongAnswer(0.67, "the local search alone (relink='none')",
+                     hint="relink='none' drops the paths; the prompt asks for attribute paths"),
+         WrongAnswer(1.29, "the chapter's 30-frame error",
+                     hint="the experiment runs on the ten frames of `short`")),
+        rtol=0.0, atol=0.005, experiment=True, why_points=1),
 ])
-
-
-def pr_error(result, sequence) -> float:
-    """Mean joint error (px) of a tracking result on a sequence (for the recorded wrong answers)."""
-    return float(joint_errors_px(sequence.model, result.poses, sequence.truth).mean())

@@ -389,6 +389,14 @@ def _line_path(start: np.ndarray, end: np.ndarray, steps: np.ndarray) -> np.ndar
     return start + fractions * (end - start)  # x(l) on the segment from x' to x''
 
 
+def _best_on_path(path: np.ndarray, costs: np.ndarray, start: np.ndarray, start_cost: float):
+    """The path's cheapest point if it costs less than the start x', else x' (Fig. 2's new solution)."""
+    best = int(np.argmin(costs)) if len(costs) else -1
+    if len(costs) and costs[best] < start_cost:
+        return path[best], costs[best]
+    return start, start_cost
+
+
 def attribute_path(observation: ObservationModel, start: np.ndarray, guide: np.ndarray
                    ) -> tuple[np.ndarray, np.ndarray]:
     """Glover's attribute relinking: from ``start``, copy the guide's coordinates one limb at a time, greedily.
@@ -543,11 +551,8 @@ def _relink(observation, refset, ref_costs, ref_velocity, run, relink, use_local
                 paths, path_costs = list(points[:, :-1]), list(costs[:, :-1])
             candidates, candidate_costs, velocities = [], [], []
             for (i, _j), path, cost in zip(pairs, paths, path_costs):
-                best = int(np.argmin(cost)) if len(cost) else -1
-                if len(cost) and cost[best] < ref_costs[i]:
-                    candidates.append(path[best]), candidate_costs.append(cost[best])
-                else:  # a short path, or no point on it better than x': search from x'
-                    candidates.append(refset[i]), candidate_costs.append(ref_costs[i])
+                point, point_cost = _best_on_path(path, cost, refset[i], ref_costs[i])  # else x' itself
+                candidates.append(point), candidate_costs.append(point_cost)
                 velocities.append(ref_velocity[i])  # the better parent's velocity
             candidates, candidate_costs = np.array(candidates), np.array(candidate_costs)
             velocities = np.array(velocities)
