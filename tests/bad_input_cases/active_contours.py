@@ -108,7 +108,8 @@ def cases() -> dict[str, Case]:
                                      "gamma": 2.4, "window": 3, "image_norm": "range"},
                         {"potential": "array", "points": "array", "fixed": "count", "alpha": "non_negative",
                          "beta": "non_negative", "gamma": "non_negative", "window": "count", "image_norm": "name"},
-                        accept=frozenset({("potential", "a wrong trailing axis")})),
+                        accept=frozenset({("potential", "a wrong trailing axis"),
+                                          ("fixed", "zero")})),  # point 0 is a valid point to hold still
         "dp_snake": Case(ac.dp_snake, {"potential": potential, "init": init, **snake},
                          {"potential": "array", "init": "array", **kinds},
                          accept=frozenset({("potential", "a wrong trailing axis")}) | any_count),
