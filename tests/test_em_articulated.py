@@ -894,7 +894,7 @@ def test_implement_it_rejects_each_recorded_wrong_e_step_and_accepts_eq_15():
     exercise = graded[7]
     for wrong in exercise.wrong_answers:
         assert graded.verdict(7, wrong.value) == "not yet: " + wrong.hint
-    assert graded.verdict(7, exercise.reference) == "correct"
+    assert graded.verdict(7, lambda **case: exercise.reference(**case)) == "correct"  # the reference, re-typed
     assert graded.verdict(7, lambda **case: None).startswith("not yet")
     assert graded.verdict(7, 0.5).startswith("not yet")  # a number, not a function
 

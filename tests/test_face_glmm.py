@@ -705,7 +705,8 @@ def test_implement_it_exercise_tells_each_recorded_wrong_function_apart():
         values = [wrong.value(**case) for wrong in exercise.wrong_answers]
         assert min(abs(v - toy_laplace_deviance(**case)) for v in values) > 0.1
     assert checks.verdict(6, None) == "not attempted yet"
-    assert checks.verdict(6, toy_laplace_deviance) == "correct"
+    assert checks.verdict(6, lambda **case: toy_laplace_deviance(**case)) == "correct"  # the reference, re-typed
+    assert checks.verdict(6, toy_laplace_deviance).startswith("not yet")  # the package function itself
     assert checks.verdict(6, lambda **case: None).startswith("not yet")
     for wrong in exercise.wrong_answers:
         assert checks.verdict(6, wrong.value) == "not yet: " + wrong.hint
